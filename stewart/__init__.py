@@ -1,0 +1,47 @@
+"""stewart: the complete dynamic model of a 6-DOF Stewart platform (Lopes & Pires 2011).
+
+The public API: :class:`PlatformParams` and its presets, the kinematics functions, the
+numeric reference model :mod:`stewart.reference`, and the errors raised for inputs where
+the model is undefined.
+"""
+
+from . import kinematics, reference
+from .errors import ConvergenceError, SingularityError
+from .kinematics import (
+    euler_jacobian,
+    euler_rate_jacobian,
+    forward_kinematics,
+    home_pose,
+    jacobian,
+    leg_lengths,
+    leg_unit_vectors,
+    leg_vectors,
+    leg_velocities,
+    rotation,
+    twist_transform,
+)
+from .params import NonAxisymmetricLegWarning, PlatformParams
+from .presets import presets
+
+__all__ = [
+    "PlatformParams",
+    "NonAxisymmetricLegWarning",
+    "presets",
+    "kinematics",
+    "reference",
+    "SingularityError",
+    "ConvergenceError",
+    "rotation",
+    "euler_rate_jacobian",
+    "twist_transform",
+    "leg_vectors",
+    "leg_lengths",
+    "leg_unit_vectors",
+    "jacobian",
+    "euler_jacobian",
+    "leg_velocities",
+    "home_pose",
+    "forward_kinematics",
+]
+
+__version__ = "0.1.0"

@@ -1,0 +1,218 @@
+"""Kinematics of the 6-UPS platform, in numpy, batched over a leading axis.
+
+Every function takes one pose ``x = [x, y, z, psi, theta, phi]`` of shape ``(6,)`` or a
+batch ``(N, 6)`` and returns the matching shape. The orientation is ZYX Euler,
+``R = Rz(psi) Ry(theta) Rx(phi)`` (Lopes & Pires 2011, eqs. 3 and 8). The functions are
+written with analytic operations only (no ``abs``/``norm``), so they also accept complex
+arrays, which :mod:`stewart.reference` uses for exact complex-step derivatives.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import _checks
+from .errors import ConvergenceError
+from .params import PlatformParams
+
+__all__ = [
+    "rotation",
+    "euler_rate_jacobian",
+    "twist_transform",
+    "leg_vectors",
+    "leg_lengths",
+    "leg_unit_vectors",
+    "jacobian",
+    "euler_jacobian",
+    "leg_velocities",
+    "home_pose",
+    "forward_kinematics",
+]
+
+
+def rotation(x) -> np.ndarray:
+    """Orientation ``R = Rz(psi) Ry(theta) Rx(phi)`` of {P} in {B}, shape ``(..., 3, 3)``."""
+    x = _checks.states("x", x)
+    cps, sps = np.cos(x[..., 3]), np.sin(x[..., 3])
+    cth, sth = np.cos(x[..., 4]), np.sin(x[..., 4])
+    cph, sph = np.cos(x[..., 5]), np.sin(x[..., 5])
+    rows = [
+        [cps * cth, cps * sth * sph - sps * cph, cps * sth * cph + sps * sph],
+        [sps * cth, sps * sth * sph + cps * cph, sps * sth * cph - cps * sph],
+        [-sth, cth * sph, cth * cph],
+    ]
+    return np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
+
+
+def euler_rate_jacobian(x) -> np.ndarray:
+    """``J_A`` of eq. 8: maps ``[psi', theta', phi']`` to the angular velocity in {B}."""
+    x = _checks.states("x", x)
+    cps, sps = np.cos(x[..., 3]), np.sin(x[..., 3])
+    cth, sth = np.cos(x[..., 4]), np.sin(x[..., 4])
+    zero, one = np.zeros_like(cps), np.ones_like(cps)
+    rows = [[zero, -sps, cps * cth], [zero, cps, sps * cth], [one, zero, -sth]]
+    return np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
+
+
+def twist_transform(x) -> np.ndarray:
+    """``T = blockdiag(I3, J_A)`` of eq. 18: the twist ``[v; omega] = T xdot``."""
+    x = _checks.states("x", x)
+    out = np.zeros(x.shape[:-1] + (6, 6), dtype=x.dtype)
+    out[..., 0, 0] = out[..., 1, 1] = out[..., 2, 2] = 1.0
+    out[..., 3:, 3:] = euler_rate_jacobian(x)
+    return out
+
+
+def platform_points_in_base(params: PlatformParams, x) -> np.ndarray:
+    """``r_i = R p_i``: the platform points rotated into {B} (not translated), ``(..., 6, 3)``."""
+    return np.einsum("...jk,ik->...ij", rotation(x), params.platform_points)
+
+
+def leg_vectors(params: PlatformParams, x) -> np.ndarray:
+    """Leg vectors ``l_i = p + R p_i - b_i`` of eq. 26, shape ``(..., 6, 3)``."""
+    x = _checks.states("x", x)
+    return x[..., None, :3] + platform_points_in_base(params, x) - params.base_points
+
+
+def leg_lengths(params: PlatformParams, x) -> np.ndarray:
+    """Leg lengths ``|l_i|``, shape ``(..., 6)``."""
+    legs = leg_vectors(params, x)
+    return np.sqrt(np.sum(legs * legs, axis=-1))
+
+
+def leg_unit_vectors(params: PlatformParams, x) -> np.ndarray:
+    """Unit leg vectors ``l_i / |l_i|`` of eq. 25, shape ``(..., 6, 3)``."""
+    legs = leg_vectors(params, x)
+    return legs / np.sqrt(np.sum(legs * legs, axis=-1))[..., None]
+
+
+def jacobian(params: PlatformParams, x) -> np.ndarray:
+    """Kinematic Jacobian ``J_C`` of eq. 5, ``Ldot = J_C [v; omega]``; row i is
+    ``[u_i, (R p_i) x u_i]``. Shape ``(..., 6, 6)``."""
+    units = leg_unit_vectors(params, x)
+    arms = platform_points_in_base(params, x)
+    return np.concatenate([units, np.cross(arms, units)], axis=-1)
+
+
+def euler_jacobian(params: PlatformParams, x) -> np.ndarray:
+    """Euler-angle Jacobian ``J_E = J_C T`` of eq. 4, ``Ldot = J_E xdot``."""
+    return jacobian(params, x) @ twist_transform(x)
+
+
+def leg_velocities(params: PlatformParams, x, xd) -> np.ndarray:
+    """Leg extension rates ``Ldot = J_E xdot`` (eq. 4), shape ``(..., 6)``."""
+    xd = _checks.states("xd", xd)
+    x = _checks.states("x", x)
+    _checks.same_batch(x=x, xd=xd)
+    return np.einsum("...ij,...j->...i", euler_jacobian(params, x), xd)
+
+
+def home_pose(params: PlatformParams, leg_length: float | None = None) -> np.ndarray:
+    """The home pose: no rotation, {P}'s joint centroid above the base's, at the height
+    where the mean leg length equals ``leg_length``.
+
+    ``leg_length`` defaults to mid-stroke of ``params.leg_length_limits`` and, for a
+    platform without limits, to the base's circumradius (the largest distance of a base
+    joint from the base centroid).
+    """
+    if leg_length is None:
+        if params.leg_length_limits is not None:
+            leg_length = 0.5 * sum(params.leg_length_limits)
+        else:
+            centred = params.base_points - params.base_points.mean(axis=0)
+            leg_length = float(np.max(np.sqrt(np.sum(centred * centred, axis=1))))
+    leg_length = float(leg_length)
+    offset = params.base_points.mean(axis=0) - params.platform_points.mean(axis=0)
+    planar = params.platform_points[:, :2] + offset[:2] - params.base_points[:, :2]
+    dz0 = params.platform_points[:, 2] - params.base_points[:, 2]
+    reach = np.sqrt(np.sum(planar * planar, axis=1))
+    if not np.isfinite(leg_length) or leg_length <= reach.max():
+        raise ValueError(
+            f"leg_length: {leg_length} m is too short to raise the platform "
+            f"(the legs span {reach.max():.6g} m horizontally at home)"
+        )
+
+    def mean_length(z: float) -> float:
+        return float(np.mean(np.sqrt(reach**2 + (z + dz0) ** 2)))
+
+    # mean_length is increasing in z once every leg points upward: bisect on it.
+    lo = float(np.max(-dz0))
+    hi = lo + leg_length
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if mean_length(mid) < leg_length:
+            lo = mid
+        else:
+            hi = mid
+    return np.array([offset[0], offset[1], 0.5 * (lo + hi), 0.0, 0.0, 0.0])
+
+
+def forward_kinematics(
+    params: PlatformParams,
+    lengths,
+    guess=None,
+    *,
+    tol: float = 1e-12,
+    max_iter: int = 50,
+) -> np.ndarray:
+    """Pose(s) with the given leg lengths, by Newton-Raphson on ``L(x) = lengths``.
+
+    ``lengths`` is ``(6,)`` or ``(N, 6)``. The iteration starts from ``guess`` (one pose,
+    or one per row; default :func:`home_pose`) and uses ``J_E`` (eq. 4) as the Jacobian,
+    halving a step that does not reduce the residual. Raises
+    :class:`~stewart.errors.ConvergenceError` naming the rows that did not reach
+    ``max|L(x) - lengths| <= tol * max(lengths)``.
+    """
+    lengths = _checks.states("lengths", lengths)
+    if np.iscomplexobj(lengths) or np.any(lengths <= 0.0):
+        raise ValueError("lengths: leg lengths must be real and positive")
+    target = np.atleast_2d(lengths)
+    if guess is None:
+        x = np.broadcast_to(home_pose(params), target.shape).copy()
+    else:
+        guess = _checks.states("guess", guess)
+        x = np.broadcast_to(guess, target.shape).copy()
+    scale = tol * target.max(axis=1)
+
+    def residual(poses, rows=slice(None)):
+        return leg_lengths(params, poses) - target[rows]
+
+    res = residual(x)
+    norm = np.max(np.abs(res), axis=1)
+    active = norm > scale
+    for _ in range(max_iter):
+        if not active.any():
+            break
+        idx = np.flatnonzero(active)
+        jac = euler_jacobian(params, x[idx])
+        singular = np.linalg.cond(jac) > 1e14
+        step = np.zeros((idx.size, 6))
+        ok = ~singular
+        step[ok] = np.linalg.solve(jac[ok], res[idx][ok][..., None])[..., 0]
+        trial_norm = np.full(idx.size, np.inf)
+        alpha = np.ones(idx.size)
+        for _ in range(30):
+            pending = ok & ~(trial_norm < norm[idx])
+            if not pending.any():
+                break
+            alpha[pending & np.isfinite(trial_norm)] *= 0.5
+            trial = x[idx] - alpha[:, None] * step
+            trial_norm = np.max(np.abs(residual(trial, idx)), axis=1)
+            trial_norm[~ok] = np.inf
+        improved = ok & (trial_norm < norm[idx])
+        rows = idx[improved]
+        x[rows] = x[rows] - alpha[improved, None] * step[improved]
+        res[rows] = residual(x[rows], rows)
+        norm[rows] = np.max(np.abs(res[rows]), axis=1)
+        active[idx[~improved]] = False
+        active[rows] = norm[rows] > scale[rows]
+    failed = np.flatnonzero(norm > scale)
+    if failed.size:
+        worst = float(np.max(norm[failed]))
+        raise ConvergenceError(
+            f"forward_kinematics: no pose found for lengths in row(s) {failed[:10].tolist()}"
+            f"{' ...' if failed.size > 10 else ''} (residual {worst:.3g} m after {max_iter} "
+            "Newton iterations); the lengths may be unreachable or the guess too far",
+            rows=failed,
+        )
+    return x[0] if lengths.ndim == 1 else x

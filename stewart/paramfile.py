@@ -1,0 +1,80 @@
+"""Parameter files: TOML (read with the standard library's ``tomllib``) and JSON.
+
+Both formats hold one flat table whose keys are the fields of
+:class:`stewart.PlatformParams` (see the README for the layout)::
+
+    name = "narayan2017"
+    gravity = 9.81
+    base_points = [[0.0962, 0.0336, 0.0], ...]   # six [x, y, z] rows, metres, in {B}
+    platform_points = [[0.0607, -0.0203, 0.0], ...]
+    platform_mass = 6.77406
+    platform_inertia = [0.1524, 0.1524, 0.3048]  # kg m^2, in {P}
+    ...
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import tomllib
+from typing import Any
+
+from .params import PlatformParams
+
+__all__ = ["load", "save", "dumps_toml"]
+
+
+def _format(format: str | None, path: str) -> str:
+    fmt = format or os.path.splitext(path)[1].lstrip(".").lower()
+    if fmt not in ("toml", "json"):
+        raise ValueError(f"path: cannot tell the format of {path!r}; use a .toml or .json file")
+    return fmt
+
+
+def load(path: str | os.PathLike[str], format: str | None = None) -> PlatformParams:
+    """Read parameters from a ``.toml`` or ``.json`` file."""
+    path = os.fspath(path)
+    fmt = _format(format, path)
+    try:
+        if fmt == "toml":
+            with open(path, "rb") as fh:
+                data = tomllib.load(fh)
+        else:
+            with open(path, encoding="utf-8") as fh:
+                data = json.load(fh)
+    except (tomllib.TOMLDecodeError, json.JSONDecodeError) as exc:
+        raise ValueError(f"{path}: not a valid {fmt.upper()} file: {exc}") from None
+    if not isinstance(data, dict):
+        raise ValueError(f"{path}: expected a table of parameter fields at the top level")
+    try:
+        return PlatformParams.from_dict(data)
+    except ValueError as exc:
+        raise ValueError(f"{path}: {exc}") from None
+
+
+def _toml_value(value: Any) -> str:
+    if isinstance(value, str):
+        return json.dumps(value)
+    if isinstance(value, (list, tuple)):
+        return "[" + ", ".join(_toml_value(v) for v in value) + "]"
+    value = float(value)
+    if not math.isfinite(value):
+        raise ValueError(f"cannot write non-finite value {value} to TOML")
+    return repr(value)
+
+
+def dumps_toml(params: PlatformParams) -> str:
+    """The TOML text of a parameter set (values round-trip exactly)."""
+    return "".join(f"{key} = {_toml_value(val)}\n" for key, val in params.to_dict().items())
+
+
+def save(params: PlatformParams, path: str | os.PathLike[str], format: str | None = None) -> None:
+    """Write parameters to a ``.toml`` or ``.json`` file."""
+    path = os.fspath(path)
+    if _format(format, path) == "toml":
+        text = dumps_toml(params)
+    else:
+        text = json.dumps(params.to_dict(), indent=2) + "\n"
+    with open(path, "w", encoding="utf-8") as fh:
+        fh.write(text)

@@ -1,0 +1,311 @@
+"""Numeric reference of the generalized-momentum model (Lopes & Pires 2011), in numpy.
+
+This module evaluates the paper's equations as written, body by body, with no symbolic
+algebra at run time. It is slow and plain on purpose: it is the oracle the compiled
+kernel is checked against.
+
+For every body b (the platform, and per leg the cylinder and the piston, each with a
+translational and a rotational part) it builds the partial-velocity Jacobian ``J_b``
+(twist -> body velocity: eqs. 31, 35, 57) and the body's "inertia times T" matrix
+``A_b = I_b J_b T`` whose product with ``xdot`` is the body's momentum (eqs. 17, 37, 49,
+59, 67). Then, as in eqs. 19-23, 39-41, 51-53, 61-63 and 69-71,
+
+    M = sum_b J_b^T A_b              (inertia matrix, multiplies the Euler accelerations)
+    V = sum_b J_b^T d/dt(A_b)        (Coriolis and centripetal matrix)
+    G = sum_b m_b g J_b^T e_z        (gravity: the gradient of eq. 72's potential)
+
+with ``J^T`` of the platform translation and rotation being the identity blocks. The
+time derivative ``d/dt A_b = sum_k dA_b/dx_k xdot_k`` is taken by complex step along
+``x + i h xdot``, which is exact to round-off (no subtractive cancellation). The
+equation of motion is ``M xddot + V xdot + G = J_C^T tau`` (eqs. 1-2).
+
+Gravity is written as ``J_b^T m_b g e_z`` rather than eq. 76's ``blockdiag(I, J_A^-T)
+dP/dx``: the two are equal wherever ``J_A`` is invertible, and this form needs no
+``cos(theta) != 0``.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from . import _checks
+from .errors import SingularityError
+from .kinematics import jacobian, leg_vectors, platform_points_in_base, rotation, twist_transform
+from .params import PlatformParams
+
+__all__ = [
+    "BODIES",
+    "BodyTerms",
+    "partial_velocity_jacobians",
+    "rotational_inertias",
+    "momenta",
+    "body_terms",
+    "mass_matrix",
+    "coriolis_matrix",
+    "coriolis_vector",
+    "gravity_vector",
+    "inverse_dynamics",
+    "forward_dynamics",
+]
+
+#: The bodies' parts, in the paper's order. Leg parts carry a leg axis of length 6.
+BODIES = (
+    "platform_translation",
+    "platform_rotation",
+    "cylinder_translation",
+    "cylinder_rotation",
+    "piston_translation",
+    "piston_rotation",
+)
+
+#: Complex-step size; the error of the derivative is O(h^2), far below round-off.
+_STEP = 1e-30
+#: Cylinder frame tolerance: legs with u_x^2 + u_y^2 below this are "vertical".
+_VERTICAL = 1e-18
+#: J_C is treated as singular when its condition number exceeds this.
+_COND_LIMIT = 1e12
+#: Forward dynamics is undefined when |cos(theta)| is below this (J_A singular).
+_COS_LIMIT = 1e-12
+
+
+class BodyTerms(NamedTuple):
+    """One body part's contribution to ``M``, ``V xdot``... For leg parts the arrays carry
+    a leg axis before the matrix axes: ``mass_matrix`` is ``(..., 6, 6, 6)``."""
+
+    mass_matrix: np.ndarray
+    coriolis_matrix: np.ndarray
+    gravity_vector: np.ndarray
+
+
+def _skew(a: np.ndarray) -> np.ndarray:
+    """``a~`` of eq. 33: ``skew(a) @ b == a x b``."""
+    zero = np.zeros_like(a[..., 0])
+    rows = [
+        [zero, -a[..., 2], a[..., 1]],
+        [a[..., 2], zero, -a[..., 0]],
+        [-a[..., 1], a[..., 0], zero],
+    ]
+    return np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
+
+
+def partial_velocity_jacobians(params: PlatformParams, x) -> dict[str, np.ndarray]:
+    """``J_b``: twist ``[v; omega]`` -> velocity of each body part, ``(..., [6,] 3, 6)``.
+
+    Platform parts: ``[E 0]`` and ``[0 E]``. Leg angular velocity (both leg parts):
+    ``J_D = [lbar~, lbar~ r~^T]`` (eq. 31). Cylinder centre of mass:
+    ``J_B = b_C u~^T J_D`` (eq. 35). Piston centre of mass:
+    ``J_G = (E - b_S u~^T lbar~) [E, r~^T]`` (eq. 57).
+    """
+    x = _checks.states("x", x)
+    legs = leg_vectors(params, x)
+    length_sq = np.sum(legs * legs, axis=-1)[..., None]
+    units = legs / np.sqrt(length_sq)
+    lbar_x = _skew(legs / length_sq)
+    u_x = _skew(units)
+    arm_xT = -_skew(platform_points_in_base(params, x))  # r~^T
+    eye = np.broadcast_to(np.eye(3, dtype=x.dtype), arm_xT.shape)
+    point = np.concatenate([eye, arm_xT], axis=-1)  # velocity of P_i: [E, r~^T]
+    j_d = lbar_x @ point
+    zeros = np.zeros(x.shape[:-1] + (3, 3), dtype=x.dtype)
+    eye_p = np.broadcast_to(np.eye(3, dtype=x.dtype), zeros.shape)
+    return {
+        "platform_translation": np.concatenate([eye_p, zeros], axis=-1),
+        "platform_rotation": np.concatenate([zeros, eye_p], axis=-1),
+        "cylinder_translation": -params.cylinder_com_distance * u_x @ j_d,
+        "cylinder_rotation": j_d,
+        "piston_translation": point + params.piston_com_distance * u_x @ j_d,
+        "piston_rotation": j_d,
+    }
+
+
+def _leg_inertia(units: np.ndarray, inertia: np.ndarray, general: bool) -> np.ndarray:
+    """Rotational inertia of a leg part in {B} (eqs. 43-48 and 65-66).
+
+    With ``general`` the paper's cylinder frame {C_i} is built (x_C along the leg, y_C
+    horizontal); otherwise the axisymmetric form ``I_t (E - u u^T) + I_a u u^T``, equal
+    when ``I_yy == I_zz`` and defined for vertical legs too.
+    """
+    axial, iyy, izz = inertia
+    uu = units[..., :, None] * units[..., None, :]
+    if not general:
+        return iyy * (np.eye(3) - uu) + axial * uu
+    horiz_sq = units[..., 0] ** 2 + units[..., 1] ** 2
+    horiz = np.sqrt(horiz_sq)
+    y_c = np.stack([-units[..., 1] / horiz, units[..., 0] / horiz, np.zeros_like(horiz)], axis=-1)
+    z_c = np.cross(units, y_c)
+    frame = np.stack([units, y_c, z_c], axis=-1)  # columns x_C, y_C, z_C (eq. 44)
+    return (frame * inertia) @ np.swapaxes(frame, -1, -2)
+
+
+def rotational_inertias(params: PlatformParams, x, general: bool | None = None) -> dict[str, np.ndarray]:
+    """Rotational inertias in {B}: platform ``R I_P R^T`` (eq. 13), ``(..., 3, 3)``;
+    cylinders (eq. 43) and pistons (eq. 65), ``(..., 6, 3, 3)``.
+
+    ``general`` picks the leg inertia form (default: the paper's frame form only when the
+    legs are not axisymmetric). Raises :class:`SingularityError` for a vertical leg in
+    the frame form, where {C_i} is undefined.
+    """
+    x = _checks.states("x", x)
+    if general is None:
+        general = not params.is_axisymmetric
+    rot = rotation(x)
+    legs = leg_vectors(params, x)
+    units = legs / np.sqrt(np.sum(legs * legs, axis=-1))[..., None]
+    if general:
+        horiz_sq = np.real(units[..., 0] ** 2 + units[..., 1] ** 2)
+        vertical = horiz_sq < _VERTICAL
+        if vertical.any():
+            rows = np.flatnonzero(vertical.reshape(-1, 6).any(axis=1))
+            raise SingularityError(
+                f"x: vertical leg at row(s) {rows.tolist()}: the cylinder frame of eqs. 44-47 is "
+                "undefined and the leg inertia is not axisymmetric",
+                rows=rows,
+            )
+    return {
+        "platform_rotation": (rot * params.platform_inertia) @ np.swapaxes(rot, -1, -2),
+        "cylinder_rotation": _leg_inertia(units, params.cylinder_inertia, general),
+        "piston_rotation": _leg_inertia(units, params.piston_inertia, general),
+    }
+
+
+def _inertia_times_t(params: PlatformParams, x, general: bool | None) -> tuple[dict, dict]:
+    """``J_b`` and ``A_b = I_b J_b T`` for every body part (the momentum is ``A_b xdot``)."""
+    jacs = partial_velocity_jacobians(params, x)
+    inertias = rotational_inertias(params, x, general)
+    t_mat = twist_transform(x)
+    masses = {
+        "platform_translation": params.platform_mass,
+        "cylinder_translation": params.cylinder_mass,
+        "piston_translation": params.piston_mass,
+    }
+    out = {}
+    for body in BODIES:
+        jt = jacs[body] @ (t_mat if body.startswith("platform") else t_mat[..., None, :, :])
+        out[body] = masses[body] * jt if body in masses else inertias[body] @ jt
+    return jacs, out
+
+
+def momenta(params: PlatformParams, x, xd, general: bool | None = None) -> dict[str, np.ndarray]:
+    """Momentum of every body part in {B}: linear momentum of the platform (eq. 9),
+    cylinders (eq. 37) and pistons (eq. 59); angular momentum of the platform (eq. 15),
+    cylinders (eq. 49) and pistons (eq. 67). Shapes ``(..., [6,] 3)``."""
+    x = _checks.states("x", x)
+    xd = _checks.states("xd", xd)
+    _checks.same_batch(x=x, xd=xd)
+    _, amat = _inertia_times_t(params, x, general)
+    return {
+        body: np.einsum("...ij,...j->...i", a, xd if body.startswith("platform") else xd[..., None, :])
+        for body, a in amat.items()
+    }
+
+
+def body_terms(params: PlatformParams, x, xd=None, general: bool | None = None) -> dict[str, BodyTerms]:
+    """Each body part's inertia matrix ``J^T A`` (eqs. 22, 40, 52, 62, 70), Coriolis and
+    centripetal matrix ``J^T dA/dt`` (eqs. 23, 41, 53, 63, 71; zero when ``xd`` is None)
+    and gravity vector ``m g J^T e_z`` (eqs. 72-75)."""
+    x = _checks.states("x", x)
+    if xd is None:
+        xd = np.zeros_like(x)
+    xd = _checks.states("xd", xd)
+    _checks.same_batch(x=x, xd=xd)
+    _, a_dot = _inertia_times_t(params, x + 1j * _STEP * xd, general)
+    jacs, amat = _inertia_times_t(params, x, general)
+    weights = {
+        "platform_translation": params.platform_mass,
+        "cylinder_translation": params.cylinder_mass,
+        "piston_translation": params.piston_mass,
+    }
+    out = {}
+    for body in BODIES:
+        jac_t = np.swapaxes(jacs[body], -1, -2)
+        mass = jac_t @ amat[body]
+        coriolis = jac_t @ (a_dot[body].imag / _STEP)
+        weight = weights.get(body, 0.0) * params.gravity
+        out[body] = BodyTerms(mass, coriolis, weight * jacs[body][..., 2, :])
+    return out
+
+
+def _total(params, x, xd, field: str) -> np.ndarray:
+    terms = body_terms(params, x, xd)
+    total = 0.0
+    for body, term in terms.items():
+        value = getattr(term, field)
+        leg_axis = -2 if field == "gravity_vector" else -3
+        total = total + (value if body.startswith("platform") else value.sum(axis=leg_axis))
+    return total
+
+
+def mass_matrix(params: PlatformParams, x) -> np.ndarray:
+    """``M = sum_b J_b^T I_b J_b T`` (6x6, not symmetric: it multiplies ``xddot``)."""
+    x = _checks.states("x", x)
+    return _total(params, x, None, "mass_matrix")
+
+
+def coriolis_matrix(params: PlatformParams, x, xd) -> np.ndarray:
+    """``V = sum_b J_b^T d/dt(I_b J_b T)`` (6x6)."""
+    x = _checks.states("x", x)
+    return _total(params, x, xd, "coriolis_matrix")
+
+
+def coriolis_vector(params: PlatformParams, x, xd) -> np.ndarray:
+    """``V xdot``."""
+    xd = _checks.states("xd", xd)
+    return np.einsum("...ij,...j->...i", coriolis_matrix(params, x, xd), xd)
+
+
+def gravity_vector(params: PlatformParams, x) -> np.ndarray:
+    """``G = sum_b m_b g J_b^T e_z`` (eqs. 72-76)."""
+    x = _checks.states("x", x)
+    return _total(params, x, None, "gravity_vector")
+
+
+def _check_jacobian(params: PlatformParams, x: np.ndarray) -> np.ndarray:
+    jac = jacobian(params, x)
+    cond = np.linalg.cond(jac.reshape(-1, 6, 6))
+    bad = ~(cond < _COND_LIMIT)
+    if bad.any():
+        rows = np.flatnonzero(bad)
+        raise SingularityError(
+            f"x: J_C is singular (condition number {cond[rows[0]]:.3g}) at row(s) {rows[:10].tolist()}",
+            rows=rows,
+        )
+    return jac
+
+
+def inverse_dynamics(params: PlatformParams, x, xd, xdd) -> np.ndarray:
+    """Actuator forces ``tau = J_C^-T (M xddot + V xdot + G)`` (eqs. 1-2, 20)."""
+    x = _checks.states("x", x)
+    xd = _checks.states("xd", xd)
+    xdd = _checks.states("xdd", xdd)
+    _checks.same_batch(x=x, xd=xd, xdd=xdd)
+    jac = _check_jacobian(params, x)
+    wrench = (
+        np.einsum("...ij,...j->...i", mass_matrix(params, x), xdd)
+        + coriolis_vector(params, x, xd)
+        + gravity_vector(params, x)
+    )
+    return np.linalg.solve(np.swapaxes(jac, -1, -2), wrench[..., None])[..., 0]
+
+
+def forward_dynamics(params: PlatformParams, x, xd, tau) -> np.ndarray:
+    """Euler accelerations ``xddot = M^-1 (J_C^T tau - V xdot - G)``."""
+    x = _checks.states("x", x)
+    xd = _checks.states("xd", xd)
+    tau = _checks.states("tau", tau)
+    _checks.same_batch(x=x, xd=xd, tau=tau)
+    cos_theta = np.cos(x[..., 4]).reshape(-1)
+    bad = np.abs(cos_theta) < _COS_LIMIT
+    if bad.any():
+        rows = np.flatnonzero(bad)
+        raise SingularityError(
+            f"x: theta = +-90 deg at row(s) {rows[:10].tolist()}: the Euler-rate map J_A is singular",
+            rows=rows,
+        )
+    rhs = (
+        np.einsum("...ji,...j->...i", jacobian(params, x), tau)
+        - coriolis_vector(params, x, xd)
+        - gravity_vector(params, x)
+    )
+    return np.linalg.solve(mass_matrix(params, x), rhs[..., None])[..., 0]

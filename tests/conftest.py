@@ -1,0 +1,93 @@
+"""Shared fixtures. ``figures`` records the figure each check reached; they are printed
+in a table at the end of the run (the README quotes it)."""
+
+from __future__ import annotations
+
+import warnings
+
+import numpy as np
+import pytest
+
+import stewart
+
+_FIGURES: list[tuple[str, float, float]] = []
+
+
+@pytest.fixture
+def figures():
+    """``figures(name, value, bound)``: record a check's worst figure and assert it is within bound."""
+
+    def record(name: str, value: float, bound: float) -> None:
+        _FIGURES.append((name, float(value), float(bound)))
+        assert value <= bound, f"{name}: {value:.3e} exceeds {bound:.1e}"
+
+    return record
+
+
+def pytest_terminal_summary(terminalreporter):
+    if not _FIGURES:
+        return
+    terminalreporter.section("figures reached (worst case per check)")
+    width = max(len(name) for name, _, _ in _FIGURES)
+    for name, value, bound in sorted(_FIGURES):
+        terminalreporter.write_line(f"{name:<{width}}  {value:10.3e}  (bound {bound:.0e})")
+
+
+PRESETS = sorted(stewart.presets())
+
+
+@pytest.fixture(params=PRESETS)
+def preset_params(request):
+    return stewart.PlatformParams.preset(request.param)
+
+
+def random_states(params, n, rng, spread=1.0):
+    """Poses scattered around home (a few percent of the leg length, up to ~0.2 rad),
+    with velocities and accelerations of the matching scale."""
+    home = stewart.home_pose(params)
+    scale = home[2]
+    sigma = np.array([0.04 * scale] * 3 + [0.1] * 3) * spread
+    x = home + rng.uniform(-2, 2, size=(n, 6)) * sigma
+    xd = rng.normal(size=(n, 6)) * np.array([0.2 * scale] * 3 + [0.5] * 3)
+    xdd = rng.normal(size=(n, 6)) * np.array([2 * scale] * 3 + [5.0] * 3)
+    return x, xd, xdd
+
+
+def random_params(rng, axisymmetric=True):
+    """A random, physically valid parameter set (a hexapod of random size and masses)."""
+    radius = rng.uniform(0.1, 2.0)
+    base_angles = np.radians(np.array([0, 120, 240])[:, None] + np.array([-1, 1]) * rng.uniform(5, 25)).ravel()
+    top_angles = np.radians(np.array([60, 180, 300])[:, None] + np.array([-1, 1]) * rng.uniform(5, 25)).ravel()
+    top_angles = np.roll(top_angles, 1)
+    base = np.column_stack([np.cos(base_angles), np.sin(base_angles), np.zeros(6)]) * radius
+    top_r = radius * rng.uniform(0.5, 0.9)
+    top = np.column_stack([np.cos(top_angles), np.sin(top_angles), np.zeros(6)]) * top_r
+    base += rng.normal(scale=0.02 * radius, size=(6, 3))
+    top += rng.normal(scale=0.02 * radius, size=(6, 3))
+    leg = radius * rng.uniform(0.8, 1.5)
+
+    def body_inertia(mass, size):
+        a, b = rng.uniform(0.3, 1.0, size=2) * size
+        i1 = mass * (a * a + b * b) / 12
+        i2 = mass * (a * a + b * b) / 12 if axisymmetric else mass * (a * a + 0.5 * b * b) / 12
+        return (mass * b * b / 8, i1, i2)
+
+    m_p = rng.uniform(1, 1000) * radius**3
+    m_c, m_s = (rng.uniform(0.02, 0.3) * m_p for _ in range(2))
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", stewart.NonAxisymmetricLegWarning)
+        return stewart.PlatformParams(
+            base_points=base,
+            platform_points=top,
+            platform_mass=m_p,
+            platform_inertia=(m_p * top_r**2 / 4, m_p * top_r**2 / 3, m_p * top_r**2 / 2),
+            cylinder_mass=m_c,
+            cylinder_inertia=body_inertia(m_c, 0.5 * leg),
+            cylinder_com_distance=rng.uniform(0.1, 0.5) * leg,
+            piston_mass=m_s,
+            piston_inertia=body_inertia(m_s, 0.5 * leg),
+            piston_com_distance=rng.uniform(0.1, 0.5) * leg,
+            gravity=9.81,
+            leg_length_limits=(0.7 * leg, 1.3 * leg),
+            name="random",
+        )

@@ -1,0 +1,153 @@
+"""PlatformParams: validation, presets and parameter files."""
+
+import json
+import math
+import warnings
+
+import numpy as np
+import pytest
+
+import stewart
+from stewart import PlatformParams
+
+
+def _valid_kwargs():
+    return PlatformParams.preset("narayan2017").to_dict()
+
+
+def test_presets_listed_and_built():
+    names = stewart.presets()
+    assert {"narayan2017", "motion_simulator"} <= set(names)
+    for name in names:
+        params = PlatformParams.preset(name)
+        assert params.name == name
+        assert params.is_axisymmetric
+
+
+def test_narayan2017_geometry_is_the_paper_converted_to_z_up():
+    params = PlatformParams.preset("narayan2017")
+    # Seed paper, section VIII, point 5 (y-up): base (-0.019, 0, 0.1001), top (-0.0507, 0, 0.046).
+    np.testing.assert_array_equal(params.base_points[4], [-0.019, -0.1001, 0.0])
+    np.testing.assert_array_equal(params.platform_points[4], [-0.0507, -0.046, 0.0])
+    assert params.platform_mass == 6.77406
+
+
+def test_narayan2017_leg_masses_from_stated_dimensions():
+    params = PlatformParams.preset("narayan2017")
+    # Hand calculation, steel 7850 kg/m^3: tube 50/40 mm x 100 mm; rod 40 mm x 90 mm.
+    cyl = 7850 * math.pi * (0.025**2 - 0.020**2) * 0.100
+    rod = 7850 * math.pi * 0.020**2 * 0.090
+    assert params.cylinder_mass == pytest.approx(cyl, rel=1e-12)
+    assert params.piston_mass == pytest.approx(rod, rel=1e-12)
+    assert params.piston_inertia[0] == pytest.approx(0.5 * rod * 0.020**2, rel=1e-12)
+    assert params.piston_inertia[1] == pytest.approx(rod * (3 * 0.020**2 + 0.090**2) / 12, rel=1e-12)
+
+
+def test_arrays_are_read_only_and_params_immutable():
+    params = PlatformParams.preset("narayan2017")
+    with pytest.raises(ValueError):
+        params.base_points[0, 0] = 1.0
+    with pytest.raises(AttributeError):
+        params.platform_mass = 1.0
+
+
+@pytest.mark.parametrize(
+    "field, value, message",
+    [
+        ("base_points", np.zeros((5, 3)), "base_points: expected shape (6, 3)"),
+        ("platform_points", [[0.0, 0.0, np.nan]] * 6, "platform_points: coordinates must be finite"),
+        ("base_points", [[i, 0.0, 0.0] for i in range(6)], "base_points: the six points are collinear"),
+        ("platform_points", [[0.1, 0, 0]] * 2 + [[0, 0.1, 0], [0, 0.2, 0], [0.3, 0, 0], [0, 0, 0]], "points 0 and 1 coincide"),
+        ("platform_mass", -1.0, "platform_mass: must be >= 0"),
+        ("cylinder_mass", float("inf"), "cylinder_mass: must be finite"),
+        ("piston_mass", "heavy", "piston_mass: expected a number"),
+        ("platform_inertia", (1.0, 1.0, 3.0), "platform_inertia: principal moments"),
+        ("cylinder_inertia", (-1e-3, 1e-3, 1e-3), "cylinder_inertia: principal moments must be >= 0"),
+        ("piston_inertia", (1.0, 2.0), "piston_inertia: expected 3 values"),
+        ("cylinder_com_distance", -0.1, "cylinder_com_distance: must be >= 0"),
+        ("gravity", float("nan"), "gravity: must be finite"),
+        ("leg_length_limits", (0.3, 0.2), "leg_length_limits: need finite 0 < min < max"),
+        ("name", 42, "name: expected a string"),
+    ],
+)
+def test_bad_parameters_name_the_field(field, value, message):
+    kwargs = _valid_kwargs()
+    kwargs[field] = value
+    with pytest.raises(ValueError, match=None) as info:
+        PlatformParams(**kwargs)
+    assert message in str(info.value)
+
+
+def test_massless_legs_are_allowed():
+    kwargs = _valid_kwargs()
+    kwargs.update(cylinder_mass=0.0, piston_mass=0.0, cylinder_inertia=(0, 0, 0), piston_inertia=(0, 0, 0))
+    assert PlatformParams(**kwargs).cylinder_mass == 0.0
+
+
+def test_non_axisymmetric_legs_warn():
+    kwargs = _valid_kwargs()
+    kwargs["cylinder_inertia"] = (1e-4, 6e-4, 5e-4)
+    with pytest.warns(stewart.NonAxisymmetricLegWarning, match="I_yy != I_zz"):
+        params = PlatformParams(**kwargs)
+    assert not params.is_axisymmetric
+
+
+def test_unknown_preset_lists_the_available_ones():
+    with pytest.raises(ValueError, match="unknown preset 'nope'; available: .*narayan2017"):
+        PlatformParams.preset("nope")
+
+
+@pytest.mark.parametrize("suffix", [".toml", ".json"])
+def test_file_round_trip_is_exact(tmp_path, preset_params, suffix):
+    path = tmp_path / f"platform{suffix}"
+    preset_params.save(path)
+    loaded = PlatformParams.load(path)
+    assert loaded == preset_params
+    np.testing.assert_array_equal(loaded.base_points, preset_params.base_points)
+    assert loaded.leg_length_limits == preset_params.leg_length_limits
+
+
+def test_toml_file_is_readable_by_hand(tmp_path):
+    path = tmp_path / "p.toml"
+    path.write_text(
+        """
+name = "hand"
+base_points = [[1, 0, 0], [0.5, 0.8, 0], [-0.5, 0.8, 0], [-1, 0, 0], [-0.5, -0.8, 0], [0.5, -0.8, 0]]
+platform_points = [[0.5, 0.1, 0], [0.2, 0.5, 0], [-0.2, 0.5, 0], [-0.5, 0.1, 0], [-0.2, -0.5, 0], [0.2, -0.5, 0]]
+platform_mass = 100
+platform_inertia = [10, 10, 18]
+cylinder_mass = 2
+cylinder_inertia = [0.01, 0.2, 0.2]
+cylinder_com_distance = 0.3
+piston_mass = 1
+piston_inertia = [0.005, 0.1, 0.1]
+piston_com_distance = 0.3
+"""
+    )
+    params = PlatformParams.load(path)
+    assert params.gravity == 9.81 and params.leg_length_limits is None
+    assert params.platform_inertia.tolist() == [10.0, 10.0, 18.0]
+
+
+def test_bad_files_name_the_problem(tmp_path):
+    path = tmp_path / "p.json"
+    data = _valid_kwargs()
+    data["platform_mas"] = data.pop("platform_mass")
+    path.write_text(json.dumps(data))
+    with pytest.raises(ValueError, match="unknown parameter field\\(s\\): platform_mas"):
+        PlatformParams.load(path)
+    path.write_text("{not json")
+    with pytest.raises(ValueError, match="not a valid JSON file"):
+        PlatformParams.load(path)
+    with pytest.raises(ValueError, match="cannot tell the format"):
+        PlatformParams.load(tmp_path / "p.yaml")
+
+
+def test_equality_and_hash_follow_values():
+    a = PlatformParams.preset("narayan2017")
+    b = PlatformParams.preset("narayan2017")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        c = a.replace(platform_mass=7.0)
+    assert a == b and hash(a) == hash(b)
+    assert a != c
