@@ -14,7 +14,7 @@ $(PY):
 	$(PY) -m pip install -q --upgrade pip
 
 $(INSTALLED): $(PY) pyproject.toml setup.py
-	$(PY) -m pip install -q "setuptools>=64" "Cython>=3.0" "numpy>=1.24"
+	$(PY) -m pip install -q --upgrade "setuptools>=70.1" wheel "Cython>=3.0" "numpy>=1.24"
 	$(PY) -m pip install -q --no-build-isolation -e ".[dev]"
 	touch $@
 
