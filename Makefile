@@ -1,9 +1,13 @@
-# Every target sets up what it needs: a .venv in the checkout, the package and its
+# Every target sets up what it needs: a .venv in the checkout, the package with its
 # development extras, the compiled kernel.
 PYTHON ?= python3
+CC ?= cc
 VENV := .venv
 PY := $(VENV)/bin/python
 INSTALLED := $(VENV)/.installed
+KERNEL := build/.kernel-built
+KERNEL_SOURCES := stewart/_kernel.pyx generated/stewart_model.c generated/stewart_model.h setup.py
+C_TEST := tests/c/test_model
 
 .PHONY: all test demo generate build bench clean
 
@@ -13,14 +17,22 @@ $(PY):
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install -q --upgrade pip
 
-$(INSTALLED): $(PY) pyproject.toml setup.py
-	$(PY) -m pip install -q --upgrade "setuptools>=70.1" wheel "Cython>=3.0" "numpy>=1.24"
+$(INSTALLED): $(PY) pyproject.toml
+	$(PY) -m pip install -q --upgrade "setuptools>=77" wheel "Cython>=3.0" "numpy>=1.24"
 	$(PY) -m pip install -q --no-build-isolation -e ".[dev]"
 	touch $@
 
-build: $(INSTALLED)
+$(KERNEL): $(INSTALLED) $(KERNEL_SOURCES)
+	$(PY) setup.py -q build_ext --inplace --force
+	mkdir -p build && touch $@
 
-test: build
+build: $(KERNEL)
+
+$(C_TEST): tests/c/test_model.c tests/c/reference_values.h generated/stewart_model.c generated/stewart_model.h
+	$(CC) -std=c99 -O2 -Wall -Wextra -pedantic -Igenerated -Itests/c tests/c/test_model.c generated/stewart_model.c -lm -o $@
+
+test: build $(C_TEST)
+	./$(C_TEST)
 	$(PY) -m pytest -q
 
 demo: build
@@ -33,4 +45,4 @@ bench: build
 	$(PY) -m benchmarks
 
 clean:
-	rm -rf build *.egg-info stewart/*.so stewart/_kernel.c .pytest_cache tests/c/test_model out
+	rm -rf build *.egg-info stewart/*.so stewart/_kernel.c .pytest_cache $(C_TEST)

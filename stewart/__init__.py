@@ -1,8 +1,8 @@
 """stewart: the complete dynamic model of a 6-DOF Stewart platform (Lopes & Pires 2011).
 
-The public API: :class:`PlatformParams` and its presets, the kinematics functions, the
-numeric reference model :mod:`stewart.reference`, and the errors raised for inputs where
-the model is undefined.
+The public API: :class:`Platform` (the compiled model), :class:`PlatformParams` and its
+presets, the kinematics functions, the numeric reference model :mod:`stewart.reference`,
+and the errors raised for inputs where the model is undefined.
 """
 
 from . import kinematics, reference
@@ -21,9 +21,11 @@ from .kinematics import (
     twist_transform,
 )
 from .params import NonAxisymmetricLegWarning, PlatformParams
+from .platform import Platform
 from .presets import presets
 
 __all__ = [
+    "Platform",
     "PlatformParams",
     "NonAxisymmetricLegWarning",
     "presets",

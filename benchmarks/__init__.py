@@ -1,0 +1,1 @@
+"""Benchmarks of the compiled kernel: ``python -m benchmarks`` (``make bench``)."""

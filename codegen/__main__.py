@@ -1,0 +1,46 @@
+"""CLI: regenerate generated/stewart_model.h and generated/stewart_model.c."""
+
+import argparse
+import time
+from pathlib import Path
+
+from . import csource, emit, model
+
+DEFAULT_OUT = Path(__file__).resolve().parent.parent / 'generated'
+
+
+def _timed(func, *args):
+    start = time.perf_counter()
+    result = func(*args)
+    return result, time.perf_counter() - start
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(prog='python -m codegen', description=__doc__)
+    parser.add_argument('--out', type=Path, default=DEFAULT_OUT,
+                        help='output directory (default: %(default)s)')
+    args = parser.parse_args(argv)
+
+    total = time.perf_counter()
+    members = csource.param_members(model.PARAMS)
+    emitted = []
+    for build in model.kernel_builders():
+        kernel, t_derive = _timed(build)
+        result, t_emit = _timed(emit.emit_kernel, kernel, members)
+        emitted.append(result)
+        print(f'[codegen] {kernel.name:<28} derive {t_derive:5.2f} s, cse+C {t_emit:5.2f} s,'
+              f' {result.ops:5d} ops', flush=True)
+
+    start = time.perf_counter()
+    args.out.mkdir(parents=True, exist_ok=True)
+    ops = [(k.name, k.ops) for k in emitted]
+    for name, text in (('stewart_model.h', csource.header(ops)),
+                       ('stewart_model.c', csource.source([k.source for k in emitted]))):
+        with open(args.out / name, 'w', encoding='ascii', newline='\n') as f:
+            f.write(text)
+    print(f'[codegen] write {args.out} ... {time.perf_counter() - start:.2f} s')
+    print(f'[codegen] total ... {time.perf_counter() - total:.2f} s')
+
+
+if __name__ == '__main__':
+    main()

@@ -1,0 +1,110 @@
+"""Symbol definitions and output expressions -> straight-line C99 functions.
+
+Pure code generation, no physics: prune the definitions the outputs do not
+need, run `sympy.cse` (order='none') over the remaining definitions and the
+outputs together, and print one `const double` per definition or common
+subexpression with a C99 printer that writes small integer powers as products.
+"""
+
+from dataclasses import dataclass
+
+import sympy as sp
+from sympy.printing.c import C99CodePrinter
+from sympy.printing.precedence import PRECEDENCE
+
+
+class _Printer(C99CodePrinter):
+    """C99 printer writing b**n (|n| <= 4) as products instead of pow()."""
+
+    def _print_Pow(self, expr):
+        base, exp = expr.as_base_exp()
+        if exp.is_Integer and 1 <= abs(int(exp)) <= 4:
+            factor = self.parenthesize(base, PRECEDENCE['Mul'], strict=True)
+            product = '*'.join([factor] * abs(int(exp)))
+            return product if exp > 0 else f'1.0/({product})'
+        return super()._print_Pow(expr)
+
+
+_PRINTER = _Printer()
+
+
+def ccode(expr):
+    return _PRINTER.doprint(expr)
+
+
+@dataclass
+class EmittedKernel:
+    name: str
+    source: str
+    ops: int          # sympy count_ops of the cse output
+
+
+def _prune(defs, outputs):
+    """Definitions (in order) that the outputs depend on."""
+    needed = set().union(*[e.free_symbols for e in outputs])
+    kept = []
+    for sym, expr in reversed(defs):
+        if sym in needed:
+            kept.append((sym, expr))
+            needed |= expr.free_symbols
+    kept.reverse()
+    return kept
+
+
+def _statements(defs, outputs):
+    """cse over definitions and outputs; returns (statements, outputs, ops).
+
+    Statements are (symbol, expression) in dependency order: each common
+    subexpression is placed right before the first statement that uses it.
+    """
+    syms = [s for s, _ in defs]
+    repl, reduced = sp.cse([e for _, e in defs] + outputs,
+                           symbols=sp.numbered_symbols('c'), order='none')
+    ops = sum(sp.count_ops(e) for _, e in repl) + sum(sp.count_ops(e) for e in reduced)
+    pending = dict(repl)
+    index = {s: k for k, (s, _) in enumerate(repl)}
+    statements = []
+
+    def place(expr):
+        for s in sorted(expr.free_symbols & pending.keys(), key=index.__getitem__):
+            if s in pending:
+                sub = pending.pop(s)
+                place(sub)
+                statements.append((s, sub))
+
+    for sym, expr in zip(syms, reduced[:len(syms)]):
+        place(expr)
+        statements.append((sym, expr))
+    out = reduced[len(syms):]
+    for expr in out:
+        place(expr)
+    return statements, out, ops
+
+
+def emit_kernel(kernel, param_members):
+    """C source of `static void kernel_<name>(...)` for a `model.Kernel`.
+
+    `param_members` maps parameter symbols to C expressions reading them from
+    `const stewart_params *p`.
+    """
+    outputs = [sp.sympify(e) for _, exprs in kernel.outputs for e in exprs]
+    statements, reduced, ops = _statements(_prune(kernel.graph.defs, outputs), outputs)
+    used = set().union(*[e.free_symbols for _, e in statements], *[e.free_symbols for e in reduced])
+
+    args = ['const stewart_params *p'] + [f'const double *{name}' for name, _ in kernel.inputs]
+    args += [f'double *{name}' for name, _ in kernel.outputs]
+    lines = [f'/* {kernel.doc} */', f'static void kernel_{kernel.name}({", ".join(args)})', '{']
+    loads = [(s, f'p->{member}') for s, member in param_members if s in used]
+    for name, syms in kernel.inputs:
+        loads += [(s, f'{name}[{k}]') for k, s in enumerate(syms) if s in used]
+    lines += [f'    const double {s.name} = {src};' for s, src in loads]
+    if not any(s in used for s, _ in param_members):
+        lines.append('    (void)p;')
+    lines += [f'    const double {s.name} = {ccode(e)};' for s, e in statements]
+    k = 0
+    for name, exprs in kernel.outputs:
+        for j in range(len(exprs)):
+            lines.append(f'    {name}[{j}] = {ccode(reduced[k])};')
+            k += 1
+    lines.append('}')
+    return EmittedKernel(kernel.name, '\n'.join(lines) + '\n', ops)

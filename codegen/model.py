@@ -1,0 +1,480 @@
+"""Symbolic derivation of the Stewart platform dynamics.
+
+Generalized-momentum model of Lopes & Pires (2011), "Dynamic model of a 6-DOF
+Stewart platform" (equation numbers below refer to that paper).  Every geometry
+and inertia parameter is a symbol, so one set of kernels serves every platform.
+
+Performance rests on three rules:
+
+* every intermediate quantity (rotation matrix entries, leg vectors, unit
+  vectors, velocities, momenta, ...) gets its own symbol through `Graph.define`,
+  so no expression is ever expanded;
+* time derivatives are taken by the chain rule on those definitions
+  (`Graph.rate`, symbolic forward mode), never on expanded expressions;
+* the transposed partial-velocity Jacobians of the paper (eqs. 31, 35, 57) are
+  applied as cross products (`generalized_force`), never formed as matrices.
+"""
+
+from dataclasses import dataclass
+from functools import partial
+
+import sympy as sp
+
+NUM_LEGS = 6
+AXES = 'xyz'
+
+
+def _symbols(prefix, n):
+    return [sp.Symbol(f'{prefix}_{k}', real=True) for k in range(n)]
+
+
+def _vec3(prefix):
+    return sp.Matrix([sp.Symbol(f'{prefix}_{c}', real=True) for c in AXES])
+
+
+def _dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _skew(a):
+    """[a]x: _skew(a) * b == a x b."""
+    return sp.Matrix([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+
+
+def _cross(a, b):
+    return sp.Matrix([a[1] * b[2] - a[2] * b[1],
+                      a[2] * b[0] - a[0] * b[2],
+                      a[0] * b[1] - a[1] * b[0]])
+
+
+X = _symbols('x', 6)      # pose [px, py, pz, psi, theta, phi]
+XD = _symbols('xd', 6)    # pose rates
+XDD = _symbols('xdd', 6)  # pose accelerations
+TAU = _symbols('tau', 6)  # actuator forces
+
+
+@dataclass(frozen=True)
+class Params:
+    """Runtime parameter symbols (one per `stewart_params` field entry)."""
+    base: tuple        # b_i in {B}, 3x1 matrices
+    plat: tuple        # p_i in {P}, 3x1 matrices
+    m_P: sp.Symbol
+    I_P: sp.Matrix     # principal inertia of the platform in {P}
+    m_C: sp.Symbol
+    I_C: sp.Matrix     # cylinder inertia in {C_i}: axial, Iyy, Izz
+    b_C: sp.Symbol
+    m_S: sp.Symbol
+    I_S: sp.Matrix     # piston inertia in {S_i} = {C_i}: axial, Iyy, Izz
+    b_S: sp.Symbol
+    g: sp.Symbol
+
+
+PARAMS = Params(
+    base=tuple(_vec3(f'b{i}') for i in range(NUM_LEGS)),
+    plat=tuple(_vec3(f'pp{i}') for i in range(NUM_LEGS)),
+    m_P=sp.Symbol('m_P', real=True), I_P=_vec3('I_P'),
+    m_C=sp.Symbol('m_C', real=True), I_C=_vec3('I_C'),
+    b_C=sp.Symbol('b_C', real=True),
+    m_S=sp.Symbol('m_S', real=True), I_S=_vec3('I_S'),
+    b_S=sp.Symbol('b_S', real=True),
+    g=sp.Symbol('g', real=True),
+)
+
+
+class Graph:
+    """Ordered symbol definitions with symbolic forward-mode time derivatives.
+
+    `rates` maps the independent inputs to their time derivatives (x -> xd,
+    optionally xd -> xdd); every other free symbol is a constant parameter.
+    Identical expressions are defined once.
+    """
+
+    def __init__(self, rates):
+        self.rates = dict(rates)
+        self.defs = []
+        self._expr = {}
+        self._by_expr = {}
+        self._rate = {}
+
+    def define(self, name, expr):
+        """Name `expr` (returned as is when it is already a number or symbol)."""
+        expr = sp.sympify(expr)
+        if expr.is_Atom:
+            return expr
+        if expr in self._by_expr:
+            return self._by_expr[expr]
+        sym = sp.Symbol(name, real=True)
+        if sym in self._expr:
+            raise ValueError(f'symbol {name} defined twice')
+        self._expr[sym] = expr
+        self._by_expr[expr] = sym
+        self.defs.append((sym, expr))
+        return sym
+
+    def vector(self, name, exprs):
+        return sp.Matrix([self.define(f'{name}_{c}', e) for c, e in zip(AXES, exprs)])
+
+    def rate(self, expr):
+        """Total time derivative of `expr` by forward-mode chain rule."""
+        expr = sp.sympify(expr)
+        if expr.is_Symbol:
+            return self._symbol_rate(expr)
+        if expr.is_Number:
+            return sp.S.Zero
+        if expr.is_Add:
+            return sp.Add(*[self.rate(a) for a in expr.args])
+        if expr.is_Mul:
+            args = expr.args
+            return sp.Add(*[sp.Mul(*args[:k], self.rate(a), *args[k + 1:])
+                            for k, a in enumerate(args)])
+        if expr.is_Pow and expr.exp.is_Number:
+            return expr.exp * expr.base ** (expr.exp - 1) * self.rate(expr.base)
+        if isinstance(expr, sp.sin):
+            return self._known(sp.cos(expr.args[0])) * self.rate(expr.args[0])
+        if isinstance(expr, sp.cos):
+            return -self._known(sp.sin(expr.args[0])) * self.rate(expr.args[0])
+        raise TypeError(f'no rate rule for {expr.func}')
+
+    def _known(self, expr):
+        return self._by_expr.get(expr, expr)
+
+    def _symbol_rate(self, s):
+        if s in self.rates:
+            return self.rates[s]
+        if s not in self._expr:
+            return sp.S.Zero
+        if s not in self._rate:
+            e = self._expr[s]
+            if e.is_Pow and e.exp.is_Number:
+                # d(b^k)/dt = k b^k b^-1 b' reuses s = b^k (no second root)
+                rd = e.exp * s / e.base * self.rate(e.base)
+            else:
+                rd = self.rate(e)
+            self._rate[s] = self.define(f'{s.name}_d', rd)
+        return self._rate[s]
+
+
+@dataclass
+class Leg:
+    """Per-leg kinematics (eqs. 26, 32), all entries defined symbols."""
+    r: sp.Matrix       # R p_i
+    l: sp.Matrix       # leg vector (eq. 26)
+    L2: sp.Symbol      # l . l
+    L: sp.Symbol
+    u: sp.Matrix       # unit vector l / L
+    lbar: sp.Matrix    # l / (l . l) (eq. 32)
+    h2: sp.Symbol = None   # l_x^2 + l_y^2 (frame {C_i} exists iff > 0)
+    y_C: sp.Matrix = None  # {C_i} axes (eqs. 43-48); x_C = u
+    z_C: sp.Matrix = None
+
+
+@dataclass
+class Kinematics:
+    R: sp.Matrix       # ZYX Euler rotation {P} -> {B}
+    J_A: sp.Matrix     # Euler rates -> angular velocity (eq. 8)
+    c_theta: sp.Symbol
+    legs: list
+
+
+def kinematics(g, P, leg_frames=False):
+    """Pose-dependent geometry: R, J_A (eq. 8), legs (eqs. 26, 32, 43-48)."""
+    psi, theta, phi = X[3:]
+    cps, sps = g.define('c_psi', sp.cos(psi)), g.define('s_psi', sp.sin(psi))
+    cth, sth = g.define('c_theta', sp.cos(theta)), g.define('s_theta', sp.sin(theta))
+    cph, sph = g.define('c_phi', sp.cos(phi)), g.define('s_phi', sp.sin(phi))
+    Rz = sp.Matrix([[cps, -sps, 0], [sps, cps, 0], [0, 0, 1]])
+    Ry = sp.Matrix([[cth, 0, sth], [0, 1, 0], [-sth, 0, cth]])
+    Rx = sp.Matrix([[1, 0, 0], [0, cph, -sph], [0, sph, cph]])
+    R = Rz * Ry * Rx
+    R = sp.Matrix(3, 3, [g.define(f'R_{j}{k}', R[j, k]) for j in range(3) for k in range(3)])
+    J_A = sp.Matrix([[0, -sps, R[0, 0]], [0, cps, R[1, 0]], [1, 0, R[2, 0]]])
+    p = sp.Matrix(X[:3])
+    legs = []
+    for i in range(NUM_LEGS):
+        r = g.vector(f'r{i}', R * P.plat[i])
+        l = g.vector(f'l{i}', p + r - P.base[i])
+        L2 = g.define(f'L2_{i}', _dot(l, l))
+        iL2 = g.define(f'iL2_{i}', 1 / L2)
+        L = g.define(f'L_{i}', sp.sqrt(L2))
+        iL = g.define(f'iL_{i}', L * iL2)
+        leg = Leg(r=r, l=l, L2=L2, L=L, u=g.vector(f'u{i}', l * iL),
+                  lbar=g.vector(f'lb{i}', l * iL2))
+        if leg_frames:
+            leg.h2 = g.define(f'h2_{i}', l[0] ** 2 + l[1] ** 2)
+            ih = g.define(f'ih_{i}', 1 / g.define(f'h_{i}', sp.sqrt(leg.h2)))
+            leg.y_C = g.vector(f'yC{i}', [-l[1] * ih, l[0] * ih, 0])
+            leg.z_C = g.vector(f'zC{i}', _cross(leg.u, leg.y_C))
+        legs.append(leg)
+    return Kinematics(R=R, J_A=J_A, c_theta=cth, legs=legs)
+
+
+@dataclass
+class Momenta:
+    """Momenta of all bodies for one twist [v; omega]."""
+    v: sp.Matrix       # platform velocity (platform linear momentum / m_P)
+    h_P: sp.Matrix     # platform angular momentum (eqs. 13-15)
+    legs: list         # per leg (v_C, v_S, h_L)
+
+
+def twist(g, kin, qd, tag):
+    """Twist t = T qd = [v; J_A * euler rates] (eq. 18)."""
+    v = sp.Matrix(qd[:3])
+    omega = g.vector(f'{tag}w', kin.J_A * sp.Matrix(qd[3:]))
+    return v, omega
+
+
+def leg_momenta(g, P, leg, w, axisymmetric, tag):
+    """Velocities and angular momentum of leg `tag` for the velocity w of P_i.
+
+    omega_l = lbar x w (eq. 29, shared by cylinder and piston); cylinder COM
+    velocity omega_l x (b_C u) (eq. 27); piston COM velocity w + b_S u x
+    omega_l (eqs. 55-57).  Leg angular momentum h_L = (I_C + I_S) omega_l with
+    the inertias in {B} of eqs. 43-48 and 65: as omega_l is normal to u = x_C,
+    the axial inertia drops out, leaving I_t omega_l for axisymmetric legs
+    (I_t (E - u u^T) + I_a u u^T applied to omega_l) and
+    (I_yy y_C y_C^T + I_zz z_C z_C^T) omega_l in general.
+    Returns (v_C, v_S, h_L).
+    """
+    wl = g.vector(f'{tag}wl', _cross(leg.lbar, w))
+    v_C = g.vector(f'{tag}vC', P.b_C * _cross(wl, leg.u))
+    v_S = g.vector(f'{tag}vS', w + P.b_S * _cross(leg.u, wl))
+    if axisymmetric:
+        h_L = g.vector(f'{tag}hL', (P.I_C[1] + P.I_S[1]) * wl)
+    else:
+        a_y = g.define(f'{tag}ay', _dot(leg.y_C, wl))
+        a_z = g.define(f'{tag}az', _dot(leg.z_C, wl))
+        h_L = g.vector(f'{tag}hL', (P.I_C[1] + P.I_S[1]) * a_y * leg.y_C
+                       + (P.I_C[2] + P.I_S[2]) * a_z * leg.z_C)
+    return v_C, v_S, h_L
+
+
+def momenta(g, P, kin, v, omega, axisymmetric, tag):
+    """Body velocities and angular momenta for the twist [v; omega].
+
+    Platform: I_P = R diag(I_P) R^T (eq. 13), h_P = I_P omega.  Leg i: see
+    `leg_momenta` with w_i = v + omega x r_i, the velocity of P_i.
+    """
+    wb = g.vector(f'{tag}wP', kin.R.T * omega)
+    h_P = g.vector(f'{tag}hP', kin.R * sp.Matrix([P.I_P[k] * wb[k] for k in range(3)]))
+    legs = [leg_momenta(g, P, leg, g.vector(f'{tag}vP{i}', v + _cross(omega, leg.r)),
+                        axisymmetric, f'{tag}{i}')
+            for i, leg in enumerate(kin.legs)]
+    return Momenta(v=v, h_P=h_P, legs=legs)
+
+
+def generalized_force(P, kin, platform, leg_forces, g, tag):
+    """sum_b J_b^T y_b for per-body vectors y_b (eqs. 19, 39, 51, 61, 69).
+
+    `platform` is the 6-vector [y_v; y_omega] of the platform (J = identity in
+    twist coordinates); `leg_forces` holds per leg (y_C, y_S, y_L): the vectors
+    paired with the cylinder COM velocity, the piston COM velocity and the leg
+    angular velocity.  The transposed Jacobians of eqs. 31, 35 and 57 (with
+    J_G in place of the misprinted J_B of eq. 60) act as cross products:
+    J_D^T y = [z; r x z] with z = y x lbar, J_B^T y = J_D^T (b_C u x y),
+    J_G^T y = [y; r x y] + J_D^T (b_S y x u).  Each leg thus reduces to one
+    force f_i at P_i contributing [f_i; r_i x f_i].
+    """
+    W = sp.Matrix(platform)
+    for i, (leg, (y_C, y_S, y_L)) in enumerate(zip(kin.legs, leg_forces)):
+        f = leg_force(g, P, leg, y_C, y_S, y_L, f'{tag}{i}')
+        W += sp.Matrix.vstack(f, _cross(leg.r, f))
+    return W
+
+
+def leg_force(g, P, leg, y_C, y_S, y_L, tag):
+    """Force f at P_i equivalent to (y_C, y_S, y_L): f = y_S + z with
+    z = (y_L + b_C u x y_C + b_S y_S x u) x lbar (see `generalized_force`)."""
+    z = g.vector(f'{tag}z', _cross(y_L + P.b_C * _cross(leg.u, y_C)
+                                   + P.b_S * _cross(y_S, leg.u), leg.lbar))
+    return g.vector(f'{tag}f', y_S + z)
+
+
+def _gravity_forces(P, gravity):
+    """Per-body weights m_b g e_z (the Kane form of eqs. 72-76)."""
+    ez = sp.Matrix([0, 0, P.g if gravity else 0])
+    return ez * P.m_P, ez * P.m_C, ez * P.m_S
+
+
+def momentum_rate_force(g, P, kin, m, gravity, tag):
+    """sum_b J_b^T (d/dt momentum_b + m_b g e_z) (eqs. 19, 39, 51, 61, 69, 72-76).
+
+    The momentum derivatives are total time derivatives by the chain rule
+    (`Graph.rate`), i.e. d/dt(I_b J_b T) xd + I_b J_b T xdd for the graph's
+    rates.
+    """
+    rate = lambda vec: vec.applyfunc(g.rate)
+    w_P, w_C, w_S = _gravity_forces(P, gravity)
+    platform = sp.Matrix.vstack(P.m_P * rate(m.v) + w_P, rate(m.h_P))
+    legs = [(P.m_C * rate(v_C) + w_C, P.m_S * rate(v_S) + w_S, rate(h_L))
+            for v_C, v_S, h_L in m.legs]
+    return generalized_force(P, kin, platform, legs, g, tag)
+
+
+def twist_mass_matrix(g, P, kin, axisymmetric):
+    """Twist-space mass matrix M_t = sum_b J_b^T I_b J_b (symmetric).
+
+    Platform block: blockdiag(m_P E, R diag(I_P) R^T) (eq. 13).  Every leg
+    Jacobian factors through the velocity of P_i, w_i = J_P t with
+    J_P = [E, -[r_i]x] (eqs. 31, 35, 57), so leg i adds J_P^T K_i J_P with the
+    symmetric 3x3 K_i whose column j is the force at P_i (`leg_force`) of the
+    leg momenta for w = e_j.  Only upper triangles are derived.
+    """
+    IP = kin.R * sp.diag(*P.I_P) * kin.R.T
+    Mt = sp.diag(P.m_P * sp.eye(3), IP)
+    for i, leg in enumerate(kin.legs):
+        K = sp.zeros(3, 3)
+        for j in range(3):
+            e = sp.Matrix([1 if k == j else 0 for k in range(3)])
+            v_C, v_S, h_L = leg_momenta(g, P, leg, e, axisymmetric, f'k{i}{j}')
+            f = leg_force(g, P, leg, P.m_C * v_C, P.m_S * v_S, h_L, f'k{i}{j}')
+            for k in range(j + 1):
+                K[k, j] = K[j, k] = g.define(f'K{i}_{k}{j}', f[k])
+        B = -K * _skew(leg.r)
+        B = sp.Matrix(3, 3, [g.define(f'B{i}_{j}{k}', B[j, k]) for j in range(3) for k in range(3)])
+        D = _skew(leg.r) * B
+        D = sp.Matrix(3, 3, lambda j, k: g.define(f'D{i}_{min(j, k)}{max(j, k)}', D[min(j, k), max(j, k)]))
+        Mt += sp.Matrix.vstack(sp.Matrix.hstack(K, B), sp.Matrix.hstack(B.T, D))
+    return sp.Matrix(6, 6, lambda j, k: g.define(f'Mt_{min(j, k)}{max(j, k)}', Mt[min(j, k), max(j, k)]))
+
+
+def euler_map(kin):
+    """T = blockdiag(E, J_A) (eq. 18): twist = T xd."""
+    return sp.diag(sp.eye(3), kin.J_A)
+
+
+def jacobian_rows(kin):
+    """J_C (eq. 5): row i = [u_i^T, (r_i x u_i)^T]."""
+    return sp.Matrix([list(leg.u) + list(_cross(leg.r, leg.u)) for leg in kin.legs])
+
+
+@dataclass
+class Kernel:
+    """One straight-line C function: named input arrays -> named output arrays."""
+    name: str
+    doc: str
+    graph: Graph
+    inputs: list     # [(C array name, [symbols])]
+    outputs: list    # [(C array name, [expressions])]
+
+
+def _leg_checks(kin, axisymmetric):
+    """Outputs the C code checks: L_i^2 and, for the {C_i} frame, l_x^2 + l_y^2."""
+    out = [('L2', [leg.L2 for leg in kin.legs])]
+    if not axisymmetric:
+        out.append(('h2', [leg.h2 for leg in kin.legs]))
+    return out
+
+
+def _variant(axisymmetric):
+    return 'axisym' if axisymmetric else 'general'
+
+
+def leg_lengths_kernel():
+    g = Graph({})
+    kin = kinematics(g, PARAMS)
+    return Kernel('leg_lengths', 'Leg lengths L_i = |l_i| (eq. 26).', g,
+                  [('x', X)], [('L', [leg.L for leg in kin.legs])])
+
+
+def jacobian_kernel():
+    g = Graph({})
+    kin = kinematics(g, PARAMS)
+    return Kernel('jacobian', 'J_C (eq. 5), row-major.', g, [('x', X)],
+                  [('JC', list(jacobian_rows(kin)))] + _leg_checks(kin, True))
+
+
+def gravity_kernel():
+    g = Graph({})
+    P = PARAMS
+    kin = kinematics(g, P)
+    w_P, w_C, w_S = _gravity_forces(P, True)
+    G = generalized_force(P, kin, sp.Matrix.vstack(w_P, sp.zeros(3, 1)),
+                          [(w_C, w_S, sp.zeros(3, 1))] * NUM_LEGS, g, 'g')
+    return Kernel('gravity_vector', 'G = sum_b J_b^T m_b g e_z (eqs. 72-76).', g,
+                  [('x', X)], [('G', list(G))] + _leg_checks(kin, True))
+
+
+def mass_matrix_kernel(axisymmetric):
+    g = Graph({})
+    kin = kinematics(g, PARAMS, leg_frames=not axisymmetric)
+    M = twist_mass_matrix(g, PARAMS, kin, axisymmetric) * euler_map(kin)
+    return Kernel(f'mass_matrix_{_variant(axisymmetric)}',
+                  'M = M_t T (eqs. 19, 39, 51, 61, 69), row-major.', g, [('x', X)],
+                  [('M', list(M))] + _leg_checks(kin, axisymmetric))
+
+
+def coriolis_vector_kernel(axisymmetric):
+    g = Graph({x: xd for x, xd in zip(X, XD)})
+    kin = kinematics(g, PARAMS, leg_frames=not axisymmetric)
+    v, omega = twist(g, kin, XD, 'q')
+    m = momenta(g, PARAMS, kin, v, omega, axisymmetric, 'q')
+    W = momentum_rate_force(g, PARAMS, kin, m, False, 'q')
+    return Kernel(f'coriolis_vector_{_variant(axisymmetric)}',
+                  'V xd = sum_b J_b^T d/dt(I_b J_b T) xd.', g, [('x', X), ('xd', XD)],
+                  [('Vxd', list(W))] + _leg_checks(kin, axisymmetric))
+
+
+def coriolis_matrix_kernel(axisymmetric):
+    """Column j of V is sum_b J_b^T d/dt(I_b J_b T e_j) with e_j held constant."""
+    g = Graph({x: xd for x, xd in zip(X, XD)})
+    kin = kinematics(g, PARAMS, leg_frames=not axisymmetric)
+    V = sp.zeros(6, 6)
+    for j in range(6):
+        e = [1 if k == j else 0 for k in range(6)]
+        v, omega = twist(g, kin, e, f'c{j}')
+        m = momenta(g, PARAMS, kin, v, omega, axisymmetric, f'c{j}')
+        V[:, j] = momentum_rate_force(g, PARAMS, kin, m, False, f'c{j}')
+    return Kernel(f'coriolis_matrix_{_variant(axisymmetric)}',
+                  coriolis_matrix_kernel.__doc__ + ' Row-major.', g,
+                  [('x', X), ('xd', XD)], [('V', list(V))] + _leg_checks(kin, axisymmetric))
+
+
+def inverse_dynamics_kernel(axisymmetric):
+    g = Graph({**{x: xd for x, xd in zip(X, XD)}, **{xd: xdd for xd, xdd in zip(XD, XDD)}})
+    kin = kinematics(g, PARAMS, leg_frames=not axisymmetric)
+    v, omega = twist(g, kin, XD, 'q')
+    m = momenta(g, PARAMS, kin, v, omega, axisymmetric, 'q')
+    W = momentum_rate_force(g, PARAMS, kin, m, True, 'q')
+    return Kernel(f'inverse_dynamics_{_variant(axisymmetric)}',
+                  'W = M xdd + V xd + G and J_C (to solve J_C^T tau = W).', g,
+                  [('x', X), ('xd', XD), ('xdd', XDD)],
+                  [('W', list(W)), ('JC', list(jacobian_rows(kin)))]
+                  + _leg_checks(kin, axisymmetric))
+
+
+def euler_rates_inverse(kin):
+    """J_A^-1 (inverse of eq. 8) in closed form; divides by cos(theta)."""
+    cps, sps = kin.J_A[1, 1], -kin.J_A[0, 1]
+    sth, cth = -kin.R[2, 0], kin.c_theta
+    return sp.Matrix([[sth * cps / cth, sth * sps / cth, 1],
+                      [-sps, cps, 0],
+                      [cps / cth, sps / cth, 0]])
+
+
+def forward_dynamics_kernel(axisymmetric):
+    """Upper triangle of M_t, rhs = J_C^T tau - V xd - G, J_A^-1 and cos(theta).
+
+    The C code solves M_t y = rhs (y = T xdd) and returns xdd = [y_v; J_A^-1 y_w].
+    """
+    g = Graph({x: xd for x, xd in zip(X, XD)})
+    kin = kinematics(g, PARAMS, leg_frames=not axisymmetric)
+    Mt = twist_mass_matrix(g, PARAMS, kin, axisymmetric)
+    v, omega = twist(g, kin, XD, 'q')
+    m = momenta(g, PARAMS, kin, v, omega, axisymmetric, 'q')
+    rhs = jacobian_rows(kin).T * sp.Matrix(TAU) - momentum_rate_force(g, PARAMS, kin, m, True, 'q')
+    return Kernel(f'forward_dynamics_{_variant(axisymmetric)}',
+                  forward_dynamics_kernel.__doc__, g,
+                  [('x', X), ('xd', XD), ('tau', TAU)],
+                  [('Mt', [Mt[j, k] for j in range(6) for k in range(j, 6)]), ('rhs', list(rhs)),
+                   ('JAinv', list(euler_rates_inverse(kin))), ('ctheta', [kin.c_theta])]
+                  + _leg_checks(kin, axisymmetric))
+
+
+def kernel_builders():
+    """Zero-argument builders of every kernel the C file needs, in emission order."""
+    builders = [leg_lengths_kernel, jacobian_kernel, gravity_kernel]
+    for axisymmetric in (True, False):
+        builders += [partial(b, axisymmetric) for b in (
+            mass_matrix_kernel, coriolis_matrix_kernel, coriolis_vector_kernel,
+            inverse_dynamics_kernel, forward_dynamics_kernel)]
+    return builders

@@ -1,0 +1,235 @@
+# cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True, initializedcheck=False
+"""Thin Cython layer over the generated C model (generated/stewart_model.c).
+
+It only moves arrays: it takes one state ``(6,)`` or a batch ``(N, 6)`` (a single row
+broadcasts against a batch), makes every input C-contiguous float64 (copying only when
+needed), checks that inputs are finite, runs the C function over the rows with the GIL
+released (split over threads with OpenMP when asked), and turns the C status codes into
+Python errors. All the mathematics is in the generated C.
+"""
+
+import numpy as np
+
+cimport numpy as cnp
+from cython.parallel cimport prange
+from libc.math cimport isfinite, NAN
+
+from .errors import SingularityError
+
+cnp.import_array()
+
+cdef extern from "stewart_model.h" nogil:
+    ctypedef struct stewart_params:
+        double base_points[6][3]
+        double platform_points[6][3]
+        double platform_mass
+        double platform_inertia[3]
+        double cylinder_mass
+        double cylinder_inertia[3]
+        double cylinder_com_distance
+        double piston_mass
+        double piston_inertia[3]
+        double piston_com_distance
+        double gravity
+
+    enum:
+        STEWART_OK
+
+    const char *stewart_status_message(int status)
+    int stewart_leg_lengths(const stewart_params *p, const double *x, double *L)
+    int stewart_jacobian(const stewart_params *p, const double *x, double *JC)
+    int stewart_mass_matrix(const stewart_params *p, const double *x, double *M)
+    int stewart_gravity_vector(const stewart_params *p, const double *x, double *G)
+    int stewart_coriolis_matrix(const stewart_params *p, const double *x, const double *xd, double *V)
+    int stewart_coriolis_vector(const stewart_params *p, const double *x, const double *xd, double *Vxd)
+    int stewart_inverse_dynamics(const stewart_params *p, const double *x, const double *xd,
+                                 const double *xdd, double *tau)
+    int stewart_forward_dynamics(const stewart_params *p, const double *x, const double *xd,
+                                 const double *tau, double *xdd)
+
+ctypedef int (*state_fn)(const stewart_params *, const double *, double *) noexcept nogil
+ctypedef int (*rate_fn)(const stewart_params *, const double *, const double *, double *) noexcept nogil
+ctypedef int (*dynamics_fn)(const stewart_params *, const double *, const double *, const double *,
+                            double *) noexcept nogil
+
+cdef enum:
+    NONFINITE_INPUT = -1  # status of a row whose input is not finite (C status codes are >= 0)
+
+
+cdef cnp.ndarray _states(str name, object value):
+    """``value`` as a C-contiguous float64 array of shape (6,) or (N, 6); no copy if it is one."""
+    cdef cnp.ndarray arr
+    if type(value) is cnp.ndarray:
+        arr = <cnp.ndarray>value
+        if (cnp.PyArray_TYPE(arr) == cnp.NPY_DOUBLE and cnp.PyArray_IS_C_CONTIGUOUS(arr)
+                and arr.shape[arr.ndim - 1] == 6 and (arr.ndim == 1 or arr.ndim == 2)):
+            return arr
+    try:
+        obj = np.asarray(value)
+    except Exception as exc:
+        raise ValueError(f"{name}: cannot be read as an array ({exc})") from None
+    if obj.dtype.kind not in "biuf":
+        raise ValueError(f"{name}: expected real numbers, got dtype {obj.dtype}")
+    if obj.ndim not in (1, 2) or obj.shape[obj.ndim - 1] != 6:
+        raise ValueError(f"{name}: expected shape (6,) or (N, 6), got {obj.shape}")
+    return np.ascontiguousarray(obj, dtype=np.float64)
+
+
+cdef inline bint _finite6(const double *v) noexcept nogil:
+    cdef int k
+    for k in range(6):
+        if not isfinite(v[k]):
+            return False
+    return True
+
+
+cdef class Kernel:
+    """The compiled model for one parameter set. ``threads`` > 1 splits batches over
+    that many OpenMP threads."""
+
+    cdef stewart_params p
+    cdef readonly int threads
+
+    def __cinit__(self, params, int threads=1):
+        cdef int i, k
+        for i in range(6):
+            for k in range(3):
+                self.p.base_points[i][k] = params.base_points[i, k]
+                self.p.platform_points[i][k] = params.platform_points[i, k]
+        for k in range(3):
+            self.p.platform_inertia[k] = params.platform_inertia[k]
+            self.p.cylinder_inertia[k] = params.cylinder_inertia[k]
+            self.p.piston_inertia[k] = params.piston_inertia[k]
+        self.p.platform_mass = params.platform_mass
+        self.p.cylinder_mass = params.cylinder_mass
+        self.p.cylinder_com_distance = params.cylinder_com_distance
+        self.p.piston_mass = params.piston_mass
+        self.p.piston_com_distance = params.piston_com_distance
+        self.p.gravity = params.gravity
+        if threads < 1:
+            raise ValueError(f"threads: must be >= 1, got {threads}")
+        self.threads = threads
+
+    cdef object _run(self, str fname, int arity, void *fn, tuple names, tuple values,
+                     int width, bint return_mask):
+        """Evaluate ``fn`` row by row. ``arity`` inputs (1-3), output rows of ``width``."""
+        cdef cnp.ndarray a0, a1, a2, out, status
+        cdef const double *p0
+        cdef const double *p1
+        cdef const double *p2
+        cdef double *po
+        cdef int *ps
+        cdef cnp.npy_intp n = 1
+        cdef Py_ssize_t i, s0 = 0, s1 = 0, s2 = 0
+        cdef bint batch = False
+        cdef int nthreads = self.threads
+        cdef int failures = 0
+        cdef cnp.npy_intp dims[3]
+        cdef int nd = 0
+
+        a0 = _states(names[0], values[0])
+        a1 = _states(names[1], values[1]) if arity > 1 else a0
+        a2 = _states(names[2], values[2]) if arity > 2 else a0
+        for arr in (a0, a1, a2):
+            if arr.ndim == 2:
+                if batch and arr.shape[0] != n:
+                    raise ValueError(
+                        "arguments must have matching batch shapes: "
+                        + ", ".join(f"{nm} {np.shape(v)}" for nm, v in zip(names, values)))
+                batch, n = True, arr.shape[0]
+        if a0.ndim == 2: s0 = 6
+        if a1.ndim == 2: s1 = 6
+        if a2.ndim == 2: s2 = 6
+
+        if batch:
+            dims[nd] = n
+            nd += 1
+        dims[nd] = 6
+        nd += 1
+        if width == 36:
+            dims[nd] = 6
+            nd += 1
+        out = cnp.PyArray_EMPTY(nd, dims, cnp.NPY_DOUBLE, 0)
+        status = cnp.PyArray_ZEROS(1, &n, cnp.NPY_INT, 0)
+        p0 = <const double *>cnp.PyArray_DATA(a0)
+        p1 = <const double *>cnp.PyArray_DATA(a1)
+        p2 = <const double *>cnp.PyArray_DATA(a2)
+        po = <double *>cnp.PyArray_DATA(out)
+        ps = <int *>cnp.PyArray_DATA(status)
+
+        if n == 1:
+            failures = self._row(arity, fn, p0, p1, p2, po, ps, width)
+        elif nthreads > 1:
+            for i in prange(n, nogil=True, num_threads=nthreads, schedule="static"):
+                failures += self._row(arity, fn, p0 + i * s0, p1 + i * s1, p2 + i * s2,
+                                      po + i * width, ps + i, width)
+        else:
+            with nogil:
+                for i in range(n):
+                    failures += self._row(arity, fn, p0 + i * s0, p1 + i * s1, p2 + i * s2,
+                                          po + i * width, ps + i, width)
+        if failures == 0:
+            return (out, np.ones(n if batch else (), dtype=bool)) if return_mask else out
+        return self._failed(fname, names, (a0, a1, a2)[:arity], out, status, batch, return_mask)
+
+    cdef inline int _row(self, int arity, void *fn, const double *x0, const double *x1,
+                         const double *x2, double *out, int *status, int width) noexcept nogil:
+        cdef int k
+        if not (_finite6(x0) and (arity < 2 or _finite6(x1)) and (arity < 3 or _finite6(x2))):
+            status[0] = NONFINITE_INPUT
+            for k in range(width):
+                out[k] = NAN
+            return 1
+        if arity == 1:
+            status[0] = (<state_fn>fn)(&self.p, x0, out)
+        elif arity == 2:
+            status[0] = (<rate_fn>fn)(&self.p, x0, x1, out)
+        else:
+            status[0] = (<dynamics_fn>fn)(&self.p, x0, x1, x2, out)
+        return status[0] != STEWART_OK
+
+    cdef object _failed(self, str fname, tuple names, tuple arrays, cnp.ndarray out,
+                        cnp.ndarray status, bint batch, bint return_mask):
+        bad_input = np.flatnonzero(status == NONFINITE_INPUT)
+        if bad_input.size:
+            row = int(bad_input[0])
+            for name, arr in zip(names, arrays):
+                values = arr[row] if arr.ndim == 2 else arr
+                if not np.all(np.isfinite(values)):
+                    where = f"row {row} " if arr.ndim == 2 else ""
+                    raise ValueError(f"{name}: {where}contains NaN or inf: {values.tolist()}")
+        rows = np.flatnonzero(status != STEWART_OK)
+        if return_mask:
+            return out, (status == STEWART_OK) if batch else bool(status[0] == STEWART_OK)
+        first = int(rows[0])
+        message = stewart_status_message(status[first]).decode()
+        where = f" at row(s) {rows[:10].tolist()}{' ...' if rows.size > 10 else ''}" if batch else ""
+        raise SingularityError(f"{fname}: {message}{where}", rows=rows.tolist())
+
+    def leg_lengths(self, x, *, return_mask=False):
+        return self._run("leg_lengths", 1, <void *>stewart_leg_lengths, ("x",), (x,), 6, return_mask)
+
+    def jacobian(self, x, *, return_mask=False):
+        return self._run("jacobian", 1, <void *>stewart_jacobian, ("x",), (x,), 36, return_mask)
+
+    def mass_matrix(self, x, *, return_mask=False):
+        return self._run("mass_matrix", 1, <void *>stewart_mass_matrix, ("x",), (x,), 36, return_mask)
+
+    def gravity_vector(self, x, *, return_mask=False):
+        return self._run("gravity_vector", 1, <void *>stewart_gravity_vector, ("x",), (x,), 6, return_mask)
+
+    def coriolis_matrix(self, x, xd, *, return_mask=False):
+        return self._run("coriolis_matrix", 2, <void *>stewart_coriolis_matrix, ("x", "xd"), (x, xd), 36,
+                         return_mask)
+
+    def coriolis_vector(self, x, xd, *, return_mask=False):
+        return self._run("coriolis_vector", 2, <void *>stewart_coriolis_vector, ("x", "xd"), (x, xd), 6,
+                         return_mask)
+
+    def inverse_dynamics(self, x, xd, xdd, *, return_mask=False):
+        return self._run("inverse_dynamics", 3, <void *>stewart_inverse_dynamics, ("x", "xd", "xdd"),
+                         (x, xd, xdd), 6, return_mask)
+
+    def forward_dynamics(self, x, xd, tau, *, return_mask=False):
+        return self._run("forward_dynamics", 3, <void *>stewart_forward_dynamics, ("x", "xd", "tau"),
+                         (x, xd, tau), 6, return_mask)

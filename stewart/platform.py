@@ -1,0 +1,101 @@
+"""``stewart.Platform``: the compiled model of one platform, the object most users hold."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import kinematics
+from ._kernel import Kernel
+from .params import PlatformParams
+
+__all__ = ["Platform"]
+
+
+class Platform:
+    """The generalized-momentum model of Lopes & Pires (2011) for one parameter set,
+    evaluated by the generated C kernel.
+
+    Every method takes one state ``(6,)`` or a batch ``(N, 6)`` (a single row broadcasts
+    against a batch) and returns the matching shape. Inputs are converted to
+    C-contiguous float64 (copied only when needed). A wrong shape, a non-numeric dtype or
+    a NaN raises ``ValueError`` naming the argument. A state where the model is undefined
+    raises :class:`stewart.SingularityError` naming the condition and the rows; with
+    ``return_mask=True`` such rows come back as NaN instead and the method returns
+    ``(result, ok)`` with a boolean mask (a bool for one state), for workspace sweeps.
+
+    ``threads`` > 1 splits batches over that many threads.
+    """
+
+    def __init__(self, params: PlatformParams, *, threads: int = 1):
+        if not isinstance(params, PlatformParams):
+            raise ValueError(f"params: expected a stewart.PlatformParams, got {type(params).__name__}")
+        self._params = params
+        self._home = kinematics.home_pose(params)
+        self._home.flags.writeable = False
+        self._kernel = Kernel(params, threads)
+
+    @classmethod
+    def preset(cls, name: str, **options) -> "Platform":
+        """The compiled model of a built-in parameter set (see :func:`stewart.presets`)."""
+        return cls(PlatformParams.preset(name), **options)
+
+    @classmethod
+    def load(cls, path, **options) -> "Platform":
+        """The compiled model of a TOML or JSON parameter file."""
+        return cls(PlatformParams.load(path), **options)
+
+    @property
+    def params(self) -> PlatformParams:
+        """The parameter set (immutable)."""
+        return self._params
+
+    @property
+    def home_pose(self) -> np.ndarray:
+        """The home pose of :func:`stewart.home_pose` (read-only)."""
+        return self._home
+
+    @property
+    def threads(self) -> int:
+        return self._kernel.threads
+
+    def __repr__(self) -> str:
+        return f"Platform({self._params!r}, threads={self.threads})"
+
+    def leg_lengths(self, x, *, return_mask=False):
+        """Leg lengths ``|l_i|``, ``l_i = p + R p_i - b_i`` (eq. 26)."""
+        return self._kernel.leg_lengths(x, return_mask=return_mask)
+
+    def jacobian(self, x, *, return_mask=False):
+        """``J_C`` (eq. 5): ``Ldot = J_C [v; omega]``, shape ``(..., 6, 6)``."""
+        return self._kernel.jacobian(x, return_mask=return_mask)
+
+    def mass_matrix(self, x, *, return_mask=False):
+        """``M = sum_b J_b^T I_b J_b T`` (eqs. 22, 40, 52, 62, 70); multiplies ``xddot``."""
+        return self._kernel.mass_matrix(x, return_mask=return_mask)
+
+    def coriolis_matrix(self, x, xd, *, return_mask=False):
+        """``V = sum_b J_b^T d/dt(I_b J_b T)`` (eqs. 23, 41, 53, 63, 71)."""
+        return self._kernel.coriolis_matrix(x, xd, return_mask=return_mask)
+
+    def coriolis_vector(self, x, xd, *, return_mask=False):
+        """``V xdot``, computed without forming ``V``."""
+        return self._kernel.coriolis_vector(x, xd, return_mask=return_mask)
+
+    def gravity_vector(self, x, *, return_mask=False):
+        """``G`` (eqs. 72-76), computed as ``sum_b m_b g J_b^T e_z``."""
+        return self._kernel.gravity_vector(x, return_mask=return_mask)
+
+    def inverse_dynamics(self, x, xd, xdd, *, return_mask=False):
+        """Actuator forces along the legs [N]: ``tau = J_C^-T (M xddot + V xdot + G)``."""
+        return self._kernel.inverse_dynamics(x, xd, xdd, return_mask=return_mask)
+
+    def forward_dynamics(self, x, xd, tau, *, return_mask=False):
+        """Euler accelerations ``xddot = M^-1 (J_C^T tau - V xdot - G)``."""
+        return self._kernel.forward_dynamics(x, xd, tau, return_mask=return_mask)
+
+    def forward_kinematics(self, lengths, guess=None, **options):
+        """Pose(s) from leg lengths by Newton-Raphson (:func:`stewart.forward_kinematics`),
+        starting from ``guess`` or the home pose."""
+        return kinematics.forward_kinematics(
+            self._params, lengths, self._home if guess is None else guess, **options
+        )

@@ -1,0 +1,191 @@
+"""The compiled kernel (generated C through Cython) against the numeric reference, hand
+calculations and its own batch/single and forward/inverse consistency."""
+
+import warnings
+
+import numpy as np
+import pytest
+
+import stewart
+from stewart import reference as ref
+from conftest import random_params, random_states
+
+FUNCTIONS = [
+    ("leg_lengths", 1),
+    ("jacobian", 1),
+    ("mass_matrix", 1),
+    ("gravity_vector", 1),
+    ("coriolis_matrix", 2),
+    ("coriolis_vector", 2),
+    ("inverse_dynamics", 3),
+]
+
+
+def _reference(params, name, args):
+    source = ref if hasattr(ref, name) else stewart.kinematics
+    return getattr(source, name)(params, *args)
+
+
+def _relative_error(got, want):
+    """Worst error per state, relative to the largest entry of that state's result."""
+    got = got.reshape(len(got), -1)
+    want = want.reshape(len(want), -1)
+    return np.max(np.abs(got - want) / np.max(np.abs(want), axis=1, keepdims=True))
+
+
+def _param_sets():
+    rng = np.random.default_rng(20)
+    sets = [(name, stewart.PlatformParams.preset(name)) for name in sorted(stewart.presets())]
+    sets += [(f"random axisymmetric {k}", random_params(rng)) for k in range(3)]
+    sets += [(f"random general-inertia {k}", random_params(rng, axisymmetric=False)) for k in range(2)]
+    return sets
+
+
+@pytest.mark.parametrize("label, params", _param_sets(), ids=lambda v: v if isinstance(v, str) else "")
+def test_kernel_matches_reference(label, params, figures):
+    rng = np.random.default_rng(21)
+    n = 1000 if label in stewart.presets() else 300
+    x, xd, xdd = random_states(params, n, rng)
+    plat = stewart.Platform(params)
+    args = (x, xd, xdd)
+    worst = 0.0
+    for name, arity in FUNCTIONS:
+        got = getattr(plat, name)(*args[:arity])
+        worst = max(worst, _relative_error(got, _reference(params, name, args[:arity])))
+    tau = ref.inverse_dynamics(params, x, xd, xdd)
+    worst = max(worst, _relative_error(plat.forward_dynamics(x, xd, tau), xdd))
+    figures(f"kernel vs reference, all functions ({label})", worst, 1e-10)
+
+
+def test_forward_inverse_round_trip(preset_params, figures):
+    rng = np.random.default_rng(22)
+    plat = stewart.Platform(preset_params)
+    x, xd, xdd = random_states(preset_params, 1000, rng)
+    back = plat.forward_dynamics(x, xd, plat.inverse_dynamics(x, xd, xdd))
+    figures(f"kernel FD(ID(xdd)) vs xdd ({preset_params.name})", _relative_error(back, xdd), 1e-10)
+
+
+def test_batch_equals_loop_of_single_calls(preset_params):
+    rng = np.random.default_rng(23)
+    plat = stewart.Platform(preset_params)
+    threaded = stewart.Platform(preset_params, threads=2)
+    x, xd, xdd = random_states(preset_params, 64, rng)
+    args = (x, xd, xdd)
+    for name, arity in FUNCTIONS + [("forward_dynamics", 3)]:
+        batch = getattr(plat, name)(*args[:arity])
+        loop = np.array([getattr(plat, name)(*(a[k] for a in args[:arity])) for k in range(len(x))])
+        np.testing.assert_array_equal(batch, loop)
+        np.testing.assert_array_equal(getattr(threaded, name)(*args[:arity]), batch)
+
+
+def test_single_row_broadcasts_against_batch(preset_params):
+    plat = stewart.Platform(preset_params)
+    x, xd, _ = random_states(preset_params, 5, np.random.default_rng(24))
+    tau = np.full(6, 10.0)
+    np.testing.assert_array_equal(plat.forward_dynamics(x, xd, tau), plat.forward_dynamics(x, xd, np.tile(tau, (5, 1))))
+
+
+def test_statics_of_symmetric_hexapod_by_hand():
+    """Massless legs, level platform centred over a 3-fold symmetric base: each leg
+    carries m_P g / 6 vertically, i.e. tau = m_P g / (6 u_z) with u_z = z / L."""
+    params = stewart.PlatformParams.preset("motion_simulator").replace(
+        cylinder_mass=0.0, piston_mass=0.0, cylinder_inertia=(0, 0, 0), piston_inertia=(0, 0, 0)
+    )
+    plat = stewart.Platform(params)
+    x = plat.home_pose
+    lengths = plat.leg_lengths(x)
+    expected = params.platform_mass * 9.81 / 6 * lengths / x[2]
+    zero = np.zeros(6)
+    np.testing.assert_allclose(plat.inverse_dynamics(x, zero, zero), expected, rtol=1e-13)
+    np.testing.assert_allclose(plat.gravity_vector(x), [0, 0, params.platform_mass * 9.81, 0, 0, 0], atol=1e-10)
+
+
+def test_statics_with_leg_weights_balance_total_weight():
+    """With leg masses, J_C^T tau = G and the vertical force the legs put on the
+    platform lies between the platform's weight and the whole machine's weight."""
+    params = stewart.PlatformParams.preset("narayan2017")
+    plat = stewart.Platform(params)
+    x = plat.home_pose
+    zero = np.zeros(6)
+    tau = plat.inverse_dynamics(x, zero, zero)
+    weight = plat.gravity_vector(x)
+    np.testing.assert_allclose(plat.jacobian(x).T @ tau, weight, rtol=0, atol=1e-13 * weight[2])
+    lift = (plat.jacobian(x).T @ tau)[2]
+    total = (params.platform_mass + 6 * (params.cylinder_mass + params.piston_mass)) * 9.81
+    assert params.platform_mass * 9.81 < lift < total
+
+
+def test_singular_states_raise_or_mask_never_nan():
+    plat = stewart.Platform.preset("narayan2017")
+    home = plat.home_pose
+    flat = np.zeros(6)  # platform in the base plane: J_C singular
+    tilted = home + [0, 0, 0, 0, np.pi / 2, 0]
+    zero = np.zeros(6)
+    with pytest.raises(stewart.SingularityError, match=r"inverse_dynamics: .*J_C.* at row\(s\) \[1\]") as info:
+        plat.inverse_dynamics(np.stack([home, flat]), zero, zero)
+    assert info.value.rows == [1]
+    with pytest.raises(stewart.SingularityError, match="theta"):
+        plat.forward_dynamics(tilted, zero, zero)
+    out, ok = plat.inverse_dynamics(np.stack([home, flat, home]), zero, zero, return_mask=True)
+    assert ok.tolist() == [True, False, True]
+    assert np.all(np.isfinite(out[ok])) and np.all(np.isnan(out[~ok]))
+    tau, ok_one = plat.forward_dynamics(tilted, zero, zero, return_mask=True)
+    assert ok_one is False and np.all(np.isnan(tau))
+    # Defined there: mass matrix and gravity at theta = 90 deg.
+    assert np.all(np.isfinite(plat.mass_matrix(tilted)))
+
+
+def test_vertical_leg_with_general_inertia_is_reported():
+    base = stewart.PlatformParams.preset("narayan2017")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", stewart.NonAxisymmetricLegWarning)
+        general = stewart.Platform(base.replace(piston_inertia=(1e-4, 6e-4, 5e-4)))
+    x = np.zeros(6)
+    x[:3] = base.base_points[2] - base.platform_points[2] + [0, 0, 0.28]  # leg 2 vertical
+    zero = np.zeros(6)
+    with pytest.raises(stewart.SingularityError, match="vertical"):
+        general.inverse_dynamics(x, zero, zero)
+    axisymmetric = stewart.Platform(base)
+    tau = axisymmetric.inverse_dynamics(x, zero, zero)
+    np.testing.assert_allclose(tau, ref.inverse_dynamics(base, x, zero, zero), rtol=1e-12)
+
+
+@pytest.mark.parametrize(
+    "args, message",
+    [
+        ((np.zeros(5), np.zeros(6), np.zeros(6)), r"x: expected shape \(6,\) or \(N, 6\), got \(5,\)"),
+        ((np.zeros(6), np.zeros((2, 2, 6)), np.zeros(6)), r"xd: expected shape"),
+        ((np.zeros(6), np.zeros(6), ["a"] * 6), "xdd: expected real numbers"),
+        ((np.zeros((3, 6)), np.zeros((2, 6)), np.zeros(6)), "matching batch shapes"),
+        ((np.zeros((3, 6)), np.zeros(6), np.eye(3, 6) * np.nan), r"xdd: row 0 contains NaN"),
+        ((np.zeros(6), np.zeros(6), np.zeros(6) + 1j), "xdd: expected real numbers"),
+    ],
+)
+def test_bad_arguments_are_named(args, message):
+    plat = stewart.Platform.preset("narayan2017")
+    x = args[0] + plat.home_pose if np.asarray(args[0]).shape[-1:] == (6,) else args[0]
+    with pytest.raises(ValueError, match=message):
+        plat.inverse_dynamics(x, *args[1:])
+
+
+def test_any_array_like_is_accepted():
+    plat = stewart.Platform.preset("narayan2017")
+    home = plat.home_pose
+    wide = np.zeros((2, 12))
+    wide[:, ::2] = home  # a non-contiguous view
+    zero = [0] * 6  # a list of ints
+    expected = plat.inverse_dynamics(home, np.zeros(6), np.zeros(6))
+    np.testing.assert_array_equal(plat.inverse_dynamics(wide[:, ::2], zero, np.zeros(6, dtype=np.float32))[1], expected)
+    np.testing.assert_array_equal(plat.inverse_dynamics(list(home), zero, zero), expected)
+
+
+def test_platform_api():
+    plat = stewart.Platform.preset("narayan2017")
+    assert plat.params == stewart.PlatformParams.preset("narayan2017")
+    np.testing.assert_array_equal(plat.home_pose, stewart.home_pose(plat.params))
+    x = plat.home_pose + [0.01, 0, 0.02, 0.05, 0, 0]
+    np.testing.assert_allclose(plat.forward_kinematics(plat.leg_lengths(x)), x, atol=1e-10)
+    with pytest.raises(ValueError, match="params: expected a stewart.PlatformParams"):
+        stewart.Platform({"platform_mass": 1})
+    with pytest.raises(ValueError, match="threads: must be >= 1"):
+        stewart.Platform(plat.params, threads=0)
