@@ -6,7 +6,8 @@ VENV := .venv
 PY := $(VENV)/bin/python
 INSTALLED := $(VENV)/.installed
 KERNEL := build/.kernel-built
-KERNEL_SOURCES := stewart/_kernel.pyx generated/stewart_model.c generated/stewart_model.h setup.py
+KERNEL_SOURCES := stewart/_kernel.pyx stewart/_kernel.pxd stewart/_simulate.pyx generated/stewart_model.c \
+	generated/stewart_model.h setup.py
 C_TEST := tests/c/test_model
 
 .PHONY: all test demo generate build bench clean
@@ -45,4 +46,4 @@ bench: build
 	$(PY) -m benchmarks
 
 clean:
-	rm -rf build *.egg-info stewart/*.so stewart/_kernel.c .pytest_cache $(C_TEST)
+	rm -rf build *.egg-info stewart/*.so stewart/_kernel.c stewart/_simulate.c .pytest_cache $(C_TEST)

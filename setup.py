@@ -11,9 +11,7 @@ import numpy as np
 from Cython.Build import cythonize
 from setuptools import Extension, setup
 
-kernel = Extension(
-    "stewart._kernel",
-    sources=["stewart/_kernel.pyx", "generated/stewart_model.c"],
+FLAGS = dict(
     include_dirs=["generated", np.get_include()],
     define_macros=[("NPY_NO_DEPRECATED_API", "NPY_1_7_API_VERSION")],
     extra_compile_args=["-O3", f"-march={os.environ.get('STEWART_MARCH', 'native')}", "-fopenmp"],
@@ -21,4 +19,11 @@ kernel = Extension(
     libraries=["m"],
 )
 
-setup(ext_modules=cythonize([kernel], language_level=3))
+extensions = [
+    # The model itself: the generated C and its array wrapper.
+    Extension("stewart._kernel", sources=["stewart/_kernel.pyx", "generated/stewart_model.c"], **FLAGS),
+    # The simulation loop, which calls the model through the kernel's C-level methods.
+    Extension("stewart._simulate", sources=["stewart/_simulate.pyx"], **FLAGS),
+]
+
+setup(ext_modules=cythonize(extensions, language_level=3))

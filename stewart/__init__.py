@@ -2,7 +2,8 @@
 
 The public API: :class:`Platform` (the compiled model), :class:`PlatformParams` and its
 presets, the kinematics functions, the numeric reference model :mod:`stewart.reference`,
-and the errors raised for inputs where the model is undefined.
+simulation under control (:func:`simulate`, trajectories, controllers), and the errors
+raised for inputs where the model is undefined.
 """
 
 from . import kinematics, reference
@@ -22,6 +23,9 @@ from .kinematics import (
 )
 from .params import NonAxisymmetricLegWarning, PlatformParams
 from .platform import Platform
+from .control import PID, Actuators, ComputedTorque, OpenLoop
+from .simulation import SimulationResult, simulate
+from .trajectory import PointToPoint, SampledTrajectory
 from .presets import presets
 
 __all__ = [
@@ -29,6 +33,14 @@ __all__ = [
     "PlatformParams",
     "NonAxisymmetricLegWarning",
     "presets",
+    "simulate",
+    "SimulationResult",
+    "PointToPoint",
+    "SampledTrajectory",
+    "PID",
+    "ComputedTorque",
+    "OpenLoop",
+    "Actuators",
     "kinematics",
     "reference",
     "SingularityError",

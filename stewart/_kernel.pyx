@@ -10,6 +10,7 @@ Python errors. All the mathematics is in the generated C.
 
 import numpy as np
 
+cimport cython
 cimport numpy as cnp
 from cython.parallel cimport prange
 from libc.math cimport isfinite, NAN
@@ -18,34 +19,11 @@ from .errors import SingularityError
 
 cnp.import_array()
 
-cdef extern from "stewart_model.h" nogil:
-    ctypedef struct stewart_params:
-        double base_points[6][3]
-        double platform_points[6][3]
-        double platform_mass
-        double platform_inertia[3]
-        double cylinder_mass
-        double cylinder_inertia[3]
-        double cylinder_com_distance
-        double piston_mass
-        double piston_inertia[3]
-        double piston_com_distance
-        double gravity
 
-    enum:
-        STEWART_OK
+def status_message(int status):
+    """The generated C's description of a status code."""
+    return stewart_status_message(status).decode()
 
-    const char *stewart_status_message(int status)
-    int stewart_leg_lengths(const stewart_params *p, const double *x, double *L)
-    int stewart_jacobian(const stewart_params *p, const double *x, double *JC)
-    int stewart_mass_matrix(const stewart_params *p, const double *x, double *M)
-    int stewart_gravity_vector(const stewart_params *p, const double *x, double *G)
-    int stewart_coriolis_matrix(const stewart_params *p, const double *x, const double *xd, double *V)
-    int stewart_coriolis_vector(const stewart_params *p, const double *x, const double *xd, double *Vxd)
-    int stewart_inverse_dynamics(const stewart_params *p, const double *x, const double *xd,
-                                 const double *xdd, double *tau)
-    int stewart_forward_dynamics(const stewart_params *p, const double *x, const double *xd,
-                                 const double *tau, double *xdd)
 
 ctypedef int (*state_fn)(const stewart_params *, const double *, double *) noexcept nogil
 ctypedef int (*rate_fn)(const stewart_params *, const double *, const double *, double *) noexcept nogil
@@ -83,12 +61,10 @@ cdef inline bint _finite6(const double *v) noexcept nogil:
     return True
 
 
+@cython.final
 cdef class Kernel:
     """The compiled model for one parameter set. ``threads`` > 1 splits batches over
     that many OpenMP threads."""
-
-    cdef stewart_params p
-    cdef readonly int threads
 
     def __cinit__(self, params, int threads=1):
         cdef int i, k
@@ -172,7 +148,7 @@ cdef class Kernel:
             return (out, np.ones(n if batch else (), dtype=bool)) if return_mask else out
         return self._failed(fname, names, (a0, a1, a2)[:arity], out, status, batch, return_mask)
 
-    cdef inline int _row(self, int arity, void *fn, const double *x0, const double *x1,
+    cdef int _row(self, int arity, void *fn, const double *x0, const double *x1,
                          const double *x2, double *out, int *status, int width) noexcept nogil:
         cdef int k
         if not (_finite6(x0) and (arity < 2 or _finite6(x1)) and (arity < 3 or _finite6(x2))):
@@ -205,6 +181,20 @@ cdef class Kernel:
         message = stewart_status_message(status[first]).decode()
         where = f" at row(s) {rows[:10].tolist()}{' ...' if rows.size > 10 else ''}" if batch else ""
         raise SingularityError(f"{fname}: {message}{where}", rows=rows.tolist())
+
+    cdef int leg_lengths_c(self, const double *x, double *out) noexcept nogil:
+        return stewart_leg_lengths(&self.p, x, out)
+
+    cdef int jacobian_c(self, const double *x, double *out) noexcept nogil:
+        return stewart_jacobian(&self.p, x, out)
+
+    cdef int inverse_dynamics_c(self, const double *x, const double *xd, const double *xdd,
+                                double *out) noexcept nogil:
+        return stewart_inverse_dynamics(&self.p, x, xd, xdd, out)
+
+    cdef int forward_dynamics_c(self, const double *x, const double *xd, const double *tau,
+                                double *out) noexcept nogil:
+        return stewart_forward_dynamics(&self.p, x, xd, tau, out)
 
     def leg_lengths(self, x, *, return_mask=False):
         return self._run("leg_lengths", 1, <void *>stewart_leg_lengths, ("x",), (x,), 6, return_mask)

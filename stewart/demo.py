@@ -1,45 +1,117 @@
-"""``make demo``: the default platform at home, and its dynamics at a moving state."""
+"""``make demo``: the seed paper's move on its platform, under PID and computed torque.
+
+Narayan Rao et al. (2017) move their platform from an initial pose to a target pose in
+5 s along a sinusoidal velocity profile with joint-space PID. This demo makes that move
+from the home pose on the ``narayan2017`` preset with the compiled model, then the same
+move with computed torque; prints peak forces and tracking errors; writes the paper's
+figures as PNG; and repeats the paper's leg-inertia study.
+"""
 
 from __future__ import annotations
 
 import argparse
+import os
 
 import numpy as np
 
 import stewart
 from stewart import reference
+from stewart.presets import narayan2017_target_pose
+
+MOVE_DURATION = 5.0
 
 
-def _row(label: str, values) -> str:
-    return f"  {label:<28}" + "".join(f"{v:>11.5f}" for v in values)
+def _row(label: str, values, fmt: str = "{:>10.4f}", width: int = 34) -> str:
+    return f"  {label:<{width}}" + "".join(fmt.format(v) for v in values)
+
+
+def leg_inertia_study(params: stewart.PlatformParams, trajectory, dt: float = 1e-3) -> dict[str, np.ndarray]:
+    """Peak actuator force per leg along ``trajectory`` (inverse dynamics at every ``dt``)
+    for the full model, with massless legs, and with the legs' rotation neglected (leg
+    masses kept, leg rotational inertias zero)."""
+    variants = {
+        "full model": params,
+        "massless legs": params.replace(cylinder_mass=0.0, piston_mass=0.0,
+                                        cylinder_inertia=(0, 0, 0), piston_inertia=(0, 0, 0)),
+        "leg rotation neglected": params.replace(cylinder_inertia=(0, 0, 0), piston_inertia=(0, 0, 0)),
+    }
+    times = np.arange(int(round(trajectory.duration / dt)) + 1) * dt
+    x, xd, xdd = trajectory.sample(times)
+    return {name: np.max(np.abs(stewart.Platform(p).inverse_dynamics(x, xd, xdd)), axis=0)
+            for name, p in variants.items()}
 
 
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(prog="python -m stewart.demo", description=__doc__)
-    parser.add_argument("--preset", default="narayan2017", choices=sorted(stewart.presets()))
+    parser.add_argument("--out", default=os.path.join("out", "demo"), help="directory for the figures")
+    parser.add_argument("--no-plots", action="store_true", help="skip the figures")
     args = parser.parse_args(argv)
 
-    params = stewart.PlatformParams.preset(args.preset)
-    home = stewart.home_pose(params)
+    plat = stewart.Platform.preset("narayan2017")
+    params = plat.params
+    home = plat.home_pose
     print(f"Platform {params.name!r}: {stewart.presets()[params.name]}")
     print(f"  masses: platform {params.platform_mass:.4f} kg, cylinder {params.cylinder_mass:.4f} kg, "
-          f"piston {params.piston_mass:.4f} kg")
+          f"piston {params.piston_mass:.4f} kg; leg lengths {params.leg_length_limits[0]}-"
+          f"{params.leg_length_limits[1]} m")
     print(_row("home pose [m, rad]", home))
-    print(_row("leg lengths at home [m]", stewart.leg_lengths(params, home)))
+    print(_row("leg lengths at home [m]", plat.leg_lengths(home)))
 
-    zero = np.zeros(6)
-    print(_row("static forces at home [N]", reference.inverse_dynamics(params, home, zero, zero)))
-    scale = home[2]
-    xd = np.array([0.1, -0.05, 0.2, 0.3, -0.2, 0.1]) * np.array([scale] * 3 + [1] * 3)
-    xdd = np.array([1.0, 0.5, -2.0, 2.0, 1.0, -1.5]) * np.array([scale] * 3 + [1] * 3)
-    tau = reference.inverse_dynamics(params, home, xd, xdd)
-    print("Inverse dynamics at home (numeric reference, Lopes & Pires 2011):")
+    xd = np.array([0.02, -0.01, 0.05, 0.3, -0.2, 0.1])
+    xdd = np.array([0.3, 0.1, -0.5, 2.0, 1.0, -1.5])
+    print("\nInverse dynamics at home, moving (xdot, xddot below):")
     print(_row("xdot [m/s, rad/s]", xd))
     print(_row("xddot [m/s^2, rad/s^2]", xdd))
-    print(_row("actuator forces tau [N]", tau))
-    print(_row("leg velocities [m/s]", stewart.leg_velocities(params, home, xd)))
-    back = reference.forward_dynamics(params, home, xd, tau)
-    print(f"  forward dynamics recovers xddot to {np.max(np.abs(back - xdd)):.1e}")
+    print(_row("tau, numeric reference [N]", reference.inverse_dynamics(params, home, xd, xdd)))
+    print(_row("tau, compiled kernel [N]", plat.inverse_dynamics(home, xd, xdd)))
+
+    target = narayan2017_target_pose()
+    move = stewart.PointToPoint(home, target, MOVE_DURATION, "sinusoidal")
+    print(f"\nThe paper's move: home -> target in {MOVE_DURATION:g} s, sinusoidal velocity profile")
+    print(_row("target pose [m, rad]", target))
+    print(_row("leg lengths at target [m]", plat.leg_lengths(target)))
+    runs = {
+        "PID": stewart.simulate(plat, move, stewart.PID.tuned(plat)),
+        "computed torque": stewart.simulate(plat, move, stewart.ComputedTorque.tuned()),
+    }
+    print(f"\n  {'':<34}" + "".join(f"{name:>22}" for name in runs))
+    summaries = {name: run.summary() for name, run in runs.items()}
+    for leg in range(6):
+        print(f"  {f'peak force, leg {leg} [N]':<34}" + "".join(f"{s['peak_force'][leg]:>22.3f}" for s in summaries.values()))
+    rows = [
+        ("final position error [m]", "final_position_error", "{:>22.2e}"),
+        ("final angle error [rad]", "final_angle_error", "{:>22.2e}"),
+        ("RMS position error [m]", "rms_position_error", "{:>22.2e}"),
+        ("RMS angle error [rad]", "rms_angle_error", "{:>22.2e}"),
+    ]
+    for label, key, fmt in rows:
+        print(f"  {label:<34}" + "".join(fmt.format(s[key]) for s in summaries.values()))
+    timing = [f"{1e3 * s['wall_time']:.1f} ms / {s['simulated_time']:g} s" for s in summaries.values()]
+    print(f"  {'wall time / simulated time':<34}" + "".join(f"{v:>22}" for v in timing))
+    for name, run in runs.items():
+        if not run.completed:
+            print(f"  {name}: stopped: {run.reason}")
+
+    study = leg_inertia_study(params, move)
+    print("\nLeg-inertia study: peak actuator force per leg over the move [N] (inverse dynamics)")
+    print(f"  {'':<24}" + "".join(f"{f'leg {k}':>10}" for k in range(6)) + f"{'max':>10}")
+    full = study["full model"]
+    for name, peaks in study.items():
+        change = "" if name == "full model" else f"   ({100 * (np.max(peaks) / np.max(full) - 1):+.1f}% of max)"
+        print(f"  {name:<24}" + "".join(f"{v:>10.3f}" for v in peaks) + f"{np.max(peaks):>10.3f}{change}")
+
+    if not args.no_plots:
+        from stewart.plots import plot_bars, plot_run
+
+        paths = []
+        for name, run in runs.items():
+            prefix = name.replace(" ", "_").lower()
+            paths += plot_run(run, args.out, prefix=prefix, title=f"narayan2017, {name}")
+        paths.append(plot_bars([f"leg {k}" for k in range(6)], study, "peak force [N]",
+                               "Peak actuator force over the move", os.path.join(args.out, "leg_inertia_study.png")))
+        print(f"\nFigures written to {os.path.abspath(args.out)}:")
+        for path in paths:
+            print(f"  {os.path.basename(path)}")
 
 
 if __name__ == "__main__":

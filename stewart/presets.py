@@ -31,7 +31,7 @@ import numpy as np
 
 from .params import PlatformParams
 
-__all__ = ["preset", "presets"]
+__all__ = ["preset", "presets", "narayan2017_target_pose"]
 
 STEEL_DENSITY = 7850.0  # kg/m^3
 
@@ -76,6 +76,23 @@ def _narayan2017() -> PlatformParams:
         leg_length_limits=(0.19, 0.38),
         name="narayan2017",
     )
+
+
+def narayan2017_target_pose() -> np.ndarray:
+    """The target pose of Narayan Rao et al. (2017), section IX, in our z-up frame.
+
+    The paper gives the position (0.04565, 0.192, 0.0102) m and a rotation matrix rounded
+    to four digits, both in its y-up frame. The position maps by ``(x, -z, y)``; the
+    rotation is conjugated into the z-up frame, replaced by the nearest proper rotation
+    (polar decomposition) and read as ZYX Euler angles.
+    """
+    y_up_to_z_up = np.array([[1.0, 0.0, 0.0], [0.0, 0.0, -1.0], [0.0, 1.0, 0.0]])
+    position = y_up_to_z_up @ np.array([0.04565, 0.192, 0.0102])
+    rounded = np.array([[0.9908, 0.0953, -0.09575], [-0.1044, 0.99, -0.09531], [0.0857, 0.1044, 0.9908]])
+    u, _, vt = np.linalg.svd(y_up_to_z_up @ rounded @ y_up_to_z_up.T)
+    rot = u @ vt
+    angles = [np.arctan2(rot[1, 0], rot[0, 0]), -np.arcsin(rot[2, 0]), np.arctan2(rot[2, 1], rot[2, 2])]
+    return np.concatenate([position, angles])
 
 
 def hexapod_points(radius: float, pair_centres_deg, half_separation_deg: float) -> np.ndarray:

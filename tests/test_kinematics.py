@@ -6,9 +6,9 @@ import pytest
 
 import stewart
 from conftest import random_params, random_states
+from stewart.presets import narayan2017_target_pose
 
 # Narayan Rao et al. (2017), section IX, in the paper's y-up frame.
-PAPER_POSITION = np.array([0.04565, 0.192, 0.0102])
 PAPER_ROTATION = np.array([[0.9908, 0.0953, -0.09575], [-0.1044, 0.99, -0.09531], [0.0857, 0.1044, 0.9908]])
 PAPER_LEG_VECTORS = np.array(
     [
@@ -19,16 +19,6 @@ PAPER_LEG_VECTORS = np.array(
 ).T
 PAPER_EXTENSIONS = np.array([0.006484, 0.007723, 0.03912, 0.02881, 0.009245, 0.01027])
 Y_UP_TO_Z_UP = np.array([[1.0, 0, 0], [0, 0, -1.0], [0, 1.0, 0]])  # (X, Y, Z) = (x, -z, y)
-
-
-def _paper_pose():
-    rot = Y_UP_TO_Z_UP @ PAPER_ROTATION @ Y_UP_TO_Z_UP.T
-    u, _, vt = np.linalg.svd(rot)  # the paper rounds R to 4 digits: take the nearest rotation
-    rot = u @ vt
-    psi = np.arctan2(rot[1, 0], rot[0, 0])
-    theta = -np.arcsin(rot[2, 0])
-    phi = np.arctan2(rot[2, 1], rot[2, 2])
-    return np.concatenate([Y_UP_TO_Z_UP @ PAPER_POSITION, [psi, theta, phi]])
 
 
 def test_rotation_is_zyx_euler_and_inverts():
@@ -42,7 +32,8 @@ def test_rotation_is_zyx_euler_and_inverts():
 
 def test_paper_worked_example(figures):
     params = stewart.PlatformParams.preset("narayan2017")
-    x = _paper_pose()
+    x = narayan2017_target_pose()
+    np.testing.assert_allclose(stewart.rotation(x), Y_UP_TO_Z_UP @ PAPER_ROTATION @ Y_UP_TO_Z_UP.T, atol=6e-4)
     legs = stewart.leg_vectors(params, x)
     expected = PAPER_LEG_VECTORS @ Y_UP_TO_Z_UP.T
     figures("paper example: leg vectors [m]", np.max(np.abs(legs - expected)), 2e-4)

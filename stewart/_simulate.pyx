@@ -1,0 +1,198 @@
+# cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True, initializedcheck=False
+"""The closed-loop equations of motion and a fixed-step RK4 loop, with no Python per step.
+
+State ``y = [x (6), xdot (6), integral of the leg-length error (6)]``. The controller
+(joint-space PID or task-space computed torque), force saturation and actuator friction
+are evaluated at every RK4 stage, so the closed loop is one smooth ODE. All model
+evaluations go to the compiled kernel (:class:`stewart._kernel.Kernel`).
+"""
+
+cimport cython
+from libc.math cimport cos, fabs, isfinite, sin, tanh
+
+from ._kernel cimport Kernel, STEWART_OK
+
+cdef enum:
+    OPEN_LOOP = 0
+    PID = 1
+    COMPUTED_TORQUE = 2
+
+cpdef enum Outcome:
+    # How a run of steps ended (the kernel's own status codes, > 0, are passed on as they are).
+    STOP_FINISHED = 0
+    STOP_LEG_SHORT = -1
+    STOP_LEG_LONG = -2
+    STOP_NONFINITE = -3
+
+
+@cython.final
+cdef class ClosedLoop:
+    """Platform, controller and actuators as the right-hand side of one ODE."""
+
+    cdef Kernel kernel
+    cdef int mode
+    cdef double kp[6]
+    cdef double ki[6]
+    cdef double kd[6]
+    cdef double force_limit[6]
+    cdef double viscous, coulomb, coulomb_velocity
+
+    def __cinit__(self, Kernel kernel, int mode, kp, ki, kd, force_limit,
+                  double viscous, double coulomb, double coulomb_velocity):
+        cdef int k
+        self.kernel = kernel
+        self.mode = mode
+        for k in range(6):
+            self.kp[k] = kp[k]
+            self.ki[k] = ki[k]
+            self.kd[k] = kd[k]
+            self.force_limit[k] = force_limit[k]
+        self.viscous = viscous
+        self.coulomb = coulomb
+        self.coulomb_velocity = coulomb_velocity
+
+    cdef int leg_rates(self, const double *x, const double *xd, double *L, double *Ld) noexcept nogil:
+        """Leg lengths and ``Ldot = J_C T xdot`` (eqs. 4, 5, 8)."""
+        cdef double jc[36]
+        cdef double tw[6]
+        cdef int i, j, status
+        status = self.kernel.leg_lengths_c(x, L)
+        if status != STEWART_OK:
+            return status
+        status = self.kernel.jacobian_c(x, jc)
+        if status != STEWART_OK:
+            return status
+        cdef double sps = sin(x[3]), cps = cos(x[3]), sth = sin(x[4]), cth = cos(x[4])
+        tw[0] = xd[0]
+        tw[1] = xd[1]
+        tw[2] = xd[2]
+        tw[3] = -sps * xd[4] + cps * cth * xd[5]
+        tw[4] = cps * xd[4] + sps * cth * xd[5]
+        tw[5] = xd[3] - sth * xd[5]
+        for i in range(6):
+            Ld[i] = 0.0
+            for j in range(6):
+                Ld[i] += jc[6 * i + j] * tw[j]
+        return STEWART_OK
+
+    cdef int rhs(self, const double *y, const double *ref, const double *feedforward,
+                 double *ydot, double *force, double *L, double *Ld) noexcept nogil:
+        """``ydot`` at ``y`` for the reference ``ref = [x_r, xdot_r, xddot_r]``; also the
+        actuator forces (after saturation, before friction) and the leg lengths and rates."""
+        cdef double Lr[6]
+        cdef double Ldr[6]
+        cdef double acc[6]
+        cdef double applied[6]
+        cdef int k, status
+        status = self.leg_rates(y, y + 6, L, Ld)
+        if status != STEWART_OK:
+            return status
+        if self.mode == PID:
+            status = self.leg_rates(ref, ref + 6, Lr, Ldr)
+            if status != STEWART_OK:
+                return status
+            for k in range(6):
+                ydot[12 + k] = Lr[k] - L[k]
+                force[k] = (self.kp[k] * (Lr[k] - L[k]) + self.ki[k] * y[12 + k]
+                            + self.kd[k] * (Ldr[k] - Ld[k]) + feedforward[k])
+        elif self.mode == COMPUTED_TORQUE:
+            for k in range(6):
+                ydot[12 + k] = 0.0
+                acc[k] = ref[12 + k] + self.kd[k] * (ref[6 + k] - y[6 + k]) + self.kp[k] * (ref[k] - y[k])
+            status = self.kernel.inverse_dynamics_c(y, y + 6, acc, force)
+            if status != STEWART_OK:
+                return status
+            for k in range(6):
+                force[k] += feedforward[k]
+        else:
+            for k in range(6):
+                ydot[12 + k] = 0.0
+                force[k] = feedforward[k]
+        for k in range(6):
+            if force[k] > self.force_limit[k]:
+                force[k] = self.force_limit[k]
+            elif force[k] < -self.force_limit[k]:
+                force[k] = -self.force_limit[k]
+            applied[k] = force[k] - self.viscous * Ld[k]
+            if self.coulomb != 0.0:
+                applied[k] -= self.coulomb * tanh(Ld[k] / self.coulomb_velocity)
+        for k in range(6):
+            ydot[k] = y[6 + k]
+        return self.kernel.forward_dynamics_c(y, y + 6, applied, ydot + 6)
+
+    def derivative(self, double[::1] y, double[::1] ref, double[::1] feedforward):
+        """``(ydot, force, L, Ldot, status)`` at one state (for adaptive integrators)."""
+        import numpy as np
+        ydot = np.empty(18)
+        out = np.empty((3, 6))
+        cdef double[::1] yd = ydot
+        cdef double[:, ::1] o = out
+        cdef int status = self.rhs(&y[0], &ref[0], &feedforward[0], &yd[0], &o[0, 0], &o[1, 0], &o[2, 0])
+        return ydot, out[0], out[1], out[2], status
+
+    def rk4(self, double[::1] y, const double[:, ::1] refs, const double[:, ::1] feedforward,
+            double dt, Py_ssize_t start, Py_ssize_t stop, double min_length, double max_length,
+            double[:, ::1] states, double[:, ::1] forces, double[:, ::1] lengths, double[:, ::1] rates):
+        """Advance ``y`` in place from step ``start`` to ``stop`` with classic RK4.
+
+        ``refs`` and ``feedforward`` are sampled on the half-step grid (row ``2k`` at
+        ``t_k``, ``2k + 1`` at ``t_k + dt/2``). Row ``k`` of the outputs receives the
+        state, actuator forces, leg lengths and leg rates at ``t_k``. Returns
+        ``(outcome, step, leg)``: the step at which the run stopped (``stop`` when it ran
+        through) and, for a stroke limit, the leg; the outcome is ``STOP_FINISHED``, a
+        ``STOP_*`` code or the kernel's status code.
+        """
+        cdef double k1[18]
+        cdef double k2[18]
+        cdef double k3[18]
+        cdef double k4[18]
+        cdef double tmp[18]
+        cdef double scratch[18]
+        cdef double Lnew[6]
+        cdef Py_ssize_t n, i, j
+        cdef int status = 0, leg = -1
+        with nogil:
+            for n in range(start, stop):
+                for j in range(18):
+                    states[n, j] = y[j]
+                status = self.rhs(&y[0], &refs[2 * n, 0], &feedforward[2 * n, 0], k1,
+                                  &forces[n, 0], &lengths[n, 0], &rates[n, 0])
+                if status != STEWART_OK:
+                    break
+                for j in range(18):
+                    tmp[j] = y[j] + 0.5 * dt * k1[j]
+                status = self.rhs(tmp, &refs[2 * n + 1, 0], &feedforward[2 * n + 1, 0], k2,
+                                  scratch, scratch + 6, scratch + 12)
+                if status != STEWART_OK:
+                    break
+                for j in range(18):
+                    tmp[j] = y[j] + 0.5 * dt * k2[j]
+                status = self.rhs(tmp, &refs[2 * n + 1, 0], &feedforward[2 * n + 1, 0], k3,
+                                  scratch, scratch + 6, scratch + 12)
+                if status != STEWART_OK:
+                    break
+                for j in range(18):
+                    tmp[j] = y[j] + dt * k3[j]
+                status = self.rhs(tmp, &refs[2 * n + 2, 0], &feedforward[2 * n + 2, 0], k4,
+                                  scratch, scratch + 6, scratch + 12)
+                if status != STEWART_OK:
+                    break
+                for j in range(18):
+                    y[j] += dt / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j])
+                    if not isfinite(y[j]):
+                        status = STOP_NONFINITE
+                if status != STEWART_OK:
+                    n += 1
+                    break
+                self.kernel.leg_lengths_c(&y[0], Lnew)
+                for i in range(6):
+                    if Lnew[i] < min_length:
+                        status, leg = STOP_LEG_SHORT, i
+                    elif Lnew[i] > max_length:
+                        status, leg = STOP_LEG_LONG, i
+                if status != STEWART_OK:
+                    n += 1
+                    break
+            else:
+                n = stop
+        return status, n, leg

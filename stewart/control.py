@@ -1,0 +1,128 @@
+"""Controllers and actuator models for :func:`stewart.simulate`.
+
+The control laws themselves run in the compiled loop (``stewart._simulate``); these
+classes hold and document their gains.
+
+* :class:`PID` — joint-space PID on the leg lengths with actuator forces as output, as in
+  Narayan Rao et al. (2017), section VII: ``tau = Kp e + Ki int(e) + Kd edot`` with
+  ``e = L_ref - L``.
+* :class:`ComputedTorque` — task-space computed torque with the compiled inverse
+  dynamics: ``tau = ID(x, xdot, xddot_ref + Kd (xdot_ref - xdot) + Kp (x_ref - x))``.
+* :class:`OpenLoop` — no feedback: the forces come from the feed-forward schedule only.
+* :class:`Actuators` — force saturation and viscous and Coulomb friction in each leg.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["PID", "ComputedTorque", "OpenLoop", "Actuators", "PID_BANDWIDTH_HZ", "leg_masses"]
+
+#: Closed-loop bandwidth of the tuned leg PID for each preset, in Hz. The small
+#: ``narayan2017`` platform is stiff and light; the 1500 kg ``motion_simulator`` is tuned
+#: well below its hydraulic/electric actuators' typical 10-20 Hz bandwidth.
+PID_BANDWIDTH_HZ = {"narayan2017": 2.5, "motion_simulator": 3.0}
+DEFAULT_BANDWIDTH_HZ = 5.0
+
+
+def _six(name: str, value) -> np.ndarray:
+    arr = np.broadcast_to(np.asarray(value, dtype=float), (6,)).copy()
+    if not np.all(np.isfinite(arr)) or np.any(arr < 0):
+        raise ValueError(f"{name}: gains must be finite and >= 0, got {arr.tolist()}")
+    return arr
+
+
+def leg_masses(platform, x=None) -> np.ndarray:
+    """Effective mass each actuator moves at pose ``x`` (default home): the diagonal of the
+    leg-space mass matrix ``J_C^-T M_t J_C^-1``, with ``M_t = M T^-1`` the twist-space
+    mass matrix."""
+    from .kinematics import twist_transform
+
+    x = platform.home_pose if x is None else np.asarray(x, dtype=float)
+    jac_inv = np.linalg.inv(platform.jacobian(x))
+    m_twist = platform.mass_matrix(x) @ np.linalg.inv(twist_transform(x))
+    return np.diag(jac_inv.T @ m_twist @ jac_inv).copy()
+
+
+@dataclass(frozen=True)
+class PID:
+    """Joint-space PID gains per leg (N/m, N/(m s), N s/m); scalars apply to every leg."""
+
+    kp: np.ndarray
+    ki: np.ndarray
+    kd: np.ndarray
+
+    def __post_init__(self):
+        for name in ("kp", "ki", "kd"):
+            object.__setattr__(self, name, _six(name, getattr(self, name)))
+
+    @classmethod
+    def tuned(cls, platform, bandwidth_hz: float | None = None) -> "PID":
+        """Gains that put each leg's three closed-loop poles at ``-2 pi f`` (critically
+        damped) for the leg's effective mass ``m`` (:func:`leg_masses`):
+        ``Kp = 3 m w^2``, ``Ki = m w^3``, ``Kd = 3 m w``.
+
+        ``f`` defaults to :data:`PID_BANDWIDTH_HZ` for a preset, else 5 Hz.
+        """
+        if bandwidth_hz is None:
+            bandwidth_hz = PID_BANDWIDTH_HZ.get(platform.params.name, DEFAULT_BANDWIDTH_HZ)
+        if not (np.isfinite(bandwidth_hz) and bandwidth_hz > 0):
+            raise ValueError(f"bandwidth_hz: must be positive, got {bandwidth_hz}")
+        w = 2.0 * np.pi * bandwidth_hz
+        m = leg_masses(platform)
+        return cls(kp=3.0 * m * w**2, ki=m * w**3, kd=3.0 * m * w)
+
+
+@dataclass(frozen=True)
+class ComputedTorque:
+    """Task-space gains (1/s^2 and 1/s) on ``[x, y, z, psi, theta, phi]``."""
+
+    kp: np.ndarray
+    kd: np.ndarray
+
+    def __post_init__(self):
+        for name in ("kp", "kd"):
+            object.__setattr__(self, name, _six(name, getattr(self, name)))
+
+    @classmethod
+    def tuned(cls, bandwidth_hz: float = 5.0) -> "ComputedTorque":
+        """Critically damped error dynamics at ``bandwidth_hz``: ``Kp = w^2``, ``Kd = 2 w``."""
+        if not (np.isfinite(bandwidth_hz) and bandwidth_hz > 0):
+            raise ValueError(f"bandwidth_hz: must be positive, got {bandwidth_hz}")
+        w = 2.0 * np.pi * bandwidth_hz
+        return cls(kp=w**2, kd=2.0 * w)
+
+
+@dataclass(frozen=True)
+class OpenLoop:
+    """No feedback: the actuator forces are the feed-forward forces given to the run."""
+
+
+@dataclass(frozen=True)
+class Actuators:
+    """Actuator limits and losses per leg.
+
+    ``force_limit`` (N) saturates the commanded force; the leg then receives
+    ``tau - viscous Ldot - coulomb tanh(Ldot / coulomb_velocity)`` (a smooth Coulomb law,
+    so the closed loop stays a smooth ODE).
+    """
+
+    force_limit: float | np.ndarray = np.inf
+    viscous: float = 0.0
+    coulomb: float = 0.0
+    coulomb_velocity: float = 1e-3
+
+    def __post_init__(self):
+        limit = np.broadcast_to(np.asarray(self.force_limit, dtype=float), (6,)).copy()
+        if np.any(np.isnan(limit)) or np.any(limit <= 0):
+            raise ValueError(f"force_limit: must be > 0, got {limit.tolist()}")
+        object.__setattr__(self, "force_limit", limit)
+        for name in ("viscous", "coulomb"):
+            value = float(getattr(self, name))
+            if not (np.isfinite(value) and value >= 0):
+                raise ValueError(f"{name}: must be finite and >= 0, got {value}")
+            object.__setattr__(self, name, value)
+        if not (np.isfinite(self.coulomb_velocity) and self.coulomb_velocity > 0):
+            raise ValueError(f"coulomb_velocity: must be > 0, got {self.coulomb_velocity}")

@@ -1,0 +1,218 @@
+"""Inverse dynamics by the Newton-Euler method, in numpy: an independent check of the model.
+
+This module shares nothing with :mod:`stewart.reference` (the generalized-momentum model
+of Lopes & Pires 2011) beyond the basic kinematics (rotation ``R``, Euler-rate map
+``J_A``). It follows the Newton-Euler approach of Do & Yang (1988, "Inverse dynamic
+analysis and simulation of a platform type of robot", J. Robotic Systems 5(3)) and
+Dasgupta & Mruthyunjaya (1998, "A Newton-Euler formulation for the inverse dynamics of
+the Stewart platform manipulator", Mech. Mach. Theory 33(8)): every body is a rigid body
+with its own Newton and Euler equations, the joints exchange forces, and the actuator
+forces come out of the platform's six equations.
+
+Conventions (those of the model): {B} z up, gravity ``g_vec = -g e_z``;
+``x = [px, py, pz, psi, theta, phi]``, ``R = Rz(psi) Ry(theta) Rx(phi)``; platform twist
+``[v; omega] = T xdot``, ``T = blockdiag(E, J_A)``, and twist acceleration
+``[a; alpha] = T xddot + Tdot xdot`` with ``Tdot`` from the analytic derivative of
+``J_A``.
+
+Per leg i, with ``r_i = R p_i``, ``l_i = p + r_i - b_i = L_i u_i``:
+
+* joint P_i: ``v_P = v + omega x r``, ``a_P = a + alpha x r + omega x (omega x r)``;
+* leg rates: ``Ldot = u . v_P``, ``udot = (v_P - Ldot u) / L``; the leg does not spin
+  about its axis, so its angular velocity is ``omega_l = u x udot`` (eq. 29 of the
+  paper) and, since ``udot x udot = 0``, its angular acceleration is
+  ``alpha_l = u x uddot`` with ``uddot = (a_P - Lddot u - 2 Ldot udot) / L``;
+* centres of mass: cylinder ``c = b + b_C u``, ``a_C = b_C uddot``; piston
+  ``s = p + r - b_S u``, ``a_S = a_P - b_S uddot``;
+* the cylinder hangs from the base by a universal joint at B_i (a force ``f_B`` and a
+  moment about the leg axis only), the piston slides in the cylinder (the actuator force
+  ``tau u`` on the piston plus transverse constraint forces and moments, no axial
+  friction), and the piston meets the platform at a spherical joint at P_i (a force
+  only: ``f_P`` on the platform, ``-f_P`` on the leg).
+
+Moment balance of the whole leg (cylinder + piston) about the fixed point B_i::
+
+    l x (-f_P) + b_C u x m_C g_vec + (L - b_S) u x m_S g_vec + n_B
+        = sum over the two parts of [I alpha_l + omega_l x I omega_l + (c - b) x m a]
+
+with the leg inertia in {B} ``I = I_t (E - u u^T) + I_a u u^T``. Every term but the
+universal joint's moment ``n_B`` is perpendicular to ``u`` (``omega_l`` and ``alpha_l``
+are, and ``omega_l x I omega_l = 0`` for axisymmetric legs), so ``n_B = 0`` and the
+balance gives the component of ``f_P`` perpendicular to the leg. The piston's axial force
+balance ``u . (-f_P) + tau + m_S u . g_vec = m_S u . a_S`` gives its axial component, so
+``-f_P = f0 - tau u``: ``f0`` known from the motion. The base force follows from the
+leg's Newton equation ``f_B - f_P + (m_C + m_S) g_vec = m_C a_C + m_S a_S``.
+
+Finally the platform's Newton and Euler equations about its centre of mass,
+
+    m_P (a - g_vec) = sum_i f_P,i
+    I_P alpha + omega x I_P omega = sum_i r_i x f_P,i,   I_P = R diag(I_P) R^T,
+
+with ``f_P,i = tau_i u_i - f0_i`` are six linear equations ``J_C^T tau = w`` in the
+actuator forces (``J_C`` rows ``[u_i, r_i x u_i]``), solved per state.
+
+Axisymmetric legs only (``I_yy == I_zz`` for cylinder and piston): with ``I_yy != I_zz``
+a non-spinning leg needs an axial moment ``omega_l x I omega_l`` that no joint of the
+model supplies, and the paper's frame {C_i} turns about the leg as it swings, so the
+paper's generalized-momentum model is not the dynamics of a rigid-body system and no
+Newton-Euler formulation reproduces it. Such parameters raise ``ValueError``.
+"""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from . import _checks
+from .errors import SingularityError
+from .kinematics import euler_rate_jacobian, rotation
+from .params import PlatformParams
+
+__all__ = ["JointReactions", "inverse_dynamics", "joint_reactions"]
+
+#: J_C is treated as singular when its condition number exceeds this.
+_COND_LIMIT = 1e12
+
+
+class JointReactions(NamedTuple):
+    """Actuator forces and joint forces of the Newton-Euler solution, all in {B}.
+
+    tau : (..., 6) actuator force along each leg, positive pushing the platform away.
+    base : (..., 6, 3) force the base exerts on leg i at its universal joint B_i.
+    platform : (..., 6, 3) force leg i exerts on the platform at its spherical joint P_i.
+    """
+
+    tau: np.ndarray
+    base: np.ndarray
+    platform: np.ndarray
+
+
+def _euler_rate_jacobian_dot(x: np.ndarray, xd: np.ndarray) -> np.ndarray:
+    """``d/dt J_A`` for ``J_A = [[0, -s psi, c psi c theta], [0, c psi, s psi c theta],
+    [1, 0, -s theta]]`` (eq. 8), differentiated analytically."""
+    cps, sps = np.cos(x[..., 3]), np.sin(x[..., 3])
+    cth, sth = np.cos(x[..., 4]), np.sin(x[..., 4])
+    dps, dth = xd[..., 3], xd[..., 4]
+    zero = np.zeros_like(cps * dps)
+    rows = [
+        [zero, -cps * dps, -sps * cth * dps - cps * sth * dth],
+        [zero, -sps * dps, cps * cth * dps - sps * sth * dth],
+        [zero, zero, -cth * dth],
+    ]
+    return np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
+
+
+def _matvec(mat: np.ndarray, vec: np.ndarray) -> np.ndarray:
+    return np.einsum("...ij,...j->...i", mat, vec)
+
+
+def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return np.sum(a * b, axis=-1)
+
+
+def _leg_inertia_times(inertia: np.ndarray, u: np.ndarray, vec: np.ndarray) -> np.ndarray:
+    """``(I_t (E - u u^T) + I_a u u^T) vec`` for an axisymmetric leg part."""
+    axial, transverse = inertia[0], inertia[1]
+    along = _dot(u, vec)[..., None] * u
+    return transverse * (vec - along) + axial * along
+
+
+def _solve(params: PlatformParams, x, xd, xdd) -> JointReactions:
+    if not isinstance(params, PlatformParams):
+        raise ValueError(f"params: expected a stewart.PlatformParams, got {type(params).__name__}")
+    if not params.is_axisymmetric:
+        raise ValueError(
+            "params: the Newton-Euler formulation needs axisymmetric legs (I_yy == I_zz for "
+            f"cylinder_inertia {params.cylinder_inertia.tolist()} and piston_inertia "
+            f"{params.piston_inertia.tolist()}); the paper's no-spin leg model is not a "
+            "rigid-body system otherwise"
+        )
+    x = _checks.states("x", x)
+    xd = _checks.states("xd", xd)
+    xdd = _checks.states("xdd", xdd)
+    _checks.same_batch(x=x, xd=xd, xdd=xdd)
+
+    g_vec = np.array([0.0, 0.0, -params.gravity])
+    m_p, m_c, m_s = params.platform_mass, params.cylinder_mass, params.piston_mass
+    b_c, b_s = params.cylinder_com_distance, params.piston_com_distance
+
+    # Platform twist and twist acceleration (eq. 18 and its derivative).
+    rot = rotation(x)
+    j_a = euler_rate_jacobian(x)
+    vel = xd[..., :3]
+    omega = _matvec(j_a, xd[..., 3:])
+    acc = xdd[..., :3]
+    alpha = _matvec(j_a, xdd[..., 3:]) + _matvec(_euler_rate_jacobian_dot(x, xd), xd[..., 3:])
+
+    # Per leg (a leg axis of length 6 before the vector axis).
+    arms = np.einsum("...jk,ik->...ij", rot, params.platform_points)  # r_i = R p_i
+    om = omega[..., None, :]
+    al = alpha[..., None, :]
+    legs = x[..., None, :3] + arms - params.base_points
+    length = np.sqrt(_dot(legs, legs))[..., None]
+    u = legs / length
+    v_p = vel[..., None, :] + np.cross(om, arms)
+    a_p = acc[..., None, :] + np.cross(al, arms) + np.cross(om, np.cross(om, arms))
+    l_dot = _dot(u, v_p)[..., None]
+    u_dot = (v_p - l_dot * u) / length
+    l_ddot = _dot(u_dot, v_p)[..., None] + _dot(u, a_p)[..., None]
+    u_ddot = (a_p - l_ddot * u - 2.0 * l_dot * u_dot) / length
+    omega_leg = np.cross(u, u_dot)
+    alpha_leg = np.cross(u, u_ddot)
+    a_cyl = b_c * u_ddot
+    a_pis = a_p - b_s * u_ddot
+
+    # Rate of change of the leg's angular momentum about B_i (Euler + transport terms).
+    inertia_sum = params.cylinder_inertia + params.piston_inertia
+    h_dot = (
+        _leg_inertia_times(inertia_sum, u, alpha_leg)
+        + np.cross(omega_leg, _leg_inertia_times(inertia_sum, u, omega_leg))
+        + np.cross(b_c * u, m_c * a_cyl)
+        + np.cross((length - b_s) * u, m_s * a_pis)
+    )
+    weight_moment = np.cross(b_c * u, m_c * g_vec) + np.cross((length - b_s) * u, m_s * g_vec)
+    # l x (-f_P) = h_dot - weight_moment  ->  transverse part of -f_P.
+    k = (h_dot - weight_moment) / length
+    transverse = np.cross(k, u)
+    # Piston axial balance: u.(-f_P) = m_S u.(a_S - g_vec) - tau.
+    f0 = transverse + m_s * _dot(u, a_pis - g_vec)[..., None] * u
+
+    # Platform: J_C^T tau = [m_P (a - g_vec) + sum f0; I_P alpha + omega x I_P omega + sum r x f0].
+    inertia_p = (rot * params.platform_inertia) @ np.swapaxes(rot, -1, -2)
+    euler = _matvec(inertia_p, alpha) + np.cross(omega, _matvec(inertia_p, omega))
+    wrench = np.concatenate(
+        [m_p * (acc - g_vec) + f0.sum(axis=-2), euler + np.cross(arms, f0).sum(axis=-2)], axis=-1
+    )
+    jac = np.concatenate([u, np.cross(arms, u)], axis=-1)  # J_C, row i = [u_i, r_i x u_i]
+    cond = np.linalg.cond(np.real(jac).reshape(-1, 6, 6))
+    bad = ~(cond < _COND_LIMIT)
+    if bad.any():
+        rows = np.flatnonzero(bad)
+        raise SingularityError(
+            f"x: J_C is singular (condition number {cond[rows[0]]:.3g}) at row(s) {rows[:10].tolist()}",
+            rows=rows,
+        )
+    tau = np.linalg.solve(np.swapaxes(jac, -1, -2), wrench[..., None])[..., 0]
+
+    on_platform = tau[..., None] * u - f0  # f_P
+    base = m_c * a_cyl + m_s * a_pis - (m_c + m_s) * g_vec + on_platform
+    return JointReactions(tau, base, on_platform)
+
+
+def joint_reactions(params: PlatformParams, x, xd, xdd) -> JointReactions:
+    """Actuator forces and joint forces for the motion ``(x, xdot, xddot)``, by Newton-Euler.
+
+    ``x``, ``xd``, ``xdd``: one state ``(6,)`` or a batch ``(N, 6)`` of Euler-angle poses,
+    rates and accelerations. Returns :class:`JointReactions` ``(tau, base, platform)``
+    with shapes ``(..., 6)``, ``(..., 6, 3)`` and ``(..., 6, 3)``, forces in {B} (see the
+    module docstring for the equations). Raises ``ValueError`` naming ``params`` for
+    non-axisymmetric legs and :class:`~stewart.SingularityError` where ``J_C`` is singular.
+    """
+    return _solve(params, x, xd, xdd)
+
+
+def inverse_dynamics(params: PlatformParams, x, xd, xdd) -> np.ndarray:
+    """Actuator forces ``tau`` (..., 6) by Newton-Euler; equals the model's
+    ``J_C^-T (M xddot + V xdot + G)`` for axisymmetric legs."""
+    return _solve(params, x, xd, xdd).tau

@@ -1,0 +1,138 @@
+"""Reference trajectories in pose space: smooth point-to-point moves and sampled paths.
+
+Every trajectory answers ``sample(t) -> (x, xdot, xddot)`` for a scalar time or an array
+of times (shapes ``(6,)`` or ``(N, 6)``), and holds its end pose at rest after ``duration``.
+"""
+
+from __future__ import annotations
+
+import csv
+import os
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _checks
+
+__all__ = ["PointToPoint", "SampledTrajectory", "PROFILES"]
+
+
+def _sinusoidal(s):
+    """Cycloidal profile: the velocity rises as ``sin^2(pi s)`` from zero to its maximum at
+    mid-move and falls back (Narayan Rao et al. 2017, fig. 15); returns position, rate and
+    second rate of the fraction of the move done at normalised time ``s``."""
+    two_pi = 2.0 * np.pi
+    return (
+        s - np.sin(two_pi * s) / two_pi,
+        1.0 - np.cos(two_pi * s),
+        two_pi * np.sin(two_pi * s),
+    )
+
+
+def _quintic(s):
+    """Minimum-jerk quintic ``10 s^3 - 15 s^4 + 6 s^5``: zero velocity and acceleration at both ends."""
+    return (
+        s**3 * (10.0 - 15.0 * s + 6.0 * s**2),
+        30.0 * s**2 * (1.0 - s) ** 2,
+        60.0 * s * (1.0 - s) * (1.0 - 2.0 * s),
+    )
+
+
+PROFILES = {"sinusoidal": _sinusoidal, "quintic": _quintic}
+
+
+def _times(t) -> np.ndarray:
+    arr = np.asarray(t, dtype=float)
+    if arr.ndim > 1 or not np.all(np.isfinite(arr)):
+        raise ValueError("t: expected a finite time or a 1-D array of finite times")
+    return arr
+
+
+@dataclass(frozen=True)
+class PointToPoint:
+    """A straight move in pose space from ``start`` to ``goal`` over ``duration`` seconds,
+    timed by ``profile`` ("sinusoidal", the seed paper's profile, or "quintic")."""
+
+    start: np.ndarray
+    goal: np.ndarray
+    duration: float
+    profile: str = "sinusoidal"
+
+    def __post_init__(self):
+        start = _checks.states("start", self.start)
+        goal = _checks.states("goal", self.goal)
+        if start.ndim != 1 or goal.ndim != 1:
+            raise ValueError("start, goal: expected one pose each, shape (6,)")
+        if not (np.isfinite(self.duration) and self.duration > 0):
+            raise ValueError(f"duration: must be a positive number of seconds, got {self.duration}")
+        if self.profile not in PROFILES:
+            raise ValueError(f"profile: expected one of {sorted(PROFILES)}, got {self.profile!r}")
+        object.__setattr__(self, "start", start)
+        object.__setattr__(self, "goal", goal)
+        object.__setattr__(self, "duration", float(self.duration))
+
+    def sample(self, t):
+        """Pose, velocity and acceleration at time(s) ``t`` (held at the goal after the move)."""
+        t = _times(t)
+        s = np.clip(t / self.duration, 0.0, 1.0)
+        pos, rate, rate2 = PROFILES[self.profile](s)
+        moving = (t >= 0.0) & (t <= self.duration)
+        rate = np.where(moving, rate, 0.0) / self.duration
+        rate2 = np.where(moving, rate2, 0.0) / self.duration**2
+        delta = self.goal - self.start
+        return (
+            self.start + pos[..., None] * delta,
+            rate[..., None] * delta,
+            rate2[..., None] * delta,
+        )
+
+
+class SampledTrajectory:
+    """A trajectory through poses given at increasing times, interpolated by a cubic spline
+    with zero velocity at both ends (a C2 path, so the reference acceleration exists)."""
+
+    def __init__(self, times, poses):
+        from scipy.interpolate import CubicSpline
+
+        times = _times(times)
+        poses = _checks.states("poses", poses)
+        if times.ndim != 1 or poses.ndim != 2 or len(times) != len(poses):
+            raise ValueError(f"times, poses: need N times and (N, 6) poses, got {times.shape} and {poses.shape}")
+        if len(times) < 2 or np.any(np.diff(times) <= 0):
+            raise ValueError("times: need at least two strictly increasing times")
+        self.times = times
+        self.poses = poses
+        self.duration = float(times[-1])
+        self._spline = CubicSpline(times, poses, axis=0, bc_type="clamped")
+
+    @classmethod
+    def from_csv(cls, path) -> "SampledTrajectory":
+        """Read ``t, x, y, z, psi, theta, phi`` rows (a header line is allowed)."""
+        path = os.fspath(path)
+        rows = []
+        with open(path, newline="") as fh:
+            for lineno, row in enumerate(csv.reader(fh), start=1):
+                if not row or row[0].strip().startswith("#"):
+                    continue
+                try:
+                    rows.append([float(v) for v in row])
+                except ValueError:
+                    if rows or lineno > 1:
+                        raise ValueError(f"{path}:{lineno}: expected 7 numbers, got {row}") from None
+                    continue  # header
+                if len(rows[-1]) != 7:
+                    raise ValueError(f"{path}:{lineno}: expected 7 columns (t and six pose values), got {len(row)}")
+        if not rows:
+            raise ValueError(f"{path}: no trajectory rows")
+        data = np.array(rows)
+        return cls(data[:, 0], data[:, 1:])
+
+    def sample(self, t):
+        """Pose, velocity and acceleration at time(s) ``t`` (held at the ends outside the samples)."""
+        t = _times(t)
+        inside = (t >= self.times[0]) & (t <= self.times[-1])
+        tc = np.clip(t, self.times[0], self.times[-1])
+        pos = self._spline(tc)
+        vel = np.where(inside[..., None], self._spline(tc, 1), 0.0)
+        acc = np.where(inside[..., None], self._spline(tc, 2), 0.0)
+        return pos, vel, acc
