@@ -265,7 +265,7 @@ def _adaptive(loop, references, y, times, limits, rtol, atol, states, forces, le
                     events=events)
     count = sol.y.shape[1]
     states[:count] = sol.y.T
-    for k in range(count - 1):
+    for k in range(count):
         ref, ff = references(times[k:k + 1])
         _, forces[k], lengths[k], rates[k], _ = loop.derivative(np.ascontiguousarray(states[k]), ref[0], ff[0])
     outcome, leg, last, y_last = Outcome.STOP_FINISHED, -1, count - 1, sol.y[:, -1].copy()

@@ -1,0 +1,5 @@
+"""``python -m stewart``: the ``stewart`` command."""
+
+from .cli import main
+
+main()
