@@ -10,7 +10,7 @@ KERNEL_SOURCES := stewart/_kernel.pyx stewart/_kernel.pxd stewart/_simulate.pyx 
 	generated/stewart_model.h setup.py
 C_TEST := tests/c/test_model
 
-.PHONY: all test demo generate build bench clean
+.PHONY: all test demo generate build bench validate clean
 
 all: build
 
@@ -44,6 +44,10 @@ generate: $(INSTALLED)
 
 bench: build
 	$(PY) -m benchmarks
+
+validate: build
+	$(PY) -m stewart validate --preset narayan2017
+	$(PY) -m stewart validate --preset motion_simulator
 
 clean:
 	rm -rf build *.egg-info stewart/*.so stewart/_kernel.c stewart/_simulate.c .pytest_cache $(C_TEST)

@@ -6,7 +6,7 @@ simulation under control (:func:`simulate`, trajectories, controllers), and the 
 raised for inputs where the model is undefined.
 """
 
-from . import kinematics, reference
+from . import kinematics, newton_euler, reference
 from .errors import ConvergenceError, SingularityError
 from .kinematics import (
     euler_jacobian,
@@ -43,6 +43,7 @@ __all__ = [
     "Actuators",
     "kinematics",
     "reference",
+    "newton_euler",
     "SingularityError",
     "ConvergenceError",
     "rotation",

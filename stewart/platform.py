@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import kinematics
+from . import kinematics, newton_euler
 from ._kernel import Kernel
 from .params import PlatformParams
 
@@ -92,6 +92,12 @@ class Platform:
     def forward_dynamics(self, x, xd, tau, *, return_mask=False):
         """Euler accelerations ``xddot = M^-1 (J_C^T tau - V xdot - G)``."""
         return self._kernel.forward_dynamics(x, xd, tau, return_mask=return_mask)
+
+    def joint_reactions(self, x, xd, xdd) -> newton_euler.JointReactions:
+        """Actuator forces and the forces at each leg's universal joint (on the leg, from the
+        base) and spherical joint (on the platform, from the leg), by Newton-Euler
+        (:func:`stewart.newton_euler.joint_reactions`; axisymmetric legs only)."""
+        return newton_euler.joint_reactions(self._params, x, xd, xdd)
 
     def forward_kinematics(self, lengths, guess=None, **options):
         """Pose(s) from leg lengths by Newton-Raphson (:func:`stewart.forward_kinematics`),

@@ -185,6 +185,10 @@ def test_platform_api():
     np.testing.assert_array_equal(plat.home_pose, stewart.home_pose(plat.params))
     x = plat.home_pose + [0.01, 0, 0.02, 0.05, 0, 0]
     np.testing.assert_allclose(plat.forward_kinematics(plat.leg_lengths(x)), x, atol=1e-10)
+    reactions = plat.joint_reactions(plat.home_pose, np.zeros(6), np.zeros(6))
+    np.testing.assert_allclose(reactions.tau, plat.inverse_dynamics(plat.home_pose, np.zeros(6), np.zeros(6)), rtol=1e-12)
+    total = plat.params.platform_mass + 6 * (plat.params.cylinder_mass + plat.params.piston_mass)
+    np.testing.assert_allclose(reactions.base.sum(axis=0), [0, 0, total * 9.81], atol=1e-10)
     with pytest.raises(ValueError, match="params: expected a stewart.PlatformParams"):
         stewart.Platform({"platform_mass": 1})
     with pytest.raises(ValueError, match="threads: must be >= 1"):
