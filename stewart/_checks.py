@@ -6,6 +6,11 @@ from typing import Any
 
 import numpy as np
 
+from .errors import SingularityError
+
+#: J_C is treated as singular when its condition number exceeds this.
+JACOBIAN_COND_LIMIT = 1e12
+
 
 def states(name: str, value: Any, width: int = 6) -> np.ndarray:
     """``value`` as a float (or complex) array of shape ``(width,)`` or ``(N, width)``.
@@ -40,3 +45,15 @@ def same_batch(**arrays: np.ndarray) -> None:
     if len(set(shapes.values())) > 1:
         desc = ", ".join(f"{name} {arr.shape}" for name, arr in arrays.items())
         raise ValueError(f"arguments must have matching batch shapes: {desc}")
+
+
+def regular_jacobian(jac: np.ndarray) -> None:
+    """Raise :class:`SingularityError` (naming the rows) where ``J_C`` is singular."""
+    cond = np.linalg.cond(np.real(jac).reshape(-1, 6, 6))
+    bad = ~(cond < JACOBIAN_COND_LIMIT)
+    if bad.any():
+        rows = np.flatnonzero(bad)
+        raise SingularityError(
+            f"x: J_C is singular (condition number {cond[rows[0]]:.3g}) at row(s) {rows[:10].tolist()}",
+            rows=rows,
+        )

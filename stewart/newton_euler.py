@@ -65,14 +65,10 @@ from typing import NamedTuple
 import numpy as np
 
 from . import _checks
-from .errors import SingularityError
 from .kinematics import euler_rate_jacobian, rotation
 from .params import PlatformParams
 
 __all__ = ["JointReactions", "inverse_dynamics", "joint_reactions"]
-
-#: J_C is treated as singular when its condition number exceeds this.
-_COND_LIMIT = 1e12
 
 
 class JointReactions(NamedTuple):
@@ -185,14 +181,7 @@ def _solve(params: PlatformParams, x, xd, xdd) -> JointReactions:
         [m_p * (acc - g_vec) + f0.sum(axis=-2), euler + np.cross(arms, f0).sum(axis=-2)], axis=-1
     )
     jac = np.concatenate([u, np.cross(arms, u)], axis=-1)  # J_C, row i = [u_i, r_i x u_i]
-    cond = np.linalg.cond(np.real(jac).reshape(-1, 6, 6))
-    bad = ~(cond < _COND_LIMIT)
-    if bad.any():
-        rows = np.flatnonzero(bad)
-        raise SingularityError(
-            f"x: J_C is singular (condition number {cond[rows[0]]:.3g}) at row(s) {rows[:10].tolist()}",
-            rows=rows,
-        )
+    _checks.regular_jacobian(jac)
     tau = np.linalg.solve(np.swapaxes(jac, -1, -2), wrench[..., None])[..., 0]
 
     on_platform = tau[..., None] * u - f0  # f_P

@@ -64,8 +64,6 @@ BODIES = (
 _STEP = 1e-30
 #: Cylinder frame tolerance: legs with u_x^2 + u_y^2 below this are "vertical".
 _VERTICAL = 1e-18
-#: J_C is treated as singular when its condition number exceeds this.
-_COND_LIMIT = 1e12
 #: Forward dynamics is undefined when |cos(theta)| is below this (J_A singular).
 _COS_LIMIT = 1e-12
 
@@ -261,26 +259,14 @@ def gravity_vector(params: PlatformParams, x) -> np.ndarray:
     return _total(params, x, None, "gravity_vector")
 
 
-def _check_jacobian(params: PlatformParams, x: np.ndarray) -> np.ndarray:
-    jac = jacobian(params, x)
-    cond = np.linalg.cond(jac.reshape(-1, 6, 6))
-    bad = ~(cond < _COND_LIMIT)
-    if bad.any():
-        rows = np.flatnonzero(bad)
-        raise SingularityError(
-            f"x: J_C is singular (condition number {cond[rows[0]]:.3g}) at row(s) {rows[:10].tolist()}",
-            rows=rows,
-        )
-    return jac
-
-
 def inverse_dynamics(params: PlatformParams, x, xd, xdd) -> np.ndarray:
     """Actuator forces ``tau = J_C^-T (M xddot + V xdot + G)`` (eqs. 1-2, 20)."""
     x = _checks.states("x", x)
     xd = _checks.states("xd", xd)
     xdd = _checks.states("xdd", xdd)
     _checks.same_batch(x=x, xd=xd, xdd=xdd)
-    jac = _check_jacobian(params, x)
+    jac = jacobian(params, x)
+    _checks.regular_jacobian(jac)
     wrench = (
         np.einsum("...ij,...j->...i", mass_matrix(params, x), xdd)
         + coriolis_vector(params, x, xd)

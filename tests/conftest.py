@@ -41,6 +41,15 @@ def preset_params(request):
     return stewart.PlatformParams.preset(request.param)
 
 
+@pytest.fixture(params=PRESETS + [f"random-{k}" for k in range(3)])
+def any_params(request):
+    """Every preset, and random axisymmetric parameter sets (:func:`random_params`)."""
+    if request.param.startswith("random-"):
+        params = random_params(np.random.default_rng(300 + int(request.param.split("-")[1])))
+        return params.replace(name=request.param)
+    return stewart.PlatformParams.preset(request.param)
+
+
 def random_states(params, n, rng, spread=1.0):
     """Poses scattered around home (a few percent of the leg length, up to ~0.2 rad),
     with velocities and accelerations of the matching scale."""

@@ -13,17 +13,8 @@ from stewart import reference as ref
 from conftest import PRESETS, random_params, random_states
 
 H = 1e-30
-N_RANDOM = 3
 E_Z = np.array([0.0, 0.0, 1.0])
 
-
-@pytest.fixture(params=PRESETS + [f"random-{k}" for k in range(N_RANDOM)])
-def any_params(request):
-    """Every preset, and random axisymmetric parameter sets (``conftest.random_params``)."""
-    if request.param.startswith("random-"):
-        params = random_params(np.random.default_rng(300 + int(request.param.split("-")[1])))
-        return params.replace(name=request.param)
-    return stewart.PlatformParams.preset(request.param)
 
 
 def _relative(got, want):

@@ -16,16 +16,7 @@ from conftest import PRESETS, random_params, random_states
 from energy import energy, leg_rates, potential_energy
 
 H = 1e-30
-N_RANDOM = 3
 
-
-@pytest.fixture(params=PRESETS + [f"random-{k}" for k in range(N_RANDOM)])
-def any_params(request):
-    """Every preset, and random axisymmetric parameter sets (``conftest.random_params``)."""
-    if request.param.startswith("random-"):
-        params = random_params(np.random.default_rng(400 + int(request.param.split("-")[1])))
-        return params.replace(name=request.param)
-    return stewart.PlatformParams.preset(request.param)
 
 
 def _power_balance(params, x, xd, xdd, tau):
