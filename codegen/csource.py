@@ -2,10 +2,11 @@
 
 The public functions check their inputs, dispatch between the axisymmetric and
 the general leg-inertia kernels, check the legs, solve the small linear systems
-(LU with partial pivoting for J_C^T tau = W, Cholesky for M_t y = rhs) and
-check their outputs.
+(unrolled in `linsolve`: pivoted elimination for J_C^T tau = W, LDL^T for
+M_t y = rhs) and check their outputs.
 """
 
+from . import linsolve
 from .model import NUM_LEGS
 
 VERTICAL_TOL = '1e-16'
@@ -221,104 +222,6 @@ static int finish(int status, double *out, int n)
     }
     return status;
 }
-
-/* Solve J^T y = b (J 6x6 row-major) by LU with partial pivoting.  Returns 0
- * when the Hadamard ratio |det J| / prod_i |row_i(J)| < STEWART_JACOBIAN_TOL. */
-static int solve_transposed(const double J[36], const double b[6], double y[6])
-{
-    double A[6][7], det2 = 1.0, norms2 = 1.0;
-    int i, j, k;
-    for (i = 0; i < 6; ++i) {
-        double norm2 = 0.0;
-        for (j = 0; j < 6; ++j) {
-            A[j][i] = J[6 * i + j];
-            norm2 += J[6 * i + j] * J[6 * i + j];
-        }
-        norms2 *= norm2;
-        A[i][6] = b[i];
-    }
-    for (k = 0; k < 6; ++k) {
-        double inv;
-        int piv = k;
-        for (i = k + 1; i < 6; ++i) {
-            piv = fabs(A[i][k]) > fabs(A[piv][k]) ? i : piv;
-        }
-        if (piv != k) {
-            for (j = k; j < 7; ++j) {
-                double t = A[k][j];
-                A[k][j] = A[piv][j];
-                A[piv][j] = t;
-            }
-        }
-        det2 *= A[k][k] * A[k][k];
-        inv = 1.0 / A[k][k];
-        A[k][k] = inv;
-        for (i = k + 1; i < 6; ++i) {
-            double f = A[i][k] * inv;
-            for (j = k + 1; j < 7; ++j) {
-                A[i][j] -= f * A[k][j];
-            }
-        }
-    }
-    if (!(det2 >= STEWART_JACOBIAN_TOL * STEWART_JACOBIAN_TOL * norms2)) {
-        return 0;
-    }
-    for (i = 5; i >= 0; --i) {
-        double s = A[i][6];
-        for (j = i + 1; j < 6; ++j) {
-            s -= A[i][j] * y[j];
-        }
-        y[i] = s * A[i][i];
-    }
-    return 1;
-}
-
-/* Solve S y = b for symmetric S given by its upper triangle (21 entries,
- * row-major) by Cholesky.  Returns 0 when a pivot is <= STEWART_MASS_TOL
- * times its diagonal entry (or the diagonal entry is <= 0). */
-static int cholesky_solve(const double upper[21], const double b[6], double y[6])
-{
-    double C[6][6], z[6];
-    int i, j, k, n = 0;
-    for (i = 0; i < 6; ++i) {
-        for (j = i; j < 6; ++j) {
-            C[i][j] = upper[n++];
-        }
-    }
-    for (k = 0; k < 6; ++k) {
-        double d = C[k][k];
-        for (j = 0; j < k; ++j) {
-            d -= C[j][k] * C[j][k];
-        }
-        if (!(C[k][k] > 0.0) || !(d > STEWART_MASS_TOL * C[k][k])) {
-            return 0;
-        }
-        d = sqrt(d);
-        C[k][k] = d;
-        for (i = k + 1; i < 6; ++i) {
-            double s = C[k][i];
-            for (j = 0; j < k; ++j) {
-                s -= C[j][k] * C[j][i];
-            }
-            C[k][i] = s / d;
-        }
-    }
-    for (i = 0; i < 6; ++i) {
-        double s = b[i];
-        for (j = 0; j < i; ++j) {
-            s -= C[j][i] * z[j];
-        }
-        z[i] = s / C[i][i];
-    }
-    for (i = 5; i >= 0; --i) {
-        double s = z[i];
-        for (j = i + 1; j < 6; ++j) {
-            s -= C[i][j] * y[j];
-        }
-        y[i] = s / C[i][i];
-    }
-    return 1;
-}
 '''
 
 PUBLIC = r'''
@@ -459,4 +362,5 @@ def header(ops):
 
 def source(kernel_sources):
     """stewart_model.c from the generated kernel functions (C text)."""
-    return PRELUDE + RUNTIME + '\n/* ---- generated kernels ---- */\n\n' + '\n'.join(kernel_sources) + PUBLIC
+    return (PRELUDE + RUNTIME + '\n' + linsolve.solve_transposed() + '\n' + linsolve.cholesky_solve()
+            + '\n/* ---- generated kernels ---- */\n\n' + '\n'.join(kernel_sources) + PUBLIC)

@@ -81,101 +81,323 @@ static int finish(int status, double *out, int n)
     return status;
 }
 
-/* Solve J^T y = b (J 6x6 row-major) by LU with partial pivoting.  Returns 0
- * when the Hadamard ratio |det J| / prod_i |row_i(J)| < STEWART_JACOBIAN_TOL. */
+/* Solve J^T y = b (J 6x6 row-major) by fraction-free (Bareiss) Gaussian
+ * elimination with partial pivoting, unrolled; a_rc = (J^T)_rc, column 6 = b.
+ * At step k the row of largest |a_ik| (i >= k) is swapped into row k and
+ * a_ij <- (a_kk a_ij - a_ik a_kj) / (previous pivot), which keeps every entry
+ * a minor of J^T and makes the last pivot a_55 = +-det J.  Returns 0 when
+ * the Hadamard ratio |det J| / prod_i |row_i(J)| < STEWART_JACOBIAN_TOL. */
 static int solve_transposed(const double J[36], const double b[6], double y[6])
 {
-    double A[6][7], det2 = 1.0, norms2 = 1.0;
-    int i, j, k;
-    for (i = 0; i < 6; ++i) {
-        double norm2 = 0.0;
-        for (j = 0; j < 6; ++j) {
-            A[j][i] = J[6 * i + j];
-            norm2 += J[6 * i + j] * J[6 * i + j];
-        }
-        norms2 *= norm2;
-        A[i][6] = b[i];
-    }
-    for (k = 0; k < 6; ++k) {
-        double inv;
-        int piv = k;
-        for (i = k + 1; i < 6; ++i) {
-            piv = fabs(A[i][k]) > fabs(A[piv][k]) ? i : piv;
-        }
-        if (piv != k) {
-            for (j = k; j < 7; ++j) {
-                double t = A[k][j];
-                A[k][j] = A[piv][j];
-                A[piv][j] = t;
-            }
-        }
-        det2 *= A[k][k] * A[k][k];
-        inv = 1.0 / A[k][k];
-        A[k][k] = inv;
-        for (i = k + 1; i < 6; ++i) {
-            double f = A[i][k] * inv;
-            for (j = k + 1; j < 7; ++j) {
-                A[i][j] -= f * A[k][j];
-            }
-        }
-    }
-    if (!(det2 >= STEWART_JACOBIAN_TOL * STEWART_JACOBIAN_TOL * norms2)) {
+    double a00 = J[0], a01 = J[6], a02 = J[12], a03 = J[18], a04 = J[24], a05 = J[30], a06 = b[0];
+    double a10 = J[1], a11 = J[7], a12 = J[13], a13 = J[19], a14 = J[25], a15 = J[31], a16 = b[1];
+    double a20 = J[2], a21 = J[8], a22 = J[14], a23 = J[20], a24 = J[26], a25 = J[32], a26 = b[2];
+    double a30 = J[3], a31 = J[9], a32 = J[15], a33 = J[21], a34 = J[27], a35 = J[33], a36 = b[3];
+    double a40 = J[4], a41 = J[10], a42 = J[16], a43 = J[22], a44 = J[28], a45 = J[34], a46 = b[4];
+    double a50 = J[5], a51 = J[11], a52 = J[17], a53 = J[23], a54 = J[29], a55 = J[35], a56 = b[5];
+    const double n0 = J[0] * J[0] + J[1] * J[1] + J[2] * J[2] + J[3] * J[3] + J[4] * J[4] + J[5] * J[5];
+    const double n1 = J[6] * J[6] + J[7] * J[7] + J[8] * J[8] + J[9] * J[9] + J[10] * J[10] + J[11] * J[11];
+    const double n2 = J[12] * J[12] + J[13] * J[13] + J[14] * J[14] + J[15] * J[15] + J[16] * J[16] + J[17] * J[17];
+    const double n3 = J[18] * J[18] + J[19] * J[19] + J[20] * J[20] + J[21] * J[21] + J[22] * J[22] + J[23] * J[23];
+    const double n4 = J[24] * J[24] + J[25] * J[25] + J[26] * J[26] + J[27] * J[27] + J[28] * J[28] + J[29] * J[29];
+    const double n5 = J[30] * J[30] + J[31] * J[31] + J[32] * J[32] + J[33] * J[33] + J[34] * J[34] + J[35] * J[35];
+    double t;
+    int s;
+    /* step 0 */
+    s = fabs(a10) > fabs(a00);
+    t = a00; a00 = s ? a10 : t; a10 = s ? t : a10;
+    t = a01; a01 = s ? a11 : t; a11 = s ? t : a11;
+    t = a02; a02 = s ? a12 : t; a12 = s ? t : a12;
+    t = a03; a03 = s ? a13 : t; a13 = s ? t : a13;
+    t = a04; a04 = s ? a14 : t; a14 = s ? t : a14;
+    t = a05; a05 = s ? a15 : t; a15 = s ? t : a15;
+    t = a06; a06 = s ? a16 : t; a16 = s ? t : a16;
+    s = fabs(a30) > fabs(a20);
+    t = a20; a20 = s ? a30 : t; a30 = s ? t : a30;
+    t = a21; a21 = s ? a31 : t; a31 = s ? t : a31;
+    t = a22; a22 = s ? a32 : t; a32 = s ? t : a32;
+    t = a23; a23 = s ? a33 : t; a33 = s ? t : a33;
+    t = a24; a24 = s ? a34 : t; a34 = s ? t : a34;
+    t = a25; a25 = s ? a35 : t; a35 = s ? t : a35;
+    t = a26; a26 = s ? a36 : t; a36 = s ? t : a36;
+    s = fabs(a50) > fabs(a40);
+    t = a40; a40 = s ? a50 : t; a50 = s ? t : a50;
+    t = a41; a41 = s ? a51 : t; a51 = s ? t : a51;
+    t = a42; a42 = s ? a52 : t; a52 = s ? t : a52;
+    t = a43; a43 = s ? a53 : t; a53 = s ? t : a53;
+    t = a44; a44 = s ? a54 : t; a54 = s ? t : a54;
+    t = a45; a45 = s ? a55 : t; a55 = s ? t : a55;
+    t = a46; a46 = s ? a56 : t; a56 = s ? t : a56;
+    s = fabs(a20) > fabs(a00);
+    t = a00; a00 = s ? a20 : t; a20 = s ? t : a20;
+    t = a01; a01 = s ? a21 : t; a21 = s ? t : a21;
+    t = a02; a02 = s ? a22 : t; a22 = s ? t : a22;
+    t = a03; a03 = s ? a23 : t; a23 = s ? t : a23;
+    t = a04; a04 = s ? a24 : t; a24 = s ? t : a24;
+    t = a05; a05 = s ? a25 : t; a25 = s ? t : a25;
+    t = a06; a06 = s ? a26 : t; a26 = s ? t : a26;
+    s = fabs(a40) > fabs(a00);
+    t = a00; a00 = s ? a40 : t; a40 = s ? t : a40;
+    t = a01; a01 = s ? a41 : t; a41 = s ? t : a41;
+    t = a02; a02 = s ? a42 : t; a42 = s ? t : a42;
+    t = a03; a03 = s ? a43 : t; a43 = s ? t : a43;
+    t = a04; a04 = s ? a44 : t; a44 = s ? t : a44;
+    t = a05; a05 = s ? a45 : t; a45 = s ? t : a45;
+    t = a06; a06 = s ? a46 : t; a46 = s ? t : a46;
+    const double inv0 = 1.0 / a00;
+    a11 = a00 * a11 - a10 * a01;
+    a12 = a00 * a12 - a10 * a02;
+    a13 = a00 * a13 - a10 * a03;
+    a14 = a00 * a14 - a10 * a04;
+    a15 = a00 * a15 - a10 * a05;
+    a16 = a00 * a16 - a10 * a06;
+    a21 = a00 * a21 - a20 * a01;
+    a22 = a00 * a22 - a20 * a02;
+    a23 = a00 * a23 - a20 * a03;
+    a24 = a00 * a24 - a20 * a04;
+    a25 = a00 * a25 - a20 * a05;
+    a26 = a00 * a26 - a20 * a06;
+    a31 = a00 * a31 - a30 * a01;
+    a32 = a00 * a32 - a30 * a02;
+    a33 = a00 * a33 - a30 * a03;
+    a34 = a00 * a34 - a30 * a04;
+    a35 = a00 * a35 - a30 * a05;
+    a36 = a00 * a36 - a30 * a06;
+    a41 = a00 * a41 - a40 * a01;
+    a42 = a00 * a42 - a40 * a02;
+    a43 = a00 * a43 - a40 * a03;
+    a44 = a00 * a44 - a40 * a04;
+    a45 = a00 * a45 - a40 * a05;
+    a46 = a00 * a46 - a40 * a06;
+    a51 = a00 * a51 - a50 * a01;
+    a52 = a00 * a52 - a50 * a02;
+    a53 = a00 * a53 - a50 * a03;
+    a54 = a00 * a54 - a50 * a04;
+    a55 = a00 * a55 - a50 * a05;
+    a56 = a00 * a56 - a50 * a06;
+    /* step 1 */
+    s = fabs(a21) > fabs(a11);
+    t = a11; a11 = s ? a21 : t; a21 = s ? t : a21;
+    t = a12; a12 = s ? a22 : t; a22 = s ? t : a22;
+    t = a13; a13 = s ? a23 : t; a23 = s ? t : a23;
+    t = a14; a14 = s ? a24 : t; a24 = s ? t : a24;
+    t = a15; a15 = s ? a25 : t; a25 = s ? t : a25;
+    t = a16; a16 = s ? a26 : t; a26 = s ? t : a26;
+    s = fabs(a41) > fabs(a31);
+    t = a31; a31 = s ? a41 : t; a41 = s ? t : a41;
+    t = a32; a32 = s ? a42 : t; a42 = s ? t : a42;
+    t = a33; a33 = s ? a43 : t; a43 = s ? t : a43;
+    t = a34; a34 = s ? a44 : t; a44 = s ? t : a44;
+    t = a35; a35 = s ? a45 : t; a45 = s ? t : a45;
+    t = a36; a36 = s ? a46 : t; a46 = s ? t : a46;
+    s = fabs(a31) > fabs(a11);
+    t = a11; a11 = s ? a31 : t; a31 = s ? t : a31;
+    t = a12; a12 = s ? a32 : t; a32 = s ? t : a32;
+    t = a13; a13 = s ? a33 : t; a33 = s ? t : a33;
+    t = a14; a14 = s ? a34 : t; a34 = s ? t : a34;
+    t = a15; a15 = s ? a35 : t; a35 = s ? t : a35;
+    t = a16; a16 = s ? a36 : t; a36 = s ? t : a36;
+    s = fabs(a51) > fabs(a11);
+    t = a11; a11 = s ? a51 : t; a51 = s ? t : a51;
+    t = a12; a12 = s ? a52 : t; a52 = s ? t : a52;
+    t = a13; a13 = s ? a53 : t; a53 = s ? t : a53;
+    t = a14; a14 = s ? a54 : t; a54 = s ? t : a54;
+    t = a15; a15 = s ? a55 : t; a55 = s ? t : a55;
+    t = a16; a16 = s ? a56 : t; a56 = s ? t : a56;
+    const double inv1 = 1.0 / a11;
+    a22 = (a11 * a22 - a21 * a12) * inv0;
+    a23 = (a11 * a23 - a21 * a13) * inv0;
+    a24 = (a11 * a24 - a21 * a14) * inv0;
+    a25 = (a11 * a25 - a21 * a15) * inv0;
+    a26 = (a11 * a26 - a21 * a16) * inv0;
+    a32 = (a11 * a32 - a31 * a12) * inv0;
+    a33 = (a11 * a33 - a31 * a13) * inv0;
+    a34 = (a11 * a34 - a31 * a14) * inv0;
+    a35 = (a11 * a35 - a31 * a15) * inv0;
+    a36 = (a11 * a36 - a31 * a16) * inv0;
+    a42 = (a11 * a42 - a41 * a12) * inv0;
+    a43 = (a11 * a43 - a41 * a13) * inv0;
+    a44 = (a11 * a44 - a41 * a14) * inv0;
+    a45 = (a11 * a45 - a41 * a15) * inv0;
+    a46 = (a11 * a46 - a41 * a16) * inv0;
+    a52 = (a11 * a52 - a51 * a12) * inv0;
+    a53 = (a11 * a53 - a51 * a13) * inv0;
+    a54 = (a11 * a54 - a51 * a14) * inv0;
+    a55 = (a11 * a55 - a51 * a15) * inv0;
+    a56 = (a11 * a56 - a51 * a16) * inv0;
+    /* step 2 */
+    s = fabs(a32) > fabs(a22);
+    t = a22; a22 = s ? a32 : t; a32 = s ? t : a32;
+    t = a23; a23 = s ? a33 : t; a33 = s ? t : a33;
+    t = a24; a24 = s ? a34 : t; a34 = s ? t : a34;
+    t = a25; a25 = s ? a35 : t; a35 = s ? t : a35;
+    t = a26; a26 = s ? a36 : t; a36 = s ? t : a36;
+    s = fabs(a52) > fabs(a42);
+    t = a42; a42 = s ? a52 : t; a52 = s ? t : a52;
+    t = a43; a43 = s ? a53 : t; a53 = s ? t : a53;
+    t = a44; a44 = s ? a54 : t; a54 = s ? t : a54;
+    t = a45; a45 = s ? a55 : t; a55 = s ? t : a55;
+    t = a46; a46 = s ? a56 : t; a56 = s ? t : a56;
+    s = fabs(a42) > fabs(a22);
+    t = a22; a22 = s ? a42 : t; a42 = s ? t : a42;
+    t = a23; a23 = s ? a43 : t; a43 = s ? t : a43;
+    t = a24; a24 = s ? a44 : t; a44 = s ? t : a44;
+    t = a25; a25 = s ? a45 : t; a45 = s ? t : a45;
+    t = a26; a26 = s ? a46 : t; a46 = s ? t : a46;
+    const double inv2 = 1.0 / a22;
+    a33 = (a22 * a33 - a32 * a23) * inv1;
+    a34 = (a22 * a34 - a32 * a24) * inv1;
+    a35 = (a22 * a35 - a32 * a25) * inv1;
+    a36 = (a22 * a36 - a32 * a26) * inv1;
+    a43 = (a22 * a43 - a42 * a23) * inv1;
+    a44 = (a22 * a44 - a42 * a24) * inv1;
+    a45 = (a22 * a45 - a42 * a25) * inv1;
+    a46 = (a22 * a46 - a42 * a26) * inv1;
+    a53 = (a22 * a53 - a52 * a23) * inv1;
+    a54 = (a22 * a54 - a52 * a24) * inv1;
+    a55 = (a22 * a55 - a52 * a25) * inv1;
+    a56 = (a22 * a56 - a52 * a26) * inv1;
+    /* step 3 */
+    s = fabs(a43) > fabs(a33);
+    t = a33; a33 = s ? a43 : t; a43 = s ? t : a43;
+    t = a34; a34 = s ? a44 : t; a44 = s ? t : a44;
+    t = a35; a35 = s ? a45 : t; a45 = s ? t : a45;
+    t = a36; a36 = s ? a46 : t; a46 = s ? t : a46;
+    s = fabs(a53) > fabs(a33);
+    t = a33; a33 = s ? a53 : t; a53 = s ? t : a53;
+    t = a34; a34 = s ? a54 : t; a54 = s ? t : a54;
+    t = a35; a35 = s ? a55 : t; a55 = s ? t : a55;
+    t = a36; a36 = s ? a56 : t; a56 = s ? t : a56;
+    const double inv3 = 1.0 / a33;
+    a44 = (a33 * a44 - a43 * a34) * inv2;
+    a45 = (a33 * a45 - a43 * a35) * inv2;
+    a46 = (a33 * a46 - a43 * a36) * inv2;
+    a54 = (a33 * a54 - a53 * a34) * inv2;
+    a55 = (a33 * a55 - a53 * a35) * inv2;
+    a56 = (a33 * a56 - a53 * a36) * inv2;
+    /* step 4 */
+    s = fabs(a54) > fabs(a44);
+    t = a44; a44 = s ? a54 : t; a54 = s ? t : a54;
+    t = a45; a45 = s ? a55 : t; a55 = s ? t : a55;
+    t = a46; a46 = s ? a56 : t; a56 = s ? t : a56;
+    const double inv4 = 1.0 / a44;
+    a55 = (a44 * a55 - a54 * a45) * inv3;
+    a56 = (a44 * a56 - a54 * a46) * inv3;
+    /* step 5 */
+    const double inv5 = 1.0 / a55;
+    if (!(a55 * a55 >= STEWART_JACOBIAN_TOL * STEWART_JACOBIAN_TOL * (n0 * n1 * n2 * n3 * n4 * n5))) {
         return 0;
     }
-    for (i = 5; i >= 0; --i) {
-        double s = A[i][6];
-        for (j = i + 1; j < 6; ++j) {
-            s -= A[i][j] * y[j];
-        }
-        y[i] = s * A[i][i];
-    }
+    y[5] = (a56) * inv5;
+    y[4] = (a46 - a45 * y[5]) * inv4;
+    y[3] = (a36 - a34 * y[4] - a35 * y[5]) * inv3;
+    y[2] = (a26 - a23 * y[3] - a24 * y[4] - a25 * y[5]) * inv2;
+    y[1] = (a16 - a12 * y[2] - a13 * y[3] - a14 * y[4] - a15 * y[5]) * inv1;
+    y[0] = (a06 - a01 * y[1] - a02 * y[2] - a03 * y[3] - a04 * y[4] - a05 * y[5]) * inv0;
     return 1;
 }
 
 /* Solve S y = b for symmetric S given by its upper triangle (21 entries,
- * row-major) by Cholesky.  Returns 0 when a pivot is <= STEWART_MASS_TOL
- * times its diagonal entry (or the diagonal entry is <= 0). */
+ * row-major) by an unrolled LDL^T factorization (m_ij: the upper triangle
+ * being eliminated, l_ik = m_ki / d_k).  Returns 0 when a pivot d_k (the
+ * square of the Cholesky diagonal) is <= STEWART_MASS_TOL times its diagonal
+ * entry S_kk (or S_kk <= 0). */
 static int cholesky_solve(const double upper[21], const double b[6], double y[6])
 {
-    double C[6][6], z[6];
-    int i, j, k, n = 0;
-    for (i = 0; i < 6; ++i) {
-        for (j = i; j < 6; ++j) {
-            C[i][j] = upper[n++];
-        }
+    double m00 = upper[0], m01 = upper[1], m02 = upper[2], m03 = upper[3], m04 = upper[4], m05 = upper[5];
+    double m11 = upper[6], m12 = upper[7], m13 = upper[8], m14 = upper[9], m15 = upper[10];
+    double m22 = upper[11], m23 = upper[12], m24 = upper[13], m25 = upper[14];
+    double m33 = upper[15], m34 = upper[16], m35 = upper[17];
+    double m44 = upper[18], m45 = upper[19];
+    double m55 = upper[20];
+    double b0 = b[0], b1 = b[1], b2 = b[2], b3 = b[3], b4 = b[4], b5 = b[5];
+    int ok = 1;
+    ok &= (upper[0] > 0.0) & (m00 > STEWART_MASS_TOL * upper[0]);
+    const double inv0 = 1.0 / m00;
+    const double l10 = m01 * inv0;
+    const double l20 = m02 * inv0;
+    const double l30 = m03 * inv0;
+    const double l40 = m04 * inv0;
+    const double l50 = m05 * inv0;
+    m11 -= l10 * m01;
+    m12 -= l10 * m02;
+    m13 -= l10 * m03;
+    m14 -= l10 * m04;
+    m15 -= l10 * m05;
+    b1 -= l10 * b0;
+    m22 -= l20 * m02;
+    m23 -= l20 * m03;
+    m24 -= l20 * m04;
+    m25 -= l20 * m05;
+    b2 -= l20 * b0;
+    m33 -= l30 * m03;
+    m34 -= l30 * m04;
+    m35 -= l30 * m05;
+    b3 -= l30 * b0;
+    m44 -= l40 * m04;
+    m45 -= l40 * m05;
+    b4 -= l40 * b0;
+    m55 -= l50 * m05;
+    b5 -= l50 * b0;
+    ok &= (upper[6] > 0.0) & (m11 > STEWART_MASS_TOL * upper[6]);
+    const double inv1 = 1.0 / m11;
+    const double l21 = m12 * inv1;
+    const double l31 = m13 * inv1;
+    const double l41 = m14 * inv1;
+    const double l51 = m15 * inv1;
+    m22 -= l21 * m12;
+    m23 -= l21 * m13;
+    m24 -= l21 * m14;
+    m25 -= l21 * m15;
+    b2 -= l21 * b1;
+    m33 -= l31 * m13;
+    m34 -= l31 * m14;
+    m35 -= l31 * m15;
+    b3 -= l31 * b1;
+    m44 -= l41 * m14;
+    m45 -= l41 * m15;
+    b4 -= l41 * b1;
+    m55 -= l51 * m15;
+    b5 -= l51 * b1;
+    ok &= (upper[11] > 0.0) & (m22 > STEWART_MASS_TOL * upper[11]);
+    const double inv2 = 1.0 / m22;
+    const double l32 = m23 * inv2;
+    const double l42 = m24 * inv2;
+    const double l52 = m25 * inv2;
+    m33 -= l32 * m23;
+    m34 -= l32 * m24;
+    m35 -= l32 * m25;
+    b3 -= l32 * b2;
+    m44 -= l42 * m24;
+    m45 -= l42 * m25;
+    b4 -= l42 * b2;
+    m55 -= l52 * m25;
+    b5 -= l52 * b2;
+    ok &= (upper[15] > 0.0) & (m33 > STEWART_MASS_TOL * upper[15]);
+    const double inv3 = 1.0 / m33;
+    const double l43 = m34 * inv3;
+    const double l53 = m35 * inv3;
+    m44 -= l43 * m34;
+    m45 -= l43 * m35;
+    b4 -= l43 * b3;
+    m55 -= l53 * m35;
+    b5 -= l53 * b3;
+    ok &= (upper[18] > 0.0) & (m44 > STEWART_MASS_TOL * upper[18]);
+    const double inv4 = 1.0 / m44;
+    const double l54 = m45 * inv4;
+    m55 -= l54 * m45;
+    b5 -= l54 * b4;
+    ok &= (upper[20] > 0.0) & (m55 > STEWART_MASS_TOL * upper[20]);
+    const double inv5 = 1.0 / m55;
+    if (!ok) {
+        return 0;
     }
-    for (k = 0; k < 6; ++k) {
-        double d = C[k][k];
-        for (j = 0; j < k; ++j) {
-            d -= C[j][k] * C[j][k];
-        }
-        if (!(C[k][k] > 0.0) || !(d > STEWART_MASS_TOL * C[k][k])) {
-            return 0;
-        }
-        d = sqrt(d);
-        C[k][k] = d;
-        for (i = k + 1; i < 6; ++i) {
-            double s = C[k][i];
-            for (j = 0; j < k; ++j) {
-                s -= C[j][k] * C[j][i];
-            }
-            C[k][i] = s / d;
-        }
-    }
-    for (i = 0; i < 6; ++i) {
-        double s = b[i];
-        for (j = 0; j < i; ++j) {
-            s -= C[j][i] * z[j];
-        }
-        z[i] = s / C[i][i];
-    }
-    for (i = 5; i >= 0; --i) {
-        double s = z[i];
-        for (j = i + 1; j < 6; ++j) {
-            s -= C[i][j] * y[j];
-        }
-        y[i] = s / C[i][i];
-    }
+    y[5] = b5 * inv5;
+    y[4] = b4 * inv4 - l54 * y[5];
+    y[3] = b3 * inv3 - l43 * y[4] - l53 * y[5];
+    y[2] = b2 * inv2 - l32 * y[3] - l42 * y[4] - l52 * y[5];
+    y[1] = b1 * inv1 - l21 * y[2] - l31 * y[3] - l41 * y[4] - l51 * y[5];
+    y[0] = b0 * inv0 - l10 * y[1] - l20 * y[2] - l30 * y[3] - l40 * y[4] - l50 * y[5];
     return 1;
 }
 
