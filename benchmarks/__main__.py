@@ -1,8 +1,11 @@
-"""``make bench``: speed of the compiled kernel, measured side by side in one run.
+"""``make bench``: speed of the compiled kernel, and of the same model written with its
+peers (CasADi, sympy's autowrap and PyDy, MuJoCo), measured side by side in one run.
 
-Prints one table and writes the figures as JSON (``--json``, default
-``out/benchmarks.json``). Every timing is the median of several repeats; ratios are
-taken between figures measured in this same run.
+Prints the tables, writes the figures as JSON (``--json``, default
+``out/benchmarks.json``) and a bar chart of ours against the peers
+(``out/benchmarks_peers.png``). Every timing is the median of several repeats; ratios are
+taken between figures measured in this same run, on the same states. Peers that are not
+installed (``pip install .[peers]``) are skipped and named.
 """
 
 from __future__ import annotations
@@ -22,6 +25,9 @@ import numpy as np
 
 import stewart
 from stewart import bench
+
+from . import report
+from .peers.common import peer_available
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 
@@ -70,12 +76,53 @@ def table(results: dict) -> str:
     return bench.format_table(rows)
 
 
+PEERS = ("casadi", "sympy", "mujoco")
+#: Importable module each peer needs.
+_NEEDS = {"casadi": ("casadi",), "sympy": ("sympy", "Cython"), "mujoco": ("mujoco",)}
+
+
+def peer_figures(names, batch: int) -> dict:
+    """Each peer's figures, or {"error": why it was skipped}."""
+    out = {}
+    for name in names:
+        missing = [m for m in _NEEDS[name] if not peer_available(m)]
+        if missing:
+            out[name] = {"error": f"not installed ({', '.join(missing)}); pip install '.[peers]'"}
+            print(f"[bench] peer {name}: skipped, {out[name]['error']}", flush=True)
+            continue
+        print(f"[bench] peer {name} ...", flush=True)
+        try:
+            if name == "casadi":
+                from .peers import casadi_bench
+
+                out[name] = casadi_bench.figures("narayan2017", n_batch=min(batch, 20_000))
+            elif name == "sympy":
+                from .peers import sympy_route
+
+                out[name] = sympy_route.figures("narayan2017")
+            else:
+                from .peers import mujoco_model
+
+                out[name] = mujoco_model.figures()
+        except Exception as exc:  # a peer's failure must not lose our own figures
+            out[name] = {"error": f"failed: {type(exc).__name__}: {exc}"[:300]}
+            print(f"[bench] peer {name}: {out[name]['error']}", flush=True)
+    return out
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(prog="python -m benchmarks", description=__doc__)
     parser.add_argument("--json", default=str(ROOT / "out" / "benchmarks.json"), help="where to write the figures")
     parser.add_argument("--batch", type=int, default=200_000, help="states per batch (default 200000)")
     parser.add_argument("--skip-build", action="store_true", help="skip the generation and clean-build timings")
+    parser.add_argument("--peers", default=",".join(PEERS),
+                        help=f"comma-separated peers to compare ({','.join(PEERS)}; 'none' for none)")
+    parser.add_argument("--chart", default=str(ROOT / "out" / "benchmarks_peers.png"), help="bar chart path")
     args = parser.parse_args(argv)
+    peers = [] if args.peers.strip().lower() == "none" else [p.strip() for p in args.peers.split(",") if p.strip()]
+    unknown = sorted(set(peers) - set(PEERS))
+    if unknown:
+        parser.error(f"--peers: unknown peer(s) {unknown}; choose from {list(PEERS)}")
 
     results = {
         "machine": {"platform": host.platform(), "processor": host.processor(), "cpus": os.cpu_count(),
@@ -90,12 +137,41 @@ def main(argv=None) -> None:
         print("[bench] generation and clean build ...", flush=True)
         results["generation"] = generation_figures()
     results["code"] = code_figures()
+    results["peers"] = peer_figures(peers, args.batch)
     print()
     print(table(results))
+    if results["peers"]:
+        ops = results["code"]["operation_counts"]
+        ours = {"ops": {"inverse_dynamics": ops.get("inverse_dynamics_axisym"),
+                        "forward_dynamics": ops.get("forward_dynamics_axisym")}}
+        gen = results.get("generation") or {}
+        ours["generation_s"], ours["clean_build_s"] = gen.get("generation_s"), gen.get("clean_build_s")
+        print()
+        print(report.format_rows(report.rows(results["peers"], ours)))
+        print(PEER_NOTES)
     path = pathlib.Path(args.json)
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text(json.dumps(results, indent=2) + "\n")
     print(f"\nfigures written to {path}")
+    if results["peers"]:
+        chart = report.chart(results["peers"], args.chart)
+        print(f"chart written to {chart}" if chart else "no chart (needs matplotlib and at least one peer)")
+
+
+PEER_NOTES = """
+Notes: every peer runs the narayan2017 preset with runtime parameters (a 51-double input
+p, as our kernel's stewart_params). CasADi: SX model, momenta differentiated by jtimes,
+symbolic linear solves; its C and ours are compiled with the same flags (-O3
+-march=native) into the same C driver loop. sympy routes: our generator's expressions,
+whole, through autowrap / PyDy (their own cse), numpy solves the 6x6 systems. MuJoCo:
+MJCF legs on universal joints (two hinges) + slide, tied to the free platform by connect
+equalities, legs with near-zero axial inertia (a U-joint leg spins a little about its
+axis, the paper's leg does not; without axial inertia the spin carries no energy, so the
+mechanics are the same). It replays, open loop, the forces of our computed-torque run of
+the demo's move. The open-loop platform is unstable (constant leg forces push it like an
+inverted pendulum): our own open-loop replay of the same forces drifts from our
+closed-loop run just as MuJoCo does, so MuJoCo is compared with that replay, on the same
+input."""
 
 
 if __name__ == "__main__":

@@ -1,0 +1,112 @@
+/* Batch driver: one model function called over N states from a plain C loop, timed.
+ *
+ * Built at bench time twice with the same flags as our extension (-O3 -march=native):
+ *   -DPEER_CASADI  with CasADi's generated C (stewart_casadi_id / stewart_casadi_fd),
+ *   otherwise      with our generated/stewart_model.c.
+ *
+ * usage: driver MODE INPUT OUTPUT REPEATS
+ *   MODE   id (inverse dynamics: third input is xdd) or fd (forward dynamics: tau)
+ *   INPUT  binary: int64 N, 51 doubles of parameters (stewart_params order), then N rows
+ *          of 18 doubles (x, xd, third input)
+ *   OUTPUT binary: N rows of 6 doubles (tau or xdd)
+ * Prints the median over REPEATS passes of the time per state, in seconds.
+ */
+#define _POSIX_C_SOURCE 199309L
+#include <stdint.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <time.h>
+
+#ifdef PEER_CASADI
+#include "casadi_stewart.h"
+#else
+#include "stewart_model.h"
+#endif
+
+static double now(void) {
+    struct timespec t;
+    clock_gettime(CLOCK_MONOTONIC, &t);
+    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
+}
+
+static int cmp(const void *a, const void *b) {
+    double x = *(const double *)a, y = *(const double *)b;
+    return (x > y) - (x < y);
+}
+
+int main(int argc, char **argv) {
+    if (argc != 5) {
+        fprintf(stderr, "usage: %s id|fd INPUT OUTPUT REPEATS\n", argv[0]);
+        return 2;
+    }
+    int fd_mode = strcmp(argv[1], "fd") == 0;
+    int repeats = atoi(argv[4]);
+    FILE *in = fopen(argv[2], "rb");
+    if (!in) { perror(argv[2]); return 1; }
+    int64_t n64;
+    double p[51];
+    if (fread(&n64, sizeof n64, 1, in) != 1 || fread(p, sizeof(double), 51, in) != 51) return 1;
+    size_t n = (size_t)n64;
+    double *rows = malloc(n * 18 * sizeof(double)), *out = malloc(n * 6 * sizeof(double));
+    if (!rows || !out || fread(rows, sizeof(double), n * 18, in) != n * 18) return 1;
+    fclose(in);
+
+#ifdef PEER_CASADI
+    casadi_int sz_arg, sz_res, sz_iw, sz_w;
+    int (*fn)(const casadi_real **, casadi_real **, casadi_int *, casadi_real *, int) =
+        fd_mode ? stewart_casadi_fd : stewart_casadi_id;
+    if (fd_mode) stewart_casadi_fd_work(&sz_arg, &sz_res, &sz_iw, &sz_w);
+    else stewart_casadi_id_work(&sz_arg, &sz_res, &sz_iw, &sz_w);
+    const casadi_real **arg = malloc((sz_arg > 4 ? sz_arg : 4) * sizeof *arg);
+    casadi_real **res = malloc((sz_res > 1 ? sz_res : 1) * sizeof *res);
+    casadi_int *iw = malloc((sz_iw > 0 ? sz_iw : 1) * sizeof *iw);
+    casadi_real *w = malloc((sz_w > 0 ? sz_w : 1) * sizeof *w);
+    arg[3] = p;
+#else
+    stewart_params sp;
+    memset(&sp, 0, sizeof sp);
+    for (int i = 0; i < 6; ++i)
+        for (int k = 0; k < 3; ++k) {
+            sp.base_points[i][k] = p[3 * i + k];
+            sp.platform_points[i][k] = p[18 + 3 * i + k];
+        }
+    sp.platform_mass = p[36];
+    sp.cylinder_mass = p[40];
+    sp.cylinder_com_distance = p[44];
+    sp.piston_mass = p[45];
+    sp.piston_com_distance = p[49];
+    sp.gravity = p[50];
+    for (int k = 0; k < 3; ++k) {
+        sp.platform_inertia[k] = p[37 + k];
+        sp.cylinder_inertia[k] = p[41 + k];
+        sp.piston_inertia[k] = p[46 + k];
+    }
+#endif
+
+    double *times = malloc((size_t)(repeats > 0 ? repeats : 1) * sizeof(double));
+    int failures = 0;
+    for (int rep = 0; rep < repeats; ++rep) {
+        double start = now();
+        for (size_t i = 0; i < n; ++i) {
+            const double *r = rows + 18 * i;
+#ifdef PEER_CASADI
+            arg[0] = r;
+            arg[1] = r + 6;
+            arg[2] = r + 12;
+            res[0] = out + 6 * i;
+            failures += fn(arg, res, iw, w, 0) != 0;
+#else
+            failures += (fd_mode ? stewart_forward_dynamics(&sp, r, r + 6, r + 12, out + 6 * i)
+                                 : stewart_inverse_dynamics(&sp, r, r + 6, r + 12, out + 6 * i)) != 0;
+#endif
+        }
+        times[rep] = (now() - start) / (double)n;
+    }
+    qsort(times, (size_t)repeats, sizeof(double), cmp);
+    FILE *o = fopen(argv[3], "wb");
+    if (!o || fwrite(out, sizeof(double), n * 6, o) != n * 6) return 1;
+    fclose(o);
+    printf("%.6e %d\n", times[repeats / 2], failures);
+    return 0;
+}

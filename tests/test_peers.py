@@ -1,0 +1,113 @@
+"""Agreement of the peer models (benchmarks/peers) with our kernel. Each test is skipped
+when its peer is not installed (``pip install .[peers]``)."""
+
+from __future__ import annotations
+
+import pathlib
+import sys
+
+import numpy as np
+import pytest
+
+import stewart
+from stewart import bench
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+
+from benchmarks.peers.common import param_vector, relative_error  # noqa: E402
+
+
+@pytest.mark.parametrize("preset", sorted(stewart.presets()))
+def test_casadi_matches_kernel(preset, figures):
+    pytest.importorskip("casadi")
+    from benchmarks.peers import casadi_model
+
+    plat = stewart.Platform.preset(preset)
+    funcs = casadi_model.build()
+    pvec = param_vector(plat.params)
+    x, xd, xdd = bench.states(plat.params, 40, seed=7)
+    tau = plat.inverse_dynamics(x, xd, xdd)
+    xdd_ours = plat.forward_dynamics(x, xd, tau)
+    tau_c = np.array([casadi_model.evaluate(funcs["inverse_dynamics"], x[i], xd[i], xdd[i], pvec) for i in range(40)])
+    xdd_c = np.array([casadi_model.evaluate(funcs["forward_dynamics"], x[i], xd[i], tau[i], pvec) for i in range(40)])
+    figures(f"CasADi tau vs kernel, {preset}", relative_error(tau_c, tau), 1e-9)
+    figures(f"CasADi xdd vs kernel, {preset}", relative_error(xdd_c, xdd_ours), 1e-9)
+
+
+def test_casadi_general_legs_match_reference(figures):
+    """The frame form of the leg inertia ({C_i}) against the numeric reference."""
+    pytest.importorskip("casadi")
+    import warnings
+
+    from benchmarks.peers import casadi_model
+    from stewart import reference
+
+    base = stewart.PlatformParams.preset("motion_simulator")
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", stewart.NonAxisymmetricLegWarning)
+        params = base.replace(cylinder_inertia=(0.6, 3.0, 2.5), piston_inertia=(0.35, 1.4, 1.1))
+    funcs = casadi_model.build(general=True)
+    x, xd, xdd = bench.states(params, 5, seed=3)
+    tau_ref = reference.inverse_dynamics(params, x, xd, xdd)
+    tau_c = np.array([casadi_model.evaluate(funcs["inverse_dynamics"], x[i], xd[i], xdd[i], param_vector(params))
+                      for i in range(5)])
+    figures("CasADi tau vs reference, non-axisymmetric legs", relative_error(tau_c, tau_ref), 1e-9)
+
+
+def test_mujoco_replay_matches_at_tight_settings(figures):
+    """MuJoCo driven open loop for 1 s by the forces of our computed-torque run.
+
+    Bounds: against our own open-loop replay of the same forces, 1e-8 m and 1e-8 rad
+    (measured ~1e-10); against our closed-loop run, 1e-6 m (measured ~5e-8, the open-loop
+    plant's own drift); the connect anchors stay within 1e-7 m (measured ~2e-9)."""
+    pytest.importorskip("mujoco")
+    from benchmarks.peers import mujoco_model
+
+    plat, run = mujoco_model.our_run()
+    ours_ol = mujoco_model.our_open_loop(plat, run)
+    fig = mujoco_model.replay(plat.params, run, "tight", duration=1.0, window=1.0, repeats=1, open_loop=ours_ol)
+    ol, cl = fig["vs_our_open_loop_replay"], fig["vs_our_closed_loop_run"]
+    figures("MuJoCo (tight) vs our open-loop replay, 1 s, position [m]", ol["max_position_difference_first_1s_m"], 1e-8)
+    figures("MuJoCo (tight) vs our open-loop replay, 1 s, angle [rad]", ol["max_angle_difference_first_1s_rad"], 1e-8)
+    figures("MuJoCo (tight) vs our closed-loop run, 1 s, position [m]", cl["max_position_difference_first_1s_m"], 1e-6)
+    figures("MuJoCo (tight) connect-anchor gap [m]", fig["max_constraint_gap_m"], 1e-7)
+
+
+def test_mujoco_model_is_the_same_platform():
+    """The MJCF's total mass and the static forces: our gravity-balancing forces hold
+    MuJoCo's platform at home to within the soft constraint's regularisation."""
+    mujoco = pytest.importorskip("mujoco")
+    from benchmarks.peers import mujoco_model
+
+    plat = stewart.Platform.preset("narayan2017")
+    p = plat.params
+    model = mujoco.MjModel.from_xml_string(mujoco_model.mjcf(p, **mujoco_model.SETTINGS["tight"]))
+    assert model.body_mass.sum() == pytest.approx(p.platform_mass + 6 * (p.cylinder_mass + p.piston_mass))
+    data = mujoco.MjData(model)
+    data.ctrl[:] = plat.inverse_dynamics(plat.home_pose, np.zeros(6), np.zeros(6))
+    mujoco.mj_forward(model, data)
+    platform_acc = data.qacc[-6:-3]
+    assert np.max(np.abs(platform_acc)) < 1e-2 * p.gravity
+
+
+def test_sympy_routes_match_kernel(figures, tmp_path):
+    """autowrap (and PyDy, when installed) on our generator's expressions; the compile
+    dominates the time, so this runs only with the peers extra installed."""
+    pytest.importorskip("casadi")  # a marker for the [peers] extra: keeps the default suite fast
+    pytest.importorskip("Cython")
+    from benchmarks.peers import sympy_route
+    from benchmarks.peers.common import peer_available
+
+    plat = stewart.Platform.preset("narayan2017")
+    pvec = param_vector(plat.params)
+    x, xd, xdd = bench.states(plat.params, 10, seed=5)
+    tau = plat.inverse_dynamics(x, xd, xdd)
+    exprs = sympy_route.expressions()
+    built = sympy_route.build_pydy(exprs, str(tmp_path)) if peer_available("pydy") else \
+        sympy_route.build_autowrap(exprs, str(tmp_path))
+    tau_s = np.array([built["id"][0](x[i], xd[i], xdd[i], pvec) for i in range(10)])
+    xdd_s = np.array([built["fd"][0](x[i], xd[i], tau[i], pvec) for i in range(10)])
+    figures("sympy route tau vs kernel", relative_error(tau_s, tau), 1e-9)
+    figures("sympy route xdd vs kernel", relative_error(xdd_s, xdd), 1e-9)
