@@ -100,6 +100,8 @@ def rows(peers: dict, ours: dict) -> list[tuple[str, str, str, str]]:
     for name, info in peers.items():
         if "error" in info:
             out.append((f"{name}: skipped", "", info["error"], ""))
+        for what in info.get("skipped", []):
+            out.append((f"{name}: skipped", "", f"{what}; pip install '.[peers]'", ""))
     return out
 
 

@@ -6,6 +6,8 @@ import warnings
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 
 import stewart
 from stewart import PlatformParams
@@ -151,3 +153,31 @@ def test_equality_and_hash_follow_values():
         c = a.replace(platform_mass=7.0)
     assert a == b and hash(a) == hash(b)
     assert a != c
+
+
+_positive = st.floats(min_value=1e-300, max_value=1e300, allow_nan=False, allow_infinity=False)
+
+
+@settings(max_examples=60, deadline=None)
+@given(
+    scale=st.floats(min_value=1e-6, max_value=1e6),
+    mass=_positive,
+    moment=_positive,
+    ratio=st.floats(min_value=0.0, max_value=2.0),
+    fmt=st.sampled_from(["toml", "json"]),
+)
+def test_any_valid_parameters_round_trip_through_files(tmp_path_factory, scale, mass, moment, ratio, fmt):
+    """Every float that validation accepts is written and read back bit for bit."""
+    base = PlatformParams.preset("narayan2017")
+    params = base.replace(
+        base_points=base.base_points * scale,
+        platform_points=base.platform_points * scale,
+        platform_mass=mass,
+        platform_inertia=(moment, moment, moment * ratio),
+        cylinder_com_distance=scale / 3,
+    )
+    path = tmp_path_factory.mktemp("files") / f"p.{fmt}"
+    params.save(path)
+    loaded = PlatformParams.load(path)
+    assert loaded == params
+    np.testing.assert_array_equal(loaded.platform_points, params.platform_points)
