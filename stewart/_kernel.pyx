@@ -145,7 +145,7 @@ cdef class Kernel:
                     failures += self._row(arity, fn, p0 + i * s0, p1 + i * s1, p2 + i * s2,
                                           po + i * width, ps + i, width)
         if failures == 0:
-            return (out, np.ones(n if batch else (), dtype=bool)) if return_mask else out
+            return (out, np.ones(n, dtype=bool) if batch else True) if return_mask else out
         return self._failed(fname, names, (a0, a1, a2)[:arity], out, status, batch, return_mask)
 
     cdef int _row(self, int arity, void *fn, const double *x0, const double *x1,

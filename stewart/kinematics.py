@@ -111,32 +111,32 @@ def home_pose(params: PlatformParams, leg_length: float | None = None) -> np.nda
     """The home pose: no rotation, {P}'s joint centroid above the base's, at the height
     where the mean leg length equals ``leg_length``.
 
-    ``leg_length`` defaults to mid-stroke of ``params.leg_length_limits`` and, for a
-    platform without limits, to the base's circumradius (the largest distance of a base
-    joint from the base centroid).
+    ``leg_length`` defaults to mid-stroke of ``params.leg_length_limits``; for a platform
+    without limits, to the larger of the base's circumradius and sqrt(2) times the widest
+    horizontal leg span at home (so no leg leans more than 45 degrees).
     """
+    offset = params.base_points.mean(axis=0) - params.platform_points.mean(axis=0)
+    planar = params.platform_points[:, :2] + offset[:2] - params.base_points[:, :2]
+    dz0 = params.platform_points[:, 2] - params.base_points[:, 2]
+    reach = np.sqrt(np.sum(planar * planar, axis=1))
     if leg_length is None:
         if params.leg_length_limits is not None:
             leg_length = 0.5 * sum(params.leg_length_limits)
         else:
             centred = params.base_points - params.base_points.mean(axis=0)
-            leg_length = float(np.max(np.sqrt(np.sum(centred * centred, axis=1))))
+            leg_length = max(float(np.max(np.sqrt(np.sum(centred * centred, axis=1)))), np.sqrt(2.0) * reach.max())
     leg_length = float(leg_length)
-    offset = params.base_points.mean(axis=0) - params.platform_points.mean(axis=0)
-    planar = params.platform_points[:, :2] + offset[:2] - params.base_points[:, :2]
-    dz0 = params.platform_points[:, 2] - params.base_points[:, 2]
-    reach = np.sqrt(np.sum(planar * planar, axis=1))
-    if not np.isfinite(leg_length) or leg_length <= reach.max():
-        raise ValueError(
-            f"leg_length: {leg_length} m is too short to raise the platform "
-            f"(the legs span {reach.max():.6g} m horizontally at home)"
-        )
 
     def mean_length(z: float) -> float:
         return float(np.mean(np.sqrt(reach**2 + (z + dz0) ** 2)))
 
-    # mean_length is increasing in z once every leg points upward: bisect on it.
+    # Above the highest base joint, mean_length increases with z: bisect on it.
     lo = float(np.max(-dz0))
+    if not np.isfinite(leg_length) or mean_length(lo) >= leg_length:
+        raise ValueError(
+            f"leg_length: {leg_length} m is too short to raise the platform above the base "
+            f"(the legs span up to {reach.max():.6g} m horizontally at home)"
+        )
     hi = lo + leg_length
     for _ in range(200):
         mid = 0.5 * (lo + hi)

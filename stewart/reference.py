@@ -225,26 +225,26 @@ def body_terms(params: PlatformParams, x, xd=None, general: bool | None = None) 
     return out
 
 
-def _total(params, x, xd, field: str) -> np.ndarray:
-    terms = body_terms(params, x, xd)
-    total = 0.0
-    for body, term in terms.items():
-        value = getattr(term, field)
-        leg_axis = -2 if field == "gravity_vector" else -3
-        total = total + (value if body.startswith("platform") else value.sum(axis=leg_axis))
-    return total
+def _totals(params, x, xd) -> BodyTerms:
+    """``M``, ``V`` and ``G`` of the whole platform: the body terms summed over bodies and legs."""
+    totals = [0.0, 0.0, 0.0]
+    for body, term in body_terms(params, x, xd).items():
+        for k, value in enumerate(term):
+            leg_axis = -2 if k == 2 else -3  # the gravity vector has one axis less
+            totals[k] = totals[k] + (value if body.startswith("platform") else value.sum(axis=leg_axis))
+    return BodyTerms(*totals)
 
 
 def mass_matrix(params: PlatformParams, x) -> np.ndarray:
     """``M = sum_b J_b^T I_b J_b T`` (6x6, not symmetric: it multiplies ``xddot``)."""
     x = _checks.states("x", x)
-    return _total(params, x, None, "mass_matrix")
+    return _totals(params, x, None).mass_matrix
 
 
 def coriolis_matrix(params: PlatformParams, x, xd) -> np.ndarray:
     """``V = sum_b J_b^T d/dt(I_b J_b T)`` (6x6)."""
     x = _checks.states("x", x)
-    return _total(params, x, xd, "coriolis_matrix")
+    return _totals(params, x, xd).coriolis_matrix
 
 
 def coriolis_vector(params: PlatformParams, x, xd) -> np.ndarray:
@@ -256,7 +256,7 @@ def coriolis_vector(params: PlatformParams, x, xd) -> np.ndarray:
 def gravity_vector(params: PlatformParams, x) -> np.ndarray:
     """``G = sum_b m_b g J_b^T e_z`` (eqs. 72-76)."""
     x = _checks.states("x", x)
-    return _total(params, x, None, "gravity_vector")
+    return _totals(params, x, None).gravity_vector
 
 
 def inverse_dynamics(params: PlatformParams, x, xd, xdd) -> np.ndarray:
@@ -267,10 +267,11 @@ def inverse_dynamics(params: PlatformParams, x, xd, xdd) -> np.ndarray:
     _checks.same_batch(x=x, xd=xd, xdd=xdd)
     jac = jacobian(params, x)
     _checks.regular_jacobian(jac)
+    total = _totals(params, x, xd)
     wrench = (
-        np.einsum("...ij,...j->...i", mass_matrix(params, x), xdd)
-        + coriolis_vector(params, x, xd)
-        + gravity_vector(params, x)
+        np.einsum("...ij,...j->...i", total.mass_matrix, xdd)
+        + np.einsum("...ij,...j->...i", total.coriolis_matrix, xd)
+        + total.gravity_vector
     )
     return np.linalg.solve(np.swapaxes(jac, -1, -2), wrench[..., None])[..., 0]
 
@@ -289,9 +290,10 @@ def forward_dynamics(params: PlatformParams, x, xd, tau) -> np.ndarray:
             f"x: theta = +-90 deg at row(s) {rows[:10].tolist()}: the Euler-rate map J_A is singular",
             rows=rows,
         )
+    total = _totals(params, x, xd)
     rhs = (
         np.einsum("...ji,...j->...i", jacobian(params, x), tau)
-        - coriolis_vector(params, x, xd)
-        - gravity_vector(params, x)
+        - np.einsum("...ij,...j->...i", total.coriolis_matrix, xd)
+        - total.gravity_vector
     )
-    return np.linalg.solve(mass_matrix(params, x), rhs[..., None])[..., 0]
+    return np.linalg.solve(total.mass_matrix, rhs[..., None])[..., 0]

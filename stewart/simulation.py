@@ -235,51 +235,68 @@ def simulate(
     )
 
 
+class _KernelStop(Exception):
+    """The model is undefined at a state the adaptive integrator asked for."""
+
+    def __init__(self, status: int, t: float):
+        super().__init__(status, t)
+        self.status, self.t = status, t
+
+
 def _adaptive(loop, references, y, times, limits, rtol, atol, states, forces, lengths, rates, bar):
-    """Integrate with DOP853; stroke limits and singular states are terminal events."""
+    """Integrate with DOP853, reporting at ``times``; stroke limits are terminal events.
+
+    Fills the output rows and returns ``(last row, outcome, leg, final state)``. A stroke
+    limit adds a row at the event (its time written into ``times``); where the model is
+    undefined (a kernel error), the run is integrated again up to the last report time
+    before that point, and stops there.
+    """
     from scipy.integrate import solve_ivp
 
-    failure = {}
+    def evaluate(t, state):
+        ref, ff = references(np.array([t]))
+        return loop.derivative(np.ascontiguousarray(state), ref[0], ff[0])
 
     def rhs(t, state):
-        ref, ff = references(np.array([t]))
-        ydot, _, _, _, status = loop.derivative(np.ascontiguousarray(state), ref[0], ff[0])
+        ydot, _, _, _, status = evaluate(t, state)
         if status != 0:
-            failure.setdefault("status", (status, t))
-            return np.zeros(18)
+            raise _KernelStop(status, t)
         bar.update(t)
         return ydot
 
-    def margin(t, state, side):
-        ref, ff = references(np.array([t]))
-        _, _, lengths_now, _, _ = loop.derivative(np.ascontiguousarray(state), ref[0], ff[0])
-        return (np.min(lengths_now) - limits[0]) if side == 0 else (limits[1] - np.max(lengths_now))
+    def leg_too_short(t, state):
+        return np.min(evaluate(t, state)[2]) - limits[0]
 
-    events = []
-    for side in (0, 1):
-        event = (lambda s: lambda t, state: margin(t, state, s))(side)
-        event.terminal = True
-        event.direction = -1
-        events.append(event)
-    sol = solve_ivp(rhs, (times[0], times[-1]), y, method="DOP853", t_eval=times, rtol=rtol, atol=atol,
-                    events=events)
-    count = sol.y.shape[1]
-    states[:count] = sol.y.T
-    for k in range(count):
-        ref, ff = references(times[k:k + 1])
-        _, forces[k], lengths[k], rates[k], _ = loop.derivative(np.ascontiguousarray(states[k]), ref[0], ff[0])
-    outcome, leg, last, y_last = Outcome.STOP_FINISHED, -1, count - 1, sol.y[:, -1].copy()
-    if "status" in failure:
-        outcome = failure["status"][0]
-    elif sol.status == 1:  # a stroke limit
-        side = 0 if len(sol.t_events[0]) else 1
-        y_last = sol.y_events[side][0]
-        ref, ff = references(sol.t_events[side][:1])
-        _, _, at_stop, _, _ = loop.derivative(np.ascontiguousarray(y_last), ref[0], ff[0])
-        leg = int(np.argmin(at_stop) if side == 0 else np.argmax(at_stop))
-        outcome = Outcome.STOP_LEG_SHORT if side == 0 else Outcome.STOP_LEG_LONG
-        last = count
-        times[last] = sol.t_events[side][0]
-    elif sol.status < 0:
+    def leg_too_long(t, state):
+        return limits[1] - np.max(evaluate(t, state)[2])
+
+    for event in (leg_too_short, leg_too_long):
+        event.terminal, event.direction = True, -1
+
+    def run(report_times):
+        return solve_ivp(rhs, (report_times[0], report_times[-1]), y, method="DOP853", t_eval=report_times,
+                         rtol=rtol, atol=atol, events=[leg_too_short, leg_too_long])
+
+    stop = None
+    try:
+        sol = run(times)
+    except _KernelStop as exc:
+        stop = exc
+        earlier = times[times < exc.t]
+        sol = run(earlier) if len(earlier) > 1 else None
+    if sol is not None and sol.status < 0:
         raise RuntimeError(f"solve_ivp failed: {sol.message}")
-    return last, outcome, leg, np.ascontiguousarray(y_last)
+    count = 1 if sol is None else sol.y.shape[1]
+    states[:count] = y if sol is None else sol.y.T
+    for k in range(count):
+        _, forces[k], lengths[k], rates[k], _ = evaluate(times[k], states[k])
+    if stop is not None:
+        return count - 1, stop.status, -1, np.ascontiguousarray(states[count - 1])
+    if sol.status == 1:  # a stroke limit
+        side = 0 if len(sol.t_events[0]) else 1
+        y_stop = sol.y_events[side][0]
+        at_stop = evaluate(sol.t_events[side][0], y_stop)[2]
+        leg = int(np.argmin(at_stop) if side == 0 else np.argmax(at_stop))
+        times[count] = sol.t_events[side][0]
+        return count, Outcome.STOP_LEG_SHORT if side == 0 else Outcome.STOP_LEG_LONG, leg, np.ascontiguousarray(y_stop)
+    return count - 1, Outcome.STOP_FINISHED, -1, np.ascontiguousarray(sol.y[:, -1])
