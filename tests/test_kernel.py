@@ -131,6 +131,8 @@ def test_singular_states_raise_or_mask_never_nan():
     assert np.all(np.isfinite(out[ok])) and np.all(np.isnan(out[~ok]))
     tau, ok_one = plat.forward_dynamics(tilted, zero, zero, return_mask=True)
     assert ok_one is False and np.all(np.isnan(tau))
+    tau, ok_one = plat.forward_dynamics(home, zero, zero, return_mask=True)
+    assert ok_one is True and np.all(np.isfinite(tau))
     # Defined there: mass matrix and gravity at theta = 90 deg.
     assert np.all(np.isfinite(plat.mass_matrix(tilted)))
 
