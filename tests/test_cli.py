@@ -72,3 +72,12 @@ def test_bad_input_is_an_error_naming_the_argument(capsys):
         main(["ik", "--pose", "0", "0", "nan", "0", "0", "0"])
     assert exit_info.value.code == 2
     assert "x: row 0 contains NaN" in capsys.readouterr().err
+
+
+def test_bench_prints_the_kernel_table(capsys):
+    main(["bench", "--preset", "narayan2017", "--batch", "2000"])
+    out = capsys.readouterr().out
+    line = next(l for l in out.splitlines() if "inverse dynamics, C batch loop" in l)
+    per_state = float(line.split("us/state")[0].split()[-1])
+    assert 0 < per_state < 100  # microseconds per state, a real measurement
+    assert "5 s move, RK4 at 1 kHz with PID" in out
