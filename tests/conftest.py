@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import stewart
+from stewart.validation import random_states  # noqa: F401  (re-exported for the tests)
 
 _FIGURES: list[tuple[str, float, float]] = []
 
@@ -48,18 +49,6 @@ def any_params(request):
         params = random_params(np.random.default_rng(300 + int(request.param.split("-")[1])))
         return params.replace(name=request.param)
     return stewart.PlatformParams.preset(request.param)
-
-
-def random_states(params, n, rng, spread=1.0):
-    """Poses scattered around home (a few percent of the leg length, up to ~0.2 rad),
-    with velocities and accelerations of the matching scale."""
-    home = stewart.home_pose(params)
-    scale = home[2]
-    sigma = np.array([0.04 * scale] * 3 + [0.1] * 3) * spread
-    x = home + rng.uniform(-2, 2, size=(n, 6)) * sigma
-    xd = rng.normal(size=(n, 6)) * np.array([0.2 * scale] * 3 + [0.5] * 3)
-    xdd = rng.normal(size=(n, 6)) * np.array([2 * scale] * 3 + [5.0] * 3)
-    return x, xd, xdd
 
 
 def random_params(rng, axisymmetric=True):
