@@ -144,30 +144,25 @@ def build_parser() -> argparse.ArgumentParser:
     p = sub.add_parser("presets", help="list the built-in parameter sets")
     p.set_defaults(func=cmd_presets)
 
-    p = sub.add_parser("ik", help="leg lengths of poses (inverse kinematics)")
-    _add_params(p)
-    _six(p, "--pose", "x y z psi theta phi [m, rad]")
-    p.add_argument("--input", metavar="CSV", help="poses, one per row (6 columns)")
-    p.add_argument("--csv", metavar="FILE", help="write the results to a CSV file")
-    p.set_defaults(func=cmd_ik)
-
-    p = sub.add_parser("id", help="actuator forces for a motion (inverse dynamics)")
-    _add_params(p)
-    _six(p, "--pose", "x y z psi theta phi [m, rad]")
-    _six(p, "--vel", "pose rates [m/s, rad/s]")
-    _six(p, "--acc", "pose accelerations [m/s^2, rad/s^2]")
-    p.add_argument("--input", metavar="CSV", help="rows of pose, velocity, acceleration (18 columns)")
-    p.add_argument("--csv", metavar="FILE", help="write the results to a CSV file")
-    p.set_defaults(func=cmd_id)
-
-    p = sub.add_parser("fd", help="accelerations under actuator forces (forward dynamics)")
-    _add_params(p)
-    _six(p, "--pose", "x y z psi theta phi [m, rad]")
-    _six(p, "--vel", "pose rates [m/s, rad/s]")
-    _six(p, "--force", "actuator forces [N]")
-    p.add_argument("--input", metavar="CSV", help="rows of pose, velocity, forces (18 columns)")
-    p.add_argument("--csv", metavar="FILE", help="write the results to a CSV file")
-    p.set_defaults(func=cmd_fd)
+    # ik, id and fd: states from the command line or a CSV file, results printed or written.
+    state_commands = [
+        ("ik", "leg lengths of poses (inverse kinematics)", cmd_ik, [], "poses, one per row (6 columns)"),
+        ("id", "actuator forces for a motion (inverse dynamics)", cmd_id,
+         [("--vel", "pose rates [m/s, rad/s]"), ("--acc", "pose accelerations [m/s^2, rad/s^2]")],
+         "rows of pose, velocity, acceleration (18 columns)"),
+        ("fd", "accelerations under actuator forces (forward dynamics)", cmd_fd,
+         [("--vel", "pose rates [m/s, rad/s]"), ("--force", "actuator forces [N]")],
+         "rows of pose, velocity, forces (18 columns)"),
+    ]
+    for name, help_text, func, extra, input_help in state_commands:
+        p = sub.add_parser(name, help=help_text)
+        _add_params(p)
+        _six(p, "--pose", "x y z psi theta phi [m, rad]")
+        for flag, flag_help in extra:
+            _six(p, flag, flag_help)
+        p.add_argument("--input", metavar="CSV", help=input_help)
+        p.add_argument("--csv", metavar="FILE", help="write the results to a CSV file")
+        p.set_defaults(func=func)
 
     p = sub.add_parser("simulate", help="simulate a move under PID or computed-torque control")
     _add_params(p)
