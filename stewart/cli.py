@@ -132,9 +132,15 @@ def _add_params(parser) -> None:
     group.add_argument("--params", metavar="FILE", help="parameter file, .toml or .json")
 
 
-def _six(parser, flag: str, help_text: str, required: bool = False) -> None:
-    parser.add_argument(flag, nargs=6, type=float, metavar=("A", "B", "C", "D", "E", "F"), required=required,
-                        help=help_text)
+_METAVARS = {
+    "--pose": tuple(POSE), "--target": tuple(POSE),
+    "--vel": tuple(f"{p}'" for p in POSE), "--acc": tuple(f"{p}''" for p in POSE),
+    "--force": tuple(f"tau{i}" for i in range(6)),
+}
+
+
+def _six(parser, flag: str, help_text: str) -> None:
+    parser.add_argument(flag, nargs=6, type=float, metavar=_METAVARS[flag], help=help_text)
 
 
 def build_parser() -> argparse.ArgumentParser:
