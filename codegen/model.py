@@ -1,7 +1,8 @@
 """Symbolic derivation of the Stewart platform dynamics.
 
-Generalized-momentum model of Lopes & Pires (2011), "Dynamic model of a 6-DOF
-Stewart platform" (equation numbers below refer to that paper).  Every geometry
+Generalized-momentum model of Lopes & Pires (2011), "Complete Dynamic Modeling
+of a Stewart Platform Using the Generalized Momentum Approach" (equation
+numbers below refer to that paper).  Every geometry
 and inertia parameter is a symbol, so one set of kernels serves every platform.
 
 Performance rests on three rules:
