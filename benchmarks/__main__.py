@@ -11,17 +11,14 @@ installed (``pip install .[peers]``) are skipped and named.
 from __future__ import annotations
 
 import argparse
+import datetime
 import json
-import os
 import pathlib
-import platform as host
 import re
 import subprocess
 import sys
 import tempfile
 import time
-
-import numpy as np
 
 import stewart
 from stewart import bench
@@ -57,23 +54,6 @@ def code_figures() -> dict:
     header = (ROOT / "generated" / "stewart_model.h").read_text()
     ops = {name: int(count) for name, count in re.findall(r"^\s*\*\s+(\w+)\s+(\d+)\s*$", header, re.M)}
     return {"generated_c_bytes": len(source), "generated_c_lines": source.count(b"\n"), "operation_counts": ops}
-
-
-def table(results: dict) -> str:
-    rows = []
-    for preset, fig in results["kernel"].items():
-        rows += bench.kernel_rows(preset, fig)
-    gen = results.get("generation")
-    if gen:
-        rows += [
-            ("generation (python -m codegen)", f"{gen['generation_s']:.2f} s", "<= 10 s"),
-            ("clean build of the extensions", f"{gen['clean_build_s']:.1f} s", "<= 30 s"),
-        ]
-    code = results["code"]
-    rows.append(("generated C", f"{code['generated_c_bytes'] / 1024:.0f} KiB, {code['generated_c_lines']} lines", ""))
-    for name, count in code["operation_counts"].items():
-        rows.append((f"operations: {name}", str(count), ""))
-    return bench.format_table(rows)
 
 
 PEERS = ("casadi", "sympy", "mujoco")
@@ -125,8 +105,8 @@ def main(argv=None) -> None:
         parser.error(f"--peers: unknown peer(s) {unknown}; choose from {list(PEERS)}")
 
     results = {
-        "machine": {"platform": host.platform(), "processor": host.processor(), "cpus": os.cpu_count(),
-                    "python": sys.version.split()[0], "numpy": np.__version__},
+        "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+        "machine": report.machine(),
         "kernel": {},
     }
     for preset in sorted(stewart.presets()):
@@ -138,8 +118,10 @@ def main(argv=None) -> None:
         results["generation"] = generation_figures()
     results["code"] = code_figures()
     results["peers"] = peer_figures(peers, args.batch)
+    table_rows = report.our_rows(results)
+    results["targets"] = report.targets(table_rows)
     print()
-    print(table(results))
+    print(bench.format_table(table_rows))
     if results["peers"]:
         ops = results["code"]["operation_counts"]
         ours = {"ops": {"inverse_dynamics": ops.get("inverse_dynamics_axisym"),

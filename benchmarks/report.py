@@ -1,8 +1,55 @@
-"""The peer comparison as table rows and a bar chart (``python -m benchmarks``)."""
+"""The tables of a bench run (ours with each target met or missed, and the peer
+comparison) and the peers' bar chart (``python -m benchmarks``)."""
 
 from __future__ import annotations
 
 import math
+import os
+import platform as host
+import subprocess
+import sys
+
+import numpy as np
+
+from stewart import bench
+
+
+def machine() -> dict:
+    """What the figures were measured on."""
+    cpu = host.processor()
+    try:  # the CPU's model name, where Linux tells it
+        cpu = next(line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo") if line.startswith("model name"))
+    except (OSError, StopIteration):
+        pass
+    compiler = subprocess.run([os.environ.get("CC", "cc"), "--version"], capture_output=True, text=True)
+    return {"platform": host.platform(), "processor": cpu, "cpus": os.cpu_count(), "python": sys.version.split()[0],
+            "numpy": np.__version__, "compiler": compiler.stdout.splitlines()[0] if compiler.returncode == 0 else "?",
+            "march": os.environ.get("STEWART_MARCH", "native")}
+
+
+def our_rows(results: dict) -> list[tuple[str, str, str, str]]:
+    """(measure, median, target, met/MISSED) rows of our own figures."""
+    out = []
+    for preset, fig in results["kernel"].items():
+        out += bench.kernel_rows(preset, fig)
+    gen = results.get("generation")
+    if gen:
+        out += [
+            bench.measure_row("generation (python -m codegen)", "generation_s", gen["generation_s"], 1.0, "s", ".2f"),
+            bench.measure_row("clean build of the extensions", "clean_build_s", gen["clean_build_s"], 1.0, "s", ".1f"),
+        ]
+    code = results["code"]
+    out.append(("generated C", f"{code['generated_c_bytes'] / 1024:.0f} KiB, {code['generated_c_lines']} lines", "", ""))
+    for name, count in code["operation_counts"].items():
+        out.append((f"operations: {name}", str(count), "", ""))
+    return out
+
+
+def targets(table_rows) -> list[dict]:
+    """Every row with a target, for the JSON figures."""
+    return [{"measure": m, "median": v, "target": t, "met": verdict == "met"}
+            for m, v, t, verdict in table_rows if t]
+
 
 #: (section, key in figures, what, key of ours, key of the peer, unit)
 _PAIRS = {
@@ -113,48 +160,82 @@ def format_rows(table_rows) -> str:
     return "\n".join([fmt(head), "-" * (sum(widths) + 6)] + [fmt(r) for r in table_rows])
 
 
+def chart_panels(peers: dict) -> list[tuple[str, str, list[str], dict[str, list[float]]]]:
+    """The chart's panels, one per unit: (title, y label, group labels, {series: values}),
+    each holding only the series measured for it, so that every bar drawn has a value."""
+    panels = []
+    cas, sym, mj = (peers.get(k, {}) for k in ("casadi", "sympy", "mujoco"))
+    cas = cas if "error" not in cas else {}
+    sym = sym if "error" not in sym else {}
+    mj = mj if "error" not in mj else {}
+    single: dict[str, list[float]] = {}
+    if cas or sym:
+        ours = cas or sym
+        single["ours"] = [ours["ours_single_id_us"], ours["ours_single_fd_us"]]
+    if cas:
+        single["CasADi Function"] = [cas["python_single_id_us"], cas["python_single_fd_us"]]
+    for route, label in (("autowrap", "sympy autowrap"), ("pydy", "PyDy")):
+        if route in sym:
+            single[label] = [sym[route]["single_id_us"], sym[route]["single_fd_us"]]
+    if len(single) > 1:
+        panels.append(("one call from Python", "time per call [µs]", ["inverse dynamics", "forward dynamics"],
+                       single))
+    if cas:
+        groups = ["ID, from Python", "FD, from Python", "ID, same C loop", "FD, same C loop"]
+        panels.append(("batches (CasADi: .map(N); its C in our C loop)",
+                       "time per state [µs]", groups,
+                       {"ours": [cas["ours_batch_id_us"], cas["ours_batch_fd_us"], cas["ours_c_loop_id_us"],
+                                 cas["ours_c_loop_fd_us"]],
+                        "CasADi": [cas["python_map_id_us"], cas["python_map_fd_us"], cas["c_loop_id_us"],
+                                   cas["c_loop_fd_us"]]}))
+    if mj:
+        series = {"ours (RK4, 1 ms)": [mj["ours_rk4_ct_wall_ms"] / 5]}
+        for setting in ("default", "tight"):
+            fig = mj[setting]
+            series[f"MuJoCo {setting} ({fig['integrator']}, {1e3 * fig['timestep_s']:g} ms)"] = [
+                fig["wall_per_simulated_s_ms"]]
+        panels.append(("simulation, the demo's move", "wall time per simulated second [ms]",
+                       ["ours; MuJoCo replays our forces"], series))
+    return panels
+
+
 def chart(peers: dict, path: str) -> str | None:
-    """Bar chart of the timings (log scale), ours next to every peer; None without matplotlib."""
+    """Bar chart of ours against every peer measured, one panel per kind of timing (log
+    scale where the bars span more than a factor of 30), every bar labelled with its value;
+    None without matplotlib or without a peer."""
     try:
         import matplotlib
     except ImportError:
         return None
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
-    import numpy as np
 
-    groups = ["ID, one call\nfrom Python", "FD, one call\nfrom Python", "ID, C loop\n(per state)",
-              "FD, C loop\n(per state)"]
-    series: dict[str, list] = {}
-    cas, sym = peers.get("casadi", {}), peers.get("sympy", {})
-    if cas and "error" not in cas:
-        series["ours"] = [cas["ours_single_id_us"], cas["ours_single_fd_us"], cas["ours_c_loop_id_us"],
-                          cas["ours_c_loop_fd_us"]]
-        series["CasADi"] = [cas["python_single_id_us"], cas["python_single_fd_us"], cas["c_loop_id_us"],
-                            cas["c_loop_fd_us"]]
-    elif sym and "error" not in sym:
-        series["ours"] = [sym["ours_single_id_us"], sym["ours_single_fd_us"], np.nan, np.nan]
-    if sym and "error" not in sym:
-        for route, label in (("autowrap", "sympy autowrap"), ("pydy", "PyDy")):
-            if route in sym:
-                series[label] = [sym[route]["single_id_us"], sym[route]["single_fd_us"], np.nan, np.nan]
-    if len(series) < 2:
+    panels = chart_panels(peers)
+    if not panels:
         return None
-    fig, ax = plt.subplots(figsize=(9, 4.8), constrained_layout=True)
-    width = 0.8 / len(series)
-    pos = np.arange(len(groups))
-    for k, (name, values) in enumerate(series.items()):
-        bars = ax.bar(pos + (k - (len(series) - 1) / 2) * width, values, width, label=name)
-        for bar, v in zip(bars, values):
-            if np.isfinite(v):
-                ax.annotate(f"{v:.3g}", (bar.get_x() + bar.get_width() / 2, v), ha="center", va="bottom",
-                            fontsize=7)
-    ax.set_yscale("log")
-    ax.set_xticks(pos, groups)
-    ax.set_ylabel("time [us] (log scale)")
-    ax.set_title("Stewart platform dynamics: ours vs peers, one run, identical states")
-    ax.legend()
-    ax.grid(True, axis="y", which="both", alpha=0.3)
+    widths = [len(groups) * (1 + len(series)) for _, _, groups, series in panels]
+    fig, axes = plt.subplots(1, len(panels), figsize=(min(16, 4 + 0.5 * sum(widths)), 5.5), constrained_layout=True,
+                             gridspec_kw={"width_ratios": widths}, squeeze=False)
+    for ax, (title, ylabel, groups, series) in zip(axes[0], panels):
+        values = np.array([v for vals in series.values() for v in vals], float)
+        log = values.max() / values.min() > 30
+        width = 0.8 / len(series)
+        pos = np.arange(len(groups))
+        for k, (name, vals) in enumerate(series.items()):
+            bars = ax.bar(pos + (k - (len(series) - 1) / 2) * width, vals, width, label=name)
+            ax.bar_label(bars, [f"{v:.3g}" for v in vals], fontsize=7, padding=1)
+        if log:
+            ax.set_yscale("log")
+            ax.set_ylim(values.min() / 3, values.max() * 8)
+            ylabel += " (log scale)"
+        else:
+            ax.set_ylim(0, values.max() * 1.3)
+        ax.set_xticks(pos, groups, fontsize=8)
+        ax.set_ylabel(ylabel)
+        ax.set_title(title, fontsize=9)
+        ax.legend(fontsize=7, loc="upper left")
+        ax.grid(True, axis="y", which="both", alpha=0.3)
+    fig.suptitle("Stewart platform dynamics (narayan2017): ours against its peers, one run, identical states")
     fig.savefig(path, dpi=90)
     plt.close(fig)
     return path

@@ -1,0 +1,165 @@
+"""Rewrite the README's measured figures from the commands that measure them
+(``make readme``), so that none is copied by hand.
+
+Each generated block sits between ``<!-- BEGIN name ... -->`` and ``<!-- END name -->``
+in ``README.md`` and starts with the date, the machine and the command that produced it:
+
+``validate``
+    the report of ``stewart validate`` for both presets (what ``make validate`` prints),
+    as one table;
+``checks``
+    the table of figures that ``make test`` prints at the end of its pytest run
+    (``tests/conftest.py``), verbatim;
+``performance``
+    our own rows of the last ``make bench`` run, read from its JSON figures
+    (``out/benchmarks.json``), each target marked met or missed.
+
+Everything apart from the measured numbers, the date and the machine is deterministic.
+``python -m benchmarks.readme validate checks`` rewrites only those blocks.
+"""
+
+from __future__ import annotations
+
+import argparse
+import datetime
+import json
+import pathlib
+import re
+import subprocess
+import sys
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+README = ROOT / "README.md"
+BENCH_JSON = ROOT / "out" / "benchmarks.json"
+SECTIONS = ("validate", "checks", "performance")
+#: The presets ``make validate`` reports on, in its order.
+VALIDATE_PRESETS = ("narayan2017", "motion_simulator")
+#: The preset whose kernel rows the README's performance table shows (all presets count
+#: in its line of targets met and missed).
+PERFORMANCE_PRESET = "narayan2017"
+_SUMMARY = "figures reached (worst case per check)"
+
+
+def today() -> str:
+    return datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d")
+
+
+def machine_line(machine: dict) -> str:
+    """``2-core AMD EPYC, Linux x86_64, Python 3.11.7, cc (Debian 12.2.0...) 12.2.0`` from
+    a bench run's machine record (:func:`benchmarks.report.machine`)."""
+    arch = machine["platform"].split("-with-")[0].rsplit("-", 1)[-1]
+    return (f"{machine['cpus']}-core {machine['processor']}, {machine['platform'].split('-')[0]} {arch}, "
+            f"Python {machine['python']}, numpy {machine['numpy']}, {machine['compiler']}, "
+            f"-march={machine['march']}")
+
+
+def validate_block() -> str:
+    """The ``stewart validate`` checks of both presets as one Markdown table."""
+    from stewart import PlatformParams, validation
+
+    from .report import machine
+
+    reports = {name: validation.run(PlatformParams.preset(name)) for name in VALIDATE_PRESETS}
+    names = [c.name for c in reports[VALIDATE_PRESETS[0]]]
+    lines = [f"Sample output of `make validate` (`stewart validate --preset NAME`, 200 random states, seed 0), "
+             f"{today()}, {machine_line(machine())}:", "",
+             "| check | " + " | ".join(VALIDATE_PRESETS) + " | bound | result |",
+             "|---|" + "---|" * (len(VALIDATE_PRESETS) + 2)]
+    for k, name in enumerate(names):
+        checks = [reports[p][k] for p in VALIDATE_PRESETS]
+        assert all(c.name == name for c in checks), "stewart validate runs the same checks for every preset"
+        verdict = "ok" if all(c.passed for c in checks) else "FAIL"
+        lines.append(f"| {_cell(name)} | " + " | ".join(f"{c.worst:.1e}" for c in checks)
+                     + f" | {checks[0].bound:.0e} | {verdict} |")
+    return "\n".join(lines)
+
+
+def _cell(text: str) -> str:
+    return text.replace("|", "\\|")
+
+
+def checks_block() -> str:
+    """The figures table that ``make test`` prints, from a pytest run now."""
+    from .report import machine
+
+    run = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider"], cwd=ROOT,
+                         capture_output=True, text=True)
+    if run.returncode != 0:
+        raise SystemExit(f"pytest failed (exit {run.returncode}); the README keeps its figures\n{run.stdout[-3000:]}")
+    table = summary_table(run.stdout)
+    return "\n".join([f"Sample of the table `make test` prints, {today()}, {machine_line(machine())} "
+                      "(without the optional peers):", "", "```text", *table, "```"])
+
+
+def summary_table(pytest_output: str) -> list[str]:
+    """The lines of the figures section of a pytest run's terminal output."""
+    lines = pytest_output.splitlines()
+    start = next((k for k, line in enumerate(lines) if _SUMMARY in line), None)
+    if start is None:
+        raise SystemExit("pytest printed no figures table")
+    table = []
+    for line in lines[start + 1:]:
+        if not line.strip() or re.match(r"^[=_-]{3,}", line):
+            break
+        table.append(line.rstrip())
+    return table
+
+
+def performance_block(path: pathlib.Path) -> str:
+    """Our rows of a ``make bench`` run (its JSON figures) as a Markdown table."""
+    from .report import our_rows
+
+    results = json.loads(path.read_text())
+    if "date" not in results or "machine" not in results:
+        raise SystemExit(f"{path}: no date or machine; rerun make bench")
+    rows = our_rows(results)
+    prefix = f"[{PERFORMANCE_PRESET}] "
+    shown = [(m[len(prefix):], *rest) for m, *rest in rows if m.startswith(prefix)]
+    shown += [r for r in rows if not r[0].startswith("[") and (
+        not r[0].startswith("operations:") or r[0].endswith(("inverse_dynamics_axisym", "forward_dynamics_axisym")))]
+    missed = [r[0] for r in rows if r[3] == "MISSED"]
+    met = sum(r[3] == "met" for r in rows)
+    lines = [f"Sample output of `make bench` ({PERFORMANCE_PRESET} rows), {results['date']}, "
+             f"{machine_line(results['machine'])}; a machine shared with other jobs:", "",
+             f"| measure ({PERFORMANCE_PRESET}) | median | target | met? |", "|---|---|---|---|"]
+    lines += [f"| {_cell(m)} | {v} | {t} | {verdict} |" for m, v, t, verdict in shown]
+    lines += ["", f"Targets over every preset in that run: {met} met, {len(missed)} missed"
+              + (f" ({'; '.join(missed)})." if missed else ".")]
+    return "\n".join(lines)
+
+
+def replace_block(text: str, name: str, body: str) -> str:
+    """``text`` with the block ``name`` replaced by ``body``; the markers must be there."""
+    pattern = re.compile(rf"(<!-- BEGIN {name}\b[^>]*-->\n)(.*?)(<!-- END {name} -->)", re.S)
+    if not pattern.search(text):
+        raise SystemExit(f"README.md has no <!-- BEGIN {name} --> ... <!-- END {name} --> block")
+    return pattern.sub(lambda m: m.group(1) + body.rstrip() + "\n" + m.group(3), text, count=1)
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(prog="python -m benchmarks.readme", description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
+    parser.add_argument("sections", nargs="*", metavar="SECTION",
+                        help=f"blocks to rewrite: {', '.join(SECTIONS)} (default: all; performance only when "
+                             f"the bench figures exist)")
+    parser.add_argument("--bench-json", type=pathlib.Path, default=BENCH_JSON,
+                        help="figures of a make bench run (default out/benchmarks.json)")
+    args = parser.parse_args(argv)
+    unknown = sorted(set(args.sections) - set(SECTIONS))
+    if unknown:
+        parser.error(f"SECTION: unknown {unknown}; choose from {list(SECTIONS)}")
+    sections = args.sections or [s for s in SECTIONS if s != "performance" or args.bench_json.exists()]
+    if "performance" in sections and not args.bench_json.exists():
+        parser.error(f"--bench-json: {args.bench_json} does not exist; run make bench first")
+    text = README.read_text()
+    for name in sections:
+        print(f"[readme] {name} ...", flush=True)
+        body = {"validate": validate_block, "checks": checks_block,
+                "performance": lambda: performance_block(args.bench_json)}[name]()
+        text = replace_block(text, name, body)
+    README.write_text(text)
+    print(f"rewrote {', '.join(sections)} in {README}")
+
+
+if __name__ == "__main__":
+    main()
