@@ -33,7 +33,8 @@ def leg_inertia_study(params: stewart.PlatformParams, trajectory, dt: float = 1e
         "full model": params,
         "massless legs": params.replace(cylinder_mass=0.0, piston_mass=0.0,
                                         cylinder_inertia=(0, 0, 0), piston_inertia=(0, 0, 0)),
-        "leg rotation neglected": params.replace(cylinder_inertia=(0, 0, 0), piston_inertia=(0, 0, 0)),
+        "leg rotation neglected (leg masses kept)": params.replace(cylinder_inertia=(0, 0, 0),
+                                                                   piston_inertia=(0, 0, 0)),
     }
     times = np.arange(int(round(trajectory.duration / dt)) + 1) * dt
     x, xd, xdd = trajectory.sample(times)
@@ -94,21 +95,25 @@ def main(argv=None) -> None:
 
     study = leg_inertia_study(params, move)
     print("\nLeg-inertia study: peak actuator force per leg over the move [N] (inverse dynamics)")
-    print(f"  {'':<24}" + "".join(f"{f'leg {k}':>10}" for k in range(6)) + f"{'max':>10}")
+    print(f"  {'':<42}" + "".join(f"{f'leg {k}':>10}" for k in range(6)) + f"{'max':>10}")
     full = study["full model"]
     for name, peaks in study.items():
         change = "" if name == "full model" else f"   ({100 * (np.max(peaks) / np.max(full) - 1):+.1f}% of max)"
-        print(f"  {name:<24}" + "".join(f"{v:>10.3f}" for v in peaks) + f"{np.max(peaks):>10.3f}{change}")
+        print(f"  {name:<42}" + "".join(f"{v:>10.3f}" for v in peaks) + f"{np.max(peaks):>10.3f}{change}")
 
     if not args.no_plots:
         from stewart.plots import plot_bars, plot_run
 
         paths = []
         for name, run in runs.items():
-            prefix = name.replace(" ", "_").lower()
-            paths += plot_run(run, args.out, prefix=prefix, title=f"narayan2017, {name}")
-        paths.append(plot_bars([f"leg {k}" for k in range(6)], study, "peak force [N]",
-                               "Peak actuator force over the move", os.path.join(args.out, "leg_inertia_study.png")))
+            paths += plot_run(run, args.out, prefix=name.replace(" ", "_").lower())
+        paths.append(plot_bars(
+            [f"leg {k}" for k in range(6)], study, "peak actuator force [N]",
+            f"{params.name}: peak actuator force per leg, three models of the legs",
+            os.path.join(args.out, "leg_inertia_study.png"), xlabel="leg",
+            caption=f"largest |force| of each leg over the seed paper's {MOVE_DURATION:g} s move (home to target, "
+                    "sinusoidal profile), by inverse dynamics along the reference path",
+            value_format="{:.2f}"))
         print(f"\nFigures written to {os.path.abspath(args.out)}:")
         for path in paths:
             print(f"  {os.path.basename(path)}")

@@ -8,7 +8,7 @@ import os
 
 import numpy as np
 
-__all__ = ["plot_run"]
+__all__ = ["plot_run", "plot_bars", "run_title"]
 
 _POSE = [("x", "m"), ("y", "m"), ("z", "m"), ("psi", "rad"), ("theta", "rad"), ("phi", "rad")]
 
@@ -30,19 +30,30 @@ def _figure(plt, title):
     return fig, axes.ravel()
 
 
-def plot_run(result, directory, prefix: str = "run", title: str = "") -> list[str]:
+def run_title(result) -> str:
+    """The platform and the controller of a run, from its metadata (``"narayan2017, PID"``)."""
+    return ", ".join(str(result.metadata[key]) for key in ("platform", "controller") if result.metadata.get(key))
+
+
+def plot_run(result, directory, prefix: str = "run", title: str | None = None) -> list[str]:
     """Write ``{prefix}_pose.png``, ``_error.png``, ``_forces.png`` and
-    ``_leg_velocities.png`` into ``directory``; returns their paths."""
+    ``_leg_velocities.png`` into ``directory``; returns their paths.
+
+    Each figure's title names the platform and the controller (:func:`run_title`) unless
+    ``title`` is given."""
     plt = _pyplot()
     os.makedirs(directory, exist_ok=True)
+    title = run_title(result) if title is None else title
     label = f"{title}: " if title else ""
     t = result.t
     paths = []
 
-    fig, axes = _figure(plt, f"{label}pose, reference (dashed) and actual")
+    fig, axes = _figure(plt, f"{label}pose, reference (wide grey) and actual")
     for k, ax in enumerate(axes):
-        ax.plot(t, result.reference[:, k], "k--", lw=1, label="reference")
-        ax.plot(t, result.x[:, k], lw=1.5, label="actual")
+        # The reference is drawn first, wide and light, so that the actual pose on top
+        # leaves it visible wherever the two agree.
+        ax.plot(t, result.reference[:, k], color="0.75", lw=5, solid_capstyle="butt", label="reference")
+        ax.plot(t, result.x[:, k], color="C0", lw=1.2, label="actual")
         ax.set_ylabel(f"{_POSE[k][0]} [{_POSE[k][1]}]")
     axes[0].legend()
     paths.append(_save(plt, fig, directory, prefix, "pose", axes[3:]))
@@ -80,18 +91,25 @@ def _save(plt, fig, directory, prefix, name, bottom_axes) -> str:
     return path
 
 
-def plot_bars(labels, series: dict[str, np.ndarray], ylabel: str, title: str, path: str) -> str:
-    """A grouped bar chart: one group per label, one bar per series."""
+def plot_bars(labels, series: dict[str, np.ndarray], ylabel: str, title: str, path: str, *,
+              xlabel: str = "", caption: str = "", value_format: str = "{:.3g}") -> str:
+    """A grouped bar chart: one group per label, one bar per series, each bar labelled with
+    its value; ``caption`` is printed under the title."""
     plt = _pyplot()
-    fig, ax = plt.subplots(figsize=(9, 4.5), constrained_layout=True)
+    fig, ax = plt.subplots(figsize=(10, 5), constrained_layout=True)
     width = 0.8 / len(series)
     pos = np.arange(len(labels))
     for k, (name, values) in enumerate(series.items()):
-        ax.bar(pos + (k - (len(series) - 1) / 2) * width, values, width, label=name)
+        bars = ax.bar(pos + (k - (len(series) - 1) / 2) * width, values, width, label=name)
+        ax.bar_label(bars, [value_format.format(v) for v in values], fontsize=7, padding=1)
     ax.set_xticks(pos, labels)
+    ax.set_xlabel(xlabel)
     ax.set_ylabel(ylabel)
-    ax.set_title(title)
-    ax.legend()
+    fig.suptitle(title)
+    if caption:
+        ax.set_title(caption, fontsize=9)
+    ax.margins(y=0.25)  # room for the legend above the tallest bars
+    ax.legend(loc="upper center", ncols=len(series))
     ax.grid(True, axis="y", alpha=0.3)
     fig.savefig(path, dpi=90)
     plt.close(fig)
