@@ -10,7 +10,7 @@ KERNEL_SOURCES := stewart/_kernel.pyx stewart/_kernel.pxd stewart/_simulate.pyx 
 	generated/stewart_model.h setup.py
 C_TEST := tests/c/test_model
 
-.PHONY: all test demo generate build bench validate clean
+.PHONY: all test demo generate build bench validate readme clean
 
 all: build
 
@@ -48,6 +48,10 @@ bench: build
 validate: build
 	$(PY) -m stewart validate --preset narayan2017
 	$(PY) -m stewart validate --preset motion_simulator
+
+# Rewrite the README's measured figures (tests, validate; performance from the last make bench).
+readme: build
+	$(PY) -m benchmarks.readme
 
 clean:
 	rm -rf build *.egg-info stewart/*.so stewart/_kernel.c stewart/_simulate.c .pytest_cache $(C_TEST)

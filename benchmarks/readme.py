@@ -48,21 +48,28 @@ def machine_line(machine: dict) -> str:
     """``2-core AMD EPYC, Linux x86_64, Python 3.11.7, cc (Debian 12.2.0...) 12.2.0`` from
     a bench run's machine record (:func:`benchmarks.report.machine`)."""
     arch = machine["platform"].split("-with-")[0].rsplit("-", 1)[-1]
-    return (f"{machine['cpus']}-core {machine['processor']}, {machine['platform'].split('-')[0]} {arch}, "
+    line = (f"{machine['cpus']}-core {machine['processor']}, {machine['platform'].split('-')[0]} {arch}, "
             f"Python {machine['python']}, numpy {machine['numpy']}, {machine['compiler']}, "
             f"-march={machine['march']}")
+    load = machine.get("load_average")
+    return line if load is None else f"{line}, load average {load:.1f} at the start"
+
+
+def where() -> str:
+    """Today's date and this machine, for the blocks whose figures do not depend on its load."""
+    from .report import machine
+
+    return f"{today()}, {machine_line({**machine(), 'load_average': None})}"
 
 
 def validate_block() -> str:
     """The ``stewart validate`` checks of both presets as one Markdown table."""
     from stewart import PlatformParams, validation
 
-    from .report import machine
-
     reports = {name: validation.run(PlatformParams.preset(name)) for name in VALIDATE_PRESETS}
     names = [c.name for c in reports[VALIDATE_PRESETS[0]]]
     lines = [f"Sample output of `make validate` (`stewart validate --preset NAME`, 200 random states, seed 0), "
-             f"{today()}, {machine_line(machine())}:", "",
+             f"{where()}:", "",
              "| check | " + " | ".join(VALIDATE_PRESETS) + " | bound | result |",
              "|---|" + "---|" * (len(VALIDATE_PRESETS) + 2)]
     for k, name in enumerate(names):
@@ -80,15 +87,15 @@ def _cell(text: str) -> str:
 
 def checks_block() -> str:
     """The figures table that ``make test`` prints, from a pytest run now."""
-    from .report import machine
-
     run = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider"], cwd=ROOT,
                          capture_output=True, text=True)
     if run.returncode != 0:
         raise SystemExit(f"pytest failed (exit {run.returncode}); the README keeps its figures\n{run.stdout[-3000:]}")
     table = summary_table(run.stdout)
-    return "\n".join([f"Sample of the table `make test` prints, {today()}, {machine_line(machine())} "
-                      "(without the optional peers):", "", "```text", *table, "```"])
+    return "\n".join([f"Sample of the table `make test` prints, {where()} "
+                      "(without the optional peers):", "",
+                      f"<details><summary>the worst figure each check reached, and its bound ({len(table)} rows)</summary>", "",
+                      "```text", *table, "```", "", "</details>"])
 
 
 def summary_table(pytest_output: str) -> list[str]:
@@ -151,13 +158,11 @@ def main(argv=None) -> None:
     sections = args.sections or [s for s in SECTIONS if s != "performance" or args.bench_json.exists()]
     if "performance" in sections and not args.bench_json.exists():
         parser.error(f"--bench-json: {args.bench_json} does not exist; run make bench first")
-    text = README.read_text()
-    for name in sections:
+    for name in sections:  # in order, each written at once: the test run reads the validate block
         print(f"[readme] {name} ...", flush=True)
         body = {"validate": validate_block, "checks": checks_block,
                 "performance": lambda: performance_block(args.bench_json)}[name]()
-        text = replace_block(text, name, body)
-    README.write_text(text)
+        README.write_text(replace_block(README.read_text(), name, body))
     print(f"rewrote {', '.join(sections)} in {README}")
 
 

@@ -15,7 +15,8 @@ from stewart import bench
 
 
 def machine() -> dict:
-    """What the figures were measured on."""
+    """What the figures were measured on, and the machine's load (1-minute average of
+    runnable processes) as the run starts."""
     cpu = host.processor()
     try:  # the CPU's model name, where Linux tells it
         cpu = next(line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo") if line.startswith("model name"))
@@ -24,7 +25,8 @@ def machine() -> dict:
     compiler = subprocess.run([os.environ.get("CC", "cc"), "--version"], capture_output=True, text=True)
     return {"platform": host.platform(), "processor": cpu, "cpus": os.cpu_count(), "python": sys.version.split()[0],
             "numpy": np.__version__, "compiler": compiler.stdout.splitlines()[0] if compiler.returncode == 0 else "?",
-            "march": os.environ.get("STEWART_MARCH", "native")}
+            "march": os.environ.get("STEWART_MARCH", "native"),
+            "load_average": os.getloadavg()[0] if hasattr(os, "getloadavg") else None}
 
 
 def our_rows(results: dict) -> list[tuple[str, str, str, str]]:

@@ -1,0 +1,177 @@
+"""The README's examples run as written.
+
+* Every ``stewart ...`` line of its ``sh`` blocks runs through :func:`stewart.cli.main` in
+  a temporary directory holding a copy of ``examples/``, and exits with 0, or with the
+  code its comment names ("exit code 3"). ``stewart bench`` runs with ``--batch 2000``
+  added: the full run takes minutes and ``tests/test_cli.py`` tests its figures. The
+  numbers that ``ik``, ``id`` and ``fd`` print or write are compared with the Python API.
+* Its ``python`` blocks run in order in one namespace. A statement followed by a comment
+  ``# SomeError: message`` must raise that error with that message (``...`` matches
+  anything).
+* The generated sample of ``stewart validate`` lists the checks that command runs today.
+"""
+
+from __future__ import annotations
+
+import ast
+import pathlib
+import re
+import shlex
+import shutil
+
+import numpy as np
+import pytest
+
+import stewart
+from stewart import cli
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+README = (ROOT / "README.md").read_text()
+if not (ROOT / "examples").is_dir():
+    pytest.skip("needs the checkout (README.md and examples/)", allow_module_level=True)
+
+
+def blocks(language: str) -> list[str]:
+    return re.findall(rf"^```{language}\n(.*?)^```", README, re.S | re.M)
+
+
+def commands() -> list[tuple[str, list[str], int]]:
+    """(line, argv after ``stewart``, expected exit code) of every README command."""
+    out = []
+    for block in blocks("sh"):
+        for line in block.splitlines():
+            words = shlex.split(line, comments=True)
+            if words[:1] == ["stewart"]:
+                argv = words[1:]
+            elif words[:3] == ["python", "-m", "stewart"]:
+                argv = words[3:]
+            else:
+                continue
+            code = re.search(r"#.*\bexit (?:code|status) (\d+)", line)
+            out.append((line.strip(), argv, int(code.group(1)) if code else 0))
+    return out
+
+
+COMMANDS = commands()
+
+
+@pytest.fixture
+def in_examples_dir(tmp_path, monkeypatch):
+    shutil.copytree(ROOT / "examples", tmp_path / "examples")
+    monkeypatch.chdir(tmp_path)
+    return tmp_path
+
+
+def run_cli(argv) -> int:
+    try:
+        code = cli.main(list(argv))
+    except SystemExit as stop:
+        code = stop.code
+    return 0 if code is None else code if isinstance(code, int) else 1
+
+
+def option(argv, flag, n=1):
+    """The value(s) given to ``flag``, or None."""
+    if flag not in argv:
+        return None
+    k = argv.index(flag)
+    return argv[k + 1] if n == 1 else [float(v) for v in argv[k + 1:k + 1 + n]]
+
+
+def numeric_rows(text: str) -> np.ndarray:
+    """The printed lines made of numbers only, as rows."""
+    rows = []
+    for line in text.splitlines():
+        try:
+            rows.append([float(v) for v in line.split()])
+        except ValueError:
+            continue
+    return np.array([r for r in rows if r])
+
+
+def expected_numbers(argv) -> np.ndarray | None:
+    """What the Python API gives for an ``ik``, ``id`` or ``fd`` command line."""
+    command = argv[0]
+    if command not in ("ik", "id", "fd"):
+        return None
+    plat = stewart.Platform.load(option(argv, "--params")) if option(argv, "--params") else \
+        stewart.Platform.preset(option(argv, "--preset") or "narayan2017")
+    if option(argv, "--input"):
+        data = np.loadtxt(option(argv, "--input"), delimiter=",", comments="#", ndmin=2)
+    else:
+        extra = {"ik": [], "id": ["--vel", "--acc"], "fd": ["--vel", "--force"]}[command]
+        data = np.atleast_2d(np.concatenate([option(argv, f, 6) for f in ["--pose", *extra]]))
+    if command == "ik":
+        return plat.leg_lengths(data)
+    if command == "id":
+        return plat.inverse_dynamics(data[:, :6], data[:, 6:12], data[:, 12:])
+    return plat.forward_dynamics(data[:, :6], data[:, 6:12], data[:, 12:])
+
+
+def test_the_readme_shows_commands_on_the_shipped_examples():
+    used = " ".join(line for line, _, _ in COMMANDS)
+    for name in ("examples/platform.toml", "examples/states.csv", "examples/trajectory.csv"):
+        assert name in used
+        assert (ROOT / name).is_file()
+    for command in ("ik", "id", "fd", "simulate", "validate"):
+        assert any(argv[:1] == [command] for _, argv, _ in COMMANDS)
+
+
+@pytest.mark.parametrize("line, argv, code", COMMANDS, ids=[line for line, _, _ in COMMANDS])
+def test_readme_command_runs(line, argv, code, in_examples_dir, capsys):
+    if argv[:1] == ["bench"]:
+        argv = [*argv, "--batch", "2000"]
+    assert run_cli(argv) == code, capsys.readouterr()
+    out = capsys.readouterr().out
+    expected = expected_numbers(argv)
+    if expected is not None:
+        written = option(argv, "--csv")
+        got = np.loadtxt(written, delimiter=",", skiprows=1, ndmin=2) if written else numeric_rows(out)
+        np.testing.assert_allclose(got, expected, rtol=1e-8, atol=1e-9)
+    if option(argv, "--plot"):
+        assert len(list(pathlib.Path(option(argv, "--plot")).glob("*.png"))) >= 4
+
+
+_RAISES = re.compile(r"#\s*((?:\w+\.)*\w+(?:Error|Exception)):\s*(.*?)\s*$")
+
+
+def run_python(source: str, namespace: dict) -> int:
+    """Run ``source`` statement by statement; returns how many raised as their comment says."""
+    lines = source.splitlines()
+    raised = 0
+    for node in ast.parse(source).body:
+        code = compile(ast.Module([node], type_ignores=[]), "README.md", "exec")
+        following = lines[node.end_lineno].strip() if node.end_lineno < len(lines) else ""
+        expected = _RAISES.match(following)
+        if not expected:
+            exec(code, namespace)
+            continue
+        with pytest.raises(Exception) as info:
+            exec(code, namespace)
+        name, message = expected.groups()
+        assert type(info.value).__name__ == name.split(".")[-1], info.value
+        pattern = ".*".join(re.escape(part) for part in message.split("..."))
+        assert re.fullmatch(pattern, str(info.value)), f"README says {message!r}, got {str(info.value)!r}"
+        raised += 1
+    return raised
+
+
+def test_the_python_tour_runs(tmp_path, monkeypatch):
+    pytest.importorskip("matplotlib")
+    monkeypatch.chdir(tmp_path)
+    namespace: dict = {}
+    raised = sum(run_python(block, namespace) for block in blocks("python"))
+    assert raised >= 2  # the error messages the tour shows are the ones raised
+    assert isinstance(namespace["run"], stewart.SimulationResult)
+    assert (tmp_path / "run.csv").is_file() and any((tmp_path / "figures").glob("*.png"))
+
+
+def test_the_validate_sample_lists_the_checks_stewart_validate_runs():
+    from stewart import validation
+
+    sample = re.search(r"<!-- BEGIN validate\b.*?-->\n(.*?)<!-- END validate -->", README, re.S)
+    assert sample, "README.md has the generated block of make validate"
+    rows = [line.split(" | ")[0].lstrip("| ").replace("\\|", "|") for line in sample.group(1).splitlines()
+            if line.startswith("| ") and not line.startswith("| check")]
+    checks = validation.run(stewart.PlatformParams.preset("narayan2017"), n_states=5)
+    assert rows == [c.name for c in checks]
