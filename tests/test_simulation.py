@@ -35,16 +35,29 @@ def test_profiles_start_and_end_at_rest_and_integrate():
     np.testing.assert_allclose(xd, 2 * goal / 2.0)
 
 
-def test_pid_holding_home_converges(plat, figures):
-    """Starting at rest with an empty integrator, the platform sags under gravity and the
-    PID's integral action brings it back to the home pose."""
+def test_pid_starts_bumpless(plat):
+    """The PID's integral starts at the static leg forces of the start pose, so the legs
+    carry the platform from t = 0 and it does not drop."""
     hold = stewart.PointToPoint(plat.home_pose, plat.home_pose, 1.0)
-    run = stewart.simulate(plat, hold, duration=6.0)
-    assert run.completed, run.reason
+    run = stewart.simulate(plat, hold, duration=1.0)
+    assert run.ok, run.problems
+    static = stewart.reference.inverse_dynamics(plat.params, plat.home_pose, np.zeros(6), np.zeros(6))
+    np.testing.assert_allclose(run.forces[0], static, rtol=1e-9)
+    assert np.all(np.abs(static) > 1.0)  # the legs do carry the weight
+    np.testing.assert_allclose(run.x, np.broadcast_to(plat.home_pose, run.x.shape), rtol=0, atol=1e-9)
+
+
+def test_pid_integral_removes_an_offset(plat, figures):
+    """Starting 2 mm low (held there by the bumpless integral), the PID's integral action
+    moves the platform to the reference and settles on the static forces of the home pose."""
+    hold = stewart.PointToPoint(plat.home_pose, plat.home_pose, 1.0)
+    x0 = plat.home_pose - [0, 0, 0.002, 0, 0, 0]
+    run = stewart.simulate(plat, hold, duration=6.0, x0=x0, xd0=np.zeros(6))
+    assert run.ok, run.problems
     error = np.linalg.norm(run.tracking_error[:, :3], axis=1)
-    assert error[int(0.2 / 1e-3)] > 1e-5  # it did sag
-    figures("PID hold: final position error [m]", error[-1], 1e-7)
-    assert error[-1] < 1e-3 * error.max()
+    figures("PID from a 2 mm offset: final position error [m]", error[-1], 1e-7)
+    static = stewart.reference.inverse_dynamics(plat.params, plat.home_pose, np.zeros(6), np.zeros(6))
+    np.testing.assert_allclose(run.forces[-1], static, rtol=1e-4)
 
 
 def test_computed_torque_tracks_the_move(plat, move, figures):
@@ -67,9 +80,11 @@ def test_rk4_converges_at_fourth_order(plat, move, figures):
     """PID closed loop (1 Hz tuning) over 0.5 s: halving dt divides the error by about 16.
     The error of step dt is estimated against the run at dt/2 (Richardson), so no exact
     solution is needed; the steps are small against the PID's fast leg mode (~700 1/s),
-    where the asymptotic rate shows."""
+    where the asymptotic rate shows. The run starts 2 mm below the reference so that the
+    error has a transient to converge on."""
     pid = stewart.PID.tuned(plat, bandwidth_hz=1.0)
-    runs = [stewart.simulate(plat, move, pid, duration=0.5, dt=dt).x for dt in (2e-4, 1e-4, 5e-5, 2.5e-5)]
+    x0 = plat.home_pose - [0, 0, 0.002, 0, 0, 0]  # a start off the reference excites the fast mode
+    runs = [stewart.simulate(plat, move, pid, duration=0.5, dt=dt, x0=x0).x for dt in (2e-4, 1e-4, 5e-5, 2.5e-5)]
     errors = [np.max(np.abs(a - b[::2])) for a, b in zip(runs, runs[1:])]
     ratios = [errors[0] / errors[1], errors[1] / errors[2]]
     figures("RK4 order: error ratio when halving dt (|ratio - 16|)", max(abs(r - 16) for r in ratios), 2.0)
@@ -91,8 +106,14 @@ def test_adaptive_agrees_with_rk4(plat, move, controller, dt):
 def test_stroke_limit_stops_the_run_with_its_reason(plat, method):
     low = plat.home_pose.copy()
     low[2] = 0.15  # below the 0.19 m minimum leg length
-    run = stewart.simulate(plat, stewart.PointToPoint(plat.home_pose, low, 3.0), method=method)
-    assert not run.completed
+    move_down = stewart.PointToPoint(plat.home_pose, low, 3.0)
+    with pytest.raises(stewart.WorkspaceError, match=r"shorter than the minimum length 0.19 m .* at t = 1\.") as info:
+        stewart.simulate(plat, move_down, method=method)
+    first = info.value.times[0]
+    assert np.min(plat.leg_lengths(move_down.sample(first)[0])) < 0.19
+    assert np.min(plat.leg_lengths(move_down.sample(first - 1e-3)[0])) >= 0.19
+    run = stewart.simulate(plat, move_down, method=method, check_workspace=False)
+    assert not run.completed and run.outcome == "failed" and run.exit_code == 4 and not run.ok
     assert "reached its minimum length 0.19 m" in run.reason
     leg = run.stopped_leg
     assert run.lengths[-1, leg] == pytest.approx(0.19, abs=1e-4 if method == "rk4" else 1e-9)
@@ -104,8 +125,20 @@ def test_saturation_and_friction(plat, move):
     limit = 21.0
     run = stewart.simulate(plat, move, stewart.ComputedTorque.tuned(), actuators=stewart.Actuators(force_limit=limit))
     assert np.max(np.abs(run.forces)) == pytest.approx(limit)
+    np.testing.assert_array_equal(run.forces, np.clip(run.commanded_forces, -limit, limit))
+    # Computed torque commands the inverse dynamics of the reference until it saturates first.
+    first = np.argmax(np.any(np.abs(run.commanded_forces) > limit, axis=1))
+    x, xd, xdd = move.sample(run.t[first])
+    assert np.max(np.abs(plat.inverse_dynamics(x, xd, xdd))) > limit
+    # Saturated, it cannot follow: a leg reaches its stroke limit, the more severe outcome.
+    assert run.outcome == "failed" and run.exit_code == 4 and "reached its minimum length" in run.problems[0]
+    assert f"at t = {run.t[first]:.4f} s exceeded the actuator limit 21 N" in run.problems[1]
+    short = stewart.simulate(plat, move, stewart.ComputedTorque.tuned(), duration=1.0,
+                             actuators=stewart.Actuators(force_limit=limit))
+    assert short.outcome == "saturated" and short.exit_code == 6 and len(short.problems) == 1
     assert np.max(np.abs(run.tracking_error[:, :3])) > 1e-4  # it can no longer follow exactly
     free = stewart.simulate(plat, move, stewart.ComputedTorque.tuned())
+    assert free.ok and free.outcome == "completed" and free.problems == []
     damped = stewart.simulate(plat, move, stewart.ComputedTorque.tuned(),
                               actuators=stewart.Actuators(viscous=200.0, coulomb=1.0))
     # Computed torque does not model the friction: the actuators push harder where legs move.
@@ -123,7 +156,9 @@ def test_results_export(tmp_path, plat, move):
     np.testing.assert_allclose(table["z_ref"], run.reference[:, 2], rtol=1e-9)
     data = np.load(tmp_path / "run.npz")
     np.testing.assert_array_equal(data["lengths"], run.lengths)
-    assert str(data["reason"]) == "completed"
+    assert str(data["reason"]) == "completed" and str(data["outcome"]) == "completed"
+    assert str(data["platform"]) == "narayan2017" and str(data["controller"]) == "PID"
+    assert "platform narayan2017, controller PID" in (tmp_path / "run.csv").read_text().splitlines()[1]
 
 
 def test_sampled_trajectory_from_csv(tmp_path, plat, move):
@@ -137,14 +172,14 @@ def test_sampled_trajectory_from_csv(tmp_path, plat, move):
     run = stewart.simulate(plat, traj, stewart.ComputedTorque.tuned())
     assert run.completed and np.max(np.abs(run.tracking_error)) < 1e-6
     path.write_text("t,x\n0,1\n")
-    with pytest.raises(ValueError, match="expected 7 columns"):
+    with pytest.raises(ValueError, match=r"path.csv: line 1: the header has 2 column\(s\) and lacks y, z"):
         stewart.SampledTrajectory.from_csv(path)
 
 
 def test_bad_simulation_arguments(plat, move):
-    with pytest.raises(ValueError, match="dt: must be a positive step"):
+    with pytest.raises(ValueError, match="dt: must be a step of at least"):
         stewart.simulate(plat, move, dt=-1.0)
-    with pytest.raises(ValueError, match="controller: expected PID"):
+    with pytest.raises(ValueError, match="controller: expected a stewart.PID"):
         stewart.simulate(plat, move, "pid")
     with pytest.raises(ValueError, match="method: expected"):
         stewart.simulate(plat, move, method="euler")
