@@ -553,8 +553,9 @@ def _adaptive(loop, references, y, times, limits, rtol, atol, states, commanded,
         stop_at = min(last, done + _ADAPTIVE_CHUNK)
         report = times[done:stop_at + 1]
         try:
-            sol = solve_ivp(rhs, (report[0], report[-1]), states[done].copy(), method="DOP853", t_eval=report,
-                            rtol=rtol, atol=atol, events=[leg_too_short, leg_too_long])
+            with np.errstate(all="ignore"):  # a diverging state is reported as the outcome
+                sol = solve_ivp(rhs, (report[0], report[-1]), states[done].copy(), method="DOP853", t_eval=report,
+                                rtol=rtol, atol=atol, events=[leg_too_short, leg_too_long])
         except _Stop as exc:
             if exc.status is None:  # budget or Ctrl-C: keep what the completed chunks gave
                 return done, Outcome.STOP_FINISHED, -1, np.ascontiguousarray(states[done]), not interrupt.requested

@@ -189,3 +189,189 @@ def test_bad_simulation_arguments(plat, move):
         stewart.Actuators(force_limit=0.0)
     with pytest.raises(ValueError, match="duration: must be a positive"):
         stewart.PointToPoint(np.zeros(6), np.ones(6), 0.0)
+
+
+# The move of issue 9: to theta = 90 deg, through a singularity of J_C on the way.
+ISSUE_TARGET = [0, 0, 0.278, 0, 1.5707963, 0]
+
+
+def _det_signs(plat, poses):
+    """Signs of det J_C from the numpy kinematics (independent of the compiled kernel)."""
+    return np.sign(np.linalg.det(stewart.jacobian(plat.params, poses)))
+
+
+def test_a_move_beyond_a_singularity_is_refused_before_the_run(plat):
+    move = stewart.PointToPoint(plat.home_pose, ISSUE_TARGET, 5.0)
+    with pytest.raises(stewart.WorkspaceError, match=r"^trajectory: \d+ of 5001 reference pose") as info:
+        stewart.simulate(plat, move)
+    message = str(info.value)
+    assert "another assembly mode" in message and "theta = +-90 deg" in message
+    # The first time named is where the reference leaves the workspace: det J_C changes
+    # sign soon after (its condition number grows without bound near the crossing).
+    signs = _det_signs(plat, move.sample(np.arange(5001) * 1e-3)[0])
+    crossing = np.argmax(signs != signs[0]) * 1e-3
+    assert info.value.times[0] < crossing < info.value.times[0] + 0.05
+    assert isinstance(info.value, ValueError)
+
+
+def test_a_run_that_leaves_its_assembly_mode_fails(plat):
+    """Forced past the check, PID ends in another assembly mode (the old 'completed' run)
+    and computed torque tracks through the singularity with meganewton forces."""
+    move = stewart.PointToPoint(plat.home_pose, ISSUE_TARGET, 5.0)
+    run = stewart.simulate(plat, move, check_workspace=False)
+    assert run.completed and not run.ok and run.outcome == "failed" and run.exit_code == 4
+    signs = _det_signs(plat, run.x)
+    flip = np.argmax(signs != signs[0])
+    assert flip > 0 and f"left its assembly mode (det J_C changed sign) at t = {run.t[flip]:.4f} s" in run.problems[0]
+    assert any("final tracking error" in p for p in run.problems)
+    ct = stewart.simulate(plat, move, stewart.ComputedTorque.tuned(), check_workspace=False,
+                          actuators=stewart.Actuators(force_limit=1000.0))
+    assert not ct.ok and any("exceeded the actuator limit 1000 N" in p for p in ct.problems)
+    free = stewart.simulate(plat, move, stewart.ComputedTorque.tuned(), check_workspace=False)
+    assert np.max(np.abs(free.commanded_forces)) > 1e6  # 2.3 MN on a 6.8 kg plate
+    assert not free.ok
+
+
+def test_tolerance_decides_between_completed_and_inaccurate(plat, move):
+    loose = stewart.PID.tuned(plat, bandwidth_hz=1.0)
+    run = stewart.simulate(plat, move, loose, duration=2.5)  # stopped mid-move, still lagging
+    err = move.sample(2.5)[0] - run.x[-1]
+    position, angle = np.linalg.norm(err[:3]), np.linalg.norm(err[3:])
+    assert position > 1e-4
+    ok = stewart.simulate(plat, move, loose, duration=2.5, tolerance=(1.01 * position, 1.01 * angle))
+    assert ok.ok and ok.outcome == "completed" and ok.exit_code == 0
+    bad = stewart.simulate(plat, move, loose, duration=2.5, tolerance=(0.99 * position, 1.01 * angle))
+    assert bad.outcome == "inaccurate" and bad.exit_code == 5 and bad.completed
+    assert f"final tracking error {position:.3g} m" in bad.problems[0]
+    for tolerance in (0.0, (1e-3, -1.0), "tight", (np.nan, 1.0)):
+        with pytest.raises(ValueError, match="^tolerance: "):
+            stewart.simulate(plat, move, tolerance=tolerance)
+
+
+class _Broken:
+    """A trajectory whose sample(t) returns the wrong thing."""
+
+    duration = 1.0
+
+    def __init__(self, make):
+        self.make = make
+
+    def sample(self, t):
+        n = np.size(t)
+        good = np.zeros((n, 6)) + [0.0015, -0.0005, 0.278, 0, 0, 0] if np.ndim(t) else np.array([0.0015, -0.0005, 0.278, 0, 0, 0])
+        return self.make(good, n)
+
+
+@pytest.mark.parametrize("make", [
+    lambda x, n: (x[..., :5], x[..., :5], x[..., :5]),
+    lambda x, n: (np.hstack([x, x[..., :1]]) if x.ndim == 2 else np.append(x, 0),) * 3,
+    lambda x, n: (x[:-1], x[:-1], x[:-1]) if x.ndim == 2 else (x, x, x),
+    lambda x, n: (x, x * np.nan, x),
+    lambda x, n: (x, x + 0j, x),
+    lambda x, n: (x, x),
+    lambda x, n: (x, "fast", x),
+    lambda x, n: (x.astype(object), x, x),
+], ids=["5 columns", "7 columns", "fewer rows", "NaN", "complex", "two arrays", "string", "object dtype"])
+def test_trajectory_output_is_checked_before_the_compiled_loop(plat, make):
+    with pytest.raises(ValueError, match="^trajectory: "):
+        stewart.simulate(plat, _Broken(make), stewart.ComputedTorque.tuned(), duration=0.1)
+
+
+def test_step_budget_and_time_arguments(plat, move):
+    with pytest.raises(ValueError, match=r"^dt: must be a step of at least 1e-09 s, got 1e-12"):
+        stewart.simulate(plat, move, dt=1e-12)
+    with pytest.raises(ValueError, match=r"^dt: must be a step of at least .* got 5e-324"):
+        stewart.simulate(plat, move, duration=1e-320, dt=5e-324)
+    with pytest.raises(ValueError, match=r"^dt, duration: 5 s at dt = 1e-06 s is 5e\+06 steps, more than the budget "
+                                         r"of 1000000 \(pass max_steps="):
+        stewart.simulate(plat, move, dt=1e-6)
+    with pytest.raises(ValueError, match="budget of 100 "):
+        stewart.simulate(plat, move, duration=0.5, max_steps=100)
+    assert stewart.simulate(plat, move, duration=0.5, max_steps=500).ok
+    for name, value in (("dt", np.timedelta64(1, "ms")), ("duration", np.timedelta64(5, "s")), ("dt", True),
+                        ("duration", "5"), ("dt", np.array([1e-3, 2e-3])), ("duration", 10**400)):
+        with pytest.raises(ValueError, match=f"^{name}: "):
+            stewart.simulate(plat, move, **{name: value})
+    for value in (0, -3, 2.5, True, "10"):
+        with pytest.raises(ValueError, match="^max_steps: expected a positive integer"):
+            stewart.simulate(plat, move, max_steps=value)
+
+
+@pytest.mark.parametrize("controller, xd0", [
+    (stewart.PID(1e12, 0.0, 1e3), None),
+    (stewart.PID(1e300, 1e300, 1e300), None),
+    (stewart.ComputedTorque(1e300, 1e300), None),
+    (None, [1e6, 0, 0, 0, 0, 0]),
+], ids=["stiff PID", "PID 1e300", "computed torque 1e300", "huge initial velocity"])
+def test_adaptive_solver_ends_with_a_failed_outcome(plat, move, controller, xd0):
+    """Absurd gains or velocities end within the step budget, as a failed run."""
+    run = stewart.simulate(plat, move, controller, method="adaptive", duration=0.5, max_steps=300,
+                           x0=None if xd0 is None else plat.home_pose, xd0=xd0)
+    assert not run.ok and run.outcome == "failed" and run.exit_code == 4, run.reason
+    assert run.t[-1] < 0.5 and np.all(np.isfinite(run.x))
+
+
+def test_wrong_arguments_name_themselves(plat, move):
+    for controller in (stewart.PID, plat.params, "pid", 3.0, stewart.Actuators()):
+        with pytest.raises(ValueError, match="^controller: expected a stewart.PID, ComputedTorque or OpenLoop"):
+            stewart.simulate(plat, move, controller)
+    with pytest.raises(ValueError, match="^platform: expected a stewart.Platform"):
+        stewart.simulate(plat.params, move)
+    with pytest.raises(ValueError, match="^trajectory: expected an object with sample"):
+        stewart.simulate(plat, np.zeros(6))
+    with pytest.raises(ValueError, match="^actuators: expected a stewart.Actuators"):
+        stewart.simulate(plat, move, actuators=100.0)
+
+
+@pytest.mark.parametrize("method", ["rk4", "adaptive"])
+def test_ctrl_c_returns_what_was_computed(plat, move, monkeypatch, method):
+    """Ctrl-C during a run stops it at the next chunk of steps; the exception holds the
+    run so far, which matches an uninterrupted run sample for sample."""
+    import signal
+
+    from stewart import simulation
+
+    update = simulation._Progress.update
+
+    def press_ctrl_c(self, t):
+        if t > 0.15 and not getattr(self, "pressed", False):
+            self.pressed = True
+            signal.raise_signal(signal.SIGINT)
+        update(self, t)
+
+    duration = 5.0 if method == "rk4" else 0.3
+    full = stewart.simulate(plat, move, stewart.ComputedTorque.tuned(), duration=duration, method=method)
+    monkeypatch.setattr(simulation._Progress, "update", press_ctrl_c)
+    with pytest.raises(stewart.SimulationInterrupted) as info:
+        stewart.simulate(plat, move, stewart.ComputedTorque.tuned(), duration=duration, method=method)
+    part = info.value.result
+    assert isinstance(info.value, KeyboardInterrupt)
+    assert part.outcome == "interrupted" and part.exit_code == 130 and not part.completed
+    assert 0 < part.t[-1] < duration and part.reason == f"interrupted at t = {part.t[-1]:.4f} s"
+    np.testing.assert_array_equal(part.x, full.x[:len(part.t)])
+    np.testing.assert_array_equal(part.forces, full.forces[:len(part.t)])
+
+
+def test_reachability_flags_each_problem(plat):
+    from stewart import workspace
+
+    home = plat.home_pose
+    below = home * [1, 1, -1, 1, 1, 1]  # mirrored under the base: legs within their stroke
+    low = home - [0, 0, 0.2, 0, 0, 0]
+    upright = home + [0, 0, 0, 0, np.pi / 2, 0]
+    beyond = stewart.PointToPoint(home, ISSUE_TARGET, 5.0).sample(4.5)[0]
+    check = stewart.reachability(plat, [home, below, low, upright, beyond])
+    # Independent facts: lengths from the numpy kinematics, platform joints below the
+    # base plane, det J_C of the other sign than at home.
+    lengths = stewart.leg_lengths(plat.params, low)
+    assert np.all(lengths < 0.19) and check.flags[2] & workspace.LEG_TOO_SHORT
+    assert np.all((stewart.leg_lengths(plat.params, below) > 0.19) & (stewart.leg_lengths(plat.params, below) < 0.38))
+    joints_z = below[2] + (stewart.rotation(below) @ plat.params.platform_points.T)[2]
+    assert np.all(joints_z < 0) and check.flags[1] == workspace.BELOW_BASE | (check.flags[1] & ~workspace.BELOW_BASE)
+    assert check.flags[1] & workspace.BELOW_BASE
+    assert check.flags[3] & workspace.EULER_SINGULAR
+    assert _det_signs(plat, beyond) != _det_signs(plat, home) and check.flags[4] & workspace.OTHER_ASSEMBLY_MODE
+    assert check.ok.tolist() == [True, False, False, False, False]
+    assert "row 2" in check.message() and "not above the base" in check.reasons(1)[0]
+    with pytest.raises(ValueError, match="^poses: "):
+        stewart.reachability(plat, [0, 0, np.nan, 0, 0, 0])
