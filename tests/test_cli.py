@@ -292,3 +292,78 @@ def test_json_summaries(capsys):
     summary = json.loads(out)
     assert code == 0 and summary["passed"] and len(summary["checks"]) == 15
     assert all(c["worst"] <= c["bound"] for c in summary["checks"])
+
+
+# ---------------------------------------------------------------- fuzzing the command line
+
+from hypothesis import HealthCheck, given, settings, strategies as st  # noqa: E402
+
+_VALUES = st.sampled_from(["0", "-1", "nan", "inf", "-inf", "1e308", "5e-324", "abc", "", "0.001", "0.02", "0.27",
+                           "1", "2", "--", "-", "1e400", "0x10", "pid", "ct", "rk4", "adaptive", "quintic"])
+_FLAGS = st.sampled_from(["--pose", "--vel", "--acc", "--force", "--target", "--dt", "--duration", "--move-time",
+                          "--controller", "--method", "--bandwidth", "--tolerance", "--force-limit", "--viscous",
+                          "--coulomb", "--profile", "--preset", "--params", "--input", "--trajectory",
+                          "--on-unreachable", "--max-steps", "--json", "--states", "--batch", "--seed", "--bogus"])
+_FRAGMENTS = st.lists(st.one_of(_FLAGS, _VALUES), max_size=14)
+EXIT_CODES = {0, 1, 2, 3, 4, 5, 6, 130}
+
+
+def _exit_code(argv, capsys):
+    code, out, err = _run(argv, capsys)
+    assert code in EXIT_CODES, (argv, code, err)
+    if code:
+        last = err.strip().splitlines()[-1] if err.strip() else ""
+        assert last.startswith(("stewart", "usage")) or code in (4, 5, 6), (argv, err)
+    return code, out, err
+
+
+@settings(max_examples=80, deadline=20_000, suppress_health_check=[HealthCheck.too_slow,
+                                                                    HealthCheck.function_scoped_fixture])
+@given(command=st.sampled_from(["ik", "id", "fd", "simulate", "presets", "validate", "bench", "nonsense"]),
+       fragments=_FRAGMENTS)
+def test_fuzz_argv(capsys, command, fragments):
+    """Random flags and values: an exit code from the documented set, no traceback, and
+    for a value error a message naming a flag."""
+    argv = [command, *fragments]
+    if command in ("validate", "bench") and not any(f in fragments for f in ("--states", "--batch")):
+        argv += ["--bogus"]  # keep the slow commands to their argument checks
+    if command in ("validate", "bench"):
+        argv += ["--states" if command == "validate" else "--batch", "0"]
+    if command == "simulate":
+        argv = ["simulate", "--duration", "0.05", *fragments, "--max-steps", "300", "--no-progress"]
+    code, out, err = _exit_code(argv, capsys)
+    if code == 2 and not err.startswith("usage"):
+        message = err.strip().splitlines()[-1].split("error: ", 1)[1]
+        assert message.startswith("--") or message.startswith("give --"), message
+
+
+@settings(max_examples=40, deadline=10_000, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(text=st.one_of(
+    st.text(alphabet=st.sampled_from("0123456789.,;-e\t #\nabxyz\"'"), max_size=300),
+    st.lists(st.lists(st.sampled_from(["0", "0.28", "1e-3", "nan", "x", "", "1e999", "-0.5"]), min_size=1,
+                      max_size=8), max_size=6).map(lambda rows: "\n".join(",".join(r) for r in rows)),
+))
+def test_fuzz_csv_files(tmp_path_factory, capsys, text):
+    path = tmp_path_factory.mktemp("csv") / "in.csv"
+    path.write_text(text)
+    code, _, err = _exit_code(["ik", "--input", str(path), "--on-unreachable", "warn"], capsys)
+    assert code in (0, 2)
+    if code:
+        assert _one_error_line(err, "ik", f"--input {path}: ")
+    code, _, err = _exit_code(["simulate", "--trajectory", str(path), "--duration", "0.01", "--no-progress"], capsys)
+    if code == 2:
+        assert _one_error_line(err, "simulate", f"--trajectory {path}: ")
+
+
+@settings(max_examples=40, deadline=10_000, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(text=st.one_of(
+    st.text(max_size=200),
+    st.sampled_from(["[" * 5000, "a = " + "[" * 3000 + "]" * 3000, "{" * 3000, '{"platform_mass": 1e999}',
+                     "platform_mass = 1e999", "name = 5", "base_points = [[0, 0, 0]]", "platform_mass = -1"]),
+), suffix=st.sampled_from([".toml", ".json", ".txt", ""]))
+def test_fuzz_parameter_files(tmp_path_factory, capsys, text, suffix):
+    path = tmp_path_factory.mktemp("params") / f"p{suffix}"
+    path.write_text(text)
+    code, _, err = _exit_code(["ik", "--params", str(path), "--pose", "0", "0", "0.28", "0", "0", "0"], capsys)
+    assert code == 2
+    assert _one_error_line(err, "ik", f"--params {path}: ")
