@@ -58,7 +58,8 @@ class Reachability:
 
     ``flags`` holds one integer per pose, a sum of the problem bits (0 for a reachable
     pose); ``lengths`` the leg lengths; ``condition`` the unit-free condition number of
-    ``J_C``; ``ok`` is ``flags == 0``.
+    ``J_C`` where it exceeds :data:`CONDITION_LIMIT`, else an upper bound of it below the
+    limit; ``ok`` is ``flags == 0``.
     """
 
     flags: np.ndarray
@@ -118,7 +119,8 @@ def _platform_radius(params: PlatformParams) -> float:
 
 def assembly_mode(platform, pose) -> float:
     """The sign of ``det J_C`` at ``pose``: +1 or -1 (0 at a singularity)."""
-    return float(np.sign(np.linalg.det(kinematics.jacobian(_params(platform), pose))))
+    with np.errstate(all="ignore"):
+        return float(np.nan_to_num(np.sign(np.linalg.det(kinematics.jacobian(_params(platform), pose)))))
 
 
 def _params(platform) -> PlatformParams:
@@ -136,38 +138,61 @@ def reachability(platform, poses, *, mode: float | None = None, name: str = "pos
     (default: the home pose's, see :func:`assembly_mode`). Returns a :class:`Reachability`
     with one row per pose.
     """
-    params = _params(platform)
+    from .platform import Platform
+
+    plat = platform if isinstance(platform, Platform) else Platform(_params(platform))
     x = np.atleast_2d(_checks.states(name, poses))
     if np.iscomplexobj(x):
         raise ValueError(f"{name}: expected real poses")
     if mode is None:
-        mode = assembly_mode(params, kinematics.home_pose(params))
-    blocks = [_block(params, x[i:i + _BLOCK], mode) for i in range(0, len(x), _BLOCK)]
+        mode = assembly_mode(plat, plat.home_pose)
+    blocks = [_block(plat, x[i:i + _BLOCK], mode) for i in range(0, len(x), _BLOCK)]
     flags, lengths, condition = (np.concatenate(parts) for parts in zip(*blocks))
-    return Reachability(flags=flags, lengths=lengths, condition=condition, limits=params.leg_length_limits)
+    return Reachability(flags=flags, lengths=lengths, condition=condition, limits=plat.params.leg_length_limits)
 
 
 _BLOCK = 50_000  # poses checked at a time (bounds the memory of long trajectories)
 
 
-def _block(params: PlatformParams, x: np.ndarray, mode: float):
-    legs = kinematics.leg_vectors(params, x)
-    lengths = np.sqrt(np.sum(legs * legs, axis=-1))
+def _condition(jac: np.ndarray) -> np.ndarray:
+    """Condition numbers of a batch of 6x6 matrices (inf where singular or non-finite).
+
+    The Frobenius condition number ``|J|_F |J^-1|_F`` bounds the 2-norm one from above
+    (by at most a factor 6); only rows where that bound exceeds :data:`CONDITION_LIMIT`
+    get the exact value from an SVD, so the other rows hold the bound.
+    """
+    out = np.full(len(jac), np.inf)
+    good = np.flatnonzero(np.all(np.isfinite(jac), axis=(1, 2)))
+    try:
+        inv = np.linalg.inv(jac[good])
+        out[good] = np.sqrt(np.sum(jac[good] ** 2, axis=(1, 2)) * np.sum(inv**2, axis=(1, 2)))
+        exact = good[~(out[good] <= CONDITION_LIMIT)]
+    except np.linalg.LinAlgError:  # an exactly singular row in the block
+        exact = good
+    if exact.size:
+        out[exact] = np.linalg.cond(jac[exact])
+    return out
+
+
+def _block(plat, x: np.ndarray, mode: float):
+    params = plat.params
+    lengths = plat.leg_lengths(x)
     flags = np.zeros(len(x), dtype=np.int64)
     limits = params.leg_length_limits
     if limits is not None:
         flags |= np.where(np.any(lengths < limits[0], axis=1), LEG_TOO_SHORT, 0)
         flags |= np.where(np.any(lengths > limits[1], axis=1), LEG_TOO_LONG, 0)
-    joint_heights = legs[..., 2] + params.base_points[:, 2]
+    # Height of each spherical joint, p_z + (R p_i)_z, with the last row of R (eq. 3).
+    sth, cth = np.sin(x[:, 4:5]), np.cos(x[:, 4:5])
+    sph, cph = np.sin(x[:, 5:6]), np.cos(x[:, 5:6])
+    p = params.platform_points
+    joint_heights = x[:, 2:3] - sth * p[:, 0] + cth * sph * p[:, 1] + cth * cph * p[:, 2]
     flags |= np.where(np.min(joint_heights, axis=1) <= np.max(params.base_points[:, 2]), BELOW_BASE, 0)
     with np.errstate(all="ignore"):
-        jac = kinematics.jacobian(params, x)
+        jac = plat.jacobian(x, return_mask=True)[0]
         jac[..., 3:] /= _platform_radius(params)
-        good = np.all(np.isfinite(jac), axis=(1, 2))
-        condition = np.full(len(x), np.inf)
-        condition[good] = np.linalg.cond(jac[good])
-        det = np.zeros(len(x))
-        det[good] = np.linalg.det(jac[good])
+        condition = _condition(jac)
+        det = np.linalg.det(np.nan_to_num(jac))
     flags |= np.where(~(condition <= CONDITION_LIMIT), SINGULAR, 0)
     flags |= np.where(np.abs(np.cos(x[:, 4])) < 1.0 / CONDITION_LIMIT, EULER_SINGULAR, 0)
     flags |= np.where(np.sign(det) * mode < 0, OTHER_ASSEMBLY_MODE, 0)
