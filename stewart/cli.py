@@ -19,7 +19,7 @@ from .control import PID, Actuators, ComputedTorque
 from .params import PlatformParams
 from .platform import Platform
 from .presets import presets as list_presets
-from .simulation import DEFAULT_TOLERANCE, OUTCOMES, SimulationInterrupted, simulate
+from .simulation import DEFAULT_TOLERANCE, MAX_ADAPTIVE_STEPS, MAX_STEPS, OUTCOMES, SimulationInterrupted, simulate
 from .trajectory import PROFILES, PointToPoint, SampledTrajectory
 from .workspace import WorkspaceError, reachability
 
@@ -298,7 +298,7 @@ def cmd_simulate(args) -> int:
         message = str(exc).partition(": ")[2] if str(exc).startswith(("trajectory: ", "x0: ")) else str(exc)
         raise UserError(f"{source}: {message}", EXIT_WORKSPACE) from None
     except SimulationInterrupted as exc:
-        files = _save(args, exc.result)
+        files = _save(args, exc.result, quiet=True)
         print(f"stewart simulate: interrupted at t = {exc.result.t[-1]:.4f} s"
               + (f"; saved {', '.join(files)}" if files else ""), file=sys.stderr)
         return EXIT_INTERRUPTED
@@ -334,10 +334,10 @@ def _report(result, label: str, args) -> None:
     print(f"wall time {1e3 * s['wall_time']:.1f} ms for {s['simulated_time']:g} s simulated")
 
 
-def _save(args, result) -> list[str]:
-    """Write the requested files; returns their paths (a message for each unless --json)."""
+def _save(args, result, quiet: bool = False) -> list[str]:
+    """Write the requested files; returns their paths (a message for each unless quiet or --json)."""
     files = []
-    say = (lambda text: None) if args.json else print
+    say = (lambda text: None) if args.json or quiet else print
     if args.csv:
         result.to_csv(args.csv)
         files.append(args.csv)
@@ -429,8 +429,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--bandwidth", type=_positive, help="controller bandwidth [Hz] (default: tuned per preset)")
     p.add_argument("--dt", type=_positive, default=1e-3, help="step / output interval [s]")
     p.add_argument("--method", choices=["rk4", "adaptive"], default="rk4", help="fixed-step RK4 or adaptive DOP853")
-    p.add_argument("--max-steps", type=_count, help="step budget of the run (default: 1000000 for rk4, 50000 for "
-                   "the adaptive solver)")
+    p.add_argument("--max-steps", type=_count, help=f"step budget of the run (default: {MAX_STEPS} for rk4, "
+                   f"{MAX_ADAPTIVE_STEPS} or four per --dt, whichever is more, for the adaptive solver)")
     p.add_argument("--tolerance", nargs=2, type=_positive, metavar=("METRES", "RADIANS"), default=list(DEFAULT_TOLERANCE),
                    help="largest final tracking error accepted: position and Euler-angle norms")
     p.add_argument("--force-limit", type=_limit, default=math.inf, help="actuator force saturation [N]")

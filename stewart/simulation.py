@@ -33,9 +33,10 @@ _LABELS = {OpenLoop: "open loop", PID: "PID", ComputedTorque: "computed torque"}
 #: Most RK4 steps a run may take unless ``max_steps`` allows more (1000 s at 1 kHz; the
 #: buffers of a run take about 600 bytes per step).
 MAX_STEPS = 1_000_000
-#: Most steps the adaptive solver may take unless ``max_steps`` allows more (a smooth
-#: 5 s move under PID takes about 6000; a stiff loop would otherwise run for hours).
-MAX_ADAPTIVE_STEPS = 50_000
+#: Most steps the adaptive solver may take unless ``max_steps`` allows more: this many, or
+#: four per report time ``dt`` if that is more (a smooth 5 s move under PID takes about
+#: 5500; a stiff loop would otherwise run for hours).
+MAX_ADAPTIVE_STEPS = 20_000
 #: Smallest step ``dt`` accepted [s].
 MIN_DT = 1e-9
 #: Default final tracking tolerance: (position error [m], Euler-angle error [rad]).
@@ -301,7 +302,7 @@ def simulate(
     with ``rtol`` and ``atol``) and reports at every ``dt``. A run longer than
     ``max_steps`` steps (default :data:`MAX_STEPS` for RK4) is refused before it starts;
     the adaptive solver stops with outcome ``"failed"`` after ``max_steps`` steps (default
-    :data:`MAX_ADAPTIVE_STEPS`).
+    :data:`MAX_ADAPTIVE_STEPS` or four per report time, whichever is more).
 
     With ``check_workspace`` (the default) the start pose and the reference at every
     sample of the run are checked with :func:`stewart.workspace.reachability` (in the
@@ -340,7 +341,7 @@ def simulate(
         if not (isinstance(value, (int, float, np.floating)) and np.isfinite(value) and value > 0):
             raise ValueError(f"{name}: must be a positive number, got {value!r}")
     tolerance = _tolerance(tolerance)
-    budget = MAX_STEPS if method == "rk4" else MAX_ADAPTIVE_STEPS
+    budget = MAX_STEPS if method == "rk4" else max(MAX_ADAPTIVE_STEPS, 4 * int(min(duration / dt, MAX_STEPS)))
     if max_steps is not None:
         if isinstance(max_steps, (bool, np.bool_)) or not isinstance(max_steps, (int, np.integer)) or max_steps < 1:
             raise ValueError(f"max_steps: expected a positive integer, got {max_steps!r}")
@@ -427,8 +428,9 @@ def simulate(
                   "tolerance": tolerance, "force_limit": actuators.force_limit.tolist()},
     )
     if budget_used:
-        result.reason = (f"the adaptive solver used its budget of {budget} steps at t = {times[last]:.4f} s "
-                         "(the closed loop is too stiff; check the gains or pass max_steps=)")
+        result.reason = (f"the adaptive solver used its budget of {budget} steps before t = {bar.reached:.4g} s "
+                         f"(results up to t = {times[last]:.4f} s kept; the closed loop is too stiff: check the "
+                         "gains, or pass max_steps=)")
     if interrupt.requested:
         result.reason = f"interrupted at t = {times[last]:.4f} s"
     _judge(result, platform, actuators, tolerance, interrupt.requested)

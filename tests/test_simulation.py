@@ -428,3 +428,11 @@ def test_fuzz_simulate_arguments(plat, move, controller, dt, duration, method, t
     assert run.outcome in stewart.simulation.OUTCOMES and run.outcome != "interrupted"
     assert run.ok == (run.outcome == "completed") and (run.problems == []) == run.ok
     assert np.all(np.isfinite(run.x)) and np.all(np.isfinite(run.t)) and len(run.t) == len(run.x) >= 1
+
+
+def test_progress_bar_never_runs_backwards(plat, move, capsys):
+    """The adaptive solver evaluates at times before the last accepted step; the bar
+    shows the furthest time reached, ending at the full duration."""
+    stewart.simulate(plat, move, method="adaptive", duration=0.3, progress=True)
+    shown = [float(part.split("/")[0]) for part in capsys.readouterr().err.split("t = ")[1:]]
+    assert shown == sorted(shown) and shown[-1] == pytest.approx(0.3)
