@@ -55,11 +55,15 @@ class UserError(Exception):
 
 # ---------------------------------------------------------------------------- arguments
 
-def _number(text: str) -> float:
+def _parsed(text: str, kind=float):
     try:
-        value = float(text)
+        return kind(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+        raise argparse.ArgumentTypeError(f"not {'a whole' if kind is int else 'a'} number: {text!r}") from None
+
+
+def _number(text: str) -> float:
+    value = _parsed(text)
     if not math.isfinite(value):
         raise argparse.ArgumentTypeError(f"not a finite number: {text!r}")
     return value
@@ -81,20 +85,14 @@ def _non_negative(text: str) -> float:
 
 def _limit(text: str) -> float:
     """A force limit: > 0, and ``inf`` allowed (no limit)."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a number: {text!r}") from None
+    value = _parsed(text)
     if not value > 0:
         raise argparse.ArgumentTypeError(f"must be > 0 (or inf for no limit), got {text}")
     return value
 
 
 def _count(text: str) -> int:
-    try:
-        value = int(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"not a whole number: {text!r}") from None
+    value = _parsed(text, int)
     if value < 1:
         raise argparse.ArgumentTypeError(f"must be at least 1, got {text}")
     return value

@@ -2,8 +2,10 @@
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings, strategies as st
 
 import stewart
+from interrupt import press_ctrl_c_after
 from stewart.presets import narayan2017_target_pose
 
 
@@ -327,21 +329,9 @@ def test_wrong_arguments_name_themselves(plat, move):
 def test_ctrl_c_returns_what_was_computed(plat, move, monkeypatch, method):
     """Ctrl-C during a run stops it at the next chunk of steps; the exception holds the
     run so far, which matches an uninterrupted run sample for sample."""
-    import signal
-
-    from stewart import simulation
-
-    update = simulation._Progress.update
-
-    def press_ctrl_c(self, t):
-        if t > 0.15 and not getattr(self, "pressed", False):
-            self.pressed = True
-            signal.raise_signal(signal.SIGINT)
-        update(self, t)
-
     duration = 5.0 if method == "rk4" else 0.3
     full = stewart.simulate(plat, move, stewart.ComputedTorque.tuned(), duration=duration, method=method)
-    monkeypatch.setattr(simulation._Progress, "update", press_ctrl_c)
+    press_ctrl_c_after(monkeypatch, 0.15)
     with pytest.raises(stewart.SimulationInterrupted) as info:
         stewart.simulate(plat, move, stewart.ComputedTorque.tuned(), duration=duration, method=method)
     part = info.value.result
@@ -379,7 +369,6 @@ def test_reachability_flags_each_problem(plat):
 
 # ---------------------------------------------------------------- fuzzing simulate's arguments
 
-from hypothesis import HealthCheck, given, settings, strategies as st  # noqa: E402
 
 _ODD_NUMBERS = st.one_of(
     st.floats(allow_nan=True, allow_infinity=True),
