@@ -294,9 +294,15 @@ def cmd_simulate(args) -> int:
                           max_steps=args.max_steps)
     except WorkspaceError as exc:
         message = str(exc).partition(": ")[2] if str(exc).startswith(("trajectory: ", "x0: ")) else str(exc)
+        if args.json:
+            print(json.dumps({"command": "simulate", "platform": params.name or "unnamed", "platform_source": label,
+                              "outcome": "outside_workspace", "ok": False, "exit_code": EXIT_WORKSPACE,
+                              "problems": [f"{source}: {message}"], "times": exc.times}))
         raise UserError(f"{source}: {message}", EXIT_WORKSPACE) from None
     except SimulationInterrupted as exc:
         files = _save(args, exc.result, quiet=True)
+        if args.json:
+            print(json.dumps(_summary(exc.result, label, files)))
         print(f"stewart simulate: interrupted at t = {exc.result.t[-1]:.4f} s"
               + (f"; saved {', '.join(files)}" if files else ""), file=sys.stderr)
         return EXIT_INTERRUPTED
@@ -306,18 +312,23 @@ def cmd_simulate(args) -> int:
         _report(result, label, args)
     files = _save(args, result)
     if args.json:
-        s = result.summary()
-        print(json.dumps({
-            "command": "simulate", "platform": result.metadata["platform"], "platform_source": label,
-            "controller": result.metadata["controller"], "method": result.method, "dt": args.dt,
-            "outcome": result.outcome, "ok": result.ok, "exit_code": result.exit_code, "problems": result.problems,
-            "completed": result.completed, "reason": result.reason,
-            "peak_force": s["peak_force"].tolist(), "peak_commanded_force": float(np.max(np.abs(result.commanded_forces))),
-            "final_position_error": s["final_position_error"], "final_angle_error": s["final_angle_error"],
-            "rms_position_error": s["rms_position_error"], "rms_angle_error": s["rms_angle_error"],
-            "simulated_time": s["simulated_time"], "wall_time": s["wall_time"], "files": files,
-        }))
+        print(json.dumps(_summary(result, label, files)))
     return result.exit_code
+
+
+def _summary(result, label: str, files: list[str]) -> dict:
+    """The JSON summary of a run."""
+    s = result.summary()
+    return {
+        "command": "simulate", "platform": result.metadata["platform"], "platform_source": label,
+        "controller": result.metadata["controller"], "method": result.method, "dt": result.metadata["dt"],
+        "outcome": result.outcome, "ok": result.ok, "exit_code": result.exit_code, "problems": result.problems,
+        "completed": result.completed, "reason": result.reason,
+        "peak_force": s["peak_force"].tolist(), "peak_commanded_force": float(np.max(np.abs(result.commanded_forces))),
+        "final_position_error": s["final_position_error"], "final_angle_error": s["final_angle_error"],
+        "rms_position_error": s["rms_position_error"], "rms_angle_error": s["rms_angle_error"],
+        "simulated_time": s["simulated_time"], "wall_time": s["wall_time"], "files": files,
+    }
 
 
 def _report(result, label: str, args) -> None:
@@ -396,10 +407,12 @@ def build_parser() -> argparse.ArgumentParser:
         ("ik", "leg lengths of poses (inverse kinematics)", [], "poses, one per row: x,y,z,psi,theta,phi"),
         ("id", "actuator forces for a motion (inverse dynamics)",
          [("--vel", "pose rates [m/s, rad/s]"), ("--acc", "pose accelerations [m/s^2, rad/s^2]")],
-         "rows of pose, velocity, acceleration (18 columns)"),
+         "rows of pose, velocity, acceleration (18 columns; a header x,...,phi,x_dot,...,phi_dot,x_ddot,...,"
+         "phi_ddot picks them by name)"),
         ("fd", "accelerations under actuator forces (forward dynamics)",
          [("--vel", "pose rates [m/s, rad/s]"), ("--force", "actuator forces [N]")],
-         "rows of pose, velocity, forces (18 columns)"),
+         "rows of pose, velocity, forces (18 columns; a header x,...,phi,x_dot,...,phi_dot,tau0,...,tau5 "
+         "picks them by name)"),
     ]
     for name, help_text, extra, input_help in state_commands:
         p = _subcommand(sub, name, help_text, cmd_state)

@@ -402,13 +402,13 @@ def simulate(
                 outcome, done, leg = loop.rk4(y, refs, ff, dt, done, min(steps, done + _RK4_CHUNK), limits[0],
                                               limits[1], states, commanded, lengths, rates)
                 bar.update(done * dt)
-            last = done
-            ref_last, ff_last = refs[2 * last], ff[2 * last]
-            budget_used = False
+            last, budget_used = done, False
         else:
             last, outcome, leg, y, budget_used = _adaptive(loop, references, y, times, limits, rtol, atol, states,
                                                            commanded, lengths, rates, bar, budget, interrupt)
-            ref_last, ff_last = (a[0] for a in references(times[last:last + 1]))
+    if not np.all(np.isfinite(y)):  # the step that diverged is not kept
+        last, y = last - 1, states[last - 1].copy()
+    ref_last, ff_last = (a[0] for a in references(times[last:last + 1]))
     states[last] = y
     _, commanded[last], lengths[last], rates[last], _ = loop.derivative(y, ref_last, ff_last)
     wall = time.perf_counter() - wall

@@ -272,8 +272,10 @@ def test_json_summaries(capsys):
     summary = json.loads(out)
     assert code == 5 and summary["exit_code"] == 5 and summary["outcome"] == "inaccurate" and not summary["ok"]
     assert summary["platform"] == "narayan2017" and summary["controller"] == "PID" and summary["problems"]
-    code, out, _ = _run(["simulate", "--target", *ISSUE_TARGET, "--json"], capsys)
-    assert code == 3 and out == ""
+    code, out, err = _run(["simulate", "--target", *ISSUE_TARGET, "--json"], capsys)
+    summary = json.loads(out)
+    assert code == 3 and summary["exit_code"] == 3 and summary["outcome"] == "outside_workspace"
+    assert summary["problems"][0] in err and 3.9 < summary["times"][0] < 4.0
     code, out, _ = _run(["validate", "--preset", "motion_simulator", "--states", "20", "--json"], capsys)
     summary = json.loads(out)
     assert code == 0 and summary["passed"] and len(summary["checks"]) == 15
@@ -352,3 +354,18 @@ def test_fuzz_parameter_files(tmp_path_factory, capsys, text, suffix):
     code, _, err = _exit_code(["ik", "--params", str(path), "--pose", "0", "0", "0.28", "0", "0", "0"], capsys)
     assert code == 2
     assert _one_error_line(err, "ik", f"--params {path}: ")
+
+
+def test_input_columns_are_picked_by_header_name(tmp_path, capsys):
+    plat = stewart.Platform.preset("narayan2017")
+    x = plat.home_pose + [0.01, 0, 0, 0, 0.02, 0]
+    xd, xdd = np.array([0, 0, 0.1, 0, 0, 0.2]), np.array([1, 0, 0, 0, -1, 0])
+    names = POSE_NAMES + [f"{p}_dot" for p in POSE_NAMES] + [f"{p}_ddot" for p in POSE_NAMES]
+    order = np.random.default_rng(1).permutation(18)
+    row = np.concatenate([x, xd, xdd])
+    (tmp_path / "in.csv").write_text("# shuffled columns\n" + ",".join(np.array(names + ["note"])[list(order) + [18]])
+                                     + "\n" + ",".join(f"{v:.17g}" for v in row[order]) + ",7\n")
+    code, out, _ = _run(["id", "--input", str(tmp_path / "in.csv")], capsys)
+    assert code == 0
+    np.testing.assert_allclose(_numbers(out)[0], stewart.reference.inverse_dynamics(plat.params, x, xd, xdd),
+                               rtol=1e-9)
