@@ -425,3 +425,20 @@ def test_progress_bar_never_runs_backwards(plat, move, capsys):
     stewart.simulate(plat, move, method="adaptive", duration=0.3, progress=True)
     shown = [float(part.split("/")[0]) for part in capsys.readouterr().err.split("t = ")[1:]]
     assert shown == sorted(shown) and shown[-1] == pytest.approx(0.3)
+
+
+def test_condition_check_agrees_with_the_svd(plat):
+    """The cheap bound in the workspace check flags exactly the poses whose unit-free
+    condition number (by SVD) exceeds the limit, along a move through a singularity."""
+    from stewart import workspace
+
+    poses = stewart.PointToPoint(plat.home_pose, ISSUE_TARGET, 5.0).sample(np.linspace(0, 5, 2001))[0]
+    radius = np.max(np.linalg.norm(plat.params.platform_points - plat.params.platform_points.mean(axis=0), axis=1))
+    jac = stewart.jacobian(plat.params, poses) / np.r_[np.ones(3), np.full(3, radius)]
+    exact = np.linalg.cond(jac)
+    check = stewart.reachability(plat, poses)
+    flagged = (check.flags & workspace.SINGULAR) != 0
+    assert flagged.any() and not flagged.all()
+    np.testing.assert_array_equal(flagged, exact > workspace.CONDITION_LIMIT)
+    assert np.all(check.condition >= exact * (1 - 1e-9))
+    np.testing.assert_allclose(check.condition[flagged], exact[flagged], rtol=1e-6)
