@@ -396,8 +396,8 @@ def cmd_bench(args) -> int:
 # ---------------------------------------------------------------------------- parser
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="stewart", description=__doc__, formatter_class=_Formatter,
-                                     epilog=EXIT_CODES)
+    parser = argparse.ArgumentParser(prog="stewart", description=__doc__.replace("``", ""),
+                                     formatter_class=_Formatter, epilog=EXIT_CODES)
     parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
@@ -442,7 +442,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--method", choices=["rk4", "adaptive"], default="rk4", help="fixed-step RK4 or adaptive DOP853")
     p.add_argument("--max-steps", type=_count, help=f"step budget of the run (default: {MAX_STEPS} for rk4, "
                    f"{MAX_ADAPTIVE_STEPS} or four per --dt, whichever is more, for the adaptive solver)")
-    p.add_argument("--tolerance", nargs=2, type=_positive, metavar=("METRES", "RADIANS"), default=list(DEFAULT_TOLERANCE),
+    p.add_argument("--tolerance", nargs=2, type=_positive, metavar=("METRES", "RADIANS"),
+                   default=list(DEFAULT_TOLERANCE),
                    help="largest final tracking error accepted: position and Euler-angle norms")
     p.add_argument("--force-limit", type=_limit, default=math.inf, help="actuator force saturation [N]")
     p.add_argument("--viscous", type=_non_negative, default=0.0, help="viscous friction per leg [N s/m]")

@@ -149,13 +149,14 @@ class SimulationResult:
 
     def to_npz(self, path) -> None:
         """Write every series and the run's outcome to a compressed ``.npz`` file."""
+        commanded = {} if self.commanded_forces is None else {"commanded_forces": self.commanded_forces}
         np.savez_compressed(
             path, t=self.t, x=self.x, xd=self.xd, reference=self.reference,
             reference_velocity=self.reference_velocity, lengths=self.lengths,
-            leg_velocities=self.leg_velocities, forces=self.forces,
-            commanded_forces=self.commanded_forces, completed=self.completed, reason=self.reason,
+            leg_velocities=self.leg_velocities, forces=self.forces, completed=self.completed, reason=self.reason,
             method=self.method, outcome=self.outcome, problems=np.array(self.problems, dtype=str),
             platform=self.metadata.get("platform", "unnamed"), controller=self.metadata.get("controller", ""),
+            **commanded,
         )
 
 

@@ -369,3 +369,10 @@ def test_input_columns_are_picked_by_header_name(tmp_path, capsys):
     assert code == 0
     np.testing.assert_allclose(_numbers(out)[0], stewart.reference.inverse_dynamics(plat.params, x, xd, xdd),
                                rtol=1e-9)
+
+
+def test_a_binary_file_is_not_read_as_csv(tmp_path, capsys):
+    path = tmp_path / "data.npz"
+    np.savez(path, x=np.arange(10.0))
+    code, _, err = _run(["ik", "--input", str(path)], capsys)
+    assert code == 2 and "not a text file" in _one_error_line(err, "ik", f"--input {path}: ")
