@@ -431,7 +431,7 @@ def simulate(
     if budget_used:
         result.reason = (f"the adaptive solver used its budget of {budget} steps before t = {bar.reached:.4g} s "
                          f"(results up to t = {times[last]:.4f} s kept; the closed loop is too stiff: check the "
-                         "gains, or pass max_steps=)")
+                         "gains, or raise the step budget)")
     if interrupt.requested:
         result.reason = f"interrupted at t = {times[last]:.4f} s"
     _judge(result, platform, actuators, tolerance, interrupt.requested)
