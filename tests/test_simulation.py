@@ -441,3 +441,19 @@ def test_condition_check_agrees_with_the_svd(plat):
     np.testing.assert_array_equal(flagged, exact > workspace.CONDITION_LIMIT)
     assert np.all(check.condition >= exact * (1 - 1e-9))
     np.testing.assert_allclose(check.condition[flagged], exact[flagged], rtol=1e-6)
+
+
+def test_compiled_loop_refuses_buffers_too_small(plat):
+    from stewart._simulate import ClosedLoop
+
+    loop = ClosedLoop(plat._kernel, 1, np.ones(6), np.zeros(6), np.ones(6), np.full(6, np.inf), 0.0, 0.0, 1e-3)
+    y = np.concatenate([plat.home_pose, np.zeros(12)])
+    out = [np.zeros((6, 18))] + [np.zeros((6, 6)) for _ in range(3)]
+    refs = np.tile(np.concatenate([plat.home_pose, np.zeros(12)]), (11, 1))
+    assert loop.rk4(y.copy(), refs, np.zeros((11, 6)), 1e-3, 0, 5, 0.0, np.inf, *out)[:2] == (0, 5)
+    for bad_refs, bad_ff in ((refs[:10], np.zeros((11, 6))), (refs, np.zeros((9, 6))), (refs[:, :17].copy(), None)):
+        with pytest.raises(ValueError, match="rk4: the buffers do not hold the steps asked for"):
+            loop.rk4(y.copy(), bad_refs, np.zeros((11, 6)) if bad_ff is None else bad_ff, 1e-3, 0, 5, 0.0, np.inf,
+                     *out)
+    with pytest.raises(ValueError, match="rk4: the buffers"):
+        loop.rk4(y.copy(), refs, np.zeros((11, 6)), 1e-3, 0, 7, 0.0, np.inf, *out)
