@@ -227,7 +227,7 @@ def cmd_state(args) -> int:
     poses = data[:, :6]
     check = reachability(plat, poses, name=source)
     if args.command == "ik":
-        values, computed = plat.leg_lengths(poses), np.ones(len(poses), dtype=bool)
+        values, computed = plat.leg_lengths(poses, return_mask=True)
     elif args.command == "id":
         values, computed = plat.inverse_dynamics(poses, data[:, 6:12], data[:, 12:], return_mask=True)
     else:

@@ -3,7 +3,8 @@ command line's ``ik``, ``id`` and ``fd``.
 
 A pose is reachable when
 
-* every leg length lies within ``params.leg_length_limits`` (when the set has limits);
+* every leg length is finite (a pose like ``z = 1e308`` overflows) and lies within
+  ``params.leg_length_limits`` (when the set has limits);
 * every spherical joint lies above the highest universal joint (the platform is above the base);
 * ``J_C`` (eq. 5) is well conditioned: its condition number, with the rotational columns
   divided by the platform radius so that it does not depend on the units, is at most
@@ -36,6 +37,7 @@ BELOW_BASE = 4
 SINGULAR = 8
 EULER_SINGULAR = 16
 OTHER_ASSEMBLY_MODE = 32
+OUT_OF_RANGE = 64
 
 
 class WorkspaceError(ValueError):
@@ -73,6 +75,8 @@ class Reachability:
 
     def _reason(self, bit: int, row: int) -> str:
         lengths = self.lengths[row]
+        if bit == OUT_OF_RANGE:
+            return "the pose is out of numeric range (its leg lengths overflow)"
         if bit == LEG_TOO_SHORT:
             legs = np.flatnonzero(lengths < self.limits[0]).tolist()
             return (f"leg(s) {legs} shorter than the minimum length {self.limits[0]:g} m "
@@ -109,7 +113,7 @@ class Reachability:
         return f"{bad.size} of {len(self.flags)} {what}(s) outside the workspace: " + "; ".join(parts)
 
 
-_BITS = (LEG_TOO_SHORT, LEG_TOO_LONG, BELOW_BASE, SINGULAR, EULER_SINGULAR, OTHER_ASSEMBLY_MODE)
+_BITS = (OUT_OF_RANGE, LEG_TOO_SHORT, LEG_TOO_LONG, BELOW_BASE, SINGULAR, EULER_SINGULAR, OTHER_ASSEMBLY_MODE)
 
 
 def _platform_radius(params: PlatformParams) -> float:
@@ -174,8 +178,8 @@ def _condition(jac: np.ndarray, det: np.ndarray) -> np.ndarray:
 
 def _block(plat, x: np.ndarray, mode: float):
     params = plat.params
-    lengths = plat.leg_lengths(x)
-    flags = np.zeros(len(x), dtype=np.int64)
+    lengths = plat.leg_lengths(x, return_mask=True)[0]
+    flags = np.where(np.all(np.isfinite(lengths), axis=1), 0, OUT_OF_RANGE)
     limits = params.leg_length_limits
     if limits is not None:
         flags |= np.where(np.any(lengths < limits[0], axis=1), LEG_TOO_SHORT, 0)
