@@ -258,7 +258,10 @@ def _trajectory(args, plat):
             prefix = "" if message.startswith(args.trajectory) else f"{args.trajectory}: "
             raise UserError(f"--trajectory {prefix}{message}") from None
     if args.target:
-        return PointToPoint(plat.home_pose, args.target, args.move_time, args.profile), "--target"
+        try:
+            return PointToPoint(plat.home_pose, args.target, args.move_time, args.profile), "--target"
+        except ValueError as exc:
+            raise UserError(f"--target, --move-time: {exc}") from None
     raise UserError("give --target (a pose to move to) or --trajectory (a CSV file)")
 
 
@@ -307,7 +310,7 @@ def cmd_simulate(args) -> int:
               + (f"; saved {', '.join(files)}" if files else ""), file=sys.stderr)
         return EXIT_INTERRUPTED
     except ValueError as exc:
-        raise UserError(_flags(str(exc), _SIMULATE_FLAGS)) from None
+        raise UserError(_flags(str(exc), {**_SIMULATE_FLAGS, "trajectory": source})) from None
     if not args.json:
         _report(result, label, args)
     files = _save(args, result)

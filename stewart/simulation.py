@@ -351,9 +351,9 @@ def simulate(
     if method == "rk4" and steps > budget:
         raise ValueError(f"dt, duration: {duration:g} s at dt = {dt:g} s is {steps:.3g} steps, more than the "
                          f"budget of {budget} (pass max_steps= to allow it)")
-    steps = max(1, int(round(steps)))
     if method == "adaptive" and steps > MAX_STEPS:
-        raise ValueError(f"dt, duration: {steps} report times, more than {MAX_STEPS}; use a larger dt")
+        raise ValueError(f"dt, duration: {steps:.3g} report times, more than {MAX_STEPS}; use a larger dt")
+    steps = max(1, int(round(steps)))
 
     start_ref = _sampled(trajectory, 0.0)
     x0 = start_ref[0] if x0 is None else _checks.states("x0", x0)
@@ -451,11 +451,14 @@ def _check_workspace(platform, x0, poses, times) -> None:
 
 def _bumpless_integral(platform, controller, x0, ff0) -> np.ndarray:
     """The PID's starting integral: ``Ki * I = tau_static(x0) - feedforward(0)`` on every
-    leg with ``Ki > 0``, so the first commanded forces hold the start pose at rest."""
+    leg with ``Ki > 0``, so the first commanded forces hold the start pose at rest (a leg
+    whose ``Ki`` is too small to represent ``I`` starts from 0)."""
     if not isinstance(controller, PID):
         return np.zeros(6)
     static = platform.inverse_dynamics(x0, np.zeros(6), np.zeros(6)) - ff0
-    return np.divide(static, controller.ki, out=np.zeros(6), where=controller.ki > 0)
+    with np.errstate(over="ignore"):
+        integral = np.divide(static, controller.ki, out=np.zeros(6), where=controller.ki > 0)
+    return np.where(np.isfinite(integral), integral, 0.0)
 
 
 def _judge(result: SimulationResult, platform, actuators, tolerance, interrupted: bool) -> None:

@@ -286,6 +286,8 @@ def test_step_budget_and_time_arguments(plat, move):
     with pytest.raises(ValueError, match=r"^dt, duration: 5 s at dt = 1e-06 s is 5e\+06 steps, more than the budget "
                                          r"of 1000000 \(pass max_steps="):
         stewart.simulate(plat, move, dt=1e-6)
+    with pytest.raises(ValueError, match=r"^dt, duration: 1\.8e\+305 report times, more than 1000000"):
+        stewart.simulate(plat, move, duration=1.8e302, method="adaptive")
     with pytest.raises(ValueError, match="budget of 100 "):
         stewart.simulate(plat, move, duration=0.5, max_steps=100)
     assert stewart.simulate(plat, move, duration=0.5, max_steps=500).ok
