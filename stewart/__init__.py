@@ -6,7 +6,7 @@ simulation under control (:func:`simulate`, trajectories, controllers), and the 
 raised for inputs where the model is undefined.
 """
 
-from . import kinematics, newton_euler, reference
+from . import kinematics, newton_euler, reference, workspace
 from .errors import ConvergenceError, SingularityError
 from .kinematics import (
     euler_jacobian,
@@ -24,9 +24,10 @@ from .kinematics import (
 from .params import NonAxisymmetricLegWarning, PlatformParams
 from .platform import Platform
 from .control import PID, Actuators, ComputedTorque, OpenLoop
-from .simulation import SimulationResult, simulate
+from .simulation import SimulationInterrupted, SimulationResult, simulate
 from .trajectory import PointToPoint, SampledTrajectory
 from .presets import presets
+from .workspace import WorkspaceError, reachability
 
 __all__ = [
     "Platform",
@@ -35,6 +36,7 @@ __all__ = [
     "presets",
     "simulate",
     "SimulationResult",
+    "SimulationInterrupted",
     "PointToPoint",
     "SampledTrajectory",
     "PID",
@@ -46,6 +48,9 @@ __all__ = [
     "newton_euler",
     "SingularityError",
     "ConvergenceError",
+    "WorkspaceError",
+    "workspace",
+    "reachability",
     "rotation",
     "euler_rate_jacobian",
     "twist_transform",

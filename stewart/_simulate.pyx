@@ -78,7 +78,7 @@ cdef class ClosedLoop:
     cdef int rhs(self, const double *y, const double *ref, const double *feedforward,
                  double *ydot, double *force, double *L, double *Ld) noexcept nogil:
         """``ydot`` at ``y`` for the reference ``ref = [x_r, xdot_r, xddot_r]``; also the
-        actuator forces (after saturation, before friction) and the leg lengths and rates."""
+        commanded actuator forces (before saturation and friction) and the leg lengths and rates."""
         cdef double Lr[6]
         cdef double Ldr[6]
         cdef double acc[6]
@@ -109,11 +109,12 @@ cdef class ClosedLoop:
                 ydot[12 + k] = 0.0
                 force[k] = feedforward[k]
         for k in range(6):
-            if force[k] > self.force_limit[k]:
-                force[k] = self.force_limit[k]
-            elif force[k] < -self.force_limit[k]:
-                force[k] = -self.force_limit[k]
-            applied[k] = force[k] - self.viscous * Ld[k]
+            applied[k] = force[k]
+            if applied[k] > self.force_limit[k]:
+                applied[k] = self.force_limit[k]
+            elif applied[k] < -self.force_limit[k]:
+                applied[k] = -self.force_limit[k]
+            applied[k] -= self.viscous * Ld[k]
             if self.coulomb != 0.0:
                 applied[k] -= self.coulomb * tanh(Ld[k] / self.coulomb_velocity)
         for k in range(6):
@@ -121,8 +122,10 @@ cdef class ClosedLoop:
         return self.kernel.forward_dynamics_c(y, y + 6, applied, ydot + 6)
 
     def derivative(self, double[::1] y, double[::1] ref, double[::1] feedforward):
-        """``(ydot, force, L, Ldot, status)`` at one state (for adaptive integrators)."""
+        """``(ydot, commanded force, L, Ldot, status)`` at one state (for adaptive integrators)."""
         import numpy as np
+        if y.shape[0] != 18 or ref.shape[0] != 18 or feedforward.shape[0] != 6:
+            raise ValueError("derivative: need y (18,), ref (18,) and feedforward (6,)")
         ydot = np.empty(18)
         out = np.empty((3, 6))
         cdef double[::1] yd = ydot
@@ -137,7 +140,8 @@ cdef class ClosedLoop:
 
         ``refs`` and ``feedforward`` are sampled on the half-step grid (row ``2k`` at
         ``t_k``, ``2k + 1`` at ``t_k + dt/2``). Row ``k`` of the outputs receives the
-        state, actuator forces, leg lengths and leg rates at ``t_k``. Returns
+        state, commanded actuator forces (before saturation), leg lengths and leg rates at
+        ``t_k``. Buffers too small for the steps asked for raise ``ValueError``. Returns
         ``(outcome, step, leg)``: the step at which the run stopped (``stop`` when it ran
         through) and, for a stroke limit, the leg; the outcome is ``STOP_FINISHED``, a
         ``STOP_*`` code or the kernel's status code.
@@ -151,6 +155,12 @@ cdef class ClosedLoop:
         cdef double Lnew[6]
         cdef Py_ssize_t n, i, j
         cdef int status = 0, leg = -1
+        if not (0 <= start <= stop and y.shape[0] == 18 and refs.shape[0] >= 2 * stop + 1 and refs.shape[1] == 18
+                and feedforward.shape[0] >= 2 * stop + 1 and feedforward.shape[1] == 6
+                and states.shape[0] >= stop and states.shape[1] == 18
+                and forces.shape[0] >= stop and forces.shape[1] == 6 and lengths.shape[0] >= stop
+                and lengths.shape[1] == 6 and rates.shape[0] >= stop and rates.shape[1] == 6):
+            raise ValueError("rk4: the buffers do not hold the steps asked for")
         with nogil:
             for n in range(start, stop):
                 for j in range(18):

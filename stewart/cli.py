@@ -1,135 +1,110 @@
 """The ``stewart`` command: kinematics, dynamics, simulation, validation and benchmarks
-from the shell. Parameters come from ``--preset NAME`` or ``--params FILE`` (TOML/JSON)."""
+from the shell. Parameters come from ``--preset NAME`` or ``--params FILE`` (TOML/JSON).
+CSV files are comma-separated with an optional header line; lines starting with ``#``
+are comments (outputs name the platform in one)."""
 
 from __future__ import annotations
 
 import argparse
+import contextlib
+import json
+import math
+import os
 import sys
 
 import numpy as np
 
-from .presets import presets as list_presets
+from . import __version__, csvfile
 from .control import PID, Actuators, ComputedTorque
 from .params import PlatformParams
 from .platform import Platform
-from .simulation import simulate
+from .presets import presets as list_presets
+from .simulation import DEFAULT_TOLERANCE, MAX_ADAPTIVE_STEPS, MAX_STEPS, OUTCOMES, SimulationInterrupted, simulate
 from .trajectory import PROFILES, PointToPoint, SampledTrajectory
+from .workspace import WorkspaceError, reachability
 
 POSE = ["x", "y", "z", "psi", "theta", "phi"]
 
+EXIT_CHECK_FAILED = 1
+EXIT_USAGE = 2
+EXIT_WORKSPACE = 3
+EXIT_INTERRUPTED = OUTCOMES["interrupted"]
 
-def _params(args) -> PlatformParams:
-    if args.params:
-        return PlatformParams.load(args.params)
-    return PlatformParams.preset(args.preset)
-
-
-def _rows(args, width: int, what: str) -> np.ndarray:
-    """The input states: one from the command line, or rows of a CSV file."""
-    if args.input:
-        data = np.atleast_2d(np.loadtxt(args.input, delimiter=",", comments="#", ndmin=2))
-        if data.shape[1] != width:
-            raise ValueError(f"--input: expected {width} columns ({what}), got {data.shape[1]}")
-        return data
-    return None
-
-
-def _print_table(header: list[str], rows: np.ndarray, csv_path: str | None) -> None:
-    if csv_path:
-        np.savetxt(csv_path, rows, delimiter=",", header=",".join(header), comments="", fmt="%.12g")
-        print(f"wrote {len(rows)} row(s) to {csv_path}")
-        return
-    print("".join(f"{h:>18}" for h in header))
-    for row in rows:
-        print("".join(f"{v:>18.10g}" for v in row))
+EXIT_CODES = """\
+exit codes:
+  0    success
+  1    a check failed (stewart validate)
+  2    usage or input error: bad flag, conflicting flags, bad or missing file, bad value
+  3    the target, trajectory or pose is outside the workspace (stroke limits, singular
+       or unreachable poses), found before any run
+  4    the run failed: the platform left its assembly mode or passed a singularity, hit a
+       stroke limit, the state became non-finite or the solver used its step budget
+  5    the run finished but the final tracking error is above --tolerance
+  6    the commanded actuator force exceeded --force-limit (the actuators saturated)
+  130  interrupted (Ctrl-C); what was computed is saved
+With several problems the lowest code >= 3 is returned; every problem is printed."""
 
 
-def cmd_presets(args) -> None:
-    for name, desc in list_presets().items():
-        print(f"{name:<18} {desc}")
+class UserError(Exception):
+    """A mistake in the command line or its files: one line on stderr and ``code``."""
+
+    def __init__(self, message: str, code: int = EXIT_USAGE):
+        super().__init__(message)
+        self.code = code
 
 
-def cmd_ik(args) -> None:
-    plat = Platform(_params(args))
-    poses = _rows(args, 6, "x y z psi theta phi")
-    poses = np.atleast_2d(args.pose if poses is None else poses)
-    _print_table([f"L{i}" for i in range(6)], plat.leg_lengths(poses), args.csv)
+# ---------------------------------------------------------------------------- arguments
+
+def _parsed(text: str, kind=float):
+    try:
+        return kind(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"not {'a whole' if kind is int else 'a'} number: {text!r}") from None
 
 
-def cmd_id(args) -> None:
-    plat = Platform(_params(args))
-    data = _rows(args, 18, "pose, velocity, acceleration")
-    if data is None:
-        data = np.atleast_2d(np.concatenate([args.pose, args.vel, args.acc]))
-    _print_table([f"tau{i}" for i in range(6)], plat.inverse_dynamics(data[:, :6], data[:, 6:12], data[:, 12:]), args.csv)
+def _number(text: str) -> float:
+    value = _parsed(text)
+    if not math.isfinite(value):
+        raise argparse.ArgumentTypeError(f"not a finite number: {text!r}")
+    return value
 
 
-def cmd_fd(args) -> None:
-    plat = Platform(_params(args))
-    data = _rows(args, 18, "pose, velocity, forces")
-    if data is None:
-        data = np.atleast_2d(np.concatenate([args.pose, args.vel, args.force]))
-    header = [f"{p}_ddot" for p in POSE]
-    _print_table(header, plat.forward_dynamics(data[:, :6], data[:, 6:12], data[:, 12:]), args.csv)
+def _positive(text: str) -> float:
+    value = _number(text)
+    if value <= 0:
+        raise argparse.ArgumentTypeError(f"must be > 0, got {text}")
+    return value
 
 
-def cmd_simulate(args) -> None:
-    plat = Platform(_params(args))
-    if args.trajectory:
-        trajectory = SampledTrajectory.from_csv(args.trajectory)
-    elif args.target:
-        trajectory = PointToPoint(plat.home_pose, args.target, args.move_time, args.profile)
-    else:
-        raise ValueError("--target or --trajectory: give the pose to move to, or a trajectory file")
-    controller = PID.tuned(plat, args.bandwidth) if args.controller == "pid" else \
-        ComputedTorque.tuned(args.bandwidth or 5.0)
-    actuators = Actuators(force_limit=args.force_limit, viscous=args.viscous, coulomb=args.coulomb)
-    progress = sys.stderr.isatty() if args.progress is None else args.progress
-    result = simulate(plat, trajectory, controller, duration=args.duration, dt=args.dt, method=args.method,
-                      actuators=actuators, progress=progress)
-    s = result.summary()
-    print(f"platform {plat.params.name or args.params!r}, {type(controller).__name__}, {args.method}, dt = {args.dt:g} s")
-    print(f"outcome: {result.reason}")
-    print("peak force per leg [N]: " + "  ".join(f"{v:.4g}" for v in s["peak_force"]))
-    print(f"final error: position {s['final_position_error']:.3e} m, angle {s['final_angle_error']:.3e} rad")
-    print(f"RMS error:   position {s['rms_position_error']:.3e} m, angle {s['rms_angle_error']:.3e} rad")
-    print(f"wall time {1e3 * s['wall_time']:.1f} ms for {s['simulated_time']:g} s simulated")
-    if args.csv:
-        result.to_csv(args.csv)
-        print(f"time series written to {args.csv}")
-    if args.npz:
-        result.to_npz(args.npz)
-        print(f"time series written to {args.npz}")
-    if args.plot:
-        from .plots import plot_run
-
-        for path in plot_run(result, args.plot, prefix="simulation", title=plat.params.name or ""):
-            print(f"figure written to {path}")
-    if not result.completed:
-        sys.exit(3)
+def _non_negative(text: str) -> float:
+    value = _number(text)
+    if value < 0:
+        raise argparse.ArgumentTypeError(f"must be >= 0, got {text}")
+    return value
 
 
-def cmd_validate(args) -> None:
-    from . import validation
-
-    params = _params(args)
-    checks = validation.run(params, n_states=args.states, seed=args.seed)
-    print(validation.format_report(params, checks))
-    if not all(c.passed for c in checks):
-        sys.exit(1)
+def _limit(text: str) -> float:
+    """A force limit: > 0, and ``inf`` allowed (no limit)."""
+    value = _parsed(text)
+    if not value > 0:
+        raise argparse.ArgumentTypeError(f"must be > 0 (or inf for no limit), got {text}")
+    return value
 
 
-def cmd_bench(args) -> None:
-    from . import bench
+def _count(text: str) -> int:
+    value = _parsed(text, int)
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"must be at least 1, got {text}")
+    return value
 
-    bench.main([args.preset] if args.preset else None, batch=args.batch)
 
+class _Formatter(argparse.ArgumentDefaultsHelpFormatter, argparse.RawDescriptionHelpFormatter):
+    """Shows every option's default (unless it has none) and keeps the epilog's layout."""
 
-def _add_params(parser) -> None:
-    group = parser.add_mutually_exclusive_group()
-    group.add_argument("--preset", default="narayan2017", choices=sorted(list_presets()),
-                       help="built-in parameter set (default narayan2017)")
-    group.add_argument("--params", metavar="FILE", help="parameter file, .toml or .json")
+    def _get_help_string(self, action):
+        if action.default is None or action.default is False or "%(default)" in (action.help or ""):
+            return action.help
+        return super()._get_help_string(action)
 
 
 _METAVARS = {
@@ -140,83 +115,386 @@ _METAVARS = {
 
 
 def _six(parser, flag: str, help_text: str) -> None:
-    parser.add_argument(flag, nargs=6, type=float, metavar=_METAVARS[flag], help=help_text)
+    parser.add_argument(flag, nargs=6, type=_number, metavar=_METAVARS[flag], help=help_text)
 
+
+def _add_params(parser) -> None:
+    group = parser.add_mutually_exclusive_group()
+    group.add_argument("--preset", default="narayan2017", choices=sorted(list_presets()),
+                       help="built-in parameter set")
+    group.add_argument("--params", metavar="FILE", help="parameter file, .toml or .json (instead of --preset)")
+
+
+def _subcommand(sub, name: str, help_text: str, func):
+    p = sub.add_parser(name, help=help_text, description=help_text, formatter_class=_Formatter,
+                       epilog=EXIT_CODES)
+    p.set_defaults(func=func)
+    return p
+
+
+# ---------------------------------------------------------------------------- helpers
+
+def _params(args) -> tuple[PlatformParams, str]:
+    """The parameter set and a label naming it."""
+    if not args.params:
+        return PlatformParams.preset(args.preset), f"{args.preset} (preset)"
+    path = args.params
+    if not os.path.exists(path):
+        raise UserError(f"--params {path}: no such file")
+    if os.path.isdir(path):
+        raise UserError(f"--params {path}: is a directory, not a parameter file")
+    try:
+        params = PlatformParams.load(path)
+    except (ValueError, OSError, TypeError, RecursionError) as exc:
+        message = str(exc)
+        message = message[len("path: "):] if message.startswith("path: ") else message
+        raise UserError(f"--params {path}: {message}") from None
+    return params, f"{params.name or 'unnamed'} (from {path})"
+
+
+def _check_output(flag: str, path: str | None, directory: bool = False) -> None:
+    """Fail now, not after a long run, when ``path`` cannot be written."""
+    if not path:
+        return
+    if directory:
+        if os.path.exists(path) and not os.path.isdir(path):
+            raise UserError(f"{flag} {path}: exists and is not a directory")
+        parent = path if os.path.isdir(path) else os.path.dirname(os.path.abspath(path))
+    else:
+        if os.path.isdir(path):
+            raise UserError(f"{flag} {path}: is a directory; give a file name")
+        parent = os.path.dirname(os.path.abspath(path))
+    if not os.path.isdir(parent):
+        raise UserError(f"{flag} {path}: the directory {parent} does not exist")
+    if not os.access(parent, os.W_OK | os.X_OK):
+        raise UserError(f"{flag} {path}: the directory {parent} is not writable")
+
+
+def _check_plotting(flag: str) -> None:
+    try:
+        import matplotlib  # noqa: F401
+    except ImportError:
+        raise UserError(f"{flag}: plotting needs matplotlib; install it with pip install 'stewart[plot]'") from None
+
+
+def _read_csv(flag: str, path: str, columns: list[str]) -> np.ndarray:
+    try:
+        return csvfile.read(path, columns)
+    except ValueError as exc:
+        raise UserError(f"{flag} {exc}") from None
+
+
+def _print_table(label: str, header: list[str], rows: np.ndarray, csv_path: str | None) -> None:
+    if csv_path:
+        csvfile.write(csv_path, header, rows, f"platform {label}")
+        print(f"wrote {len(rows)} row(s) to {csv_path} (platform {label})")
+        return
+    print(f"# platform {label}")
+    print("".join(f"{h:>18}" for h in header))
+    for row in rows:
+        print("".join(f"{v:>18.10g}" for v in row))
+
+
+# ---------------------------------------------------------------------------- commands
+
+def cmd_presets(args) -> int:
+    for name, desc in list_presets().items():
+        print(f"{name:<18} {desc}")
+    return 0
+
+
+_STATE_COMMANDS = {
+    # command: (second and third CLI vectors, their CSV column names, output header)
+    "ik": ([], [], [f"L{i}" for i in range(6)]),
+    "id": (["vel", "acc"], [f"{p}_dot" for p in POSE] + [f"{p}_ddot" for p in POSE], [f"tau{i}" for i in range(6)]),
+    "fd": (["vel", "force"], [f"{p}_dot" for p in POSE] + [f"tau{i}" for i in range(6)],
+           [f"{p}_ddot" for p in POSE]),
+}
+
+
+def cmd_state(args) -> int:
+    """``ik``, ``id`` and ``fd``: states from the command line or a CSV file."""
+    vectors, more_columns, header = _STATE_COMMANDS[args.command]
+    _check_output("--csv", args.csv)
+    params, label = _params(args)
+    plat = Platform(params)
+    if args.input:
+        data = _read_csv("--input", args.input, POSE + more_columns)
+        source = f"--input {args.input}"
+    else:
+        data = np.atleast_2d(np.concatenate([args.pose] + [getattr(args, v) for v in vectors]))
+        source = "--pose"
+    poses = data[:, :6]
+    check = reachability(plat, poses, name=source)
+    if args.command == "ik":
+        values, computed = plat.leg_lengths(poses, return_mask=True)
+    elif args.command == "id":
+        values, computed = plat.inverse_dynamics(poses, data[:, 6:12], data[:, 12:], return_mask=True)
+    else:
+        values, computed = plat.forward_dynamics(poses, data[:, 6:12], data[:, 12:], return_mask=True)
+    reachable = check.ok & np.atleast_1d(computed)
+    if not reachable.all():
+        lines = [check.message("pose")] if not check.ok.all() else []
+        failed = np.flatnonzero(~np.atleast_1d(computed))
+        if failed.size:
+            lines.append(f"the model is undefined at row(s) {failed[:10].tolist()} (singular state)")
+        text = f"{source}: " + "; ".join(lines)
+        if args.on_unreachable == "error":
+            raise UserError(text + " (use --on-unreachable warn to compute anyway)", EXIT_WORKSPACE)
+        print(f"stewart {args.command}: warning: {text}", file=sys.stderr)
+    values = np.atleast_2d(values)
+    if args.on_unreachable == "warn":
+        values, header = np.column_stack([values, reachable.astype(float)]), header + ["reachable"]
+    _print_table(label, header, values, args.csv)
+    return 0
+
+
+def _trajectory(args, plat):
+    if args.trajectory:
+        try:
+            return SampledTrajectory.from_csv(args.trajectory), f"--trajectory {args.trajectory}"
+        except ValueError as exc:
+            message = str(exc)
+            prefix = "" if message.startswith(args.trajectory) else f"{args.trajectory}: "
+            raise UserError(f"--trajectory {prefix}{message}") from None
+    if args.target:
+        try:
+            return PointToPoint(plat.home_pose, args.target, args.move_time, args.profile), "--target"
+        except ValueError as exc:
+            raise UserError(f"--target, --move-time: {exc}") from None
+    raise UserError("give --target (a pose to move to) or --trajectory (a CSV file)")
+
+
+# The names simulate() gives its arguments, and the flags a user types for them.
+_SIMULATE_FLAGS = {"dt": "--dt", "duration": "--duration", "max_steps": "--max-steps", "tolerance": "--tolerance"}
+
+
+def _flags(message: str, names: dict[str, str]) -> str:
+    """Rename the argument names leading ``message`` (``"dt, duration: ..."``) as flags."""
+    head, sep, tail = message.partition(": ")
+    parts = [p.strip() for p in head.split(",")]
+    if sep and all(p in names for p in parts):
+        message = ", ".join(names[p] for p in parts) + sep + tail
+    return message.replace("max_steps=", names.get("max_steps", "max_steps") + " ")
+
+
+def cmd_simulate(args) -> int:
+    for flag in ("--csv", "--npz"):
+        _check_output(flag, getattr(args, flag[2:]))
+    _check_output("--plot", args.plot, directory=True)
+    if args.plot:
+        _check_plotting("--plot")
+    params, label = _params(args)
+    plat = Platform(params)
+    trajectory, source = _trajectory(args, plat)
+    controller = PID.tuned(plat, args.bandwidth) if args.controller == "pid" else \
+        ComputedTorque.tuned(args.bandwidth or 5.0)
+    actuators = Actuators(force_limit=args.force_limit, viscous=args.viscous, coulomb=args.coulomb)
+    progress = sys.stderr.isatty() if args.progress is None else args.progress
+    try:
+        result = simulate(plat, trajectory, controller, duration=args.duration, dt=args.dt, method=args.method,
+                          actuators=actuators, progress=progress, tolerance=tuple(args.tolerance),
+                          max_steps=args.max_steps)
+    except WorkspaceError as exc:
+        message = str(exc).partition(": ")[2] if str(exc).startswith(("trajectory: ", "x0: ")) else str(exc)
+        if args.json:
+            print(json.dumps({"command": "simulate", "platform": params.name or "unnamed", "platform_source": label,
+                              "outcome": "outside_workspace", "ok": False, "exit_code": EXIT_WORKSPACE,
+                              "problems": [f"{source}: {message}"], "times": exc.times}))
+        raise UserError(f"{source}: {message}", EXIT_WORKSPACE) from None
+    except SimulationInterrupted as exc:
+        files = _save(args, exc.result, quiet=True)
+        if args.json:
+            print(json.dumps(_summary(exc.result, label, files)))
+        print(f"stewart simulate: interrupted at t = {exc.result.t[-1]:.4f} s"
+              + (f"; saved {', '.join(files)}" if files else ""), file=sys.stderr)
+        return EXIT_INTERRUPTED
+    except ValueError as exc:
+        raise UserError(_flags(str(exc), {**_SIMULATE_FLAGS, "trajectory": source})) from None
+    if not args.json:
+        _report(result, label, args)
+    files = _save(args, result)
+    if args.json:
+        print(json.dumps(_summary(result, label, files)))
+    return result.exit_code
+
+
+def _summary(result, label: str, files: list[str]) -> dict:
+    """The JSON summary of a run."""
+    s = result.summary()
+    return {
+        "command": "simulate", "platform": result.metadata["platform"], "platform_source": label,
+        "controller": result.metadata["controller"], "method": result.method, "dt": result.metadata["dt"],
+        "outcome": result.outcome, "ok": result.ok, "exit_code": result.exit_code, "problems": result.problems,
+        "completed": result.completed, "reason": result.reason,
+        "peak_force": s["peak_force"].tolist(), "peak_commanded_force": float(np.max(np.abs(result.commanded_forces))),
+        "final_position_error": s["final_position_error"], "final_angle_error": s["final_angle_error"],
+        "rms_position_error": s["rms_position_error"], "rms_angle_error": s["rms_angle_error"],
+        "simulated_time": s["simulated_time"], "wall_time": s["wall_time"], "files": files,
+    }
+
+
+def _report(result, label: str, args) -> None:
+    s = result.summary()
+    print(f"platform {label}, controller {result.metadata['controller']}, {args.method}, dt = {args.dt:g} s")
+    print(f"outcome: {result.outcome}" + ("" if result.ok else f" (exit code {result.exit_code})"))
+    for problem in result.problems:
+        print(f"  problem: {problem}")
+    print("peak force per leg [N]: " + "  ".join(f"{v:.4g}" for v in s["peak_force"]))
+    print(f"final error: position {s['final_position_error']:.3e} m, angle {s['final_angle_error']:.3e} rad")
+    print(f"RMS error:   position {s['rms_position_error']:.3e} m, angle {s['rms_angle_error']:.3e} rad")
+    print(f"wall time {1e3 * s['wall_time']:.1f} ms for {s['simulated_time']:g} s simulated")
+
+
+def _save(args, result, quiet: bool = False) -> list[str]:
+    """Write the requested files; returns their paths (a message for each unless quiet or --json)."""
+    files = []
+    say = (lambda text: None) if args.json or quiet else print
+    if args.csv:
+        result.to_csv(args.csv)
+        files.append(args.csv)
+        say(f"time series written to {args.csv}")
+    if args.npz:
+        result.to_npz(args.npz)
+        files.append(args.npz)
+        say(f"time series written to {args.npz}")
+    if args.plot and len(result.t) > 1:
+        from .plots import plot_run
+
+        for path in plot_run(result, args.plot, prefix="simulation"):
+            files.append(str(path))
+            say(f"figure written to {path}")
+    return files
+
+
+def cmd_validate(args) -> int:
+    from . import validation
+
+    params, label = _params(args)
+    with contextlib.redirect_stdout(sys.stderr) if args.json else contextlib.nullcontext():
+        checks = validation.run(params, n_states=args.states, seed=args.seed)
+    code = 0 if all(c.passed for c in checks) else EXIT_CHECK_FAILED
+    if args.json:
+        print(json.dumps({
+            "command": "validate", "platform": params.name or "unnamed", "platform_source": label,
+            "states": args.states, "seed": args.seed, "passed": code == 0, "exit_code": code,
+            "checks": [{"name": c.name, "worst": float(c.worst), "bound": float(c.bound), "passed": bool(c.passed)}
+                       for c in checks],
+        }))
+    else:
+        print(validation.format_report(params, checks))
+    return code
+
+
+def cmd_bench(args) -> int:
+    from . import bench
+
+    with contextlib.redirect_stdout(sys.stderr) if args.json else contextlib.nullcontext():
+        figures = bench.main([args.preset] if args.preset else None, batch=args.batch)
+    if args.json:
+        print(json.dumps({"command": "bench", "batch": args.batch, "exit_code": 0, "figures": figures}))
+    return 0
+
+
+# ---------------------------------------------------------------------------- parser
 
 def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="stewart", description=__doc__)
-    sub = parser.add_subparsers(dest="command", required=True)
+    parser = argparse.ArgumentParser(prog="stewart", description=__doc__.replace("``", ""),
+                                     formatter_class=_Formatter, epilog=EXIT_CODES)
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
-    p = sub.add_parser("presets", help="list the built-in parameter sets")
-    p.set_defaults(func=cmd_presets)
+    _subcommand(sub, "presets", "list the built-in parameter sets", cmd_presets)
 
-    # ik, id and fd: states from the command line or a CSV file, results printed or written.
     state_commands = [
-        ("ik", "leg lengths of poses (inverse kinematics)", cmd_ik, [], "poses, one per row (6 columns)"),
-        ("id", "actuator forces for a motion (inverse dynamics)", cmd_id,
+        ("ik", "leg lengths of poses (inverse kinematics)", [], "poses, one per row: x,y,z,psi,theta,phi"),
+        ("id", "actuator forces for a motion (inverse dynamics)",
          [("--vel", "pose rates [m/s, rad/s]"), ("--acc", "pose accelerations [m/s^2, rad/s^2]")],
-         "rows of pose, velocity, acceleration (18 columns)"),
-        ("fd", "accelerations under actuator forces (forward dynamics)", cmd_fd,
+         "rows of pose, velocity, acceleration (18 columns; a header x,...,phi,x_dot,...,phi_dot,x_ddot,...,"
+         "phi_ddot picks them by name)"),
+        ("fd", "accelerations under actuator forces (forward dynamics)",
          [("--vel", "pose rates [m/s, rad/s]"), ("--force", "actuator forces [N]")],
-         "rows of pose, velocity, forces (18 columns)"),
+         "rows of pose, velocity, forces (18 columns; a header x,...,phi,x_dot,...,phi_dot,tau0,...,tau5 "
+         "picks them by name)"),
     ]
-    for name, help_text, func, extra, input_help in state_commands:
-        p = sub.add_parser(name, help=help_text)
+    for name, help_text, extra, input_help in state_commands:
+        p = _subcommand(sub, name, help_text, cmd_state)
         _add_params(p)
         _six(p, "--pose", "x y z psi theta phi [m, rad]")
         for flag, flag_help in extra:
             _six(p, flag, flag_help)
-        p.add_argument("--input", metavar="CSV", help=input_help)
+        p.add_argument("--input", metavar="CSV", help=f"{input_help}; a header line is allowed "
+                       "(instead of the vectors above)")
         p.add_argument("--csv", metavar="FILE", help="write the results to a CSV file")
-        p.set_defaults(func=func)
+        p.add_argument("--on-unreachable", choices=["error", "warn"], default="error",
+                       help="a pose outside the workspace (stroke limits, below the base, singular) is an error "
+                            "(exit 3), or a warning and a 'reachable' column (1 or 0) in the output")
 
-    p = sub.add_parser("simulate", help="simulate a move under PID or computed-torque control")
+    p = _subcommand(sub, "simulate", "simulate a move under PID or computed-torque control", cmd_simulate)
     _add_params(p)
-    _six(p, "--target", "pose to move to from home: x y z psi theta phi [m, rad]")
-    p.add_argument("--trajectory", metavar="CSV", help="follow t,x,y,z,psi,theta,phi rows instead")
-    p.add_argument("--move-time", type=float, default=5.0, help="duration of the move to --target [s] (5)")
-    p.add_argument("--profile", choices=sorted(PROFILES), default="sinusoidal", help="velocity profile")
-    p.add_argument("--duration", type=float, help="simulated time [s] (default: the move's)")
+    goal = p.add_mutually_exclusive_group()
+    _six(goal, "--target", "pose to move to from home: x y z psi theta phi [m, rad]")
+    goal.add_argument("--trajectory", metavar="CSV", help="follow t,x,y,z,psi,theta,phi rows instead (a header "
+                      "naming these columns picks them from a wider file, e.g. a simulation's --csv)")
+    p.add_argument("--move-time", type=_positive, default=5.0, help="duration of the move to --target [s]")
+    p.add_argument("--profile", choices=sorted(PROFILES), default="sinusoidal", help="velocity profile of the move")
+    p.add_argument("--duration", type=_positive, help="simulated time [s] (default: the move's)")
     p.add_argument("--controller", choices=["pid", "ct"], default="pid", help="joint PID or computed torque")
-    p.add_argument("--bandwidth", type=float, help="controller bandwidth [Hz] (default: tuned per preset)")
-    p.add_argument("--dt", type=float, default=1e-3, help="step / output interval [s] (0.001)")
-    p.add_argument("--method", choices=["rk4", "adaptive"], default="rk4")
-    p.add_argument("--force-limit", type=float, default=np.inf, help="actuator force saturation [N]")
-    p.add_argument("--viscous", type=float, default=0.0, help="viscous friction per leg [N s/m]")
-    p.add_argument("--coulomb", type=float, default=0.0, help="Coulomb friction per leg [N]")
+    p.add_argument("--bandwidth", type=_positive, help="controller bandwidth [Hz] (default: tuned per preset)")
+    p.add_argument("--dt", type=_positive, default=1e-3, help="step / output interval [s]")
+    p.add_argument("--method", choices=["rk4", "adaptive"], default="rk4", help="fixed-step RK4 or adaptive DOP853")
+    p.add_argument("--max-steps", type=_count, help=f"step budget of the run (default: {MAX_STEPS} for rk4, "
+                   f"{MAX_ADAPTIVE_STEPS} or four per --dt, whichever is more, for the adaptive solver)")
+    p.add_argument("--tolerance", nargs=2, type=_positive, metavar=("METRES", "RADIANS"),
+                   default=list(DEFAULT_TOLERANCE),
+                   help="largest final tracking error accepted: position and Euler-angle norms")
+    p.add_argument("--force-limit", type=_limit, default=math.inf, help="actuator force saturation [N]")
+    p.add_argument("--viscous", type=_non_negative, default=0.0, help="viscous friction per leg [N s/m]")
+    p.add_argument("--coulomb", type=_non_negative, default=0.0, help="Coulomb friction per leg [N]")
     p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
-                   help="progress bar (default: when stderr is a terminal)")
+                   help="progress bar on stderr (default: when stderr is a terminal)")
     p.add_argument("--csv", metavar="FILE", help="write the time series as CSV")
     p.add_argument("--npz", metavar="FILE", help="write the time series as NPZ")
-    p.add_argument("--plot", metavar="DIR", help="write PNG figures into DIR")
-    p.set_defaults(func=cmd_simulate)
+    p.add_argument("--plot", metavar="DIR", help="write PNG figures into DIR (needs matplotlib)")
+    p.add_argument("--json", action="store_true", help="print only a JSON summary on stdout")
 
-    p = sub.add_parser("validate", help="check the model against independent physics for a platform")
+    p = _subcommand(sub, "validate", "check the model against independent physics for a platform", cmd_validate)
     _add_params(p)
-    p.add_argument("--states", type=int, default=200, help="random states per check (200)")
-    p.add_argument("--seed", type=int, default=0)
-    p.set_defaults(func=cmd_validate)
+    p.add_argument("--states", type=_count, default=200, help="random states per check")
+    p.add_argument("--seed", type=int, default=0, help="seed of the random states")
+    p.add_argument("--json", action="store_true", help="print only a JSON summary on stdout")
 
-    p = sub.add_parser("bench", help="time the compiled kernel and the simulation loop")
+    p = _subcommand(sub, "bench", "time the compiled kernel and the simulation loop", cmd_bench)
     p.add_argument("--preset", choices=sorted(list_presets()), help="one preset (default: all)")
-    p.add_argument("--batch", type=int, default=200_000, help="states per batch (200000)")
-    p.set_defaults(func=cmd_bench)
+    p.add_argument("--batch", type=_count, default=200_000, help="states per batch")
+    p.add_argument("--json", action="store_true", help="print only a JSON summary of the figures on stdout")
     return parser
 
 
 def main(argv=None) -> None:
     parser = build_parser()
     args = parser.parse_args(argv)
-    if args.command in ("ik", "id", "fd") and getattr(args, "input", None) is None:
-        needed = {"ik": ["pose"], "id": ["pose", "vel", "acc"], "fd": ["pose", "vel", "force"]}[args.command]
-        missing = [f"--{n}" for n in needed if getattr(args, n) is None]
-        if missing:
+    if args.command in _STATE_COMMANDS:
+        vectors = ["pose"] + _STATE_COMMANDS[args.command][0]
+        given = [f"--{v}" for v in vectors if getattr(args, v) is not None]
+        if args.input and given:
+            parser.error(f"{args.command}: --input cannot be combined with {' '.join(given)}")
+        missing = [f"--{v}" for v in vectors if getattr(args, v) is None]
+        if not args.input and missing:
             parser.error(f"{args.command}: give {' '.join(missing)} or --input CSV")
     try:
-        args.func(args)
+        code = args.func(args)
+    except UserError as exc:
+        print(f"stewart {args.command}: error: {exc}", file=sys.stderr)
+        code = exc.code
     except (ValueError, OSError) as exc:
         print(f"stewart {args.command}: error: {exc}", file=sys.stderr)
-        sys.exit(2)
+        code = EXIT_USAGE
+    except KeyboardInterrupt:
+        print(f"stewart {args.command}: interrupted", file=sys.stderr)
+        code = EXIT_INTERRUPTED
+    if code:
+        sys.exit(code)
 
 
 if __name__ == "__main__":

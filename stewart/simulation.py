@@ -2,28 +2,56 @@
 
 The closed loop — compiled forward dynamics, controller, saturation and friction — is
 integrated either by a fixed-step RK4 loop that runs entirely in compiled code, or by
-scipy's adaptive ``solve_ivp``. Leg stroke limits (``params.leg_length_limits``) are
-events that stop the run and say why.
+scipy's adaptive ``solve_ivp``. Before the run, the reference is checked against the
+workspace (:mod:`stewart.workspace`); during it, leg stroke limits stop the run; after
+it, the result says whether the run succeeded (:attr:`SimulationResult.outcome`).
 """
 
 from __future__ import annotations
 
-import sys
+import signal
+import threading
 import time
 from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
 
-from . import _checks
+from . import _checks, csvfile
 from ._kernel import status_message
 from ._simulate import ClosedLoop, Outcome
 from .control import PID, Actuators, ComputedTorque, OpenLoop
 from .platform import Platform
+from .workspace import WorkspaceError, assembly_mode, reachability
 
-__all__ = ["simulate", "SimulationResult"]
+__all__ = ["simulate", "SimulationResult", "SimulationInterrupted", "WorkspaceError", "MAX_STEPS",
+           "MAX_ADAPTIVE_STEPS", "MIN_DT", "DEFAULT_TOLERANCE", "OUTCOMES"]
 
 _MODES = {OpenLoop: 0, PID: 1, ComputedTorque: 2}
+_LABELS = {OpenLoop: "open loop", PID: "PID", ComputedTorque: "computed torque"}
+
+#: Most RK4 steps a run may take unless ``max_steps`` allows more (1000 s at 1 kHz; the
+#: buffers of a run take about 600 bytes per step).
+MAX_STEPS = 1_000_000
+#: Most steps the adaptive solver may take unless ``max_steps`` allows more: this many, or
+#: four per report time ``dt`` if that is more (a smooth 5 s move under PID takes about
+#: 5500; a stiff loop would otherwise run for hours).
+MAX_ADAPTIVE_STEPS = 20_000
+#: Smallest step ``dt`` accepted [s].
+MIN_DT = 1e-9
+#: Default final tracking tolerance: (position error [m], Euler-angle error [rad]).
+DEFAULT_TOLERANCE = (1e-3, 1e-2)
+
+#: Every outcome of a run and its exit code in ``stewart simulate`` (0 is success).
+OUTCOMES = {
+    "completed": 0,
+    "failed": 4,  # stroke limit, singular or non-finite state, assembly mode left, step budget
+    "inaccurate": 5,  # final tracking error above the tolerance
+    "saturated": 6,  # commanded force above the actuator limit
+    "interrupted": 130,
+}
+
+_RK4_CHUNK = 2000  # steps between checks for Ctrl-C and progress updates
 
 
 @dataclass
@@ -31,7 +59,16 @@ class SimulationResult:
     """Time series of one run, sampled every ``dt`` (legs are indexed 0-5 as in arrays).
 
     ``forces`` are the actuator forces after saturation (what an actuator must deliver);
-    friction, when modelled, is subtracted from them before they act on the legs.
+    ``commanded_forces`` the controller's output before it; friction, when modelled, is
+    subtracted from ``forces`` before they act on the legs.
+
+    ``outcome`` is ``"completed"`` for a successful run, else ``"failed"`` (the platform
+    hit a stroke limit, left its assembly mode, passed a singularity, became non-finite or
+    used up its step budget), ``"inaccurate"`` (final tracking error above the tolerance),
+    ``"saturated"`` (commanded force above the actuator limit) or ``"interrupted"``; with
+    several problems the most severe is kept (the order of :data:`OUTCOMES`) and
+    ``problems`` lists a sentence for each. ``completed`` and ``reason`` say only whether
+    the integration ran to the end.
     """
 
     t: np.ndarray
@@ -48,6 +85,19 @@ class SimulationResult:
     method: str
     stopped_leg: int | None = None
     metadata: dict = field(default_factory=dict)
+    commanded_forces: np.ndarray | None = None
+    outcome: str = "completed"
+    problems: list = field(default_factory=list)
+
+    @property
+    def ok(self) -> bool:
+        """True when the run completed with no problem."""
+        return self.outcome == "completed"
+
+    @property
+    def exit_code(self) -> int:
+        """The exit code of ``stewart simulate`` for this outcome (:data:`OUTCOMES`)."""
+        return OUTCOMES[self.outcome]
 
     @property
     def tracking_error(self) -> np.ndarray:
@@ -85,19 +135,37 @@ class SimulationResult:
             names += [name] if isinstance(name, str) else name
         return names, np.hstack([arr for _, arr in cols])
 
+    def describe(self) -> str:
+        """One line naming the platform, controller, method and outcome (a CSV comment)."""
+        meta = self.metadata
+        return (f"platform {meta.get('platform', 'unnamed')}, controller {meta.get('controller', '?')}, "
+                f"method {self.method}, dt {meta.get('dt', float('nan')):g} s, outcome {self.outcome}")
+
     def to_csv(self, path) -> None:
-        """Write every series as columns of a CSV file (SI units), with a header line."""
+        """Write every series as columns of a CSV file (SI units): a header line, then a
+        ``#`` comment naming the platform, controller and outcome, then the rows."""
         names, data = self._columns()
-        np.savetxt(path, data, delimiter=",", header=",".join(names), comments="", fmt="%.10g")
+        csvfile.write(path, names, data, self.describe(), fmt="%.10g")
 
     def to_npz(self, path) -> None:
         """Write every series and the run's outcome to a compressed ``.npz`` file."""
+        commanded = {} if self.commanded_forces is None else {"commanded_forces": self.commanded_forces}
         np.savez_compressed(
             path, t=self.t, x=self.x, xd=self.xd, reference=self.reference,
             reference_velocity=self.reference_velocity, lengths=self.lengths,
-            leg_velocities=self.leg_velocities, forces=self.forces,
-            completed=self.completed, reason=self.reason, method=self.method,
+            leg_velocities=self.leg_velocities, forces=self.forces, completed=self.completed, reason=self.reason,
+            method=self.method, outcome=self.outcome, problems=np.array(self.problems, dtype=str),
+            platform=self.metadata.get("platform", "unnamed"), controller=self.metadata.get("controller", ""),
+            **commanded,
         )
+
+
+class SimulationInterrupted(KeyboardInterrupt):
+    """Ctrl-C during :func:`simulate`; ``result`` holds the run up to that point."""
+
+    def __init__(self, result: SimulationResult):
+        super().__init__("simulation interrupted")
+        self.result = result
 
 
 def _reason(outcome: int, t: float, leg: int, params) -> str:
@@ -113,20 +181,88 @@ def _reason(outcome: int, t: float, leg: int, params) -> str:
 
 
 class _Progress:
+    """A tqdm bar over simulated time: rate-limited, never running backwards."""
+
     def __init__(self, enabled: bool, total: float):
-        self.enabled, self.total, self.start = enabled, total, time.perf_counter()
+        from tqdm.auto import tqdm
+
+        self.reached = 0.0
+        self.bar = tqdm(total=total, disable=not enabled, unit="s", desc="simulate", mininterval=0.25,
+                        bar_format="{desc}: {percentage:3.0f}%|{bar}| t = {n:.3f}/{total:.3f} s "
+                                   "[{elapsed}<{remaining}]")
 
     def update(self, t: float) -> None:
-        if self.enabled:
-            frac = min(1.0, t / self.total) if self.total > 0 else 1.0
-            bar = "#" * int(30 * frac)
-            sys.stderr.write(f"\r[simulate] |{bar:<30}| {100 * frac:5.1f}%  t = {t:7.3f} s  "
-                             f"({time.perf_counter() - self.start:.1f} s wall)")
-            sys.stderr.flush()
+        if t > self.reached:
+            self.bar.update(t - self.reached)
+            self.reached = t
 
     def close(self) -> None:
-        if self.enabled:
-            sys.stderr.write("\n")
+        self.bar.close()
+
+
+class _Interrupt:
+    """Turns the first Ctrl-C during a run into a flag checked between chunks of steps
+    (a second Ctrl-C interrupts at once)."""
+
+    def __init__(self):
+        self.requested = False
+        self.previous = None
+
+    def _handle(self, signum, frame):
+        if self.requested:
+            raise KeyboardInterrupt
+        self.requested = True
+
+    def __enter__(self):
+        if threading.current_thread() is threading.main_thread():
+            self.previous = signal.signal(signal.SIGINT, self._handle)
+        return self
+
+    def __exit__(self, *exc):
+        if self.previous is not None:
+            signal.signal(signal.SIGINT, self.previous)
+        return False
+
+
+def _seconds(name: str, value) -> float:
+    """A real, finite number of seconds; refuses timedeltas, strings, booleans and arrays."""
+    if isinstance(value, (bool, np.bool_, np.timedelta64, np.datetime64)) or not isinstance(
+            value, (int, float, np.integer, np.floating)):
+        raise ValueError(f"{name}: expected a number of seconds, got {type(value).__name__} {value!r}")
+    try:
+        out = float(value)
+    except OverflowError:
+        raise ValueError(f"{name}: {value!r} is too large") from None
+    if not np.isfinite(out):
+        raise ValueError(f"{name}: must be finite, got {out}")
+    return out
+
+
+def _sampled(trajectory, times) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``trajectory.sample(times)`` checked at the boundary: three finite float arrays of
+    shape ``(len(times), 6)`` (or ``(6,)`` for a scalar time)."""
+    shape = (6,) if np.ndim(times) == 0 else (len(times), 6)
+    out = trajectory.sample(times)
+    if not isinstance(out, tuple) or len(out) != 3:
+        raise ValueError(f"trajectory: sample(t) must return (x, xdot, xddot), got {type(out).__name__}")
+    checked = []
+    for name, arr in zip(("x", "xdot", "xddot"), out):
+        arr = _checks.states(f"trajectory: sample(t)'s {name}", arr)
+        if np.iscomplexobj(arr) or arr.shape != shape:
+            raise ValueError(f"trajectory: sample(t)'s {name} must be real with shape {shape} for "
+                             f"{shape[0] if len(shape) == 2 else 'one'} time(s), got {arr.dtype} {arr.shape}")
+        checked.append(np.ascontiguousarray(arr, dtype=float))
+    return tuple(checked)
+
+
+def _tolerance(tolerance) -> tuple[float, float]:
+    try:
+        pos, ang = (float(v) for v in np.broadcast_to(np.asarray(tolerance, dtype=float), (2,)))
+    except (TypeError, ValueError):
+        raise ValueError(f"tolerance: expected (position [m], angle [rad]), got {tolerance!r}") from None
+    if not (pos > 0 and ang > 0):
+        raise ValueError(f"tolerance: both parts must be > 0, got ({pos}, {ang})")
+    return pos, ang
 
 
 def simulate(
@@ -144,43 +280,106 @@ def simulate(
     progress: bool = False,
     rtol: float = 1e-9,
     atol: float = 1e-12,
+    tolerance=DEFAULT_TOLERANCE,
+    max_steps: int | None = None,
+    check_workspace: bool = True,
 ) -> SimulationResult:
     """Simulate ``platform`` following ``trajectory`` under ``controller``.
 
     ``trajectory`` has ``sample(t) -> (x, xdot, xddot)`` and ``duration``
-    (:mod:`stewart.trajectory`). ``controller`` is a :class:`~stewart.control.PID`
-    (default: :meth:`PID.tuned`), :class:`~stewart.control.ComputedTorque` or
+    (:mod:`stewart.trajectory`); its output is checked (shapes, dtype, finiteness) before
+    any compiled code runs. ``controller`` is a :class:`~stewart.control.PID` (default:
+    :meth:`PID.tuned`), :class:`~stewart.control.ComputedTorque` or
     :class:`~stewart.control.OpenLoop`. ``feedforward(t) -> (N, 6)`` forces are added to
     the controller's output. The run starts at ``x0``/``xd0`` (default: the trajectory's
     start, at its velocity) and lasts ``duration`` (default: the trajectory's).
 
-    ``method="rk4"`` integrates with classic fixed-step RK4 (step ``dt``) in compiled
-    code; ``method="adaptive"`` uses ``scipy.integrate.solve_ivp`` (DOP853 with ``rtol``
-    and ``atol``) and reports at every ``dt``. Either way the run stops early, with
-    ``completed=False`` and a ``reason``, at a leg stroke limit, a singular state or a
-    non-finite state. ``progress=True`` draws a progress bar on stderr.
+    The PID starts bumpless: its integral holds the static leg forces of the start pose
+    (inverse dynamics at rest, less the feed-forward), so the legs carry the platform's
+    weight from ``t = 0``.
+
+    ``method="rk4"`` integrates with classic fixed-step RK4 (step ``dt`` >= :data:`MIN_DT`)
+    in compiled code; ``method="adaptive"`` uses ``scipy.integrate.solve_ivp`` (DOP853
+    with ``rtol`` and ``atol``) and reports at every ``dt``. A run longer than
+    ``max_steps`` steps (default :data:`MAX_STEPS` for RK4) is refused before it starts;
+    the adaptive solver stops with outcome ``"failed"`` after ``max_steps`` steps (default
+    :data:`MAX_ADAPTIVE_STEPS` or four per report time, whichever is more).
+
+    With ``check_workspace`` (the default) the start pose and the reference at every
+    sample of the run are checked with :func:`stewart.workspace.reachability` (in the
+    assembly mode of the start pose) first, and :class:`~stewart.workspace.WorkspaceError`
+    (a ``ValueError``) is raised, naming the times and problems, when one lies outside.
+
+    The run stops early at a leg stroke limit, a singular state or a non-finite state.
+    The result's ``outcome``, ``ok`` and ``problems`` also report a change of assembly
+    mode or a passage through ``theta = +-90 deg``, a final tracking error above
+    ``tolerance = (position [m], angle [rad])`` (norms of the final position and
+    Euler-angle errors) and commanded forces above ``actuators.force_limit``.
+    ``progress=True`` draws a progress bar on stderr. Ctrl-C stops the run between chunks
+    of steps and raises :class:`SimulationInterrupted` holding the result so far.
     """
     if not isinstance(platform, Platform):
         raise ValueError(f"platform: expected a stewart.Platform, got {type(platform).__name__}")
+    if not (callable(getattr(trajectory, "sample", None)) and hasattr(trajectory, "duration")):
+        raise ValueError(f"trajectory: expected an object with sample(t) and duration, got {type(trajectory).__name__}")
     if controller is None:
         controller = PID.tuned(platform)
     if type(controller) not in _MODES:
-        raise ValueError(f"controller: expected PID, ComputedTorque or OpenLoop, got {type(controller).__name__}")
+        raise ValueError(f"controller: expected a stewart.PID, ComputedTorque or OpenLoop instance, "
+                         f"got {controller!r:.80}")
     actuators = Actuators() if actuators is None else actuators
-    duration = float(trajectory.duration if duration is None else duration)
-    if not (np.isfinite(dt) and dt > 0):
-        raise ValueError(f"dt: must be a positive step in seconds, got {dt}")
-    if not (np.isfinite(duration) and duration >= dt):
-        raise ValueError(f"duration: must be at least one step dt, got {duration}")
+    if not isinstance(actuators, Actuators):
+        raise ValueError(f"actuators: expected a stewart.Actuators, got {type(actuators).__name__}")
     if method not in ("rk4", "adaptive"):
         raise ValueError(f"method: expected 'rk4' or 'adaptive', got {method!r}")
-    steps = int(round(duration / dt))
+    dt = _seconds("dt", dt)
+    if not dt >= MIN_DT:
+        raise ValueError(f"dt: must be a step of at least {MIN_DT:g} s, got {dt!r}")
+    duration = _seconds("duration", trajectory.duration if duration is None else duration)
+    if not duration >= dt:
+        raise ValueError(f"duration: must be at least one step dt = {dt:g} s, got {duration!r}")
+    for name, value in (("rtol", rtol), ("atol", atol)):
+        if not (isinstance(value, (int, float, np.floating)) and np.isfinite(value) and value > 0):
+            raise ValueError(f"{name}: must be a positive number, got {value!r}")
+    tolerance = _tolerance(tolerance)
+    budget = MAX_STEPS if method == "rk4" else max(MAX_ADAPTIVE_STEPS, 4 * int(min(duration / dt, MAX_STEPS)))
+    if max_steps is not None:
+        if isinstance(max_steps, (bool, np.bool_)) or not isinstance(max_steps, (int, np.integer)) or max_steps < 1:
+            raise ValueError(f"max_steps: expected a positive integer, got {max_steps!r}")
+        budget = int(max_steps)
+    steps = duration / dt
+    if method == "rk4" and steps > budget:
+        raise ValueError(f"dt, duration: {duration:g} s at dt = {dt:g} s is {steps:.3g} steps, more than the "
+                         f"budget of {budget} (pass max_steps= to allow it)")
+    if method == "adaptive" and steps > MAX_STEPS:
+        raise ValueError(f"dt, duration: {steps:.3g} report times, more than {MAX_STEPS}; use a larger dt")
+    steps = max(1, int(round(steps)))
 
-    start_ref = trajectory.sample(0.0)
+    start_ref = _sampled(trajectory, 0.0)
     x0 = start_ref[0] if x0 is None else _checks.states("x0", x0)
     xd0 = start_ref[1] if xd0 is None else _checks.states("xd0", xd0)
-    if x0.shape != (6,) or xd0.shape != (6,):
-        raise ValueError("x0, xd0: expected one state each, shape (6,)")
+    if x0.shape != (6,) or xd0.shape != (6,) or np.iscomplexobj(x0) or np.iscomplexobj(xd0):
+        raise ValueError("x0, xd0: expected one real state each, shape (6,)")
+
+    def references(times):
+        x_r, xd_r, xdd_r = _sampled(trajectory, times)
+        if feedforward is None:
+            ff = np.zeros((len(times), 6))
+        else:
+            try:
+                ff = np.asarray(feedforward(times), dtype=float)
+            except (TypeError, ValueError) as exc:
+                raise ValueError(f"feedforward: must return forces of shape (N, 6): {exc}") from None
+        if ff.shape != (len(times), 6) or not np.all(np.isfinite(ff)):
+            raise ValueError("feedforward: must return finite forces of shape (N, 6) for N times")
+        return np.ascontiguousarray(np.hstack([x_r, xd_r, xdd_r])), np.ascontiguousarray(ff)
+
+    times = np.arange(steps + 1) * dt
+    grid = np.arange(2 * steps + 1) * (dt / 2) if method == "rk4" else times
+    refs, ff = references(grid)
+    if check_workspace:
+        every = 2 if method == "rk4" else 1  # the poses at the output samples
+        _check_workspace(platform, x0, refs[::every, :6], times)
 
     gains = {
         PID: lambda c: (c.kp, c.ki, c.kd),
@@ -191,76 +390,153 @@ def simulate(
                       actuators.viscous, actuators.coulomb, actuators.coulomb_velocity)
     limits = platform.params.leg_length_limits or (0.0, np.inf)
 
-    def references(times):
-        x_r, xd_r, xdd_r = trajectory.sample(times)
-        ff = np.zeros((len(times), 6)) if feedforward is None else np.asarray(feedforward(times), dtype=float)
-        if ff.shape != (len(times), 6) or not np.all(np.isfinite(ff)):
-            raise ValueError("feedforward: must return finite forces of shape (N, 6) for N times")
-        return np.ascontiguousarray(np.hstack([x_r, xd_r, xdd_r])), np.ascontiguousarray(ff)
-
-    times = np.arange(steps + 1) * dt
     n = steps + 1
     states = np.zeros((n, 18))
-    forces, lengths, rates = (np.zeros((n, 6)) for _ in range(3))
-    y = np.concatenate([x0, xd0, np.zeros(6)])
+    commanded, lengths, rates = (np.zeros((n, 6)) for _ in range(3))
+    y = np.concatenate([x0, xd0, _bumpless_integral(platform, controller, x0, ff[0])])
     bar = _Progress(progress, duration)
     wall = time.perf_counter()
-    if method == "rk4":
-        refs, ff = references(np.arange(2 * steps + 1) * (dt / 2))
-        chunk = max(1, steps // 100) if progress else steps
-        done, outcome, leg = 0, Outcome.STOP_FINISHED, -1
-        while done < steps and outcome == Outcome.STOP_FINISHED:
-            outcome, done, leg = loop.rk4(y, refs, ff, dt, done, min(steps, done + chunk), limits[0], limits[1],
-                                          states, forces, lengths, rates)
-            bar.update(done * dt)
-        last = done
-        ref_last, ff_last = refs[2 * last], ff[2 * last]
-    else:
-        last, outcome, leg, y = _adaptive(loop, references, y, times, limits, rtol, atol, states, forces,
-                                          lengths, rates, bar)
-        ref_last, ff_last = (a[0] for a in references(times[last:last + 1]))
+    with _Interrupt() as interrupt:
+        if method == "rk4":
+            done, outcome, leg = 0, Outcome.STOP_FINISHED, -1
+            while done < steps and outcome == Outcome.STOP_FINISHED and not interrupt.requested:
+                outcome, done, leg = loop.rk4(y, refs, ff, dt, done, min(steps, done + _RK4_CHUNK), limits[0],
+                                              limits[1], states, commanded, lengths, rates)
+                bar.update(done * dt)
+            last, budget_used = done, False
+        else:
+            last, outcome, leg, y, budget_used = _adaptive(loop, references, y, times, limits, rtol, atol, states,
+                                                           commanded, lengths, rates, bar, budget, interrupt)
+    if not np.all(np.isfinite(y)):  # the step that diverged is not kept
+        last, y = last - 1, states[last - 1].copy()
+    ref_last, ff_last = (a[0] for a in references(times[last:last + 1]))
     states[last] = y
-    _, forces[last], lengths[last], rates[last], _ = loop.derivative(y, ref_last, ff_last)
+    _, commanded[last], lengths[last], rates[last], _ = loop.derivative(y, ref_last, ff_last)
     wall = time.perf_counter() - wall
     bar.close()
 
     rows = slice(0, last + 1)
-    ref_x, ref_xd, _ = trajectory.sample(times[rows])
-    return SimulationResult(
+    ref_x, ref_xd, _ = _sampled(trajectory, times[rows])
+    result = SimulationResult(
         t=times[rows], x=states[rows, :6], xd=states[rows, 6:12], reference=ref_x, reference_velocity=ref_xd,
-        lengths=lengths[rows], leg_velocities=rates[rows], forces=forces[rows],
-        completed=outcome == Outcome.STOP_FINISHED, reason=_reason(outcome, times[last], leg, platform.params),
+        lengths=lengths[rows], leg_velocities=rates[rows],
+        forces=np.clip(commanded[rows], -actuators.force_limit, actuators.force_limit),
+        commanded_forces=commanded[rows].copy(),
+        completed=outcome == Outcome.STOP_FINISHED and not budget_used and not interrupt.requested,
+        reason=_reason(outcome, times[last], leg, platform.params),
         wall_time=wall, method=method, stopped_leg=None if leg < 0 else int(leg),
-        metadata={"dt": dt, "controller": type(controller).__name__},
+        metadata={"dt": dt, "platform": platform.params.name or "unnamed", "controller": _LABELS[type(controller)],
+                  "tolerance": tolerance, "force_limit": actuators.force_limit.tolist()},
     )
+    if budget_used:
+        result.reason = (f"the adaptive solver used its budget of {budget} steps before t = {bar.reached:.4g} s "
+                         f"(results up to t = {times[last]:.4f} s kept; the closed loop is too stiff: check the "
+                         "gains, or raise the step budget)")
+    if interrupt.requested:
+        result.reason = f"interrupted at t = {times[last]:.4f} s"
+    _judge(result, platform, actuators, tolerance, interrupt.requested)
+    if interrupt.requested:
+        raise SimulationInterrupted(result)
+    return result
 
 
-class _KernelStop(Exception):
-    """The model is undefined at a state the adaptive integrator asked for."""
+def _check_workspace(platform, x0, poses, times) -> None:
+    start = reachability(platform, x0, mode=assembly_mode(platform, x0), name="x0")
+    if not start.ok[0]:
+        raise WorkspaceError("x0: the start pose is outside the workspace: " + "; ".join(start.reasons(0)), start)
+    check = reachability(platform, poses, mode=assembly_mode(platform, x0), name="trajectory")
+    if not check.ok.all():
+        raise WorkspaceError("trajectory: " + check.message("reference pose", times), check, times)
 
-    def __init__(self, status: int, t: float):
+
+def _bumpless_integral(platform, controller, x0, ff0) -> np.ndarray:
+    """The PID's starting integral: ``Ki * I = tau_static(x0) - feedforward(0)`` on every
+    leg with ``Ki > 0``, so the first commanded forces hold the start pose at rest (a leg
+    whose ``Ki`` is too small to represent ``I`` starts from 0)."""
+    if not isinstance(controller, PID):
+        return np.zeros(6)
+    static = platform.inverse_dynamics(x0, np.zeros(6), np.zeros(6)) - ff0
+    with np.errstate(over="ignore"):
+        integral = np.divide(static, controller.ki, out=np.zeros(6), where=controller.ki > 0)
+    return np.where(np.isfinite(integral), integral, 0.0)
+
+
+def _judge(result: SimulationResult, platform, actuators, tolerance, interrupted: bool) -> None:
+    """Set ``outcome`` and ``problems`` from the run's series."""
+    problems = {name: [] for name in OUTCOMES}
+    if interrupted:
+        problems["interrupted"].append(result.reason)
+    elif not result.completed:
+        problems["failed"].append(result.reason)
+    # det J_C is continuous along the motion, so a sign change means the platform passed a
+    # singularity into another assembly mode (checked at every sample: a crossing between
+    # samples still changes the sign). Likewise a sign change of cos(theta) is a passage
+    # through the Euler-angle singularity theta = +-90 deg.
+    det = np.linalg.det(platform.jacobian(result.x, return_mask=True)[0])
+    flips = np.flatnonzero(~(np.sign(det) == np.sign(det[0])))
+    if flips.size:
+        problems["failed"].append(
+            f"the platform passed a singularity and left its assembly mode (det J_C changed sign) at "
+            f"t = {result.t[flips[0]]:.4f} s")
+    cos_theta = np.cos(result.x[:, 4])
+    turns = np.flatnonzero(np.sign(cos_theta) != np.sign(cos_theta[0]))
+    if turns.size:
+        problems["failed"].append(f"theta passed +-90 deg (Euler-angle singularity) at t = {result.t[turns[0]]:.4f} s")
+    s = result.summary()
+    if result.completed and not (s["final_position_error"] <= tolerance[0] and s["final_angle_error"] <= tolerance[1]):
+        problems["inaccurate"].append(
+            f"final tracking error {s['final_position_error']:.3g} m, {s['final_angle_error']:.3g} rad is above "
+            f"the tolerance {tolerance[0]:g} m, {tolerance[1]:g} rad")
+    over = np.abs(result.commanded_forces) > actuators.force_limit
+    if over.any():
+        row, leg = np.argwhere(over)[0]
+        share = over.any(axis=1).mean()
+        problems["saturated"].append(
+            f"commanded force {result.commanded_forces[row, leg]:.6g} N on leg {leg} at t = {result.t[row]:.4f} s "
+            f"exceeded the actuator limit {actuators.force_limit[leg]:g} N (saturated at {100 * share:.3g}% of "
+            f"the samples; peak {np.max(np.abs(result.commanded_forces)):.4g} N)")
+    result.problems = [p for name in OUTCOMES for p in problems[name]]
+    failing = [name for name in OUTCOMES if problems[name]]
+    result.outcome = "interrupted" if interrupted else (failing[0] if failing else "completed")
+
+
+class _Stop(Exception):
+    """The adaptive integration stops: the model is undefined at a state it asked for
+    (``status`` > 0), the step budget is used up (``status`` None) or Ctrl-C."""
+
+    def __init__(self, status, t: float):
         super().__init__(status, t)
         self.status, self.t = status, t
 
 
-def _adaptive(loop, references, y, times, limits, rtol, atol, states, forces, lengths, rates, bar):
+_ADAPTIVE_CHUNK = 100  # report times per solve_ivp call (Ctrl-C and progress between calls)
+
+
+def _adaptive(loop, references, y, times, limits, rtol, atol, states, commanded, lengths, rates, bar, budget,
+              interrupt):
     """Integrate with DOP853, reporting at ``times``; stroke limits are terminal events.
 
-    Fills the output rows and returns ``(last row, outcome, leg, final state)``. A stroke
-    limit adds a row at the event (its time written into ``times``); where the model is
-    undefined (a kernel error), the run is integrated again up to the last report time
-    before that point, and stops there.
+    Fills the output rows and returns ``(last row, outcome, leg, final state, budget
+    used)``. The run goes in chunks of report times, so Ctrl-C and the step budget stop it
+    at the last completed report time; so does a state where the model is undefined (a
+    kernel error). A stroke limit adds a row at the event (its time written into ``times``).
     """
     from scipy.integrate import solve_ivp
+
+    evaluations = [0]
+    max_evaluations = 12 * budget  # DOP853 evaluates the right-hand side 12 times a step
 
     def evaluate(t, state):
         ref, ff = references(np.array([t]))
         return loop.derivative(np.ascontiguousarray(state), ref[0], ff[0])
 
     def rhs(t, state):
+        evaluations[0] += 1
+        if evaluations[0] > max_evaluations or interrupt.requested:
+            raise _Stop(None, t)
         ydot, _, _, _, status = evaluate(t, state)
         if status != 0:
-            raise _KernelStop(status, t)
+            raise _Stop(status, t)
         bar.update(t)
         return ydot
 
@@ -273,30 +549,49 @@ def _adaptive(loop, references, y, times, limits, rtol, atol, states, forces, le
     for event in (leg_too_short, leg_too_long):
         event.terminal, event.direction = True, -1
 
-    def run(report_times):
-        return solve_ivp(rhs, (report_times[0], report_times[-1]), y, method="DOP853", t_eval=report_times,
-                         rtol=rtol, atol=atol, events=[leg_too_short, leg_too_long])
+    def record(k, state):
+        states[k] = state
+        _, commanded[k], lengths[k], rates[k], _ = evaluate(times[k], states[k])
 
-    stop = None
-    try:
-        sol = run(times)
-    except _KernelStop as exc:
-        stop = exc
-        earlier = times[times < exc.t]
-        sol = run(earlier) if len(earlier) > 1 else None
-    if sol is not None and sol.status < 0:
-        raise RuntimeError(f"solve_ivp failed: {sol.message}")
-    count = 1 if sol is None else sol.y.shape[1]
-    states[:count] = y if sol is None else sol.y.T
-    for k in range(count):
-        _, forces[k], lengths[k], rates[k], _ = evaluate(times[k], states[k])
-    if stop is not None:
-        return count - 1, stop.status, -1, np.ascontiguousarray(states[count - 1])
-    if sol.status == 1:  # a stroke limit
-        side = 0 if len(sol.t_events[0]) else 1
-        y_stop = sol.y_events[side][0]
-        at_stop = evaluate(sol.t_events[side][0], y_stop)[2]
-        leg = int(np.argmin(at_stop) if side == 0 else np.argmax(at_stop))
-        times[count] = sol.t_events[side][0]
-        return count, Outcome.STOP_LEG_SHORT if side == 0 else Outcome.STOP_LEG_LONG, leg, np.ascontiguousarray(y_stop)
-    return count - 1, Outcome.STOP_FINISHED, -1, np.ascontiguousarray(sol.y[:, -1])
+    record(0, y)
+    done, last = 0, len(times) - 1
+    while done < last:
+        stop_at = min(last, done + _ADAPTIVE_CHUNK)
+        report = times[done:stop_at + 1]
+        try:
+            with np.errstate(all="ignore"):  # a diverging state is reported as the outcome
+                sol = solve_ivp(rhs, (report[0], report[-1]), states[done].copy(), method="DOP853", t_eval=report,
+                                rtol=rtol, atol=atol, events=[leg_too_short, leg_too_long])
+        except _Stop as exc:
+            if exc.status is None:  # budget or Ctrl-C: keep what the completed chunks gave
+                return done, Outcome.STOP_FINISHED, -1, np.ascontiguousarray(states[done]), not interrupt.requested
+            earlier = report[report < exc.t]  # the model is undefined at exc.t: run up to the report before it
+            if len(earlier) > 1:
+                try:
+                    sol = solve_ivp(rhs, (earlier[0], earlier[-1]), states[done].copy(), method="DOP853",
+                                    t_eval=earlier, rtol=rtol, atol=atol)
+                except _Stop:
+                    sol = None
+                if sol is not None and sol.status == 0:
+                    for k in range(1, sol.y.shape[1]):
+                        record(done + k, sol.y[:, k])
+                    done += sol.y.shape[1] - 1
+            return done, exc.status, -1, np.ascontiguousarray(states[done]), False
+        if sol.status < 0:  # the step size underflowed: the state is blowing up
+            return done, Outcome.STOP_NONFINITE, -1, np.ascontiguousarray(states[done]), False
+        count = sol.y.shape[1]
+        for k in range(1, count):
+            record(done + k, sol.y[:, k])
+        if sol.status == 1:  # a stroke limit
+            side = 0 if len(sol.t_events[0]) else 1
+            y_stop = sol.y_events[side][0]
+            at_stop = evaluate(sol.t_events[side][0], y_stop)[2]
+            leg = int(np.argmin(at_stop) if side == 0 else np.argmax(at_stop))
+            row = done + count
+            times[row] = sol.t_events[side][0]
+            outcome = Outcome.STOP_LEG_SHORT if side == 0 else Outcome.STOP_LEG_LONG
+            return row, outcome, leg, np.ascontiguousarray(y_stop), False
+        done = stop_at
+        if interrupt.requested:
+            break
+    return done, Outcome.STOP_FINISHED, -1, np.ascontiguousarray(states[done]), False

@@ -6,7 +6,6 @@ of times (shapes ``(6,)`` or ``(N, 6)``), and holds its end pose at rest after `
 
 from __future__ import annotations
 
-import csv
 import os
 from dataclasses import dataclass
 
@@ -107,25 +106,16 @@ class SampledTrajectory:
 
     @classmethod
     def from_csv(cls, path) -> "SampledTrajectory":
-        """Read ``t, x, y, z, psi, theta, phi`` rows (a header line is allowed)."""
-        path = os.fspath(path)
-        rows = []
-        with open(path, newline="") as fh:
-            for lineno, row in enumerate(csv.reader(fh), start=1):
-                if not row or row[0].strip().startswith("#"):
-                    continue
-                try:
-                    rows.append([float(v) for v in row])
-                except ValueError:
-                    if rows or lineno > 1:
-                        raise ValueError(f"{path}:{lineno}: expected 7 numbers, got {row}") from None
-                    continue  # header
-                if len(rows[-1]) != 7:
-                    raise ValueError(f"{path}:{lineno}: expected 7 columns (t and six pose values), got {len(row)}")
-        if not rows:
-            raise ValueError(f"{path}: no trajectory rows")
-        data = np.array(rows)
-        return cls(data[:, 0], data[:, 1:])
+        """Read ``t, x, y, z, psi, theta, phi`` rows from a CSV file (:mod:`stewart.csvfile`:
+        a header line and ``#`` comments are allowed; a header naming these columns picks
+        them from a wider file, such as a simulation's output)."""
+        from . import csvfile
+
+        data = csvfile.read(path, ["t", "x", "y", "z", "psi", "theta", "phi"])
+        try:
+            return cls(data[:, 0], data[:, 1:])
+        except ValueError as exc:
+            raise ValueError(f"{os.fspath(path)}: {exc}") from None
 
     def sample(self, t):
         """Pose, velocity and acceleration at time(s) ``t`` (held at the ends outside the samples)."""

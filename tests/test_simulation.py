@@ -2,8 +2,10 @@
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, event, given, settings, strategies as st
 
 import stewart
+from interrupt import press_ctrl_c_after
 from stewart.presets import narayan2017_target_pose
 
 
@@ -35,16 +37,29 @@ def test_profiles_start_and_end_at_rest_and_integrate():
     np.testing.assert_allclose(xd, 2 * goal / 2.0)
 
 
-def test_pid_holding_home_converges(plat, figures):
-    """Starting at rest with an empty integrator, the platform sags under gravity and the
-    PID's integral action brings it back to the home pose."""
+def test_pid_starts_bumpless(plat):
+    """The PID's integral starts at the static leg forces of the start pose, so the legs
+    carry the platform from t = 0 and it does not drop."""
     hold = stewart.PointToPoint(plat.home_pose, plat.home_pose, 1.0)
-    run = stewart.simulate(plat, hold, duration=6.0)
-    assert run.completed, run.reason
+    run = stewart.simulate(plat, hold, duration=1.0)
+    assert run.ok, run.problems
+    static = stewart.reference.inverse_dynamics(plat.params, plat.home_pose, np.zeros(6), np.zeros(6))
+    np.testing.assert_allclose(run.forces[0], static, rtol=1e-9)
+    assert np.all(np.abs(static) > 1.0)  # the legs do carry the weight
+    np.testing.assert_allclose(run.x, np.broadcast_to(plat.home_pose, run.x.shape), rtol=0, atol=1e-9)
+
+
+def test_pid_integral_removes_an_offset(plat, figures):
+    """Starting 2 mm low (held there by the bumpless integral), the PID's integral action
+    moves the platform to the reference and settles on the static forces of the home pose."""
+    hold = stewart.PointToPoint(plat.home_pose, plat.home_pose, 1.0)
+    x0 = plat.home_pose - [0, 0, 0.002, 0, 0, 0]
+    run = stewart.simulate(plat, hold, duration=6.0, x0=x0, xd0=np.zeros(6))
+    assert run.ok, run.problems
     error = np.linalg.norm(run.tracking_error[:, :3], axis=1)
-    assert error[int(0.2 / 1e-3)] > 1e-5  # it did sag
-    figures("PID hold: final position error [m]", error[-1], 1e-7)
-    assert error[-1] < 1e-3 * error.max()
+    figures("PID from a 2 mm offset: final position error [m]", error[-1], 1e-7)
+    static = stewart.reference.inverse_dynamics(plat.params, plat.home_pose, np.zeros(6), np.zeros(6))
+    np.testing.assert_allclose(run.forces[-1], static, rtol=1e-4)
 
 
 def test_computed_torque_tracks_the_move(plat, move, figures):
@@ -67,9 +82,11 @@ def test_rk4_converges_at_fourth_order(plat, move, figures):
     """PID closed loop (1 Hz tuning) over 0.5 s: halving dt divides the error by about 16.
     The error of step dt is estimated against the run at dt/2 (Richardson), so no exact
     solution is needed; the steps are small against the PID's fast leg mode (~700 1/s),
-    where the asymptotic rate shows."""
+    where the asymptotic rate shows. The run starts 2 mm below the reference so that the
+    error has a transient to converge on."""
     pid = stewart.PID.tuned(plat, bandwidth_hz=1.0)
-    runs = [stewart.simulate(plat, move, pid, duration=0.5, dt=dt).x for dt in (2e-4, 1e-4, 5e-5, 2.5e-5)]
+    x0 = plat.home_pose - [0, 0, 0.002, 0, 0, 0]  # a start off the reference excites the fast mode
+    runs = [stewart.simulate(plat, move, pid, duration=0.5, dt=dt, x0=x0).x for dt in (2e-4, 1e-4, 5e-5, 2.5e-5)]
     errors = [np.max(np.abs(a - b[::2])) for a, b in zip(runs, runs[1:])]
     ratios = [errors[0] / errors[1], errors[1] / errors[2]]
     figures("RK4 order: error ratio when halving dt (|ratio - 16|)", max(abs(r - 16) for r in ratios), 2.0)
@@ -91,8 +108,14 @@ def test_adaptive_agrees_with_rk4(plat, move, controller, dt):
 def test_stroke_limit_stops_the_run_with_its_reason(plat, method):
     low = plat.home_pose.copy()
     low[2] = 0.15  # below the 0.19 m minimum leg length
-    run = stewart.simulate(plat, stewart.PointToPoint(plat.home_pose, low, 3.0), method=method)
-    assert not run.completed
+    move_down = stewart.PointToPoint(plat.home_pose, low, 3.0)
+    with pytest.raises(stewart.WorkspaceError, match=r"shorter than the minimum length 0.19 m .* at t = 1\.") as info:
+        stewart.simulate(plat, move_down, method=method)
+    first = info.value.times[0]
+    assert np.min(plat.leg_lengths(move_down.sample(first)[0])) < 0.19
+    assert np.min(plat.leg_lengths(move_down.sample(first - 1e-3)[0])) >= 0.19
+    run = stewart.simulate(plat, move_down, method=method, check_workspace=False)
+    assert not run.completed and run.outcome == "failed" and run.exit_code == 4 and not run.ok
     assert "reached its minimum length 0.19 m" in run.reason
     leg = run.stopped_leg
     assert run.lengths[-1, leg] == pytest.approx(0.19, abs=1e-4 if method == "rk4" else 1e-9)
@@ -104,8 +127,20 @@ def test_saturation_and_friction(plat, move):
     limit = 21.0
     run = stewart.simulate(plat, move, stewart.ComputedTorque.tuned(), actuators=stewart.Actuators(force_limit=limit))
     assert np.max(np.abs(run.forces)) == pytest.approx(limit)
+    np.testing.assert_array_equal(run.forces, np.clip(run.commanded_forces, -limit, limit))
+    # Computed torque commands the inverse dynamics of the reference until it saturates first.
+    first = np.argmax(np.any(np.abs(run.commanded_forces) > limit, axis=1))
+    x, xd, xdd = move.sample(run.t[first])
+    assert np.max(np.abs(plat.inverse_dynamics(x, xd, xdd))) > limit
+    # Saturated, it cannot follow: a leg reaches its stroke limit, the more severe outcome.
+    assert run.outcome == "failed" and run.exit_code == 4 and "reached its minimum length" in run.problems[0]
+    assert f"at t = {run.t[first]:.4f} s exceeded the actuator limit 21 N" in run.problems[1]
+    short = stewart.simulate(plat, move, stewart.ComputedTorque.tuned(), duration=1.0,
+                             actuators=stewart.Actuators(force_limit=limit))
+    assert short.outcome == "saturated" and short.exit_code == 6 and len(short.problems) == 1
     assert np.max(np.abs(run.tracking_error[:, :3])) > 1e-4  # it can no longer follow exactly
     free = stewart.simulate(plat, move, stewart.ComputedTorque.tuned())
+    assert free.ok and free.outcome == "completed" and free.problems == []
     damped = stewart.simulate(plat, move, stewart.ComputedTorque.tuned(),
                               actuators=stewart.Actuators(viscous=200.0, coulomb=1.0))
     # Computed torque does not model the friction: the actuators push harder where legs move.
@@ -123,7 +158,9 @@ def test_results_export(tmp_path, plat, move):
     np.testing.assert_allclose(table["z_ref"], run.reference[:, 2], rtol=1e-9)
     data = np.load(tmp_path / "run.npz")
     np.testing.assert_array_equal(data["lengths"], run.lengths)
-    assert str(data["reason"]) == "completed"
+    assert str(data["reason"]) == "completed" and str(data["outcome"]) == "completed"
+    assert str(data["platform"]) == "narayan2017" and str(data["controller"]) == "PID"
+    assert "platform narayan2017, controller PID" in (tmp_path / "run.csv").read_text().splitlines()[1]
 
 
 def test_sampled_trajectory_from_csv(tmp_path, plat, move):
@@ -137,14 +174,14 @@ def test_sampled_trajectory_from_csv(tmp_path, plat, move):
     run = stewart.simulate(plat, traj, stewart.ComputedTorque.tuned())
     assert run.completed and np.max(np.abs(run.tracking_error)) < 1e-6
     path.write_text("t,x\n0,1\n")
-    with pytest.raises(ValueError, match="expected 7 columns"):
+    with pytest.raises(ValueError, match=r"path.csv: line 1: the header has 2 column\(s\) and lacks y, z"):
         stewart.SampledTrajectory.from_csv(path)
 
 
 def test_bad_simulation_arguments(plat, move):
-    with pytest.raises(ValueError, match="dt: must be a positive step"):
+    with pytest.raises(ValueError, match="dt: must be a step of at least"):
         stewart.simulate(plat, move, dt=-1.0)
-    with pytest.raises(ValueError, match="controller: expected PID"):
+    with pytest.raises(ValueError, match="controller: expected a stewart.PID"):
         stewart.simulate(plat, move, "pid")
     with pytest.raises(ValueError, match="method: expected"):
         stewart.simulate(plat, move, method="euler")
@@ -154,3 +191,281 @@ def test_bad_simulation_arguments(plat, move):
         stewart.Actuators(force_limit=0.0)
     with pytest.raises(ValueError, match="duration: must be a positive"):
         stewart.PointToPoint(np.zeros(6), np.ones(6), 0.0)
+
+
+# The move of issue 9: to theta = 90 deg, through a singularity of J_C on the way.
+ISSUE_TARGET = [0, 0, 0.278, 0, 1.5707963, 0]
+
+
+def _det_signs(plat, poses):
+    """Signs of det J_C from the numpy kinematics (independent of the compiled kernel)."""
+    return np.sign(np.linalg.det(stewart.jacobian(plat.params, poses)))
+
+
+def test_a_move_beyond_a_singularity_is_refused_before_the_run(plat):
+    move = stewart.PointToPoint(plat.home_pose, ISSUE_TARGET, 5.0)
+    with pytest.raises(stewart.WorkspaceError, match=r"^trajectory: \d+ of 5001 reference pose") as info:
+        stewart.simulate(plat, move)
+    message = str(info.value)
+    assert "another assembly mode" in message and "theta = +-90 deg" in message
+    # The first time named is where the reference leaves the workspace: det J_C changes
+    # sign soon after (its condition number grows without bound near the crossing).
+    signs = _det_signs(plat, move.sample(np.arange(5001) * 1e-3)[0])
+    crossing = np.argmax(signs != signs[0]) * 1e-3
+    assert info.value.times[0] < crossing < info.value.times[0] + 0.05
+    assert isinstance(info.value, ValueError)
+
+
+def test_a_run_that_leaves_its_assembly_mode_fails(plat):
+    """Forced past the check, PID ends in another assembly mode (the old 'completed' run)
+    and computed torque tracks through the singularity with meganewton forces."""
+    move = stewart.PointToPoint(plat.home_pose, ISSUE_TARGET, 5.0)
+    run = stewart.simulate(plat, move, check_workspace=False)
+    assert run.completed and not run.ok and run.outcome == "failed" and run.exit_code == 4
+    signs = _det_signs(plat, run.x)
+    flip = np.argmax(signs != signs[0])
+    assert flip > 0 and f"left its assembly mode (det J_C changed sign) at t = {run.t[flip]:.4f} s" in run.problems[0]
+    assert any("final tracking error" in p for p in run.problems)
+    ct = stewart.simulate(plat, move, stewart.ComputedTorque.tuned(), check_workspace=False,
+                          actuators=stewart.Actuators(force_limit=1000.0))
+    assert not ct.ok and any("exceeded the actuator limit 1000 N" in p for p in ct.problems)
+    free = stewart.simulate(plat, move, stewart.ComputedTorque.tuned(), check_workspace=False)
+    assert np.max(np.abs(free.commanded_forces)) > 1e6  # 2.3 MN on a 6.8 kg plate
+    assert not free.ok
+
+
+def test_tolerance_decides_between_completed_and_inaccurate(plat, move):
+    loose = stewart.PID.tuned(plat, bandwidth_hz=1.0)
+    run = stewart.simulate(plat, move, loose, duration=2.5)  # stopped mid-move, still lagging
+    err = move.sample(2.5)[0] - run.x[-1]
+    position, angle = np.linalg.norm(err[:3]), np.linalg.norm(err[3:])
+    assert position > 1e-4
+    ok = stewart.simulate(plat, move, loose, duration=2.5, tolerance=(1.01 * position, 1.01 * angle))
+    assert ok.ok and ok.outcome == "completed" and ok.exit_code == 0
+    bad = stewart.simulate(plat, move, loose, duration=2.5, tolerance=(0.99 * position, 1.01 * angle))
+    assert bad.outcome == "inaccurate" and bad.exit_code == 5 and bad.completed
+    assert f"final tracking error {position:.3g} m" in bad.problems[0]
+    for tolerance in (0.0, (1e-3, -1.0), "tight", (np.nan, 1.0)):
+        with pytest.raises(ValueError, match="^tolerance: "):
+            stewart.simulate(plat, move, tolerance=tolerance)
+
+
+class _Broken:
+    """A trajectory whose sample(t) returns the wrong thing."""
+
+    duration = 1.0
+
+    def __init__(self, make):
+        self.make = make
+
+    def sample(self, t):
+        home = np.array([0.0015, -0.0005, 0.278, 0, 0, 0])
+        return self.make(np.zeros((np.size(t), 6)) + home if np.ndim(t) else home, np.size(t))
+
+
+@pytest.mark.parametrize("make", [
+    lambda x, n: (x[..., :5], x[..., :5], x[..., :5]),
+    lambda x, n: (np.hstack([x, x[..., :1]]) if x.ndim == 2 else np.append(x, 0),) * 3,
+    lambda x, n: (x[:-1], x[:-1], x[:-1]) if x.ndim == 2 else (x, x, x),
+    lambda x, n: (x, x * np.nan, x),
+    lambda x, n: (x, x + 0j, x),
+    lambda x, n: (x, x),
+    lambda x, n: (x, "fast", x),
+    lambda x, n: (x.astype(object), x, x),
+], ids=["5 columns", "7 columns", "fewer rows", "NaN", "complex", "two arrays", "string", "object dtype"])
+def test_trajectory_output_is_checked_before_the_compiled_loop(plat, make):
+    with pytest.raises(ValueError, match="^trajectory: "):
+        stewart.simulate(plat, _Broken(make), stewart.ComputedTorque.tuned(), duration=0.1)
+
+
+def test_step_budget_and_time_arguments(plat, move):
+    with pytest.raises(ValueError, match=r"^dt: must be a step of at least 1e-09 s, got 1e-12"):
+        stewart.simulate(plat, move, dt=1e-12)
+    with pytest.raises(ValueError, match=r"^dt: must be a step of at least .* got 5e-324"):
+        stewart.simulate(plat, move, duration=1e-320, dt=5e-324)
+    with pytest.raises(ValueError, match=r"^dt, duration: 5 s at dt = 1e-06 s is 5e\+06 steps, more than the budget "
+                                         r"of 1000000 \(pass max_steps="):
+        stewart.simulate(plat, move, dt=1e-6)
+    with pytest.raises(ValueError, match=r"^dt, duration: 1\.8e\+305 report times, more than 1000000"):
+        stewart.simulate(plat, move, duration=1.8e302, method="adaptive")
+    with pytest.raises(ValueError, match="budget of 100 "):
+        stewart.simulate(plat, move, duration=0.5, max_steps=100)
+    assert stewart.simulate(plat, move, duration=0.5, max_steps=500).ok
+    for name, value in (("dt", np.timedelta64(1, "ms")), ("duration", np.timedelta64(5, "s")), ("dt", True),
+                        ("duration", "5"), ("dt", np.array([1e-3, 2e-3])), ("duration", 10**400)):
+        with pytest.raises(ValueError, match=f"^{name}: "):
+            stewart.simulate(plat, move, **{name: value})
+    for value in (0, -3, 2.5, True, "10"):
+        with pytest.raises(ValueError, match="^max_steps: expected a positive integer"):
+            stewart.simulate(plat, move, max_steps=value)
+
+
+@pytest.mark.parametrize("controller, xd0", [
+    (stewart.PID(1e12, 0.0, 1e3), None),
+    (stewart.PID(1e300, 1e300, 1e300), None),
+    (stewart.ComputedTorque(1e300, 1e300), None),
+    (None, [1e6, 0, 0, 0, 0, 0]),
+], ids=["stiff PID", "PID 1e300", "computed torque 1e300", "huge initial velocity"])
+def test_adaptive_solver_ends_with_a_failed_outcome(plat, move, controller, xd0):
+    """Absurd gains or velocities end within the step budget, as a failed run."""
+    run = stewart.simulate(plat, move, controller, method="adaptive", duration=0.5, max_steps=300,
+                           x0=None if xd0 is None else plat.home_pose, xd0=xd0)
+    assert not run.ok and run.outcome == "failed" and run.exit_code == 4, run.reason
+    assert run.t[-1] < 0.5 and np.all(np.isfinite(run.x))
+
+
+def test_wrong_arguments_name_themselves(plat, move):
+    for controller in (stewart.PID, plat.params, "pid", 3.0, stewart.Actuators()):
+        with pytest.raises(ValueError, match="^controller: expected a stewart.PID, ComputedTorque or OpenLoop"):
+            stewart.simulate(plat, move, controller)
+    with pytest.raises(ValueError, match="^platform: expected a stewart.Platform"):
+        stewart.simulate(plat.params, move)
+    with pytest.raises(ValueError, match="^trajectory: expected an object with sample"):
+        stewart.simulate(plat, np.zeros(6))
+    with pytest.raises(ValueError, match="^actuators: expected a stewart.Actuators"):
+        stewart.simulate(plat, move, actuators=100.0)
+
+
+@pytest.mark.parametrize("method", ["rk4", "adaptive"])
+def test_ctrl_c_returns_what_was_computed(plat, move, monkeypatch, method):
+    """Ctrl-C during a run stops it at the next chunk of steps; the exception holds the
+    run so far, which matches an uninterrupted run sample for sample."""
+    duration = 5.0 if method == "rk4" else 0.3
+    full = stewart.simulate(plat, move, stewart.ComputedTorque.tuned(), duration=duration, method=method)
+    press_ctrl_c_after(monkeypatch, 0.15)
+    with pytest.raises(stewart.SimulationInterrupted) as info:
+        stewart.simulate(plat, move, stewart.ComputedTorque.tuned(), duration=duration, method=method)
+    part = info.value.result
+    assert isinstance(info.value, KeyboardInterrupt)
+    assert part.outcome == "interrupted" and part.exit_code == 130 and not part.completed
+    assert 0 < part.t[-1] < duration and part.reason == f"interrupted at t = {part.t[-1]:.4f} s"
+    np.testing.assert_array_equal(part.x, full.x[:len(part.t)])
+    np.testing.assert_array_equal(part.forces, full.forces[:len(part.t)])
+
+
+def test_reachability_flags_each_problem(plat):
+    from stewart import workspace
+
+    home = plat.home_pose
+    below = home * [1, 1, -1, 1, 1, 1]  # mirrored under the base: legs within their stroke
+    low = home - [0, 0, 0.2, 0, 0, 0]
+    upright = home + [0, 0, 0, 0, np.pi / 2, 0]
+    beyond = stewart.PointToPoint(home, ISSUE_TARGET, 5.0).sample(4.5)[0]
+    check = stewart.reachability(plat, [home, below, low, upright, beyond])
+    # Independent facts: lengths from the numpy kinematics, platform joints below the
+    # base plane, det J_C of the other sign than at home.
+    lengths = stewart.leg_lengths(plat.params, low)
+    assert np.all(lengths < 0.19) and check.flags[2] & workspace.LEG_TOO_SHORT
+    assert np.all((stewart.leg_lengths(plat.params, below) > 0.19) & (stewart.leg_lengths(plat.params, below) < 0.38))
+    joints_z = below[2] + (stewart.rotation(below) @ plat.params.platform_points.T)[2]
+    assert np.all(joints_z < 0) and check.flags[1] == workspace.BELOW_BASE | (check.flags[1] & ~workspace.BELOW_BASE)
+    assert check.flags[1] & workspace.BELOW_BASE
+    assert check.flags[3] & workspace.EULER_SINGULAR
+    assert _det_signs(plat, beyond) != _det_signs(plat, home) and check.flags[4] & workspace.OTHER_ASSEMBLY_MODE
+    assert check.ok.tolist() == [True, False, False, False, False]
+    assert "row 2" in check.message() and "not above the base" in check.reasons(1)[0]
+    with pytest.raises(ValueError, match="^poses: "):
+        stewart.reachability(plat, [0, 0, np.nan, 0, 0, 0])
+    huge = stewart.reachability(plat, [0, 0, 1e308, 0, 0, 0])
+    assert huge.flags[0] & workspace.OUT_OF_RANGE and "out of numeric range" in huge.message()
+
+
+# ---------------------------------------------------------------- fuzzing simulate's arguments
+
+
+def _mostly(good, odd):
+    """Draws from ``good`` four times in five, so that most examples reach the run."""
+    return st.tuples(st.integers(0, 4), good, odd).map(lambda t: t[2] if t[0] == 0 else t[1])
+
+
+_ODD_NUMBERS = st.one_of(
+    st.floats(allow_nan=True, allow_infinity=True),
+    st.sampled_from([0.0, -0.0, 5e-324, 1e-320, 1e-9, 1e308, -1e-3]),
+    st.integers(min_value=-(2**70), max_value=2**70),
+    st.sampled_from([None, "0.01", True, np.timedelta64(1, "ms"), np.array([1e-3]), np.float32(1e-3), [0.01]]),
+)
+_GAINS = st.one_of(st.floats(min_value=0, max_value=1e308), st.sampled_from([0.0, 1.0, 1e3, 1e300, 1e-300]))
+_CONTROLLERS = _mostly(
+    st.one_of(st.none(), st.builds(stewart.PID, _GAINS, _GAINS, _GAINS), st.builds(stewart.ComputedTorque, _GAINS, _GAINS),
+              st.just(stewart.OpenLoop()), st.just(stewart.ComputedTorque.tuned())),
+    st.sampled_from([stewart.PID, "pid", 1.0, np.zeros(6), stewart.Actuators()]),
+)
+_ARGUMENTS = {"platform", "trajectory", "controller", "dt", "duration", "method", "actuators", "x0", "xd0",
+              "tolerance", "max_steps", "rtol", "atol", "dt, duration"}
+
+
+@settings(max_examples=60, deadline=10_000, suppress_health_check=[HealthCheck.too_slow])
+@given(
+    controller=_CONTROLLERS,
+    dt=_mostly(st.sampled_from([1e-3, 2e-3, 5e-3, 1e-2]), _ODD_NUMBERS),
+    duration=_mostly(st.sampled_from([0.02, 0.05, 0.2, None]), _ODD_NUMBERS),
+    method=_mostly(st.sampled_from(["rk4", "adaptive"]), st.sampled_from(["euler", None, 4])),
+    tolerance=_mostly(st.just((1e-3, 1e-2)), _ODD_NUMBERS),
+    max_steps=_mostly(st.sampled_from([None, 300, 10**6]), st.sampled_from([-3, 0, 2.5, "10", True])),
+    force_limit=_mostly(st.sampled_from([np.inf, 25.0, 1e3]), st.floats(min_value=1e-300, max_value=1e308)),
+    xd0=_mostly(st.none(), st.one_of(st.lists(st.floats(-1e6, 1e6), min_size=6, max_size=6),
+                                     st.sampled_from([[np.nan] * 6, [1e308] * 6, [0.0] * 5, "fast"]))),
+)
+def test_fuzz_simulate_arguments(plat, move, controller, dt, duration, method, tolerance, max_steps, force_limit,
+                                 xd0):
+    """Any arguments: a result with a known outcome and a finite state, or a ValueError
+    naming the argument; never a crash, a hang or another exception."""
+    if method == "adaptive" and (max_steps is None or max_steps == 10**6):
+        max_steps = 300  # the default budget is for real runs, too long for a fuzz test
+    try:
+        run = stewart.simulate(plat, move, controller, dt=dt, duration=duration, method=method,
+                               tolerance=tolerance, max_steps=max_steps, xd0=xd0,
+                               actuators=stewart.Actuators(force_limit=force_limit),
+                               x0=None if xd0 is None else plat.home_pose)
+    except stewart.SimulationInterrupted:
+        raise
+    except ValueError as exc:
+        name = str(exc).split(":")[0]
+        assert name in _ARGUMENTS, str(exc)
+        event(f"refused: {name}")
+        return
+    event(f"ran: {run.outcome}")
+    assert run.outcome in stewart.simulation.OUTCOMES and run.outcome != "interrupted"
+    assert run.ok == (run.outcome == "completed") and (run.problems == []) == run.ok
+    assert np.all(np.isfinite(run.x)) and np.all(np.isfinite(run.t)) and len(run.t) == len(run.x) >= 1
+
+
+def test_progress_bar_never_runs_backwards(plat, move, capsys):
+    """The adaptive solver evaluates at times before the last accepted step; the bar
+    shows the furthest time reached, ending at the full duration."""
+    stewart.simulate(plat, move, method="adaptive", duration=0.3, progress=True)
+    shown = [float(part.split("/")[0]) for part in capsys.readouterr().err.split("t = ")[1:]]
+    assert shown == sorted(shown) and shown[-1] == pytest.approx(0.3)
+
+
+def test_condition_check_agrees_with_the_svd(plat):
+    """The cheap bound in the workspace check flags exactly the poses whose unit-free
+    condition number (by SVD) exceeds the limit, along a move through a singularity."""
+    from stewart import workspace
+
+    poses = stewart.PointToPoint(plat.home_pose, ISSUE_TARGET, 5.0).sample(np.linspace(0, 5, 2001))[0]
+    radius = np.max(np.linalg.norm(plat.params.platform_points - plat.params.platform_points.mean(axis=0), axis=1))
+    jac = stewart.jacobian(plat.params, poses) / np.r_[np.ones(3), np.full(3, radius)]
+    exact = np.linalg.cond(jac)
+    check = stewart.reachability(plat, poses)
+    flagged = (check.flags & workspace.SINGULAR) != 0
+    assert flagged.any() and not flagged.all()
+    np.testing.assert_array_equal(flagged, exact > workspace.CONDITION_LIMIT)
+    assert np.all(check.condition >= exact * (1 - 1e-9))
+    np.testing.assert_allclose(check.condition[flagged], exact[flagged], rtol=1e-6)
+
+
+def test_compiled_loop_refuses_buffers_too_small(plat):
+    from stewart._simulate import ClosedLoop
+
+    loop = ClosedLoop(plat._kernel, 1, np.ones(6), np.zeros(6), np.ones(6), np.full(6, np.inf), 0.0, 0.0, 1e-3)
+    y = np.concatenate([plat.home_pose, np.zeros(12)])
+    out = [np.zeros((6, 18))] + [np.zeros((6, 6)) for _ in range(3)]
+    refs = np.tile(np.concatenate([plat.home_pose, np.zeros(12)]), (11, 1))
+    assert loop.rk4(y.copy(), refs, np.zeros((11, 6)), 1e-3, 0, 5, 0.0, np.inf, *out)[:2] == (0, 5)
+    for bad_refs, bad_ff in ((refs[:10], np.zeros((11, 6))), (refs, np.zeros((9, 6))), (refs[:, :17].copy(), None)):
+        with pytest.raises(ValueError, match="rk4: the buffers do not hold the steps asked for"):
+            loop.rk4(y.copy(), bad_refs, np.zeros((11, 6)) if bad_ff is None else bad_ff, 1e-3, 0, 5, 0.0, np.inf,
+                     *out)
+    with pytest.raises(ValueError, match="rk4: the buffers"):
+        loop.rk4(y.copy(), refs, np.zeros((11, 6)), 1e-3, 0, 7, 0.0, np.inf, *out)
