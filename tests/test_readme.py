@@ -1,7 +1,8 @@
 """The README's examples run as written.
 
-* Every ``stewart ...`` line of its ``sh`` blocks runs through :func:`stewart.cli.main` in
-  a temporary directory holding a copy of ``examples/``, and exits with 0, or with the
+* Every ``stewart ...`` line of its ``sh`` blocks runs through :func:`stewart.cli.main`, in
+  order, in one temporary directory holding a copy of ``examples/`` (so a command may read
+  what an earlier one wrote, as in a shell session), and exits with 0, or with the
   code its comment names ("exit code 3"). ``stewart bench`` runs with ``--batch 2000``
   added: the full run takes minutes and ``tests/test_cli.py`` tests its figures. The
   numbers that ``ik``, ``id`` and ``fd`` print or write are compared with the Python API.
@@ -55,11 +56,17 @@ def commands() -> list[tuple[str, list[str], int]]:
 COMMANDS = commands()
 
 
+@pytest.fixture(scope="module")
+def session_dir(tmp_path_factory):
+    directory = tmp_path_factory.mktemp("readme-session")
+    shutil.copytree(ROOT / "examples", directory / "examples")
+    return directory
+
+
 @pytest.fixture
-def in_examples_dir(tmp_path, monkeypatch):
-    shutil.copytree(ROOT / "examples", tmp_path / "examples")
-    monkeypatch.chdir(tmp_path)
-    return tmp_path
+def in_examples_dir(session_dir, monkeypatch):
+    monkeypatch.chdir(session_dir)
+    return session_dir
 
 
 def run_cli(argv) -> int:
