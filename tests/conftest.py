@@ -89,3 +89,34 @@ def random_params(rng, axisymmetric=True):
             leg_length_limits=(0.7 * leg, 1.3 * leg),
             name="random",
         )
+
+
+#: Every array-taking method of :class:`stewart.Platform`, with its state arguments' names.
+PLATFORM_METHODS = {
+    "leg_lengths": ("x",),
+    "jacobian": ("x",),
+    "mass_matrix": ("x",),
+    "gravity_vector": ("x",),
+    "coriolis_matrix": ("x", "xd"),
+    "coriolis_vector": ("x", "xd"),
+    "inverse_dynamics": ("x", "xd", "xdd"),
+    "forward_dynamics": ("x", "xd", "tau"),
+    "joint_reactions": ("x", "xd", "xdd"),
+    "forward_kinematics": ("lengths", "guess"),
+}
+
+
+def valid_arguments(plat, n=None, seed=0):
+    """Valid arguments for every name in :data:`PLATFORM_METHODS`: one state, or ``n`` states."""
+    rng = np.random.default_rng(seed)
+    x, xd, xdd = random_states(plat.params, 1 if n is None else n, rng)
+    if n is None:
+        x, xd, xdd = x[0], xd[0], xdd[0]
+    return {
+        "x": x,
+        "xd": xd,
+        "xdd": xdd,
+        "tau": plat.inverse_dynamics(x, xd, xdd),
+        "lengths": plat.leg_lengths(x),
+        "guess": x + 1e-3,
+    }
