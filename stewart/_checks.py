@@ -20,6 +20,8 @@ from .errors import SingularityError
 
 #: J_C is treated as singular when its condition number exceeds this.
 JACOBIAN_COND_LIMIT = 1e12
+#: The Euler-rate map J_A (eq. 8) is treated as singular when |cos(theta)| is below this.
+EULER_COS_LIMIT = 1e-12
 #: The twist-space mass matrix is treated as singular when its condition number exceeds this.
 MASS_COND_LIMIT = 1e12
 #: A leg is degenerate (zero length) when |l_i|^2 is below this, as in the generated C.
@@ -149,6 +151,15 @@ def regular_jacobian(jac: np.ndarray) -> None:
         raise SingularityError(
             f"x: J_C is singular (condition number {cond[rows[0]]:.3g}) at row(s) {text}", rows=rows
         )
+
+
+def regular_euler_rates(x: np.ndarray) -> None:
+    """Raise :class:`SingularityError` (naming the rows) where ``theta = +-90 deg``: there
+    ``J_A`` (eq. 8) is singular and Euler rates do not follow from the twist."""
+    bad = ~(np.abs(np.cos(np.real(x[..., 4]))).reshape(-1) >= EULER_COS_LIMIT)
+    if bad.any():
+        rows, text = _rows(bad)
+        raise SingularityError(f"x: theta = +-90 deg at row(s) {text}: the Euler-rate map J_A is singular", rows=rows)
 
 
 def regular_mass_matrix(mass: np.ndarray) -> None:

@@ -77,9 +77,14 @@ def leg_masses(platform, x=None) -> np.ndarray:
     x = platform.home_pose if x is None else _checks.states("x", x)
     if x.shape != (6,):
         raise ValueError(f"x: expected one pose, shape (6,), got {x.shape}")
-    jac_inv = np.linalg.inv(platform.jacobian(x))
-    m_twist = platform.mass_matrix(x) @ np.linalg.inv(twist_transform(x))
-    return np.diag(jac_inv.T @ m_twist @ jac_inv).copy()
+    jac = platform.jacobian(x)
+    _checks.regular_jacobian(jac)
+    _checks.regular_euler_rates(x)
+    with np.errstate(over="ignore", invalid="ignore"):
+        jac_inv = np.linalg.inv(jac)
+        m_twist = platform.mass_matrix(x) @ np.linalg.inv(twist_transform(x))
+        masses = np.diag(jac_inv.T @ m_twist @ jac_inv).copy()
+    return _checks.finite_result("leg_masses", masses, x)
 
 
 @dataclass(frozen=True)

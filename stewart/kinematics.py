@@ -34,25 +34,29 @@ __all__ = [
 def rotation(x) -> np.ndarray:
     """Orientation ``R = Rz(psi) Ry(theta) Rx(phi)`` of {P} in {B}, shape ``(..., 3, 3)``."""
     x = _checks.states("x", x, allow_complex=True)
-    cps, sps = np.cos(x[..., 3]), np.sin(x[..., 3])
-    cth, sth = np.cos(x[..., 4]), np.sin(x[..., 4])
-    cph, sph = np.cos(x[..., 5]), np.sin(x[..., 5])
-    rows = [
-        [cps * cth, cps * sth * sph - sps * cph, cps * sth * cph + sps * sph],
-        [sps * cth, sps * sth * sph + cps * cph, sps * sth * cph - cps * sph],
-        [-sth, cth * sph, cth * cph],
-    ]
-    return np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
+    with np.errstate(over="ignore", invalid="ignore"):  # complex angles: cosh overflows
+        cps, sps = np.cos(x[..., 3]), np.sin(x[..., 3])
+        cth, sth = np.cos(x[..., 4]), np.sin(x[..., 4])
+        cph, sph = np.cos(x[..., 5]), np.sin(x[..., 5])
+        rows = [
+            [cps * cth, cps * sth * sph - sps * cph, cps * sth * cph + sps * sph],
+            [sps * cth, sps * sth * sph + cps * cph, sps * sth * cph - cps * sph],
+            [-sth, cth * sph, cth * cph],
+        ]
+        rot = np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
+    return _checks.finite_result("rotation", rot, x)
 
 
 def euler_rate_jacobian(x) -> np.ndarray:
     """``J_A`` of eq. 8: maps ``[psi', theta', phi']`` to the angular velocity in {B}."""
     x = _checks.states("x", x, allow_complex=True)
-    cps, sps = np.cos(x[..., 3]), np.sin(x[..., 3])
-    cth, sth = np.cos(x[..., 4]), np.sin(x[..., 4])
-    zero, one = np.zeros_like(cps), np.ones_like(cps)
-    rows = [[zero, -sps, cps * cth], [zero, cps, sps * cth], [one, zero, -sth]]
-    return np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
+    with np.errstate(over="ignore", invalid="ignore"):  # complex angles: cosh overflows
+        cps, sps = np.cos(x[..., 3]), np.sin(x[..., 3])
+        cth, sth = np.cos(x[..., 4]), np.sin(x[..., 4])
+        zero, one = np.zeros_like(cps), np.ones_like(cps)
+        rows = [[zero, -sps, cps * cth], [zero, cps, sps * cth], [one, zero, -sth]]
+        j_a = np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
+    return _checks.finite_result("euler_rate_jacobian", j_a, x)
 
 
 def twist_transform(x) -> np.ndarray:
@@ -153,7 +157,8 @@ def home_pose(params: PlatformParams, leg_length: float | None = None) -> np.nda
     leg_length = _checks.real("leg_length", leg_length)
 
     def mean_length(z: float) -> float:
-        return float(np.mean(np.sqrt(reach**2 + (z + dz0) ** 2)))
+        with np.errstate(over="ignore"):  # inf for lengths near the float limit: bisection still works
+            return float(np.mean(np.hypot(reach, z + dz0)))
 
     # Above the highest base joint, mean_length increases with z: bisect on it.
     lo = float(np.max(-dz0))

@@ -65,8 +65,6 @@ BODIES = (
 _STEP = 1e-30
 #: Cylinder frame tolerance: legs with u_x^2 + u_y^2 below this are "vertical".
 _VERTICAL = 1e-18
-#: Forward dynamics is undefined when |cos(theta)| is below this (J_A singular).
-_COS_LIMIT = 1e-12
 
 
 class BodyTerms(NamedTuple):
@@ -299,14 +297,7 @@ def forward_dynamics(params: PlatformParams, x, xd, tau) -> np.ndarray:
     xd = _checks.states("xd", xd)
     tau = _checks.states("tau", tau)
     _checks.same_batch(x=x, xd=xd, tau=tau)
-    cos_theta = np.cos(x[..., 4]).reshape(-1)
-    bad = np.abs(cos_theta) < _COS_LIMIT
-    if bad.any():
-        rows = np.flatnonzero(bad)
-        raise SingularityError(
-            f"x: theta = +-90 deg at row(s) {rows[:10].tolist()}: the Euler-rate map J_A is singular",
-            rows=rows,
-        )
+    _checks.regular_euler_rates(x)
     total = _totals(params, x, xd, "forward_dynamics")
     _checks.regular_mass_matrix(total.mass_matrix)
     with np.errstate(over="ignore", invalid="ignore"):

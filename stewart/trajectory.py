@@ -111,16 +111,22 @@ class SampledTrajectory:
         poses = _checks.states("poses", poses)
         if times.ndim != 1 or poses.ndim != 2 or len(times) != len(poses):
             raise ValueError(f"times, poses: need N times and (N, 6) poses, got {times.shape} and {poses.shape}")
-        if len(times) < 2 or np.any(np.diff(times) <= 0):
+        with np.errstate(over="ignore"):
+            steps = np.diff(times)
+        if len(times) < 2 or np.any(steps <= 0):
             raise ValueError("times: need at least two strictly increasing times")
         self.times = times
         self.poses = poses
         self.duration = float(times[-1])
-        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-            self._spline = CubicSpline(times, poses, axis=0, bc_type="clamped")
-        if not np.all(np.isfinite(self._spline.c)):
+        try:
+            with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+                spline = CubicSpline(times, poses, axis=0, bc_type="clamped")
+        except ValueError:  # scipy's own check of the slopes: they overflowed
+            spline = None
+        if spline is None or not np.all(np.isfinite(spline.c)):
             raise ValueError("times, poses: the spline through these samples overflows (times too close "
                              "or values too large for double precision)")
+        self._spline = spline
 
     @classmethod
     def from_csv(cls, path) -> "SampledTrajectory":
