@@ -224,6 +224,8 @@ class PlatformParams:
         """A built-in parameter set by name; :func:`stewart.presets` lists them."""
         from .presets import preset
 
+        if not isinstance(name, str):
+            raise ValueError(f"name: expected a preset name, got {type(name).__name__} {name!r}")
         return preset(name)
 
     @classmethod

@@ -120,3 +120,37 @@ def valid_arguments(plat, n=None, seed=0):
         "lengths": plat.leg_lengths(x),
         "guess": x + 1e-3,
     }
+
+
+def _unaligned(a: np.ndarray) -> np.ndarray:
+    raw = np.zeros(a.nbytes + 1, dtype=np.uint8)[1:]
+    out = raw.view(a.dtype).reshape(a.shape)
+    out[...] = a
+    assert not out.flags.aligned or a.size == 0
+    return out
+
+
+def _strided(a: np.ndarray) -> np.ndarray:
+    wide = np.zeros(a.shape[:-1] + (2 * a.shape[-1],), dtype=a.dtype)
+    wide[..., ::2] = a
+    return wide[..., ::2]
+
+
+def _read_only(a: np.ndarray) -> np.ndarray:
+    out = a.copy()
+    out.flags.writeable = False
+    return out
+
+
+#: The same float64 values in other memory layouts, which every function must read as
+#: the plain C-contiguous array.
+LAYOUTS = {
+    "big-endian": lambda a: a.astype(">f8"),
+    "big-endian unaligned": lambda a: _unaligned(a.astype(">f8")),
+    "unaligned": _unaligned,
+    "strided": _strided,
+    "reversed view": lambda a: np.flip(np.flip(a, -1).copy(), -1),
+    "Fortran order": np.asfortranarray,
+    "read-only": _read_only,
+    "nested lists": lambda a: a.tolist(),
+}

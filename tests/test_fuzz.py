@@ -42,7 +42,7 @@ import stewart
 from stewart import ConvergenceError, PlatformParams, SingularityError, reference
 from stewart.control import leg_masses
 from stewart.paramfile import dumps_toml
-from conftest import PLATFORM_METHODS, random_states, valid_arguments
+from conftest import LAYOUTS, PLATFORM_METHODS, random_states, valid_arguments
 
 _EXPLORE = int(os.environ.get("STEWART_FUZZ_EXAMPLES", "0"))
 
@@ -78,46 +78,20 @@ def _deep(depth: int):
     return value
 
 
-def _unaligned(a: np.ndarray) -> np.ndarray:
-    raw = np.zeros(a.nbytes + 1, dtype=np.uint8)[1:]
-    out = raw.view(a.dtype).reshape(a.shape)
-    out[...] = a
-    return out
-
-
-def _strided(a: np.ndarray) -> np.ndarray:
-    wide = np.zeros(a.shape[:-1] + (2 * a.shape[-1],), dtype=a.dtype)
-    wide[..., ::2] = a
-    return wide[..., ::2]
-
-
-def _read_only(a: np.ndarray) -> np.ndarray:
-    out = a.copy()
-    out.flags.writeable = False
-    return out
-
-
-#: The same values in another layout or dtype; the oracle is ``np.array(v, dtype=float)``.
-LAYOUTS = {
-    "big-endian": lambda a: a.astype(">f8"),
-    "big-endian unaligned": lambda a: _unaligned(a.astype(">f8")),
-    "unaligned": _unaligned,
-    "strided": _strided,
-    "reversed view": lambda a: np.flip(np.flip(a, -1).copy(), -1),
-    "Fortran order": np.asfortranarray,
-    "read-only": _read_only,
+#: Valid values in other layouts and dtypes; the oracle is ``np.array(v, dtype=float)``.
+ALL_LAYOUTS = {
+    **LAYOUTS,
     "float32": lambda a: a.astype(np.float32),
     "big-endian float32": lambda a: a.astype(">f4"),
     "integers": lambda a: np.round(a * 100).astype(np.int64),
-    "nested lists": lambda a: a.tolist(),
 }
 
 
 @st.composite
 def layouts(draw, valid: np.ndarray):
     """``valid`` in a random layout, and the oracle's plain float64 form of its values."""
-    name = draw(st.sampled_from(sorted(LAYOUTS)))
-    value = LAYOUTS[name](valid)
+    name = draw(st.sampled_from(sorted(ALL_LAYOUTS)))
+    value = ALL_LAYOUTS[name](valid)
     return value, np.array(value, dtype=np.float64)
 
 
@@ -285,9 +259,26 @@ def fuzz_platform(call, return_mask, threads):
         same_outcome(got, kept_contract(lambda: getattr(PLAT, method)(*plain, **options), names, mask=bool(options)))
 
 
+@fuzz_settings(300)
+@given(st.one_of(junk(SINGLE["x"]), junk(BATCH["x"])).filter(lambda v: not isinstance(getattr(v, "dtype", v), complex)
+                                                                 and getattr(getattr(v, "dtype", None), "kind", "") != "c"))
+def fuzz_one_definition_of_a_state(x):
+    """The kernel and the numpy kinematics accept and refuse the same real inputs, with the
+    same message (one definition, ``_checks.state_array``), and agree where both answer."""
+    _example()
+    kernel = kept_contract(lambda: PLAT.jacobian(x), ("x",))
+    numpy = kept_contract(lambda: stewart.jacobian(PARAMS, x), ("x",))
+    refused = [outcome[1] for outcome in (kernel, numpy) if outcome[0] == "error" and outcome[1].startswith("ValueError: x:")
+               and "leg" not in outcome[1]]
+    if refused:
+        assert kernel == numpy, (kernel, numpy)
+    elif kernel[0] == numpy[0] == "ok":
+        np.testing.assert_allclose(kernel[1], numpy[1], rtol=1e-9, atol=1e-12)
+
+
 #: Fuzz functions that reach the compiled kernel; ``test_isolated`` runs each in a fresh
 #: interpreter, so that a crash (the kernel once segfaulted on 0-d arrays) fails the test.
-ISOLATED = ["fuzz_platform", "fuzz_controllers", "fuzz_parameter_fields"]
+ISOLATED = ["fuzz_platform", "fuzz_one_definition_of_a_state", "fuzz_controllers", "fuzz_parameter_fields"]
 
 
 @pytest.mark.parametrize("name", ISOLATED)

@@ -16,7 +16,7 @@ import stewart
 from stewart import reference
 from stewart._checks import MAX_THREADS
 from stewart.control import leg_masses
-from conftest import PLATFORM_METHODS, valid_arguments
+from conftest import LAYOUTS, PLATFORM_METHODS, valid_arguments
 
 PLAT = stewart.Platform.preset("narayan2017")
 PARAMS = PLAT.params
@@ -32,39 +32,6 @@ def _run_isolated(code: str) -> subprocess.CompletedProcess:
     return subprocess.run(
         [sys.executable, "-c", textwrap.dedent(code)], capture_output=True, text=True, timeout=300
     )
-
-
-def _unaligned(a: np.ndarray) -> np.ndarray:
-    raw = np.zeros(a.nbytes + 1, dtype=np.uint8)[1:]
-    out = raw.view(a.dtype).reshape(a.shape)
-    out[...] = a
-    assert not out.flags.aligned
-    return out
-
-
-def _strided(a: np.ndarray) -> np.ndarray:
-    wide = np.zeros(a.shape[:-1] + (2 * a.shape[-1],))
-    wide[..., ::2] = a
-    return wide[..., ::2]
-
-
-def _read_only(a: np.ndarray) -> np.ndarray:
-    out = a.copy()
-    out.flags.writeable = False
-    return out
-
-
-#: Layouts of the same float64 values that every function must read as the plain array.
-LAYOUTS = {
-    "big-endian": lambda a: a.astype(">f8"),
-    "big-endian unaligned": lambda a: _unaligned(a.astype(">f8")),
-    "unaligned": _unaligned,
-    "strided": _strided,
-    "reversed view": lambda a: np.flip(np.flip(a, -1).copy(), -1),
-    "Fortran order": np.asfortranarray,
-    "read-only": _read_only,
-    "nested lists": lambda a: a.tolist(),
-}
 
 
 def _assert_same(result, expected):
@@ -204,6 +171,7 @@ ZERO = np.zeros(6)
         (lambda: stewart.ComputedTorque(1, [1, 2]), "kd: expected one value or one per leg"),
         (lambda: stewart.PlatformParams.from_dict(None), "data: expected a mapping"),
         (lambda: stewart.PlatformParams.from_dict({1: 2}), "unknown parameter field"),
+        (lambda: stewart.Platform.preset(["narayan2017"]), "name: expected a preset name"),
         # TypeError or ValueError without the argument's name once
         (lambda: PLAT.leg_lengths(_Exploding()), "x: cannot be read as an array"),
         (lambda: stewart.leg_lengths(PARAMS, _deep(100)), "x: cannot be read as an array"),
