@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _checks
+from .params import PlatformParams
 from .platform import Platform
 
 __all__ = ["PID", "ComputedTorque", "OpenLoop", "Actuators", "PID_BANDWIDTH_HZ", "leg_masses"]
@@ -47,7 +48,7 @@ def _six(name: str, value) -> np.ndarray:
 
 def _platform(value) -> Platform:
     if not isinstance(value, Platform):
-        hint = " (build one with stewart.Platform(params))" if type(value).__name__ == "PlatformParams" else ""
+        hint = " (build one with stewart.Platform(params))" if isinstance(value, PlatformParams) else ""
         raise ValueError(f"platform: expected a stewart.Platform, got {type(value).__name__}{hint}")
     return value
 
