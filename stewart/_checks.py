@@ -1,7 +1,17 @@
-"""Argument checks shared by the public functions: shapes, dtypes and finiteness."""
+"""Argument checks shared by the public functions: numbers, shapes, finiteness, thread
+counts and the degenerate cases every model evaluation refuses.
+
+What counts as a number: real values of an integer or floating dtype (and, where a
+function says so, complex ones for complex-step derivatives), or Python numbers. Booleans,
+``timedelta64``/``datetime64``, strings, ``None``, dicts and other objects are refused
+with a ``ValueError`` naming the argument: a mask or a time stamp passed where a state
+belongs is a mistake, not a number.
+"""
 
 from __future__ import annotations
 
+import numbers
+import operator
 from typing import Any
 
 import numpy as np
@@ -10,26 +20,78 @@ from .errors import SingularityError
 
 #: J_C is treated as singular when its condition number exceeds this.
 JACOBIAN_COND_LIMIT = 1e12
+#: The Euler-rate map J_A (eq. 8) is treated as singular when |cos(theta)| is below this.
+EULER_COS_LIMIT = 1e-12
+#: The twist-space mass matrix is treated as singular when its condition number exceeds this.
+MASS_COND_LIMIT = 1e12
+#: A leg is degenerate (zero length) when |l_i|^2 is below this, as in the generated C.
+LEG_LENGTH_SQ_MIN = float(np.finfo(float).tiny)
+#: Most threads a :class:`stewart.Platform` may use.
+MAX_THREADS = 256
+
+_NOT_NUMBERS = (bool, np.bool_, np.timedelta64, np.datetime64)
 
 
-def states(name: str, value: Any, width: int = 6) -> np.ndarray:
-    """``value`` as a float (or complex) array of shape ``(width,)`` or ``(N, width)``.
+def _describe(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 60 else text[:57] + "..."
 
-    Raises ``ValueError`` naming ``name`` for a wrong shape, a non-numeric dtype or a
-    non-finite entry (reporting the first offending row of a batch).
+
+def _real_scalar(name: str, value: Any) -> float:
+    if not isinstance(value, numbers.Real) or isinstance(value, _NOT_NUMBERS):
+        raise ValueError(f"{name}: expected a number, got {type(value).__name__} {_describe(value)}")
+    try:
+        return float(value)
+    except OverflowError:
+        raise ValueError(f"{name}: {_describe(value)} is too large for a float") from None
+
+
+def reals(name: str, value: Any, *, allow_complex: bool = False) -> np.ndarray:
+    """``value`` as a float64 array (complex128 if complex and ``allow_complex``).
+
+    Raises ``ValueError`` naming ``name`` for anything that is not an array of real
+    numbers (see the module docstring); finiteness and shape are not checked here.
     """
     try:
         arr = np.asarray(value)
-    except Exception as exc:  # ragged sequences and the like
-        raise ValueError(f"{name}: cannot be read as an array ({exc})") from None
-    if arr.dtype == object or not (
-        np.issubdtype(arr.dtype, np.number) or arr.dtype == np.bool_
-    ):
-        raise ValueError(f"{name}: expected numbers, got dtype {arr.dtype}")
-    if not np.iscomplexobj(arr):
-        arr = arr.astype(float, copy=False)
+    except Exception as exc:  # ragged or too deeply nested sequences, failing __array__ ...
+        raise ValueError(f"{name}: cannot be read as an array ({type(exc).__name__}: {exc})") from None
+    kind = arr.dtype.kind
+    if kind in "iuf":
+        return arr.astype(float, copy=False)
+    if kind == "c" and allow_complex:
+        return arr.astype(complex, copy=False)
+    if kind == "O" and arr.size <= 10_000:  # Python numbers beyond int64, Fractions ...
+        flat = [_real_scalar(name, v) for v in arr.flat]
+        return np.array(flat, dtype=float).reshape(arr.shape)
+    if arr.ndim == 0:
+        raise ValueError(f"{name}: expected a number, got {type(value).__name__} {_describe(value)}")
+    what = "complex numbers" if kind == "c" else f"dtype {arr.dtype}"
+    raise ValueError(f"{name}: expected real numbers, got {what}")
+
+
+def real(name: str, value: Any) -> float:
+    """``value`` as one finite real number; ``ValueError`` naming ``name`` otherwise."""
+    arr = reals(name, value)
+    if arr.ndim != 0:
+        raise ValueError(f"{name}: expected one number, got shape {arr.shape}")
+    val = float(arr)
+    if not np.isfinite(val):
+        raise ValueError(f"{name}: must be finite, got {val}")
+    return val
+
+
+def state_array(name: str, value: Any, width: int = 6, *, allow_complex: bool = False) -> np.ndarray:
+    """``value`` as a float (or complex) array of shape ``(width,)`` or ``(N, width)``,
+    finiteness not checked: the compiled kernel checks it row by row itself."""
+    arr = reals(name, value, allow_complex=allow_complex)
     if arr.ndim not in (1, 2) or arr.shape[-1] != width:
         raise ValueError(f"{name}: expected shape ({width},) or (N, {width}), got {arr.shape}")
+    return arr
+
+
+def finite_states(name: str, arr: np.ndarray) -> np.ndarray:
+    """``arr`` unless it holds NaN or inf: then ``ValueError`` naming ``name`` and the first bad row."""
     bad = ~np.isfinite(arr)
     if bad.any():
         if arr.ndim == 1:
@@ -37,6 +99,16 @@ def states(name: str, value: Any, width: int = 6) -> np.ndarray:
         row = int(np.argwhere(bad.any(axis=-1))[0, 0])
         raise ValueError(f"{name}: row {row} contains NaN or inf: {arr[row].tolist()}")
     return arr
+
+
+def states(name: str, value: Any, width: int = 6, *, allow_complex: bool = False) -> np.ndarray:
+    """``value`` as a finite float (or complex) array of shape ``(width,)`` or ``(N, width)``.
+
+    Raises ``ValueError`` naming ``name`` for a wrong shape, a value that is not a real
+    number (complex only with ``allow_complex``) or a non-finite entry (reporting the
+    first offending row of a batch).
+    """
+    return finite_states(name, state_array(name, value, width, allow_complex=allow_complex))
 
 
 def same_batch(**arrays: np.ndarray) -> None:
@@ -47,13 +119,100 @@ def same_batch(**arrays: np.ndarray) -> None:
         raise ValueError(f"arguments must have matching batch shapes: {desc}")
 
 
+def count(name: str, value: Any, maximum: int) -> int:
+    """``value`` as an int (not a bool) from 1 to ``maximum``; ``ValueError`` naming ``name`` otherwise."""
+    if isinstance(value, _NOT_NUMBERS):
+        raise ValueError(f"{name}: expected an integer, got {_describe(value)}")
+    try:
+        number = operator.index(value)
+    except TypeError:
+        raise ValueError(f"{name}: expected an integer, got {type(value).__name__} {_describe(value)}") from None
+    if not 1 <= number <= maximum:
+        raise ValueError(f"{name}: must be from 1 to {maximum}, got {number}")
+    return number
+
+
+def thread_count(value: Any) -> int:
+    """A thread count: an int (not a bool) from 1 to :data:`MAX_THREADS`."""
+    return count("threads", value, MAX_THREADS)
+
+
+def _rows(bad: np.ndarray) -> tuple[list[int], str]:
+    rows = np.flatnonzero(bad)
+    return rows.tolist(), f"{rows[:10].tolist()}{' ...' if rows.size > 10 else ''}"
+
+
 def regular_jacobian(jac: np.ndarray) -> None:
     """Raise :class:`SingularityError` (naming the rows) where ``J_C`` is singular."""
     cond = np.linalg.cond(np.real(jac).reshape(-1, 6, 6))
     bad = ~(cond < JACOBIAN_COND_LIMIT)
     if bad.any():
-        rows = np.flatnonzero(bad)
+        rows, text = _rows(bad)
         raise SingularityError(
-            f"x: J_C is singular (condition number {cond[rows[0]]:.3g}) at row(s) {rows[:10].tolist()}",
+            f"x: J_C is singular (condition number {cond[rows[0]]:.3g}) at row(s) {text}", rows=rows
+        )
+
+
+def regular_euler_rates(x: np.ndarray) -> None:
+    """Raise :class:`SingularityError` (naming the rows) where ``theta = +-90 deg``: there
+    ``J_A`` (eq. 8) is singular and Euler rates do not follow from the twist."""
+    bad = ~(np.abs(np.cos(np.real(x[..., 4]))).reshape(-1) >= EULER_COS_LIMIT)
+    if bad.any():
+        rows, text = _rows(bad)
+        raise SingularityError(f"x: theta = +-90 deg at row(s) {text}: the Euler-rate map J_A is singular", rows=rows)
+
+
+def regular_mass_matrix(mass: np.ndarray) -> None:
+    """Raise :class:`SingularityError` (naming the rows) where the mass matrix is singular
+    (a massless platform, for one)."""
+    cond = np.linalg.cond(np.real(mass).reshape(-1, 6, 6))
+    bad = ~(cond < MASS_COND_LIMIT)
+    if bad.any():
+        rows, text = _rows(bad)
+        raise SingularityError(
+            f"params: the mass matrix is singular (condition number {cond[rows[0]]:.3g}) at row(s) {text}; "
+            "is the platform massless?",
             rows=rows,
         )
+
+
+def nondegenerate_legs(length_sq: np.ndarray) -> None:
+    """Raise :class:`SingularityError` (naming the rows) where a leg has zero length,
+    ``|l_i|^2 < LEG_LENGTH_SQ_MIN``, or a length too large for double precision;
+    ``length_sq`` holds ``|l_i|^2``, shape ``(..., 6)``."""
+    length_sq = np.real(length_sq).reshape(-1, 6)
+    for bad, what in (
+        (~(length_sq >= LEG_LENGTH_SQ_MIN).all(axis=1), "a leg has zero length"),
+        (~np.isfinite(length_sq).all(axis=1), "a leg's length overflows (an input too large for double precision)"),
+    ):
+        if bad.any():
+            rows, text = _rows(bad)
+            raise SingularityError(f"x: {what} at row(s) {text}", rows=rows)
+
+
+def _arrays(result: Any):
+    if isinstance(result, dict):
+        result = tuple(result.values())
+    if isinstance(result, tuple):
+        for item in result:
+            yield from _arrays(item)
+    else:
+        yield np.asarray(result)
+
+
+def finite_result(function: str, result: Any, x: np.ndarray) -> Any:
+    """``result`` (an array, or a tuple or dict of them) of ``function`` at the state(s)
+    ``x``, unless it holds NaN or inf: then :class:`SingularityError` naming the rows."""
+    n = x.shape[0] if x.ndim == 2 else 1
+    if n == 0:
+        return result
+    bad = np.zeros(n, dtype=bool)
+    for arr in _arrays(result):
+        bad |= ~np.isfinite(arr.reshape(n, -1)).all(axis=1)
+    if bad.any():
+        rows, text = _rows(bad)
+        raise SingularityError(
+            f"{function}: non-finite result at row(s) {text} (an input too large for double precision)",
+            rows=rows,
+        )
+    return result

@@ -15,6 +15,7 @@ cimport numpy as cnp
 from cython.parallel cimport prange
 from libc.math cimport isfinite, NAN
 
+from . import _checks
 from .errors import SingularityError
 
 cnp.import_array()
@@ -35,22 +36,18 @@ cdef enum:
 
 
 cdef cnp.ndarray _states(str name, object value):
-    """``value`` as a C-contiguous float64 array of shape (6,) or (N, 6); no copy if it is one."""
+    """``value`` as a C-contiguous, aligned, native-byte-order float64 array of shape (6,)
+    or (N, 6); no copy if it is one. What is a valid state array is decided in one place,
+    :func:`stewart._checks.state_array`; the fast path only recognises arrays that need
+    no conversion (finiteness is checked row by row in ``Kernel._row``)."""
     cdef cnp.ndarray arr
     if type(value) is cnp.ndarray:
         arr = <cnp.ndarray>value
-        if (cnp.PyArray_TYPE(arr) == cnp.NPY_DOUBLE and cnp.PyArray_IS_C_CONTIGUOUS(arr)
-                and arr.shape[arr.ndim - 1] == 6 and (arr.ndim == 1 or arr.ndim == 2)):
+        if ((arr.ndim == 1 or arr.ndim == 2) and arr.shape[arr.ndim - 1] == 6
+                and cnp.PyArray_TYPE(arr) == cnp.NPY_DOUBLE and cnp.PyArray_IS_C_CONTIGUOUS(arr)
+                and cnp.PyArray_ISBEHAVED_RO(arr)):
             return arr
-    try:
-        obj = np.asarray(value)
-    except Exception as exc:
-        raise ValueError(f"{name}: cannot be read as an array ({exc})") from None
-    if obj.dtype.kind not in "biuf":
-        raise ValueError(f"{name}: expected real numbers, got dtype {obj.dtype}")
-    if obj.ndim not in (1, 2) or obj.shape[obj.ndim - 1] != 6:
-        raise ValueError(f"{name}: expected shape (6,) or (N, 6), got {obj.shape}")
-    return np.ascontiguousarray(obj, dtype=np.float64)
+    return np.require(_checks.state_array(name, value), np.float64, "CA")
 
 
 cdef inline bint _finite6(const double *v) noexcept nogil:
@@ -66,7 +63,7 @@ cdef class Kernel:
     """The compiled model for one parameter set. ``threads`` > 1 splits batches over
     that many OpenMP threads."""
 
-    def __cinit__(self, params, int threads=1):
+    def __cinit__(self, params, threads=1):
         cdef int i, k
         for i in range(6):
             for k in range(3):
@@ -82,9 +79,7 @@ cdef class Kernel:
         self.p.piston_mass = params.piston_mass
         self.p.piston_com_distance = params.piston_com_distance
         self.p.gravity = params.gravity
-        if threads < 1:
-            raise ValueError(f"threads: must be >= 1, got {threads}")
-        self.threads = threads
+        self.threads = _checks.thread_count(threads)
 
     cdef object _run(self, str fname, int arity, void *fn, tuple names, tuple values,
                      int width, bint return_mask):
@@ -166,14 +161,9 @@ cdef class Kernel:
 
     cdef object _failed(self, str fname, tuple names, tuple arrays, cnp.ndarray out,
                         cnp.ndarray status, bint batch, bint return_mask):
-        bad_input = np.flatnonzero(status == NONFINITE_INPUT)
-        if bad_input.size:
-            row = int(bad_input[0])
+        if np.any(status == NONFINITE_INPUT):
             for name, arr in zip(names, arrays):
-                values = arr[row] if arr.ndim == 2 else arr
-                if not np.all(np.isfinite(values)):
-                    where = f"row {row} " if arr.ndim == 2 else ""
-                    raise ValueError(f"{name}: {where}contains NaN or inf: {values.tolist()}")
+                _checks.finite_states(name, arr)
         rows = np.flatnonzero(status != STEWART_OK)
         if return_mask:
             return out, (status == STEWART_OK) if batch else bool(status[0] == STEWART_OK)

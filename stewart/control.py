@@ -18,6 +18,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import _checks
+from .params import PlatformParams
+from .platform import Platform
+
 __all__ = ["PID", "ComputedTorque", "OpenLoop", "Actuators", "PID_BANDWIDTH_HZ", "leg_masses"]
 
 #: Closed-loop bandwidth of the tuned leg PID for each preset, in Hz. The small
@@ -27,11 +31,41 @@ PID_BANDWIDTH_HZ = {"narayan2017": 2.5, "motion_simulator": 3.0}
 DEFAULT_BANDWIDTH_HZ = 5.0
 
 
+def _per_leg(name: str, value) -> np.ndarray:
+    """``value`` (one number, or one per leg) as six floats; ``ValueError`` naming ``name``."""
+    arr = _checks.reals(name, value)
+    if arr.shape not in ((), (1,), (6,)):
+        raise ValueError(f"{name}: expected one value or one per leg (6), got shape {arr.shape}")
+    return np.broadcast_to(arr, (6,)).copy()
+
+
 def _six(name: str, value) -> np.ndarray:
-    arr = np.broadcast_to(np.asarray(value, dtype=float), (6,)).copy()
+    arr = _per_leg(name, value)
     if not np.all(np.isfinite(arr)) or np.any(arr < 0):
         raise ValueError(f"{name}: gains must be finite and >= 0, got {arr.tolist()}")
     return arr
+
+
+def _platform(value) -> Platform:
+    if not isinstance(value, Platform):
+        hint = " (build one with stewart.Platform(params))" if isinstance(value, PlatformParams) else ""
+        raise ValueError(f"platform: expected a stewart.Platform, got {type(value).__name__}{hint}")
+    return value
+
+
+def _bandwidth(value) -> float:
+    bandwidth = _checks.real("bandwidth_hz", value)
+    if not bandwidth > 0:
+        raise ValueError(f"bandwidth_hz: must be positive, got {bandwidth}")
+    return bandwidth
+
+
+def _tuned_gains(bandwidth_hz: float, **gains: np.ndarray) -> dict[str, np.ndarray]:
+    """``gains`` unless one overflows (``ValueError`` naming ``bandwidth_hz``)."""
+    for values in gains.values():
+        if not np.all(np.isfinite(values)):
+            raise ValueError(f"bandwidth_hz: {bandwidth_hz} Hz is too high: the gains overflow")
+    return gains
 
 
 def leg_masses(platform, x=None) -> np.ndarray:
@@ -40,10 +74,18 @@ def leg_masses(platform, x=None) -> np.ndarray:
     mass matrix."""
     from .kinematics import twist_transform
 
-    x = platform.home_pose if x is None else np.asarray(x, dtype=float)
-    jac_inv = np.linalg.inv(platform.jacobian(x))
-    m_twist = platform.mass_matrix(x) @ np.linalg.inv(twist_transform(x))
-    return np.diag(jac_inv.T @ m_twist @ jac_inv).copy()
+    platform = _platform(platform)
+    x = platform.home_pose if x is None else _checks.states("x", x)
+    if x.shape != (6,):
+        raise ValueError(f"x: expected one pose, shape (6,), got {x.shape}")
+    jac = platform.jacobian(x)
+    _checks.regular_jacobian(jac)
+    _checks.regular_euler_rates(x)
+    with np.errstate(over="ignore", invalid="ignore"):
+        jac_inv = np.linalg.inv(jac)
+        m_twist = platform.mass_matrix(x) @ np.linalg.inv(twist_transform(x))
+        masses = np.diag(jac_inv.T @ m_twist @ jac_inv).copy()
+    return _checks.finite_result("leg_masses", masses, x)
 
 
 @dataclass(frozen=True)
@@ -66,13 +108,14 @@ class PID:
 
         ``f`` defaults to :data:`PID_BANDWIDTH_HZ` for a preset, else 5 Hz.
         """
+        platform = _platform(platform)
         if bandwidth_hz is None:
             bandwidth_hz = PID_BANDWIDTH_HZ.get(platform.params.name, DEFAULT_BANDWIDTH_HZ)
-        if not (np.isfinite(bandwidth_hz) and bandwidth_hz > 0):
-            raise ValueError(f"bandwidth_hz: must be positive, got {bandwidth_hz}")
-        w = 2.0 * np.pi * bandwidth_hz
+        bandwidth_hz = _bandwidth(bandwidth_hz)
+        w = np.float64(2.0 * np.pi * bandwidth_hz)
         m = leg_masses(platform)
-        return cls(kp=3.0 * m * w**2, ki=m * w**3, kd=3.0 * m * w)
+        with np.errstate(over="ignore"):
+            return cls(**_tuned_gains(bandwidth_hz, kp=3.0 * m * w**2, ki=m * w**3, kd=3.0 * m * w))
 
 
 @dataclass(frozen=True)
@@ -89,10 +132,10 @@ class ComputedTorque:
     @classmethod
     def tuned(cls, bandwidth_hz: float = 5.0) -> "ComputedTorque":
         """Critically damped error dynamics at ``bandwidth_hz``: ``Kp = w^2``, ``Kd = 2 w``."""
-        if not (np.isfinite(bandwidth_hz) and bandwidth_hz > 0):
-            raise ValueError(f"bandwidth_hz: must be positive, got {bandwidth_hz}")
-        w = 2.0 * np.pi * bandwidth_hz
-        return cls(kp=w**2, kd=2.0 * w)
+        bandwidth_hz = _bandwidth(bandwidth_hz)
+        w = np.float64(2.0 * np.pi * bandwidth_hz)
+        with np.errstate(over="ignore"):
+            return cls(**_tuned_gains(bandwidth_hz, kp=w**2, kd=2.0 * w))
 
 
 @dataclass(frozen=True)
@@ -115,14 +158,16 @@ class Actuators:
     coulomb_velocity: float = 1e-3
 
     def __post_init__(self):
-        limit = np.broadcast_to(np.asarray(self.force_limit, dtype=float), (6,)).copy()
-        if np.any(np.isnan(limit)) or np.any(limit <= 0):
+        limit = _per_leg("force_limit", self.force_limit)
+        if not np.all(limit > 0):
             raise ValueError(f"force_limit: must be > 0, got {limit.tolist()}")
         object.__setattr__(self, "force_limit", limit)
         for name in ("viscous", "coulomb"):
-            value = float(getattr(self, name))
-            if not (np.isfinite(value) and value >= 0):
+            value = _checks.real(name, getattr(self, name))
+            if not value >= 0:
                 raise ValueError(f"{name}: must be finite and >= 0, got {value}")
             object.__setattr__(self, name, value)
-        if not (np.isfinite(self.coulomb_velocity) and self.coulomb_velocity > 0):
-            raise ValueError(f"coulomb_velocity: must be > 0, got {self.coulomb_velocity}")
+        velocity = _checks.real("coulomb_velocity", self.coulomb_velocity)
+        if not velocity > 0:
+            raise ValueError(f"coulomb_velocity: must be > 0, got {velocity}")
+        object.__setattr__(self, "coulomb_velocity", velocity)

@@ -4,7 +4,8 @@ Every function takes one pose ``x = [x, y, z, psi, theta, phi]`` of shape ``(6,)
 batch ``(N, 6)`` and returns the matching shape. The orientation is ZYX Euler,
 ``R = Rz(psi) Ry(theta) Rx(phi)`` (Lopes & Pires 2011, eqs. 3 and 8). The functions are
 written with analytic operations only (no ``abs``/``norm``), so they also accept complex
-arrays, which :mod:`stewart.reference` uses for exact complex-step derivatives.
+arrays, which :mod:`stewart.reference` uses for exact complex-step derivatives. A zero-length
+leg or a result that overflows raises :class:`~stewart.SingularityError`.
 """
 
 from __future__ import annotations
@@ -13,7 +14,7 @@ import numpy as np
 
 from . import _checks
 from .errors import ConvergenceError
-from .params import PlatformParams
+from .params import PlatformParams, checked_params
 
 __all__ = [
     "rotation",
@@ -32,31 +33,35 @@ __all__ = [
 
 def rotation(x) -> np.ndarray:
     """Orientation ``R = Rz(psi) Ry(theta) Rx(phi)`` of {P} in {B}, shape ``(..., 3, 3)``."""
-    x = _checks.states("x", x)
-    cps, sps = np.cos(x[..., 3]), np.sin(x[..., 3])
-    cth, sth = np.cos(x[..., 4]), np.sin(x[..., 4])
-    cph, sph = np.cos(x[..., 5]), np.sin(x[..., 5])
-    rows = [
-        [cps * cth, cps * sth * sph - sps * cph, cps * sth * cph + sps * sph],
-        [sps * cth, sps * sth * sph + cps * cph, sps * sth * cph - cps * sph],
-        [-sth, cth * sph, cth * cph],
-    ]
-    return np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
+    x = _checks.states("x", x, allow_complex=True)
+    with np.errstate(over="ignore", invalid="ignore"):  # complex angles: cosh overflows
+        cps, sps = np.cos(x[..., 3]), np.sin(x[..., 3])
+        cth, sth = np.cos(x[..., 4]), np.sin(x[..., 4])
+        cph, sph = np.cos(x[..., 5]), np.sin(x[..., 5])
+        rows = [
+            [cps * cth, cps * sth * sph - sps * cph, cps * sth * cph + sps * sph],
+            [sps * cth, sps * sth * sph + cps * cph, sps * sth * cph - cps * sph],
+            [-sth, cth * sph, cth * cph],
+        ]
+        rot = np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
+    return _checks.finite_result("rotation", rot, x)
 
 
 def euler_rate_jacobian(x) -> np.ndarray:
     """``J_A`` of eq. 8: maps ``[psi', theta', phi']`` to the angular velocity in {B}."""
-    x = _checks.states("x", x)
-    cps, sps = np.cos(x[..., 3]), np.sin(x[..., 3])
-    cth, sth = np.cos(x[..., 4]), np.sin(x[..., 4])
-    zero, one = np.zeros_like(cps), np.ones_like(cps)
-    rows = [[zero, -sps, cps * cth], [zero, cps, sps * cth], [one, zero, -sth]]
-    return np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
+    x = _checks.states("x", x, allow_complex=True)
+    with np.errstate(over="ignore", invalid="ignore"):  # complex angles: cosh overflows
+        cps, sps = np.cos(x[..., 3]), np.sin(x[..., 3])
+        cth, sth = np.cos(x[..., 4]), np.sin(x[..., 4])
+        zero, one = np.zeros_like(cps), np.ones_like(cps)
+        rows = [[zero, -sps, cps * cth], [zero, cps, sps * cth], [one, zero, -sth]]
+        j_a = np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
+    return _checks.finite_result("euler_rate_jacobian", j_a, x)
 
 
 def twist_transform(x) -> np.ndarray:
     """``T = blockdiag(I3, J_A)`` of eq. 18: the twist ``[v; omega] = T xdot``."""
-    x = _checks.states("x", x)
+    x = _checks.states("x", x, allow_complex=True)
     out = np.zeros(x.shape[:-1] + (6, 6), dtype=x.dtype)
     out[..., 0, 0] = out[..., 1, 1] = out[..., 2, 2] = 1.0
     out[..., 3:, 3:] = euler_rate_jacobian(x)
@@ -65,33 +70,54 @@ def twist_transform(x) -> np.ndarray:
 
 def platform_points_in_base(params: PlatformParams, x) -> np.ndarray:
     """``r_i = R p_i``: the platform points rotated into {B} (not translated), ``(..., 6, 3)``."""
+    params = checked_params(params)
     return np.einsum("...jk,ik->...ij", rotation(x), params.platform_points)
+
+
+def _legs(params: PlatformParams, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``r_i = R p_i``, ``l_i`` (eq. 26) and ``|l_i|^2`` for a checked state, unchecked results."""
+    arms = platform_points_in_base(params, x)
+    legs = x[..., None, :3] + arms - params.base_points
+    with np.errstate(over="ignore", invalid="ignore"):
+        return arms, legs, np.sum(legs * legs, axis=-1)
+
+
+def _jacobian(arms: np.ndarray, legs: np.ndarray, length_sq: np.ndarray) -> np.ndarray:
+    """``J_C`` rows ``[u_i, r_i x u_i]`` (eq. 5), unchecked."""
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        units = legs / np.sqrt(length_sq)[..., None]
+        return np.concatenate([units, np.cross(arms, units)], axis=-1)
 
 
 def leg_vectors(params: PlatformParams, x) -> np.ndarray:
     """Leg vectors ``l_i = p + R p_i - b_i`` of eq. 26, shape ``(..., 6, 3)``."""
-    x = _checks.states("x", x)
-    return x[..., None, :3] + platform_points_in_base(params, x) - params.base_points
+    params = checked_params(params)
+    x = _checks.states("x", x, allow_complex=True)
+    return _legs(params, x)[1]
 
 
 def leg_lengths(params: PlatformParams, x) -> np.ndarray:
     """Leg lengths ``|l_i|``, shape ``(..., 6)``."""
-    legs = leg_vectors(params, x)
-    return np.sqrt(np.sum(legs * legs, axis=-1))
+    params = checked_params(params)
+    x = _checks.states("x", x, allow_complex=True)
+    return _checks.finite_result("leg_lengths", np.sqrt(_legs(params, x)[2]), x)
 
 
 def leg_unit_vectors(params: PlatformParams, x) -> np.ndarray:
-    """Unit leg vectors ``l_i / |l_i|`` of eq. 25, shape ``(..., 6, 3)``."""
-    legs = leg_vectors(params, x)
-    return legs / np.sqrt(np.sum(legs * legs, axis=-1))[..., None]
+    """Unit leg vectors ``l_i / |l_i|`` of eq. 25, shape ``(..., 6, 3)``; a zero-length leg
+    raises :class:`~stewart.SingularityError`."""
+    return jacobian(params, x)[..., :3]
 
 
 def jacobian(params: PlatformParams, x) -> np.ndarray:
     """Kinematic Jacobian ``J_C`` of eq. 5, ``Ldot = J_C [v; omega]``; row i is
-    ``[u_i, (R p_i) x u_i]``. Shape ``(..., 6, 6)``."""
-    units = leg_unit_vectors(params, x)
-    arms = platform_points_in_base(params, x)
-    return np.concatenate([units, np.cross(arms, units)], axis=-1)
+    ``[u_i, (R p_i) x u_i]``. Shape ``(..., 6, 6)``; a zero-length leg raises
+    :class:`~stewart.SingularityError`."""
+    params = checked_params(params)
+    x = _checks.states("x", x, allow_complex=True)
+    arms, legs, length_sq = _legs(params, x)
+    _checks.nondegenerate_legs(length_sq)
+    return _checks.finite_result("jacobian", _jacobian(arms, legs, length_sq), x)
 
 
 def euler_jacobian(params: PlatformParams, x) -> np.ndarray:
@@ -101,10 +127,12 @@ def euler_jacobian(params: PlatformParams, x) -> np.ndarray:
 
 def leg_velocities(params: PlatformParams, x, xd) -> np.ndarray:
     """Leg extension rates ``Ldot = J_E xdot`` (eq. 4), shape ``(..., 6)``."""
-    xd = _checks.states("xd", xd)
-    x = _checks.states("x", x)
+    xd = _checks.states("xd", xd, allow_complex=True)
+    x = _checks.states("x", x, allow_complex=True)
     _checks.same_batch(x=x, xd=xd)
-    return np.einsum("...ij,...j->...i", euler_jacobian(params, x), xd)
+    with np.errstate(over="ignore", invalid="ignore"):
+        rates = np.einsum("...ij,...j->...i", euler_jacobian(params, x), xd)
+    return _checks.finite_result("leg_velocities", rates, x)
 
 
 def home_pose(params: PlatformParams, leg_length: float | None = None) -> np.ndarray:
@@ -115,6 +143,7 @@ def home_pose(params: PlatformParams, leg_length: float | None = None) -> np.nda
     without limits, to the larger of the base's circumradius and sqrt(2) times the widest
     horizontal leg span at home (so no leg leans more than 45 degrees).
     """
+    params = checked_params(params)
     offset = params.base_points.mean(axis=0) - params.platform_points.mean(axis=0)
     planar = params.platform_points[:, :2] + offset[:2] - params.base_points[:, :2]
     dz0 = params.platform_points[:, 2] - params.base_points[:, 2]
@@ -125,10 +154,11 @@ def home_pose(params: PlatformParams, leg_length: float | None = None) -> np.nda
         else:
             centred = params.base_points - params.base_points.mean(axis=0)
             leg_length = max(float(np.max(np.sqrt(np.sum(centred * centred, axis=1)))), np.sqrt(2.0) * reach.max())
-    leg_length = float(leg_length)
+    leg_length = _checks.real("leg_length", leg_length)
 
     def mean_length(z: float) -> float:
-        return float(np.mean(np.sqrt(reach**2 + (z + dz0) ** 2)))
+        with np.errstate(over="ignore"):  # inf for lengths near the float limit: bisection still works
+            return float(np.mean(np.hypot(reach, z + dz0)))
 
     # Above the highest base joint, mean_length increases with z: bisect on it.
     lo = float(np.max(-dz0))
@@ -147,6 +177,10 @@ def home_pose(params: PlatformParams, leg_length: float | None = None) -> np.nda
     return np.array([offset[0], offset[1], 0.5 * (lo + hi), 0.0, 0.0, 0.0])
 
 
+#: Most Newton iterations :func:`forward_kinematics` may be asked for.
+MAX_ITERATIONS = 10_000
+
+
 def forward_kinematics(
     params: PlatformParams,
     lengths,
@@ -161,31 +195,43 @@ def forward_kinematics(
     or one per row; default :func:`home_pose`) and uses ``J_E`` (eq. 4) as the Jacobian,
     halving a step that does not reduce the residual. Raises
     :class:`~stewart.errors.ConvergenceError` naming the rows that did not reach
-    ``max|L(x) - lengths| <= tol * max(lengths)``.
+    ``max|L(x) - lengths| <= tol * max(lengths)``. ``tol`` is a positive number and
+    ``max_iter`` an int from 1 to 10000.
     """
+    params = checked_params(params)
     lengths = _checks.states("lengths", lengths)
-    if np.iscomplexobj(lengths) or np.any(lengths <= 0.0):
-        raise ValueError("lengths: leg lengths must be real and positive")
+    if np.any(lengths <= 0.0):
+        raise ValueError("lengths: leg lengths must be positive")
+    tol = _checks.real("tol", tol)
+    if not tol > 0.0:
+        raise ValueError(f"tol: must be positive, got {tol}")
+    max_iter = _checks.count("max_iter", max_iter, MAX_ITERATIONS)
     target = np.atleast_2d(lengths)
     if guess is None:
         x = np.broadcast_to(home_pose(params), target.shape).copy()
     else:
         guess = _checks.states("guess", guess)
+        if guess.ndim == 2 and guess.shape != target.shape:
+            raise ValueError(f"guess: expected one pose or one per row of lengths {lengths.shape}, got {guess.shape}")
         x = np.broadcast_to(guess, target.shape).copy()
     scale = tol * target.max(axis=1)
 
     def residual(poses, rows=slice(None)):
-        return leg_lengths(params, poses) - target[rows]
+        out = np.full(poses.shape, np.inf)  # a trial step may leave the floats
+        fine = np.isfinite(poses).all(axis=1)
+        out[fine] = np.sqrt(_legs(params, poses[fine])[2]) - target[rows][fine]
+        return out
 
     res = residual(x)
     norm = np.max(np.abs(res), axis=1)
-    active = norm > scale
+    active = ~(norm <= scale)
     for _ in range(max_iter):
         if not active.any():
             break
         idx = np.flatnonzero(active)
-        jac = euler_jacobian(params, x[idx])
-        singular = np.linalg.cond(jac) > 1e14
+        jac = _jacobian(*_legs(params, x[idx])) @ twist_transform(x[idx])
+        singular = ~np.isfinite(jac).all(axis=(1, 2))
+        singular[~singular] = ~(np.linalg.cond(jac[~singular]) <= 1e14)
         step = np.zeros((idx.size, 6))
         ok = ~singular
         step[ok] = np.linalg.solve(jac[ok], res[idx][ok][..., None])[..., 0]
@@ -196,7 +242,8 @@ def forward_kinematics(
             if not pending.any():
                 break
             alpha[pending & np.isfinite(trial_norm)] *= 0.5
-            trial = x[idx] - alpha[:, None] * step
+            with np.errstate(over="ignore", invalid="ignore"):
+                trial = x[idx] - alpha[:, None] * step
             trial_norm = np.max(np.abs(residual(trial, idx)), axis=1)
             trial_norm[~ok] = np.inf
         improved = ok & (trial_norm < norm[idx])
@@ -205,8 +252,8 @@ def forward_kinematics(
         res[rows] = residual(x[rows], rows)
         norm[rows] = np.max(np.abs(res[rows]), axis=1)
         active[idx[~improved]] = False
-        active[rows] = norm[rows] > scale[rows]
-    failed = np.flatnonzero(norm > scale)
+        active[rows] = ~(norm[rows] <= scale[rows])
+    failed = np.flatnonzero(~(norm <= scale))
     if failed.size:
         worst = float(np.max(norm[failed]))
         raise ConvergenceError(

@@ -66,7 +66,7 @@ import numpy as np
 
 from . import _checks
 from .kinematics import euler_rate_jacobian, rotation
-from .params import PlatformParams
+from .params import PlatformParams, checked_params
 
 __all__ = ["JointReactions", "inverse_dynamics", "joint_reactions"]
 
@@ -115,8 +115,7 @@ def _leg_inertia_times(inertia: np.ndarray, u: np.ndarray, vec: np.ndarray) -> n
 
 
 def _solve(params: PlatformParams, x, xd, xdd) -> JointReactions:
-    if not isinstance(params, PlatformParams):
-        raise ValueError(f"params: expected a stewart.PlatformParams, got {type(params).__name__}")
+    params = checked_params(params)
     if not params.is_axisymmetric:
         raise ValueError(
             "params: the Newton-Euler formulation needs axisymmetric legs (I_yy == I_zz for "
@@ -129,64 +128,67 @@ def _solve(params: PlatformParams, x, xd, xdd) -> JointReactions:
     xdd = _checks.states("xdd", xdd)
     _checks.same_batch(x=x, xd=xd, xdd=xdd)
 
-    g_vec = np.array([0.0, 0.0, -params.gravity])
-    m_p, m_c, m_s = params.platform_mass, params.cylinder_mass, params.piston_mass
-    b_c, b_s = params.cylinder_com_distance, params.piston_com_distance
+    with np.errstate(over="ignore", invalid="ignore"):
+        g_vec = np.array([0.0, 0.0, -params.gravity])
+        m_p, m_c, m_s = params.platform_mass, params.cylinder_mass, params.piston_mass
+        b_c, b_s = params.cylinder_com_distance, params.piston_com_distance
 
-    # Platform twist and twist acceleration (eq. 18 and its derivative).
-    rot = rotation(x)
-    j_a = euler_rate_jacobian(x)
-    vel = xd[..., :3]
-    omega = _matvec(j_a, xd[..., 3:])
-    acc = xdd[..., :3]
-    alpha = _matvec(j_a, xdd[..., 3:]) + _matvec(_euler_rate_jacobian_dot(x, xd), xd[..., 3:])
+        # Platform twist and twist acceleration (eq. 18 and its derivative).
+        rot = rotation(x)
+        j_a = euler_rate_jacobian(x)
+        vel = xd[..., :3]
+        omega = _matvec(j_a, xd[..., 3:])
+        acc = xdd[..., :3]
+        alpha = _matvec(j_a, xdd[..., 3:]) + _matvec(_euler_rate_jacobian_dot(x, xd), xd[..., 3:])
 
-    # Per leg (a leg axis of length 6 before the vector axis).
-    arms = np.einsum("...jk,ik->...ij", rot, params.platform_points)  # r_i = R p_i
-    om = omega[..., None, :]
-    al = alpha[..., None, :]
-    legs = x[..., None, :3] + arms - params.base_points
-    length = np.sqrt(_dot(legs, legs))[..., None]
-    u = legs / length
-    v_p = vel[..., None, :] + np.cross(om, arms)
-    a_p = acc[..., None, :] + np.cross(al, arms) + np.cross(om, np.cross(om, arms))
-    l_dot = _dot(u, v_p)[..., None]
-    u_dot = (v_p - l_dot * u) / length
-    l_ddot = _dot(u_dot, v_p)[..., None] + _dot(u, a_p)[..., None]
-    u_ddot = (a_p - l_ddot * u - 2.0 * l_dot * u_dot) / length
-    omega_leg = np.cross(u, u_dot)
-    alpha_leg = np.cross(u, u_ddot)
-    a_cyl = b_c * u_ddot
-    a_pis = a_p - b_s * u_ddot
+        # Per leg (a leg axis of length 6 before the vector axis).
+        arms = np.einsum("...jk,ik->...ij", rot, params.platform_points)  # r_i = R p_i
+        om = omega[..., None, :]
+        al = alpha[..., None, :]
+        legs = x[..., None, :3] + arms - params.base_points
+        length_sq = _dot(legs, legs)
+        _checks.nondegenerate_legs(length_sq)
+        length = np.sqrt(length_sq)[..., None]
+        u = legs / length
+        v_p = vel[..., None, :] + np.cross(om, arms)
+        a_p = acc[..., None, :] + np.cross(al, arms) + np.cross(om, np.cross(om, arms))
+        l_dot = _dot(u, v_p)[..., None]
+        u_dot = (v_p - l_dot * u) / length
+        l_ddot = _dot(u_dot, v_p)[..., None] + _dot(u, a_p)[..., None]
+        u_ddot = (a_p - l_ddot * u - 2.0 * l_dot * u_dot) / length
+        omega_leg = np.cross(u, u_dot)
+        alpha_leg = np.cross(u, u_ddot)
+        a_cyl = b_c * u_ddot
+        a_pis = a_p - b_s * u_ddot
 
-    # Rate of change of the leg's angular momentum about B_i (Euler + transport terms).
-    inertia_sum = params.cylinder_inertia + params.piston_inertia
-    h_dot = (
-        _leg_inertia_times(inertia_sum, u, alpha_leg)
-        + np.cross(omega_leg, _leg_inertia_times(inertia_sum, u, omega_leg))
-        + np.cross(b_c * u, m_c * a_cyl)
-        + np.cross((length - b_s) * u, m_s * a_pis)
-    )
-    weight_moment = np.cross(b_c * u, m_c * g_vec) + np.cross((length - b_s) * u, m_s * g_vec)
-    # l x (-f_P) = h_dot - weight_moment  ->  transverse part of -f_P.
-    k = (h_dot - weight_moment) / length
-    transverse = np.cross(k, u)
-    # Piston axial balance: u.(-f_P) = m_S u.(a_S - g_vec) - tau.
-    f0 = transverse + m_s * _dot(u, a_pis - g_vec)[..., None] * u
+        # Rate of change of the leg's angular momentum about B_i (Euler + transport terms).
+        inertia_sum = params.cylinder_inertia + params.piston_inertia
+        h_dot = (
+            _leg_inertia_times(inertia_sum, u, alpha_leg)
+            + np.cross(omega_leg, _leg_inertia_times(inertia_sum, u, omega_leg))
+            + np.cross(b_c * u, m_c * a_cyl)
+            + np.cross((length - b_s) * u, m_s * a_pis)
+        )
+        weight_moment = np.cross(b_c * u, m_c * g_vec) + np.cross((length - b_s) * u, m_s * g_vec)
+        # l x (-f_P) = h_dot - weight_moment  ->  transverse part of -f_P.
+        k = (h_dot - weight_moment) / length
+        transverse = np.cross(k, u)
+        # Piston axial balance: u.(-f_P) = m_S u.(a_S - g_vec) - tau.
+        f0 = transverse + m_s * _dot(u, a_pis - g_vec)[..., None] * u
 
-    # Platform: J_C^T tau = [m_P (a - g_vec) + sum f0; I_P alpha + omega x I_P omega + sum r x f0].
-    inertia_p = (rot * params.platform_inertia) @ np.swapaxes(rot, -1, -2)
-    euler = _matvec(inertia_p, alpha) + np.cross(omega, _matvec(inertia_p, omega))
-    wrench = np.concatenate(
-        [m_p * (acc - g_vec) + f0.sum(axis=-2), euler + np.cross(arms, f0).sum(axis=-2)], axis=-1
-    )
-    jac = np.concatenate([u, np.cross(arms, u)], axis=-1)  # J_C, row i = [u_i, r_i x u_i]
-    _checks.regular_jacobian(jac)
-    tau = np.linalg.solve(np.swapaxes(jac, -1, -2), wrench[..., None])[..., 0]
+        # Platform: J_C^T tau = [m_P (a - g_vec) + sum f0; I_P alpha + omega x I_P omega + sum r x f0].
+        inertia_p = (rot * params.platform_inertia) @ np.swapaxes(rot, -1, -2)
+        euler = _matvec(inertia_p, alpha) + np.cross(omega, _matvec(inertia_p, omega))
+        wrench = np.concatenate(
+            [m_p * (acc - g_vec) + f0.sum(axis=-2), euler + np.cross(arms, f0).sum(axis=-2)], axis=-1
+        )
+        jac = np.concatenate([u, np.cross(arms, u)], axis=-1)  # J_C, row i = [u_i, r_i x u_i]
+        _checks.regular_jacobian(jac)
+        tau = np.linalg.solve(np.swapaxes(jac, -1, -2), wrench[..., None])[..., 0]
 
-    on_platform = tau[..., None] * u - f0  # f_P
-    base = m_c * a_cyl + m_s * a_pis - (m_c + m_s) * g_vec + on_platform
-    return JointReactions(tau, base, on_platform)
+        on_platform = tau[..., None] * u - f0  # f_P
+        base = m_c * a_cyl + m_s * a_pis - (m_c + m_s) * g_vec + on_platform
+    return _checks.finite_result("joint_reactions", JointReactions(tau, base, on_platform), x)
 
 
 def joint_reactions(params: PlatformParams, x, xd, xdd) -> JointReactions:

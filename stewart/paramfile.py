@@ -32,9 +32,20 @@ def _format(format: str | None, path: str) -> str:
     return fmt
 
 
+def _path(path: str | os.PathLike[str]) -> str:
+    try:
+        return os.fsdecode(path)
+    except TypeError:
+        raise TypeError(f"path: expected a file name, got {type(path).__name__}") from None
+
+
 def load(path: str | os.PathLike[str], format: str | None = None) -> PlatformParams:
-    """Read parameters from a ``.toml`` or ``.json`` file."""
-    path = os.fspath(path)
+    """Read parameters from a ``.toml`` or ``.json`` file.
+
+    A file that cannot be parsed or holds invalid parameters raises ``ValueError`` naming
+    the file; a missing or unreadable file raises the usual ``OSError``.
+    """
+    path = _path(path)
     fmt = _format(format, path)
     try:
         if fmt == "toml":
@@ -43,8 +54,10 @@ def load(path: str | os.PathLike[str], format: str | None = None) -> PlatformPar
         else:
             with open(path, encoding="utf-8") as fh:
                 data = json.load(fh)
-    except (tomllib.TOMLDecodeError, json.JSONDecodeError) as exc:
+    except ValueError as exc:  # a decode error, invalid UTF-8, an integer with too many digits
         raise ValueError(f"{path}: not a valid {fmt.upper()} file: {exc}") from None
+    except RecursionError:
+        raise ValueError(f"{path}: not a valid {fmt.upper()} file: nested too deeply") from None
     if not isinstance(data, dict):
         raise ValueError(f"{path}: expected a table of parameter fields at the top level")
     try:
@@ -71,7 +84,7 @@ def dumps_toml(params: PlatformParams) -> str:
 
 def save(params: PlatformParams, path: str | os.PathLike[str], format: str | None = None) -> None:
     """Write parameters to a ``.toml`` or ``.json`` file."""
-    path = os.fspath(path)
+    path = _path(path)
     if _format(format, path) == "toml":
         text = dumps_toml(params)
     else:

@@ -10,11 +10,14 @@ from __future__ import annotations
 import dataclasses
 import json
 import warnings
+from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
 
-__all__ = ["PlatformParams", "NonAxisymmetricLegWarning"]
+from . import _checks
+
+__all__ = ["PlatformParams", "NonAxisymmetricLegWarning", "checked_params"]
 
 
 class NonAxisymmetricLegWarning(UserWarning):
@@ -29,7 +32,7 @@ class NonAxisymmetricLegWarning(UserWarning):
 
 
 def _vector3(name: str, value: Any) -> np.ndarray:
-    arr = np.array(value, dtype=float)
+    arr = _checks.reals(name, value)
     if arr.shape != (3,):
         raise ValueError(f"{name}: expected 3 values, got shape {arr.shape}")
     if not np.all(np.isfinite(arr)):
@@ -38,31 +41,30 @@ def _vector3(name: str, value: Any) -> np.ndarray:
 
 
 def _scalar(name: str, value: Any, minimum: float | None = 0.0) -> float:
-    try:
-        val = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"{name}: expected a number, got {value!r}") from None
-    if not np.isfinite(val):
-        raise ValueError(f"{name}: must be finite, got {val}")
+    val = _checks.real(name, value)
     if minimum is not None and val < minimum:
         raise ValueError(f"{name}: must be >= {minimum}, got {val}")
     return val
 
 
 def _points(name: str, value: Any) -> np.ndarray:
-    arr = np.array(value, dtype=float)
+    arr = _checks.reals(name, value)
     if arr.shape != (6, 3):
         raise ValueError(f"{name}: expected shape (6, 3), got {arr.shape}")
     if not np.all(np.isfinite(arr)):
         raise ValueError(f"{name}: coordinates must be finite")
-    scale = np.max(np.linalg.norm(arr - arr.mean(axis=0), axis=1))
+    with np.errstate(over="ignore", invalid="ignore"):
+        centred = arr - arr.mean(axis=0)
+        scale = np.max(np.linalg.norm(centred, axis=1))
+    if not np.isfinite(scale):
+        raise ValueError(f"{name}: coordinates too large for double precision")
     if scale == 0.0:
         raise ValueError(f"{name}: all six points coincide")
     for i in range(6):
         for j in range(i + 1, 6):
             if np.linalg.norm(arr[i] - arr[j]) <= 1e-9 * scale:
                 raise ValueError(f"{name}: points {i} and {j} coincide")
-    sv = np.linalg.svd(arr - arr.mean(axis=0), compute_uv=False)
+    sv = np.linalg.svd(centred, compute_uv=False)
     if sv[1] <= 1e-9 * sv[0]:
         raise ValueError(f"{name}: the six points are collinear (degenerate platform)")
     return arr
@@ -160,10 +162,10 @@ class PlatformParams:
     def _checked_limits(limits: Any) -> tuple[float, float] | None:
         if limits is None:
             return None
-        try:
-            lo, hi = (float(v) for v in limits)
-        except (TypeError, ValueError):
-            raise ValueError(f"leg_length_limits: expected (min, max), got {limits!r}") from None
+        arr = _checks.reals("leg_length_limits", limits)
+        if arr.shape != (2,):
+            raise ValueError(f"leg_length_limits: expected (min, max), got {limits!r}")
+        lo, hi = arr.tolist()
         if not (np.isfinite(lo) and np.isfinite(hi)) or not 0.0 < lo < hi:
             raise ValueError(f"leg_length_limits: need finite 0 < min < max, got ({lo}, {hi})")
         return (lo, hi)
@@ -202,8 +204,10 @@ class PlatformParams:
     @classmethod
     def from_dict(cls, data: dict[str, Any]) -> "PlatformParams":
         """Build from the layout of :meth:`to_dict`; unknown keys are an error."""
+        if not isinstance(data, Mapping):
+            raise ValueError(f"data: expected a mapping of parameter fields, got {type(data).__name__}")
         names = {f.name for f in dataclasses.fields(cls)}
-        unknown = sorted(set(data) - names)
+        unknown = sorted(str(key) for key in set(data) - names)
         if unknown:
             raise ValueError(f"unknown parameter field(s): {', '.join(unknown)}")
         missing = sorted(
@@ -220,6 +224,8 @@ class PlatformParams:
         """A built-in parameter set by name; :func:`stewart.presets` lists them."""
         from .presets import preset
 
+        if not isinstance(name, str):
+            raise ValueError(f"name: expected a preset name, got {type(name).__name__} {name!r}")
         return preset(name)
 
     @classmethod
@@ -250,3 +256,11 @@ class PlatformParams:
             f"cylinder_mass={self.cylinder_mass:g}, piston_mass={self.piston_mass:g}, "
             f"gravity={self.gravity:g})"
         )
+
+
+def checked_params(value: Any, name: str = "params") -> PlatformParams:
+    """``value`` if it is a :class:`PlatformParams`; ``ValueError`` naming ``name`` otherwise."""
+    if not isinstance(value, PlatformParams):
+        hint = " (a Platform's parameters are platform.params)" if hasattr(value, "params") else ""
+        raise ValueError(f"{name}: expected a stewart.PlatformParams, got {type(value).__name__}{hint}")
+    return value

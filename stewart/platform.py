@@ -6,7 +6,7 @@ import numpy as np
 
 from . import kinematics, newton_euler
 from ._kernel import Kernel
-from .params import PlatformParams
+from .params import PlatformParams, checked_params
 
 __all__ = ["Platform"]
 
@@ -16,20 +16,21 @@ class Platform:
     evaluated by the generated C kernel.
 
     Every method takes one state ``(6,)`` or a batch ``(N, 6)`` (a single row broadcasts
-    against a batch) and returns the matching shape. Inputs are converted to
-    C-contiguous float64 (copied only when needed). A wrong shape, a non-numeric dtype or
-    a NaN raises ``ValueError`` naming the argument. A state where the model is undefined
+    against a batch) and returns the matching shape. Inputs of any integer or floating
+    dtype, byte order, alignment and memory layout are converted to C-contiguous native
+    float64 (copied only when needed). A wrong shape, a value that is not a real number
+    (complex, bool, ``timedelta64``, ``datetime64``, strings, objects) or a NaN raises
+    ``ValueError`` naming the argument. A state where the model is undefined
     raises :class:`stewart.SingularityError` naming the condition and the rows; with
     ``return_mask=True`` such rows come back as NaN instead and the method returns
     ``(result, ok)`` with a boolean mask (a bool for one state), for workspace sweeps.
 
-    ``threads`` > 1 splits batches over that many threads.
+    ``threads`` > 1 splits batches over that many threads: an int from 1 to 256
+    (``ValueError`` otherwise).
     """
 
     def __init__(self, params: PlatformParams, *, threads: int = 1):
-        if not isinstance(params, PlatformParams):
-            raise ValueError(f"params: expected a stewart.PlatformParams, got {type(params).__name__}")
-        self._params = params
+        self._params = checked_params(params)
         self._home = kinematics.home_pose(params)
         self._home.flags.writeable = False
         self._kernel = Kernel(params, threads)

@@ -32,8 +32,8 @@ import numpy as np
 
 from . import _checks
 from .errors import SingularityError
-from .kinematics import jacobian, leg_vectors, platform_points_in_base, rotation, twist_transform
-from .params import PlatformParams
+from .kinematics import jacobian, leg_unit_vectors, leg_vectors, platform_points_in_base, rotation, twist_transform
+from .params import PlatformParams, checked_params
 
 __all__ = [
     "BODIES",
@@ -60,12 +60,11 @@ BODIES = (
     "piston_rotation",
 )
 
-#: Complex-step size; the error of the derivative is O(h^2), far below round-off.
+#: Complex-step size for ``|xdot| <= 1`` (scaled down for larger rates, so that the step
+#: ``h xdot`` stays tiny); the error of the derivative is O(h^2), far below round-off.
 _STEP = 1e-30
 #: Cylinder frame tolerance: legs with u_x^2 + u_y^2 below this are "vertical".
 _VERTICAL = 1e-18
-#: Forward dynamics is undefined when |cos(theta)| is below this (J_A singular).
-_COS_LIMIT = 1e-12
 
 
 class BodyTerms(NamedTuple):
@@ -96,11 +95,11 @@ def partial_velocity_jacobians(params: PlatformParams, x) -> dict[str, np.ndarra
     ``J_B = b_C u~^T J_D`` (eq. 35). Piston centre of mass:
     ``J_G = (E - b_S u~^T lbar~) [E, r~^T]`` (eq. 57).
     """
-    x = _checks.states("x", x)
+    params = checked_params(params)
+    x = _checks.states("x", x, allow_complex=True)
+    units = leg_unit_vectors(params, x)
     legs = leg_vectors(params, x)
-    length_sq = np.sum(legs * legs, axis=-1)[..., None]
-    units = legs / np.sqrt(length_sq)
-    lbar_x = _skew(legs / length_sq)
+    lbar_x = _skew(units / np.sqrt(np.sum(legs * legs, axis=-1))[..., None])
     u_x = _skew(units)
     arm_xT = -_skew(platform_points_in_base(params, x))  # r~^T
     eye = np.broadcast_to(np.eye(3, dtype=x.dtype), arm_xT.shape)
@@ -108,14 +107,16 @@ def partial_velocity_jacobians(params: PlatformParams, x) -> dict[str, np.ndarra
     j_d = lbar_x @ point
     zeros = np.zeros(x.shape[:-1] + (3, 3), dtype=x.dtype)
     eye_p = np.broadcast_to(np.eye(3, dtype=x.dtype), zeros.shape)
-    return {
-        "platform_translation": np.concatenate([eye_p, zeros], axis=-1),
-        "platform_rotation": np.concatenate([zeros, eye_p], axis=-1),
-        "cylinder_translation": -params.cylinder_com_distance * u_x @ j_d,
-        "cylinder_rotation": j_d,
-        "piston_translation": point + params.piston_com_distance * u_x @ j_d,
-        "piston_rotation": j_d,
-    }
+    with np.errstate(over="ignore", invalid="ignore"):
+        jacs = {
+            "platform_translation": np.concatenate([eye_p, zeros], axis=-1),
+            "platform_rotation": np.concatenate([zeros, eye_p], axis=-1),
+            "cylinder_translation": -params.cylinder_com_distance * u_x @ j_d,
+            "cylinder_rotation": j_d,
+            "piston_translation": point + params.piston_com_distance * u_x @ j_d,
+            "piston_rotation": j_d,
+        }
+    return _checks.finite_result("partial_velocity_jacobians", jacs, x)
 
 
 def _leg_inertia(units: np.ndarray, inertia: np.ndarray, general: bool) -> np.ndarray:
@@ -145,12 +146,12 @@ def rotational_inertias(params: PlatformParams, x, general: bool | None = None) 
     legs are not axisymmetric). Raises :class:`SingularityError` for a vertical leg in
     the frame form, where {C_i} is undefined.
     """
-    x = _checks.states("x", x)
+    params = checked_params(params)
+    x = _checks.states("x", x, allow_complex=True)
     if general is None:
         general = not params.is_axisymmetric
     rot = rotation(x)
-    legs = leg_vectors(params, x)
-    units = legs / np.sqrt(np.sum(legs * legs, axis=-1))[..., None]
+    units = leg_unit_vectors(params, x)
     if general:
         horiz_sq = np.real(units[..., 0] ** 2 + units[..., 1] ** 2)
         vertical = horiz_sq < _VERTICAL
@@ -161,11 +162,13 @@ def rotational_inertias(params: PlatformParams, x, general: bool | None = None) 
                 "undefined and the leg inertia is not axisymmetric",
                 rows=rows,
             )
-    return {
-        "platform_rotation": (rot * params.platform_inertia) @ np.swapaxes(rot, -1, -2),
-        "cylinder_rotation": _leg_inertia(units, params.cylinder_inertia, general),
-        "piston_rotation": _leg_inertia(units, params.piston_inertia, general),
-    }
+    with np.errstate(over="ignore", invalid="ignore"):
+        inertias = {
+            "platform_rotation": (rot * params.platform_inertia) @ np.swapaxes(rot, -1, -2),
+            "cylinder_rotation": _leg_inertia(units, params.cylinder_inertia, general),
+            "piston_rotation": _leg_inertia(units, params.piston_inertia, general),
+        }
+    return _checks.finite_result("rotational_inertias", inertias, x)
 
 
 def _inertia_times_t(params: PlatformParams, x, general: bool | None) -> tuple[dict, dict]:
@@ -179,9 +182,10 @@ def _inertia_times_t(params: PlatformParams, x, general: bool | None) -> tuple[d
         "piston_translation": params.piston_mass,
     }
     out = {}
-    for body in BODIES:
-        jt = jacs[body] @ (t_mat if body.startswith("platform") else t_mat[..., None, :, :])
-        out[body] = masses[body] * jt if body in masses else inertias[body] @ jt
+    with np.errstate(over="ignore", invalid="ignore"):
+        for body in BODIES:
+            jt = jacs[body] @ (t_mat if body.startswith("platform") else t_mat[..., None, :, :])
+            out[body] = masses[body] * jt if body in masses else inertias[body] @ jt
     return jacs, out
 
 
@@ -193,10 +197,12 @@ def momenta(params: PlatformParams, x, xd, general: bool | None = None) -> dict[
     xd = _checks.states("xd", xd)
     _checks.same_batch(x=x, xd=xd)
     _, amat = _inertia_times_t(params, x, general)
-    return {
-        body: np.einsum("...ij,...j->...i", a, xd if body.startswith("platform") else xd[..., None, :])
-        for body, a in amat.items()
-    }
+    with np.errstate(over="ignore", invalid="ignore"):
+        out = {
+            body: np.einsum("...ij,...j->...i", a, xd if body.startswith("platform") else xd[..., None, :])
+            for body, a in amat.items()
+        }
+    return _checks.finite_result("momenta", out, x)
 
 
 def body_terms(params: PlatformParams, x, xd=None, general: bool | None = None) -> dict[str, BodyTerms]:
@@ -208,7 +214,8 @@ def body_terms(params: PlatformParams, x, xd=None, general: bool | None = None) 
         xd = np.zeros_like(x)
     xd = _checks.states("xd", xd)
     _checks.same_batch(x=x, xd=xd)
-    _, a_dot = _inertia_times_t(params, x + 1j * _STEP * xd, general)
+    step = _STEP / np.maximum(1.0, np.max(np.abs(xd), axis=-1))
+    _, a_dot = _inertia_times_t(params, x + 1j * step[..., None] * xd, general)
     jacs, amat = _inertia_times_t(params, x, general)
     weights = {
         "platform_translation": params.platform_mass,
@@ -216,47 +223,53 @@ def body_terms(params: PlatformParams, x, xd=None, general: bool | None = None) 
         "piston_translation": params.piston_mass,
     }
     out = {}
-    for body in BODIES:
-        jac_t = np.swapaxes(jacs[body], -1, -2)
-        mass = jac_t @ amat[body]
-        coriolis = jac_t @ (a_dot[body].imag / _STEP)
-        weight = weights.get(body, 0.0) * params.gravity
-        out[body] = BodyTerms(mass, coriolis, weight * jacs[body][..., 2, :])
-    return out
+    with np.errstate(over="ignore", invalid="ignore"):
+        for body in BODIES:
+            jac_t = np.swapaxes(jacs[body], -1, -2)
+            mass = jac_t @ amat[body]
+            rate = a_dot[body].imag / step.reshape(step.shape + (1,) * (a_dot[body].ndim - step.ndim))
+            coriolis = jac_t @ rate
+            weight = weights.get(body, 0.0) * params.gravity
+            out[body] = BodyTerms(mass, coriolis, weight * jacs[body][..., 2, :])
+    return _checks.finite_result("body_terms", out, x)
 
 
-def _totals(params, x, xd) -> BodyTerms:
+def _totals(params, x, xd, function: str) -> BodyTerms:
     """``M``, ``V`` and ``G`` of the whole platform: the body terms summed over bodies and legs."""
     totals = [0.0, 0.0, 0.0]
-    for body, term in body_terms(params, x, xd).items():
-        for k, value in enumerate(term):
-            leg_axis = -2 if k == 2 else -3  # the gravity vector has one axis less
-            totals[k] = totals[k] + (value if body.startswith("platform") else value.sum(axis=leg_axis))
-    return BodyTerms(*totals)
+    with np.errstate(over="ignore", invalid="ignore"):
+        for body, term in body_terms(params, x, xd).items():
+            for k, value in enumerate(term):
+                leg_axis = -2 if k == 2 else -3  # the gravity vector has one axis less
+                totals[k] = totals[k] + (value if body.startswith("platform") else value.sum(axis=leg_axis))
+    return _checks.finite_result(function, BodyTerms(*totals), x)
 
 
 def mass_matrix(params: PlatformParams, x) -> np.ndarray:
     """``M = sum_b J_b^T I_b J_b T`` (6x6, not symmetric: it multiplies ``xddot``)."""
     x = _checks.states("x", x)
-    return _totals(params, x, None).mass_matrix
+    return _totals(params, x, None, "mass_matrix").mass_matrix
 
 
 def coriolis_matrix(params: PlatformParams, x, xd) -> np.ndarray:
     """``V = sum_b J_b^T d/dt(I_b J_b T)`` (6x6)."""
     x = _checks.states("x", x)
-    return _totals(params, x, xd).coriolis_matrix
+    return _totals(params, x, xd, "coriolis_matrix").coriolis_matrix
 
 
 def coriolis_vector(params: PlatformParams, x, xd) -> np.ndarray:
     """``V xdot``."""
+    x = _checks.states("x", x)
     xd = _checks.states("xd", xd)
-    return np.einsum("...ij,...j->...i", coriolis_matrix(params, x, xd), xd)
+    with np.errstate(over="ignore", invalid="ignore"):
+        vxd = np.einsum("...ij,...j->...i", coriolis_matrix(params, x, xd), xd)
+    return _checks.finite_result("coriolis_vector", vxd, x)
 
 
 def gravity_vector(params: PlatformParams, x) -> np.ndarray:
     """``G = sum_b m_b g J_b^T e_z`` (eqs. 72-76)."""
     x = _checks.states("x", x)
-    return _totals(params, x, None).gravity_vector
+    return _totals(params, x, None, "gravity_vector").gravity_vector
 
 
 def inverse_dynamics(params: PlatformParams, x, xd, xdd) -> np.ndarray:
@@ -267,13 +280,15 @@ def inverse_dynamics(params: PlatformParams, x, xd, xdd) -> np.ndarray:
     _checks.same_batch(x=x, xd=xd, xdd=xdd)
     jac = jacobian(params, x)
     _checks.regular_jacobian(jac)
-    total = _totals(params, x, xd)
-    wrench = (
-        np.einsum("...ij,...j->...i", total.mass_matrix, xdd)
-        + np.einsum("...ij,...j->...i", total.coriolis_matrix, xd)
-        + total.gravity_vector
-    )
-    return np.linalg.solve(np.swapaxes(jac, -1, -2), wrench[..., None])[..., 0]
+    total = _totals(params, x, xd, "inverse_dynamics")
+    with np.errstate(over="ignore", invalid="ignore"):
+        wrench = (
+            np.einsum("...ij,...j->...i", total.mass_matrix, xdd)
+            + np.einsum("...ij,...j->...i", total.coriolis_matrix, xd)
+            + total.gravity_vector
+        )
+        tau = np.linalg.solve(np.swapaxes(jac, -1, -2), wrench[..., None])[..., 0]
+    return _checks.finite_result("inverse_dynamics", tau, x)
 
 
 def forward_dynamics(params: PlatformParams, x, xd, tau) -> np.ndarray:
@@ -282,18 +297,14 @@ def forward_dynamics(params: PlatformParams, x, xd, tau) -> np.ndarray:
     xd = _checks.states("xd", xd)
     tau = _checks.states("tau", tau)
     _checks.same_batch(x=x, xd=xd, tau=tau)
-    cos_theta = np.cos(x[..., 4]).reshape(-1)
-    bad = np.abs(cos_theta) < _COS_LIMIT
-    if bad.any():
-        rows = np.flatnonzero(bad)
-        raise SingularityError(
-            f"x: theta = +-90 deg at row(s) {rows[:10].tolist()}: the Euler-rate map J_A is singular",
-            rows=rows,
+    _checks.regular_euler_rates(x)
+    total = _totals(params, x, xd, "forward_dynamics")
+    _checks.regular_mass_matrix(total.mass_matrix)
+    with np.errstate(over="ignore", invalid="ignore"):
+        rhs = (
+            np.einsum("...ji,...j->...i", jacobian(params, x), tau)
+            - np.einsum("...ij,...j->...i", total.coriolis_matrix, xd)
+            - total.gravity_vector
         )
-    total = _totals(params, x, xd)
-    rhs = (
-        np.einsum("...ji,...j->...i", jacobian(params, x), tau)
-        - np.einsum("...ij,...j->...i", total.coriolis_matrix, xd)
-        - total.gravity_vector
-    )
-    return np.linalg.solve(total.mass_matrix, rhs[..., None])[..., 0]
+        xdd = np.linalg.solve(total.mass_matrix, rhs[..., None])[..., 0]
+    return _checks.finite_result("forward_dynamics", xdd, x)

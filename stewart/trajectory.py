@@ -40,10 +40,14 @@ def _quintic(s):
 PROFILES = {"sinusoidal": _sinusoidal, "quintic": _quintic}
 
 
-def _times(t) -> np.ndarray:
-    arr = np.asarray(t, dtype=float)
+#: Bound on the profiles' normalised rate and second rate over a move (2 pi for both).
+_PROFILE_BOUND = 2.0 * np.pi
+
+
+def _times(t, name: str = "t") -> np.ndarray:
+    arr = _checks.reals(name, t)
     if arr.ndim > 1 or not np.all(np.isfinite(arr)):
-        raise ValueError("t: expected a finite time or a 1-D array of finite times")
+        raise ValueError(f"{name}: expected a finite time or a 1-D array of finite times")
     return arr
 
 
@@ -62,22 +66,31 @@ class PointToPoint:
         goal = _checks.states("goal", self.goal)
         if start.ndim != 1 or goal.ndim != 1:
             raise ValueError("start, goal: expected one pose each, shape (6,)")
-        if not (np.isfinite(self.duration) and self.duration > 0):
-            raise ValueError(f"duration: must be a positive number of seconds, got {self.duration}")
-        if self.profile not in PROFILES:
+        duration = _checks.real("duration", self.duration)
+        if not duration > 0:
+            raise ValueError(f"duration: must be a positive number of seconds, got {duration}")
+        if not isinstance(self.profile, str) or self.profile not in PROFILES:
             raise ValueError(f"profile: expected one of {sorted(PROFILES)}, got {self.profile!r}")
+        with np.errstate(over="ignore", invalid="ignore"):
+            delta = goal - start
+            peak = _PROFILE_BOUND * np.max(np.abs(delta)) / duration / duration
+        if not np.all(np.isfinite(delta)):
+            raise ValueError("start, goal: too far apart for double precision")
+        if not (np.isfinite(peak) and np.isfinite(_PROFILE_BOUND / duration / duration)):
+            raise ValueError(f"duration: {duration} s is too short: the move's velocity or acceleration overflows")
         object.__setattr__(self, "start", start)
         object.__setattr__(self, "goal", goal)
-        object.__setattr__(self, "duration", float(self.duration))
+        object.__setattr__(self, "duration", duration)
 
     def sample(self, t):
         """Pose, velocity and acceleration at time(s) ``t`` (held at the goal after the move)."""
         t = _times(t)
-        s = np.clip(t / self.duration, 0.0, 1.0)
+        with np.errstate(over="ignore"):
+            s = np.clip(t / self.duration, 0.0, 1.0)
         pos, rate, rate2 = PROFILES[self.profile](s)
         moving = (t >= 0.0) & (t <= self.duration)
         rate = np.where(moving, rate, 0.0) / self.duration
-        rate2 = np.where(moving, rate2, 0.0) / self.duration**2
+        rate2 = np.where(moving, rate2, 0.0) / self.duration / self.duration
         delta = self.goal - self.start
         return (
             self.start + pos[..., None] * delta,
@@ -93,16 +106,26 @@ class SampledTrajectory:
     def __init__(self, times, poses):
         from scipy.interpolate import CubicSpline
 
-        times = _times(times)
+        times = _times(times, "times")
         poses = _checks.states("poses", poses)
         if times.ndim != 1 or poses.ndim != 2 or len(times) != len(poses):
             raise ValueError(f"times, poses: need N times and (N, 6) poses, got {times.shape} and {poses.shape}")
-        if len(times) < 2 or np.any(np.diff(times) <= 0):
+        with np.errstate(over="ignore"):
+            steps = np.diff(times)
+        if len(times) < 2 or np.any(steps <= 0):
             raise ValueError("times: need at least two strictly increasing times")
         self.times = times
         self.poses = poses
         self.duration = float(times[-1])
-        self._spline = CubicSpline(times, poses, axis=0, bc_type="clamped")
+        try:
+            with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+                spline = CubicSpline(times, poses, axis=0, bc_type="clamped")
+        except ValueError:  # scipy's own check of the slopes: they overflowed
+            spline = None
+        if spline is None or not np.all(np.isfinite(spline.c)):
+            raise ValueError("times, poses: the spline through these samples overflows (times too close "
+                             "or values too large for double precision)")
+        self._spline = spline
 
     @classmethod
     def from_csv(cls, path) -> "SampledTrajectory":
@@ -122,7 +145,10 @@ class SampledTrajectory:
         t = _times(t)
         inside = (t >= self.times[0]) & (t <= self.times[-1])
         tc = np.clip(t, self.times[0], self.times[-1])
-        pos = self._spline(tc)
-        vel = np.where(inside[..., None], self._spline(tc, 1), 0.0)
-        acc = np.where(inside[..., None], self._spline(tc, 2), 0.0)
+        with np.errstate(over="ignore", invalid="ignore"):
+            pos = self._spline(tc)
+            vel = np.where(inside[..., None], self._spline(tc, 1), 0.0)
+            acc = np.where(inside[..., None], self._spline(tc, 2), 0.0)
+        if not (np.all(np.isfinite(pos)) and np.all(np.isfinite(vel)) and np.all(np.isfinite(acc))):
+            raise ValueError("t: the spline overflows at these times (values too large for double precision)")
         return pos, vel, acc

@@ -89,3 +89,68 @@ def random_params(rng, axisymmetric=True):
             leg_length_limits=(0.7 * leg, 1.3 * leg),
             name="random",
         )
+
+
+#: Every array-taking method of :class:`stewart.Platform`, with its state arguments' names.
+PLATFORM_METHODS = {
+    "leg_lengths": ("x",),
+    "jacobian": ("x",),
+    "mass_matrix": ("x",),
+    "gravity_vector": ("x",),
+    "coriolis_matrix": ("x", "xd"),
+    "coriolis_vector": ("x", "xd"),
+    "inverse_dynamics": ("x", "xd", "xdd"),
+    "forward_dynamics": ("x", "xd", "tau"),
+    "joint_reactions": ("x", "xd", "xdd"),
+    "forward_kinematics": ("lengths", "guess"),
+}
+
+
+def valid_arguments(plat, n=None, seed=0):
+    """Valid arguments for every name in :data:`PLATFORM_METHODS`: one state, or ``n`` states."""
+    rng = np.random.default_rng(seed)
+    x, xd, xdd = random_states(plat.params, 1 if n is None else n, rng)
+    if n is None:
+        x, xd, xdd = x[0], xd[0], xdd[0]
+    return {
+        "x": x,
+        "xd": xd,
+        "xdd": xdd,
+        "tau": plat.inverse_dynamics(x, xd, xdd),
+        "lengths": plat.leg_lengths(x),
+        "guess": x + 1e-3,
+    }
+
+
+def _unaligned(a: np.ndarray) -> np.ndarray:
+    raw = np.zeros(a.nbytes + 1, dtype=np.uint8)[1:]
+    out = raw.view(a.dtype).reshape(a.shape)
+    out[...] = a
+    assert not out.flags.aligned or a.size == 0
+    return out
+
+
+def _strided(a: np.ndarray) -> np.ndarray:
+    wide = np.zeros(a.shape[:-1] + (2 * a.shape[-1],), dtype=a.dtype)
+    wide[..., ::2] = a
+    return wide[..., ::2]
+
+
+def _read_only(a: np.ndarray) -> np.ndarray:
+    out = a.copy()
+    out.flags.writeable = False
+    return out
+
+
+#: The same float64 values in other memory layouts, which every function must read as
+#: the plain C-contiguous array.
+LAYOUTS = {
+    "big-endian": lambda a: a.astype(">f8"),
+    "big-endian unaligned": lambda a: _unaligned(a.astype(">f8")),
+    "unaligned": _unaligned,
+    "strided": _strided,
+    "reversed view": lambda a: np.flip(np.flip(a, -1).copy(), -1),
+    "Fortran order": np.asfortranarray,
+    "read-only": _read_only,
+    "nested lists": lambda a: a.tolist(),
+}

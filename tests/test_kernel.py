@@ -193,5 +193,5 @@ def test_platform_api():
     np.testing.assert_allclose(reactions.base.sum(axis=0), [0, 0, total * 9.81], atol=1e-10)
     with pytest.raises(ValueError, match="params: expected a stewart.PlatformParams"):
         stewart.Platform({"platform_mass": 1})
-    with pytest.raises(ValueError, match="threads: must be >= 1"):
+    with pytest.raises(ValueError, match="threads: must be from 1 to 256"):
         stewart.Platform(plat.params, threads=0)

@@ -1,0 +1,327 @@
+"""Regression tests for malformed and extreme input found by random calls: each case here
+once crashed the interpreter, returned a wrong or non-finite value silently, or raised a
+foreign exception type. The broad random search is in ``test_fuzz.py``."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+import textwrap
+
+import numpy as np
+import pytest
+
+import stewart
+from stewart import reference
+from stewart._checks import MAX_THREADS
+from stewart.control import leg_masses
+from conftest import LAYOUTS, PLATFORM_METHODS, valid_arguments
+
+PLAT = stewart.Platform.preset("narayan2017")
+PARAMS = PLAT.params
+CALLS = [(method, name) for method, names in PLATFORM_METHODS.items() for name in names]
+
+
+def _call(method, args):
+    return getattr(PLAT, method)(*args)
+
+
+def _run_isolated(code: str) -> subprocess.CompletedProcess:
+    """Run ``code`` in a fresh interpreter, so that a crash fails the test instead of pytest."""
+    return subprocess.run(
+        [sys.executable, "-c", textwrap.dedent(code)], capture_output=True, text=True, timeout=300
+    )
+
+
+def _assert_same(result, expected):
+    if isinstance(result, tuple):
+        for r, e in zip(result, expected):
+            np.testing.assert_array_equal(r, e)
+    else:
+        np.testing.assert_array_equal(result, expected)
+
+
+@pytest.mark.parametrize("batch", [None, 4], ids=["one state", "batch"])
+@pytest.mark.parametrize("layout", sorted(LAYOUTS))
+@pytest.mark.parametrize("method, name", CALLS)
+def test_every_layout_reads_the_same_values(method, name, layout, batch):
+    """Big-endian data once passed the kernel's float64 test and was read unswapped
+    (leg lengths of 7.3e20 m instead of 0.285 m)."""
+    valid = valid_arguments(PLAT, batch)
+    names = PLATFORM_METHODS[method]
+    expected = _call(method, [valid[n] for n in names])
+    args = [LAYOUTS[layout](valid[n]) if n == name else valid[n] for n in names]
+    _assert_same(_call(method, args), expected)
+
+
+def test_big_endian_leg_lengths_are_right():
+    x = PLAT.home_pose
+    np.testing.assert_allclose(PLAT.leg_lengths(x.astype(">f8")), PLAT.leg_lengths(x), rtol=0)
+    assert np.all(np.abs(PLAT.leg_lengths(x.astype(">f8")) - 0.285) < 0.001)
+
+
+def test_zero_dimensional_arrays_are_refused_by_name():
+    """A 0-d array once made the kernel read ``shape[-1]`` of a shape with no entries: a segfault."""
+    result = _run_isolated(
+        f"""
+        import numpy as np, stewart, sys
+        sys.path.insert(0, {str(__import__("pathlib").Path(__file__).parent)!r})
+        from conftest import PLATFORM_METHODS, valid_arguments
+        plat = stewart.Platform.preset("narayan2017")
+        valid = valid_arguments(plat)
+        view = np.zeros((3, 6))
+        zero_d = {{"zeros(())": np.zeros(()), "array(6.0)": np.array(6.0), "empty(())": np.empty(()),
+                  "view": view[0, 0, ...]}}
+        for method, names in PLATFORM_METHODS.items():
+            for name in names:
+                for label, bad in zero_d.items():
+                    args = [bad if n == name else valid[n] for n in names]
+                    try:
+                        getattr(plat, method)(*args)
+                    except ValueError as exc:
+                        assert str(exc).startswith(name + ": expected shape"), (method, name, label, exc)
+                    else:
+                        raise AssertionError((method, name, label, "accepted"))
+        print("refused", sum(len(n) for n in PLATFORM_METHODS.values()) * len(zero_d))
+        """
+    )
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.strip() == f"refused {len(CALLS) * 4}"
+
+
+@pytest.mark.parametrize(
+    "threads, message",
+    [
+        (100000, f"threads: must be from 1 to {MAX_THREADS}, got 100000"),
+        (2**31, f"threads: must be from 1 to {MAX_THREADS}"),
+        (0, "threads: must be from 1"),
+        (-3, "threads: must be from 1"),
+        (2.5, "threads: expected an integer, got float 2.5"),
+        (2.0, "threads: expected an integer"),
+        (True, "threads: expected an integer"),
+        ("4", "threads: expected an integer"),
+        (None, "threads: expected an integer"),
+    ],
+)
+def test_thread_counts_are_validated(threads, message):
+    with pytest.raises(ValueError, match=message):
+        stewart.Platform(PARAMS, threads=threads)
+
+
+def test_most_threads_allowed_run():
+    """``threads=100000`` was accepted once and the first batch crashed in libgomp."""
+    result = _run_isolated(
+        f"""
+        import numpy as np, stewart
+        plat = stewart.Platform.preset("narayan2017")
+        many = stewart.Platform(plat.params, threads=np.int64({MAX_THREADS}))
+        x = plat.home_pose + np.linspace(0, 0.01, 3 * {MAX_THREADS})[:, None]
+        assert many.threads == {MAX_THREADS}
+        assert np.array_equal(many.inverse_dynamics(x, 0 * x, 0 * x), plat.inverse_dynamics(x, 0 * x, 0 * x))
+        print("ok")
+        """
+    )
+    assert result.returncode == 0, result.stderr
+    assert result.stdout.strip() == "ok"
+
+
+class _Exploding:
+    def __array__(self, *args, **kwargs):
+        raise RuntimeError("no array here")
+
+
+def _deep(depth: int):
+    value: list = []
+    for _ in range(depth):
+        value = [value]
+    return value
+
+
+X = PLAT.home_pose
+ZERO = np.zeros(6)
+
+
+@pytest.mark.parametrize(
+    "call, message",
+    [
+        # OverflowError once
+        (lambda: PARAMS.replace(platform_mass=10**400), "platform_mass: 1000.* is too large for a float"),
+        (lambda: PARAMS.replace(base_points=[[10**400, 0, 0]] * 6), "base_points: .* too large"),
+        (lambda: stewart.ComputedTorque.tuned(10**400), "bandwidth_hz: .* too large"),
+        (lambda: stewart.ComputedTorque.tuned(1e300), "bandwidth_hz: 1e\\+300 Hz is too high"),
+        (lambda: stewart.PID.tuned(PLAT, 1e300), "bandwidth_hz: 1e\\+300 Hz is too high"),
+        (lambda: stewart.PointToPoint(X, X, 1.0).sample(10**400), "t: .* too large"),
+        (lambda: stewart.home_pose(PARAMS, 10**400), "leg_length: .* too large"),
+        # AttributeError once
+        (lambda: stewart.PID.tuned(PARAMS), "platform: expected a stewart.Platform, got PlatformParams"),
+        (lambda: leg_masses(PARAMS), "platform: expected a stewart.Platform"),
+        (lambda: stewart.leg_lengths({}, X), "params: expected a stewart.PlatformParams, got dict"),
+        (lambda: stewart.jacobian(None, X), "params: expected a stewart.PlatformParams, got NoneType"),
+        (lambda: stewart.home_pose(None), "params: expected a stewart.PlatformParams"),
+        (lambda: stewart.forward_kinematics({}, [0.3] * 6), "params: expected a stewart.PlatformParams"),
+        (lambda: reference.mass_matrix(None, X), "params: expected a stewart.PlatformParams"),
+        (lambda: reference.rotational_inertias({}, X), "params: expected a stewart.PlatformParams"),
+        (lambda: reference.forward_dynamics(PLAT, X, ZERO, ZERO), "params: expected a stewart.PlatformParams, got Platform"),
+        (lambda: stewart.newton_euler.joint_reactions(None, X, ZERO, ZERO), "params: expected a stewart.PlatformParams"),
+        (lambda: stewart.Actuators(force_limit="abc"), "force_limit: expected a number"),
+        (lambda: stewart.Actuators(viscous="abc"), "viscous: expected a number"),
+        (lambda: stewart.Actuators(coulomb_velocity="fast"), "coulomb_velocity: expected a number"),
+        (lambda: stewart.PID("a", 1, 1), "kp: expected a number"),
+        (lambda: stewart.ComputedTorque(1, [1, 2]), "kd: expected one value or one per leg"),
+        (lambda: stewart.PlatformParams.from_dict(None), "data: expected a mapping"),
+        (lambda: stewart.PlatformParams.from_dict({1: 2}), "unknown parameter field"),
+        (lambda: stewart.Platform.preset(["narayan2017"]), "name: expected a preset name"),
+        # TypeError or ValueError without the argument's name once
+        (lambda: PLAT.leg_lengths(_Exploding()), "x: cannot be read as an array"),
+        (lambda: stewart.leg_lengths(PARAMS, _deep(100)), "x: cannot be read as an array"),
+        (lambda: PARAMS.replace(platform_mass="5"), "platform_mass: expected a number"),
+        (lambda: PARAMS.replace(platform_mass=True), "platform_mass: expected a number"),
+        (lambda: stewart.PointToPoint(X, X, "1"), "duration: expected a number"),
+        (lambda: stewart.PointToPoint(X, X, 1.0, profile=["quintic"]), "profile: expected one of"),
+        (lambda: stewart.forward_kinematics(PARAMS, [0.3] * 6, max_iter=2.5), "max_iter: expected an integer"),
+        (lambda: stewart.forward_kinematics(PARAMS, [0.3] * 6, tol="small"), "tol: expected a number"),
+        (lambda: stewart.forward_kinematics(PARAMS, np.full((3, 6), 0.3), np.zeros((2, 6))), "guess: expected one pose"),
+    ],
+)
+def test_wrong_input_raises_a_named_value_error(call, message):
+    with pytest.raises(ValueError, match=message):
+        call()
+
+
+@pytest.mark.parametrize("fmt", ["json", "toml"])
+def test_deeply_nested_parameter_files_are_refused(tmp_path, fmt):
+    """JSON and TOML nested 10^5 deep once raised RecursionError."""
+    path = tmp_path / f"deep.{fmt}"
+    path.write_text(("a = " if fmt == "toml" else "") + "[" * 100_000 + "]" * 100_000)
+    with pytest.raises(ValueError, match=f"deep.{fmt}: not a valid {fmt.upper()} file"):
+        stewart.PlatformParams.load(path)
+
+
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        (b"\xff\xfe{", "not a valid JSON file"),
+        (b'{"platform_mass": 1' + b"0" * 5000 + b"}", "not a valid JSON file"),
+        (b'{"platform_mass": {"a": 1}}', "missing parameter field"),
+    ],
+)
+def test_broken_json_names_the_file(tmp_path, text, message):
+    path = tmp_path / "broken.json"
+    path.write_bytes(text)
+    with pytest.raises(ValueError, match=f"broken.json: .*{message}"):
+        stewart.PlatformParams.load(path)
+
+
+def test_wrong_field_types_in_a_file_name_the_field(tmp_path):
+    data = PARAMS.to_dict()
+    data["platform_mass"] = {"kg": 1}
+    path = tmp_path / "typed.json"
+    path.write_text(json.dumps(data))
+    with pytest.raises(ValueError, match="typed.json: platform_mass: expected a number, got dict"):
+        stewart.PlatformParams.load(path)
+
+
+TIME_LIKE = {
+    "timedelta64": np.zeros(6, dtype="m8[s]"),
+    "datetime64": np.zeros(6, dtype="M8[s]"),
+    "bool": np.zeros(6, dtype=bool),
+    "str": np.array(["0"] * 6),
+    "object": np.array([object()] * 6),
+}
+
+
+def _public_calls(bad):
+    """Every public function that takes a state, with ``bad`` as its state argument:
+    ``(argument name, call, whether complex values are meaningful there)``."""
+    x, z = X, ZERO
+    yield "x", lambda: stewart.leg_lengths(PARAMS, bad), True
+    yield "x", lambda: stewart.rotation(bad), True
+    yield "xd", lambda: stewart.leg_velocities(PARAMS, x, bad), True
+    yield "lengths", lambda: stewart.forward_kinematics(PARAMS, bad), False
+    yield "x", lambda: reference.mass_matrix(PARAMS, bad), False
+    yield "tau", lambda: reference.forward_dynamics(PARAMS, x, z, bad), False
+    yield "xdd", lambda: stewart.newton_euler.inverse_dynamics(PARAMS, x, z, bad), False
+    yield "start", lambda: stewart.PointToPoint(bad, x, 1.0), False
+    yield "poses", lambda: stewart.SampledTrajectory([0.0, 1.0], np.stack([bad, bad])), False
+    yield "kp", lambda: stewart.PID(bad, 1.0, 1.0), False
+    yield "base_points", lambda: PARAMS.replace(base_points=np.stack([bad[:3]] * 6)), False
+    valid = valid_arguments(PLAT)
+    for method, names in PLATFORM_METHODS.items():
+        yield names[-1], lambda m=method, n=names: _call(m, [valid[k] for k in n[:-1]] + [bad]), False
+
+
+@pytest.mark.parametrize("kind", sorted(TIME_LIKE))
+def test_non_numbers_are_refused_everywhere(kind):
+    """timedelta64 arrays were once taken as numbers by the numpy functions."""
+    for name, call, _ in _public_calls(TIME_LIKE[kind]):
+        with pytest.raises(ValueError, match=f"^{name}: expected "):
+            call()
+
+
+def test_complex_states_are_refused_where_not_meaningful():
+    """Complex values make sense only in the kinematics, for complex-step derivatives."""
+    for name, call, complex_ok in _public_calls(X + 1e-30j):
+        if complex_ok:
+            assert np.iscomplexobj(call())
+        else:
+            with pytest.raises(ValueError, match=f"^{name}: expected real numbers, got complex"):
+                call()
+
+
+def _zero_leg_pose():
+    """A pose with leg 0 of zero length: P_0 on B_0, no rotation."""
+    x = X.copy()
+    x[:3] = PARAMS.base_points[0] - PARAMS.platform_points[0]
+    np.testing.assert_allclose(stewart.leg_lengths(PARAMS, x)[0], 0.0, atol=1e-15)
+    return x
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda x: stewart.leg_unit_vectors(PARAMS, x),
+        lambda x: stewart.jacobian(PARAMS, x),
+        lambda x: reference.mass_matrix(PARAMS, x),
+        lambda x: reference.partial_velocity_jacobians(PARAMS, x),
+        lambda x: reference.forward_dynamics(PARAMS, x, ZERO, ZERO),
+        lambda x: stewart.newton_euler.joint_reactions(PARAMS, x, ZERO, ZERO),
+        lambda x: PLAT.mass_matrix(x),
+    ],
+)
+def test_zero_length_legs_raise_singularity_error(call):
+    """reference.mass_matrix once returned NaN with a RuntimeWarning for a zero-length leg."""
+    with pytest.raises(stewart.SingularityError, match="a leg has zero length"):
+        call(_zero_leg_pose())
+
+
+@pytest.mark.parametrize(
+    "call",
+    [
+        lambda: stewart.leg_unit_vectors(PARAMS, X * 1e308),
+        lambda: stewart.leg_lengths(PARAMS, X * 1e308),
+        lambda: stewart.newton_euler.joint_reactions(PARAMS, X, np.full(6, 1e200), ZERO),
+        lambda: stewart.newton_euler.inverse_dynamics(PARAMS, X, np.full(6, 1e200), ZERO),
+        lambda: reference.forward_dynamics(PARAMS, X, ZERO, np.full(6, 1e308)),
+        lambda: reference.inverse_dynamics(PARAMS, X, ZERO, np.full(6, 1e308)),
+        lambda: reference.coriolis_vector(PARAMS, X, np.full(6, 1e200)),
+        lambda: PLAT.forward_dynamics(X, ZERO, np.full(6, 1e308)),
+        lambda: stewart.PointToPoint(X, X + 0.1, 1e-200),
+        lambda: stewart.SampledTrajectory([0.0, 1e-300], [X, X + 0.1]),
+    ],
+)
+def test_overflow_is_an_error_not_a_silent_inf(call):
+    with pytest.raises(ValueError, match="too large|too short|overflows|non-finite"):
+        call()
+
+
+def test_massless_platform_is_a_singularity_in_reference_and_kernel():
+    """The reference once raised numpy's LinAlgError for a singular mass matrix."""
+    massless = PARAMS.replace(
+        platform_mass=0.0, platform_inertia=(0, 0, 0), cylinder_mass=0.0, cylinder_inertia=(0, 0, 0),
+        piston_mass=0.0, piston_inertia=(0, 0, 0),
+    )
+    with pytest.raises(stewart.SingularityError, match="mass matrix"):
+        reference.forward_dynamics(massless, X, ZERO, ZERO)
+    with pytest.raises(stewart.SingularityError, match="mass matrix"):
+        stewart.Platform(massless).forward_dynamics(X, ZERO, ZERO)
