@@ -271,8 +271,8 @@ class _Broken:
     lambda x, n: (x, x + 0j, x),
     lambda x, n: (x, x),
     lambda x, n: (x, "fast", x),
-    lambda x, n: (x.astype(object), x, x),
-], ids=["5 columns", "7 columns", "fewer rows", "NaN", "complex", "two arrays", "string", "object dtype"])
+    lambda x, n: (np.full(x.shape, None, dtype=object), x, x),
+], ids=["5 columns", "7 columns", "fewer rows", "NaN", "complex", "two arrays", "string", "objects, not numbers"])
 def test_trajectory_output_is_checked_before_the_compiled_loop(plat, make):
     with pytest.raises(ValueError, match="^trajectory: "):
         stewart.simulate(plat, _Broken(make), stewart.ComputedTorque.tuned(), duration=0.1)
