@@ -22,7 +22,7 @@ import numpy as np
 
 from .params import PlatformParams
 
-__all__ = ["c_include_dir", "c_sources", "export", "HEADER", "SOURCE", "PARAMS_HEADER"]
+__all__ = ["c_include_dir", "c_sources", "export", "params_header", "HEADER", "SOURCE", "PARAMS_HEADER"]
 
 #: The model's header and its one source file.
 HEADER = "stewart_model.h"

@@ -22,8 +22,12 @@ CFLAGS = ["-std=c99", "-Wall", "-Wextra", "-pedantic", "-Werror"]
 RTOL = 1e-12
 
 
-def _run(command: list[str]) -> str:
-    done = subprocess.run(command, capture_output=True, text=True)
+def run_command(command, **kwargs) -> str:
+    """Run ``command`` (without the caller's PYTHONPATH, PYTHONHOME or VIRTUAL_ENV) and return
+    its output; a non-zero exit fails with the command and all it printed."""
+    command = [str(c) for c in command]
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME", "VIRTUAL_ENV")}
+    done = subprocess.run(command, capture_output=True, text=True, env=env, **kwargs)
     assert done.returncode == 0, f"{' '.join(command)}: exit {done.returncode}\n{done.stdout}{done.stderr}"
     return done.stdout
 
@@ -31,9 +35,9 @@ def _run(command: list[str]) -> str:
 def run_example(include_dirs, sources, workdir) -> dict[str, np.ndarray]:
     """Compile and run the example; its printed lines ``name v0 ... v5`` as arrays by name."""
     exe = Path(workdir) / "inverse_dynamics"
-    _run([os.environ.get("CC", "cc"), *CFLAGS, *(f"-I{d}" for d in include_dirs), str(EXAMPLE),
-          *map(str, sources), "-lm", "-o", str(exe)])
-    lines = (line.split() for line in _run([str(exe)]).splitlines())
+    run_command([os.environ.get("CC", "cc"), *CFLAGS, *(f"-I{d}" for d in include_dirs), EXAMPLE, *sources,
+                 "-lm", "-o", exe])
+    lines = (line.split() for line in run_command([exe]).splitlines())
     return {name: np.array(values, dtype=float) for name, *values in lines}
 
 

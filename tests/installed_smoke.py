@@ -11,7 +11,6 @@ numeric reference, the C files it carries (the C example compiled against them) 
 """
 
 import re
-import subprocess
 import sys
 import tempfile
 from pathlib import Path
@@ -19,17 +18,14 @@ from pathlib import Path
 import numpy as np
 
 import stewart
-from c_example import check_example
+from c_example import check_example, run_command
 from stewart import capi, validation
 
 PRESET = "narayan2017"
 
 
 def _command(*args: str) -> str:
-    script = Path(sys.executable).parent / "stewart"
-    done = subprocess.run([str(script), *args], capture_output=True, text=True)
-    assert done.returncode == 0, f"stewart {' '.join(args)}: exit {done.returncode}\n{done.stdout}{done.stderr}"
-    return done.stdout
+    return run_command([Path(sys.executable).parent / "stewart", *args])
 
 
 def main() -> None:

@@ -3,13 +3,12 @@
 import dataclasses
 import os
 import pathlib
-import subprocess
 
 import numpy as np
 import pytest
 
 import stewart
-from c_example import CFLAGS, EXAMPLE, check_example
+from c_example import CFLAGS, EXAMPLE, check_example, run_command
 from conftest import random_params
 from stewart import capi
 
@@ -73,10 +72,9 @@ def test_params_header_sets_every_member_by_name(tmp_path):
         f"{prints}    return 0;\n}}\n"
     )
     exe = tmp_path / "dump"
-    subprocess.run(["cc", *CFLAGS, f"-I{tmp_path}", f"-I{ROOT / 'generated'}", str(tmp_path / "dump.c"),
-                    "-o", str(exe)], check=True)
-    printed = [float.fromhex(v) for v in subprocess.run([str(exe)], check=True, capture_output=True,
-                                                        text=True).stdout.split()]
+    run_command([os.environ.get("CC", "cc"), *CFLAGS, f"-I{tmp_path}", f"-I{ROOT / 'generated'}",
+                 tmp_path / "dump.c", "-o", exe])
+    printed = [float.fromhex(v) for v in run_command([exe]).split()]
     expected = [float(v) for name in members for v in np.ravel(getattr(params, name))]
     assert printed == expected
     # Every field reaches the struct except the two the header names as left out.

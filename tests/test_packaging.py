@@ -9,9 +9,7 @@ compilations (the wheel's, the sdist's) run side by side. Marked ``packaging``:
 ``pytest -m "not packaging"`` leaves it out.
 """
 
-import os
 import shutil
-import subprocess
 import sys
 import tarfile
 import zipfile
@@ -19,6 +17,7 @@ from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import pytest
+from c_example import run_command
 
 pytestmark = pytest.mark.packaging
 
@@ -31,18 +30,11 @@ SDIST_NEEDS = {"setup.py", "pyproject.toml", "MANIFEST.in", "README.md", "LICENS
 CYTHON_OUTPUT = {"stewart/_kernel.c", "stewart/_simulate.c"}
 
 
-def _run(command, **kwargs):
-    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME", "VIRTUAL_ENV")}
-    done = subprocess.run([str(c) for c in command], capture_output=True, text=True, env=env, **kwargs)
-    assert done.returncode == 0, f"{' '.join(map(str, command))}: exit {done.returncode}\n{done.stdout}{done.stderr}"
-    return done.stdout
-
-
 @pytest.fixture(scope="module")
 def tree(tmp_path_factory):
     """A copy of the checkout's tracked files, as a fresh clone has them."""
     try:
-        listed = _run(["git", "ls-files", "-z"], cwd=ROOT)
+        listed = run_command(["git", "ls-files", "-z"], cwd=ROOT)
     except (OSError, AssertionError) as error:
         pytest.skip(f"needs a git checkout: {error}")
     copy = tmp_path_factory.mktemp("tree")
@@ -55,9 +47,9 @@ def tree(tmp_path_factory):
 
 def _environment(directory: Path, dist: Path) -> Path:
     """A fresh virtual environment with ``dist`` installed; its Python."""
-    _run([sys.executable, "-m", "venv", directory])
+    run_command([sys.executable, "-m", "venv", directory])
     python = directory / "bin" / "python"
-    _run([python, "-m", "pip", "install", "-q", dist])
+    run_command([python, "-m", "pip", "install", "-q", dist])
     return python
 
 
@@ -66,11 +58,11 @@ def dists(tree, tmp_path_factory):
     """``{"sdist": (file, python), "wheel": (file, python)}``: each distribution and the
     Python of a fresh environment holding it."""
     out, envs = tmp_path_factory.mktemp("dist"), tmp_path_factory.mktemp("envs")
-    _run([sys.executable, "-m", "build", "--sdist", "--outdir", out, tree])
+    run_command([sys.executable, "-m", "build", "--sdist", "--outdir", out, tree])
     (sdist,) = out.glob("*.tar.gz")
     with ThreadPoolExecutor() as pool:
         from_sdist = pool.submit(_environment, envs / "sdist", sdist)
-        _run([sys.executable, "-m", "build", "--wheel", "--outdir", out, tree])
+        run_command([sys.executable, "-m", "build", "--wheel", "--outdir", out, tree])
         (wheel,) = out.glob("*.whl")
         return {"wheel": (wheel, _environment(envs / "wheel", wheel)), "sdist": (sdist, from_sdist.result())}
 
@@ -97,4 +89,4 @@ def test_wheel_holds_the_c_model_and_no_cython_output(dists):
 @pytest.mark.parametrize("kind", ["wheel", "sdist"])
 def test_installs_and_runs_outside_the_checkout(dists, tree, kind, tmp_path):
     _, python = dists[kind]
-    assert "smoke test passed" in _run([python, tree / "tests" / "installed_smoke.py"], cwd=tmp_path)
+    assert "smoke test passed" in run_command([python, tree / "tests" / "installed_smoke.py"], cwd=tmp_path)
