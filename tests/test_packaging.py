@@ -1,12 +1,12 @@
 """The sdist and the wheel install, and work, outside the checkout.
 
 From a copy of the checkout's tracked files (nothing untracked, such as ``.venv``, build
-products or outputs), ``python -m build`` builds the sdist and the wheel. Each goes into its
-own fresh virtual environment: the wheel as built, the sdist through
-``pip install stewart-*.tar.gz``, which builds it with build isolation, as a user's pip does.
-``installed_smoke.py`` then runs in each, from a directory outside the checkout. The two
-compilations (the wheel's, the sdist's) run side by side. Marked ``packaging``:
-``pytest -m "not packaging"`` leaves it out.
+products or outputs), ``python -m build`` builds the sdist and the wheel. The wheel goes
+into a fresh virtual environment; the sdist into another through
+``pip install stewart-*.tar.gz``, which builds it with build isolation, as a user's pip does,
+so the sdist is proven to build on its own. The two compilations run side by side.
+``installed_smoke.py`` then runs in each environment, from a directory outside the checkout.
+Marked ``packaging``: ``pytest -m "not packaging"`` leaves it out.
 """
 
 import shutil
