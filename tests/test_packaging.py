@@ -72,7 +72,11 @@ def test_sdist_holds_what_a_build_needs(dists):
         names = {name.split("/", 1)[1] for name in sdist.getnames() if "/" in name}
     assert SDIST_NEEDS <= names, sorted(SDIST_NEEDS - names)
     assert not names & CYTHON_OUTPUT
-    assert not [n for n in names if n.split("/")[0] in (".venv", "build", "out", "dist") or n.endswith((".so", ".o"))]
+    # Nothing else: no tests, outputs, environments or build products (setuptools adds
+    # PKG-INFO, the egg-info and setup.cfg).
+    tops = {name.split("/")[0] for name in names}
+    assert tops <= {n.split("/")[0] for n in SDIST_NEEDS} | {"PKG-INFO", "setup.cfg", "stewart.egg-info"}, tops
+    assert not [n for n in names if n.endswith((".so", ".o", ".html"))]
 
 
 def test_wheel_holds_the_c_model_and_no_cython_output(dists):
