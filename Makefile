@@ -18,13 +18,18 @@ $(PY):
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install -q --upgrade pip
 
+# The editable install compiles the extensions into the checkout (pip builds them afresh
+# each time it runs: on a fresh checkout, and when pyproject.toml changes).
 $(INSTALLED): $(PY) pyproject.toml
 	$(PY) -m pip install -q --upgrade "setuptools>=77" wheel "Cython>=3.0" "numpy>=1.24"
 	$(PY) -m pip install -q --no-build-isolation -e ".[dev]"
 	touch $@
 
+# Recompiles, in the checkout (-b .), only an extension older than its sources or setup.py's
+# depends; the generator leaves unchanged files alone. After changing STEWART_MARCH, run
+# `make clean` first.
 $(KERNEL): $(INSTALLED) $(KERNEL_SOURCES)
-	$(PY) setup.py -q build_ext --inplace --force
+	$(PY) setup.py -q build_ext -b .
 	mkdir -p build && touch $@
 
 build: $(KERNEL)

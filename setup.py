@@ -2,7 +2,8 @@
 
 The kernel is compiled for the building machine's CPU (``-march=native``); set
 ``STEWART_MARCH`` (e.g. ``x86-64-v2``) to target another instruction set, as for a
-wheel meant for other machines.
+wheel meant for other machines. A wheel built here is tagged for the plain platform
+(``linux_x86_64``), not ``manylinux``: it claims to run only where it was built.
 """
 
 import os
@@ -17,6 +18,8 @@ FLAGS = dict(
     extra_compile_args=["-O3", f"-march={os.environ.get('STEWART_MARCH', 'native')}", "-fopenmp"],
     extra_link_args=["-fopenmp"],
     libraries=["m"],
+    # Rebuild (build_ext compares times) when the model's header or these flags change.
+    depends=["generated/stewart_model.h", "setup.py"],
 )
 
 extensions = [

@@ -15,6 +15,16 @@ def _timed(func, *args):
     return result, time.perf_counter() - start
 
 
+def _write_if_changed(path, text):
+    """Write ``text`` to ``path`` unless it holds exactly that already (then the file, and its
+    modification time, stay as they are, so builds that depend on it do not rerun)."""
+    data = text.encode('ascii')
+    if path.is_file() and path.read_bytes() == data:
+        return False
+    path.write_bytes(data)
+    return True
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(prog='python -m codegen', description=__doc__)
     parser.add_argument('--out', type=Path, default=DEFAULT_OUT,
@@ -34,11 +44,11 @@ def main(argv=None):
     start = time.perf_counter()
     args.out.mkdir(parents=True, exist_ok=True)
     ops = [(k.name, k.ops) for k in emitted]
-    for name, text in (('stewart_model.h', csource.header(ops)),
-                       ('stewart_model.c', csource.source([k.source for k in emitted]))):
-        with open(args.out / name, 'w', encoding='ascii', newline='\n') as f:
-            f.write(text)
-    print(f'[codegen] write {args.out} ... {time.perf_counter() - start:.2f} s')
+    written = [name for name, text in (('stewart_model.h', csource.header(ops)),
+                                       ('stewart_model.c', csource.source([k.source for k in emitted])))
+               if _write_if_changed(args.out / name, text)]
+    print(f'[codegen] write {args.out} ({", ".join(written) or "unchanged"}) ...'
+          f' {time.perf_counter() - start:.2f} s')
     print(f'[codegen] total ... {time.perf_counter() - total:.2f} s')
 
 

@@ -2,11 +2,13 @@
 
 The public API: :class:`Platform` (the compiled model), :class:`PlatformParams` and its
 presets, the kinematics functions, the numeric reference model :mod:`stewart.reference`,
-simulation under control (:func:`simulate`, trajectories, controllers), and the errors
-raised for inputs where the model is undefined.
+simulation under control (:func:`simulate`, trajectories, controllers), the errors
+raised for inputs where the model is undefined, and the generated C model's files for C
+programs (:func:`c_include_dir`, :func:`c_sources`, :mod:`stewart.capi`).
 """
 
-from . import kinematics, newton_euler, reference, workspace
+from . import capi, kinematics, newton_euler, reference, workspace
+from .capi import c_include_dir, c_sources
 from .errors import ConvergenceError, SingularityError
 from .kinematics import (
     euler_jacobian,
@@ -62,6 +64,9 @@ __all__ = [
     "leg_velocities",
     "home_pose",
     "forward_kinematics",
+    "capi",
+    "c_include_dir",
+    "c_sources",
 ]
 
 __version__ = "0.1.0"

@@ -1,0 +1,134 @@
+"""The generated C model for use from C: where its files are, and a copy with a platform's parameters.
+
+The package carries ``stewart_model.h`` and ``stewart_model.c`` (dependency-free C99, libm
+only; written by the sympy generator in ``codegen/``), so a C program can use the model
+without the source repository, in the manner of ``numpy.get_include()``::
+
+    cc -std=c99 -O2 -I"$(python -c 'import stewart; print(stewart.c_include_dir())')" \\
+        my_program.c "$(python -c 'import stewart; print(*stewart.c_sources())')" -lm
+
+:func:`export` copies them into a directory together with a header holding the
+``stewart_params`` of a :class:`~stewart.PlatformParams`.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from .params import PlatformParams
+
+__all__ = ["c_include_dir", "c_sources", "export", "params_header", "HEADER", "SOURCE", "PARAMS_HEADER"]
+
+#: The model's header and its one source file.
+HEADER = "stewart_model.h"
+SOURCE = "stewart_model.c"
+#: The header :func:`export` writes for a parameter set; it defines ``stewart_platform_params``.
+PARAMS_HEADER = "stewart_platform_params.h"
+
+_HERE = Path(__file__).resolve().parent
+#: Where the C files are: an installed package carries them as package data in
+#: ``stewart/generated/`` (pyproject.toml maps the repository's ``generated/`` there); an
+#: editable install runs from the source tree, whose ``generated/`` is the generator's output.
+_LOCATIONS = (_HERE / "generated", _HERE.parent / "generated")
+
+#: ``PlatformParams`` fields with no member in the C struct ``stewart_params``, and why.
+_NOT_IN_STRUCT = {
+    "leg_length_limits": "the C model has no stroke limits (compare stewart_leg_lengths() with them)",
+    "name": "a label, not a model input",
+}
+
+
+def c_include_dir() -> str:
+    """The directory holding ``stewart_model.h`` and ``stewart_model.c`` (pass it to ``-I``)."""
+    for directory in _LOCATIONS:
+        if (directory / HEADER).is_file() and (directory / SOURCE).is_file():
+            return str(directory)
+    raise FileNotFoundError(
+        f"{HEADER} and {SOURCE} are not in this installation of stewart "
+        f"(looked in {', '.join(map(str, _LOCATIONS))}); reinstall the package"
+    )
+
+
+def c_sources() -> list[str]:
+    """The C source files to compile with a program that uses ``stewart_model.h``."""
+    return [os.path.join(c_include_dir(), SOURCE)]
+
+
+def export(directory: Any, params: PlatformParams | None = None) -> list[str]:
+    """Copy ``stewart_model.h`` and ``stewart_model.c`` into ``directory`` (created if needed).
+
+    With ``params``, also write ``stewart_platform_params.h``, which defines
+    ``static const stewart_params stewart_platform_params`` with those parameters. Returns
+    the paths written.
+    """
+    if params is not None and not isinstance(params, PlatformParams):
+        raise TypeError(f"params: expected a stewart.PlatformParams or None, got {type(params).__name__}")
+    target = Path(directory)
+    target.mkdir(parents=True, exist_ok=True)
+    source = Path(c_include_dir())
+    written = []
+    for name in (HEADER, SOURCE):
+        (target / name).write_bytes((source / name).read_bytes())
+        written.append(str(target / name))
+    if params is not None:
+        with open(target / PARAMS_HEADER, "w", encoding="ascii", newline="\n") as f:
+            f.write(params_header(params))
+        written.append(str(target / PARAMS_HEADER))
+    return written
+
+
+def _c_initializer(value: Any) -> str:
+    """A float or an array as a C initializer (a matrix one row a line), every number
+    printed to round-trip exactly."""
+    if isinstance(value, np.ndarray) and value.ndim == 2:
+        return "{\n" + "".join(f"        {_c_initializer(row)},\n" for row in value) + "    }"
+    if isinstance(value, np.ndarray):
+        return "{" + ", ".join(repr(float(v)) for v in value) + "}"
+    return repr(float(value))
+
+
+def _comment(value: Any) -> str:
+    """``value``'s Python form made safe inside a C block comment (ASCII, no comment end)."""
+    return ascii(value).replace("*/", "* /")
+
+
+def params_header(params: PlatformParams) -> str:
+    """The text of ``stewart_platform_params.h`` for ``params``.
+
+    Each struct member is set by name (C99 designated initializers), so the header stays
+    right whatever the order of the members in ``stewart_params``, and a field without a
+    member fails to compile instead of landing in the wrong place.
+    """
+    label = "unnamed" if params.name is None else params.name
+    members, left_out = [], []
+    for field in dataclasses.fields(PlatformParams):
+        value = getattr(params, field.name)
+        if field.name in _NOT_IN_STRUCT:
+            left_out.append(f" *   {field.name} = {_comment(value)}: {_NOT_IN_STRUCT[field.name]}.")
+        else:
+            members.append(f"    .{field.name} = {_c_initializer(value)},")
+    return "\n".join([
+        f"/* {PARAMS_HEADER} -- the parameters of the platform {_comment(label)} for {HEADER}.",
+        " *",
+        " * Written by stewart.capi.export() from its PlatformParams;",
+        " * every number is the exact float64 (shortest round-trip form).",
+        " * Left out, having no member in stewart_params:",
+        *left_out,
+        " */",
+        "#ifndef STEWART_PLATFORM_PARAMS_H",
+        "#define STEWART_PLATFORM_PARAMS_H",
+        "",
+        f'#include "{HEADER}"',
+        "",
+        "static const stewart_params stewart_platform_params = {",
+        *members,
+        "};",
+        "",
+        "#endif /* STEWART_PLATFORM_PARAMS_H */",
+        "",
+    ])

@@ -1,0 +1,52 @@
+"""The shipped C example, ``examples/c/inverse_dynamics.c``: compile it with the model's C
+files, run it, and compare the forces it prints with the package's at the state it prints.
+
+Used by ``test_capi.py`` in the checkout and by ``installed_smoke.py`` in the fresh
+virtual environments of the packaging check.
+"""
+
+from __future__ import annotations
+
+import os
+import subprocess
+from pathlib import Path
+
+import numpy as np
+
+import stewart
+
+EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "c" / "inverse_dynamics.c"
+#: The strictest portable C the README promises the model compiles under.
+CFLAGS = ["-std=c99", "-Wall", "-Wextra", "-pedantic", "-Werror"]
+#: The example and the compiled kernel run the same C under other flags: rounding only.
+RTOL = 1e-12
+
+
+def run_command(command, **kwargs) -> str:
+    """Run ``command`` (without the caller's PYTHONPATH, PYTHONHOME or VIRTUAL_ENV) and return
+    its output; a non-zero exit fails with the command and all it printed."""
+    command = [str(c) for c in command]
+    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME", "VIRTUAL_ENV")}
+    done = subprocess.run(command, capture_output=True, text=True, env=env, **kwargs)
+    assert done.returncode == 0, f"{' '.join(command)}: exit {done.returncode}\n{done.stdout}{done.stderr}"
+    return done.stdout
+
+
+def run_example(include_dirs, sources, workdir) -> dict[str, np.ndarray]:
+    """Compile and run the example; its printed lines ``name v0 ... v5`` as arrays by name."""
+    exe = Path(workdir) / "inverse_dynamics"
+    run_command([os.environ.get("CC", "cc"), *CFLAGS, *(f"-I{d}" for d in include_dirs), EXAMPLE, *sources,
+                 "-lm", "-o", exe])
+    lines = (line.split() for line in run_command([exe]).splitlines())
+    return {name: np.array(values, dtype=float) for name, *values in lines}
+
+
+def check_example(params, include_dirs, sources, workdir) -> float:
+    """Run the example built for ``params`` and return its forces' error relative to the
+    largest force of :meth:`stewart.Platform.inverse_dynamics` at the same state."""
+    printed = run_example(include_dirs, sources, workdir)
+    assert sorted(printed) == ["tau", "x", "xd", "xdd"] and all(v.shape == (6,) for v in printed.values())
+    want = stewart.Platform(params).inverse_dynamics(printed["x"], printed["xd"], printed["xdd"])
+    error = float(np.max(np.abs(printed["tau"] - want)) / np.max(np.abs(want)))
+    assert error <= RTOL, f"C example: tau {printed['tau']} against {want} (relative error {error:.2e})"
+    return error

@@ -1,0 +1,90 @@
+"""stewart.capi: the generated C files for C programs, and the parameter header."""
+
+import dataclasses
+import os
+import pathlib
+
+import numpy as np
+import pytest
+
+import stewart
+from c_example import CFLAGS, EXAMPLE, check_example, run_command
+from conftest import random_params
+from stewart import capi
+
+ROOT = pathlib.Path(__file__).resolve().parent.parent
+
+
+def test_c_files_are_the_generators_output():
+    # Run from the checkout (an editable install), the package points at generated/ itself.
+    assert pathlib.Path(stewart.c_include_dir()) == ROOT / "generated"
+    assert stewart.c_sources() == [os.path.join(stewart.c_include_dir(), "stewart_model.c")]
+
+
+def test_c_example_matches_the_package(tmp_path, figures):
+    params = stewart.PlatformParams.preset("narayan2017")
+    written = capi.export(tmp_path / "c", params)
+    assert written == [str(tmp_path / "c" / name) for name in (capi.HEADER, capi.SOURCE, capi.PARAMS_HEADER)]
+    for name in (capi.HEADER, capi.SOURCE):
+        assert (tmp_path / "c" / name).read_bytes() == (ROOT / "generated" / name).read_bytes()
+    error = check_example(params, [tmp_path / "c"], [tmp_path / "c" / capi.SOURCE], tmp_path)
+    figures("C example (examples/c) against the compiled kernel, relative", error, 1e-12)
+
+
+def test_readme_shows_the_example_as_shipped():
+    example = EXAMPLE.read_text()
+    assert example[example.index("#include"):] in (ROOT / "README.md").read_text()
+
+
+def test_export_without_params_writes_the_model_only(tmp_path):
+    assert capi.export(tmp_path) == [str(tmp_path / capi.HEADER), str(tmp_path / capi.SOURCE)]
+    assert sorted(p.name for p in tmp_path.iterdir()) == [capi.SOURCE, capi.HEADER]
+
+
+def test_export_refuses_other_params(tmp_path):
+    with pytest.raises(TypeError, match="params"):
+        capi.export(tmp_path, {"platform_mass": 1.0})
+
+
+def test_params_header_sets_every_member_by_name(tmp_path):
+    """A C program reads each struct member by name: every value must come back bit for bit."""
+    params = random_params(np.random.default_rng(11)).replace(
+        leg_length_limits=(0.1, 3.0), name="test */ platform\n\u00e9"
+    )
+    (tmp_path / capi.PARAMS_HEADER).write_text(capi.params_header(params), encoding="ascii")
+    members = {  # the struct's members, as written in stewart_model.h
+        "base_points": [f"base_points[{i}][{k}]" for i in range(6) for k in range(3)],
+        "platform_points": [f"platform_points[{i}][{k}]" for i in range(6) for k in range(3)],
+        "platform_mass": ["platform_mass"],
+        "platform_inertia": [f"platform_inertia[{k}]" for k in range(3)],
+        "cylinder_mass": ["cylinder_mass"],
+        "cylinder_inertia": [f"cylinder_inertia[{k}]" for k in range(3)],
+        "cylinder_com_distance": ["cylinder_com_distance"],
+        "piston_mass": ["piston_mass"],
+        "piston_inertia": [f"piston_inertia[{k}]" for k in range(3)],
+        "piston_com_distance": ["piston_com_distance"],
+        "gravity": ["gravity"],
+    }
+    prints = "".join(f'    printf("%a\\n", p->{m});\n' for group in members.values() for m in group)
+    (tmp_path / "dump.c").write_text(
+        "#include <stdio.h>\n#include \"stewart_platform_params.h\"\n"
+        "int main(void)\n{\n    const stewart_params *p = &stewart_platform_params;\n"
+        f"{prints}    return 0;\n}}\n"
+    )
+    exe = tmp_path / "dump"
+    run_command([os.environ.get("CC", "cc"), *CFLAGS, f"-I{tmp_path}", f"-I{ROOT / 'generated'}",
+                 tmp_path / "dump.c", "-o", exe])
+    printed = [float.fromhex(v) for v in run_command([exe]).split()]
+    expected = [float(v) for name in members for v in np.ravel(getattr(params, name))]
+    assert printed == expected
+    # Every field reaches the struct except the two the header names as left out.
+    fields = {f.name for f in dataclasses.fields(stewart.PlatformParams)}
+    assert fields - set(members) == {"leg_length_limits", "name"}
+    header = capi.params_header(params)
+    assert "leg_length_limits = (0.1, 3.0)" in header and "'test * / platform\\n\\xe9'" in header
+
+
+def test_missing_c_files_are_reported(tmp_path, monkeypatch):
+    monkeypatch.setattr(capi, "_LOCATIONS", (tmp_path,))
+    with pytest.raises(FileNotFoundError, match="stewart_model.h"):
+        stewart.c_include_dir()
