@@ -396,6 +396,22 @@ def cmd_bench(args) -> int:
     return 0
 
 
+def cmd_c_export(args) -> int:
+    from . import capi
+
+    params, label = _params(args)
+    if os.path.exists(args.directory) and not os.path.isdir(args.directory):
+        raise UserError(f"DIR {args.directory}: exists and is not a directory")
+    try:
+        written = capi.export(args.directory, params)
+    except OSError as exc:
+        raise UserError(f"DIR {args.directory}: {exc.strerror or exc}") from None
+    for path in written:
+        print(f"wrote {path}")
+    print(f"platform {label}: stewart_platform_params in {capi.PARAMS_HEADER}")
+    return 0
+
+
 # ---------------------------------------------------------------------------- parser
 
 def build_parser() -> argparse.ArgumentParser:
@@ -463,6 +479,11 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--states", type=_count, default=200, help="random states per check")
     p.add_argument("--seed", type=int, default=0, help="seed of the random states")
     p.add_argument("--json", action="store_true", help="print only a JSON summary on stdout")
+
+    p = _subcommand(sub, "c-export", "write the generated C model and a platform's parameter header into a "
+                    "directory, for C programs", cmd_c_export)
+    _add_params(p)
+    p.add_argument("directory", metavar="DIR", help="directory to write into (created if missing)")
 
     p = _subcommand(sub, "bench", "time the compiled kernel and the simulation loop", cmd_bench)
     p.add_argument("--preset", choices=sorted(list_presets()), help="one preset (default: all)")

@@ -1,6 +1,7 @@
 """The ``stewart`` command, with assertions on the numbers it prints and writes."""
 
 import json
+import pathlib
 import sys
 
 import numpy as np
@@ -398,3 +399,18 @@ def test_a_binary_file_is_not_read_as_csv(tmp_path, capsys):
     np.savez(path, x=np.arange(10.0))
     code, _, err = _run(["ik", "--input", str(path)], capsys)
     assert code == 2 and "not a text file" in _one_error_line(err, "ik", f"--input {path}: ")
+
+
+def test_c_export_writes_the_model_and_the_platform_header(tmp_path, capsys):
+    params = stewart.PlatformParams.preset("motion_simulator").replace(name="exported")
+    params.save(tmp_path / "p.toml")
+    code, out, _ = _run(["c-export", str(tmp_path / "c"), "--params", str(tmp_path / "p.toml")], capsys)
+    assert code == 0 and "exported" in out
+    for name in ("stewart_model.h", "stewart_model.c"):
+        assert (tmp_path / "c" / name).read_bytes() == (pathlib.Path(stewart.c_include_dir()) / name).read_bytes()
+    assert (tmp_path / "c" / "stewart_platform_params.h").read_text() == stewart.capi.params_header(params)
+    (tmp_path / "file").write_text("")
+    code, _, err = _run(["c-export", str(tmp_path / "file")], capsys)
+    assert code == 2 and "not a directory" in _one_error_line(err, "c-export", f"DIR {tmp_path / 'file'}: ")
+    code, _, err = _run(["c-export", str(tmp_path / "file" / "sub")], capsys)
+    assert code == 2 and _one_error_line(err, "c-export", f"DIR {tmp_path / 'file' / 'sub'}: ")
