@@ -1,7 +1,9 @@
 """The sdist and the wheel install, and work, outside the checkout.
 
-From a copy of the checkout's tracked files (nothing untracked, such as ``.venv``, build
-products or outputs), ``python -m build`` builds the sdist and the wheel. The wheel goes
+From a copy of the source files — a git checkout's tracked files, or an unpacked sdist's
+own file list — and nothing else (no ``.venv``, build products or outputs), ``python -m
+build`` builds the sdist and the wheel. The sdist is the complete source, so ``make test``
+also runs from it. The wheel goes
 into a fresh virtual environment; the sdist into another through
 ``pip install stewart-*.tar.gz``, which builds it with build isolation, as a user's pip does,
 so the sdist is proven to build on its own. The two compilations run side by side.
@@ -30,18 +32,33 @@ SDIST_NEEDS = {"setup.py", "pyproject.toml", "MANIFEST.in", "README.md", "LICENS
 CYTHON_OUTPUT = {"stewart/_kernel.c", "stewart/_simulate.c"}
 
 
+#: Files setuptools adds to an sdist: its metadata.
+SDIST_METADATA = {"PKG-INFO", "setup.cfg"}
+
+
+def source_files() -> list[str]:
+    """The source files: a git checkout's tracked files, or the list an unpacked sdist carries
+    in ``stewart.egg-info/SOURCES.txt`` (less its metadata)."""
+    try:
+        listed = [name for name in run_command(["git", "ls-files", "-z"], cwd=ROOT).split("\0") if name]
+    except (OSError, AssertionError):
+        listed = []
+    if listed:
+        return [name for name in listed if (ROOT / name).is_file()]  # not a tracked file deleted here
+    sources = ROOT / "stewart.egg-info" / "SOURCES.txt"
+    if (ROOT / "PKG-INFO").is_file() and sources.is_file():
+        return [name for name in sources.read_text().splitlines()
+                if name and name not in SDIST_METADATA and not name.startswith("stewart.egg-info/")]
+    pytest.fail(f"{ROOT} is neither a git checkout nor an unpacked sdist: no list of its source files")
+
+
 @pytest.fixture(scope="module")
 def tree(tmp_path_factory):
-    """A copy of the checkout's tracked files, as a fresh clone has them."""
-    try:
-        listed = run_command(["git", "ls-files", "-z"], cwd=ROOT)
-    except (OSError, AssertionError) as error:
-        pytest.skip(f"needs a git checkout: {error}")
+    """A copy of the source files, as a fresh clone or a fresh unpacked sdist has them."""
     copy = tmp_path_factory.mktemp("tree")
-    for name in filter(None, listed.split("\0")):
-        if (ROOT / name).is_file():  # a tracked file deleted in the working tree is left out
-            (copy / name).parent.mkdir(parents=True, exist_ok=True)
-            shutil.copy2(ROOT / name, copy / name)
+    for name in source_files():
+        (copy / name).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(ROOT / name, copy / name)
     return copy
 
 
@@ -67,16 +84,17 @@ def dists(tree, tmp_path_factory):
         return {"wheel": (wheel, _environment(envs / "wheel", wheel)), "sdist": (sdist, from_sdist.result())}
 
 
-def test_sdist_holds_what_a_build_needs(dists):
+def test_sdist_is_the_complete_source_and_nothing_else(dists):
     with tarfile.open(dists["sdist"][0]) as sdist:
-        names = {name.split("/", 1)[1] for name in sdist.getnames() if "/" in name}
+        names = {member.name.split("/", 1)[1] for member in sdist.getmembers()
+                 if "/" in member.name and not member.isdir()}
     assert SDIST_NEEDS <= names, sorted(SDIST_NEEDS - names)
     assert not names & CYTHON_OUTPUT
-    # Nothing else: no tests, outputs, environments or build products (setuptools adds
-    # PKG-INFO, the egg-info and setup.cfg).
-    tops = {name.split("/")[0] for name in names}
-    assert tops <= {n.split("/")[0] for n in SDIST_NEEDS} | {"PKG-INFO", "setup.cfg", "stewart.egg-info"}, tops
-    assert not [n for n in names if n.endswith((".so", ".o", ".html"))]
+    # Every source file (so make test and make demo run from the unpacked sdist), and
+    # nothing else but setuptools' metadata: no outputs, environments or build products.
+    sources = set(source_files())
+    metadata = {n for n in names if n in SDIST_METADATA or n.startswith("stewart.egg-info/")}
+    assert names - metadata == sources, (sorted(names - metadata - sources), sorted(sources - names))
 
 
 def test_wheel_holds_the_c_model_and_no_cython_output(dists):
