@@ -89,9 +89,10 @@ def main(argv=None) -> None:
         print(f"  {label:<34}" + "".join(fmt.format(s[key]) for s in summaries.values()))
     timing = [f"{1e3 * s['wall_time']:.1f} ms / {s['simulated_time']:g} s" for s in summaries.values()]
     print(f"  {'wall time / simulated time':<34}" + "".join(f"{v:>22}" for v in timing))
+    print(f"  {'outcome':<34}" + "".join(f"{run.outcome:>22}" for run in runs.values()))
     for name, run in runs.items():
-        if not run.completed:
-            print(f"  {name}: stopped: {run.reason}")
+        for problem in run.problems:
+            print(f"  {name}: {problem}")
 
     study = leg_inertia_study(params, move)
     print("\nLeg-inertia study: peak actuator force per leg over the move [N] (inverse dynamics)")
