@@ -17,9 +17,11 @@ Performance rests on three rules:
 """
 
 from dataclasses import dataclass
-from functools import partial
+from functools import partial, reduce
 
 import sympy as sp
+
+from .schema import PARAM_FIELDS
 
 NUM_LEGS = 6
 AXES = 'xyz'
@@ -27,10 +29,6 @@ AXES = 'xyz'
 
 def _symbols(prefix, n):
     return [sp.Symbol(f'{prefix}_{k}', real=True) for k in range(n)]
-
-
-def _vec3(prefix):
-    return sp.Matrix([sp.Symbol(f'{prefix}_{c}', real=True) for c in AXES])
 
 
 def _dot(a, b):
@@ -54,32 +52,40 @@ XDD = _symbols('xdd', 6)  # pose accelerations
 TAU = _symbols('tau', 6)  # actuator forces
 
 
-@dataclass(frozen=True)
+def _column(prefix, n):
+    """n symbols as a column, suffixed _x, _y, _z (n = 3) or _0, _1, ..."""
+    return sp.Matrix([sp.Symbol(f'{prefix}_{c}', real=True) for c in (AXES if n == 3 else range(n))])
+
+
+def _field_symbols(field):
+    """The symbols of a `schema.ParamField`: a symbol, a column, or a tuple of row columns."""
+    prefix = field.symbol or field.attr
+    if not field.shape:
+        return sp.Symbol(prefix, real=True)
+    if len(field.shape) == 1:
+        return _column(prefix, field.shape[0])
+    return tuple(_column(f'{prefix}{i}', field.shape[1]) for i in range(field.shape[0]))
+
+
 class Params:
-    """Runtime parameter symbols (one per `stewart_params` field entry)."""
-    base: tuple        # b_i in {B}, 3x1 matrices
-    plat: tuple        # p_i in {P}, 3x1 matrices
-    m_P: sp.Symbol
-    I_P: sp.Matrix     # principal inertia of the platform in {P}
-    m_C: sp.Symbol
-    I_C: sp.Matrix     # cylinder inertia in {C_i}: axial, Iyy, Izz
-    b_C: sp.Symbol
-    m_S: sp.Symbol
-    I_S: sp.Matrix     # piston inertia in {S_i} = {C_i}: axial, Iyy, Izz
-    b_S: sp.Symbol
-    g: sp.Symbol
+    """Runtime parameter symbols, one attribute per field of the parameter schema
+    (`schema.ParamField.attr`): `base` and `plat` (b_i in {B}, p_i in {P}, tuples of
+    3x1 matrices), masses `m_P`, `m_C`, `m_S`, principal inertias `I_P` (in {P}),
+    `I_C`, `I_S` (axial, Iyy, Izz in {C_i} = {S_i}), distances `b_C`, `b_S`, gravity `g`.
+    """
+
+    def __init__(self, fields=PARAM_FIELDS):
+        self.fields = tuple(fields)
+        for field in self.fields:
+            setattr(self, field.attr, _field_symbols(field))
+
+    def members(self):
+        """(symbol, `stewart_params` member entry) pairs, in struct order."""
+        return [(reduce(lambda value, i: value[i], index, getattr(self, field.attr)), field.member(index))
+                for field in self.fields for index in field.indices()]
 
 
-PARAMS = Params(
-    base=tuple(_vec3(f'b{i}') for i in range(NUM_LEGS)),
-    plat=tuple(_vec3(f'pp{i}') for i in range(NUM_LEGS)),
-    m_P=sp.Symbol('m_P', real=True), I_P=_vec3('I_P'),
-    m_C=sp.Symbol('m_C', real=True), I_C=_vec3('I_C'),
-    b_C=sp.Symbol('b_C', real=True),
-    m_S=sp.Symbol('m_S', real=True), I_S=_vec3('I_S'),
-    b_S=sp.Symbol('b_S', real=True),
-    g=sp.Symbol('g', real=True),
-)
+PARAMS = Params()
 
 
 class Graph:
@@ -469,6 +475,38 @@ def forward_dynamics_kernel(axisymmetric):
                   [('Mt', [Mt[j, k] for j in range(6) for k in range(j, 6)]), ('rhs', list(rhs)),
                    ('JAinv', list(euler_rates_inverse(kin))), ('ctheta', [kin.c_theta])]
                   + _leg_checks(kin, axisymmetric))
+
+
+@dataclass(frozen=True)
+class Function:
+    """A public C function `stewart_<name>(p, <inputs>, <result>)`."""
+    name: str
+    doc: str
+    inputs: tuple     # its input arrays, 6 doubles each
+    result: str       # its output array
+    size: int         # the number of doubles in `result`
+    kernels: tuple    # builders of its kernel: one, or the axisymmetric and the general one
+    solve: str = None  # the fixed C function (codegen/templates) computing `result` from the kernel's outputs
+
+
+def _variants(build):
+    return tuple(partial(build, axisymmetric) for axisymmetric in (True, False))
+
+
+FUNCTIONS = (
+    Function('leg_lengths', 'Leg lengths L_i (a zero length is not an error here).', ('x',), 'L', 6,
+             (leg_lengths_kernel,)),
+    Function('jacobian', 'J_C (eq. 5): Ldot = J_C t.', ('x',), 'JC', 36, (jacobian_kernel,)),
+    Function('mass_matrix', 'M = M_t T.', ('x',), 'M', 36, _variants(mass_matrix_kernel)),
+    Function('coriolis_matrix', 'V(x, xd).', ('x', 'xd'), 'V', 36, _variants(coriolis_matrix_kernel)),
+    Function('coriolis_vector', 'V xd without forming V.', ('x', 'xd'), 'Vxd', 6,
+             _variants(coriolis_vector_kernel)),
+    Function('gravity_vector', 'G(x).', ('x',), 'G', 6, (gravity_kernel,)),
+    Function('inverse_dynamics', 'tau = J_C^-T (M xdd + V xd + G).', ('x', 'xd', 'xdd'), 'tau', 6,
+             _variants(inverse_dynamics_kernel), 'solve_inverse_dynamics'),
+    Function('forward_dynamics', 'xdd = M^-1 (J_C^T tau - V xd - G); needs cos(theta) != 0.',
+             ('x', 'xd', 'tau'), 'xdd', 6, _variants(forward_dynamics_kernel), 'solve_forward_dynamics'),
+)
 
 
 def kernel_builders():

@@ -37,16 +37,6 @@ static int all_finite(const double *v, int n)
     return ok;
 }
 
-static int params_finite(const stewart_params *p)
-{
-    return all_finite(&p->base_points[0][0], 18) && all_finite(&p->platform_points[0][0], 18)
-        && all_finite(&p->platform_mass, 1) && all_finite(p->platform_inertia, 3)
-        && all_finite(&p->cylinder_mass, 1) && all_finite(p->cylinder_inertia, 3)
-        && all_finite(&p->cylinder_com_distance, 1)
-        && all_finite(&p->piston_mass, 1) && all_finite(p->piston_inertia, 3)
-        && all_finite(&p->piston_com_distance, 1) && all_finite(&p->gravity, 1);
-}
-
 /* STEWART_OK unless a leg has zero length or (h2 != NULL) is vertical:
  * h2[i] = l_x^2 + l_y^2 < STEWART_VERTICAL_TOL * L2[i]. */
 static int check_legs(const double L2[6], const double h2[6])
@@ -79,6 +69,21 @@ static int finish(int status, double *out, int n)
         }
     }
     return status;
+}
+
+static int params_finite(const stewart_params *p)
+{
+    return all_finite(&p->base_points[0][0], 18)
+        && all_finite(&p->platform_points[0][0], 18)
+        && all_finite(&p->platform_mass, 1)
+        && all_finite(&p->platform_inertia[0], 3)
+        && all_finite(&p->cylinder_mass, 1)
+        && all_finite(&p->cylinder_inertia[0], 3)
+        && all_finite(&p->cylinder_com_distance, 1)
+        && all_finite(&p->piston_mass, 1)
+        && all_finite(&p->piston_inertia[0], 3)
+        && all_finite(&p->piston_com_distance, 1)
+        && all_finite(&p->gravity, 1);
 }
 
 /* Solve J^T y = b (J 6x6 row-major) by fraction-free (Bareiss) Gaussian
@@ -748,8 +753,8 @@ static void kernel_gravity_vector(const stewart_params *p, const double *x, doub
     const double pp5_z = p->platform_points[5][2];
     const double m_P = p->platform_mass;
     const double m_C = p->cylinder_mass;
-    const double m_S = p->piston_mass;
     const double b_C = p->cylinder_com_distance;
+    const double m_S = p->piston_mass;
     const double b_S = p->piston_com_distance;
     const double g = p->gravity;
     const double x_0 = x[0];
@@ -964,9 +969,9 @@ static void kernel_mass_matrix_axisym(const stewart_params *p, const double *x, 
     const double I_P_z = p->platform_inertia[2];
     const double m_C = p->cylinder_mass;
     const double I_C_y = p->cylinder_inertia[1];
+    const double b_C = p->cylinder_com_distance;
     const double m_S = p->piston_mass;
     const double I_S_y = p->piston_inertia[1];
-    const double b_C = p->cylinder_com_distance;
     const double b_S = p->piston_com_distance;
     const double x_0 = x[0];
     const double x_1 = x[1];
@@ -1681,9 +1686,9 @@ static void kernel_coriolis_matrix_axisym(const stewart_params *p, const double 
     const double I_P_z = p->platform_inertia[2];
     const double m_C = p->cylinder_mass;
     const double I_C_y = p->cylinder_inertia[1];
+    const double b_C = p->cylinder_com_distance;
     const double m_S = p->piston_mass;
     const double I_S_y = p->piston_inertia[1];
-    const double b_C = p->cylinder_com_distance;
     const double b_S = p->piston_com_distance;
     const double x_0 = x[0];
     const double x_1 = x[1];
@@ -3208,9 +3213,9 @@ static void kernel_coriolis_vector_axisym(const stewart_params *p, const double 
     const double I_P_z = p->platform_inertia[2];
     const double m_C = p->cylinder_mass;
     const double I_C_y = p->cylinder_inertia[1];
+    const double b_C = p->cylinder_com_distance;
     const double m_S = p->piston_mass;
     const double I_S_y = p->piston_inertia[1];
-    const double b_C = p->cylinder_com_distance;
     const double b_S = p->piston_com_distance;
     const double x_0 = x[0];
     const double x_1 = x[1];
@@ -3773,9 +3778,9 @@ static void kernel_inverse_dynamics_axisym(const stewart_params *p, const double
     const double I_P_z = p->platform_inertia[2];
     const double m_C = p->cylinder_mass;
     const double I_C_y = p->cylinder_inertia[1];
+    const double b_C = p->cylinder_com_distance;
     const double m_S = p->piston_mass;
     const double I_S_y = p->piston_inertia[1];
-    const double b_C = p->cylinder_com_distance;
     const double b_S = p->piston_com_distance;
     const double g = p->gravity;
     const double x_0 = x[0];
@@ -4392,9 +4397,9 @@ static void kernel_forward_dynamics_axisym(const stewart_params *p, const double
     const double I_P_z = p->platform_inertia[2];
     const double m_C = p->cylinder_mass;
     const double I_C_y = p->cylinder_inertia[1];
+    const double b_C = p->cylinder_com_distance;
     const double m_S = p->piston_mass;
     const double I_S_y = p->piston_inertia[1];
-    const double b_C = p->cylinder_com_distance;
     const double b_S = p->piston_com_distance;
     const double g = p->gravity;
     const double x_0 = x[0];
@@ -5511,10 +5516,10 @@ static void kernel_mass_matrix_general(const stewart_params *p, const double *x,
     const double m_C = p->cylinder_mass;
     const double I_C_y = p->cylinder_inertia[1];
     const double I_C_z = p->cylinder_inertia[2];
+    const double b_C = p->cylinder_com_distance;
     const double m_S = p->piston_mass;
     const double I_S_y = p->piston_inertia[1];
     const double I_S_z = p->piston_inertia[2];
-    const double b_C = p->cylinder_com_distance;
     const double b_S = p->piston_com_distance;
     const double x_0 = x[0];
     const double x_1 = x[1];
@@ -6369,10 +6374,10 @@ static void kernel_coriolis_matrix_general(const stewart_params *p, const double
     const double m_C = p->cylinder_mass;
     const double I_C_y = p->cylinder_inertia[1];
     const double I_C_z = p->cylinder_inertia[2];
+    const double b_C = p->cylinder_com_distance;
     const double m_S = p->piston_mass;
     const double I_S_y = p->piston_inertia[1];
     const double I_S_z = p->piston_inertia[2];
-    const double b_C = p->cylinder_com_distance;
     const double b_S = p->piston_com_distance;
     const double x_0 = x[0];
     const double x_1 = x[1];
@@ -8325,10 +8330,10 @@ static void kernel_coriolis_vector_general(const stewart_params *p, const double
     const double m_C = p->cylinder_mass;
     const double I_C_y = p->cylinder_inertia[1];
     const double I_C_z = p->cylinder_inertia[2];
+    const double b_C = p->cylinder_com_distance;
     const double m_S = p->piston_mass;
     const double I_S_y = p->piston_inertia[1];
     const double I_S_z = p->piston_inertia[2];
-    const double b_C = p->cylinder_com_distance;
     const double b_S = p->piston_com_distance;
     const double x_0 = x[0];
     const double x_1 = x[1];
@@ -9061,10 +9066,10 @@ static void kernel_inverse_dynamics_general(const stewart_params *p, const doubl
     const double m_C = p->cylinder_mass;
     const double I_C_y = p->cylinder_inertia[1];
     const double I_C_z = p->cylinder_inertia[2];
+    const double b_C = p->cylinder_com_distance;
     const double m_S = p->piston_mass;
     const double I_S_y = p->piston_inertia[1];
     const double I_S_z = p->piston_inertia[2];
-    const double b_C = p->cylinder_com_distance;
     const double b_S = p->piston_com_distance;
     const double g = p->gravity;
     const double x_0 = x[0];
@@ -9851,10 +9856,10 @@ static void kernel_forward_dynamics_general(const stewart_params *p, const doubl
     const double m_C = p->cylinder_mass;
     const double I_C_y = p->cylinder_inertia[1];
     const double I_C_z = p->cylinder_inertia[2];
+    const double b_C = p->cylinder_com_distance;
     const double m_S = p->piston_mass;
     const double I_S_y = p->piston_inertia[1];
     const double I_S_z = p->piston_inertia[2];
-    const double b_C = p->cylinder_com_distance;
     const double b_S = p->piston_com_distance;
     const double g = p->gravity;
     const double x_0 = x[0];

@@ -52,12 +52,12 @@ typedef struct {
 
 enum {
     STEWART_OK = 0,
-    STEWART_ERR_NONFINITE = 1,        /* non-finite input (or output) */
-    STEWART_ERR_LEG_DEGENERATE = 2,   /* a leg of zero length */
-    STEWART_ERR_JACOBIAN_SINGULAR = 3,/* J_C singular (kinematic singularity) */
-    STEWART_ERR_EULER_SINGULAR = 4,   /* cos(theta) == 0: Euler-rate map singular (forward dynamics) */
-    STEWART_ERR_LEG_VERTICAL = 5,     /* vertical leg with non-axisymmetric leg inertia: cylinder frame undefined */
-    STEWART_ERR_MASS_SINGULAR = 6     /* twist-space mass matrix not positive definite (e.g. massless platform) */
+    STEWART_ERR_NONFINITE = 1,          /* non-finite input (or output) */
+    STEWART_ERR_LEG_DEGENERATE = 2,     /* a leg of zero length */
+    STEWART_ERR_JACOBIAN_SINGULAR = 3,  /* J_C singular (kinematic singularity) */
+    STEWART_ERR_EULER_SINGULAR = 4,     /* cos(theta) == 0: Euler-rate map singular (forward dynamics) */
+    STEWART_ERR_LEG_VERTICAL = 5,       /* vertical leg with non-axisymmetric leg inertia: cylinder frame undefined */
+    STEWART_ERR_MASS_SINGULAR = 6,      /* twist-space mass matrix not positive definite (e.g. massless platform) */
 };
 
 /* Thresholds behind the status codes:

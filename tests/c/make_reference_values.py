@@ -10,6 +10,7 @@ import sys
 import numpy as np
 
 import stewart
+from stewart import capi
 from stewart import reference as ref
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -18,16 +19,6 @@ STATES_PER_PRESET = 4
 
 def _array(values) -> str:
     return "{" + ", ".join(f"{v:.17g}" for v in np.ravel(values)) + "}"
-
-
-def _params(p: stewart.PlatformParams) -> str:
-    pts = lambda a: "{" + ", ".join(_array(row) for row in a) + "}"  # noqa: E731
-    return (
-        f"{{{pts(p.base_points)}, {pts(p.platform_points)}, {p.platform_mass:.17g}, "
-        f"{_array(p.platform_inertia)}, {p.cylinder_mass:.17g}, {_array(p.cylinder_inertia)}, "
-        f"{p.cylinder_com_distance:.17g}, {p.piston_mass:.17g}, {_array(p.piston_inertia)}, "
-        f"{p.piston_com_distance:.17g}, {p.gravity:.17g}}}"
-    )
 
 
 def main() -> None:
@@ -42,7 +33,7 @@ def main() -> None:
             xdd = rng.normal(size=6) * np.array([2 * home[2]] * 3 + [5.0] * 3)
             tau = ref.inverse_dynamics(params, x, xd, xdd)
             fields = [
-                _params(params), _array(x), _array(xd), _array(xdd), _array(tau),
+                capi.params_initializer(params), _array(x), _array(xd), _array(xdd), _array(tau),
                 _array(stewart.leg_lengths(params, x)), _array(stewart.jacobian(params, x)),
                 _array(ref.mass_matrix(params, x)), _array(ref.coriolis_matrix(params, x, xd)),
                 _array(ref.coriolis_vector(params, x, xd)), _array(ref.gravity_vector(params, x)),
