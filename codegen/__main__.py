@@ -33,20 +33,24 @@ def main(argv=None):
 
     total = time.perf_counter()
     members = model.PARAMS.members()
-    emitted = []
-    for build in model.kernel_builders():
-        kernel, t_derive = _timed(build)
-        result, t_emit = _timed(emit.emit_kernel, kernel, members)
-        emitted.append(result)
-        print(f'[codegen] {kernel.name:<28} derive {t_derive:5.2f} s, cse+C {t_emit:5.2f} s,'
-              f' {result.ops:5d} ops', flush=True)
+    emitted, public = [], []
+    for function in model.FUNCTIONS:
+        kernels = []
+        for build in function.kernels:
+            kernel, t_derive = _timed(build)
+            result, t_emit = _timed(emit.emit_kernel, kernel, members)
+            kernels.append(kernel)
+            emitted.append(result)
+            print(f'[codegen] {kernel.name:<28} derive {t_derive:5.2f} s, cse+C {t_emit:5.2f} s,'
+                  f' {result.ops:5d} ops', flush=True)
+        public.append(csource.public_function(function, kernels))
 
     start = time.perf_counter()
     args.out.mkdir(parents=True, exist_ok=True)
     ops = [(k.name, k.ops) for k in emitted]
     files = {
         'stewart_model.h': csource.header(schema.PARAM_FIELDS, model.FUNCTIONS, ops),
-        'stewart_model.c': csource.source(schema.PARAM_FIELDS, [k.source for k in emitted]),
+        'stewart_model.c': csource.source(schema.PARAM_FIELDS, [k.source for k in emitted], public),
         'stewart_model.pxd': pxd.pxd(schema.PARAM_FIELDS, schema.LEFT_OUT, model.FUNCTIONS),
     }
     written = [name for name, text in files.items() if _write_if_changed(args.out / name, text)]

@@ -479,14 +479,23 @@ def forward_dynamics_kernel(axisymmetric):
 
 @dataclass(frozen=True)
 class Function:
-    """A public C function `stewart_<name>(p, <inputs>, <result>)`."""
+    """A public C function `stewart_<name>(p, <inputs>, <result>)`.
+
+    It checks that the parameters and inputs are finite, runs its kernel (the axisymmetric
+    or the general one, by the leg inertias), checks the legs the kernel reports (`L2`,
+    `h2`), then runs `steps` while the status is STEWART_OK, and returns the status with
+    `result` NaN unless it is STEWART_OK and finite.  A step is a C function returning a
+    status (the solvers of `linsolve`, or codegen/templates/runtime.c), called with kernel
+    outputs, `scratch` arrays or `result`.
+    """
     name: str
     doc: str
     inputs: tuple     # its input arrays, 6 doubles each
     result: str       # its output array
     size: int         # the number of doubles in `result`
     kernels: tuple    # builders of its kernel: one, or the axisymmetric and the general one
-    solve: str = None  # the fixed C function (codegen/templates) computing `result` from the kernel's outputs
+    steps: tuple = ()    # (C function, argument arrays)
+    scratch: tuple = ()  # (array, size) of the steps' intermediate arrays
 
 
 def _variants(build):
@@ -503,17 +512,10 @@ FUNCTIONS = (
              _variants(coriolis_vector_kernel)),
     Function('gravity_vector', 'G(x).', ('x',), 'G', 6, (gravity_kernel,)),
     Function('inverse_dynamics', 'tau = J_C^-T (M xdd + V xd + G).', ('x', 'xd', 'xdd'), 'tau', 6,
-             _variants(inverse_dynamics_kernel), 'solve_inverse_dynamics'),
+             _variants(inverse_dynamics_kernel), steps=(('solve_transposed', ('JC', 'W', 'tau')),)),
     Function('forward_dynamics', 'xdd = M^-1 (J_C^T tau - V xd - G); needs cos(theta) != 0.',
-             ('x', 'xd', 'tau'), 'xdd', 6, _variants(forward_dynamics_kernel), 'solve_forward_dynamics'),
+             ('x', 'xd', 'tau'), 'xdd', 6, _variants(forward_dynamics_kernel),
+             steps=(('check_euler', ('ctheta',)), ('cholesky_solve', ('Mt', 'rhs', 'y')),
+                    ('pose_accelerations', ('JAinv', 'y', 'xdd'))),
+             scratch=(('y', 6),)),
 )
-
-
-def kernel_builders():
-    """Zero-argument builders of every kernel the C file needs, in emission order."""
-    builders = [leg_lengths_kernel, jacobian_kernel, gravity_kernel]
-    for axisymmetric in (True, False):
-        builders += [partial(b, axisymmetric) for b in (
-            mass_matrix_kernel, coriolis_matrix_kernel, coriolis_vector_kernel,
-            inverse_dynamics_kernel, forward_dynamics_kernel)]
-    return builders
