@@ -164,7 +164,7 @@ def _call(name, args):
 
 
 def public_function(function, kernels):
-    """C text of `stewart_<name>` for a `model.Function` and its built `model.Kernel`s (one,
+    """C text of `stewart_<name>` for a `model.Function` and its built `model.KernelSpec`s (one,
     or the axisymmetric and the general one): inputs finite, kernel, legs, steps, finish."""
     result, size = function.result, function.size
     arrays = {name: len(exprs) for k in kernels for name, exprs in k.outputs if name != result}

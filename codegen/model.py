@@ -355,7 +355,7 @@ def jacobian_rows(kin):
 
 
 @dataclass
-class Kernel:
+class KernelSpec:
     """One straight-line C function: named input arrays -> named output arrays."""
     name: str
     doc: str
@@ -379,14 +379,14 @@ def _variant(axisymmetric):
 def leg_lengths_kernel():
     g = Graph({})
     kin = kinematics(g, PARAMS)
-    return Kernel('leg_lengths', 'Leg lengths L_i = |l_i| (eq. 26).', g,
+    return KernelSpec('leg_lengths', 'Leg lengths L_i = |l_i| (eq. 26).', g,
                   [('x', X)], [('L', [leg.L for leg in kin.legs])])
 
 
 def jacobian_kernel():
     g = Graph({})
     kin = kinematics(g, PARAMS)
-    return Kernel('jacobian', 'J_C (eq. 5), row-major.', g, [('x', X)],
+    return KernelSpec('jacobian', 'J_C (eq. 5), row-major.', g, [('x', X)],
                   [('JC', list(jacobian_rows(kin)))] + _leg_checks(kin, True))
 
 
@@ -397,7 +397,7 @@ def gravity_kernel():
     w_P, w_C, w_S = _gravity_forces(P, True)
     G = generalized_force(P, kin, sp.Matrix.vstack(w_P, sp.zeros(3, 1)),
                           [(w_C, w_S, sp.zeros(3, 1))] * NUM_LEGS, g, 'g')
-    return Kernel('gravity_vector', 'G = sum_b J_b^T m_b g e_z (eqs. 72-76).', g,
+    return KernelSpec('gravity_vector', 'G = sum_b J_b^T m_b g e_z (eqs. 72-76).', g,
                   [('x', X)], [('G', list(G))] + _leg_checks(kin, True))
 
 
@@ -405,7 +405,7 @@ def mass_matrix_kernel(axisymmetric):
     g = Graph({})
     kin = kinematics(g, PARAMS, leg_frames=not axisymmetric)
     M = twist_mass_matrix(g, PARAMS, kin, axisymmetric) * euler_map(kin)
-    return Kernel(f'mass_matrix_{_variant(axisymmetric)}',
+    return KernelSpec(f'mass_matrix_{_variant(axisymmetric)}',
                   'M = M_t T (eqs. 19, 39, 51, 61, 69), row-major.', g, [('x', X)],
                   [('M', list(M))] + _leg_checks(kin, axisymmetric))
 
@@ -416,7 +416,7 @@ def coriolis_vector_kernel(axisymmetric):
     v, omega = twist(g, kin, XD, 'q')
     m = momenta(g, PARAMS, kin, v, omega, axisymmetric, 'q')
     W = momentum_rate_force(g, PARAMS, kin, m, False, 'q')
-    return Kernel(f'coriolis_vector_{_variant(axisymmetric)}',
+    return KernelSpec(f'coriolis_vector_{_variant(axisymmetric)}',
                   'V xd = sum_b J_b^T d/dt(I_b J_b T) xd.', g, [('x', X), ('xd', XD)],
                   [('Vxd', list(W))] + _leg_checks(kin, axisymmetric))
 
@@ -431,7 +431,7 @@ def coriolis_matrix_kernel(axisymmetric):
         v, omega = twist(g, kin, e, f'c{j}')
         m = momenta(g, PARAMS, kin, v, omega, axisymmetric, f'c{j}')
         V[:, j] = momentum_rate_force(g, PARAMS, kin, m, False, f'c{j}')
-    return Kernel(f'coriolis_matrix_{_variant(axisymmetric)}',
+    return KernelSpec(f'coriolis_matrix_{_variant(axisymmetric)}',
                   coriolis_matrix_kernel.__doc__ + ' Row-major.', g,
                   [('x', X), ('xd', XD)], [('V', list(V))] + _leg_checks(kin, axisymmetric))
 
@@ -442,7 +442,7 @@ def inverse_dynamics_kernel(axisymmetric):
     v, omega = twist(g, kin, XD, 'q')
     m = momenta(g, PARAMS, kin, v, omega, axisymmetric, 'q')
     W = momentum_rate_force(g, PARAMS, kin, m, True, 'q')
-    return Kernel(f'inverse_dynamics_{_variant(axisymmetric)}',
+    return KernelSpec(f'inverse_dynamics_{_variant(axisymmetric)}',
                   'W = M xdd + V xd + G and J_C (to solve J_C^T tau = W).', g,
                   [('x', X), ('xd', XD), ('xdd', XDD)],
                   [('W', list(W)), ('JC', list(jacobian_rows(kin)))]
@@ -469,7 +469,7 @@ def forward_dynamics_kernel(axisymmetric):
     v, omega = twist(g, kin, XD, 'q')
     m = momenta(g, PARAMS, kin, v, omega, axisymmetric, 'q')
     rhs = jacobian_rows(kin).T * sp.Matrix(TAU) - momentum_rate_force(g, PARAMS, kin, m, True, 'q')
-    return Kernel(f'forward_dynamics_{_variant(axisymmetric)}',
+    return KernelSpec(f'forward_dynamics_{_variant(axisymmetric)}',
                   forward_dynamics_kernel.__doc__, g,
                   [('x', X), ('xd', XD), ('tau', TAU)],
                   [('Mt', [Mt[j, k] for j in range(6) for k in range(j, 6)]), ('rhs', list(rhs)),
