@@ -6,6 +6,7 @@ Run from the repository root: ``python tests/c/make_reference_values.py``.
 
 import os
 import sys
+import warnings
 
 import numpy as np
 
@@ -21,11 +22,24 @@ def _array(values) -> str:
     return "{" + ", ".join(f"{v:.17g}" for v in np.ravel(values)) + "}"
 
 
+def _general_legs(params: stewart.PlatformParams) -> stewart.PlatformParams:
+    """``params`` with leg inertias I_zz = I_yy + axial / 2 (not axisymmetric, within the
+    triangle inequality): the C model's general kernels, with the cylinder frame {C_i}."""
+    def skewed(inertia):
+        return [inertia[0], inertia[1], inertia[1] + 0.5 * inertia[0]]
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", stewart.NonAxisymmetricLegWarning)
+        return params.replace(cylinder_inertia=skewed(params.cylinder_inertia),
+                              piston_inertia=skewed(params.piston_inertia))
+
+
 def main() -> None:
     rng = np.random.default_rng(2011)
     cases = []
-    for name in sorted(stewart.presets()):
-        params = stewart.PlatformParams.preset(name)
+    for name, params in [(f"{name}{label}", variant(stewart.PlatformParams.preset(name)))
+                         for label, variant in (("", lambda p: p), (" (general legs)", _general_legs))
+                         for name in sorted(stewart.presets())]:
         home = stewart.home_pose(params)
         for _ in range(STATES_PER_PRESET):
             x = home + rng.uniform(-1, 1, 6) * np.array([0.05 * home[2]] * 3 + [0.15] * 3)
