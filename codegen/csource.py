@@ -175,8 +175,9 @@ def public_function(function, kernels):
     if arrays:
         lines.append('    double ' + ', '.join(f'{name}[{n}]' for name, n in arrays.items()) + ';')
     checked = any(name == 'L2' for name, _ in kernels[0].outputs)
-    if checked or function.steps:
-        lines.append('    int status;')
+    status = 'status' if checked or function.steps else 'STEWART_OK'
+    if status == 'status':
+        lines.append('    int status = STEWART_OK;')
     lines += ['    if (' + ' || '.join(f'!{c}' for c in finite) + ') {',
               f'        return {finish % "STEWART_ERR_NONFINITE"};', '    }']
 
@@ -192,11 +193,9 @@ def public_function(function, kernels):
     else:
         lines += ['    if (stewart_is_axisymmetric(p)) {', *run(kernels[0], '        '),
                   '    } else {', *run(kernels[1], '        '), '    }']
-    if not checked and function.steps:
-        lines.append('    status = STEWART_OK;')
     for name, args in function.steps:
         lines += ['    if (status == STEWART_OK) {', f'        status = {_call(name, args)}', '    }']
-    lines += [f'    return {finish % ("status" if checked or function.steps else "STEWART_OK")};', '}']
+    lines += [f'    return {finish % status};', '}']
     return '\n'.join(lines) + '\n'
 
 

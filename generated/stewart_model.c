@@ -11208,7 +11208,7 @@ int stewart_leg_lengths(const stewart_params *p, const double x[6], double L[6])
 int stewart_jacobian(const stewart_params *p, const double x[6], double JC[36])
 {
     double L2[6];
-    int status;
+    int status = STEWART_OK;
     if (!params_finite(p) || !all_finite(x, 6)) {
         return finish(STEWART_ERR_NONFINITE, JC, 36);
     }
@@ -11220,7 +11220,7 @@ int stewart_jacobian(const stewart_params *p, const double x[6], double JC[36])
 int stewart_mass_matrix(const stewart_params *p, const double x[6], double M[36])
 {
     double L2[6], h2[6];
-    int status;
+    int status = STEWART_OK;
     if (!params_finite(p) || !all_finite(x, 6)) {
         return finish(STEWART_ERR_NONFINITE, M, 36);
     }
@@ -11237,7 +11237,7 @@ int stewart_mass_matrix(const stewart_params *p, const double x[6], double M[36]
 int stewart_coriolis_matrix(const stewart_params *p, const double x[6], const double xd[6], double V[36])
 {
     double L2[6], h2[6];
-    int status;
+    int status = STEWART_OK;
     if (!params_finite(p) || !all_finite(x, 6) || !all_finite(xd, 6)) {
         return finish(STEWART_ERR_NONFINITE, V, 36);
     }
@@ -11254,7 +11254,7 @@ int stewart_coriolis_matrix(const stewart_params *p, const double x[6], const do
 int stewart_coriolis_vector(const stewart_params *p, const double x[6], const double xd[6], double Vxd[6])
 {
     double L2[6], h2[6];
-    int status;
+    int status = STEWART_OK;
     if (!params_finite(p) || !all_finite(x, 6) || !all_finite(xd, 6)) {
         return finish(STEWART_ERR_NONFINITE, Vxd, 6);
     }
@@ -11271,7 +11271,7 @@ int stewart_coriolis_vector(const stewart_params *p, const double x[6], const do
 int stewart_gravity_vector(const stewart_params *p, const double x[6], double G[6])
 {
     double L2[6];
-    int status;
+    int status = STEWART_OK;
     if (!params_finite(p) || !all_finite(x, 6)) {
         return finish(STEWART_ERR_NONFINITE, G, 6);
     }
@@ -11283,7 +11283,7 @@ int stewart_gravity_vector(const stewart_params *p, const double x[6], double G[
 int stewart_inverse_dynamics(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6])
 {
     double W[6], JC[36], L2[6], h2[6];
-    int status;
+    int status = STEWART_OK;
     if (!params_finite(p) || !all_finite(x, 6) || !all_finite(xd, 6) || !all_finite(xdd, 6)) {
         return finish(STEWART_ERR_NONFINITE, tau, 6);
     }
@@ -11303,7 +11303,7 @@ int stewart_inverse_dynamics(const stewart_params *p, const double x[6], const d
 int stewart_forward_dynamics(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double xdd[6])
 {
     double Mt[21], rhs[6], JAinv[9], ctheta[1], L2[6], h2[6], y[6];
-    int status;
+    int status = STEWART_OK;
     if (!params_finite(p) || !all_finite(x, 6) || !all_finite(xd, 6) || !all_finite(tau, 6)) {
         return finish(STEWART_ERR_NONFINITE, xdd, 6);
     }
