@@ -137,7 +137,8 @@ def header(fields, functions, ops):
     table = ''.join(f' *   {name:<{width}}  {n:6d}\n' for name, n in ops)
     text = (HEADER.replace('@OPS@', table)
             .replace('@STRUCT@', _table([(f.declaration(), f.doc) for f in fields]))
-            .replace('@STATUS@', _table([(f'{name} = {k},', doc) for k, (name, doc, _) in enumerate(STATUS_CODES)]))
+            .replace('@STATUS@', _table([(f'{name} = {k},', doc)
+                                         for k, (name, doc, _) in enumerate(STATUS_CODES)]))
             .replace('@FUNCTIONS@', ''.join(f'/* {f.doc} */\n{prototype(f)};\n' for f in functions)))
     for key, value in (('VERTICAL_TOL', VERTICAL_TOL), ('JACOBIAN_TOL', JACOBIAN_TOL),
                        ('EULER_TOL', EULER_TOL), ('MASS_TOL', MASS_TOL)):

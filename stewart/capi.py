@@ -102,7 +102,8 @@ def params_initializer(params: PlatformParams) -> str:
     """
     for field in dataclasses.fields(params):
         if field.name not in PARAMS_LEFT_OUT and field.name not in dict(PARAM_FIELDS):
-            raise TypeError(f"params: field {field.name!r} is neither a member of stewart_params nor left out of it")
+            raise TypeError(f"params: field {field.name!r} is neither a member of stewart_params "
+                            "nor left out of it")
     members = [f"    .{name} = {_c_initializer(getattr(params, name))},\n" for name, _ in PARAM_FIELDS]
     return "{\n" + "".join(members) + "}"
 
@@ -110,7 +111,8 @@ def params_initializer(params: PlatformParams) -> str:
 def params_header(params: PlatformParams) -> str:
     """The text of ``stewart_platform_params.h`` for ``params`` (see :func:`params_initializer`)."""
     label = "unnamed" if params.name is None else params.name
-    left_out = [f" *   {name} = {_comment(getattr(params, name))}: {why}." for name, why in PARAMS_LEFT_OUT.items()]
+    left_out = [f" *   {name} = {_comment(getattr(params, name))}: {why}."
+                for name, why in PARAMS_LEFT_OUT.items()]
     return "\n".join([
         f"/* {PARAMS_HEADER} -- the parameters of the platform {_comment(label)} for {HEADER}.",
         " *",
