@@ -380,14 +380,14 @@ def leg_lengths_kernel():
     g = Graph({})
     kin = kinematics(g, PARAMS)
     return KernelSpec('leg_lengths', 'Leg lengths L_i = |l_i| (eq. 26).', g,
-                  [('x', X)], [('L', [leg.L for leg in kin.legs])])
+                      [('x', X)], [('L', [leg.L for leg in kin.legs])])
 
 
 def jacobian_kernel():
     g = Graph({})
     kin = kinematics(g, PARAMS)
     return KernelSpec('jacobian', 'J_C (eq. 5), row-major.', g, [('x', X)],
-                  [('JC', list(jacobian_rows(kin)))] + _leg_checks(kin, True))
+                      [('JC', list(jacobian_rows(kin)))] + _leg_checks(kin, True))
 
 
 def gravity_kernel():
@@ -398,7 +398,7 @@ def gravity_kernel():
     G = generalized_force(P, kin, sp.Matrix.vstack(w_P, sp.zeros(3, 1)),
                           [(w_C, w_S, sp.zeros(3, 1))] * NUM_LEGS, g, 'g')
     return KernelSpec('gravity_vector', 'G = sum_b J_b^T m_b g e_z (eqs. 72-76).', g,
-                  [('x', X)], [('G', list(G))] + _leg_checks(kin, True))
+                      [('x', X)], [('G', list(G))] + _leg_checks(kin, True))
 
 
 def mass_matrix_kernel(axisymmetric):
@@ -406,8 +406,8 @@ def mass_matrix_kernel(axisymmetric):
     kin = kinematics(g, PARAMS, leg_frames=not axisymmetric)
     M = twist_mass_matrix(g, PARAMS, kin, axisymmetric) * euler_map(kin)
     return KernelSpec(f'mass_matrix_{_variant(axisymmetric)}',
-                  'M = M_t T (eqs. 19, 39, 51, 61, 69), row-major.', g, [('x', X)],
-                  [('M', list(M))] + _leg_checks(kin, axisymmetric))
+                      'M = M_t T (eqs. 19, 39, 51, 61, 69), row-major.', g, [('x', X)],
+                      [('M', list(M))] + _leg_checks(kin, axisymmetric))
 
 
 def coriolis_vector_kernel(axisymmetric):
@@ -417,8 +417,8 @@ def coriolis_vector_kernel(axisymmetric):
     m = momenta(g, PARAMS, kin, v, omega, axisymmetric, 'q')
     W = momentum_rate_force(g, PARAMS, kin, m, False, 'q')
     return KernelSpec(f'coriolis_vector_{_variant(axisymmetric)}',
-                  'V xd = sum_b J_b^T d/dt(I_b J_b T) xd.', g, [('x', X), ('xd', XD)],
-                  [('Vxd', list(W))] + _leg_checks(kin, axisymmetric))
+                      'V xd = sum_b J_b^T d/dt(I_b J_b T) xd.', g, [('x', X), ('xd', XD)],
+                      [('Vxd', list(W))] + _leg_checks(kin, axisymmetric))
 
 
 def coriolis_matrix_kernel(axisymmetric):
@@ -432,8 +432,8 @@ def coriolis_matrix_kernel(axisymmetric):
         m = momenta(g, PARAMS, kin, v, omega, axisymmetric, f'c{j}')
         V[:, j] = momentum_rate_force(g, PARAMS, kin, m, False, f'c{j}')
     return KernelSpec(f'coriolis_matrix_{_variant(axisymmetric)}',
-                  coriolis_matrix_kernel.__doc__ + ' Row-major.', g,
-                  [('x', X), ('xd', XD)], [('V', list(V))] + _leg_checks(kin, axisymmetric))
+                      coriolis_matrix_kernel.__doc__ + ' Row-major.', g,
+                      [('x', X), ('xd', XD)], [('V', list(V))] + _leg_checks(kin, axisymmetric))
 
 
 def inverse_dynamics_kernel(axisymmetric):
@@ -443,10 +443,10 @@ def inverse_dynamics_kernel(axisymmetric):
     m = momenta(g, PARAMS, kin, v, omega, axisymmetric, 'q')
     W = momentum_rate_force(g, PARAMS, kin, m, True, 'q')
     return KernelSpec(f'inverse_dynamics_{_variant(axisymmetric)}',
-                  'W = M xdd + V xd + G and J_C (to solve J_C^T tau = W).', g,
-                  [('x', X), ('xd', XD), ('xdd', XDD)],
-                  [('W', list(W)), ('JC', list(jacobian_rows(kin)))]
-                  + _leg_checks(kin, axisymmetric))
+                      'W = M xdd + V xd + G and J_C (to solve J_C^T tau = W).', g,
+                      [('x', X), ('xd', XD), ('xdd', XDD)],
+                      [('W', list(W)), ('JC', list(jacobian_rows(kin)))]
+                      + _leg_checks(kin, axisymmetric))
 
 
 def euler_rates_inverse(kin):
@@ -470,11 +470,11 @@ def forward_dynamics_kernel(axisymmetric):
     m = momenta(g, PARAMS, kin, v, omega, axisymmetric, 'q')
     rhs = jacobian_rows(kin).T * sp.Matrix(TAU) - momentum_rate_force(g, PARAMS, kin, m, True, 'q')
     return KernelSpec(f'forward_dynamics_{_variant(axisymmetric)}',
-                  forward_dynamics_kernel.__doc__, g,
-                  [('x', X), ('xd', XD), ('tau', TAU)],
-                  [('Mt', [Mt[j, k] for j in range(6) for k in range(j, 6)]), ('rhs', list(rhs)),
-                   ('JAinv', list(euler_rates_inverse(kin))), ('ctheta', [kin.c_theta])]
-                  + _leg_checks(kin, axisymmetric))
+                      forward_dynamics_kernel.__doc__, g,
+                      [('x', X), ('xd', XD), ('tau', TAU)],
+                      [('Mt', [Mt[j, k] for j in range(6) for k in range(j, 6)]), ('rhs', list(rhs)),
+                       ('JAinv', list(euler_rates_inverse(kin))), ('ctheta', [kin.c_theta])]
+                      + _leg_checks(kin, axisymmetric))
 
 
 @dataclass(frozen=True)
