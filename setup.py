@@ -19,7 +19,7 @@ FLAGS = dict(
     extra_link_args=["-fopenmp"],
     libraries=["m"],
     # Rebuild (build_ext compares times) when the model's header or these flags change.
-    depends=["generated/stewart_model.h", "setup.py"],
+    depends=["generated/stewart_model.h", "generated/stewart_model.pxd", "setup.py"],
 )
 
 extensions = [
@@ -29,4 +29,5 @@ extensions = [
     Extension("stewart._simulate", sources=["stewart/_simulate.pyx"], **FLAGS),
 ]
 
-setup(ext_modules=cythonize(extensions, language_level=3))
+# generated/stewart_model.pxd, the model's Cython declarations, is cimported by stewart/_kernel.pxd.
+setup(ext_modules=cythonize(extensions, language_level=3, include_path=["generated"]))

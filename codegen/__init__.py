@@ -1,5 +1,7 @@
 """Code generator for the Stewart platform dynamic model (`python -m codegen`).
 
-`model` derives the equations (sympy), `emit` turns expressions into C
-functions, `csource` holds the fixed C text (header, helpers, public API).
+`schema` lists the parameters, `model` derives the equations (sympy) and specifies
+the public functions, `emit` turns expressions into C functions, `linsolve` writes
+the unrolled solvers, `csource` writes the header and the public functions around
+the fixed C of `templates/`, and `pxd` the Cython declarations.
 """

@@ -1,10 +1,10 @@
-"""CLI: regenerate generated/stewart_model.h and generated/stewart_model.c."""
+"""CLI: regenerate generated/stewart_model.h, stewart_model.c and stewart_model.pxd."""
 
 import argparse
 import time
 from pathlib import Path
 
-from . import csource, emit, model
+from . import csource, emit, model, pxd, schema
 
 DEFAULT_OUT = Path(__file__).resolve().parent.parent / 'generated'
 
@@ -32,21 +32,28 @@ def main(argv=None):
     args = parser.parse_args(argv)
 
     total = time.perf_counter()
-    members = csource.param_members(model.PARAMS)
-    emitted = []
-    for build in model.kernel_builders():
-        kernel, t_derive = _timed(build)
-        result, t_emit = _timed(emit.emit_kernel, kernel, members)
-        emitted.append(result)
-        print(f'[codegen] {kernel.name:<28} derive {t_derive:5.2f} s, cse+C {t_emit:5.2f} s,'
-              f' {result.ops:5d} ops', flush=True)
+    members = model.PARAMS.members()
+    emitted, public = [], []
+    for function in model.FUNCTIONS:
+        kernels = []
+        for build in function.kernels:
+            kernel, t_derive = _timed(build)
+            result, t_emit = _timed(emit.emit_kernel, kernel, members)
+            kernels.append(kernel)
+            emitted.append(result)
+            print(f'[codegen] {kernel.name:<28} derive {t_derive:5.2f} s, cse+C {t_emit:5.2f} s,'
+                  f' {result.ops:5d} ops', flush=True)
+        public.append(csource.public_function(function, kernels))
 
     start = time.perf_counter()
     args.out.mkdir(parents=True, exist_ok=True)
     ops = [(k.name, k.ops) for k in emitted]
-    written = [name for name, text in (('stewart_model.h', csource.header(ops)),
-                                       ('stewart_model.c', csource.source([k.source for k in emitted])))
-               if _write_if_changed(args.out / name, text)]
+    files = {
+        'stewart_model.h': csource.header(schema.PARAM_FIELDS, model.FUNCTIONS, ops),
+        'stewart_model.c': csource.source(schema.PARAM_FIELDS, [k.source for k in emitted], public),
+        'stewart_model.pxd': pxd.pxd(schema.PARAM_FIELDS, schema.LEFT_OUT, model.FUNCTIONS),
+    }
+    written = [name for name, text in files.items() if _write_if_changed(args.out / name, text)]
     print(f'[codegen] write {args.out} ({", ".join(written) or "unchanged"}) ...'
           f' {time.perf_counter() - start:.2f} s')
     print(f'[codegen] total ... {time.perf_counter() - total:.2f} s')

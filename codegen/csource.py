@@ -1,32 +1,35 @@
-"""The fixed C text around the generated kernels: header, helpers, public API.
+"""The C text around the generated kernels: header, status codes, public functions.
 
-The public functions check their inputs, dispatch between the axisymmetric and
-the general leg-inertia kernels, check the legs, solve the small linear systems
-(unrolled in `linsolve`: pivoted elimination for J_C^T tau = W, LDL^T for
-M_t y = rhs) and check their outputs.
+The public functions are written from their specs (`model.FUNCTIONS`): they check their
+inputs, dispatch between the axisymmetric and the general leg-inertia kernels, check the
+legs, run their steps (the small linear solves, unrolled in `linsolve`: pivoted
+elimination for J_C^T tau = W, LDL^T for M_t y = rhs) and check their outputs.  The
+fixed helpers are real C, in codegen/templates/runtime.c.
 """
 
+from pathlib import Path
+
 from . import linsolve
-from .model import NUM_LEGS
 
 VERTICAL_TOL = '1e-16'
 JACOBIAN_TOL = '1e-12'
 MASS_TOL = '1e-12'
 EULER_TOL = '1e-12'
 
-
-def param_members(P):
-    """(parameter symbol, `stewart_params` member) pairs, in struct order."""
-    members = []
-    for field, points in (('base_points', P.base), ('platform_points', P.plat)):
-        members += [(points[i][c], f'{field}[{i}][{c}]') for i in range(NUM_LEGS) for c in range(3)]
-    for prefix, mass, inertia in (('platform', P.m_P, P.I_P), ('cylinder', P.m_C, P.I_C),
-                                  ('piston', P.m_S, P.I_S)):
-        members.append((mass, f'{prefix}_mass'))
-        members += [(inertia[c], f'{prefix}_inertia[{c}]') for c in range(3)]
-    members += [(P.b_C, 'cylinder_com_distance'), (P.b_S, 'piston_com_distance'),
-                (P.g, 'gravity')]
-    return members
+#: The C status codes, in order from 0: (name, what it means, stewart_status_message()).
+STATUS_CODES = (
+    ('STEWART_OK', '', 'ok'),
+    ('STEWART_ERR_NONFINITE', 'non-finite input (or output)', 'non-finite input or output'),
+    ('STEWART_ERR_LEG_DEGENERATE', 'a leg of zero length', 'a leg has zero length'),
+    ('STEWART_ERR_JACOBIAN_SINGULAR', 'J_C singular (kinematic singularity)',
+     'leg Jacobian J_C is singular (kinematic singularity)'),
+    ('STEWART_ERR_EULER_SINGULAR', 'cos(theta) == 0: Euler-rate map singular (forward dynamics)',
+     'cos(theta) == 0: Euler-rate map is singular'),
+    ('STEWART_ERR_LEG_VERTICAL', 'vertical leg with non-axisymmetric leg inertia: cylinder frame undefined',
+     'vertical leg with non-axisymmetric leg inertia: cylinder frame undefined'),
+    ('STEWART_ERR_MASS_SINGULAR', 'twist-space mass matrix not positive definite (e.g. massless platform)',
+     'twist-space mass matrix is not positive definite'),
+)
 
 
 HEADER = r'''/* stewart_model.h -- dynamic model of a 6-DOF Stewart platform.
@@ -68,28 +71,10 @@ extern "C" {
 #endif
 
 typedef struct {
-    double base_points[6][3];      /* b_i in {B} */
-    double platform_points[6][3];  /* p_i in {P} */
-    double platform_mass;
-    double platform_inertia[3];    /* Ixx, Iyy, Izz in {P} about the COM at {P}'s origin */
-    double cylinder_mass;
-    double cylinder_inertia[3];    /* axial, Iyy, Izz in {C_i} */
-    double cylinder_com_distance;  /* b_C from B_i along the leg */
-    double piston_mass;
-    double piston_inertia[3];      /* axial, Iyy, Izz in {S_i} */
-    double piston_com_distance;    /* b_S from P_i back along the leg */
-    double gravity;                /* m/s^2 along -z */
-} stewart_params;
+@STRUCT@} stewart_params;
 
 enum {
-    STEWART_OK = 0,
-    STEWART_ERR_NONFINITE = 1,        /* non-finite input (or output) */
-    STEWART_ERR_LEG_DEGENERATE = 2,   /* a leg of zero length */
-    STEWART_ERR_JACOBIAN_SINGULAR = 3,/* J_C singular (kinematic singularity) */
-    STEWART_ERR_EULER_SINGULAR = 4,   /* cos(theta) == 0: Euler-rate map singular (forward dynamics) */
-    STEWART_ERR_LEG_VERTICAL = 5,     /* vertical leg with non-axisymmetric leg inertia: cylinder frame undefined */
-    STEWART_ERR_MASS_SINGULAR = 6     /* twist-space mass matrix not positive definite (e.g. massless platform) */
-};
+@STATUS@};
 
 /* Thresholds behind the status codes:
  *  LEG_DEGENERATE     L_i^2 < DBL_MIN.
@@ -111,23 +96,7 @@ const char *stewart_status_message(int status);
 /* 1 if cylinder and piston inertias have Iyy == Izz exactly, else 0. */
 int stewart_is_axisymmetric(const stewart_params *p);
 
-/* Leg lengths L_i (a zero length is not an error here). */
-int stewart_leg_lengths(const stewart_params *p, const double x[6], double L[6]);
-/* J_C (eq. 5): Ldot = J_C t. */
-int stewart_jacobian(const stewart_params *p, const double x[6], double JC[36]);
-/* M = M_t T. */
-int stewart_mass_matrix(const stewart_params *p, const double x[6], double M[36]);
-/* V(x, xd). */
-int stewart_coriolis_matrix(const stewart_params *p, const double x[6], const double xd[6], double V[36]);
-/* V xd without forming V. */
-int stewart_coriolis_vector(const stewart_params *p, const double x[6], const double xd[6], double Vxd[6]);
-/* G(x). */
-int stewart_gravity_vector(const stewart_params *p, const double x[6], double G[6]);
-/* tau = J_C^-T (M xdd + V xd + G). */
-int stewart_inverse_dynamics(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6]);
-/* xdd = M^-1 (J_C^T tau - V xd - G); needs cos(theta) != 0. */
-int stewart_forward_dynamics(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double xdd[6]);
-
+@FUNCTIONS@
 /* Operation counts of the generated kernels (sympy count_ops after cse):
 @OPS@ */
 
@@ -138,229 +107,103 @@ int stewart_forward_dynamics(const stewart_params *p, const double x[6], const d
 #endif /* STEWART_MODEL_H */
 '''
 
-PRELUDE = r'''/* stewart_model.c -- GENERATED by `python -m codegen` from codegen/; do not edit.
+PRELUDE = '''/* stewart_model.c -- GENERATED by `python -m codegen` from codegen/; do not edit.
  * See stewart_model.h. */
-#include "stewart_model.h"
-
-#include <float.h>
-#include <math.h>
-#include <stddef.h>
 '''
 
-RUNTIME = r'''
-/* ---- fixed helpers ---- */
-
-const char *stewart_status_message(int status)
-{
-    switch (status) {
-    case STEWART_OK: return "ok";
-    case STEWART_ERR_NONFINITE: return "non-finite input or output";
-    case STEWART_ERR_LEG_DEGENERATE: return "a leg has zero length";
-    case STEWART_ERR_JACOBIAN_SINGULAR: return "leg Jacobian J_C is singular (kinematic singularity)";
-    case STEWART_ERR_EULER_SINGULAR: return "cos(theta) == 0: Euler-rate map is singular";
-    case STEWART_ERR_LEG_VERTICAL: return "vertical leg with non-axisymmetric leg inertia: cylinder frame undefined";
-    case STEWART_ERR_MASS_SINGULAR: return "twist-space mass matrix is not positive definite";
-    default: return "unknown status";
-    }
-}
-
-int stewart_is_axisymmetric(const stewart_params *p)
-{
-    return p->cylinder_inertia[1] == p->cylinder_inertia[2]
-        && p->piston_inertia[1] == p->piston_inertia[2];
-}
-
-static int all_finite(const double *v, int n)
-{
-    int k, ok = 1;
-    for (k = 0; k < n; ++k) {
-        ok &= isfinite(v[k]) != 0;
-    }
-    return ok;
-}
-
-static int params_finite(const stewart_params *p)
-{
-    return all_finite(&p->base_points[0][0], 18) && all_finite(&p->platform_points[0][0], 18)
-        && all_finite(&p->platform_mass, 1) && all_finite(p->platform_inertia, 3)
-        && all_finite(&p->cylinder_mass, 1) && all_finite(p->cylinder_inertia, 3)
-        && all_finite(&p->cylinder_com_distance, 1)
-        && all_finite(&p->piston_mass, 1) && all_finite(p->piston_inertia, 3)
-        && all_finite(&p->piston_com_distance, 1) && all_finite(&p->gravity, 1);
-}
-
-/* STEWART_OK unless a leg has zero length or (h2 != NULL) is vertical:
- * h2[i] = l_x^2 + l_y^2 < STEWART_VERTICAL_TOL * L2[i]. */
-static int check_legs(const double L2[6], const double h2[6])
-{
-    int i;
-    for (i = 0; i < 6; ++i) {
-        if (!(L2[i] >= DBL_MIN)) {
-            return STEWART_ERR_LEG_DEGENERATE;
-        }
-    }
-    for (i = 0; h2 != NULL && i < 6; ++i) {
-        if (!(h2[i] >= STEWART_VERTICAL_TOL * L2[i])) {
-            return STEWART_ERR_LEG_VERTICAL;
-        }
-    }
-    return STEWART_OK;
-}
-
-/* Final status: an error, or NONFINITE for a non-finite output; fills the
- * output with NaN unless STEWART_OK. */
-static int finish(int status, double *out, int n)
-{
-    int k;
-    if (status == STEWART_OK && !all_finite(out, n)) {
-        status = STEWART_ERR_NONFINITE;
-    }
-    if (status != STEWART_OK) {
-        for (k = 0; k < n; ++k) {
-            out[k] = NAN;
-        }
-    }
-    return status;
-}
-'''
-
-PUBLIC = r'''
-/* ---- public API ---- */
-
-int stewart_leg_lengths(const stewart_params *p, const double x[6], double L[6])
-{
-    if (!params_finite(p) || !all_finite(x, 6)) {
-        return finish(STEWART_ERR_NONFINITE, L, 6);
-    }
-    kernel_leg_lengths(p, x, L);
-    return finish(STEWART_OK, L, 6);
-}
-
-int stewart_jacobian(const stewart_params *p, const double x[6], double JC[36])
-{
-    double L2[6];
-    if (!params_finite(p) || !all_finite(x, 6)) {
-        return finish(STEWART_ERR_NONFINITE, JC, 36);
-    }
-    kernel_jacobian(p, x, JC, L2);
-    return finish(check_legs(L2, NULL), JC, 36);
-}
-
-int stewart_gravity_vector(const stewart_params *p, const double x[6], double G[6])
-{
-    double L2[6];
-    if (!params_finite(p) || !all_finite(x, 6)) {
-        return finish(STEWART_ERR_NONFINITE, G, 6);
-    }
-    kernel_gravity_vector(p, x, G, L2);
-    return finish(check_legs(L2, NULL), G, 6);
-}
-
-int stewart_mass_matrix(const stewart_params *p, const double x[6], double M[36])
-{
-    double L2[6], h2[6];
-    if (!params_finite(p) || !all_finite(x, 6)) {
-        return finish(STEWART_ERR_NONFINITE, M, 36);
-    }
-    if (stewart_is_axisymmetric(p)) {
-        kernel_mass_matrix_axisym(p, x, M, L2);
-        return finish(check_legs(L2, NULL), M, 36);
-    }
-    kernel_mass_matrix_general(p, x, M, L2, h2);
-    return finish(check_legs(L2, h2), M, 36);
-}
-
-int stewart_coriolis_matrix(const stewart_params *p, const double x[6], const double xd[6], double V[36])
-{
-    double L2[6], h2[6];
-    if (!params_finite(p) || !all_finite(x, 6) || !all_finite(xd, 6)) {
-        return finish(STEWART_ERR_NONFINITE, V, 36);
-    }
-    if (stewart_is_axisymmetric(p)) {
-        kernel_coriolis_matrix_axisym(p, x, xd, V, L2);
-        return finish(check_legs(L2, NULL), V, 36);
-    }
-    kernel_coriolis_matrix_general(p, x, xd, V, L2, h2);
-    return finish(check_legs(L2, h2), V, 36);
-}
-
-int stewart_coriolis_vector(const stewart_params *p, const double x[6], const double xd[6], double Vxd[6])
-{
-    double L2[6], h2[6];
-    if (!params_finite(p) || !all_finite(x, 6) || !all_finite(xd, 6)) {
-        return finish(STEWART_ERR_NONFINITE, Vxd, 6);
-    }
-    if (stewart_is_axisymmetric(p)) {
-        kernel_coriolis_vector_axisym(p, x, xd, Vxd, L2);
-        return finish(check_legs(L2, NULL), Vxd, 6);
-    }
-    kernel_coriolis_vector_general(p, x, xd, Vxd, L2, h2);
-    return finish(check_legs(L2, h2), Vxd, 6);
-}
-
-int stewart_inverse_dynamics(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6])
-{
-    double W[6], JC[36], L2[6], h2[6];
-    int status;
-    if (!params_finite(p) || !all_finite(x, 6) || !all_finite(xd, 6) || !all_finite(xdd, 6)) {
-        return finish(STEWART_ERR_NONFINITE, tau, 6);
-    }
-    if (stewart_is_axisymmetric(p)) {
-        kernel_inverse_dynamics_axisym(p, x, xd, xdd, W, JC, L2);
-        status = check_legs(L2, NULL);
-    } else {
-        kernel_inverse_dynamics_general(p, x, xd, xdd, W, JC, L2, h2);
-        status = check_legs(L2, h2);
-    }
-    if (status == STEWART_OK && !solve_transposed(JC, W, tau)) {
-        status = STEWART_ERR_JACOBIAN_SINGULAR;
-    }
-    return finish(status, tau, 6);
-}
-
-int stewart_forward_dynamics(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double xdd[6])
-{
-    double Mt[21], rhs[6], JAinv[9], ctheta, L2[6], h2[6], y[6];
-    int status, i;
-    if (!params_finite(p) || !all_finite(x, 6) || !all_finite(xd, 6) || !all_finite(tau, 6)) {
-        return finish(STEWART_ERR_NONFINITE, xdd, 6);
-    }
-    if (stewart_is_axisymmetric(p)) {
-        kernel_forward_dynamics_axisym(p, x, xd, tau, Mt, rhs, JAinv, &ctheta, L2);
-        status = check_legs(L2, NULL);
-    } else {
-        kernel_forward_dynamics_general(p, x, xd, tau, Mt, rhs, JAinv, &ctheta, L2, h2);
-        status = check_legs(L2, h2);
-    }
-    if (status == STEWART_OK && !(fabs(ctheta) >= STEWART_EULER_TOL)) {
-        status = STEWART_ERR_EULER_SINGULAR;
-    }
-    if (status == STEWART_OK && !cholesky_solve(Mt, rhs, y)) {
-        status = STEWART_ERR_MASS_SINGULAR;
-    }
-    if (status == STEWART_OK) {
-        for (i = 0; i < 3; ++i) {
-            xdd[i] = y[i];
-            xdd[3 + i] = JAinv[3 * i] * y[3] + JAinv[3 * i + 1] * y[4] + JAinv[3 * i + 2] * y[5];
-        }
-    }
-    return finish(status, xdd, 6);
-}
-'''
+#: The fixed C: the helpers of the public functions.
+RUNTIME = Path(__file__).resolve().parent / 'templates' / 'runtime.c'
 
 
-def header(ops):
-    """stewart_model.h; `ops` lists (kernel name, operation count)."""
+def _table(lines):
+    """C lines (code, comment) with the comments aligned."""
+    width = max(len(code) for code, doc in lines if doc) + 2
+    return ''.join(f'    {code:<{width}}/* {doc} */\n' if doc else f'    {code}\n' for code, doc in lines)
+
+
+def prototype(function, sizes=True):
+    """`int stewart_<name>(const stewart_params *p, ...)` of a `model.Function`; its
+    arrays `x[6]`, or `*x` without `sizes`."""
+    array = (lambda name, n: f'{name}[{n}]') if sizes else (lambda name, n: f'*{name}')
+    args = ['const stewart_params *p'] + [f'const double {array(name, 6)}' for name in function.inputs]
+    args.append(f'double {array(function.result, function.size)}')
+    return f'int stewart_{function.name}({", ".join(args)})'
+
+
+def header(fields, functions, ops):
+    """stewart_model.h for the parameter schema `fields` (`schema.ParamField`s), the public
+    `functions` (`model.Function`s) and `ops`, (kernel name, operation count) pairs."""
     width = max(len(name) for name, _ in ops)
     table = ''.join(f' *   {name:<{width}}  {n:6d}\n' for name, n in ops)
-    text = HEADER.replace('@OPS@', table)
+    text = (HEADER.replace('@OPS@', table)
+            .replace('@STRUCT@', _table([(f.declaration(), f.doc) for f in fields]))
+            .replace('@STATUS@', _table([(f'{name} = {k},', doc)
+                                         for k, (name, doc, _) in enumerate(STATUS_CODES)]))
+            .replace('@FUNCTIONS@', ''.join(f'/* {f.doc} */\n{prototype(f)};\n' for f in functions)))
     for key, value in (('VERTICAL_TOL', VERTICAL_TOL), ('JACOBIAN_TOL', JACOBIAN_TOL),
                        ('EULER_TOL', EULER_TOL), ('MASS_TOL', MASS_TOL)):
         text = text.replace(f'@{key}@', value)
     return text
 
 
-def source(kernel_sources):
-    """stewart_model.c from the generated kernel functions (C text)."""
-    return (PRELUDE + RUNTIME + '\n' + linsolve.solve_transposed() + '\n' + linsolve.cholesky_solve()
-            + '\n/* ---- generated kernels ---- */\n\n' + '\n'.join(kernel_sources) + PUBLIC)
+def status_message():
+    """C text of `stewart_status_message`."""
+    cases = ''.join(f'    case {name}: return "{message}";\n' for name, _, message in STATUS_CODES)
+    return ('const char *stewart_status_message(int status)\n{\n    switch (status) {\n' + cases
+            + '    default: return "unknown status";\n    }\n}\n')
+
+
+def params_finite(fields):
+    """C text of `static int params_finite(p)`: every member of the schema `fields` finite."""
+    checks = [f'all_finite(&p->{f.member((0,) * len(f.shape))}, {f.size})' for f in fields]
+    return ('static int params_finite(const stewart_params *p)\n{\n    return '
+            + '\n        && '.join(checks) + ';\n}\n')
+
+
+def _call(name, args):
+    return f'{name}({", ".join(args)});'
+
+
+def public_function(function, kernels):
+    """C text of `stewart_<name>` for a `model.Function` and its built `model.KernelSpec`s (one,
+    or the axisymmetric and the general one): inputs finite, kernel, legs, steps, finish."""
+    result, size = function.result, function.size
+    arrays = {name: len(exprs) for k in kernels for name, exprs in k.outputs if name != result}
+    arrays.update(function.scratch)
+    finish = f'finish(%s, {result}, {size})'
+    finite = ['params_finite(p)'] + [f'all_finite({name}, 6)' for name in function.inputs]
+    lines = [prototype(function), '{']
+    if arrays:
+        lines.append('    double ' + ', '.join(f'{name}[{n}]' for name, n in arrays.items()) + ';')
+    checked = any(name == 'L2' for name, _ in kernels[0].outputs)
+    status = 'status' if checked or function.steps else 'STEWART_OK'
+    if status == 'status':
+        lines.append('    int status = STEWART_OK;')
+    lines += ['    if (' + ' || '.join(f'!{c}' for c in finite) + ') {',
+              f'        return {finish % "STEWART_ERR_NONFINITE"};', '    }']
+
+    def run(kernel, indent):
+        names = [name for name, _ in kernel.outputs]
+        out = [indent + _call(f'kernel_{kernel.name}', ['p', *function.inputs, *names])]
+        if checked:
+            out.append(indent + f'status = check_legs(L2, {"h2" if "h2" in names else "NULL"});')
+        return out
+
+    if len(kernels) == 1:
+        lines += run(kernels[0], '    ')
+    else:
+        lines += ['    if (stewart_is_axisymmetric(p)) {', *run(kernels[0], '        '),
+                  '    } else {', *run(kernels[1], '        '), '    }']
+    for name, args in function.steps:
+        lines += ['    if (status == STEWART_OK) {', f'        status = {_call(name, args)}', '    }']
+    lines += [f'    return {finish % status};', '}']
+    return '\n'.join(lines) + '\n'
+
+
+def source(fields, kernel_sources, public_sources):
+    """stewart_model.c from the parameter schema, the generated kernels and public functions
+    (C text) and the fixed C (codegen/templates/runtime.c)."""
+    return (PRELUDE + RUNTIME.read_text(encoding='ascii') + '\n' + status_message() + '\n'
+            + params_finite(fields) + '\n' + linsolve.solve_transposed() + '\n' + linsolve.cholesky_solve()
+            + '\n/* ---- generated kernels ---- */\n\n' + '\n'.join(kernel_sources)
+            + '\n/* ---- public API ---- */\n\n' + '\n'.join(public_sources))

@@ -82,7 +82,7 @@ def _statements(defs, outputs):
 
 
 def emit_kernel(kernel, param_members):
-    """C source of `static void kernel_<name>(...)` for a `model.Kernel`.
+    """C source of `static void kernel_<name>(...)` for a `model.KernelSpec`.
 
     `param_members` maps parameter symbols to C expressions reading them from
     `const stewart_params *p`.

@@ -41,8 +41,9 @@ def solve_transposed():
         ' * elimination with partial pivoting, unrolled; a_rc = (J^T)_rc, column 6 = b.',
         ' * At step k the row of largest |a_ik| (i >= k) is swapped into row k and',
         ' * a_ij <- (a_kk a_ij - a_ik a_kj) / (previous pivot), which keeps every entry',
-        ' * a minor of J^T and makes the last pivot a_55 = +-det J.  Returns 0 when',
-        ' * the Hadamard ratio |det J| / prod_i |row_i(J)| < STEWART_JACOBIAN_TOL. */',
+        ' * a minor of J^T and makes the last pivot a_55 = +-det J.  Returns',
+        ' * STEWART_ERR_JACOBIAN_SINGULAR when the Hadamard ratio',
+        ' * |det J| / prod_i |row_i(J)| < STEWART_JACOBIAN_TOL, else STEWART_OK. */',
         'static int solve_transposed(const double J[36], const double b[6], double y[6])',
         '{',
     ]
@@ -71,12 +72,12 @@ def solve_transposed():
     norms = ' * '.join(f'n{i}' for i in range(N))
     last = f'a{N - 1}{N - 1}'
     add(f'    if (!({last} * {last} >= STEWART_JACOBIAN_TOL * STEWART_JACOBIAN_TOL * ({norms}))) {{')
-    add('        return 0;')
+    add('        return STEWART_ERR_JACOBIAN_SINGULAR;')
     add('    }')
     for i in range(N - 1, -1, -1):
         terms = ''.join(f' - a{i}{j} * y[{j}]' for j in range(i + 1, N))
         add(f'    y[{i}] = (a{i}6{terms}) * inv{i};')
-    add('    return 1;')
+    add('    return STEWART_OK;')
     add('}')
     return '\n'.join(lines) + '\n'
 
@@ -87,9 +88,9 @@ def cholesky_solve():
     lines = [
         '/* Solve S y = b for symmetric S given by its upper triangle (21 entries,',
         ' * row-major) by an unrolled LDL^T factorization (m_ij: the upper triangle',
-        ' * being eliminated, l_ik = m_ki / d_k).  Returns 0 when a pivot d_k (the',
-        ' * square of the Cholesky diagonal) is <= STEWART_MASS_TOL times its diagonal',
-        ' * entry S_kk (or S_kk <= 0). */',
+        ' * being eliminated, l_ik = m_ki / d_k).  Returns STEWART_ERR_MASS_SINGULAR when',
+        ' * a pivot d_k (the square of the Cholesky diagonal) is <= STEWART_MASS_TOL times',
+        ' * its diagonal entry S_kk (or S_kk <= 0), else STEWART_OK. */',
         'static int cholesky_solve(const double upper[21], const double b[6], double y[6])',
         '{',
     ]
@@ -113,11 +114,11 @@ def cholesky_solve():
                 add(f'    m{i}{j} -= l{i}{k} * m{k}{j};')
             add(f'    b{i} -= l{i}{k} * b{k};')
     add('    if (!ok) {')
-    add('        return 0;')
+    add('        return STEWART_ERR_MASS_SINGULAR;')
     add('    }')
     for i in range(N - 1, -1, -1):
         terms = ''.join(f' - l{j}{i} * y[{j}]' for j in range(i + 1, N))
         add(f'    y[{i}] = b{i} * inv{i}{terms};')
-    add('    return 1;')
+    add('    return STEWART_OK;')
     add('}')
     return '\n'.join(lines) + '\n'

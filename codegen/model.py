@@ -17,9 +17,11 @@ Performance rests on three rules:
 """
 
 from dataclasses import dataclass
-from functools import partial
+from functools import partial, reduce
 
 import sympy as sp
+
+from .schema import PARAM_FIELDS
 
 NUM_LEGS = 6
 AXES = 'xyz'
@@ -27,10 +29,6 @@ AXES = 'xyz'
 
 def _symbols(prefix, n):
     return [sp.Symbol(f'{prefix}_{k}', real=True) for k in range(n)]
-
-
-def _vec3(prefix):
-    return sp.Matrix([sp.Symbol(f'{prefix}_{c}', real=True) for c in AXES])
 
 
 def _dot(a, b):
@@ -54,32 +52,40 @@ XDD = _symbols('xdd', 6)  # pose accelerations
 TAU = _symbols('tau', 6)  # actuator forces
 
 
-@dataclass(frozen=True)
+def _column(prefix, n):
+    """n symbols as a column, suffixed _x, _y, _z (n = 3) or _0, _1, ..."""
+    return sp.Matrix([sp.Symbol(f'{prefix}_{c}', real=True) for c in (AXES if n == 3 else range(n))])
+
+
+def _field_symbols(field):
+    """The symbols of a `schema.ParamField`: a symbol, a column, or a tuple of row columns."""
+    prefix = field.symbol or field.attr
+    if not field.shape:
+        return sp.Symbol(prefix, real=True)
+    if len(field.shape) == 1:
+        return _column(prefix, field.shape[0])
+    return tuple(_column(f'{prefix}{i}', field.shape[1]) for i in range(field.shape[0]))
+
+
 class Params:
-    """Runtime parameter symbols (one per `stewart_params` field entry)."""
-    base: tuple        # b_i in {B}, 3x1 matrices
-    plat: tuple        # p_i in {P}, 3x1 matrices
-    m_P: sp.Symbol
-    I_P: sp.Matrix     # principal inertia of the platform in {P}
-    m_C: sp.Symbol
-    I_C: sp.Matrix     # cylinder inertia in {C_i}: axial, Iyy, Izz
-    b_C: sp.Symbol
-    m_S: sp.Symbol
-    I_S: sp.Matrix     # piston inertia in {S_i} = {C_i}: axial, Iyy, Izz
-    b_S: sp.Symbol
-    g: sp.Symbol
+    """Runtime parameter symbols, one attribute per field of the parameter schema
+    (`schema.ParamField.attr`): `base` and `plat` (b_i in {B}, p_i in {P}, tuples of
+    3x1 matrices), masses `m_P`, `m_C`, `m_S`, principal inertias `I_P` (in {P}),
+    `I_C`, `I_S` (axial, Iyy, Izz in {C_i} = {S_i}), distances `b_C`, `b_S`, gravity `g`.
+    """
+
+    def __init__(self, fields=PARAM_FIELDS):
+        self.fields = tuple(fields)
+        for field in self.fields:
+            setattr(self, field.attr, _field_symbols(field))
+
+    def members(self):
+        """(symbol, `stewart_params` member entry) pairs, in struct order."""
+        return [(reduce(lambda value, i: value[i], index, getattr(self, field.attr)), field.member(index))
+                for field in self.fields for index in field.indices()]
 
 
-PARAMS = Params(
-    base=tuple(_vec3(f'b{i}') for i in range(NUM_LEGS)),
-    plat=tuple(_vec3(f'pp{i}') for i in range(NUM_LEGS)),
-    m_P=sp.Symbol('m_P', real=True), I_P=_vec3('I_P'),
-    m_C=sp.Symbol('m_C', real=True), I_C=_vec3('I_C'),
-    b_C=sp.Symbol('b_C', real=True),
-    m_S=sp.Symbol('m_S', real=True), I_S=_vec3('I_S'),
-    b_S=sp.Symbol('b_S', real=True),
-    g=sp.Symbol('g', real=True),
-)
+PARAMS = Params()
 
 
 class Graph:
@@ -349,7 +355,7 @@ def jacobian_rows(kin):
 
 
 @dataclass
-class Kernel:
+class KernelSpec:
     """One straight-line C function: named input arrays -> named output arrays."""
     name: str
     doc: str
@@ -373,15 +379,15 @@ def _variant(axisymmetric):
 def leg_lengths_kernel():
     g = Graph({})
     kin = kinematics(g, PARAMS)
-    return Kernel('leg_lengths', 'Leg lengths L_i = |l_i| (eq. 26).', g,
-                  [('x', X)], [('L', [leg.L for leg in kin.legs])])
+    return KernelSpec('leg_lengths', 'Leg lengths L_i = |l_i| (eq. 26).', g,
+                      [('x', X)], [('L', [leg.L for leg in kin.legs])])
 
 
 def jacobian_kernel():
     g = Graph({})
     kin = kinematics(g, PARAMS)
-    return Kernel('jacobian', 'J_C (eq. 5), row-major.', g, [('x', X)],
-                  [('JC', list(jacobian_rows(kin)))] + _leg_checks(kin, True))
+    return KernelSpec('jacobian', 'J_C (eq. 5), row-major.', g, [('x', X)],
+                      [('JC', list(jacobian_rows(kin)))] + _leg_checks(kin, True))
 
 
 def gravity_kernel():
@@ -391,17 +397,17 @@ def gravity_kernel():
     w_P, w_C, w_S = _gravity_forces(P, True)
     G = generalized_force(P, kin, sp.Matrix.vstack(w_P, sp.zeros(3, 1)),
                           [(w_C, w_S, sp.zeros(3, 1))] * NUM_LEGS, g, 'g')
-    return Kernel('gravity_vector', 'G = sum_b J_b^T m_b g e_z (eqs. 72-76).', g,
-                  [('x', X)], [('G', list(G))] + _leg_checks(kin, True))
+    return KernelSpec('gravity_vector', 'G = sum_b J_b^T m_b g e_z (eqs. 72-76).', g,
+                      [('x', X)], [('G', list(G))] + _leg_checks(kin, True))
 
 
 def mass_matrix_kernel(axisymmetric):
     g = Graph({})
     kin = kinematics(g, PARAMS, leg_frames=not axisymmetric)
     M = twist_mass_matrix(g, PARAMS, kin, axisymmetric) * euler_map(kin)
-    return Kernel(f'mass_matrix_{_variant(axisymmetric)}',
-                  'M = M_t T (eqs. 19, 39, 51, 61, 69), row-major.', g, [('x', X)],
-                  [('M', list(M))] + _leg_checks(kin, axisymmetric))
+    return KernelSpec(f'mass_matrix_{_variant(axisymmetric)}',
+                      'M = M_t T (eqs. 19, 39, 51, 61, 69), row-major.', g, [('x', X)],
+                      [('M', list(M))] + _leg_checks(kin, axisymmetric))
 
 
 def coriolis_vector_kernel(axisymmetric):
@@ -410,9 +416,9 @@ def coriolis_vector_kernel(axisymmetric):
     v, omega = twist(g, kin, XD, 'q')
     m = momenta(g, PARAMS, kin, v, omega, axisymmetric, 'q')
     W = momentum_rate_force(g, PARAMS, kin, m, False, 'q')
-    return Kernel(f'coriolis_vector_{_variant(axisymmetric)}',
-                  'V xd = sum_b J_b^T d/dt(I_b J_b T) xd.', g, [('x', X), ('xd', XD)],
-                  [('Vxd', list(W))] + _leg_checks(kin, axisymmetric))
+    return KernelSpec(f'coriolis_vector_{_variant(axisymmetric)}',
+                      'V xd = sum_b J_b^T d/dt(I_b J_b T) xd.', g, [('x', X), ('xd', XD)],
+                      [('Vxd', list(W))] + _leg_checks(kin, axisymmetric))
 
 
 def coriolis_matrix_kernel(axisymmetric):
@@ -425,9 +431,9 @@ def coriolis_matrix_kernel(axisymmetric):
         v, omega = twist(g, kin, e, f'c{j}')
         m = momenta(g, PARAMS, kin, v, omega, axisymmetric, f'c{j}')
         V[:, j] = momentum_rate_force(g, PARAMS, kin, m, False, f'c{j}')
-    return Kernel(f'coriolis_matrix_{_variant(axisymmetric)}',
-                  coriolis_matrix_kernel.__doc__ + ' Row-major.', g,
-                  [('x', X), ('xd', XD)], [('V', list(V))] + _leg_checks(kin, axisymmetric))
+    return KernelSpec(f'coriolis_matrix_{_variant(axisymmetric)}',
+                      coriolis_matrix_kernel.__doc__ + ' Row-major.', g,
+                      [('x', X), ('xd', XD)], [('V', list(V))] + _leg_checks(kin, axisymmetric))
 
 
 def inverse_dynamics_kernel(axisymmetric):
@@ -436,11 +442,11 @@ def inverse_dynamics_kernel(axisymmetric):
     v, omega = twist(g, kin, XD, 'q')
     m = momenta(g, PARAMS, kin, v, omega, axisymmetric, 'q')
     W = momentum_rate_force(g, PARAMS, kin, m, True, 'q')
-    return Kernel(f'inverse_dynamics_{_variant(axisymmetric)}',
-                  'W = M xdd + V xd + G and J_C (to solve J_C^T tau = W).', g,
-                  [('x', X), ('xd', XD), ('xdd', XDD)],
-                  [('W', list(W)), ('JC', list(jacobian_rows(kin)))]
-                  + _leg_checks(kin, axisymmetric))
+    return KernelSpec(f'inverse_dynamics_{_variant(axisymmetric)}',
+                      'W = M xdd + V xd + G and J_C (to solve J_C^T tau = W).', g,
+                      [('x', X), ('xd', XD), ('xdd', XDD)],
+                      [('W', list(W)), ('JC', list(jacobian_rows(kin)))]
+                      + _leg_checks(kin, axisymmetric))
 
 
 def euler_rates_inverse(kin):
@@ -463,19 +469,53 @@ def forward_dynamics_kernel(axisymmetric):
     v, omega = twist(g, kin, XD, 'q')
     m = momenta(g, PARAMS, kin, v, omega, axisymmetric, 'q')
     rhs = jacobian_rows(kin).T * sp.Matrix(TAU) - momentum_rate_force(g, PARAMS, kin, m, True, 'q')
-    return Kernel(f'forward_dynamics_{_variant(axisymmetric)}',
-                  forward_dynamics_kernel.__doc__, g,
-                  [('x', X), ('xd', XD), ('tau', TAU)],
-                  [('Mt', [Mt[j, k] for j in range(6) for k in range(j, 6)]), ('rhs', list(rhs)),
-                   ('JAinv', list(euler_rates_inverse(kin))), ('ctheta', [kin.c_theta])]
-                  + _leg_checks(kin, axisymmetric))
+    return KernelSpec(f'forward_dynamics_{_variant(axisymmetric)}',
+                      forward_dynamics_kernel.__doc__, g,
+                      [('x', X), ('xd', XD), ('tau', TAU)],
+                      [('Mt', [Mt[j, k] for j in range(6) for k in range(j, 6)]), ('rhs', list(rhs)),
+                       ('JAinv', list(euler_rates_inverse(kin))), ('ctheta', [kin.c_theta])]
+                      + _leg_checks(kin, axisymmetric))
 
 
-def kernel_builders():
-    """Zero-argument builders of every kernel the C file needs, in emission order."""
-    builders = [leg_lengths_kernel, jacobian_kernel, gravity_kernel]
-    for axisymmetric in (True, False):
-        builders += [partial(b, axisymmetric) for b in (
-            mass_matrix_kernel, coriolis_matrix_kernel, coriolis_vector_kernel,
-            inverse_dynamics_kernel, forward_dynamics_kernel)]
-    return builders
+@dataclass(frozen=True)
+class Function:
+    """A public C function `stewart_<name>(p, <inputs>, <result>)`.
+
+    It checks that the parameters and inputs are finite, runs its kernel (the axisymmetric
+    or the general one, by the leg inertias), checks the legs the kernel reports (`L2`,
+    `h2`), then runs `steps` while the status is STEWART_OK, and returns the status with
+    `result` NaN unless it is STEWART_OK and finite.  A step is a C function returning a
+    status (the solvers of `linsolve`, or codegen/templates/runtime.c), called with kernel
+    outputs, `scratch` arrays or `result`.
+    """
+    name: str
+    doc: str
+    inputs: tuple     # its input arrays, 6 doubles each
+    result: str       # its output array
+    size: int         # the number of doubles in `result`
+    kernels: tuple    # builders of its kernel: one, or the axisymmetric and the general one
+    steps: tuple = ()    # (C function, argument arrays)
+    scratch: tuple = ()  # (array, size) of the steps' intermediate arrays
+
+
+def _variants(build):
+    return tuple(partial(build, axisymmetric) for axisymmetric in (True, False))
+
+
+FUNCTIONS = (
+    Function('leg_lengths', 'Leg lengths L_i (a zero length is not an error here).', ('x',), 'L', 6,
+             (leg_lengths_kernel,)),
+    Function('jacobian', 'J_C (eq. 5): Ldot = J_C t.', ('x',), 'JC', 36, (jacobian_kernel,)),
+    Function('mass_matrix', 'M = M_t T.', ('x',), 'M', 36, _variants(mass_matrix_kernel)),
+    Function('coriolis_matrix', 'V(x, xd).', ('x', 'xd'), 'V', 36, _variants(coriolis_matrix_kernel)),
+    Function('coriolis_vector', 'V xd without forming V.', ('x', 'xd'), 'Vxd', 6,
+             _variants(coriolis_vector_kernel)),
+    Function('gravity_vector', 'G(x).', ('x',), 'G', 6, (gravity_kernel,)),
+    Function('inverse_dynamics', 'tau = J_C^-T (M xdd + V xd + G).', ('x', 'xd', 'xdd'), 'tau', 6,
+             _variants(inverse_dynamics_kernel), steps=(('solve_transposed', ('JC', 'W', 'tau')),)),
+    Function('forward_dynamics', 'xdd = M^-1 (J_C^T tau - V xd - G); needs cos(theta) != 0.',
+             ('x', 'xd', 'tau'), 'xdd', 6, _variants(forward_dynamics_kernel),
+             steps=(('check_euler', ('ctheta',)), ('cholesky_solve', ('Mt', 'rhs', 'y')),
+                    ('pose_accelerations', ('JAinv', 'y', 'xdd'))),
+             scratch=(('y', 6),)),
+)

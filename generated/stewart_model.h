@@ -52,12 +52,12 @@ typedef struct {
 
 enum {
     STEWART_OK = 0,
-    STEWART_ERR_NONFINITE = 1,        /* non-finite input (or output) */
-    STEWART_ERR_LEG_DEGENERATE = 2,   /* a leg of zero length */
-    STEWART_ERR_JACOBIAN_SINGULAR = 3,/* J_C singular (kinematic singularity) */
-    STEWART_ERR_EULER_SINGULAR = 4,   /* cos(theta) == 0: Euler-rate map singular (forward dynamics) */
-    STEWART_ERR_LEG_VERTICAL = 5,     /* vertical leg with non-axisymmetric leg inertia: cylinder frame undefined */
-    STEWART_ERR_MASS_SINGULAR = 6     /* twist-space mass matrix not positive definite (e.g. massless platform) */
+    STEWART_ERR_NONFINITE = 1,          /* non-finite input (or output) */
+    STEWART_ERR_LEG_DEGENERATE = 2,     /* a leg of zero length */
+    STEWART_ERR_JACOBIAN_SINGULAR = 3,  /* J_C singular (kinematic singularity) */
+    STEWART_ERR_EULER_SINGULAR = 4,     /* cos(theta) == 0: Euler-rate map singular (forward dynamics) */
+    STEWART_ERR_LEG_VERTICAL = 5,       /* vertical leg with non-axisymmetric leg inertia: cylinder frame undefined */
+    STEWART_ERR_MASS_SINGULAR = 6,      /* twist-space mass matrix not positive definite (e.g. massless platform) */
 };
 
 /* Thresholds behind the status codes:
@@ -100,16 +100,16 @@ int stewart_forward_dynamics(const stewart_params *p, const double x[6], const d
 /* Operation counts of the generated kernels (sympy count_ops after cse):
  *   leg_lengths                  192
  *   jacobian                     276
- *   gravity_vector               414
  *   mass_matrix_axisym          1774
- *   coriolis_matrix_axisym      5028
- *   coriolis_vector_axisym      1688
- *   inverse_dynamics_axisym     1781
- *   forward_dynamics_axisym     3299
  *   mass_matrix_general         2045
+ *   coriolis_matrix_axisym      5028
  *   coriolis_matrix_general     6703
+ *   coriolis_vector_axisym      1688
  *   coriolis_vector_general     2187
+ *   gravity_vector               414
+ *   inverse_dynamics_axisym     1781
  *   inverse_dynamics_general    2280
+ *   forward_dynamics_axisym     3299
  *   forward_dynamics_general    3990
  */
 

@@ -2,34 +2,9 @@
 cimport cython
 cimport numpy as cnp
 
-cdef extern from "stewart_model.h" nogil:
-    ctypedef struct stewart_params:
-        double base_points[6][3]
-        double platform_points[6][3]
-        double platform_mass
-        double platform_inertia[3]
-        double cylinder_mass
-        double cylinder_inertia[3]
-        double cylinder_com_distance
-        double piston_mass
-        double piston_inertia[3]
-        double piston_com_distance
-        double gravity
-
-    enum:
-        STEWART_OK
-
-    const char *stewart_status_message(int status)
-    int stewart_leg_lengths(const stewart_params *p, const double *x, double *L)
-    int stewart_jacobian(const stewart_params *p, const double *x, double *JC)
-    int stewart_mass_matrix(const stewart_params *p, const double *x, double *M)
-    int stewart_gravity_vector(const stewart_params *p, const double *x, double *G)
-    int stewart_coriolis_matrix(const stewart_params *p, const double *x, const double *xd, double *V)
-    int stewart_coriolis_vector(const stewart_params *p, const double *x, const double *xd, double *Vxd)
-    int stewart_inverse_dynamics(const stewart_params *p, const double *x, const double *xd,
-                                 const double *xdd, double *tau)
-    int stewart_forward_dynamics(const stewart_params *p, const double *x, const double *xd,
-                                 const double *tau, double *xdd)
+# The generated C model's declarations: generated/stewart_model.pxd, written by the generator
+# from the parameter schema and the public functions.
+from stewart_model cimport *
 
 
 @cython.final

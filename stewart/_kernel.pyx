@@ -21,6 +21,13 @@ from .errors import SingularityError
 cnp.import_array()
 
 
+#: (member, shape) of every member of the C struct stewart_params, in order: the fields of a
+#: PlatformParams that reach the C model (the generator's parameter schema).
+PARAM_FIELDS = stewart_params_fields()
+#: The fields of a PlatformParams with no member in stewart_params, and why.
+PARAMS_LEFT_OUT = stewart_params_left_out()
+
+
 def status_message(int status):
     """The generated C's description of a status code."""
     return stewart_status_message(status).decode()
@@ -64,21 +71,7 @@ cdef class Kernel:
     that many OpenMP threads."""
 
     def __cinit__(self, params, threads=1):
-        cdef int i, k
-        for i in range(6):
-            for k in range(3):
-                self.p.base_points[i][k] = params.base_points[i, k]
-                self.p.platform_points[i][k] = params.platform_points[i, k]
-        for k in range(3):
-            self.p.platform_inertia[k] = params.platform_inertia[k]
-            self.p.cylinder_inertia[k] = params.cylinder_inertia[k]
-            self.p.piston_inertia[k] = params.piston_inertia[k]
-        self.p.platform_mass = params.platform_mass
-        self.p.cylinder_mass = params.cylinder_mass
-        self.p.cylinder_com_distance = params.cylinder_com_distance
-        self.p.piston_mass = params.piston_mass
-        self.p.piston_com_distance = params.piston_com_distance
-        self.p.gravity = params.gravity
+        stewart_params_fill(&self.p, params)
         self.threads = _checks.thread_count(threads)
 
     cdef object _run(self, str fname, int arity, void *fn, tuple names, tuple values,

@@ -20,9 +20,11 @@ from typing import Any
 
 import numpy as np
 
+from ._kernel import PARAM_FIELDS, PARAMS_LEFT_OUT
 from .params import PlatformParams
 
-__all__ = ["c_include_dir", "c_sources", "export", "params_header", "HEADER", "SOURCE", "PARAMS_HEADER"]
+__all__ = ["c_include_dir", "c_sources", "export", "params_header", "params_initializer", "HEADER", "SOURCE",
+           "PARAMS_HEADER"]
 
 #: The model's header and its one source file.
 HEADER = "stewart_model.h"
@@ -35,13 +37,6 @@ _HERE = Path(__file__).resolve().parent
 #: ``stewart/generated/`` (pyproject.toml maps the repository's ``generated/`` there); an
 #: editable install runs from the source tree, whose ``generated/`` is the generator's output.
 _LOCATIONS = (_HERE / "generated", _HERE.parent / "generated")
-
-#: ``PlatformParams`` fields with no member in the C struct ``stewart_params``, and why.
-_NOT_IN_STRUCT = {
-    "leg_length_limits": "the C model has no stroke limits (compare stewart_leg_lengths() with them)",
-    "name": "a label, not a model input",
-}
-
 
 def c_include_dir() -> str:
     """The directory holding ``stewart_model.h`` and ``stewart_model.c`` (pass it to ``-I``)."""
@@ -97,21 +92,27 @@ def _comment(value: Any) -> str:
     return ascii(value).replace("*/", "* /")
 
 
-def params_header(params: PlatformParams) -> str:
-    """The text of ``stewart_platform_params.h`` for ``params``.
+def params_initializer(params: PlatformParams) -> str:
+    """The C initializer of a ``stewart_params`` holding ``params``.
 
-    Each struct member is set by name (C99 designated initializers), so the header stays
-    right whatever the order of the members in ``stewart_params``, and a field without a
-    member fails to compile instead of landing in the wrong place.
+    Each struct member is set by name (C99 designated initializers), so it stays right
+    whatever the order of the members. The members are the generator's parameter schema
+    (``stewart._kernel.PARAM_FIELDS``); every other field of ``params`` must be one the
+    schema leaves out (``TypeError`` otherwise).
     """
+    for field in dataclasses.fields(params):
+        if field.name not in PARAMS_LEFT_OUT and field.name not in dict(PARAM_FIELDS):
+            raise TypeError(f"params: field {field.name!r} is neither a member of stewart_params "
+                            "nor left out of it")
+    members = [f"    .{name} = {_c_initializer(getattr(params, name))},\n" for name, _ in PARAM_FIELDS]
+    return "{\n" + "".join(members) + "}"
+
+
+def params_header(params: PlatformParams) -> str:
+    """The text of ``stewart_platform_params.h`` for ``params`` (see :func:`params_initializer`)."""
     label = "unnamed" if params.name is None else params.name
-    members, left_out = [], []
-    for field in dataclasses.fields(PlatformParams):
-        value = getattr(params, field.name)
-        if field.name in _NOT_IN_STRUCT:
-            left_out.append(f" *   {field.name} = {_comment(value)}: {_NOT_IN_STRUCT[field.name]}.")
-        else:
-            members.append(f"    .{field.name} = {_c_initializer(value)},")
+    left_out = [f" *   {name} = {_comment(getattr(params, name))}: {why}."
+                for name, why in PARAMS_LEFT_OUT.items()]
     return "\n".join([
         f"/* {PARAMS_HEADER} -- the parameters of the platform {_comment(label)} for {HEADER}.",
         " *",
@@ -125,9 +126,7 @@ def params_header(params: PlatformParams) -> str:
         "",
         f'#include "{HEADER}"',
         "",
-        "static const stewart_params stewart_platform_params = {",
-        *members,
-        "};",
+        f"static const stewart_params stewart_platform_params = {params_initializer(params)};",
         "",
         "#endif /* STEWART_PLATFORM_PARAMS_H */",
         "",

@@ -11,6 +11,7 @@ import stewart
 from c_example import CFLAGS, EXAMPLE, check_example, run_command
 from conftest import random_params
 from stewart import capi
+from stewart._kernel import PARAM_FIELDS, PARAMS_LEFT_OUT
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 
@@ -52,18 +53,9 @@ def test_params_header_sets_every_member_by_name(tmp_path):
         leg_length_limits=(0.1, 3.0), name="test */ platform\n\u00e9"
     )
     (tmp_path / capi.PARAMS_HEADER).write_text(capi.params_header(params), encoding="ascii")
-    members = {  # the struct's members, as written in stewart_model.h
-        "base_points": [f"base_points[{i}][{k}]" for i in range(6) for k in range(3)],
-        "platform_points": [f"platform_points[{i}][{k}]" for i in range(6) for k in range(3)],
-        "platform_mass": ["platform_mass"],
-        "platform_inertia": [f"platform_inertia[{k}]" for k in range(3)],
-        "cylinder_mass": ["cylinder_mass"],
-        "cylinder_inertia": [f"cylinder_inertia[{k}]" for k in range(3)],
-        "cylinder_com_distance": ["cylinder_com_distance"],
-        "piston_mass": ["piston_mass"],
-        "piston_inertia": [f"piston_inertia[{k}]" for k in range(3)],
-        "piston_com_distance": ["piston_com_distance"],
-        "gravity": ["gravity"],
+    members = {  # the struct's members, from the generator's parameter schema
+        name: [name + "".join(f"[{i}]" for i in index) for index in np.ndindex(*shape)]
+        for name, shape in PARAM_FIELDS
     }
     prints = "".join(f'    printf("%a\\n", p->{m});\n' for group in members.values() for m in group)
     (tmp_path / "dump.c").write_text(
@@ -77,9 +69,9 @@ def test_params_header_sets_every_member_by_name(tmp_path):
     printed = [float.fromhex(v) for v in run_command([exe]).split()]
     expected = [float(v) for name in members for v in np.ravel(getattr(params, name))]
     assert printed == expected
-    # Every field reaches the struct except the two the header names as left out.
+    # Every field reaches the struct except those the header names as left out.
     fields = {f.name for f in dataclasses.fields(stewart.PlatformParams)}
-    assert fields - set(members) == {"leg_length_limits", "name"}
+    assert fields - set(members) == set(PARAMS_LEFT_OUT) == {"leg_length_limits", "name"}
     header = capi.params_header(params)
     assert "leg_length_limits = (0.1, 3.0)" in header and "'test * / platform\\n\\xe9'" in header
 

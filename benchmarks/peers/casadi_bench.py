@@ -12,7 +12,7 @@ import stewart
 from stewart import bench
 
 from . import casadi_model, cdriver
-from .common import param_vector, relative_error
+from .common import PARAM_COUNT, param_vector, relative_error
 
 
 def figures(preset: str, n_batch: int = 20_000, n_map: int = 2_000, repeats: int = 7) -> dict:
@@ -22,7 +22,7 @@ def figures(preset: str, n_batch: int = 20_000, n_map: int = 2_000, repeats: int
     pvec = param_vector(plat.params)
     x, xd, xdd = bench.states(plat.params, n_batch, seed=1)
     tau = plat.inverse_dynamics(x, xd, xdd)
-    out: dict = {"casadi_version": ca.__version__, "parameters": "runtime function input p (51 doubles)"}
+    out: dict = {"casadi_version": ca.__version__, "parameters": f"runtime function input p ({PARAM_COUNT} doubles)"}
 
     start = time.perf_counter()
     funcs = casadi_model.build(general=not plat.params.is_axisymmetric)

@@ -66,24 +66,24 @@ def symbolic_model(general: bool = False):
 
     # (J_b, A_b = I_b J_b, mass for gravity) of every body part; J_b: twist -> velocity.
     bodies = [
-        (ca.horzcat(e3, z3), P["m_P"] * ca.horzcat(e3, z3), P["m_P"]),
-        (ca.horzcat(z3, e3), rot @ ca.diag(P["I_P"]) @ rot.T @ ca.horzcat(z3, e3), 0),
+        (ca.horzcat(e3, z3), P["platform_mass"] * ca.horzcat(e3, z3), P["platform_mass"]),
+        (ca.horzcat(z3, e3), rot @ ca.diag(P["platform_inertia"]) @ rot.T @ ca.horzcat(z3, e3), 0),
     ]
     jc_rows = []
     for i in range(6):
-        r = rot @ P["plat"][i]
-        leg = x[:3] + r - P["base"][i]
+        r = rot @ P["platform_points"][i]
+        leg = x[:3] + r - P["base_points"][i]
         length_sq = ca.dot(leg, leg)
         u = leg / ca.sqrt(length_sq)
         point = ca.horzcat(e3, -_skew(ca, r))          # velocity of P_i: [E, r~^T]
         j_d = _skew(ca, leg / length_sq) @ point        # leg angular velocity (eq. 31)
-        j_cyl = -P["b_C"] * _skew(ca, u) @ j_d          # eq. 35
-        j_pis = point + P["b_S"] * _skew(ca, u) @ j_d   # eq. 57
+        j_cyl = -P["cylinder_com_distance"] * _skew(ca, u) @ j_d        # eq. 35
+        j_pis = point + P["piston_com_distance"] * _skew(ca, u) @ j_d  # eq. 57
         bodies += [
-            (j_cyl, P["m_C"] * j_cyl, P["m_C"]),
-            (j_d, _leg_inertia(ca, u, P["I_C"], general) @ j_d, 0),
-            (j_pis, P["m_S"] * j_pis, P["m_S"]),
-            (j_d, _leg_inertia(ca, u, P["I_S"], general) @ j_d, 0),
+            (j_cyl, P["cylinder_mass"] * j_cyl, P["cylinder_mass"]),
+            (j_d, _leg_inertia(ca, u, P["cylinder_inertia"], general) @ j_d, 0),
+            (j_pis, P["piston_mass"] * j_pis, P["piston_mass"]),
+            (j_d, _leg_inertia(ca, u, P["piston_inertia"], general) @ j_d, 0),
         ]
         jc_rows.append(ca.horzcat(u.T, ca.cross(r, u).T))
     jc = ca.vertcat(*jc_rows)
@@ -94,7 +94,7 @@ def symbolic_model(general: bool = False):
         h_dot = ca.jtimes(h, x, xd) + ca.jtimes(h, xd, xdd)       # d/dt h_b by forward AD
         wrench += jac.T @ h_dot
         if not (isinstance(mass, int) and mass == 0):
-            wrench += jac.T @ (mass * P["g"] * ez)
+            wrench += jac.T @ (mass * P["gravity"] * ez)
     mass_matrix = ca.jacobian(wrench, xdd)
     rest = ca.substitute(wrench, xdd, ca.SX.zeros(6))             # V xd + G
     return {

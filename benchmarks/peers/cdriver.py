@@ -35,6 +35,7 @@ def run(exe, mode: str, pvec, x, xd, third, repeats: int = 7) -> tuple[float, np
     inp, out = workdir / f"in_{mode}.bin", workdir / f"out_{mode}.bin"
     with open(inp, "wb") as fh:
         fh.write(np.int64(n).tobytes())
+        fh.write(np.int64(len(pvec)).tobytes())
         fh.write(np.ascontiguousarray(pvec, dtype=np.float64).tobytes())
         fh.write(np.ascontiguousarray(np.hstack([x, xd, third]), dtype=np.float64).tobytes())
     proc = subprocess.run([str(exe), mode, str(inp), str(out), str(repeats)], capture_output=True, text=True,

@@ -11,11 +11,13 @@ import time
 
 import numpy as np
 
-#: Length of the flat parameter vector; the order is the C struct ``stewart_params``:
-#: base_points (18, row-major), platform_points (18), platform_mass, platform_inertia (3),
-#: cylinder_mass, cylinder_inertia (3), cylinder_com_distance, piston_mass,
-#: piston_inertia (3), piston_com_distance, gravity.
-PARAM_COUNT = 51
+from stewart import _kernel
+
+#: The members of the C struct ``stewart_params``, (name, shape) in order: the generator's
+#: parameter schema. The flat parameter vector holds them in this order, each row-major.
+PARAM_FIELDS = _kernel.PARAM_FIELDS
+#: Length of the flat parameter vector.
+PARAM_COUNT = sum(int(np.prod(shape)) for _, shape in PARAM_FIELDS)
 
 #: The compiler flags of our extension (setup.py), used for every peer's C too.
 CFLAGS = ["-O3", f"-march={os.environ.get('STEWART_MARCH', 'native')}"]
@@ -23,28 +25,23 @@ CFLAGS = ["-O3", f"-march={os.environ.get('STEWART_MARCH', 'native')}"]
 
 def param_vector(params) -> np.ndarray:
     """``params`` as the flat vector of :data:`PARAM_COUNT` doubles (``stewart_params`` order)."""
-    out = np.concatenate([
-        np.asarray(params.base_points, float).ravel(),
-        np.asarray(params.platform_points, float).ravel(),
-        [params.platform_mass], params.platform_inertia,
-        [params.cylinder_mass], params.cylinder_inertia, [params.cylinder_com_distance],
-        [params.piston_mass], params.piston_inertia, [params.piston_com_distance],
-        [params.gravity],
-    ]).astype(float)
-    assert out.shape == (PARAM_COUNT,)
-    return out
+    return np.concatenate([np.ravel(np.asarray(getattr(params, name), float)) for name, _ in PARAM_FIELDS])
 
 
-def unpack(p):
-    """Split a flat parameter vector (numpy, casadi or a list of symbols) into its fields."""
-    return {
-        "base": [p[3 * i:3 * i + 3] for i in range(6)],
-        "plat": [p[18 + 3 * i:18 + 3 * i + 3] for i in range(6)],
-        "m_P": p[36], "I_P": p[37:40],
-        "m_C": p[40], "I_C": p[41:44], "b_C": p[44],
-        "m_S": p[45], "I_S": p[46:49], "b_S": p[49],
-        "g": p[50],
-    }
+def unpack(p) -> dict:
+    """Split a flat parameter vector (numpy, casadi or a list of symbols) into its fields:
+    a scalar, a slice of n entries, or a list of row slices."""
+    fields, start = {}, 0
+    for name, shape in PARAM_FIELDS:
+        size = int(np.prod(shape))
+        if not shape:
+            fields[name] = p[start]
+        elif len(shape) == 1:
+            fields[name] = p[start:start + size]
+        else:
+            fields[name] = [p[start + k:start + k + shape[1]] for k in range(0, size, shape[1])]
+        start += size
+    return fields
 
 
 def peer_available(module: str) -> bool:

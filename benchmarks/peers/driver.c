@@ -6,8 +6,8 @@
  *
  * usage: driver MODE INPUT OUTPUT REPEATS
  *   MODE   id (inverse dynamics: third input is xdd) or fd (forward dynamics: tau)
- *   INPUT  binary: int64 N, 51 doubles of parameters (stewart_params order), then N rows
- *          of 18 doubles (x, xd, third input)
+ *   INPUT  binary: int64 N, int64 NP, NP doubles of parameters (stewart_params order:
+ *          every member, row-major), then N rows of 18 doubles (x, xd, third input)
  *   OUTPUT binary: N rows of 6 doubles (tau or xdd)
  * Prints the median over REPEATS passes of the time per state, in seconds.
  */
@@ -44,10 +44,11 @@ int main(int argc, char **argv) {
     int repeats = atoi(argv[4]);
     FILE *in = fopen(argv[2], "rb");
     if (!in) { perror(argv[2]); return 1; }
-    int64_t n64;
-    double p[51];
-    if (fread(&n64, sizeof n64, 1, in) != 1 || fread(p, sizeof(double), 51, in) != 51) return 1;
-    size_t n = (size_t)n64;
+    int64_t n64, np64;
+    if (fread(&n64, sizeof n64, 1, in) != 1 || fread(&np64, sizeof np64, 1, in) != 1) return 1;
+    size_t n = (size_t)n64, np = (size_t)np64;
+    double *p = malloc((np > 0 ? np : 1) * sizeof(double));
+    if (!p || fread(p, sizeof(double), np, in) != np) return 1;
     double *rows = malloc(n * 18 * sizeof(double)), *out = malloc(n * 6 * sizeof(double));
     if (!rows || !out || fread(rows, sizeof(double), n * 18, in) != n * 18) return 1;
     fclose(in);
@@ -64,24 +65,13 @@ int main(int argc, char **argv) {
     casadi_real *w = malloc((sz_w > 0 ? sz_w : 1) * sizeof *w);
     arg[3] = p;
 #else
+    /* stewart_params holds doubles only, so the flat vector is its memory image. */
     stewart_params sp;
-    memset(&sp, 0, sizeof sp);
-    for (int i = 0; i < 6; ++i)
-        for (int k = 0; k < 3; ++k) {
-            sp.base_points[i][k] = p[3 * i + k];
-            sp.platform_points[i][k] = p[18 + 3 * i + k];
-        }
-    sp.platform_mass = p[36];
-    sp.cylinder_mass = p[40];
-    sp.cylinder_com_distance = p[44];
-    sp.piston_mass = p[45];
-    sp.piston_com_distance = p[49];
-    sp.gravity = p[50];
-    for (int k = 0; k < 3; ++k) {
-        sp.platform_inertia[k] = p[37 + k];
-        sp.cylinder_inertia[k] = p[41 + k];
-        sp.piston_inertia[k] = p[46 + k];
+    if (np * sizeof(double) != sizeof sp) {
+        fprintf(stderr, "%s: %zu parameters, stewart_params holds %zu\n", argv[2], np, sizeof sp / sizeof(double));
+        return 1;
     }
+    memcpy(&sp, p, sizeof sp);
 #endif
 
     double *times = malloc((size_t)(repeats > 0 ? repeats : 1) * sizeof(double));

@@ -39,9 +39,8 @@ def _model():
 
 
 def _param_symbols(model):
-    P = model.PARAMS
-    syms = [s for vec in P.base for s in vec] + [s for vec in P.plat for s in vec]
-    syms += [P.m_P, *P.I_P, P.m_C, *P.I_C, P.b_C, P.m_S, *P.I_S, P.b_S, P.g]
+    """The parameter symbols in ``stewart_params`` order (the flat vector of ``param_vector``)."""
+    syms = [symbol for symbol, _ in model.PARAMS.members()]
     assert len(syms) == PARAM_COUNT
     return syms
 

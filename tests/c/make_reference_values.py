@@ -6,10 +6,12 @@ Run from the repository root: ``python tests/c/make_reference_values.py``.
 
 import os
 import sys
+import warnings
 
 import numpy as np
 
 import stewart
+from stewart import capi
 from stewart import reference as ref
 
 HERE = os.path.dirname(os.path.abspath(__file__))
@@ -20,21 +22,24 @@ def _array(values) -> str:
     return "{" + ", ".join(f"{v:.17g}" for v in np.ravel(values)) + "}"
 
 
-def _params(p: stewart.PlatformParams) -> str:
-    pts = lambda a: "{" + ", ".join(_array(row) for row in a) + "}"  # noqa: E731
-    return (
-        f"{{{pts(p.base_points)}, {pts(p.platform_points)}, {p.platform_mass:.17g}, "
-        f"{_array(p.platform_inertia)}, {p.cylinder_mass:.17g}, {_array(p.cylinder_inertia)}, "
-        f"{p.cylinder_com_distance:.17g}, {p.piston_mass:.17g}, {_array(p.piston_inertia)}, "
-        f"{p.piston_com_distance:.17g}, {p.gravity:.17g}}}"
-    )
+def _general_legs(params: stewart.PlatformParams) -> stewart.PlatformParams:
+    """``params`` with leg inertias I_zz = I_yy + axial / 2 (not axisymmetric, within the
+    triangle inequality): the C model's general kernels, with the cylinder frame {C_i}."""
+    def skewed(inertia):
+        return [inertia[0], inertia[1], inertia[1] + 0.5 * inertia[0]]
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", stewart.NonAxisymmetricLegWarning)
+        return params.replace(cylinder_inertia=skewed(params.cylinder_inertia),
+                              piston_inertia=skewed(params.piston_inertia))
 
 
 def main() -> None:
     rng = np.random.default_rng(2011)
     cases = []
-    for name in sorted(stewart.presets()):
-        params = stewart.PlatformParams.preset(name)
+    for name, params in [(f"{name}{label}", variant(stewart.PlatformParams.preset(name)))
+                         for label, variant in (("", lambda p: p), (" (general legs)", _general_legs))
+                         for name in sorted(stewart.presets())]:
         home = stewart.home_pose(params)
         for _ in range(STATES_PER_PRESET):
             x = home + rng.uniform(-1, 1, 6) * np.array([0.05 * home[2]] * 3 + [0.15] * 3)
@@ -42,7 +47,7 @@ def main() -> None:
             xdd = rng.normal(size=6) * np.array([2 * home[2]] * 3 + [5.0] * 3)
             tau = ref.inverse_dynamics(params, x, xd, xdd)
             fields = [
-                _params(params), _array(x), _array(xd), _array(xdd), _array(tau),
+                capi.params_initializer(params), _array(x), _array(xd), _array(xdd), _array(tau),
                 _array(stewart.leg_lengths(params, x)), _array(stewart.jacobian(params, x)),
                 _array(ref.mass_matrix(params, x)), _array(ref.coriolis_matrix(params, x, xd)),
                 _array(ref.coriolis_vector(params, x, xd)), _array(ref.gravity_vector(params, x)),

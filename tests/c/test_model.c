@@ -1,5 +1,6 @@
 /* Checks the generated C model on its own (no Python): its results against values
- * saved from the numeric reference (reference_values.h), and its status codes.
+ * saved from the numeric reference (reference_values.h), for axisymmetric and general
+ * leg inertias, and its status codes.
  * Built and run by `make test`; prints "N passed, M failed" and exits non-zero on failure. */
 #include <math.h>
 #include <stdio.h>
@@ -43,11 +44,13 @@ static void check_values(const char *what, const char *name, int status, const d
 
 int main(void) {
     double worst = 0.0;
+    int general = 0;
     for (int c = 0; c < NCASES; ++c) {
         const reference_case *rc = &CASES[c];
         const stewart_params *p = &rc->params;
         double out[36];
         int st;
+        general += !stewart_is_axisymmetric(p);
         st = stewart_leg_lengths(p, rc->x, out);
         check_values("leg_lengths", rc->name, st, out, rc->L, 6, &worst);
         st = stewart_jacobian(p, rc->x, out);
@@ -65,6 +68,9 @@ int main(void) {
         st = stewart_forward_dynamics(p, rc->x, rc->xd, rc->tau, out);
         check_values("forward_dynamics", rc->name, st, out, rc->xdd, 6, &worst);
     }
+
+    /* Both kernel families: axisymmetric legs and the general ones with the cylinder frame. */
+    check(general > 0 && general < NCASES, "cases with general (non-axisymmetric) legs", "", general);
 
     /* Status codes: outputs are NaN whenever a status is returned. */
     const stewart_params *p = &CASES[0].params;

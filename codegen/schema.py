@@ -1,0 +1,63 @@
+"""The parameter schema: which fields of a `stewart.PlatformParams` reach the C model.
+
+One entry per member of the C struct `stewart_params`, in struct order.  The generator
+derives everything that depends on the layout from this table: the struct in
+`stewart_model.h`, its finiteness check, the Cython declaration and the copy from a
+`PlatformParams` in `stewart_model.pxd`, and the parameter symbols of the derivation
+(`model.PARAMS`).  Adding a parameter means adding a row here (and its use in
+`model`), nothing else.
+"""
+
+from dataclasses import dataclass
+from itertools import product
+
+
+@dataclass(frozen=True)
+class ParamField:
+    """One `stewart_params` member: a double, or an array of doubles."""
+    name: str        # the `PlatformParams` field and the struct member
+    attr: str        # its attribute of `model.Params` (the symbols of the derivation)
+    shape: tuple     # () for a scalar, (n,) or (n, m) for an array
+    doc: str = ''    # its C comment
+    symbol: str = None   # prefix of its symbol names in the C (default: `attr`)
+
+    @property
+    def size(self):
+        """Number of doubles."""
+        n = 1
+        for d in self.shape:
+            n *= d
+        return n
+
+    def indices(self):
+        """Index tuples of the entries, row-major."""
+        return list(product(*map(range, self.shape)))
+
+    def member(self, index=()):
+        """The C member, or one entry of it (`base_points[1][2]`)."""
+        return self.name + ''.join(f'[{i}]' for i in index)
+
+    def declaration(self):
+        """The C declaration of the member (`double base_points[6][3];`)."""
+        return f'double {self.name}{"".join(f"[{d}]" for d in self.shape)};'
+
+
+PARAM_FIELDS = (
+    ParamField('base_points', 'base', (6, 3), 'b_i in {B}', symbol='b'),
+    ParamField('platform_points', 'plat', (6, 3), 'p_i in {P}', symbol='pp'),
+    ParamField('platform_mass', 'm_P', ()),
+    ParamField('platform_inertia', 'I_P', (3,), "Ixx, Iyy, Izz in {P} about the COM at {P}'s origin"),
+    ParamField('cylinder_mass', 'm_C', ()),
+    ParamField('cylinder_inertia', 'I_C', (3,), 'axial, Iyy, Izz in {C_i}'),
+    ParamField('cylinder_com_distance', 'b_C', (), 'b_C from B_i along the leg'),
+    ParamField('piston_mass', 'm_S', ()),
+    ParamField('piston_inertia', 'I_S', (3,), 'axial, Iyy, Izz in {S_i}'),
+    ParamField('piston_com_distance', 'b_S', (), 'b_S from P_i back along the leg'),
+    ParamField('gravity', 'g', (), 'm/s^2 along -z'),
+)
+
+#: `PlatformParams` fields with no member in `stewart_params`, and why.
+LEFT_OUT = {
+    'leg_length_limits': 'the C model has no stroke limits (compare stewart_leg_lengths() with them)',
+    'name': 'a label, not a model input',
+}

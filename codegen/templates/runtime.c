@@ -1,0 +1,78 @@
+/* The fixed C of stewart_model.c: the helpers of the public functions (codegen/templates/runtime.c,
+ * copied verbatim by the generator after the file's first comment).  Every public function
+ * checks its inputs are finite (all_finite, params_finite), runs its kernel, checks the legs
+ * (check_legs), runs its steps (each returns a status: the solvers, check_euler,
+ * pose_accelerations) and finishes (finish).  Compiles on its own against stewart_model.h. */
+#include "stewart_model.h"
+
+#include <float.h>
+#include <math.h>
+#include <stddef.h>
+
+/* ---- fixed helpers ---- */
+
+int stewart_is_axisymmetric(const stewart_params *p)
+{
+    return p->cylinder_inertia[1] == p->cylinder_inertia[2]
+        && p->piston_inertia[1] == p->piston_inertia[2];
+}
+
+static int all_finite(const double *v, int n)
+{
+    int k, ok = 1;
+    for (k = 0; k < n; ++k) {
+        ok &= isfinite(v[k]) != 0;
+    }
+    return ok;
+}
+
+/* STEWART_OK unless a leg has zero length or (h2 != NULL) is vertical:
+ * h2[i] = l_x^2 + l_y^2 < STEWART_VERTICAL_TOL * L2[i]. */
+static int check_legs(const double L2[6], const double h2[6])
+{
+    int i;
+    for (i = 0; i < 6; ++i) {
+        if (!(L2[i] >= DBL_MIN)) {
+            return STEWART_ERR_LEG_DEGENERATE;
+        }
+    }
+    for (i = 0; h2 != NULL && i < 6; ++i) {
+        if (!(h2[i] >= STEWART_VERTICAL_TOL * L2[i])) {
+            return STEWART_ERR_LEG_VERTICAL;
+        }
+    }
+    return STEWART_OK;
+}
+
+/* STEWART_OK unless cos(theta) is too small for the Euler-rate map J_A to be inverted. */
+static int check_euler(const double ctheta[1])
+{
+    return fabs(ctheta[0]) >= STEWART_EULER_TOL ? STEWART_OK : STEWART_ERR_EULER_SINGULAR;
+}
+
+/* xdd = [y_v; J_A^-1 y_w] from the twist acceleration y = T xdd. */
+static int pose_accelerations(const double JAinv[9], const double y[6], double xdd[6])
+{
+    int i;
+    for (i = 0; i < 3; ++i) {
+        xdd[i] = y[i];
+        xdd[3 + i] = JAinv[3 * i] * y[3] + JAinv[3 * i + 1] * y[4] + JAinv[3 * i + 2] * y[5];
+    }
+    return STEWART_OK;
+}
+
+/* Final status: an error, or NONFINITE for a non-finite output; fills the
+ * output with NaN unless STEWART_OK. */
+static int finish(int status, double *out, int n)
+{
+    int k;
+    if (status == STEWART_OK && !all_finite(out, n)) {
+        status = STEWART_ERR_NONFINITE;
+    }
+    if (status != STEWART_OK) {
+        for (k = 0; k < n; ++k) {
+            out[k] = NAN;
+        }
+    }
+    return status;
+}
