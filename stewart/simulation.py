@@ -20,15 +20,12 @@ import numpy as np
 from . import _checks, csvfile
 from ._kernel import status_message
 from ._simulate import ClosedLoop, Outcome
-from .control import PID, Actuators, ComputedTorque, OpenLoop
+from .control import PID, Actuators, Controller
 from .platform import Platform
 from .workspace import WorkspaceError, assembly_mode, reachability
 
 __all__ = ["simulate", "SimulationResult", "SimulationInterrupted", "WorkspaceError", "MAX_STEPS",
            "MAX_ADAPTIVE_STEPS", "MIN_DT", "DEFAULT_TOLERANCE", "OUTCOMES"]
-
-_MODES = {OpenLoop: 0, PID: 1, ComputedTorque: 2}
-_LABELS = {OpenLoop: "open loop", PID: "PID", ComputedTorque: "computed torque"}
 
 #: Most RK4 steps a run may take unless ``max_steps`` allows more (1000 s at 1 kHz; the
 #: buffers of a run take about 600 bytes per step).
@@ -324,7 +321,7 @@ def simulate(
         raise ValueError(f"trajectory: expected an object with sample(t) and duration, got {type(trajectory).__name__}")
     if controller is None:
         controller = PID.tuned(platform)
-    if type(controller) not in _MODES:
+    if not isinstance(controller, Controller):
         raise ValueError(f"controller: expected a stewart.PID, ComputedTorque or OpenLoop instance, "
                          f"got {controller!r:.80}")
     actuators = Actuators() if actuators is None else actuators
@@ -381,19 +378,14 @@ def simulate(
         every = 2 if method == "rk4" else 1  # the poses at the output samples
         _check_workspace(platform, x0, refs[::every, :6], times)
 
-    gains = {
-        PID: lambda c: (c.kp, c.ki, c.kd),
-        ComputedTorque: lambda c: (c.kp, np.zeros(6), c.kd),
-        OpenLoop: lambda c: (np.zeros(6), np.zeros(6), np.zeros(6)),
-    }[type(controller)](controller)
-    loop = ClosedLoop(platform._kernel, _MODES[type(controller)], *gains, actuators.force_limit,
+    loop = ClosedLoop(platform._kernel, *controller.loop_settings(), actuators.force_limit,
                       actuators.viscous, actuators.coulomb, actuators.coulomb_velocity)
     limits = platform.params.leg_length_limits or (0.0, np.inf)
 
     n = steps + 1
     states = np.zeros((n, 18))
     commanded, lengths, rates = (np.zeros((n, 6)) for _ in range(3))
-    y = np.concatenate([x0, xd0, _bumpless_integral(platform, controller, x0, ff[0])])
+    y = np.concatenate([x0, xd0, controller.initial_integral(platform, x0, ff[0])])
     bar = _Progress(progress, duration)
     wall = time.perf_counter()
     with _Interrupt() as interrupt:
@@ -425,7 +417,7 @@ def simulate(
         completed=outcome == Outcome.STOP_FINISHED and not budget_used and not interrupt.requested,
         reason=_reason(outcome, times[last], leg, platform.params),
         wall_time=wall, method=method, stopped_leg=None if leg < 0 else int(leg),
-        metadata={"dt": dt, "platform": platform.params.name or "unnamed", "controller": _LABELS[type(controller)],
+        metadata={"dt": dt, "platform": platform.params.name or "unnamed", "controller": controller.label,
                   "tolerance": tolerance, "force_limit": actuators.force_limit.tolist()},
     )
     if budget_used:
@@ -447,18 +439,6 @@ def _check_workspace(platform, x0, poses, times) -> None:
     check = reachability(platform, poses, mode=assembly_mode(platform, x0), name="trajectory")
     if not check.ok.all():
         raise WorkspaceError("trajectory: " + check.message("reference pose", times), check, times)
-
-
-def _bumpless_integral(platform, controller, x0, ff0) -> np.ndarray:
-    """The PID's starting integral: ``Ki * I = tau_static(x0) - feedforward(0)`` on every
-    leg with ``Ki > 0``, so the first commanded forces hold the start pose at rest (a leg
-    whose ``Ki`` is too small to represent ``I`` starts from 0)."""
-    if not isinstance(controller, PID):
-        return np.zeros(6)
-    static = platform.inverse_dynamics(x0, np.zeros(6), np.zeros(6)) - ff0
-    with np.errstate(over="ignore"):
-        integral = np.divide(static, controller.ki, out=np.zeros(6), where=controller.ki > 0)
-    return np.where(np.isfinite(integral), integral, 0.0)
 
 
 def _judge(result: SimulationResult, platform, actuators, tolerance, interrupted: bool) -> None:
