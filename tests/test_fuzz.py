@@ -408,7 +408,7 @@ def _mutated(text: bytes, edits) -> bytes:
 
 
 VALID_FILES = {
-    "toml": dumps_toml(PARAMS).encode(),
+    "toml": dumps_toml(PARAMS.to_dict()).encode(),
     "json": json.dumps(PARAMS.to_dict()).encode(),
 }
 
