@@ -281,6 +281,7 @@ def fuzz_one_definition_of_a_state(x):
 ISOLATED = ["fuzz_platform", "fuzz_one_definition_of_a_state", "fuzz_controllers", "fuzz_parameter_fields"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ISOLATED)
 def test_isolated(name):
     result = subprocess.run(

@@ -92,6 +92,7 @@ def test_rk4_converges_at_fourth_order(plat, move, figures):
     figures("RK4 order: error ratio when halving dt (|ratio - 16|)", max(abs(r - 16) for r in ratios), 2.0)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("controller, dt", [("computed torque", 1e-3), ("PID", 2.5e-4)])
 def test_adaptive_agrees_with_rk4(plat, move, controller, dt):
     ctrl = stewart.ComputedTorque.tuned() if controller == "computed torque" else stewart.PID.tuned(plat)
@@ -104,6 +105,7 @@ def test_adaptive_agrees_with_rk4(plat, move, controller, dt):
     np.testing.assert_allclose(adaptive.forces[late], rk4.forces[late], rtol=0, atol=1e-6 * np.max(np.abs(rk4.forces)))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("method", ["rk4", "adaptive"])
 def test_stroke_limit_stops_the_run_with_its_reason(plat, method):
     low = plat.home_pose.copy()
