@@ -39,7 +39,7 @@ $(C_TEST): tests/c/test_model.c tests/c/reference_values.h generated/stewart_mod
 
 test: build $(C_TEST)
 	./$(C_TEST)
-	$(PY) -m pytest -q
+	$(PY) -m pytest -q --cov=stewart --cov-report=term
 
 demo: build
 	$(PY) -m stewart.demo

@@ -12,7 +12,8 @@ from libc.math cimport cos, fabs, isfinite, sin, tanh
 
 from ._kernel cimport Kernel, STEWART_OK
 
-cdef enum:
+cpdef enum Mode:
+    # The control law the loop evaluates (each controller of stewart.control names its own).
     OPEN_LOOP = 0
     PID = 1
     COMPUTED_TORQUE = 2

@@ -1,7 +1,8 @@
 """Controllers and actuator models for :func:`stewart.simulate`.
 
 The control laws themselves run in the compiled loop (``stewart._simulate``); these
-classes hold and document their gains.
+classes hold and document their gains, and each tells the loop which law it is
+(:meth:`Controller.loop_settings`) and where its integral starts.
 
 * :class:`PID` — joint-space PID on the leg lengths with actuator forces as output, as in
   Narayan Rao et al. (2017), section VII: ``tau = Kp e + Ki int(e) + Kd edot`` with
@@ -15,14 +16,16 @@ classes hold and document their gains.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import ClassVar
 
 import numpy as np
 
 from . import _checks
+from ._simulate import Mode
 from .params import PlatformParams
 from .platform import Platform
 
-__all__ = ["PID", "ComputedTorque", "OpenLoop", "Actuators", "PID_BANDWIDTH_HZ", "leg_masses"]
+__all__ = ["Controller", "PID", "ComputedTorque", "OpenLoop", "Actuators", "PID_BANDWIDTH_HZ", "leg_masses"]
 
 #: Closed-loop bandwidth of the tuned leg PID for each preset, in Hz. The small
 #: ``narayan2017`` platform is stiff and light; the 1500 kg ``motion_simulator`` is tuned
@@ -88,10 +91,28 @@ def leg_masses(platform, x=None) -> np.ndarray:
     return _checks.finite_result("leg_masses", masses, x)
 
 
+class Controller:
+    """A control law of the compiled loop: :class:`PID`, :class:`ComputedTorque` or
+    :class:`OpenLoop`."""
+
+    #: The controller's name in a run's metadata.
+    label: ClassVar[str]
+
+    def loop_settings(self) -> tuple[Mode, np.ndarray, np.ndarray, np.ndarray]:
+        """The compiled loop's control law and its per-leg gains ``(mode, kp, ki, kd)``
+        (unused gains are zero)."""
+        raise NotImplementedError
+
+    def initial_integral(self, platform: Platform, x0: np.ndarray, feedforward0: np.ndarray) -> np.ndarray:
+        """The integral of the leg-length error at the start of a run (zero)."""
+        return np.zeros(6)
+
+
 @dataclass(frozen=True)
-class PID:
+class PID(Controller):
     """Joint-space PID gains per leg (N/m, N/(m s), N s/m); scalars apply to every leg."""
 
+    label: ClassVar[str] = "PID"
     kp: np.ndarray
     ki: np.ndarray
     kd: np.ndarray
@@ -99,6 +120,18 @@ class PID:
     def __post_init__(self):
         for name in ("kp", "ki", "kd"):
             object.__setattr__(self, name, _six(name, getattr(self, name)))
+
+    def loop_settings(self) -> tuple[Mode, np.ndarray, np.ndarray, np.ndarray]:
+        return Mode.PID, self.kp, self.ki, self.kd
+
+    def initial_integral(self, platform: Platform, x0: np.ndarray, feedforward0: np.ndarray) -> np.ndarray:
+        """The bumpless start: ``Ki * I = tau_static(x0) - feedforward(0)`` on every leg with
+        ``Ki > 0``, so the first commanded forces hold the start pose at rest (a leg whose
+        ``Ki`` is too small to represent ``I`` starts from 0)."""
+        static = platform.inverse_dynamics(x0, np.zeros(6), np.zeros(6)) - feedforward0
+        with np.errstate(over="ignore"):
+            integral = np.divide(static, self.ki, out=np.zeros(6), where=self.ki > 0)
+        return np.where(np.isfinite(integral), integral, 0.0)
 
     @classmethod
     def tuned(cls, platform, bandwidth_hz: float | None = None) -> "PID":
@@ -119,15 +152,19 @@ class PID:
 
 
 @dataclass(frozen=True)
-class ComputedTorque:
+class ComputedTorque(Controller):
     """Task-space gains (1/s^2 and 1/s) on ``[x, y, z, psi, theta, phi]``."""
 
+    label: ClassVar[str] = "computed torque"
     kp: np.ndarray
     kd: np.ndarray
 
     def __post_init__(self):
         for name in ("kp", "kd"):
             object.__setattr__(self, name, _six(name, getattr(self, name)))
+
+    def loop_settings(self) -> tuple[Mode, np.ndarray, np.ndarray, np.ndarray]:
+        return Mode.COMPUTED_TORQUE, self.kp, np.zeros(6), self.kd
 
     @classmethod
     def tuned(cls, bandwidth_hz: float = 5.0) -> "ComputedTorque":
@@ -139,8 +176,13 @@ class ComputedTorque:
 
 
 @dataclass(frozen=True)
-class OpenLoop:
+class OpenLoop(Controller):
     """No feedback: the actuator forces are the feed-forward forces given to the run."""
+
+    label: ClassVar[str] = "open loop"
+
+    def loop_settings(self) -> tuple[Mode, np.ndarray, np.ndarray, np.ndarray]:
+        return Mode.OPEN_LOOP, np.zeros(6), np.zeros(6), np.zeros(6)
 
 
 @dataclass(frozen=True)

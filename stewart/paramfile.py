@@ -10,6 +10,10 @@ Both formats hold one flat table whose keys are the fields of
     platform_mass = 6.77406
     platform_inertia = [0.1524, 0.1524, 0.3048]  # kg m^2, in {P}
     ...
+
+This module reads and writes such tables as plain dictionaries (the layout of
+:meth:`PlatformParams.to_dict`); :meth:`PlatformParams.load` and
+:meth:`PlatformParams.save` build and check the parameters.
 """
 
 from __future__ import annotations
@@ -20,9 +24,7 @@ import os
 import tomllib
 from typing import Any
 
-from .params import PlatformParams
-
-__all__ = ["load", "save", "dumps_toml"]
+__all__ = ["read", "write", "dumps_toml"]
 
 
 def _format(format: str | None, path: str) -> str:
@@ -39,11 +41,11 @@ def _path(path: str | os.PathLike[str]) -> str:
         raise TypeError(f"path: expected a file name, got {type(path).__name__}") from None
 
 
-def load(path: str | os.PathLike[str], format: str | None = None) -> PlatformParams:
-    """Read parameters from a ``.toml`` or ``.json`` file.
+def read(path: str | os.PathLike[str], format: str | None = None) -> dict[str, Any]:
+    """The table of parameter fields in a ``.toml`` or ``.json`` file.
 
-    A file that cannot be parsed or holds invalid parameters raises ``ValueError`` naming
-    the file; a missing or unreadable file raises the usual ``OSError``.
+    A file that cannot be parsed or holds no table raises ``ValueError`` naming the file;
+    a missing or unreadable file raises the usual ``OSError``.
     """
     path = _path(path)
     fmt = _format(format, path)
@@ -60,10 +62,7 @@ def load(path: str | os.PathLike[str], format: str | None = None) -> PlatformPar
         raise ValueError(f"{path}: not a valid {fmt.upper()} file: nested too deeply") from None
     if not isinstance(data, dict):
         raise ValueError(f"{path}: expected a table of parameter fields at the top level")
-    try:
-        return PlatformParams.from_dict(data)
-    except ValueError as exc:
-        raise ValueError(f"{path}: {exc}") from None
+    return data
 
 
 def _toml_value(value: Any) -> str:
@@ -77,17 +76,17 @@ def _toml_value(value: Any) -> str:
     return repr(value)
 
 
-def dumps_toml(params: PlatformParams) -> str:
-    """The TOML text of a parameter set (values round-trip exactly)."""
-    return "".join(f"{key} = {_toml_value(val)}\n" for key, val in params.to_dict().items())
+def dumps_toml(fields: dict[str, Any]) -> str:
+    """The TOML text of a table of parameter fields (values round-trip exactly)."""
+    return "".join(f"{key} = {_toml_value(val)}\n" for key, val in fields.items())
 
 
-def save(params: PlatformParams, path: str | os.PathLike[str], format: str | None = None) -> None:
-    """Write parameters to a ``.toml`` or ``.json`` file."""
+def write(fields: dict[str, Any], path: str | os.PathLike[str], format: str | None = None) -> None:
+    """Write a table of parameter fields to a ``.toml`` or ``.json`` file."""
     path = _path(path)
     if _format(format, path) == "toml":
-        text = dumps_toml(params)
+        text = dumps_toml(fields)
     else:
-        text = json.dumps(params.to_dict(), indent=2) + "\n"
+        text = json.dumps(fields, indent=2) + "\n"
     with open(path, "w", encoding="utf-8") as fh:
         fh.write(text)

@@ -9,13 +9,15 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import os
 import warnings
 from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
 
-from . import _checks
+from . import _checks, paramfile
+from .presets import fields as _preset_fields
 
 __all__ = ["PlatformParams", "NonAxisymmetricLegWarning", "checked_params"]
 
@@ -222,24 +224,26 @@ class PlatformParams:
     @classmethod
     def preset(cls, name: str) -> "PlatformParams":
         """A built-in parameter set by name; :func:`stewart.presets` lists them."""
-        from .presets import preset
-
         if not isinstance(name, str):
             raise ValueError(f"name: expected a preset name, got {type(name).__name__} {name!r}")
-        return preset(name)
+        return cls(**_preset_fields(name))
 
     @classmethod
     def load(cls, path: Any) -> "PlatformParams":
-        """Read a TOML (``.toml``) or JSON (``.json``) parameter file."""
-        from .paramfile import load
+        """Read a TOML (``.toml``) or JSON (``.json``) parameter file (:mod:`stewart.paramfile`).
 
-        return load(path)
+        A file that cannot be parsed or holds invalid parameters raises ``ValueError``
+        naming the file; a missing or unreadable file raises the usual ``OSError``.
+        """
+        data = paramfile.read(path)
+        try:
+            return cls.from_dict(data)
+        except ValueError as exc:
+            raise ValueError(f"{os.fsdecode(path)}: {exc}") from None
 
     def save(self, path: Any) -> None:
-        """Write a TOML (``.toml``) or JSON (``.json``) parameter file."""
-        from .paramfile import save
-
-        save(self, path)
+        """Write a TOML (``.toml``) or JSON (``.json``) parameter file (:mod:`stewart.paramfile`)."""
+        paramfile.write(self.to_dict(), path)
 
     def __eq__(self, other: object) -> bool:
         if not isinstance(other, PlatformParams):

@@ -25,13 +25,11 @@
 from __future__ import annotations
 
 import math
-from typing import Callable
+from typing import Any, Callable
 
 import numpy as np
 
-from .params import PlatformParams
-
-__all__ = ["preset", "presets", "narayan2017_target_pose"]
+__all__ = ["presets", "fields", "narayan2017_target_pose"]
 
 STEEL_DENSITY = 7850.0  # kg/m^3
 
@@ -45,7 +43,7 @@ def tube(outer_diameter: float, inner_diameter: float, length: float, density: f
     return mass, (axial, transverse, transverse)
 
 
-def _narayan2017() -> PlatformParams:
+def _narayan2017() -> dict[str, Any]:
     # Section VIII of the paper, y-up: rows are x and z of points 1..6 (y = 0 for all).
     base_x = [0.0962, 0.0772, -0.0742, -0.0962, -0.019, 0.019]
     base_z = [-0.0336, -0.0665, -0.0599, -0.0336, 0.1001, 0.1001]
@@ -61,7 +59,7 @@ def _narayan2017() -> PlatformParams:
 
     cyl_mass, cyl_inertia = tube(0.050, 0.040, 0.100)
     pis_mass, pis_inertia = tube(0.040, 0.0, 0.090)
-    return PlatformParams(
+    return dict(
         base_points=base,
         platform_points=top,
         platform_mass=plate_mass,
@@ -104,7 +102,7 @@ def hexapod_points(radius: float, pair_centres_deg, half_separation_deg: float) 
     return np.column_stack([radius * np.cos(rad), radius * np.sin(rad), np.zeros(6)])
 
 
-def _motion_simulator() -> PlatformParams:
+def _motion_simulator() -> dict[str, Any]:
     # Base pairs centred at 0, 120, 240 deg; platform pairs at 60, 180, 300 deg. Leg i joins
     # base point i to platform point i after rolling the base list by one, so that each
     # platform pair is reached from two different base pairs (the usual crossing layout).
@@ -115,7 +113,7 @@ def _motion_simulator() -> PlatformParams:
     i_z = mass * (2.0 * width**2) / 12.0
     cyl_mass, cyl_inertia = tube(0.160, 0.140, 1.0)
     rod_mass, rod_inertia = tube(0.080, 0.060, 1.0)
-    return PlatformParams(
+    return dict(
         base_points=base,
         platform_points=top,
         platform_mass=mass,
@@ -132,7 +130,7 @@ def _motion_simulator() -> PlatformParams:
     )
 
 
-_PRESETS: dict[str, tuple[Callable[[], PlatformParams], str]] = {
+_PRESETS: dict[str, tuple[Callable[[], dict[str, Any]], str]] = {
     "narayan2017": (_narayan2017, "small 6.8 kg platform of Narayan Rao et al. (2017), steel legs"),
     "motion_simulator": (_motion_simulator, "1500 kg motion-simulator base, 3.2 m base, 0.7 m stroke"),
 }
@@ -143,8 +141,10 @@ def presets() -> dict[str, str]:
     return {name: desc for name, (_, desc) in _PRESETS.items()}
 
 
-def preset(name: str) -> PlatformParams:
-    """The built-in parameter set ``name`` (see :func:`presets`)."""
+def fields(name: str) -> dict[str, Any]:
+    """The fields of the built-in parameter set ``name`` (see :func:`presets`), as the
+    keyword arguments of :class:`stewart.PlatformParams` (which
+    :meth:`PlatformParams.preset` builds from them)."""
     try:
         build, _ = _PRESETS[name]
     except KeyError:

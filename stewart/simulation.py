@@ -2,7 +2,7 @@
 
 The closed loop — compiled forward dynamics, controller, saturation and friction — is
 integrated either by a fixed-step RK4 loop that runs entirely in compiled code, or by
-scipy's adaptive ``solve_ivp``. Before the run, the reference is checked against the
+scipy's adaptive DOP853. Before the run, the reference is checked against the
 workspace (:mod:`stewart.workspace`); during it, leg stroke limits stop the run; after
 it, the result says whether the run succeeded (:attr:`SimulationResult.outcome`).
 """
@@ -13,22 +13,19 @@ import signal
 import threading
 import time
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import Callable, NamedTuple
 
 import numpy as np
 
 from . import _checks, csvfile
 from ._kernel import status_message
 from ._simulate import ClosedLoop, Outcome
-from .control import PID, Actuators, ComputedTorque, OpenLoop
+from .control import PID, Actuators, Controller
 from .platform import Platform
 from .workspace import WorkspaceError, assembly_mode, reachability
 
 __all__ = ["simulate", "SimulationResult", "SimulationInterrupted", "WorkspaceError", "MAX_STEPS",
            "MAX_ADAPTIVE_STEPS", "MIN_DT", "DEFAULT_TOLERANCE", "OUTCOMES"]
-
-_MODES = {OpenLoop: 0, PID: 1, ComputedTorque: 2}
-_LABELS = {OpenLoop: "open loop", PID: "PID", ComputedTorque: "computed torque"}
 
 #: Most RK4 steps a run may take unless ``max_steps`` allows more (1000 s at 1 kHz; the
 #: buffers of a run take about 600 bytes per step).
@@ -201,8 +198,8 @@ class _Progress:
 
 
 class _Interrupt:
-    """Turns the first Ctrl-C during a run into a flag checked between chunks of steps
-    (a second Ctrl-C interrupts at once)."""
+    """Turns the first Ctrl-C during a run into a flag checked between chunks of RK4 steps
+    and after each adaptive step (a second Ctrl-C interrupts at once)."""
 
     def __init__(self):
         self.requested = False
@@ -299,8 +296,8 @@ def simulate(
     weight from ``t = 0``.
 
     ``method="rk4"`` integrates with classic fixed-step RK4 (step ``dt`` >= :data:`MIN_DT`)
-    in compiled code; ``method="adaptive"`` uses ``scipy.integrate.solve_ivp`` (DOP853
-    with ``rtol`` and ``atol``) and reports at every ``dt``. A run longer than
+    in compiled code; ``method="adaptive"`` steps scipy's ``DOP853`` (with ``rtol``
+    and ``atol``) and reports at every ``dt``. A run longer than
     ``max_steps`` steps (default :data:`MAX_STEPS` for RK4) is refused before it starts;
     the adaptive solver stops with outcome ``"failed"`` after ``max_steps`` steps (default
     :data:`MAX_ADAPTIVE_STEPS` or four per report time, whichever is more).
@@ -316,15 +313,80 @@ def simulate(
     ``tolerance = (position [m], angle [rad])`` (norms of the final position and
     Euler-angle errors) and commanded forces above ``actuators.force_limit``.
     ``progress=True`` draws a progress bar on stderr. Ctrl-C stops the run between chunks
-    of steps and raises :class:`SimulationInterrupted` holding the result so far.
+    of RK4 steps or after an adaptive step, and raises :class:`SimulationInterrupted`
+    holding the result so far.
     """
+    run = _checked_run(platform, trajectory, controller, duration=duration, dt=dt, method=method,
+                       actuators=actuators, feedforward=feedforward, x0=x0, xd0=xd0, rtol=rtol, atol=atol,
+                       tolerance=tolerance, max_steps=max_steps)
+    loop, series, y = _set_up(run, check_workspace)
+    bar = _Progress(progress, run.duration)
+    wall = time.perf_counter()
+    with _Interrupt() as interrupt:
+        integrate = _run_rk4 if run.method == "rk4" else _run_adaptive
+        end = integrate(loop, run, series, y, bar, interrupt)
+        end = _last_row(loop, run, series, end)
+    wall = time.perf_counter() - wall
+    bar.close()
+    result = _result(run, series, end, wall, interrupt.requested, bar.reached)
+    _judge(result, run.platform, run.actuators, run.tolerance, interrupt.requested)
+    if interrupt.requested:
+        raise SimulationInterrupted(result)
+    return result
+
+
+@dataclass(frozen=True)
+class _Run:
+    """The checked arguments of one run (see :func:`simulate`)."""
+
+    platform: Platform
+    trajectory: object
+    controller: Controller
+    actuators: Actuators
+    feedforward: Callable | None
+    method: str
+    dt: float
+    duration: float
+    steps: int  # report intervals: the run has steps + 1 samples
+    budget: int
+    tolerance: tuple[float, float]
+    rtol: float
+    atol: float
+    x0: np.ndarray
+    xd0: np.ndarray
+
+    @property
+    def limits(self) -> tuple[float, float]:
+        """The leg length limits (none: ``(0, inf)``)."""
+        return self.platform.params.leg_length_limits or (0.0, np.inf)
+
+    def references(self, times) -> tuple[np.ndarray, np.ndarray]:
+        """``([x_r, xdot_r, xddot_r] (N, 18), feed-forward forces (N, 6))`` at ``times``,
+        checked."""
+        x_r, xd_r, xdd_r = _sampled(self.trajectory, times)
+        if self.feedforward is None:
+            ff = np.zeros((len(times), 6))
+        else:
+            try:
+                ff = np.asarray(self.feedforward(times), dtype=float)
+            except (TypeError, ValueError) as exc:
+                raise ValueError(f"feedforward: must return forces of shape (N, 6): {exc}") from None
+        if ff.shape != (len(times), 6) or not np.all(np.isfinite(ff)):
+            raise ValueError("feedforward: must return finite forces of shape (N, 6) for N times")
+        return np.ascontiguousarray(np.hstack([x_r, xd_r, xdd_r])), np.ascontiguousarray(ff)
+
+
+def _checked_run(platform, trajectory, controller, *, duration, dt, method, actuators, feedforward, x0, xd0,
+                 rtol, atol, tolerance, max_steps) -> _Run:
+    """The arguments of :func:`simulate` checked, with their defaults filled in; each
+    problem raises ``ValueError`` naming its argument."""
     if not isinstance(platform, Platform):
         raise ValueError(f"platform: expected a stewart.Platform, got {type(platform).__name__}")
     if not (callable(getattr(trajectory, "sample", None)) and hasattr(trajectory, "duration")):
         raise ValueError(f"trajectory: expected an object with sample(t) and duration, got {type(trajectory).__name__}")
     if controller is None:
         controller = PID.tuned(platform)
-    if type(controller) not in _MODES:
+    if not isinstance(controller, Controller):
         raise ValueError(f"controller: expected a stewart.PID, ComputedTorque or OpenLoop instance, "
                          f"got {controller!r:.80}")
     actuators = Actuators() if actuators is None else actuators
@@ -353,90 +415,108 @@ def simulate(
                          f"budget of {budget} (pass max_steps= to allow it)")
     if method == "adaptive" and steps > MAX_STEPS:
         raise ValueError(f"dt, duration: {steps:.3g} report times, more than {MAX_STEPS}; use a larger dt")
-    steps = max(1, int(round(steps)))
-
     start_ref = _sampled(trajectory, 0.0)
     x0 = start_ref[0] if x0 is None else _checks.states("x0", x0)
     xd0 = start_ref[1] if xd0 is None else _checks.states("xd0", xd0)
     if x0.shape != (6,) or xd0.shape != (6,) or np.iscomplexobj(x0) or np.iscomplexobj(xd0):
         raise ValueError("x0, xd0: expected one real state each, shape (6,)")
+    return _Run(platform, trajectory, controller, actuators, feedforward, method, dt, duration,
+                max(1, int(round(steps))), budget, tolerance, rtol, atol, x0, xd0)
 
-    def references(times):
-        x_r, xd_r, xdd_r = _sampled(trajectory, times)
-        if feedforward is None:
-            ff = np.zeros((len(times), 6))
-        else:
-            try:
-                ff = np.asarray(feedforward(times), dtype=float)
-            except (TypeError, ValueError) as exc:
-                raise ValueError(f"feedforward: must return forces of shape (N, 6): {exc}") from None
-        if ff.shape != (len(times), 6) or not np.all(np.isfinite(ff)):
-            raise ValueError("feedforward: must return finite forces of shape (N, 6) for N times")
-        return np.ascontiguousarray(np.hstack([x_r, xd_r, xdd_r])), np.ascontiguousarray(ff)
 
+@dataclass
+class _Series:
+    """The output rows of a run, one per sample time: the loop state ``[x, xdot, integral]``,
+    commanded forces, leg lengths and leg rates. The reference and feed-forward are
+    sampled at ``grid``: every ``dt`` for the adaptive solver, every ``dt / 2`` for RK4."""
+
+    times: np.ndarray
+    refs: np.ndarray
+    feedforward: np.ndarray
+    states: np.ndarray
+    commanded: np.ndarray
+    lengths: np.ndarray
+    rates: np.ndarray
+
+
+def _set_up(run: _Run, check_workspace: bool) -> tuple[ClosedLoop, _Series, np.ndarray]:
+    """The compiled closed loop, the empty output rows with the sampled reference, and the
+    starting loop state (the controller's starting integral included); the workspace is
+    checked first when asked for."""
+    dt, steps = run.dt, run.steps
     times = np.arange(steps + 1) * dt
-    grid = np.arange(2 * steps + 1) * (dt / 2) if method == "rk4" else times
-    refs, ff = references(grid)
+    grid = np.arange(2 * steps + 1) * (dt / 2) if run.method == "rk4" else times
+    refs, ff = run.references(grid)
     if check_workspace:
-        every = 2 if method == "rk4" else 1  # the poses at the output samples
-        _check_workspace(platform, x0, refs[::every, :6], times)
-
-    gains = {
-        PID: lambda c: (c.kp, c.ki, c.kd),
-        ComputedTorque: lambda c: (c.kp, np.zeros(6), c.kd),
-        OpenLoop: lambda c: (np.zeros(6), np.zeros(6), np.zeros(6)),
-    }[type(controller)](controller)
-    loop = ClosedLoop(platform._kernel, _MODES[type(controller)], *gains, actuators.force_limit,
+        every = 2 if run.method == "rk4" else 1  # the poses at the output samples
+        _check_workspace(run.platform, run.x0, refs[::every, :6], times)
+    actuators = run.actuators
+    loop = ClosedLoop(run.platform._kernel, *run.controller.loop_settings(), actuators.force_limit,
                       actuators.viscous, actuators.coulomb, actuators.coulomb_velocity)
-    limits = platform.params.leg_length_limits or (0.0, np.inf)
-
     n = steps + 1
-    states = np.zeros((n, 18))
-    commanded, lengths, rates = (np.zeros((n, 6)) for _ in range(3))
-    y = np.concatenate([x0, xd0, _bumpless_integral(platform, controller, x0, ff[0])])
-    bar = _Progress(progress, duration)
-    wall = time.perf_counter()
-    with _Interrupt() as interrupt:
-        if method == "rk4":
-            done, outcome, leg = 0, Outcome.STOP_FINISHED, -1
-            while done < steps and outcome == Outcome.STOP_FINISHED and not interrupt.requested:
-                outcome, done, leg = loop.rk4(y, refs, ff, dt, done, min(steps, done + _RK4_CHUNK), limits[0],
-                                              limits[1], states, commanded, lengths, rates)
-                bar.update(done * dt)
-            last, budget_used = done, False
-        else:
-            last, outcome, leg, y, budget_used = _adaptive(loop, references, y, times, limits, rtol, atol, states,
-                                                           commanded, lengths, rates, bar, budget, interrupt)
-    if not np.all(np.isfinite(y)):  # the step that diverged is not kept
-        last, y = last - 1, states[last - 1].copy()
-    ref_last, ff_last = (a[0] for a in references(times[last:last + 1]))
-    states[last] = y
-    _, commanded[last], lengths[last], rates[last], _ = loop.derivative(y, ref_last, ff_last)
-    wall = time.perf_counter() - wall
-    bar.close()
+    series = _Series(times, refs, ff, np.zeros((n, 18)), *(np.zeros((n, 6)) for _ in range(3)))
+    y = np.concatenate([run.x0, run.xd0, run.controller.initial_integral(run.platform, run.x0, ff[0])])
+    return loop, series, y
 
-    rows = slice(0, last + 1)
-    ref_x, ref_xd, _ = _sampled(trajectory, times[rows])
+
+class _End(NamedTuple):
+    """How an integration ended: its last output row, the outcome (``STOP_*`` or a kernel
+    status), the leg at a stroke limit (else -1), the state there, and whether the
+    adaptive solver used up its step budget."""
+
+    last: int
+    outcome: int
+    leg: int
+    y: np.ndarray
+    budget_used: bool = False
+
+
+def _run_rk4(loop: ClosedLoop, run: _Run, series: _Series, y: np.ndarray, bar, interrupt) -> _End:
+    """Integrate with compiled fixed-step RK4, in chunks of steps with Ctrl-C and progress
+    between them; fills the output rows up to the step where the run stopped."""
+    lo, hi = run.limits
+    done, outcome, leg = 0, Outcome.STOP_FINISHED, -1
+    while done < run.steps and outcome == Outcome.STOP_FINISHED and not interrupt.requested:
+        outcome, done, leg = loop.rk4(y, series.refs, series.feedforward, run.dt, done,
+                                      min(run.steps, done + _RK4_CHUNK), lo, hi, series.states,
+                                      series.commanded, series.lengths, series.rates)
+        bar.update(done * run.dt)
+    return _End(done, outcome, leg, y)
+
+
+def _last_row(loop: ClosedLoop, run: _Run, series: _Series, end: _End) -> _End:
+    """Write the final state's row (dropping the step that diverged, if any)."""
+    last, y = end.last, end.y
+    if not np.all(np.isfinite(y)):
+        last, y = last - 1, series.states[last - 1].copy()
+    ref_last, ff_last = (a[0] for a in run.references(series.times[last:last + 1]))
+    series.states[last] = y
+    _, series.commanded[last], series.lengths[last], series.rates[last], _ = loop.derivative(y, ref_last, ff_last)
+    return end._replace(last=last, y=y)
+
+
+def _result(run: _Run, series: _Series, end: _End, wall: float, interrupted: bool, reached: float) -> SimulationResult:
+    """The run's series up to its last row, with why it ended (not yet judged)."""
+    rows = slice(0, end.last + 1)
+    times, limit = series.times, run.actuators.force_limit
+    ref_x, ref_xd, _ = _sampled(run.trajectory, times[rows])
+    params = run.platform.params
     result = SimulationResult(
-        t=times[rows], x=states[rows, :6], xd=states[rows, 6:12], reference=ref_x, reference_velocity=ref_xd,
-        lengths=lengths[rows], leg_velocities=rates[rows],
-        forces=np.clip(commanded[rows], -actuators.force_limit, actuators.force_limit),
-        commanded_forces=commanded[rows].copy(),
-        completed=outcome == Outcome.STOP_FINISHED and not budget_used and not interrupt.requested,
-        reason=_reason(outcome, times[last], leg, platform.params),
-        wall_time=wall, method=method, stopped_leg=None if leg < 0 else int(leg),
-        metadata={"dt": dt, "platform": platform.params.name or "unnamed", "controller": _LABELS[type(controller)],
-                  "tolerance": tolerance, "force_limit": actuators.force_limit.tolist()},
+        t=times[rows], x=series.states[rows, :6], xd=series.states[rows, 6:12], reference=ref_x,
+        reference_velocity=ref_xd, lengths=series.lengths[rows], leg_velocities=series.rates[rows],
+        forces=np.clip(series.commanded[rows], -limit, limit), commanded_forces=series.commanded[rows].copy(),
+        completed=end.outcome == Outcome.STOP_FINISHED and not end.budget_used and not interrupted,
+        reason=_reason(end.outcome, times[end.last], end.leg, params),
+        wall_time=wall, method=run.method, stopped_leg=None if end.leg < 0 else int(end.leg),
+        metadata={"dt": run.dt, "platform": params.name or "unnamed", "controller": run.controller.label,
+                  "tolerance": run.tolerance, "force_limit": limit.tolist()},
     )
-    if budget_used:
-        result.reason = (f"the adaptive solver used its budget of {budget} steps before t = {bar.reached:.4g} s "
-                         f"(results up to t = {times[last]:.4f} s kept; the closed loop is too stiff: check the "
+    if end.budget_used:
+        result.reason = (f"the adaptive solver used its budget of {run.budget} steps before t = {reached:.4g} s "
+                         f"(results up to t = {times[end.last]:.4f} s kept; the closed loop is too stiff: check the "
                          "gains, or raise the step budget)")
-    if interrupt.requested:
-        result.reason = f"interrupted at t = {times[last]:.4f} s"
-    _judge(result, platform, actuators, tolerance, interrupt.requested)
-    if interrupt.requested:
-        raise SimulationInterrupted(result)
+    if interrupted:
+        result.reason = f"interrupted at t = {times[end.last]:.4f} s"
     return result
 
 
@@ -447,18 +527,6 @@ def _check_workspace(platform, x0, poses, times) -> None:
     check = reachability(platform, poses, mode=assembly_mode(platform, x0), name="trajectory")
     if not check.ok.all():
         raise WorkspaceError("trajectory: " + check.message("reference pose", times), check, times)
-
-
-def _bumpless_integral(platform, controller, x0, ff0) -> np.ndarray:
-    """The PID's starting integral: ``Ki * I = tau_static(x0) - feedforward(0)`` on every
-    leg with ``Ki > 0``, so the first commanded forces hold the start pose at rest (a leg
-    whose ``Ki`` is too small to represent ``I`` starts from 0)."""
-    if not isinstance(controller, PID):
-        return np.zeros(6)
-    static = platform.inverse_dynamics(x0, np.zeros(6), np.zeros(6)) - ff0
-    with np.errstate(over="ignore"):
-        integral = np.divide(static, controller.ki, out=np.zeros(6), where=controller.ki > 0)
-    return np.where(np.isfinite(integral), integral, 0.0)
 
 
 def _judge(result: SimulationResult, platform, actuators, tolerance, interrupted: bool) -> None:
@@ -500,39 +568,43 @@ def _judge(result: SimulationResult, platform, actuators, tolerance, interrupted
     result.outcome = "interrupted" if interrupted else (failing[0] if failing else "completed")
 
 
+_EVENT_TOLERANCE = 4 * np.finfo(float).eps  # relative and absolute, in time, of a stroke limit
+
+
 class _Stop(Exception):
-    """The adaptive integration stops: the model is undefined at a state it asked for
-    (``status`` > 0), the step budget is used up (``status`` None) or Ctrl-C."""
+    """The adaptive solver asked for a state where the model is undefined (``status`` > 0,
+    at time ``t``) or used up its step budget (``status`` None)."""
 
     def __init__(self, status, t: float):
         super().__init__(status, t)
         self.status, self.t = status, t
 
 
-_ADAPTIVE_CHUNK = 100  # report times per solve_ivp call (Ctrl-C and progress between calls)
+def _run_adaptive(loop: ClosedLoop, run: _Run, series: _Series, y: np.ndarray, bar, interrupt) -> _End:
+    """Integrate with DOP853 (``rtol``, ``atol``) one accepted step at a time, filling the
+    output rows at the report times each step passes from its dense output.
 
-
-def _adaptive(loop, references, y, times, limits, rtol, atol, states, commanded, lengths, rates, bar, budget,
-              interrupt):
-    """Integrate with DOP853, reporting at ``times``; stroke limits are terminal events.
-
-    Fills the output rows and returns ``(last row, outcome, leg, final state, budget
-    used)``. The run goes in chunks of report times, so Ctrl-C and the step budget stop it
-    at the last completed report time; so does a state where the model is undefined (a
-    kernel error). A stroke limit adds a row at the event (its time written into ``times``).
+    Ctrl-C and the step budget stop the run after the last accepted step. Where the model
+    is undefined (a kernel error at a state a step tried), the solver keeps what it has
+    reached and steps on only up to the last report time before the first such time, so the
+    run ends there. A stroke limit is found in the step that crosses it by root-finding on
+    the dense output, and adds a row at that time (written into ``series.times``).
     """
-    from scipy.integrate import solve_ivp
+    from scipy.integrate import DOP853
+    from scipy.optimize import brentq
 
+    times = series.times
     evaluations = [0]
-    max_evaluations = 12 * budget  # DOP853 evaluates the right-hand side 12 times a step
+    max_evaluations = 12 * run.budget  # DOP853 evaluates the right-hand side 12 times a step
+    lo, hi = run.limits
 
     def evaluate(t, state):
-        ref, ff = references(np.array([t]))
+        ref, ff = run.references(np.array([t]))
         return loop.derivative(np.ascontiguousarray(state), ref[0], ff[0])
 
     def rhs(t, state):
         evaluations[0] += 1
-        if evaluations[0] > max_evaluations or interrupt.requested:
+        if evaluations[0] > max_evaluations:
             raise _Stop(None, t)
         ydot, _, _, _, status = evaluate(t, state)
         if status != 0:
@@ -540,58 +612,74 @@ def _adaptive(loop, references, y, times, limits, rtol, atol, states, commanded,
         bar.update(t)
         return ydot
 
-    def leg_too_short(t, state):
-        return np.min(evaluate(t, state)[2]) - limits[0]
-
-    def leg_too_long(t, state):
-        return limits[1] - np.max(evaluate(t, state)[2])
-
-    for event in (leg_too_short, leg_too_long):
-        event.terminal, event.direction = True, -1
+    def margins(t, state):  # (leg above its minimum, leg below its maximum): a limit is crossed at <= 0
+        lengths = evaluate(t, state)[2]
+        return np.array([np.min(lengths) - lo, hi - np.max(lengths)])
 
     def record(k, state):
-        states[k] = state
-        _, commanded[k], lengths[k], rates[k], _ = evaluate(times[k], states[k])
+        series.states[k] = state
+        _, series.commanded[k], series.lengths[k], series.rates[k], _ = evaluate(times[k], state)
+
+    def stopped(outcome, budget_used=False):
+        return _End(done, outcome, -1, np.ascontiguousarray(series.states[done]), budget_used)
 
     record(0, y)
     done, last = 0, len(times) - 1
-    while done < last:
-        stop_at = min(last, done + _ADAPTIVE_CHUNK)
-        report = times[done:stop_at + 1]
-        try:
-            with np.errstate(all="ignore"):  # a diverging state is reported as the outcome
-                sol = solve_ivp(rhs, (report[0], report[-1]), states[done].copy(), method="DOP853", t_eval=report,
-                                rtol=rtol, atol=atol, events=[leg_too_short, leg_too_long])
-        except _Stop as exc:
-            if exc.status is None:  # budget or Ctrl-C: keep what the completed chunks gave
-                return done, Outcome.STOP_FINISHED, -1, np.ascontiguousarray(states[done]), not interrupt.requested
-            earlier = report[report < exc.t]  # the model is undefined at exc.t: run up to the report before it
-            if len(earlier) > 1:
-                try:
-                    sol = solve_ivp(rhs, (earlier[0], earlier[-1]), states[done].copy(), method="DOP853",
-                                    t_eval=earlier, rtol=rtol, atol=atol)
-                except _Stop:
-                    sol = None
-                if sol is not None and sol.status == 0:
-                    for k in range(1, sol.y.shape[1]):
-                        record(done + k, sol.y[:, k])
-                    done += sol.y.shape[1] - 1
-            return done, exc.status, -1, np.ascontiguousarray(states[done]), False
-        if sol.status < 0:  # the step size underflowed: the state is blowing up
-            return done, Outcome.STOP_NONFINITE, -1, np.ascontiguousarray(states[done]), False
-        count = sol.y.shape[1]
-        for k in range(1, count):
-            record(done + k, sol.y[:, k])
-        if sol.status == 1:  # a stroke limit
-            side = 0 if len(sol.t_events[0]) else 1
-            y_stop = sol.y_events[side][0]
-            at_stop = evaluate(sol.t_events[side][0], y_stop)[2]
-            leg = int(np.argmin(at_stop) if side == 0 else np.argmax(at_stop))
-            row = done + count
-            times[row] = sol.t_events[side][0]
-            outcome = Outcome.STOP_LEG_SHORT if side == 0 else Outcome.STOP_LEG_LONG
-            return row, outcome, leg, np.ascontiguousarray(y_stop), False
-        done = stop_at
-        if interrupt.requested:
-            break
-    return done, Outcome.STOP_FINISHED, -1, np.ascontiguousarray(states[done]), False
+    solver, first_step, undefined_from = None, None, np.inf
+    with np.errstate(all="ignore"):  # a diverging state is reported as the outcome
+        while done < last:
+            try:
+                if solver is None:
+                    solver = DOP853(rhs, times[0], y.copy(), times[last], rtol=run.rtol, atol=run.atol,
+                                    first_step=first_step)
+                    before = margins(solver.t, solver.y)
+                    continue
+                solver.step()
+            except _Stop as exc:
+                if exc.status is None:
+                    return stopped(Outcome.STOP_FINISHED, budget_used=True)
+                # Step on only to the last report time before the model's first undefined state.
+                undefined_from = min(undefined_from, exc.t)
+                row = int(np.searchsorted(times, undefined_from)) - 1
+                if row <= done:
+                    return stopped(exc.status)
+                target = times[row]
+                if solver is None:
+                    first_step = target - times[0]
+                else:
+                    solver.h_abs = target - solver.t
+                continue
+            if solver.status == "failed":  # the step size underflowed: the state is blowing up
+                return stopped(Outcome.STOP_NONFINITE)
+            try:  # DOP853's interpolant evaluates three more stages in the step
+                dense = solver.dense_output()
+            except _Stop as exc:
+                return stopped(Outcome.STOP_FINISHED if exc.status is None else exc.status, exc.status is None)
+            after = margins(solver.t, solver.y)
+            crossed = np.flatnonzero((before >= 0) & (after <= 0))
+            t_end = solver.t
+            if crossed.size:  # the earliest stroke limit within the step
+                stops = [brentq(lambda t, side=side: margins(t, dense(t))[side], solver.t_old, solver.t,
+                                xtol=_EVENT_TOLERANCE, rtol=_EVENT_TOLERANCE) for side in crossed]
+                side, t_end = crossed[int(np.argmin(stops))], min(stops)
+            reached = min(last, int(np.searchsorted(times, t_end, side="right")) - 1)
+            for k in range(done + 1, reached + 1):
+                record(k, dense(times[k]))
+            done = reached
+            if crossed.size:
+                return _stroke_limit(series, done + 1, t_end, dense(t_end), side, evaluate)
+            if interrupt.requested:  # after each accepted step
+                break
+            before = after
+    return stopped(Outcome.STOP_FINISHED)
+
+
+def _stroke_limit(series: _Series, row: int, t: float, y: np.ndarray, side: int, evaluate) -> _End:
+    """The end of an adaptive run at a stroke limit (``side`` 0: a leg at its minimum
+    length, 1: at its maximum), reached at time ``t`` in state ``y``: its time goes into
+    ``row``, the leg is the shortest or longest there."""
+    lengths = evaluate(t, y)[2]
+    leg = int(np.argmin(lengths) if side == 0 else np.argmax(lengths))
+    series.times[row] = t
+    outcome = Outcome.STOP_LEG_SHORT if side == 0 else Outcome.STOP_LEG_LONG
+    return _End(row, outcome, leg, np.ascontiguousarray(y))

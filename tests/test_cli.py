@@ -49,6 +49,7 @@ def test_params_file_is_used(tmp_path, capsys):
                                rtol=1e-9)
 
 
+@pytest.mark.slow
 def test_simulate_writes_series_and_plots(tmp_path, capsys):
     target = ["0.04565", "-0.0102", "0.192", "-0.086", "0.105", "0.096"]
     main(["simulate", "--target", *target, "--csv", str(tmp_path / "run.csv"), "--plot", str(tmp_path / "figs"),

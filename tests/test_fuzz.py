@@ -281,6 +281,7 @@ def fuzz_one_definition_of_a_state(x):
 ISOLATED = ["fuzz_platform", "fuzz_one_definition_of_a_state", "fuzz_controllers", "fuzz_parameter_fields"]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", ISOLATED)
 def test_isolated(name):
     result = subprocess.run(
@@ -408,7 +409,7 @@ def _mutated(text: bytes, edits) -> bytes:
 
 
 VALID_FILES = {
-    "toml": dumps_toml(PARAMS).encode(),
+    "toml": dumps_toml(PARAMS.to_dict()).encode(),
     "json": json.dumps(PARAMS.to_dict()).encode(),
 }
 

@@ -8,6 +8,7 @@ import pytest
 
 import stewart
 from stewart import reference as ref
+from stewart.checks import relative_error
 from conftest import random_params, random_states
 
 FUNCTIONS = [
@@ -24,13 +25,6 @@ FUNCTIONS = [
 def _reference(params, name, args):
     source = ref if hasattr(ref, name) else stewart.kinematics
     return getattr(source, name)(params, *args)
-
-
-def _relative_error(got, want):
-    """Worst error per state, relative to the largest entry of that state's result."""
-    got = got.reshape(len(got), -1)
-    want = want.reshape(len(want), -1)
-    return np.max(np.abs(got - want) / np.max(np.abs(want), axis=1, keepdims=True))
 
 
 def _param_sets():
@@ -51,9 +45,9 @@ def test_kernel_matches_reference(label, params, figures):
     worst = 0.0
     for name, arity in FUNCTIONS:
         got = getattr(plat, name)(*args[:arity])
-        worst = max(worst, _relative_error(got, _reference(params, name, args[:arity])))
+        worst = max(worst, relative_error(got, _reference(params, name, args[:arity])))
     tau = ref.inverse_dynamics(params, x, xd, xdd)
-    worst = max(worst, _relative_error(plat.forward_dynamics(x, xd, tau), xdd))
+    worst = max(worst, relative_error(plat.forward_dynamics(x, xd, tau), xdd))
     figures(f"kernel vs reference, all functions ({label})", worst, 1e-10)
 
 
@@ -62,7 +56,7 @@ def test_forward_inverse_round_trip(preset_params, figures):
     plat = stewart.Platform(preset_params)
     x, xd, xdd = random_states(preset_params, 1000, rng)
     back = plat.forward_dynamics(x, xd, plat.inverse_dynamics(x, xd, xdd))
-    figures(f"kernel FD(ID(xdd)) vs xdd ({preset_params.name})", _relative_error(back, xdd), 1e-10)
+    figures(f"kernel FD(ID(xdd)) vs xdd ({preset_params.name})", relative_error(back, xdd), 1e-10)
 
 
 def test_batch_equals_loop_of_single_calls(preset_params):

@@ -10,18 +10,12 @@ import pytest
 import stewart
 from stewart import newton_euler as ne
 from stewart import reference as ref
+from stewart.checks import COMPLEX_STEP as H
+from stewart.checks import relative_error, statics_residuals
 from conftest import PRESETS, random_params, random_states
 
-H = 1e-30
 E_Z = np.array([0.0, 0.0, 1.0])
 
-
-
-def _relative(got, want):
-    """Worst error per state, relative to the largest entry of that state's ``want``."""
-    got = got.reshape(len(got), -1)
-    want = want.reshape(len(want), -1)
-    return np.max(np.abs(got - want) / np.max(np.abs(want), axis=1, keepdims=True))
 
 
 def test_kernel_reference_and_newton_euler_agree(any_params, figures):
@@ -30,7 +24,7 @@ def test_kernel_reference_and_newton_euler_agree(any_params, figures):
     kernel = stewart.Platform(any_params).inverse_dynamics(x, xd, xdd)
     numeric = ref.inverse_dynamics(any_params, x, xd, xdd)
     newton = ne.inverse_dynamics(any_params, x, xd, xdd)
-    worst = max(_relative(kernel, numeric), _relative(newton, numeric), _relative(newton, kernel))
+    worst = max(relative_error(kernel, numeric), relative_error(newton, numeric), relative_error(newton, kernel))
     figures(f"newton-euler vs kernel vs reference, tau ({any_params.name})", worst, 1e-9)
 
 
@@ -43,7 +37,7 @@ def test_agreement_at_rest_and_in_pure_rotation(any_params, figures):
     slide = xdd * np.array([1, 1, 1, 0, 0, 0])
     worst = 0.0
     for args in [(x, zero, zero), (x, spin, zero), (x, zero, slide), (x, spin, xdd)]:
-        worst = max(worst, _relative(ne.inverse_dynamics(any_params, *args), ref.inverse_dynamics(any_params, *args)))
+        worst = max(worst, relative_error(ne.inverse_dynamics(any_params, *args), ref.inverse_dynamics(any_params, *args)))
     figures(f"newton-euler vs reference, special motions ({any_params.name})", worst, 1e-9)
 
 
@@ -106,37 +100,24 @@ def _weights_scale(params):
 
 
 def test_statics_balance(any_params, figures):
-    """At rest the joint forces balance the weights: the platform's legs carry m_P g with
-    no moment about its centre of mass; each leg's base force, the platform's push
-    (-platform force) and its weight sum to zero, and so do their moments about B_i; the
-    piston's axial balance gives tau; tau equals the compiled kernel's."""
+    """At rest the joint forces balance the weights (:func:`stewart.checks.statics_residuals`):
+    the platform's legs carry m_P g with no moment about its centre of mass; each leg's
+    base force, the platform's push (-platform force) and its weight sum to zero, and so do
+    their moments about B_i. The piston's axial balance gives tau; tau equals the compiled
+    kernel's."""
     p = any_params
     rng = np.random.default_rng(33)
     x, _, _ = random_states(p, 100, rng)
+    residuals = statics_residuals(p, x)
+    assert sorted(residuals) == ["leg force", "leg moment about B_i", "platform force", "platform moment"]
     rest = np.zeros_like(x)
     forces = ne.joint_reactions(p, x, rest, rest)
-    g, m_c, m_s = p.gravity, p.cylinder_mass, p.piston_mass
-    weight = _weights_scale(p)
-    size = stewart.home_pose(p)[2]
-    legs = stewart.leg_vectors(p, x)
     units = stewart.leg_unit_vectors(p, x)
-    arms = legs - x[:, None, :3] + p.base_points  # R p_i
-    residuals = {
-        "platform force": forces.platform.sum(axis=1) - p.platform_mass * g * E_Z,
-        "platform moment": np.cross(arms, forces.platform).sum(axis=1) / size,
-        "leg force": forces.base - forces.platform - (m_c + m_s) * g * E_Z,
-        "leg moment about B_i": (
-            np.cross(legs, -forces.platform)
-            + np.cross(p.cylinder_com_distance * units, -m_c * g * E_Z)
-            + np.cross(legs - p.piston_com_distance * units, -m_s * g * E_Z)
-        )
-        / size,
-        "piston axial": np.sum(units * -forces.platform, axis=-1) + forces.tau - m_s * g * units[..., 2],
-    }
-    worst = max(np.max(np.abs(r)) for r in residuals.values()) / weight
+    axial = np.sum(units * -forces.platform, axis=-1) + forces.tau - p.piston_mass * p.gravity * units[..., 2]
+    worst = max(max(residuals.values()), np.max(np.abs(axial)) / _weights_scale(p))
     figures(f"newton-euler statics balance ({p.name})", worst, 1e-12)
     kernel = stewart.Platform(p).inverse_dynamics(x, rest, rest)
-    figures(f"newton-euler vs kernel, tau at rest ({p.name})", _relative(forces.tau, kernel), 1e-9)
+    figures(f"newton-euler vs kernel, tau at rest ({p.name})", relative_error(forces.tau, kernel), 1e-9)
 
 
 # --- Dynamics of the reactions, against numerically differentiated body motions ---------

@@ -181,3 +181,29 @@ def test_any_valid_parameters_round_trip_through_files(tmp_path_factory, scale, 
     loaded = PlatformParams.load(path)
     assert loaded == params
     np.testing.assert_array_equal(loaded.platform_points, params.platform_points)
+
+
+def test_params_module_imports_point_one_way():
+    """params builds its parameter sets from presets' fields and reads and writes them with
+    paramfile; neither imports params back, and no function imports a module lazily."""
+    import ast
+    import importlib.util
+
+    def imports(module):
+        tree = ast.parse(open(importlib.util.find_spec(module).origin, encoding="utf-8").read())
+        found = []
+        for node in ast.walk(tree):
+            if isinstance(node, ast.ImportFrom):
+                found += [(node.module or "") + "." + alias.name for alias in node.names]
+                found += [node.module or ""]
+            elif isinstance(node, ast.Import):
+                found += [alias.name for alias in node.names]
+        lazy = [n for f in ast.walk(tree) if isinstance(f, ast.FunctionDef)
+                for n in ast.walk(f) if isinstance(n, (ast.Import, ast.ImportFrom))]
+        return found, lazy
+
+    params_imports, params_lazy = imports("stewart.params")
+    assert "presets" in params_imports and ".paramfile" in params_imports and not params_lazy
+    for module in ("stewart.presets", "stewart.paramfile"):
+        found, _ = imports(module)
+        assert not any("params" in name and "paramfile" not in name for name in found), (module, found)

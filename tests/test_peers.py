@@ -16,7 +16,10 @@ ROOT = pathlib.Path(__file__).resolve().parent.parent
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
-from benchmarks.peers.common import param_vector, relative_error  # noqa: E402
+from benchmarks.peers.common import param_vector  # noqa: E402
+from stewart.checks import relative_error  # noqa: E402
+
+pytestmark = pytest.mark.peers
 
 
 @pytest.mark.parametrize("preset", sorted(stewart.presets()))
@@ -92,10 +95,11 @@ def test_mujoco_model_is_the_same_platform():
     assert np.max(np.abs(platform_acc)) < 1e-2 * p.gravity
 
 
+@pytest.mark.slow
 def test_sympy_routes_match_kernel(figures, tmp_path):
     """autowrap (and PyDy, when installed) on our generator's expressions; the compile
-    dominates the time, so this runs only with the peers extra installed."""
-    pytest.importorskip("casadi")  # a marker for the [peers] extra: keeps the default suite fast
+    dominates the time (marked slow)."""
+    pytest.importorskip("sympy")
     pytest.importorskip("Cython")
     from benchmarks.peers import sympy_route
     from benchmarks.peers.common import peer_available

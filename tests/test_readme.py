@@ -124,6 +124,7 @@ def test_the_readme_shows_commands_on_the_shipped_examples():
         assert any(argv[:1] == [command] for _, argv, _ in COMMANDS)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("line, argv, code", COMMANDS, ids=[line for line, _, _ in COMMANDS])
 def test_readme_command_runs(line, argv, code, in_examples_dir, capsys):
     if argv[:1] == ["bench"]:
@@ -163,6 +164,7 @@ def run_python(source: str, namespace: dict) -> int:
     return raised
 
 
+@pytest.mark.slow
 def test_the_python_tour_runs(tmp_path, monkeypatch):
     pytest.importorskip("matplotlib")
     monkeypatch.chdir(tmp_path)

@@ -92,6 +92,7 @@ def test_rk4_converges_at_fourth_order(plat, move, figures):
     figures("RK4 order: error ratio when halving dt (|ratio - 16|)", max(abs(r - 16) for r in ratios), 2.0)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("controller, dt", [("computed torque", 1e-3), ("PID", 2.5e-4)])
 def test_adaptive_agrees_with_rk4(plat, move, controller, dt):
     ctrl = stewart.ComputedTorque.tuned() if controller == "computed torque" else stewart.PID.tuned(plat)
@@ -104,6 +105,7 @@ def test_adaptive_agrees_with_rk4(plat, move, controller, dt):
     np.testing.assert_allclose(adaptive.forces[late], rk4.forces[late], rtol=0, atol=1e-6 * np.max(np.abs(rk4.forces)))
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("method", ["rk4", "adaptive"])
 def test_stroke_limit_stops_the_run_with_its_reason(plat, method):
     low = plat.home_pose.copy()
@@ -469,3 +471,27 @@ def test_compiled_loop_refuses_buffers_too_small(plat):
                      *out)
     with pytest.raises(ValueError, match="rk4: the buffers"):
         loop.rk4(y.copy(), refs, np.zeros((11, 6)), 1e-3, 0, 7, 0.0, np.inf, *out)
+
+
+@pytest.mark.parametrize("method", ["rk4", "adaptive"])
+def test_a_model_error_ends_the_run_at_the_sample_before_it(plat, method):
+    """The reference jumps at t = 0.2 s to a pose where leg 0 has zero length, so the PID's
+    reference leg rates are undefined from then on: the run ends with the kernel's message
+    at the last sample before 0.2 s, and its samples are those of the same run holding
+    home throughout (the adaptive solver keeps what it reached, without starting over)."""
+    home, p = plat.home_pose, plat.params
+    degenerate = np.concatenate([p.base_points[0] - p.platform_points[0], np.zeros(3)])
+    assert stewart.leg_lengths(p, degenerate)[0] == 0.0
+
+    class Jump:
+        duration = 0.5
+
+        def sample(self, t):
+            x = np.where((np.asarray(t) >= 0.2)[..., None], degenerate, home)
+            return x, np.zeros_like(x), np.zeros_like(x)
+
+    run = stewart.simulate(plat, Jump(), method=method, check_workspace=False)
+    held = stewart.simulate(plat, stewart.PointToPoint(home, home, 0.5), method=method)
+    assert run.outcome == "failed" and not run.completed
+    assert run.reason == "a leg has zero length at t = 0.1990 s" and run.t[-1] == pytest.approx(0.199)
+    np.testing.assert_allclose(run.x, held.x[:len(run.t)], rtol=0, atol=1e-12)

@@ -1,0 +1,199 @@
+"""The model's checks shared by ``stewart validate`` (:mod:`stewart.validation`) and the
+test suite: random states around home, the error measure, and the physics the compiled
+kernel must obey.
+
+* :func:`random_states` — the states every comparison runs over;
+* :func:`relative_error` — the one measure of disagreement between two results;
+* :func:`energy` — the mechanical energy written out from the bodies (section 3), and with
+  it :func:`power_balance` (``dE/dt = tau . Ldot``) and :func:`energy_drift` (conservation
+  with ``tau = 0``);
+* :func:`twist_mass_matrix_figures` — symmetry and definiteness of ``M T^-1``;
+* :func:`statics_residuals` — the static balance of the Newton-Euler joint forces.
+
+(The arguments of the public functions are checked by :mod:`stewart._checks`; these are
+checks of the model.)
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import kinematics, newton_euler
+from .params import PlatformParams
+from .platform import Platform
+
+__all__ = ["random_states", "relative_error", "energy", "power_balance", "energy_drift", "statics_residuals",
+           "twist_mass_matrix_figures", "COMPLEX_STEP"]
+
+#: Complex-step size for exact first derivatives.
+COMPLEX_STEP = 1e-30
+
+
+def random_states(params: PlatformParams, n: int, rng: np.random.Generator):
+    """``n`` poses around home (within 8% of the home height and 0.2 rad), with rates and
+    accelerations of matching scale: ``(x, xd, xdd)``, each ``(n, 6)``."""
+    home = kinematics.home_pose(params)
+    scale = home[2]
+    sigma = np.array([0.04 * scale] * 3 + [0.1] * 3)
+    x = home + rng.uniform(-2, 2, size=(n, 6)) * sigma
+    xd = rng.normal(size=(n, 6)) * np.array([0.2 * scale] * 3 + [0.5] * 3)
+    xdd = rng.normal(size=(n, 6)) * np.array([2 * scale] * 3 + [5.0] * 3)
+    return x, xd, xdd
+
+
+def energy(params: PlatformParams, x, xd) -> np.ndarray:
+    """Kinetic plus potential energy (J) of platform, cylinders and pistons, ``(...)``.
+
+    Written out from the bodies: platform ``m_P v^2/2 + omega . I_P omega / 2``, cylinder
+    centre of mass at ``b_i + b_C u_i``, piston centre of mass at ``p + R p_i - b_S u_i``,
+    leg angular velocity ``u x udot`` (eq. 29) with inertia ``I_t (E - u u^T) + I_a u u^T``
+    (axisymmetric legs), potential ``g`` times the mass-weighted heights (eq. 72).
+    Analytic operations only, so complex-step derivatives apply.
+    """
+    x = np.asarray(x)
+    xd = np.asarray(xd)
+    rot = kinematics.rotation(x)
+    omega = np.einsum("...ij,...j->...i", kinematics.euler_rate_jacobian(x), xd[..., 3:])
+    arms = np.einsum("...jk,ik->...ij", rot, params.platform_points)
+    legs = x[..., None, :3] + arms - params.base_points
+    lengths = np.sqrt(np.sum(legs * legs, axis=-1))[..., None]
+    units = legs / lengths
+    leg_dot = xd[..., None, :3] + np.cross(omega[..., None, :], arms)
+    length_dot = np.sum(units * leg_dot, axis=-1)[..., None]
+    unit_dot = (leg_dot - units * length_dot) / lengths
+
+    vel = xd[..., :3]
+    body_omega = np.einsum("...ji,...j->...i", rot, omega)  # omega in {P}
+    kinetic = 0.5 * params.platform_mass * np.sum(vel * vel, axis=-1)
+    kinetic = kinetic + 0.5 * np.sum(params.platform_inertia * body_omega * body_omega, axis=-1)
+    cyl_vel = params.cylinder_com_distance * unit_dot
+    pis_vel = leg_dot - params.piston_com_distance * unit_dot
+    kinetic = kinetic + 0.5 * params.cylinder_mass * np.sum(cyl_vel * cyl_vel, axis=(-1, -2))
+    kinetic = kinetic + 0.5 * params.piston_mass * np.sum(pis_vel * pis_vel, axis=(-1, -2))
+    leg_omega = np.cross(units, unit_dot)
+    along = np.sum(leg_omega * units, axis=-1)
+    axial = params.cylinder_inertia[0] + params.piston_inertia[0]
+    transverse = params.cylinder_inertia[1] + params.piston_inertia[1]
+    kinetic = kinetic + 0.5 * np.sum(
+        transverse * (np.sum(leg_omega * leg_omega, axis=-1) - along**2) + axial * along**2, axis=-1
+    )
+    heights = (
+        params.platform_mass * x[..., 2]
+        + params.cylinder_mass
+        * np.sum(params.base_points[:, 2] + params.cylinder_com_distance * units[..., 2], axis=-1)
+        + params.piston_mass
+        * np.sum(x[..., None, 2] + arms[..., 2] - params.piston_com_distance * units[..., 2], axis=-1)
+    )
+    return kinetic + params.gravity * heights
+
+
+def relative_error(got, want) -> float:
+    """Worst error over states (the first axis), each relative to the largest entry of that
+    state's ``want`` (exact zeros compare absolutely, so a zero ``G`` must come out zero)."""
+    got = np.asarray(got)
+    want = np.asarray(want)
+    got = got.reshape(len(got), -1)
+    want = want.reshape(len(want), -1)
+    scale = np.max(np.abs(want), axis=1, keepdims=True)
+    scale = np.where(scale > 0.0, scale, 1.0)
+    return float(np.max(np.abs(got - want) / scale))
+
+
+def power_balance(params: PlatformParams, x, xd, xdd, tau) -> float:
+    """Worst ``|dE/dt - tau . Ldot| / sum |tau_i Ldot_i|`` over the states: the actuator
+    forces ``tau`` that produce ``xdd`` must deliver the power the energy gains. ``dE/dt``
+    is the complex-step derivative of :func:`energy` along ``(xd, xdd)``."""
+    h = COMPLEX_STEP
+    de_dt = energy(params, x + 1j * h * xd, xd + 1j * h * xdd).imag / h
+    power = tau * kinematics.leg_velocities(params, x, xd)
+    return float(np.max(np.abs(de_dt - power.sum(axis=-1)) / np.sum(np.abs(power), axis=-1)))
+
+
+def twist_mass_matrix_figures(platform: Platform, x) -> tuple[float, float]:
+    """``(asymmetry, condition)`` of the twist-space mass matrix ``M T^-1`` (the kinetic
+    energy's Hessian in twist space) over the poses ``x``: the worst asymmetry relative to
+    the largest entry, and the worst condition number of its symmetric part (``inf`` where
+    that is not positive definite)."""
+    m_twist = platform.mass_matrix(x) @ np.linalg.inv(kinematics.twist_transform(x))
+    asym = np.max(np.abs(m_twist - np.swapaxes(m_twist, -1, -2)), axis=(-1, -2))
+    asym = asym / np.max(np.abs(m_twist), axis=(-1, -2))
+    eig = np.linalg.eigvalsh(0.5 * (m_twist + np.swapaxes(m_twist, -1, -2)))
+    positive = eig[..., 0] > 0.0
+    cond = np.where(positive, eig[..., -1] / np.where(positive, eig[..., 0], 1.0), np.inf)
+    return float(np.max(asym)), float(np.max(cond))
+
+
+def _free_motion_start(params: PlatformParams, rng: np.random.Generator):
+    """Home pose and a modest twist: in 1 s the platform moves 10% of its home height and
+    turns 0.3 rad, far from singular poses."""
+    home = kinematics.home_pose(params)
+    direction = rng.normal(size=6)
+    linear = direction[:3] / np.linalg.norm(direction[:3]) * 0.1 * home[2]
+    angular = direction[3:] / np.linalg.norm(direction[3:]) * 0.3
+    return home, np.concatenate([linear, angular])
+
+
+def energy_drift(params: PlatformParams, seconds: float = 1.0, seed: int = 0) -> float:
+    """Worst ``|E(t) - E(0)|`` over ``seconds`` of motion with ``tau = 0``, relative to the
+    largest kinetic energy, integrating the compiled forward dynamics with DOP853
+    (rtol 1e-12). The motion starts at home with a modest twist, in zero gravity (a copy of
+    ``params`` with ``gravity=0``) so that the free platform coasts instead of falling
+    through the base; ``inf`` if the motion reaches a near-singular pose."""
+    from scipy.integrate import solve_ivp
+
+    free = params.replace(gravity=0.0)
+    plat = Platform(free)
+    x0, xd0 = _free_motion_start(free, np.random.default_rng(seed))
+    zero = np.zeros(6)
+
+    def rhs(_t, state):
+        return np.concatenate([state[6:], plat.forward_dynamics(state[:6], state[6:], zero)])
+
+    scale = np.concatenate([np.abs(x0) + x0[2], np.abs(xd0) + np.linalg.norm(xd0)])
+    sol = solve_ivp(
+        rhs, (0.0, seconds), np.concatenate([x0, xd0]), method="DOP853", rtol=1e-12, atol=1e-14 * scale,
+        t_eval=np.linspace(0.0, seconds, 201),
+    )
+    if not sol.success:
+        return float("inf")
+    poses, rates = sol.y[:6].T, sol.y[6:].T
+    if np.max(np.linalg.cond(kinematics.jacobian(free, poses))) > 1e6:
+        return float("inf")
+    energies = energy(free, poses, rates)
+    return float(np.max(np.abs(energies - energies[0])) / np.max(np.abs(energies)))
+
+
+def statics_residuals(params: PlatformParams, x) -> dict[str, float]:
+    """Relative residuals of the static balance of the Newton-Euler joint forces at rest.
+
+    Platform: the legs' forces carry its weight, ``sum f_P = m_P g e_z``, with no moment
+    about its centre of mass. Each leg: ``f_B - f_P - (m_C + m_S) g e_z = 0``, and the
+    moments about B_i of ``-f_P`` at P_i and of the weights vanish. Scaled by the total
+    weight (and the home height for moments)."""
+    rest = np.zeros_like(x)
+    forces = newton_euler.joint_reactions(params, x, rest, rest)
+    g = params.gravity
+    m_c, m_s = params.cylinder_mass, params.piston_mass
+    weight = g * (params.platform_mass + 6 * (m_c + m_s))
+    if weight == 0.0:
+        weight = 1.0
+    length = kinematics.home_pose(params)[2]
+    e_z = np.array([0.0, 0.0, 1.0])
+    rot = kinematics.rotation(x)
+    arms = np.einsum("...jk,ik->...ij", rot, params.platform_points)
+    legs = kinematics.leg_vectors(params, x)
+    units = legs / np.linalg.norm(legs, axis=-1, keepdims=True)
+    net = forces.platform.sum(axis=-2) - params.platform_mass * g * e_z
+    moment = np.cross(arms, forces.platform).sum(axis=-2)
+    leg_force = forces.base - forces.platform - (m_c + m_s) * g * e_z
+    leg_moment = (
+        np.cross(legs, -forces.platform)
+        + np.cross(params.cylinder_com_distance * units, -m_c * g * e_z)
+        + np.cross(legs - params.piston_com_distance * units, -m_s * g * e_z)
+    )
+    return {
+        "platform force": float(np.max(np.abs(net)) / weight),
+        "platform moment": float(np.max(np.abs(moment)) / (weight * length)),
+        "leg force": float(np.max(np.abs(leg_force)) / weight),
+        "leg moment about B_i": float(np.max(np.abs(leg_moment)) / (weight * length)),
+    }
