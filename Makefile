@@ -10,7 +10,7 @@ KERNEL_SOURCES := stewart/_kernel.pyx stewart/_kernel.pxd stewart/_simulate.pyx 
 	generated/stewart_model.h generated/stewart_model.pxd setup.py
 C_TEST := tests/c/test_model
 
-.PHONY: all test demo generate build bench validate readme clean
+.PHONY: all test test-peers demo generate build bench validate readme clean
 
 all: build
 
@@ -37,9 +37,16 @@ build: $(KERNEL)
 $(C_TEST): tests/c/test_model.c tests/c/reference_values.h generated/stewart_model.c generated/stewart_model.h
 	$(CC) -std=c99 -O2 -Wall -Wextra -pedantic -Igenerated -Itests/c tests/c/test_model.c generated/stewart_model.c -lm -o $@
 
+# Every test but the comparisons with the peer models (make test-peers), with coverage.
 test: build $(C_TEST)
 	./$(C_TEST)
-	$(PY) -m pytest -q --cov=stewart --cov-report=term
+	$(PY) -m pytest -q -m "not peers" --cov=stewart --cov-report=term
+
+# The agreement of the benchmarks' peer models with the kernel: the sympy route runs with
+# the dev extra (a minute and a half of compiling); CasADi, PyDy and MuJoCo with the peers
+# extra (.venv/bin/pip install --no-build-isolation -e ".[dev,peers]"), skipped without it.
+test-peers: build
+	$(PY) -m pytest -q -m peers
 
 demo: build
 	$(PY) -m stewart.demo
