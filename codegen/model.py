@@ -390,6 +390,17 @@ def jacobian_kernel():
                       [('JC', list(jacobian_rows(kin)))] + _leg_checks(kin, True))
 
 
+def leg_rates_kernel():
+    """L_i = |l_i| (eq. 26) and Ldot = J_C T xd (eqs. 5, 8, 18): row i of J_C applied to
+    the twist, u_i . v + (r_i x u_i) . omega."""
+    g = Graph({})
+    kin = kinematics(g, PARAMS)
+    v, omega = twist(g, kin, XD, 'q')
+    Ld = jacobian_rows(kin) * sp.Matrix.vstack(v, omega)
+    return KernelSpec('leg_rates', leg_rates_kernel.__doc__, g, [('x', X), ('xd', XD)],
+                      [('LLd', [leg.L for leg in kin.legs] + list(Ld))] + _leg_checks(kin, True))
+
+
 def gravity_kernel():
     g = Graph({})
     P = PARAMS
@@ -506,6 +517,8 @@ FUNCTIONS = (
     Function('leg_lengths', 'Leg lengths L_i (a zero length is not an error here).', ('x',), 'L', 6,
              (leg_lengths_kernel,)),
     Function('jacobian', 'J_C (eq. 5): Ldot = J_C t.', ('x',), 'JC', 36, (jacobian_kernel,)),
+    Function('leg_rates', 'Leg lengths L and rates Ldot = J_C T xd in one pass: LLd = [L; Ldot].',
+             ('x', 'xd'), 'LLd', 12, (leg_rates_kernel,)),
     Function('mass_matrix', 'M = M_t T.', ('x',), 'M', 36, _variants(mass_matrix_kernel)),
     Function('coriolis_matrix', 'V(x, xd).', ('x', 'xd'), 'V', 36, _variants(coriolis_matrix_kernel)),
     Function('coriolis_vector', 'V xd without forming V.', ('x', 'xd'), 'Vxd', 6,

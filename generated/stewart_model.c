@@ -735,6 +735,177 @@ static void kernel_jacobian(const stewart_params *p, const double *x, double *JC
     L2[5] = L2_5;
 }
 
+/* L_i = |l_i| (eq. 26) and Ldot = J_C T xd (eqs. 5, 8, 18): row i of J_C applied to
+    the twist, u_i . v + (r_i x u_i) . omega. */
+static void kernel_leg_rates(const stewart_params *p, const double *x, const double *xd, double *LLd, double *L2)
+{
+    const double b0_x = p->base_points[0][0];
+    const double b0_y = p->base_points[0][1];
+    const double b0_z = p->base_points[0][2];
+    const double b1_x = p->base_points[1][0];
+    const double b1_y = p->base_points[1][1];
+    const double b1_z = p->base_points[1][2];
+    const double b2_x = p->base_points[2][0];
+    const double b2_y = p->base_points[2][1];
+    const double b2_z = p->base_points[2][2];
+    const double b3_x = p->base_points[3][0];
+    const double b3_y = p->base_points[3][1];
+    const double b3_z = p->base_points[3][2];
+    const double b4_x = p->base_points[4][0];
+    const double b4_y = p->base_points[4][1];
+    const double b4_z = p->base_points[4][2];
+    const double b5_x = p->base_points[5][0];
+    const double b5_y = p->base_points[5][1];
+    const double b5_z = p->base_points[5][2];
+    const double pp0_x = p->platform_points[0][0];
+    const double pp0_y = p->platform_points[0][1];
+    const double pp0_z = p->platform_points[0][2];
+    const double pp1_x = p->platform_points[1][0];
+    const double pp1_y = p->platform_points[1][1];
+    const double pp1_z = p->platform_points[1][2];
+    const double pp2_x = p->platform_points[2][0];
+    const double pp2_y = p->platform_points[2][1];
+    const double pp2_z = p->platform_points[2][2];
+    const double pp3_x = p->platform_points[3][0];
+    const double pp3_y = p->platform_points[3][1];
+    const double pp3_z = p->platform_points[3][2];
+    const double pp4_x = p->platform_points[4][0];
+    const double pp4_y = p->platform_points[4][1];
+    const double pp4_z = p->platform_points[4][2];
+    const double pp5_x = p->platform_points[5][0];
+    const double pp5_y = p->platform_points[5][1];
+    const double pp5_z = p->platform_points[5][2];
+    const double x_0 = x[0];
+    const double x_1 = x[1];
+    const double x_2 = x[2];
+    const double x_3 = x[3];
+    const double x_4 = x[4];
+    const double x_5 = x[5];
+    const double xd_0 = xd[0];
+    const double xd_1 = xd[1];
+    const double xd_2 = xd[2];
+    const double xd_3 = xd[3];
+    const double xd_4 = xd[4];
+    const double xd_5 = xd[5];
+    const double c_psi = cos(x_3);
+    const double s_psi = sin(x_3);
+    const double c_theta = cos(x_4);
+    const double s_theta = sin(x_4);
+    const double c_phi = cos(x_5);
+    const double s_phi = sin(x_5);
+    const double R_00 = c_psi*c_theta;
+    const double c0 = c_phi*s_psi;
+    const double R_01 = -c0 + c_psi*s_phi*s_theta;
+    const double c1 = s_phi*s_psi;
+    const double c2 = c_phi*c_psi;
+    const double R_02 = c1 + c2*s_theta;
+    const double R_10 = c_theta*s_psi;
+    const double R_11 = c1*s_theta + c2;
+    const double R_12 = c0*s_theta - c_psi*s_phi;
+    const double R_20 = -s_theta;
+    const double R_21 = c_theta*s_phi;
+    const double R_22 = c_phi*c_theta;
+    const double r0_x = R_00*pp0_x + R_01*pp0_y + R_02*pp0_z;
+    const double r0_y = R_10*pp0_x + R_11*pp0_y + R_12*pp0_z;
+    const double r0_z = R_20*pp0_x + R_21*pp0_y + R_22*pp0_z;
+    const double l0_x = -b0_x + r0_x + x_0;
+    const double l0_y = -b0_y + r0_y + x_1;
+    const double l0_z = -b0_z + r0_z + x_2;
+    const double L2_0 = l0_x*l0_x + l0_y*l0_y + l0_z*l0_z;
+    const double iL2_0 = 1.0/(L2_0);
+    const double L_0 = sqrt(L2_0);
+    const double iL_0 = L_0*iL2_0;
+    const double u0_x = iL_0*l0_x;
+    const double u0_y = iL_0*l0_y;
+    const double u0_z = iL_0*l0_z;
+    const double r1_x = R_00*pp1_x + R_01*pp1_y + R_02*pp1_z;
+    const double r1_y = R_10*pp1_x + R_11*pp1_y + R_12*pp1_z;
+    const double r1_z = R_20*pp1_x + R_21*pp1_y + R_22*pp1_z;
+    const double l1_x = -b1_x + r1_x + x_0;
+    const double l1_y = -b1_y + r1_y + x_1;
+    const double l1_z = -b1_z + r1_z + x_2;
+    const double L2_1 = l1_x*l1_x + l1_y*l1_y + l1_z*l1_z;
+    const double iL2_1 = 1.0/(L2_1);
+    const double L_1 = sqrt(L2_1);
+    const double iL_1 = L_1*iL2_1;
+    const double u1_x = iL_1*l1_x;
+    const double u1_y = iL_1*l1_y;
+    const double u1_z = iL_1*l1_z;
+    const double r2_x = R_00*pp2_x + R_01*pp2_y + R_02*pp2_z;
+    const double r2_y = R_10*pp2_x + R_11*pp2_y + R_12*pp2_z;
+    const double r2_z = R_20*pp2_x + R_21*pp2_y + R_22*pp2_z;
+    const double l2_x = -b2_x + r2_x + x_0;
+    const double l2_y = -b2_y + r2_y + x_1;
+    const double l2_z = -b2_z + r2_z + x_2;
+    const double L2_2 = l2_x*l2_x + l2_y*l2_y + l2_z*l2_z;
+    const double iL2_2 = 1.0/(L2_2);
+    const double L_2 = sqrt(L2_2);
+    const double iL_2 = L_2*iL2_2;
+    const double u2_x = iL_2*l2_x;
+    const double u2_y = iL_2*l2_y;
+    const double u2_z = iL_2*l2_z;
+    const double r3_x = R_00*pp3_x + R_01*pp3_y + R_02*pp3_z;
+    const double r3_y = R_10*pp3_x + R_11*pp3_y + R_12*pp3_z;
+    const double r3_z = R_20*pp3_x + R_21*pp3_y + R_22*pp3_z;
+    const double l3_x = -b3_x + r3_x + x_0;
+    const double l3_y = -b3_y + r3_y + x_1;
+    const double l3_z = -b3_z + r3_z + x_2;
+    const double L2_3 = l3_x*l3_x + l3_y*l3_y + l3_z*l3_z;
+    const double iL2_3 = 1.0/(L2_3);
+    const double L_3 = sqrt(L2_3);
+    const double iL_3 = L_3*iL2_3;
+    const double u3_x = iL_3*l3_x;
+    const double u3_y = iL_3*l3_y;
+    const double u3_z = iL_3*l3_z;
+    const double r4_x = R_00*pp4_x + R_01*pp4_y + R_02*pp4_z;
+    const double r4_y = R_10*pp4_x + R_11*pp4_y + R_12*pp4_z;
+    const double r4_z = R_20*pp4_x + R_21*pp4_y + R_22*pp4_z;
+    const double l4_x = -b4_x + r4_x + x_0;
+    const double l4_y = -b4_y + r4_y + x_1;
+    const double l4_z = -b4_z + r4_z + x_2;
+    const double L2_4 = l4_x*l4_x + l4_y*l4_y + l4_z*l4_z;
+    const double iL2_4 = 1.0/(L2_4);
+    const double L_4 = sqrt(L2_4);
+    const double iL_4 = L_4*iL2_4;
+    const double u4_x = iL_4*l4_x;
+    const double u4_y = iL_4*l4_y;
+    const double u4_z = iL_4*l4_z;
+    const double r5_x = R_00*pp5_x + R_01*pp5_y + R_02*pp5_z;
+    const double r5_y = R_10*pp5_x + R_11*pp5_y + R_12*pp5_z;
+    const double r5_z = R_20*pp5_x + R_21*pp5_y + R_22*pp5_z;
+    const double l5_x = -b5_x + r5_x + x_0;
+    const double l5_y = -b5_y + r5_y + x_1;
+    const double l5_z = -b5_z + r5_z + x_2;
+    const double L2_5 = l5_x*l5_x + l5_y*l5_y + l5_z*l5_z;
+    const double iL2_5 = 1.0/(L2_5);
+    const double L_5 = sqrt(L2_5);
+    const double iL_5 = L_5*iL2_5;
+    const double u5_x = iL_5*l5_x;
+    const double u5_y = iL_5*l5_y;
+    const double u5_z = iL_5*l5_z;
+    const double qw_x = R_00*xd_5 - s_psi*xd_4;
+    const double qw_y = R_10*xd_5 + c_psi*xd_4;
+    const double qw_z = R_20*xd_5 + xd_3;
+    LLd[0] = L_0;
+    LLd[1] = L_1;
+    LLd[2] = L_2;
+    LLd[3] = L_3;
+    LLd[4] = L_4;
+    LLd[5] = L_5;
+    LLd[6] = qw_x*(r0_y*u0_z - r0_z*u0_y) + qw_y*(-r0_x*u0_z + r0_z*u0_x) + qw_z*(r0_x*u0_y - r0_y*u0_x) + u0_x*xd_0 + u0_y*xd_1 + u0_z*xd_2;
+    LLd[7] = qw_x*(r1_y*u1_z - r1_z*u1_y) + qw_y*(-r1_x*u1_z + r1_z*u1_x) + qw_z*(r1_x*u1_y - r1_y*u1_x) + u1_x*xd_0 + u1_y*xd_1 + u1_z*xd_2;
+    LLd[8] = qw_x*(r2_y*u2_z - r2_z*u2_y) + qw_y*(-r2_x*u2_z + r2_z*u2_x) + qw_z*(r2_x*u2_y - r2_y*u2_x) + u2_x*xd_0 + u2_y*xd_1 + u2_z*xd_2;
+    LLd[9] = qw_x*(r3_y*u3_z - r3_z*u3_y) + qw_y*(-r3_x*u3_z + r3_z*u3_x) + qw_z*(r3_x*u3_y - r3_y*u3_x) + u3_x*xd_0 + u3_y*xd_1 + u3_z*xd_2;
+    LLd[10] = qw_x*(r4_y*u4_z - r4_z*u4_y) + qw_y*(-r4_x*u4_z + r4_z*u4_x) + qw_z*(r4_x*u4_y - r4_y*u4_x) + u4_x*xd_0 + u4_y*xd_1 + u4_z*xd_2;
+    LLd[11] = qw_x*(r5_y*u5_z - r5_z*u5_y) + qw_y*(-r5_x*u5_z + r5_z*u5_x) + qw_z*(r5_x*u5_y - r5_y*u5_x) + u5_x*xd_0 + u5_y*xd_1 + u5_z*xd_2;
+    L2[0] = L2_0;
+    L2[1] = L2_1;
+    L2[2] = L2_2;
+    L2[3] = L2_3;
+    L2[4] = L2_4;
+    L2[5] = L2_5;
+}
+
 /* M = M_t T (eqs. 19, 39, 51, 61, 69), row-major. */
 static void kernel_mass_matrix_axisym(const stewart_params *p, const double *x, double *M, double *L2)
 {
@@ -11215,6 +11386,18 @@ int stewart_jacobian(const stewart_params *p, const double x[6], double JC[36])
     kernel_jacobian(p, x, JC, L2);
     status = check_legs(L2, NULL);
     return finish(status, JC, 36);
+}
+
+int stewart_leg_rates(const stewart_params *p, const double x[6], const double xd[6], double LLd[12])
+{
+    double L2[6];
+    int status = STEWART_OK;
+    if (!params_finite(p) || !all_finite(x, 6) || !all_finite(xd, 6)) {
+        return finish(STEWART_ERR_NONFINITE, LLd, 12);
+    }
+    kernel_leg_rates(p, x, xd, LLd, L2);
+    status = check_legs(L2, NULL);
+    return finish(status, LLd, 12);
 }
 
 int stewart_mass_matrix(const stewart_params *p, const double x[6], double M[36])

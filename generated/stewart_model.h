@@ -25,8 +25,8 @@
  *    axisymmetric kernels, which work for vertical legs; otherwise the frame
  *    {C_i} (y_C horizontal) is used, undefined for vertical legs.
  *
- * Arrays: x, xd, xdd, tau, L, G, Vxd: 6 doubles; JC, M, V: 36 doubles,
- * row-major.  Every function returns a status (STEWART_OK or an error); on
+ * Arrays: x, xd, xdd, tau, L, G, Vxd: 6 doubles; LLd: 12 doubles ([L; Ldot]);
+ * JC, M, V: 36 doubles, row-major.  Every function returns a status (STEWART_OK or an error); on
  * error all outputs are NaN.  Outputs may not alias inputs.
  */
 #ifndef STEWART_MODEL_H
@@ -84,6 +84,8 @@ int stewart_is_axisymmetric(const stewart_params *p);
 int stewart_leg_lengths(const stewart_params *p, const double x[6], double L[6]);
 /* J_C (eq. 5): Ldot = J_C t. */
 int stewart_jacobian(const stewart_params *p, const double x[6], double JC[36]);
+/* Leg lengths L and rates Ldot = J_C T xd in one pass: LLd = [L; Ldot]. */
+int stewart_leg_rates(const stewart_params *p, const double x[6], const double xd[6], double LLd[12]);
 /* M = M_t T. */
 int stewart_mass_matrix(const stewart_params *p, const double x[6], double M[36]);
 /* V(x, xd). */
@@ -100,6 +102,7 @@ int stewart_forward_dynamics(const stewart_params *p, const double x[6], const d
 /* Operation counts of the generated kernels (sympy count_ops after cse):
  *   leg_lengths                  192
  *   jacobian                     276
+ *   leg_rates                    350
  *   mass_matrix_axisym          1774
  *   mass_matrix_general         2045
  *   coriolis_matrix_axisym      5028

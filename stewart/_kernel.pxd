@@ -19,7 +19,7 @@ cdef class Kernel:
     cdef object _failed(self, str fname, tuple names, tuple arrays, cnp.ndarray out,
                         cnp.ndarray status, bint batch, bint return_mask)
     cdef int leg_lengths_c(self, const double *x, double *out) noexcept nogil
-    cdef int jacobian_c(self, const double *x, double *out) noexcept nogil
+    cdef int leg_rates_c(self, const double *x, const double *xd, double *L, double *Ld) noexcept nogil
     cdef int inverse_dynamics_c(self, const double *x, const double *xd, const double *xdd,
                                 double *out) noexcept nogil
     cdef int forward_dynamics_c(self, const double *x, const double *xd, const double *tau,

@@ -90,6 +90,7 @@ cdef class Kernel:
         cdef int failures = 0
         cdef cnp.npy_intp dims[3]
         cdef int nd = 0
+        cdef int width_row = width
 
         a0 = _states(names[0], values[0])
         a1 = _states(names[1], values[1]) if arity > 1 else a0
@@ -108,11 +109,12 @@ cdef class Kernel:
         if batch:
             dims[nd] = n
             nd += 1
-        dims[nd] = 6
-        nd += 1
         if width == 36:
             dims[nd] = 6
             nd += 1
+            width_row = 6
+        dims[nd] = width_row
+        nd += 1
         out = cnp.PyArray_EMPTY(nd, dims, cnp.NPY_DOUBLE, 0)
         status = cnp.PyArray_ZEROS(1, &n, cnp.NPY_INT, 0)
         p0 = <const double *>cnp.PyArray_DATA(a0)
@@ -168,8 +170,14 @@ cdef class Kernel:
     cdef int leg_lengths_c(self, const double *x, double *out) noexcept nogil:
         return stewart_leg_lengths(&self.p, x, out)
 
-    cdef int jacobian_c(self, const double *x, double *out) noexcept nogil:
-        return stewart_jacobian(&self.p, x, out)
+    cdef int leg_rates_c(self, const double *x, const double *xd, double *L, double *Ld) noexcept nogil:
+        cdef double out[12]
+        cdef int k
+        cdef int status = stewart_leg_rates(&self.p, x, xd, out)
+        for k in range(6):
+            L[k] = out[k]
+            Ld[k] = out[6 + k]
+        return status
 
     cdef int inverse_dynamics_c(self, const double *x, const double *xd, const double *xdd,
                                 double *out) noexcept nogil:
@@ -184,6 +192,13 @@ cdef class Kernel:
 
     def jacobian(self, x, *, return_mask=False):
         return self._run("jacobian", 1, <void *>stewart_jacobian, ("x",), (x,), 36, return_mask)
+
+    def leg_rates(self, x, xd, *, return_mask=False):
+        """``(L, Ldot)`` from the C function's one array ``[L; Ldot]`` per row."""
+        result = self._run("leg_rates", 2, <void *>stewart_leg_rates, ("x", "xd"), (x, xd), 12, return_mask)
+        out = result[0] if return_mask else result
+        rates = (np.ascontiguousarray(out[..., :6]), np.ascontiguousarray(out[..., 6:]))
+        return (rates, result[1]) if return_mask else rates
 
     def mass_matrix(self, x, *, return_mask=False):
         return self._run("mass_matrix", 1, <void *>stewart_mass_matrix, ("x",), (x,), 36, return_mask)

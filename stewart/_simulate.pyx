@@ -8,7 +8,7 @@ evaluations go to the compiled kernel (:class:`stewart._kernel.Kernel`).
 """
 
 cimport cython
-from libc.math cimport cos, fabs, isfinite, sin, tanh
+from libc.math cimport fabs, isfinite, tanh
 
 from ._kernel cimport Kernel, STEWART_OK
 
@@ -52,30 +52,6 @@ cdef class ClosedLoop:
         self.coulomb = coulomb
         self.coulomb_velocity = coulomb_velocity
 
-    cdef int leg_rates(self, const double *x, const double *xd, double *L, double *Ld) noexcept nogil:
-        """Leg lengths and ``Ldot = J_C T xdot`` (eqs. 4, 5, 8)."""
-        cdef double jc[36]
-        cdef double tw[6]
-        cdef int i, j, status
-        status = self.kernel.leg_lengths_c(x, L)
-        if status != STEWART_OK:
-            return status
-        status = self.kernel.jacobian_c(x, jc)
-        if status != STEWART_OK:
-            return status
-        cdef double sps = sin(x[3]), cps = cos(x[3]), sth = sin(x[4]), cth = cos(x[4])
-        tw[0] = xd[0]
-        tw[1] = xd[1]
-        tw[2] = xd[2]
-        tw[3] = -sps * xd[4] + cps * cth * xd[5]
-        tw[4] = cps * xd[4] + sps * cth * xd[5]
-        tw[5] = xd[3] - sth * xd[5]
-        for i in range(6):
-            Ld[i] = 0.0
-            for j in range(6):
-                Ld[i] += jc[6 * i + j] * tw[j]
-        return STEWART_OK
-
     cdef int rhs(self, const double *y, const double *ref, const double *feedforward,
                  double *ydot, double *force, double *L, double *Ld) noexcept nogil:
         """``ydot`` at ``y`` for the reference ``ref = [x_r, xdot_r, xddot_r]``; also the
@@ -85,11 +61,11 @@ cdef class ClosedLoop:
         cdef double acc[6]
         cdef double applied[6]
         cdef int k, status
-        status = self.leg_rates(y, y + 6, L, Ld)
+        status = self.kernel.leg_rates_c(y, y + 6, L, Ld)
         if status != STEWART_OK:
             return status
         if self.mode == PID:
-            status = self.leg_rates(ref, ref + 6, Lr, Ldr)
+            status = self.kernel.leg_rates_c(ref, ref + 6, Lr, Ldr)
             if status != STEWART_OK:
                 return status
             for k in range(6):

@@ -70,6 +70,11 @@ class Platform:
         """``J_C`` (eq. 5): ``Ldot = J_C [v; omega]``, shape ``(..., 6, 6)``."""
         return self._kernel.jacobian(x, return_mask=return_mask)
 
+    def leg_rates(self, x, xd, *, return_mask=False):
+        """Leg lengths and rates ``(L, Ldot)`` in one pass: ``L_i = |l_i|`` (eq. 26) and
+        ``Ldot = J_C T xdot`` (eqs. 5, 8, 18), each of shape ``(..., 6)``."""
+        return self._kernel.leg_rates(x, xd, return_mask=return_mask)
+
     def mass_matrix(self, x, *, return_mask=False):
         """``M = sum_b J_b^T I_b J_b T`` (eqs. 22, 40, 52, 62, 70); multiplies ``xddot``."""
         return self._kernel.mass_matrix(x, return_mask=return_mask)

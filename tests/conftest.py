@@ -95,6 +95,7 @@ def random_params(rng, axisymmetric=True):
 PLATFORM_METHODS = {
     "leg_lengths": ("x",),
     "jacobian": ("x",),
+    "leg_rates": ("x", "xd"),
     "mass_matrix": ("x",),
     "gravity_vector": ("x",),
     "coriolis_matrix": ("x", "xd"),

@@ -186,7 +186,8 @@ def kept_contract(call, names, mask=False):
     if mask:
         values, ok = result
         ok = np.asarray(ok).reshape(-1)
-        rows = values.reshape(ok.size, values.size // max(ok.size, 1))
+        rows = np.concatenate([np.reshape(v, (ok.size, np.size(v) // max(ok.size, 1))) for v in _arrays_in(values)],
+                              axis=1)
         assert np.all(np.isfinite(rows[ok])), "a row marked ok is not finite"
         assert np.all(np.isnan(rows[~ok])), "a failed row is not NaN"
     else:

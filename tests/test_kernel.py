@@ -51,6 +51,36 @@ def test_kernel_matches_reference(label, params, figures):
     figures(f"kernel vs reference, all functions ({label})", worst, 1e-10)
 
 
+def test_leg_rates_match_the_numpy_kinematics(figures):
+    rng = np.random.default_rng(26)
+    worst = 0.0
+    for label, params in _param_sets():
+        x, xd, _ = random_states(params, 300, rng)
+        plat = stewart.Platform(params)
+        L, Ld = plat.leg_rates(x, xd)
+        worst = max(worst, relative_error(L, stewart.kinematics.leg_lengths(params, x)),
+                    relative_error(Ld, stewart.kinematics.leg_velocities(params, x, xd)))
+        # One state at a time gives the rows of the batch.
+        single = plat.leg_rates(x[0], xd[0])
+        np.testing.assert_array_equal(single[0], L[0])
+        np.testing.assert_array_equal(single[1], Ld[0])
+    figures("kernel leg_rates vs numpy leg_lengths, leg_velocities (all parameter sets)", worst, 1e-12)
+
+
+def test_leg_rates_report_a_zero_length_leg():
+    params = stewart.PlatformParams.preset("narayan2017")
+    plat = stewart.Platform(params)
+    home, xd = plat.home_pose, np.ones(6)
+    # Platform point 0 on base point 0 (no rotation): leg 0 has zero length.
+    collapsed = np.concatenate([np.asarray(params.base_points[0]) - np.asarray(params.platform_points[0]), np.zeros(3)])
+    with pytest.raises(stewart.SingularityError, match=r"leg_rates: a leg has zero length at row\(s\) \[1\]"):
+        plat.leg_rates(np.stack([home, collapsed]), xd)
+    (L, Ld), ok = plat.leg_rates(np.stack([home, collapsed, home]), xd, return_mask=True)
+    assert ok.tolist() == [True, False, True] and L.shape == Ld.shape == (3, 6)
+    assert np.all(np.isnan(L[1])) and np.all(np.isnan(Ld[1]))
+    np.testing.assert_array_equal(L[0], plat.leg_lengths(home))
+
+
 def test_forward_inverse_round_trip(preset_params, figures):
     rng = np.random.default_rng(22)
     plat = stewart.Platform(preset_params)

@@ -53,6 +53,9 @@ int main(void) {
         general += !stewart_is_axisymmetric(p);
         st = stewart_leg_lengths(p, rc->x, out);
         check_values("leg_lengths", rc->name, st, out, rc->L, 6, &worst);
+        st = stewart_leg_rates(p, rc->x, rc->xd, out);
+        check_values("leg_rates: L", rc->name, st, out, rc->L, 6, &worst);
+        check_values("leg_rates: Ldot", rc->name, st, out + 6, rc->Ld, 6, &worst);
         st = stewart_jacobian(p, rc->x, out);
         check_values("jacobian", rc->name, st, out, rc->JC, 36, &worst);
         st = stewart_mass_matrix(p, rc->x, out);
