@@ -421,6 +421,15 @@ def mass_matrix_kernel(axisymmetric):
                       [('M', list(M))] + _leg_checks(kin, axisymmetric))
 
 
+def twist_mass_matrix_kernel(axisymmetric):
+    g = Graph({})
+    kin = kinematics(g, PARAMS, leg_frames=not axisymmetric)
+    Mt = twist_mass_matrix(g, PARAMS, kin, axisymmetric)
+    return KernelSpec(f'twist_mass_matrix_{_variant(axisymmetric)}',
+                      'M_t = sum_b J_b^T I_b J_b (eqs. 19, 39, 51, 61, 69), symmetric, row-major.', g,
+                      [('x', X)], [('Mt', list(Mt))] + _leg_checks(kin, axisymmetric))
+
+
 def coriolis_vector_kernel(axisymmetric):
     g = Graph({x: xd for x, xd in zip(X, XD)})
     kin = kinematics(g, PARAMS, leg_frames=not axisymmetric)
@@ -520,6 +529,8 @@ FUNCTIONS = (
     Function('leg_rates', 'Leg lengths L and rates Ldot = J_C T xd in one pass: LLd = [L; Ldot].',
              ('x', 'xd'), 'LLd', 12, (leg_rates_kernel,)),
     Function('mass_matrix', 'M = M_t T.', ('x',), 'M', 36, _variants(mass_matrix_kernel)),
+    Function('twist_mass_matrix', 'M_t, the symmetric positive definite twist-space mass matrix: M = M_t T.',
+             ('x',), 'Mt', 36, _variants(twist_mass_matrix_kernel)),
     Function('coriolis_matrix', 'V(x, xd).', ('x', 'xd'), 'V', 36, _variants(coriolis_matrix_kernel)),
     Function('coriolis_vector', 'V xd without forming V.', ('x', 'xd'), 'Vxd', 6,
              _variants(coriolis_vector_kernel)),

@@ -26,7 +26,7 @@
  *    {C_i} (y_C horizontal) is used, undefined for vertical legs.
  *
  * Arrays: x, xd, xdd, tau, L, G, Vxd: 6 doubles; LLd: 12 doubles ([L; Ldot]);
- * JC, M, V: 36 doubles, row-major.  Every function returns a status (STEWART_OK or an error); on
+ * JC, M, Mt, V: 36 doubles, row-major.  Every function returns a status (STEWART_OK or an error); on
  * error all outputs are NaN.  Outputs may not alias inputs.
  */
 #ifndef STEWART_MODEL_H
@@ -88,6 +88,8 @@ int stewart_jacobian(const stewart_params *p, const double x[6], double JC[36]);
 int stewart_leg_rates(const stewart_params *p, const double x[6], const double xd[6], double LLd[12]);
 /* M = M_t T. */
 int stewart_mass_matrix(const stewart_params *p, const double x[6], double M[36]);
+/* M_t, the symmetric positive definite twist-space mass matrix: M = M_t T. */
+int stewart_twist_mass_matrix(const stewart_params *p, const double x[6], double Mt[36]);
 /* V(x, xd). */
 int stewart_coriolis_matrix(const stewart_params *p, const double x[6], const double xd[6], double V[36]);
 /* V xd without forming V. */
@@ -100,20 +102,22 @@ int stewart_inverse_dynamics(const stewart_params *p, const double x[6], const d
 int stewart_forward_dynamics(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double xdd[6]);
 
 /* Operation counts of the generated kernels (sympy count_ops after cse):
- *   leg_lengths                  192
- *   jacobian                     276
- *   leg_rates                    350
- *   mass_matrix_axisym          1774
- *   mass_matrix_general         2045
- *   coriolis_matrix_axisym      5028
- *   coriolis_matrix_general     6703
- *   coriolis_vector_axisym      1688
- *   coriolis_vector_general     2187
- *   gravity_vector               414
- *   inverse_dynamics_axisym     1781
- *   inverse_dynamics_general    2280
- *   forward_dynamics_axisym     3299
- *   forward_dynamics_general    3990
+ *   leg_lengths                   192
+ *   jacobian                      276
+ *   leg_rates                     350
+ *   mass_matrix_axisym           1774
+ *   mass_matrix_general          2045
+ *   twist_mass_matrix_axisym     1726
+ *   twist_mass_matrix_general    1997
+ *   coriolis_matrix_axisym       5028
+ *   coriolis_matrix_general      6703
+ *   coriolis_vector_axisym       1688
+ *   coriolis_vector_general      2187
+ *   gravity_vector                414
+ *   inverse_dynamics_axisym      1781
+ *   inverse_dynamics_general     2280
+ *   forward_dynamics_axisym      3299
+ *   forward_dynamics_general     3990
  */
 
 #ifdef __cplusplus

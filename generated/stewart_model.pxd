@@ -29,6 +29,7 @@ cdef extern from "stewart_model.h" nogil:
     int stewart_jacobian(const stewart_params *p, const double *x, double *JC)
     int stewart_leg_rates(const stewart_params *p, const double *x, const double *xd, double *LLd)
     int stewart_mass_matrix(const stewart_params *p, const double *x, double *M)
+    int stewart_twist_mass_matrix(const stewart_params *p, const double *x, double *Mt)
     int stewart_coriolis_matrix(const stewart_params *p, const double *x, const double *xd, double *V)
     int stewart_coriolis_vector(const stewart_params *p, const double *x, const double *xd, double *Vxd)
     int stewart_gravity_vector(const stewart_params *p, const double *x, double *G)

@@ -203,6 +203,10 @@ cdef class Kernel:
     def mass_matrix(self, x, *, return_mask=False):
         return self._run("mass_matrix", 1, <void *>stewart_mass_matrix, ("x",), (x,), 36, return_mask)
 
+    def twist_mass_matrix(self, x, *, return_mask=False):
+        return self._run("twist_mass_matrix", 1, <void *>stewart_twist_mass_matrix, ("x",), (x,), 36,
+                         return_mask)
+
     def gravity_vector(self, x, *, return_mask=False):
         return self._run("gravity_vector", 1, <void *>stewart_gravity_vector, ("x",), (x,), 6, return_mask)
 

@@ -7,7 +7,7 @@ kernel must obey.
 * :func:`energy` — the mechanical energy written out from the bodies (section 3), and with
   it :func:`power_balance` (``dE/dt = tau . Ldot``) and :func:`energy_drift` (conservation
   with ``tau = 0``);
-* :func:`twist_mass_matrix_figures` — symmetry and definiteness of ``M T^-1``;
+* :func:`twist_mass_matrix_figures` — ``M = M_t T`` and the definiteness of ``M_t``;
 * :func:`statics_residuals` — the static balance of the Newton-Euler joint forces.
 
 (The arguments of the public functions are checked by :mod:`stewart._checks`; these are
@@ -110,17 +110,16 @@ def power_balance(params: PlatformParams, x, xd, xdd, tau) -> float:
 
 
 def twist_mass_matrix_figures(platform: Platform, x) -> tuple[float, float]:
-    """``(asymmetry, condition)`` of the twist-space mass matrix ``M T^-1`` (the kinetic
-    energy's Hessian in twist space) over the poses ``x``: the worst asymmetry relative to
-    the largest entry, and the worst condition number of its symmetric part (``inf`` where
-    that is not positive definite)."""
-    m_twist = platform.mass_matrix(x) @ np.linalg.inv(kinematics.twist_transform(x))
-    asym = np.max(np.abs(m_twist - np.swapaxes(m_twist, -1, -2)), axis=(-1, -2))
-    asym = asym / np.max(np.abs(m_twist), axis=(-1, -2))
-    eig = np.linalg.eigvalsh(0.5 * (m_twist + np.swapaxes(m_twist, -1, -2)))
+    """``(mismatch, condition)`` of the kernel's twist-space mass matrix ``M_t`` (the kinetic
+    energy's Hessian in twist space) over the poses ``x``: the worst error of ``M_t T``
+    (eq. 18) relative to the mass matrix ``M``, and the worst condition number of ``M_t``
+    (``inf`` where it is not positive definite)."""
+    m_twist = platform.twist_mass_matrix(x)
+    mismatch = relative_error(m_twist @ kinematics.twist_transform(x), platform.mass_matrix(x))
+    eig = np.linalg.eigvalsh(m_twist)
     positive = eig[..., 0] > 0.0
     cond = np.where(positive, eig[..., -1] / np.where(positive, eig[..., 0], 1.0), np.inf)
-    return float(np.max(asym)), float(np.max(cond))
+    return mismatch, float(np.max(cond))
 
 
 def _free_motion_start(params: PlatformParams, rng: np.random.Generator):

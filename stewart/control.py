@@ -73,21 +73,16 @@ def _tuned_gains(bandwidth_hz: float, **gains: np.ndarray) -> dict[str, np.ndarr
 
 def leg_masses(platform, x=None) -> np.ndarray:
     """Effective mass each actuator moves at pose ``x`` (default home): the diagonal of the
-    leg-space mass matrix ``J_C^-T M_t J_C^-1``, with ``M_t = M T^-1`` the twist-space
-    mass matrix."""
-    from .kinematics import twist_transform
-
+    leg-space mass matrix ``J_C^-T M_t J_C^-1``, with ``M_t`` the twist-space mass matrix."""
     platform = _platform(platform)
     x = platform.home_pose if x is None else _checks.states("x", x)
     if x.shape != (6,):
         raise ValueError(f"x: expected one pose, shape (6,), got {x.shape}")
     jac = platform.jacobian(x)
     _checks.regular_jacobian(jac)
-    _checks.regular_euler_rates(x)
     with np.errstate(over="ignore", invalid="ignore"):
         jac_inv = np.linalg.inv(jac)
-        m_twist = platform.mass_matrix(x) @ np.linalg.inv(twist_transform(x))
-        masses = np.diag(jac_inv.T @ m_twist @ jac_inv).copy()
+        masses = np.diag(jac_inv.T @ platform.twist_mass_matrix(x) @ jac_inv).copy()
     return _checks.finite_result("leg_masses", masses, x)
 
 

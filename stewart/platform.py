@@ -79,6 +79,11 @@ class Platform:
         """``M = sum_b J_b^T I_b J_b T`` (eqs. 22, 40, 52, 62, 70); multiplies ``xddot``."""
         return self._kernel.mass_matrix(x, return_mask=return_mask)
 
+    def twist_mass_matrix(self, x, *, return_mask=False):
+        """The twist-space mass matrix ``M_t = sum_b J_b^T I_b J_b`` (eqs. 19, 39, 51, 61,
+        69), symmetric positive definite, with ``M = M_t T`` (eq. 18); shape ``(..., 6, 6)``."""
+        return self._kernel.twist_mass_matrix(x, return_mask=return_mask)
+
     def coriolis_matrix(self, x, xd, *, return_mask=False):
         """``V = sum_b J_b^T d/dt(I_b J_b T)`` (eqs. 23, 41, 53, 63, 71)."""
         return self._kernel.coriolis_matrix(x, xd, return_mask=return_mask)

@@ -97,6 +97,7 @@ PLATFORM_METHODS = {
     "jacobian": ("x",),
     "leg_rates": ("x", "xd"),
     "mass_matrix": ("x",),
+    "twist_mass_matrix": ("x",),
     "gravity_vector": ("x",),
     "coriolis_matrix": ("x", "xd"),
     "coriolis_vector": ("x", "xd"),

@@ -81,6 +81,18 @@ def test_leg_rates_report_a_zero_length_leg():
     np.testing.assert_array_equal(L[0], plat.leg_lengths(home))
 
 
+def test_twist_mass_matrix_is_the_references_m_t_inverse_and_positive_definite(figures):
+    rng = np.random.default_rng(27)
+    worst = 0.0
+    for label, params in _param_sets():
+        x, _, _ = random_states(params, 100, rng)
+        m_twist = stewart.Platform(params).twist_mass_matrix(x)
+        worst = max(worst, relative_error(m_twist, ref.mass_matrix(params, x) @ np.linalg.inv(stewart.twist_transform(x))))
+        np.testing.assert_array_equal(m_twist, np.swapaxes(m_twist, -1, -2))
+        assert np.all(np.linalg.eigvalsh(m_twist)[:, 0] > 0), label
+    figures("kernel twist_mass_matrix vs reference M T^-1 (all parameter sets)", worst, 1e-12)
+
+
 def test_forward_inverse_round_trip(preset_params, figures):
     rng = np.random.default_rng(22)
     plat = stewart.Platform(preset_params)

@@ -50,7 +50,9 @@ def main() -> None:
                 capi.params_initializer(params), _array(x), _array(xd), _array(xdd), _array(tau),
                 _array(stewart.leg_lengths(params, x)), _array(stewart.leg_velocities(params, x, xd)),
                 _array(stewart.jacobian(params, x)),
-                _array(ref.mass_matrix(params, x)), _array(ref.coriolis_matrix(params, x, xd)),
+                _array(ref.mass_matrix(params, x)),
+                _array(ref.mass_matrix(params, x) @ np.linalg.inv(stewart.twist_transform(x))),
+                _array(ref.coriolis_matrix(params, x, xd)),
                 _array(ref.coriolis_vector(params, x, xd)), _array(ref.gravity_vector(params, x)),
             ]
             cases.append(f"    {{\"{name}\",\n     " + ",\n     ".join(fields) + "}")
@@ -60,7 +62,7 @@ def main() -> None:
         "typedef struct {\n"
         "    const char *name;\n    stewart_params params;\n"
         "    double x[6], xd[6], xdd[6], tau[6];\n"
-        "    double L[6], Ld[6], JC[36], M[36], V[36], Vxd[6], G[6];\n"
+        "    double L[6], Ld[6], JC[36], M[36], Mt[36], V[36], Vxd[6], G[6];\n"
         "} reference_case;\n\n"
         f"static const reference_case CASES[{len(cases)}] = {{\n" + ",\n".join(cases) + "\n};\n"
     )

@@ -60,6 +60,8 @@ int main(void) {
         check_values("jacobian", rc->name, st, out, rc->JC, 36, &worst);
         st = stewart_mass_matrix(p, rc->x, out);
         check_values("mass_matrix", rc->name, st, out, rc->M, 36, &worst);
+        st = stewart_twist_mass_matrix(p, rc->x, out);
+        check_values("twist_mass_matrix", rc->name, st, out, rc->Mt, 36, &worst);
         st = stewart_coriolis_matrix(p, rc->x, rc->xd, out);
         check_values("coriolis_matrix", rc->name, st, out, rc->V, 36, &worst);
         st = stewart_coriolis_vector(p, rc->x, rc->xd, out);
