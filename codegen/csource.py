@@ -60,7 +60,7 @@ HEADER = r'''/* stewart_model.h -- dynamic model of a 6-DOF Stewart platform.
  *    {C_i} (y_C horizontal) is used, undefined for vertical legs.
  *
  * Arrays: x, xd, xdd, tau, L, G, Vxd: 6 doubles; LLd: 12 doubles ([L; Ldot]);
- * JC, M, Mt, V: 36 doubles, row-major.  Every function returns a status (STEWART_OK or an error); on
+ * JC, M, Mt, V: 36 doubles, row-major; terms: 84 doubles ([M; Vxd; G; JC]).  Every function returns a status (STEWART_OK or an error); on
  * error all outputs are NaN.  Outputs may not alias inputs.
  */
 #ifndef STEWART_MODEL_H

@@ -401,13 +401,17 @@ def leg_rates_kernel():
                       [('LLd', [leg.L for leg in kin.legs] + list(Ld))] + _leg_checks(kin, True))
 
 
+def gravity_force(g, P, kin):
+    """G = sum_b J_b^T m_b g e_z (eqs. 72-76)."""
+    w_P, w_C, w_S = _gravity_forces(P, True)
+    return generalized_force(P, kin, sp.Matrix.vstack(w_P, sp.zeros(3, 1)),
+                             [(w_C, w_S, sp.zeros(3, 1))] * NUM_LEGS, g, 'g')
+
+
 def gravity_kernel():
     g = Graph({})
-    P = PARAMS
-    kin = kinematics(g, P)
-    w_P, w_C, w_S = _gravity_forces(P, True)
-    G = generalized_force(P, kin, sp.Matrix.vstack(w_P, sp.zeros(3, 1)),
-                          [(w_C, w_S, sp.zeros(3, 1))] * NUM_LEGS, g, 'g')
+    kin = kinematics(g, PARAMS)
+    G = gravity_force(g, PARAMS, kin)
     return KernelSpec('gravity_vector', 'G = sum_b J_b^T m_b g e_z (eqs. 72-76).', g,
                       [('x', X)], [('G', list(G))] + _leg_checks(kin, True))
 
@@ -466,6 +470,22 @@ def inverse_dynamics_kernel(axisymmetric):
                       'W = M xdd + V xd + G and J_C (to solve J_C^T tau = W).', g,
                       [('x', X), ('xd', XD), ('xdd', XDD)],
                       [('W', list(W)), ('JC', list(jacobian_rows(kin)))]
+                      + _leg_checks(kin, axisymmetric))
+
+
+def all_terms_kernel(axisymmetric):
+    """M = M_t T, V xd, G and J_C of one state, from one pass over its geometry: the terms
+    of M xdd + V xd + G = J_C^T tau (eqs. 5, 19, 39, 51, 61, 69, 72-76)."""
+    g = Graph({x: xd for x, xd in zip(X, XD)})
+    P = PARAMS
+    kin = kinematics(g, P, leg_frames=not axisymmetric)
+    M = twist_mass_matrix(g, P, kin, axisymmetric) * euler_map(kin)
+    v, omega = twist(g, kin, XD, 'q')
+    Vxd = momentum_rate_force(g, P, kin, momenta(g, P, kin, v, omega, axisymmetric, 'q'), False, 'q')
+    G = gravity_force(g, P, kin)
+    return KernelSpec(f'all_terms_{_variant(axisymmetric)}', all_terms_kernel.__doc__ + ' Row-major.', g,
+                      [('x', X), ('xd', XD)],
+                      [('terms', list(M) + list(Vxd) + list(G) + list(jacobian_rows(kin)))]
                       + _leg_checks(kin, axisymmetric))
 
 
@@ -535,6 +555,8 @@ FUNCTIONS = (
     Function('coriolis_vector', 'V xd without forming V.', ('x', 'xd'), 'Vxd', 6,
              _variants(coriolis_vector_kernel)),
     Function('gravity_vector', 'G(x).', ('x',), 'G', 6, (gravity_kernel,)),
+    Function('all_terms', 'M, V xd, G and J_C in one pass: terms = [M (36); Vxd (6); G (6); JC (36)].',
+             ('x', 'xd'), 'terms', 84, _variants(all_terms_kernel)),
     Function('inverse_dynamics', 'tau = J_C^-T (M xdd + V xd + G).', ('x', 'xd', 'xdd'), 'tau', 6,
              _variants(inverse_dynamics_kernel), steps=(('solve_transposed', ('JC', 'W', 'tau')),)),
     Function('forward_dynamics', 'xdd = M^-1 (J_C^T tau - V xd - G); needs cos(theta) != 0.',

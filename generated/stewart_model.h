@@ -26,7 +26,7 @@
  *    {C_i} (y_C horizontal) is used, undefined for vertical legs.
  *
  * Arrays: x, xd, xdd, tau, L, G, Vxd: 6 doubles; LLd: 12 doubles ([L; Ldot]);
- * JC, M, Mt, V: 36 doubles, row-major.  Every function returns a status (STEWART_OK or an error); on
+ * JC, M, Mt, V: 36 doubles, row-major; terms: 84 doubles ([M; Vxd; G; JC]).  Every function returns a status (STEWART_OK or an error); on
  * error all outputs are NaN.  Outputs may not alias inputs.
  */
 #ifndef STEWART_MODEL_H
@@ -96,6 +96,8 @@ int stewart_coriolis_matrix(const stewart_params *p, const double x[6], const do
 int stewart_coriolis_vector(const stewart_params *p, const double x[6], const double xd[6], double Vxd[6]);
 /* G(x). */
 int stewart_gravity_vector(const stewart_params *p, const double x[6], double G[6]);
+/* M, V xd, G and J_C in one pass: terms = [M (36); Vxd (6); G (6); JC (36)]. */
+int stewart_all_terms(const stewart_params *p, const double x[6], const double xd[6], double terms[84]);
 /* tau = J_C^-T (M xdd + V xd + G). */
 int stewart_inverse_dynamics(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6]);
 /* xdd = M^-1 (J_C^T tau - V xd - G); needs cos(theta) != 0. */
@@ -114,6 +116,8 @@ int stewart_forward_dynamics(const stewart_params *p, const double x[6], const d
  *   coriolis_vector_axisym       1688
  *   coriolis_vector_general      2187
  *   gravity_vector                414
+ *   all_terms_axisym             3435
+ *   all_terms_general            4126
  *   inverse_dynamics_axisym      1781
  *   inverse_dynamics_general     2280
  *   forward_dynamics_axisym      3299

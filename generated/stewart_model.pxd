@@ -33,6 +33,7 @@ cdef extern from "stewart_model.h" nogil:
     int stewart_coriolis_matrix(const stewart_params *p, const double *x, const double *xd, double *V)
     int stewart_coriolis_vector(const stewart_params *p, const double *x, const double *xd, double *Vxd)
     int stewart_gravity_vector(const stewart_params *p, const double *x, double *G)
+    int stewart_all_terms(const stewart_params *p, const double *x, const double *xd, double *terms)
     int stewart_inverse_dynamics(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *tau)
     int stewart_forward_dynamics(const stewart_params *p, const double *x, const double *xd, const double *tau, double *xdd)
 

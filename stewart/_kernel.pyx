@@ -65,6 +65,18 @@ cdef inline bint _finite6(const double *v) noexcept nogil:
     return True
 
 
+cdef object _parts(object result, bint return_mask, tuple sizes):
+    """Split the rows of a C function's one output array into its parts of ``sizes``
+    doubles (36: a 6 x 6 matrix), each C-contiguous; ``result`` is as ``Kernel._run`` returns."""
+    out = result[0] if return_mask else result
+    parts, start = [], 0
+    for size in sizes:
+        part = out[..., start:start + size]
+        parts.append(np.ascontiguousarray(part.reshape(part.shape[:-1] + (6, 6)) if size == 36 else part))
+        start += size
+    return (tuple(parts), result[1]) if return_mask else tuple(parts)
+
+
 @cython.final
 cdef class Kernel:
     """The compiled model for one parameter set. ``threads`` > 1 splits batches over
@@ -195,10 +207,13 @@ cdef class Kernel:
 
     def leg_rates(self, x, xd, *, return_mask=False):
         """``(L, Ldot)`` from the C function's one array ``[L; Ldot]`` per row."""
-        result = self._run("leg_rates", 2, <void *>stewart_leg_rates, ("x", "xd"), (x, xd), 12, return_mask)
-        out = result[0] if return_mask else result
-        rates = (np.ascontiguousarray(out[..., :6]), np.ascontiguousarray(out[..., 6:]))
-        return (rates, result[1]) if return_mask else rates
+        return _parts(self._run("leg_rates", 2, <void *>stewart_leg_rates, ("x", "xd"), (x, xd), 12, return_mask),
+                      return_mask, (6, 6))
+
+    def all_terms(self, x, xd, *, return_mask=False):
+        """``(M, V xd, G, J_C)`` from the C function's one array ``[M; Vxd; G; JC]`` per row."""
+        return _parts(self._run("all_terms", 2, <void *>stewart_all_terms, ("x", "xd"), (x, xd), 84, return_mask),
+                      return_mask, (36, 6, 6, 36))
 
     def mass_matrix(self, x, *, return_mask=False):
         return self._run("mass_matrix", 1, <void *>stewart_mass_matrix, ("x",), (x,), 36, return_mask)

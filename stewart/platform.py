@@ -2,13 +2,25 @@
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from . import kinematics, newton_euler
 from ._kernel import Kernel
 from .params import PlatformParams, checked_params
 
-__all__ = ["Platform"]
+__all__ = ["Platform", "AllTerms"]
+
+
+class AllTerms(NamedTuple):
+    """The terms of the equation of motion ``M xddot + V xdot + G = J_C^T tau`` at one state
+    or a batch (:meth:`Platform.all_terms`)."""
+
+    mass_matrix: np.ndarray
+    coriolis_vector: np.ndarray
+    gravity_vector: np.ndarray
+    jacobian: np.ndarray
 
 
 class Platform:
@@ -95,6 +107,13 @@ class Platform:
     def gravity_vector(self, x, *, return_mask=False):
         """``G`` (eqs. 72-76), computed as ``sum_b m_b g J_b^T e_z``."""
         return self._kernel.gravity_vector(x, return_mask=return_mask)
+
+    def all_terms(self, x, xd, *, return_mask=False):
+        """The mass matrix ``M = M_t T``, ``V xdot``, ``G`` and ``J_C`` (eqs. 5, 19, 39, 51,
+        61, 69, 72-76) from one pass over the state's geometry, as an :class:`AllTerms`
+        (like Pinocchio's ``computeAllTerms``); each equals the method of its name."""
+        result = self._kernel.all_terms(x, xd, return_mask=return_mask)
+        return (AllTerms(*result[0]), result[1]) if return_mask else AllTerms(*result)
 
     def inverse_dynamics(self, x, xd, xdd, *, return_mask=False):
         """Actuator forces along the legs [N]: ``tau = J_C^-T (M xddot + V xdot + G)``."""

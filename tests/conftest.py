@@ -101,6 +101,7 @@ PLATFORM_METHODS = {
     "gravity_vector": ("x",),
     "coriolis_matrix": ("x", "xd"),
     "coriolis_vector": ("x", "xd"),
+    "all_terms": ("x", "xd"),
     "inverse_dynamics": ("x", "xd", "xdd"),
     "forward_dynamics": ("x", "xd", "tau"),
     "joint_reactions": ("x", "xd", "xdd"),

@@ -93,6 +93,24 @@ def test_twist_mass_matrix_is_the_references_m_t_inverse_and_positive_definite(f
     figures("kernel twist_mass_matrix vs reference M T^-1 (all parameter sets)", worst, 1e-12)
 
 
+def test_all_terms_equal_the_separate_calls(figures):
+    rng = np.random.default_rng(28)
+    worst = 0.0
+    for label, params in _param_sets():
+        x, xd, _ = random_states(params, 100, rng)
+        plat = stewart.Platform(params)
+        terms = plat.all_terms(x, xd)
+        assert terms._fields == ("mass_matrix", "coriolis_vector", "gravity_vector", "jacobian")
+        worst = max(worst, relative_error(terms.mass_matrix, plat.mass_matrix(x)),
+                    relative_error(terms.coriolis_vector, plat.coriolis_vector(x, xd)),
+                    relative_error(terms.gravity_vector, plat.gravity_vector(x)),
+                    relative_error(terms.jacobian, plat.jacobian(x)))
+        single = plat.all_terms(x[0], xd[0])
+        for got, batch in zip(single, terms):
+            np.testing.assert_array_equal(got, batch[0])
+    figures("kernel all_terms vs the separate kernels (all parameter sets)", worst, 1e-14)
+
+
 def test_forward_inverse_round_trip(preset_params, figures):
     rng = np.random.default_rng(22)
     plat = stewart.Platform(preset_params)

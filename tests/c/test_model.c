@@ -48,7 +48,7 @@ int main(void) {
     for (int c = 0; c < NCASES; ++c) {
         const reference_case *rc = &CASES[c];
         const stewart_params *p = &rc->params;
-        double out[36];
+        double out[36], terms[84];
         int st;
         general += !stewart_is_axisymmetric(p);
         st = stewart_leg_lengths(p, rc->x, out);
@@ -68,6 +68,11 @@ int main(void) {
         check_values("coriolis_vector", rc->name, st, out, rc->Vxd, 6, &worst);
         st = stewart_gravity_vector(p, rc->x, out);
         check_values("gravity_vector", rc->name, st, out, rc->G, 6, &worst);
+        st = stewart_all_terms(p, rc->x, rc->xd, terms);
+        check_values("all_terms: M", rc->name, st, terms, rc->M, 36, &worst);
+        check_values("all_terms: Vxd", rc->name, st, terms + 36, rc->Vxd, 6, &worst);
+        check_values("all_terms: G", rc->name, st, terms + 42, rc->G, 6, &worst);
+        check_values("all_terms: JC", rc->name, st, terms + 48, rc->JC, 36, &worst);
         st = stewart_inverse_dynamics(p, rc->x, rc->xd, rc->xdd, out);
         check_values("inverse_dynamics", rc->name, st, out, rc->tau, 6, &worst);
         st = stewart_forward_dynamics(p, rc->x, rc->xd, rc->tau, out);
