@@ -1,7 +1,9 @@
 """CLI: regenerate generated/stewart_model.h, stewart_model.c and stewart_model.pxd."""
 
 import argparse
+import os
 import time
+from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 from . import csource, emit, model, pxd, schema
@@ -25,25 +27,39 @@ def _write_if_changed(path, text):
     return True
 
 
+def _function(index):
+    """Derive and emit the kernels of `model.FUNCTIONS[index]` and write its public C function:
+    (its emitted kernels, their derivation and emission times, its public C text)."""
+    function = model.FUNCTIONS[index]
+    members = model.PARAMS.members()
+    kernels, emitted, times = [], [], []
+    for build in function.kernels:
+        kernel, t_derive = _timed(build)
+        result, t_emit = _timed(emit.emit_kernel, kernel, members)
+        kernels.append(kernel)
+        emitted.append(result)
+        times.append((t_derive, t_emit))
+    return emitted, times, csource.public_function(function, kernels)
+
+
 def main(argv=None):
     parser = argparse.ArgumentParser(prog='python -m codegen', description=__doc__)
     parser.add_argument('--out', type=Path, default=DEFAULT_OUT,
                         help='output directory (default: %(default)s)')
+    parser.add_argument('--jobs', type=int, default=os.cpu_count() or 1,
+                        help='processes deriving the functions side by side (default: %(default)s)')
     args = parser.parse_args(argv)
 
     total = time.perf_counter()
-    members = model.PARAMS.members()
     emitted, public = [], []
-    for function in model.FUNCTIONS:
-        kernels = []
-        for build in function.kernels:
-            kernel, t_derive = _timed(build)
-            result, t_emit = _timed(emit.emit_kernel, kernel, members)
-            kernels.append(kernel)
-            emitted.append(result)
-            print(f'[codegen] {kernel.name:<28} derive {t_derive:5.2f} s, cse+C {t_emit:5.2f} s,'
-                  f' {result.ops:5d} ops', flush=True)
-        public.append(csource.public_function(function, kernels))
+    # The functions are independent: derive them side by side, collect them in their order.
+    with ProcessPoolExecutor(max(1, args.jobs)) as pool:
+        for kernels, times, text in pool.map(_function, range(len(model.FUNCTIONS))):
+            for result, (t_derive, t_emit) in zip(kernels, times):
+                print(f'[codegen] {result.name:<28} derive {t_derive:5.2f} s, cse+C {t_emit:5.2f} s,'
+                      f' {result.ops:5d} ops', flush=True)
+            emitted += kernels
+            public.append(text)
 
     start = time.perf_counter()
     args.out.mkdir(parents=True, exist_ok=True)
