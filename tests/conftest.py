@@ -1,5 +1,7 @@
 """Shared fixtures. ``figures`` records the figure each check reached; they are printed
-in a table at the end of the run (the README quotes it)."""
+in a table at the end of the run (the README quotes it). The figures travel on the test
+reports (``user_properties``), so the table is complete when pytest-xdist runs the tests
+in worker processes too."""
 
 from __future__ import annotations
 
@@ -12,17 +14,23 @@ import stewart
 from stewart.checks import random_states  # noqa: F401  (re-exported for the tests)
 
 _FIGURES: list[tuple[str, float, float]] = []
+_FIGURE = "figure"
 
 
 @pytest.fixture
-def figures():
+def figures(request):
     """``figures(name, value, bound)``: record a check's worst figure and assert it is within bound."""
 
     def record(name: str, value: float, bound: float) -> None:
-        _FIGURES.append((name, float(value), float(bound)))
+        request.node.user_properties.append((_FIGURE, (name, float(value), float(bound))))
         assert value <= bound, f"{name}: {value:.3e} exceeds {bound:.1e}"
 
     return record
+
+
+def pytest_runtest_logreport(report):
+    if report.when == "call":
+        _FIGURES.extend(tuple(value) for key, value in report.user_properties if key == _FIGURE)
 
 
 def pytest_terminal_summary(terminalreporter):
