@@ -22,6 +22,10 @@ equation of motion is ``M xddot + V xdot + G = J_C^T tau`` (eqs. 1-2).
 Gravity is written as ``J_b^T m_b g e_z`` rather than eq. 76's ``blockdiag(I, J_A^-T)
 dP/dx``: the two are equal wherever ``J_A`` is invertible, and this form needs no
 ``cos(theta) != 0``.
+
+Each public function refuses the states the compiled kernel's function of the same name
+refuses, with the same :class:`~stewart.SingularityError` condition, by the same tests and
+tolerances in the same order (:mod:`stewart.conditions`).
 """
 
 from __future__ import annotations
@@ -308,7 +312,8 @@ def gravity_vector(params: PlatformParams, x) -> np.ndarray:
 
 
 def inverse_dynamics(params: PlatformParams, x, xd, xdd) -> np.ndarray:
-    """Actuator forces ``tau = J_C^-T (M xddot + V xdot + G)`` (eqs. 1-2, 20)."""
+    """Actuator forces ``tau = J_C^-T (M xddot + V xdot + G)`` (eqs. 1-2, 20); the legs are
+    checked, then ``J_C`` (its Hadamard ratio)."""
     x = _checks.states("x", x)
     xd = _checks.states("xd", xd)
     xdd = _checks.states("xdd", xdd)
@@ -329,7 +334,8 @@ def inverse_dynamics(params: PlatformParams, x, xd, xdd) -> np.ndarray:
 
 
 def forward_dynamics(params: PlatformParams, x, xd, tau) -> np.ndarray:
-    """Euler accelerations ``xddot = M^-1 (J_C^T tau - V xdot - G)``."""
+    """Euler accelerations ``xddot = M^-1 (J_C^T tau - V xdot - G)``; the legs are checked,
+    then ``cos theta`` (``J_A``), then the ``LDL^T`` pivots of :func:`twist_mass_matrix`."""
     x = _checks.states("x", x)
     xd = _checks.states("xd", xd)
     tau = _checks.states("tau", tau)
