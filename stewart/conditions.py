@@ -24,6 +24,7 @@ vertical), then its own steps; a batch fails with the condition of its first bad
 
 from __future__ import annotations
 
+from enum import IntEnum
 from typing import NamedTuple
 
 import numpy as np
@@ -34,6 +35,7 @@ from .errors import SingularityError
 __all__ = [
     "Condition",
     "CONDITIONS",
+    "Status",
     "hadamard_ratio",
     "ldl_pivots",
     "leg_codes",
@@ -57,13 +59,8 @@ class Condition(NamedTuple):
 CONDITIONS = {name: Condition(code, name, message, tol) for code, (name, message, tol) in sorted(_GENERATED.items())}
 _BY_CODE = {c.code: c for c in CONDITIONS.values()}
 
-OK = CONDITIONS["ok"].code
-NONFINITE = CONDITIONS["nonfinite"].code
-LEG_DEGENERATE = CONDITIONS["leg_degenerate"].code
-LEG_VERTICAL = CONDITIONS["leg_vertical"].code
-JACOBIAN_SINGULAR = CONDITIONS["jacobian_singular"].code
-EULER_SINGULAR = CONDITIONS["euler_singular"].code
-MASS_SINGULAR = CONDITIONS["mass_singular"].code
+#: The status codes by name (``Status.JACOBIAN_SINGULAR``), from the table.
+Status = IntEnum("Status", {c.name.upper(): c.code for c in CONDITIONS.values()})
 
 #: Smallest squared leg length ``L_i^2`` (m^2) of a leg that is not degenerate.
 DEGENERATE_TOL = CONDITIONS["leg_degenerate"].tolerance
@@ -99,8 +96,8 @@ def ldl_pivots(mt) -> np.ndarray:
 
 
 def _first(tests: list[tuple[np.ndarray, int]], n: int) -> np.ndarray:
-    """Per row, the code of the first test (``bad``, code) that fails; ``OK`` if none."""
-    codes = np.full(n, OK)
+    """Per row, the code of the first test (``bad``, code) that fails; ``Status.OK`` if none."""
+    codes = np.full(n, Status.OK)
     for bad, code in reversed(tests):
         codes[np.asarray(bad).reshape(n)] = code
     return codes
@@ -113,12 +110,12 @@ def leg_codes(length_sq, horizontal_sq=None) -> np.ndarray:
     ``leg_vertical`` if a leg has ``l_x^2 + l_y^2 < VERTICAL_TOL L_i^2``."""
     length_sq = np.real(length_sq).reshape(-1, 6)
     tests = [
-        (~(length_sq >= DEGENERATE_TOL).all(axis=1), LEG_DEGENERATE),
-        (~(length_sq <= np.finfo(float).max).all(axis=1), NONFINITE),
+        (~(length_sq >= DEGENERATE_TOL).all(axis=1), Status.LEG_DEGENERATE),
+        (~(length_sq <= np.finfo(float).max).all(axis=1), Status.NONFINITE),
     ]
     if horizontal_sq is not None:
         horizontal_sq = np.real(horizontal_sq).reshape(-1, 6)
-        tests.append((~(horizontal_sq >= VERTICAL_TOL * length_sq).all(axis=1), LEG_VERTICAL))
+        tests.append((~(horizontal_sq >= VERTICAL_TOL * length_sq).all(axis=1), Status.LEG_VERTICAL))
     return _first(tests, len(length_sq))
 
 
@@ -126,13 +123,13 @@ def jacobian_codes(jac) -> np.ndarray:
     """``jacobian_singular`` where the Hadamard ratio of ``J_C`` ``(..., 6, 6)`` is below
     ``JACOBIAN_TOL`` (or NaN), per row."""
     ratio = hadamard_ratio(jac).reshape(-1)
-    return _first([(~(ratio >= JACOBIAN_TOL), JACOBIAN_SINGULAR)], ratio.size)
+    return _first([(~(ratio >= JACOBIAN_TOL), Status.JACOBIAN_SINGULAR)], ratio.size)
 
 
 def euler_codes(x) -> np.ndarray:
     """``euler_singular`` where ``|cos theta| < EULER_TOL`` for the poses ``x`` ``(..., 6)``, per row."""
     cos_theta = np.abs(np.cos(np.real(x)[..., 4])).reshape(-1)
-    return _first([(~(cos_theta >= EULER_TOL), EULER_SINGULAR)], cos_theta.size)
+    return _first([(~(cos_theta >= EULER_TOL), Status.EULER_SINGULAR)], cos_theta.size)
 
 
 def mass_codes(mt) -> np.ndarray:
@@ -143,7 +140,7 @@ def mass_codes(mt) -> np.ndarray:
     diag = np.diagonal(mt, axis1=-2, axis2=-1)
     with np.errstate(invalid="ignore"):
         good = (diag > 0.0) & (ldl_pivots(mt) > MASS_TOL * diag)
-    return _first([(~good.all(axis=1), MASS_SINGULAR)], len(mt))
+    return _first([(~good.all(axis=1), Status.MASS_SINGULAR)], len(mt))
 
 
 def check(function: str, x: np.ndarray, *tests) -> None:
@@ -153,13 +150,13 @@ def check(function: str, x: np.ndarray, *tests) -> None:
     passed so far returning their codes. The error names the condition of the first bad
     row and lists every bad row."""
     n = 1 if x.ndim == 1 else len(x)
-    codes = np.full(n, OK)
+    codes = np.full(n, Status.OK)
     for test in tests:
-        todo = np.flatnonzero(codes == OK)
+        todo = np.flatnonzero(codes == Status.OK)
         if todo.size == 0:
             break
         codes[todo] = test(todo) if callable(test) else np.asarray(test).reshape(n)[todo]
-    rows = np.flatnonzero(codes != OK)
+    rows = np.flatnonzero(codes != Status.OK)
     if rows.size:
         condition = _BY_CODE[int(codes[rows[0]])]
         raise SingularityError.at_rows(function, condition.name, condition.message, rows.tolist(), x.ndim == 2)

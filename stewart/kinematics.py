@@ -231,7 +231,7 @@ def forward_kinematics(
             break
         idx = np.flatnonzero(active)
         jac = _jacobian(*_legs(params, x[idx])) @ twist_transform(x[idx])
-        singular = conditions.jacobian_codes(jac) != conditions.OK
+        singular = conditions.jacobian_codes(jac) != conditions.Status.OK
         step = np.zeros((idx.size, 6))
         ok = ~singular
         step[ok] = np.linalg.solve(jac[ok], res[idx][ok][..., None])[..., 0]

@@ -86,6 +86,9 @@ def test_the_table_lists_every_status_code_in_order():
     assert [c.code for c in conditions.CONDITIONS.values()] == list(range(len(NAMES)))
     for code, (name, message, _) in _kernel.CONDITIONS.items():
         assert message == _kernel.status_message(code) and message != "unknown status"
+    header = (ROOT / "generated" / "stewart_model.h").read_text()
+    enum = {name: int(value) for name, value in re.findall(r"(STEWART_\w+) = (\d+),", header)}
+    assert enum == {("STEWART_" if s.name == "OK" else "STEWART_ERR_") + s.name: s.value for s in conditions.Status}
 
 
 def test_python_tolerances_are_the_generated_ones():
@@ -105,11 +108,11 @@ def test_python_tolerances_are_the_generated_ones():
             assert condition.tolerance == value
         else:
             assert condition.tolerance is None
-    assert conditions.JACOBIAN_TOL is _kernel.CONDITIONS[conditions.JACOBIAN_SINGULAR][2]
-    assert conditions.VERTICAL_TOL is _kernel.CONDITIONS[conditions.LEG_VERTICAL][2]
-    assert conditions.EULER_TOL is _kernel.CONDITIONS[conditions.EULER_SINGULAR][2]
-    assert conditions.MASS_TOL is _kernel.CONDITIONS[conditions.MASS_SINGULAR][2]
-    assert conditions.DEGENERATE_TOL is _kernel.CONDITIONS[conditions.LEG_DEGENERATE][2]
+    assert conditions.JACOBIAN_TOL is _kernel.CONDITIONS[conditions.Status.JACOBIAN_SINGULAR][2]
+    assert conditions.VERTICAL_TOL is _kernel.CONDITIONS[conditions.Status.LEG_VERTICAL][2]
+    assert conditions.EULER_TOL is _kernel.CONDITIONS[conditions.Status.EULER_SINGULAR][2]
+    assert conditions.MASS_TOL is _kernel.CONDITIONS[conditions.Status.MASS_SINGULAR][2]
+    assert conditions.DEGENERATE_TOL is _kernel.CONDITIONS[conditions.Status.LEG_DEGENERATE][2]
 
 
 # ---- the measures, by hand ---------------------------------------------------------------
@@ -131,10 +134,10 @@ def test_ldl_pivots_are_the_squares_of_the_cholesky_diagonal():
     spd = a @ np.swapaxes(a, -1, -2) + 0.1 * np.eye(6)
     chol = np.linalg.cholesky(spd)
     np.testing.assert_allclose(conditions.ldl_pivots(spd), np.diagonal(chol, axis1=-2, axis2=-1) ** 2, rtol=1e-12)
-    assert (conditions.mass_codes(spd) == conditions.OK).all()
+    assert (conditions.mass_codes(spd) == conditions.Status.OK).all()
     semidefinite = spd.copy()
     semidefinite[0] = a[0][:, :5] @ a[0][:, :5].T  # rank 5
-    assert conditions.mass_codes(semidefinite)[0] == conditions.MASS_SINGULAR
+    assert conditions.mass_codes(semidefinite)[0] == conditions.Status.MASS_SINGULAR
 
 
 def test_reference_twist_mass_matrix_is_the_kernels():
@@ -264,7 +267,7 @@ def test_control_and_forward_kinematics_use_the_jacobian_test():
     assert info.value.condition == "jacobian_singular"
     # From a guess in the base plane, J_E is singular at once: no step is taken.
     lengths = stewart.leg_lengths(PARAMS, home())
-    assert conditions.jacobian_codes(stewart.euler_jacobian(PARAMS, FLAT))[0] == conditions.JACOBIAN_SINGULAR
+    assert conditions.jacobian_codes(stewart.euler_jacobian(PARAMS, FLAT))[0] == conditions.Status.JACOBIAN_SINGULAR
     with pytest.raises(stewart.ConvergenceError):
         stewart.forward_kinematics(PARAMS, lengths, guess=FLAT)
     np.testing.assert_allclose(stewart.forward_kinematics(PARAMS, lengths), home(), atol=1e-9)
