@@ -1,4 +1,5 @@
-"""The C text around the generated kernels: header, status codes, public functions.
+"""The C text around the generated kernels: header, public functions (the status codes and
+their tolerances come from `conditions`).
 
 The public functions are written from their specs (`model.FUNCTIONS`): they check their
 inputs, dispatch between the axisymmetric and the general leg-inertia kernels, check the
@@ -9,28 +10,7 @@ fixed helpers are real C, in codegen/templates/runtime.c.
 
 from pathlib import Path
 
-from . import linsolve
-
-VERTICAL_TOL = '1e-16'
-JACOBIAN_TOL = '1e-12'
-MASS_TOL = '1e-12'
-EULER_TOL = '1e-12'
-
-#: The C status codes, in order from 0: (name, what it means, stewart_status_message()).
-STATUS_CODES = (
-    ('STEWART_OK', '', 'ok'),
-    ('STEWART_ERR_NONFINITE', 'non-finite input (or output)', 'non-finite input or output'),
-    ('STEWART_ERR_LEG_DEGENERATE', 'a leg of zero length', 'a leg has zero length'),
-    ('STEWART_ERR_JACOBIAN_SINGULAR', 'J_C singular (kinematic singularity)',
-     'leg Jacobian J_C is singular (kinematic singularity)'),
-    ('STEWART_ERR_EULER_SINGULAR', 'cos(theta) == 0: Euler-rate map singular (forward dynamics)',
-     'cos(theta) == 0: Euler-rate map is singular'),
-    ('STEWART_ERR_LEG_VERTICAL', 'vertical leg with non-axisymmetric leg inertia: cylinder frame undefined',
-     'vertical leg with non-axisymmetric leg inertia: cylinder frame undefined'),
-    ('STEWART_ERR_MASS_SINGULAR', 'twist-space mass matrix not positive definite (e.g. massless platform)',
-     'twist-space mass matrix is not positive definite'),
-)
-
+from . import conditions, linsolve
 
 HEADER = r'''/* stewart_model.h -- dynamic model of a 6-DOF Stewart platform.
  *
@@ -66,6 +46,8 @@ HEADER = r'''/* stewart_model.h -- dynamic model of a 6-DOF Stewart platform.
 #ifndef STEWART_MODEL_H
 #define STEWART_MODEL_H
 
+#include <float.h>
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -76,20 +58,7 @@ typedef struct {
 enum {
 @STATUS@};
 
-/* Thresholds behind the status codes:
- *  LEG_DEGENERATE     L_i^2 < DBL_MIN.
- *  LEG_VERTICAL       u_x^2 + u_y^2 < STEWART_VERTICAL_TOL for a leg (general kernels only).
- *  JACOBIAN_SINGULAR  |det J_C| / prod_i |row_i(J_C)| < STEWART_JACOBIAN_TOL
- *                     (Hadamard ratio, invariant to scaling the leg rows).
- *  EULER_SINGULAR     |cos(theta)| < STEWART_EULER_TOL.
- *  MASS_SINGULAR      a Cholesky pivot of M_t <= STEWART_MASS_TOL times its
- *                     diagonal entry (invariant to unit changes).
- */
-#define STEWART_VERTICAL_TOL @VERTICAL_TOL@
-#define STEWART_JACOBIAN_TOL @JACOBIAN_TOL@
-#define STEWART_EULER_TOL @EULER_TOL@
-#define STEWART_MASS_TOL @MASS_TOL@
-
+@TOLERANCES@
 /* Message for a status code (a static string, never NULL). */
 const char *stewart_status_message(int status);
 
@@ -137,20 +106,10 @@ def header(fields, functions, ops):
     table = ''.join(f' *   {name:<{width}}  {n:6d}\n' for name, n in ops)
     text = (HEADER.replace('@OPS@', table)
             .replace('@STRUCT@', _table([(f.declaration(), f.doc) for f in fields]))
-            .replace('@STATUS@', _table([(f'{name} = {k},', doc)
-                                         for k, (name, doc, _) in enumerate(STATUS_CODES)]))
+            .replace('@STATUS@', _table([(f'{c.enum} = {k},', c.doc) for k, c in enumerate(conditions.CONDITIONS)]))
+            .replace('@TOLERANCES@', conditions.tolerances())
             .replace('@FUNCTIONS@', ''.join(f'/* {f.doc} */\n{prototype(f)};\n' for f in functions)))
-    for key, value in (('VERTICAL_TOL', VERTICAL_TOL), ('JACOBIAN_TOL', JACOBIAN_TOL),
-                       ('EULER_TOL', EULER_TOL), ('MASS_TOL', MASS_TOL)):
-        text = text.replace(f'@{key}@', value)
     return text
-
-
-def status_message():
-    """C text of `stewart_status_message`."""
-    cases = ''.join(f'    case {name}: return "{message}";\n' for name, _, message in STATUS_CODES)
-    return ('const char *stewart_status_message(int status)\n{\n    switch (status) {\n' + cases
-            + '    default: return "unknown status";\n    }\n}\n')
 
 
 def params_finite(fields):
@@ -203,7 +162,7 @@ def public_function(function, kernels):
 def source(fields, kernel_sources, public_sources):
     """stewart_model.c from the parameter schema, the generated kernels and public functions
     (C text) and the fixed C (codegen/templates/runtime.c)."""
-    return (PRELUDE + RUNTIME.read_text(encoding='ascii') + '\n' + status_message() + '\n'
+    return (PRELUDE + RUNTIME.read_text(encoding='ascii') + '\n' + conditions.status_message() + '\n'
             + params_finite(fields) + '\n' + linsolve.solve_transposed() + '\n' + linsolve.cholesky_solve()
             + '\n/* ---- generated kernels ---- */\n\n' + '\n'.join(kernel_sources)
             + '\n/* ---- public API ---- */\n\n' + '\n'.join(public_sources))

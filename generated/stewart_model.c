@@ -28,14 +28,21 @@ static int all_finite(const double *v, int n)
     return ok;
 }
 
-/* STEWART_OK unless a leg has zero length or (h2 != NULL) is vertical:
- * h2[i] = l_x^2 + l_y^2 < STEWART_VERTICAL_TOL * L2[i]. */
+/* The legs' tests, in order (codegen/conditions.py): STEWART_ERR_LEG_DEGENERATE if a
+ * leg has L2[i] < STEWART_DEGENERATE_TOL (or NaN), STEWART_ERR_NONFINITE if a leg's L2[i]
+ * overflows, and (h2 != NULL: the general kernels) STEWART_ERR_LEG_VERTICAL if a leg has
+ * h2[i] = l_x^2 + l_y^2 < STEWART_VERTICAL_TOL * L2[i]; else STEWART_OK. */
 static int check_legs(const double L2[6], const double h2[6])
 {
     int i;
     for (i = 0; i < 6; ++i) {
-        if (!(L2[i] >= DBL_MIN)) {
+        if (!(L2[i] >= STEWART_DEGENERATE_TOL)) {
             return STEWART_ERR_LEG_DEGENERATE;
+        }
+    }
+    for (i = 0; i < 6; ++i) {
+        if (!(L2[i] <= DBL_MAX)) {
+            return STEWART_ERR_NONFINITE;
         }
     }
     for (i = 0; h2 != NULL && i < 6; ++i) {
@@ -86,7 +93,7 @@ const char *stewart_status_message(int status)
     case STEWART_ERR_NONFINITE: return "non-finite input or output";
     case STEWART_ERR_LEG_DEGENERATE: return "a leg has zero length";
     case STEWART_ERR_JACOBIAN_SINGULAR: return "leg Jacobian J_C is singular (kinematic singularity)";
-    case STEWART_ERR_EULER_SINGULAR: return "cos(theta) == 0: Euler-rate map is singular";
+    case STEWART_ERR_EULER_SINGULAR: return "theta = +-90 deg: the Euler-rate map J_A is singular";
     case STEWART_ERR_LEG_VERTICAL: return "vertical leg with non-axisymmetric leg inertia: cylinder frame undefined";
     case STEWART_ERR_MASS_SINGULAR: return "twist-space mass matrix is not positive definite";
     default: return "unknown status";

@@ -32,6 +32,8 @@
 #ifndef STEWART_MODEL_H
 #define STEWART_MODEL_H
 
+#include <float.h>
+
 #ifdef __cplusplus
 extern "C" {
 #endif
@@ -55,23 +57,28 @@ enum {
     STEWART_ERR_NONFINITE = 1,          /* non-finite input (or output) */
     STEWART_ERR_LEG_DEGENERATE = 2,     /* a leg of zero length */
     STEWART_ERR_JACOBIAN_SINGULAR = 3,  /* J_C singular (kinematic singularity) */
-    STEWART_ERR_EULER_SINGULAR = 4,     /* cos(theta) == 0: Euler-rate map singular (forward dynamics) */
+    STEWART_ERR_EULER_SINGULAR = 4,     /* theta = +-90 deg: Euler-rate map J_A singular (forward dynamics) */
     STEWART_ERR_LEG_VERTICAL = 5,       /* vertical leg with non-axisymmetric leg inertia: cylinder frame undefined */
     STEWART_ERR_MASS_SINGULAR = 6,      /* twist-space mass matrix not positive definite (e.g. massless platform) */
 };
 
-/* Thresholds behind the status codes:
- *  LEG_DEGENERATE     L_i^2 < DBL_MIN.
- *  LEG_VERTICAL       u_x^2 + u_y^2 < STEWART_VERTICAL_TOL for a leg (general kernels only).
- *  JACOBIAN_SINGULAR  |det J_C| / prod_i |row_i(J_C)| < STEWART_JACOBIAN_TOL
- *                     (Hadamard ratio, invariant to scaling the leg rows).
+/* The tests behind the status codes:
+ *  NONFINITE          an input, a leg length L_i^2 or an output is NaN or inf.
+ *  LEG_DEGENERATE     L_i^2 < STEWART_DEGENERATE_TOL (m^2).
+ *  JACOBIAN_SINGULAR  |det J_C| / prod_i |row_i(J_C)| < STEWART_JACOBIAN_TOL (Hadamard ratio,
+ *                     invariant to scaling the leg rows).
  *  EULER_SINGULAR     |cos(theta)| < STEWART_EULER_TOL.
- *  MASS_SINGULAR      a Cholesky pivot of M_t <= STEWART_MASS_TOL times its
- *                     diagonal entry (invariant to unit changes).
+ *  LEG_VERTICAL       l_x^2 + l_y^2 < STEWART_VERTICAL_TOL * L_i^2 for a leg vector l_i (general
+ *                     kernels only).
+ *  MASS_SINGULAR      an LDL^T pivot d_k of M_t <= STEWART_MASS_TOL * M_t[k][k], or M_t[k][k] <= 0
+ *                     (invariant to unit changes).
+ * In order: the inputs, then the legs (zero length, overflow, vertical), then each
+ * function's steps (J_C; or cos(theta), then M_t), last the output.
  */
-#define STEWART_VERTICAL_TOL 1e-16
+#define STEWART_DEGENERATE_TOL DBL_MIN
 #define STEWART_JACOBIAN_TOL 1e-12
 #define STEWART_EULER_TOL 1e-12
+#define STEWART_VERTICAL_TOL 1e-16
 #define STEWART_MASS_TOL 1e-12
 
 /* Message for a status code (a static string, never NULL). */

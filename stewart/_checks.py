@@ -1,5 +1,6 @@
-"""Argument checks shared by the public functions: numbers, shapes, finiteness, thread
-counts and the degenerate cases every model evaluation refuses.
+"""Argument checks shared by the public functions: numbers, shapes, finiteness and thread
+counts, and the finiteness of results (the other conditions under which the model is
+undefined are :mod:`stewart.conditions`).
 
 What counts as a number: real values of an integer or floating dtype (and, where a
 function says so, complex ones for complex-step derivatives), or Python numbers. Booleans,
@@ -16,16 +17,8 @@ from typing import Any
 
 import numpy as np
 
-from .errors import SingularityError
+from .errors import SingularityError, row_list
 
-#: J_C is treated as singular when its condition number exceeds this.
-JACOBIAN_COND_LIMIT = 1e12
-#: The Euler-rate map J_A (eq. 8) is treated as singular when |cos(theta)| is below this.
-EULER_COS_LIMIT = 1e-12
-#: The twist-space mass matrix is treated as singular when its condition number exceeds this.
-MASS_COND_LIMIT = 1e12
-#: A leg is degenerate (zero length) when |l_i|^2 is below this, as in the generated C.
-LEG_LENGTH_SQ_MIN = float(np.finfo(float).tiny)
 #: Most threads a :class:`stewart.Platform` may use.
 MAX_THREADS = 256
 
@@ -138,56 +131,8 @@ def thread_count(value: Any) -> int:
 
 
 def _rows(bad: np.ndarray) -> tuple[list[int], str]:
-    rows = np.flatnonzero(bad)
-    return rows.tolist(), f"{rows[:10].tolist()}{' ...' if rows.size > 10 else ''}"
-
-
-def regular_jacobian(jac: np.ndarray) -> None:
-    """Raise :class:`SingularityError` (naming the rows) where ``J_C`` is singular."""
-    cond = np.linalg.cond(np.real(jac).reshape(-1, 6, 6))
-    bad = ~(cond < JACOBIAN_COND_LIMIT)
-    if bad.any():
-        rows, text = _rows(bad)
-        raise SingularityError(
-            f"x: J_C is singular (condition number {cond[rows[0]]:.3g}) at row(s) {text}", rows=rows
-        )
-
-
-def regular_euler_rates(x: np.ndarray) -> None:
-    """Raise :class:`SingularityError` (naming the rows) where ``theta = +-90 deg``: there
-    ``J_A`` (eq. 8) is singular and Euler rates do not follow from the twist."""
-    bad = ~(np.abs(np.cos(np.real(x[..., 4]))).reshape(-1) >= EULER_COS_LIMIT)
-    if bad.any():
-        rows, text = _rows(bad)
-        raise SingularityError(f"x: theta = +-90 deg at row(s) {text}: the Euler-rate map J_A is singular", rows=rows)
-
-
-def regular_mass_matrix(mass: np.ndarray) -> None:
-    """Raise :class:`SingularityError` (naming the rows) where the mass matrix is singular
-    (a massless platform, for one)."""
-    cond = np.linalg.cond(np.real(mass).reshape(-1, 6, 6))
-    bad = ~(cond < MASS_COND_LIMIT)
-    if bad.any():
-        rows, text = _rows(bad)
-        raise SingularityError(
-            f"params: the mass matrix is singular (condition number {cond[rows[0]]:.3g}) at row(s) {text}; "
-            "is the platform massless?",
-            rows=rows,
-        )
-
-
-def nondegenerate_legs(length_sq: np.ndarray) -> None:
-    """Raise :class:`SingularityError` (naming the rows) where a leg has zero length,
-    ``|l_i|^2 < LEG_LENGTH_SQ_MIN``, or a length too large for double precision;
-    ``length_sq`` holds ``|l_i|^2``, shape ``(..., 6)``."""
-    length_sq = np.real(length_sq).reshape(-1, 6)
-    for bad, what in (
-        (~(length_sq >= LEG_LENGTH_SQ_MIN).all(axis=1), "a leg has zero length"),
-        (~np.isfinite(length_sq).all(axis=1), "a leg's length overflows (an input too large for double precision)"),
-    ):
-        if bad.any():
-            rows, text = _rows(bad)
-            raise SingularityError(f"x: {what} at row(s) {text}", rows=rows)
+    rows = np.flatnonzero(bad).tolist()
+    return rows, row_list(rows)
 
 
 def _arrays(result: Any):
@@ -202,7 +147,8 @@ def _arrays(result: Any):
 
 def finite_result(function: str, result: Any, x: np.ndarray) -> Any:
     """``result`` (an array, or a tuple or dict of them) of ``function`` at the state(s)
-    ``x``, unless it holds NaN or inf: then :class:`SingularityError` naming the rows."""
+    ``x``, unless it holds NaN or inf: then :class:`SingularityError` naming the rows, with
+    the condition ``"nonfinite"``."""
     n = x.shape[0] if x.ndim == 2 else 1
     if n == 0:
         return result
@@ -214,5 +160,6 @@ def finite_result(function: str, result: Any, x: np.ndarray) -> Any:
         raise SingularityError(
             f"{function}: non-finite result at row(s) {text} (an input too large for double precision)",
             rows=rows,
+            condition="nonfinite",
         )
     return result

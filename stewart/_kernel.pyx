@@ -28,6 +28,12 @@ PARAM_FIELDS = stewart_params_fields()
 PARAMS_LEFT_OUT = stewart_params_left_out()
 
 
+#: {status code: (name, message, tolerance or None)} of every status code of the C model: the
+#: conditions under which it is undefined and the tolerances of their tests (read by
+#: stewart.conditions).
+CONDITIONS = stewart_conditions()
+
+
 def status_message(int status):
     """The generated C's description of a status code."""
     return stewart_status_message(status).decode()
@@ -174,10 +180,8 @@ cdef class Kernel:
         rows = np.flatnonzero(status != STEWART_OK)
         if return_mask:
             return out, (status == STEWART_OK) if batch else bool(status[0] == STEWART_OK)
-        first = int(rows[0])
-        message = stewart_status_message(status[first]).decode()
-        where = f" at row(s) {rows[:10].tolist()}{' ...' if rows.size > 10 else ''}" if batch else ""
-        raise SingularityError(f"{fname}: {message}{where}", rows=rows.tolist())
+        condition, message, _ = CONDITIONS[status[rows[0]]]
+        raise SingularityError.at_rows(fname, condition, message, rows.tolist(), batch)
 
     cdef int leg_lengths_c(self, const double *x, double *out) noexcept nogil:
         return stewart_leg_lengths(&self.p, x, out)

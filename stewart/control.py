@@ -20,7 +20,7 @@ from typing import ClassVar
 
 import numpy as np
 
-from . import _checks
+from . import _checks, conditions
 from ._simulate import Mode
 from .params import PlatformParams
 from .platform import Platform
@@ -79,7 +79,7 @@ def leg_masses(platform, x=None) -> np.ndarray:
     if x.shape != (6,):
         raise ValueError(f"x: expected one pose, shape (6,), got {x.shape}")
     jac = platform.jacobian(x)
-    _checks.regular_jacobian(jac)
+    conditions.check("leg_masses", x, conditions.jacobian_codes(jac))
     with np.errstate(over="ignore", invalid="ignore"):
         jac_inv = np.linalg.inv(jac)
         masses = np.diag(jac_inv.T @ platform.twist_mass_matrix(x) @ jac_inv).copy()

@@ -5,16 +5,35 @@ from __future__ import annotations
 __all__ = ["SingularityError", "ConvergenceError"]
 
 
+def row_list(rows) -> str:
+    """The first ten of ``rows`` for a message, with ``...`` when there are more."""
+    rows = list(rows)
+    return f"{rows[:10]}{' ...' if len(rows) > 10 else ''}"
+
+
 class SingularityError(ValueError):
     """The model is undefined at this state: a singular J_C, theta = +-90 deg in forward
-    dynamics, a vertical leg with non-axisymmetric leg inertia, or a degenerate leg.
+    dynamics, a vertical leg with non-axisymmetric leg inertia, a degenerate leg, a
+    singular mass matrix (a massless platform) or a result that overflows.
 
-    ``rows`` holds the indices of the offending states in a batch (``[0]`` for one state).
+    ``rows`` holds the indices of the offending states in a batch (``[0]`` for one state);
+    ``condition`` names the condition (of the first offending row), one of
+    :data:`stewart.conditions.CONDITIONS`: ``"nonfinite"``, ``"leg_degenerate"``,
+    ``"jacobian_singular"``, ``"euler_singular"``, ``"leg_vertical"`` or ``"mass_singular"``.
     """
 
-    def __init__(self, message: str, rows=None):
+    def __init__(self, message: str, rows=None, condition: str | None = None):
         super().__init__(message)
         self.rows = [] if rows is None else list(rows)
+        self.condition = condition
+
+    @classmethod
+    def at_rows(cls, function: str, condition: str, message: str, rows, batch: bool) -> "SingularityError":
+        """The error of ``function`` for ``condition`` (described by ``message``) at ``rows``
+        of a batch (``batch``) or at one state: ``"<function>: <message>[ at row(s) [...]]"``."""
+        rows = list(rows)
+        where = f" at row(s) {row_list(rows)}" if batch else ""
+        return cls(f"{function}: {message}{where}", rows=rows, condition=condition)
 
 
 class ConvergenceError(ValueError):

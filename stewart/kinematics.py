@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import _checks
+from . import _checks, conditions
 from .errors import ConvergenceError
 from .params import PlatformParams, checked_params
 
@@ -116,7 +116,7 @@ def jacobian(params: PlatformParams, x) -> np.ndarray:
     params = checked_params(params)
     x = _checks.states("x", x, allow_complex=True)
     arms, legs, length_sq = _legs(params, x)
-    _checks.nondegenerate_legs(length_sq)
+    conditions.check("jacobian", x, conditions.leg_codes(length_sq))
     return _checks.finite_result("jacobian", _jacobian(arms, legs, length_sq), x)
 
 
@@ -193,7 +193,8 @@ def forward_kinematics(
 
     ``lengths`` is ``(6,)`` or ``(N, 6)``. The iteration starts from ``guess`` (one pose,
     or one per row; default :func:`home_pose`) and uses ``J_E`` (eq. 4) as the Jacobian,
-    halving a step that does not reduce the residual. Raises
+    halving a step that does not reduce the residual; a row stops where ``J_E`` is singular
+    by the model's test for ``J_C`` (:func:`stewart.conditions.jacobian_codes`). Raises
     :class:`~stewart.errors.ConvergenceError` naming the rows that did not reach
     ``max|L(x) - lengths| <= tol * max(lengths)``. ``tol`` is a positive number and
     ``max_iter`` an int from 1 to 10000.
@@ -230,8 +231,7 @@ def forward_kinematics(
             break
         idx = np.flatnonzero(active)
         jac = _jacobian(*_legs(params, x[idx])) @ twist_transform(x[idx])
-        singular = ~np.isfinite(jac).all(axis=(1, 2))
-        singular[~singular] = ~(np.linalg.cond(jac[~singular]) <= 1e14)
+        singular = conditions.jacobian_codes(jac) != conditions.Status.OK
         step = np.zeros((idx.size, 6))
         ok = ~singular
         step[ok] = np.linalg.solve(jac[ok], res[idx][ok][..., None])[..., 0]

@@ -64,7 +64,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import _checks
+from . import _checks, conditions
 from .kinematics import euler_rate_jacobian, rotation
 from .params import PlatformParams, checked_params
 
@@ -128,7 +128,7 @@ def _solve(params: PlatformParams, x, xd, xdd) -> JointReactions:
     xdd = _checks.states("xdd", xdd)
     _checks.same_batch(x=x, xd=xd, xdd=xdd)
 
-    with np.errstate(over="ignore", invalid="ignore"):
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
         g_vec = np.array([0.0, 0.0, -params.gravity])
         m_p, m_c, m_s = params.platform_mass, params.cylinder_mass, params.piston_mass
         b_c, b_s = params.cylinder_com_distance, params.piston_com_distance
@@ -147,7 +147,6 @@ def _solve(params: PlatformParams, x, xd, xdd) -> JointReactions:
         al = alpha[..., None, :]
         legs = x[..., None, :3] + arms - params.base_points
         length_sq = _dot(legs, legs)
-        _checks.nondegenerate_legs(length_sq)
         length = np.sqrt(length_sq)[..., None]
         u = legs / length
         v_p = vel[..., None, :] + np.cross(om, arms)
@@ -183,7 +182,9 @@ def _solve(params: PlatformParams, x, xd, xdd) -> JointReactions:
             [m_p * (acc - g_vec) + f0.sum(axis=-2), euler + np.cross(arms, f0).sum(axis=-2)], axis=-1
         )
         jac = np.concatenate([u, np.cross(arms, u)], axis=-1)  # J_C, row i = [u_i, r_i x u_i]
-        _checks.regular_jacobian(jac)
+        # The checks of the model's inverse dynamics, in its order: the legs, then J_C.
+        conditions.check("joint_reactions", x, conditions.leg_codes(length_sq),
+                         lambda rows: conditions.jacobian_codes(jac.reshape(-1, 6, 6)[rows]))
         tau = np.linalg.solve(np.swapaxes(jac, -1, -2), wrench[..., None])[..., 0]
 
         on_platform = tau[..., None] * u - f0  # f_P

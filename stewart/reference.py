@@ -22,6 +22,10 @@ equation of motion is ``M xddot + V xdot + G = J_C^T tau`` (eqs. 1-2).
 Gravity is written as ``J_b^T m_b g e_z`` rather than eq. 76's ``blockdiag(I, J_A^-T)
 dP/dx``: the two are equal wherever ``J_A`` is invertible, and this form needs no
 ``cos(theta) != 0``.
+
+Each public function refuses the states the compiled kernel's function of the same name
+refuses, with the same :class:`~stewart.SingularityError` condition, by the same tests and
+tolerances in the same order (:mod:`stewart.conditions`).
 """
 
 from __future__ import annotations
@@ -30,8 +34,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import _checks
-from .errors import SingularityError
+from . import _checks, conditions
 from .kinematics import jacobian, leg_unit_vectors, leg_vectors, platform_points_in_base, rotation, twist_transform
 from .params import PlatformParams, checked_params
 
@@ -42,6 +45,7 @@ __all__ = [
     "rotational_inertias",
     "momenta",
     "body_terms",
+    "twist_mass_matrix",
     "mass_matrix",
     "coriolis_matrix",
     "coriolis_vector",
@@ -63,8 +67,6 @@ BODIES = (
 #: Complex-step size for ``|xdot| <= 1`` (scaled down for larger rates, so that the step
 #: ``h xdot`` stays tiny); the error of the derivative is O(h^2), far below round-off.
 _STEP = 1e-30
-#: Cylinder frame tolerance: legs with u_x^2 + u_y^2 below this are "vertical".
-_VERTICAL = 1e-18
 
 
 class BodyTerms(NamedTuple):
@@ -119,6 +121,17 @@ def partial_velocity_jacobians(params: PlatformParams, x) -> dict[str, np.ndarra
     return _checks.finite_result("partial_velocity_jacobians", jacs, x)
 
 
+def _check_legs(function: str, params: PlatformParams, x: np.ndarray, general: bool, *steps) -> None:
+    """Raise :class:`~stewart.SingularityError` where the generated C's ``function`` would at
+    ``x``: the legs' tests (the vertical-leg test only with ``general``, the paper's
+    cylinder frames), then ``steps`` (see :func:`stewart.conditions.check`)."""
+    legs = leg_vectors(params, np.real(x))
+    with np.errstate(over="ignore", invalid="ignore"):
+        length_sq = np.sum(legs * legs, axis=-1)
+        horizontal_sq = legs[..., 0] * legs[..., 0] + legs[..., 1] * legs[..., 1]
+    conditions.check(function, x, conditions.leg_codes(length_sq, horizontal_sq if general else None), *steps)
+
+
 def _leg_inertia(units: np.ndarray, inertia: np.ndarray, general: bool) -> np.ndarray:
     """Rotational inertia of a leg part in {B} (eqs. 43-48 and 65-66).
 
@@ -144,24 +157,15 @@ def rotational_inertias(params: PlatformParams, x, general: bool | None = None) 
 
     ``general`` picks the leg inertia form (default: the paper's frame form only when the
     legs are not axisymmetric). Raises :class:`SingularityError` for a vertical leg in
-    the frame form, where {C_i} is undefined.
+    the frame form, where {C_i} is undefined (:mod:`stewart.conditions`).
     """
     params = checked_params(params)
     x = _checks.states("x", x, allow_complex=True)
     if general is None:
         general = not params.is_axisymmetric
+    _check_legs("rotational_inertias", params, x, general)
     rot = rotation(x)
     units = leg_unit_vectors(params, x)
-    if general:
-        horiz_sq = np.real(units[..., 0] ** 2 + units[..., 1] ** 2)
-        vertical = horiz_sq < _VERTICAL
-        if vertical.any():
-            rows = np.flatnonzero(vertical.reshape(-1, 6).any(axis=1))
-            raise SingularityError(
-                f"x: vertical leg at row(s) {rows.tolist()}: the cylinder frame of eqs. 44-47 is "
-                "undefined and the leg inertia is not axisymmetric",
-                rows=rows,
-            )
     with np.errstate(over="ignore", invalid="ignore"):
         inertias = {
             "platform_rotation": (rot * params.platform_inertia) @ np.swapaxes(rot, -1, -2),
@@ -171,16 +175,21 @@ def rotational_inertias(params: PlatformParams, x, general: bool | None = None) 
     return _checks.finite_result("rotational_inertias", inertias, x)
 
 
+def _masses(params: PlatformParams) -> dict[str, float]:
+    """The mass of each translational body part."""
+    return {
+        "platform_translation": params.platform_mass,
+        "cylinder_translation": params.cylinder_mass,
+        "piston_translation": params.piston_mass,
+    }
+
+
 def _inertia_times_t(params: PlatformParams, x, general: bool | None) -> tuple[dict, dict]:
     """``J_b`` and ``A_b = I_b J_b T`` for every body part (the momentum is ``A_b xdot``)."""
     jacs = partial_velocity_jacobians(params, x)
     inertias = rotational_inertias(params, x, general)
     t_mat = twist_transform(x)
-    masses = {
-        "platform_translation": params.platform_mass,
-        "cylinder_translation": params.cylinder_mass,
-        "piston_translation": params.piston_mass,
-    }
+    masses = _masses(params)
     out = {}
     with np.errstate(over="ignore", invalid="ignore"):
         for body in BODIES:
@@ -234,26 +243,53 @@ def body_terms(params: PlatformParams, x, xd=None, general: bool | None = None) 
     return _checks.finite_result("body_terms", out, x)
 
 
-def _totals(params, x, xd, function: str) -> BodyTerms:
+def _totals(params, x, xd, function: str, general: bool | None = None) -> BodyTerms:
     """``M``, ``V`` and ``G`` of the whole platform: the body terms summed over bodies and legs."""
     totals = [0.0, 0.0, 0.0]
     with np.errstate(over="ignore", invalid="ignore"):
-        for body, term in body_terms(params, x, xd).items():
+        for body, term in body_terms(params, x, xd, general).items():
             for k, value in enumerate(term):
                 leg_axis = -2 if k == 2 else -3  # the gravity vector has one axis less
                 totals[k] = totals[k] + (value if body.startswith("platform") else value.sum(axis=leg_axis))
     return _checks.finite_result(function, BodyTerms(*totals), x)
 
 
+def _general(params: PlatformParams) -> bool:
+    """Whether the legs need the paper's cylinder frames (non-axisymmetric leg inertia)."""
+    return not checked_params(params).is_axisymmetric
+
+
+def twist_mass_matrix(params: PlatformParams, x) -> np.ndarray:
+    """The twist-space mass matrix ``M_t = sum_b J_b^T I_b J_b`` (eqs. 19, 39, 51, 61, 69
+    without the factor ``T``), symmetric, ``(..., 6, 6)``: ``M = M_t T``."""
+    params = checked_params(params)
+    x = _checks.states("x", x)
+    general = _general(params)
+    _check_legs("twist_mass_matrix", params, x, general)
+    jacs = partial_velocity_jacobians(params, x)
+    inertias = rotational_inertias(params, x, general)
+    masses = _masses(params)
+    total = 0.0
+    with np.errstate(over="ignore", invalid="ignore"):
+        for body in BODIES:
+            jac = jacs[body]
+            moved = masses[body] * jac if body in masses else inertias[body] @ jac
+            term = np.swapaxes(jac, -1, -2) @ moved
+            total = total + (term if body.startswith("platform") else term.sum(axis=-3))
+    return _checks.finite_result("twist_mass_matrix", total, x)
+
+
 def mass_matrix(params: PlatformParams, x) -> np.ndarray:
     """``M = sum_b J_b^T I_b J_b T`` (6x6, not symmetric: it multiplies ``xddot``)."""
     x = _checks.states("x", x)
+    _check_legs("mass_matrix", checked_params(params), x, _general(params))
     return _totals(params, x, None, "mass_matrix").mass_matrix
 
 
 def coriolis_matrix(params: PlatformParams, x, xd) -> np.ndarray:
     """``V = sum_b J_b^T d/dt(I_b J_b T)`` (6x6)."""
     x = _checks.states("x", x)
+    _check_legs("coriolis_matrix", checked_params(params), x, _general(params))
     return _totals(params, x, xd, "coriolis_matrix").coriolis_matrix
 
 
@@ -261,25 +297,31 @@ def coriolis_vector(params: PlatformParams, x, xd) -> np.ndarray:
     """``V xdot``."""
     x = _checks.states("x", x)
     xd = _checks.states("xd", xd)
+    _check_legs("coriolis_vector", checked_params(params), x, _general(params))
     with np.errstate(over="ignore", invalid="ignore"):
         vxd = np.einsum("...ij,...j->...i", coriolis_matrix(params, x, xd), xd)
     return _checks.finite_result("coriolis_vector", vxd, x)
 
 
 def gravity_vector(params: PlatformParams, x) -> np.ndarray:
-    """``G = sum_b m_b g J_b^T e_z`` (eqs. 72-76)."""
+    """``G = sum_b m_b g J_b^T e_z`` (eqs. 72-76); it does not depend on the rotational
+    inertias, so the legs' axisymmetric form serves every platform (no vertical-leg test)."""
     x = _checks.states("x", x)
-    return _totals(params, x, None, "gravity_vector").gravity_vector
+    _check_legs("gravity_vector", checked_params(params), x, False)
+    return _totals(params, x, None, "gravity_vector", general=False).gravity_vector
 
 
 def inverse_dynamics(params: PlatformParams, x, xd, xdd) -> np.ndarray:
-    """Actuator forces ``tau = J_C^-T (M xddot + V xdot + G)`` (eqs. 1-2, 20)."""
+    """Actuator forces ``tau = J_C^-T (M xddot + V xdot + G)`` (eqs. 1-2, 20); the legs are
+    checked, then ``J_C`` (its Hadamard ratio)."""
     x = _checks.states("x", x)
     xd = _checks.states("xd", xd)
     xdd = _checks.states("xdd", xdd)
     _checks.same_batch(x=x, xd=xd, xdd=xdd)
+    rows = x.reshape(-1, 6)
+    _check_legs("inverse_dynamics", checked_params(params), x, _general(params),
+                lambda todo: conditions.jacobian_codes(jacobian(params, rows[todo])))
     jac = jacobian(params, x)
-    _checks.regular_jacobian(jac)
     total = _totals(params, x, xd, "inverse_dynamics")
     with np.errstate(over="ignore", invalid="ignore"):
         wrench = (
@@ -292,14 +334,16 @@ def inverse_dynamics(params: PlatformParams, x, xd, xdd) -> np.ndarray:
 
 
 def forward_dynamics(params: PlatformParams, x, xd, tau) -> np.ndarray:
-    """Euler accelerations ``xddot = M^-1 (J_C^T tau - V xdot - G)``."""
+    """Euler accelerations ``xddot = M^-1 (J_C^T tau - V xdot - G)``; the legs are checked,
+    then ``cos theta`` (``J_A``), then the ``LDL^T`` pivots of :func:`twist_mass_matrix`."""
     x = _checks.states("x", x)
     xd = _checks.states("xd", xd)
     tau = _checks.states("tau", tau)
     _checks.same_batch(x=x, xd=xd, tau=tau)
-    _checks.regular_euler_rates(x)
+    rows = x.reshape(-1, 6)
+    _check_legs("forward_dynamics", checked_params(params), x, _general(params), conditions.euler_codes(x),
+                lambda todo: conditions.mass_codes(twist_mass_matrix(params, rows[todo])))
     total = _totals(params, x, xd, "forward_dynamics")
-    _checks.regular_mass_matrix(total.mass_matrix)
     with np.errstate(over="ignore", invalid="ignore"):
         rhs = (
             np.einsum("...ji,...j->...i", jacobian(params, x), tau)

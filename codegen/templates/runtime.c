@@ -26,14 +26,21 @@ static int all_finite(const double *v, int n)
     return ok;
 }
 
-/* STEWART_OK unless a leg has zero length or (h2 != NULL) is vertical:
- * h2[i] = l_x^2 + l_y^2 < STEWART_VERTICAL_TOL * L2[i]. */
+/* The legs' tests, in order (codegen/conditions.py): STEWART_ERR_LEG_DEGENERATE if a
+ * leg has L2[i] < STEWART_DEGENERATE_TOL (or NaN), STEWART_ERR_NONFINITE if a leg's L2[i]
+ * overflows, and (h2 != NULL: the general kernels) STEWART_ERR_LEG_VERTICAL if a leg has
+ * h2[i] = l_x^2 + l_y^2 < STEWART_VERTICAL_TOL * L2[i]; else STEWART_OK. */
 static int check_legs(const double L2[6], const double h2[6])
 {
     int i;
     for (i = 0; i < 6; ++i) {
-        if (!(L2[i] >= DBL_MIN)) {
+        if (!(L2[i] >= STEWART_DEGENERATE_TOL)) {
             return STEWART_ERR_LEG_DEGENERATE;
+        }
+    }
+    for (i = 0; i < 6; ++i) {
+        if (!(L2[i] <= DBL_MAX)) {
+            return STEWART_ERR_NONFINITE;
         }
     }
     for (i = 0; h2 != NULL && i < 6; ++i) {

@@ -85,7 +85,7 @@ int main(void) {
     /* Status codes: outputs are NaN whenever a status is returned. */
     const stewart_params *p = &CASES[0].params;
     const double zero[6] = {0, 0, 0, 0, 0, 0};
-    double out[6];
+    double out[6], out36[36];
     int st = stewart_inverse_dynamics(p, zero, zero, zero, out); /* platform in the base plane */
     check(st == STEWART_ERR_JACOBIAN_SINGULAR && isnan(out[0]), "status: singular J_C", CASES[0].name, st);
     double tilted[6];
@@ -98,7 +98,78 @@ int main(void) {
     bad[2] = NAN;
     st = stewart_gravity_vector(p, bad, out);
     check(st == STEWART_ERR_NONFINITE && isnan(out[2]), "status: non-finite input", CASES[0].name, st);
-    check(strlen(stewart_status_message(STEWART_ERR_JACOBIAN_SINGULAR)) > 0, "status message", "", 0);
+    /* A leg of zero length: P_0 on B_0, no rotation. */
+    double collapsed[6] = {0, 0, 0, 0, 0, 0};
+    for (int k = 0; k < 3; ++k) collapsed[k] = p->base_points[0][k] - p->platform_points[0][k];
+    st = stewart_jacobian(p, collapsed, out36);
+    check(st == STEWART_ERR_LEG_DEGENERATE && isnan(out36[0]), "status: zero-length leg (jacobian)", CASES[0].name, st);
+    st = stewart_inverse_dynamics(p, collapsed, zero, zero, out);
+    check(st == STEWART_ERR_LEG_DEGENERATE, "status: zero-length leg (inverse dynamics)", CASES[0].name, st);
+    st = stewart_leg_lengths(p, collapsed, out);
+    check(st == STEWART_OK && out[0] == 0.0, "status: zero-length leg is a length", CASES[0].name, st);
+
+    /* A vertical leg: singular with general leg inertia only (and not for G, J_C). */
+    const reference_case *gc = &CASES[0];
+    for (int c = 0; c < NCASES; ++c) {
+        if (!stewart_is_axisymmetric(&CASES[c].params)) { gc = &CASES[c]; break; }
+    }
+    const stewart_params *g = &gc->params;
+    double upright[6] = {0, 0, 0, 0, 0, 0};
+    for (int k = 0; k < 3; ++k) upright[k] = g->base_points[2][k] - g->platform_points[2][k];
+    upright[2] += 0.3;
+    st = stewart_mass_matrix(g, upright, out36);
+    check(!stewart_is_axisymmetric(g) && st == STEWART_ERR_LEG_VERTICAL && isnan(out36[35]),
+          "status: vertical leg, general inertia", gc->name, st);
+    st = stewart_forward_dynamics(g, upright, zero, zero, out);
+    check(st == STEWART_ERR_LEG_VERTICAL, "status: vertical leg, general inertia (forward dynamics)", gc->name, st);
+    st = stewart_gravity_vector(g, upright, out);
+    check(st == STEWART_OK, "status: vertical leg, gravity needs no leg frame", gc->name, st);
+    stewart_params axisymmetric = *g;
+    axisymmetric.cylinder_inertia[2] = axisymmetric.cylinder_inertia[1];
+    axisymmetric.piston_inertia[2] = axisymmetric.piston_inertia[1];
+    st = stewart_mass_matrix(&axisymmetric, upright, out36);
+    check(st == STEWART_OK, "status: vertical leg, axisymmetric inertia", gc->name, st);
+
+    /* A massless platform with massless legs: M_t = 0. */
+    stewart_params massless = *p;
+    massless.platform_mass = massless.cylinder_mass = massless.piston_mass = 0.0;
+    for (int k = 0; k < 3; ++k) {
+        massless.platform_inertia[k] = massless.cylinder_inertia[k] = massless.piston_inertia[k] = 0.0;
+    }
+    st = stewart_forward_dynamics(&massless, CASES[0].x, zero, zero, out);
+    check(st == STEWART_ERR_MASS_SINGULAR && isnan(out[0]), "status: massless platform", CASES[0].name, st);
+    st = stewart_inverse_dynamics(&massless, CASES[0].x, zero, zero, out);
+    check(st == STEWART_OK, "status: massless platform, inverse dynamics", CASES[0].name, st);
+
+    /* Overflow: a leg's length, or a result. */
+    double far[6];
+    memcpy(far, CASES[0].x, sizeof far);
+    far[0] = 1e200;
+    st = stewart_mass_matrix(p, far, out36);
+    check(st == STEWART_ERR_NONFINITE, "status: overflowing leg length", CASES[0].name, st);
+    const double huge[6] = {1e308, 1e308, 1e308, 1e308, 1e308, 1e308};
+    st = stewart_forward_dynamics(p, CASES[0].x, zero, huge, out);
+    check(st == STEWART_ERR_NONFINITE && isnan(out[0]), "status: overflowing result", CASES[0].name, st);
+
+    /* Precedence: the legs before the steps, cos(theta) before M_t. */
+    st = stewart_forward_dynamics(&massless, tilted, zero, zero, out);
+    check(st == STEWART_ERR_EULER_SINGULAR, "precedence: theta = 90 deg before M_t", CASES[0].name, st);
+    stewart_params pinned = *p; /* platform point 0 at the platform's origin: P_0 = p in any orientation */
+    for (int k = 0; k < 3; ++k) pinned.platform_points[0][k] = 0.0;
+    double pinned_x[6] = {p->base_points[0][0], p->base_points[0][1], p->base_points[0][2], 0, acos(0.0), 0};
+    st = stewart_forward_dynamics(&pinned, pinned_x, zero, zero, out);
+    check(st == STEWART_ERR_LEG_DEGENERATE, "precedence: zero-length leg before theta = 90 deg", CASES[0].name, st);
+    st = stewart_inverse_dynamics(g, (const double[6]){0, 0, 0, 0, 0, 0}, zero, zero, out);
+    check(st == STEWART_ERR_JACOBIAN_SINGULAR, "status: singular J_C, general inertia", gc->name, st);
+
+    /* Every status code has its own message. */
+    for (int a = STEWART_OK; a <= STEWART_ERR_MASS_SINGULAR; ++a) {
+        check(strcmp(stewart_status_message(a), "unknown status") != 0, "status message", "", a);
+        for (int b = STEWART_OK; b < a; ++b) {
+            check(strcmp(stewart_status_message(a), stewart_status_message(b)) != 0, "distinct messages", "", a);
+        }
+    }
+    check(strcmp(stewart_status_message(-1), "unknown status") == 0, "unknown status message", "", -1);
 
     printf("generated C vs numeric reference: worst relative error %.3e over %d states\n", worst, NCASES);
     printf("%d passed, %d failed\n", passed, failed);
