@@ -589,16 +589,15 @@ def leg_derivatives_kernel(axisymmetric):
                       [('legs', list(f) + [e for row in F for e in row] + list(leg.u))])
 
 
-def residual_derivatives_kernel():
+def residual_derivatives_kernel(forward):
     """The partials of the residual r(x, xd, xdd, tau) = M xdd + V xd + G - J_C^T tau of the
     equation of motion (eqs. 5, 19, 39, 51, 61, 69, 72-76) at any (xdd, tau): the platform's
     own terms [m_P (v' + g e_z); d/dt(I_P omega)] by forward mode along each input, and per
     leg [f_i; r_i x f_i] with the leg's f_i and df_i/d[l; w; a] from `leg_derivatives_kernel`,
-    chained to the inputs by forward mode through (l, w, a) of P_i.
-    Z = [M | R_x | R_xd | J_C^T], 6 x 24 row-major, with M = dr/dxdd, R_x = dr/dx,
-    R_xd = dr/dxd and J_C^T = -dr/dtau.  Inverse dynamics solves J_C^T [dtau/dxdd,
-    dtau/dx, dtau/dxd] = [M, R_x, R_xd] (columns 0-17), forward dynamics
-    M [dxdd/dx, dxdd/dxd, dxdd/dtau] = [-R_x, -R_xd, J_C^T] (columns 6-23)."""
+    chained to the inputs by forward mode through (l, w, a) of P_i.  Z is 6 x 18, row-major,
+    with M = dr/dxdd, R_x = dr/dx, R_xd = dr/dxd and J_C^T = -dr/dtau: inverse dynamics
+    solves J_C^T [dtau/dxdd, dtau/dx, dtau/dxd] = Z = [M, R_x, R_xd]; forward dynamics
+    (`forward`) M [dxdd/dx, dxdd/dxd, dxdd/dtau] = Z = [-R_x, -R_xd, J_C^T]."""
     P = PARAMS
     g = _accelerated_graph()
     kin = kinematics(g, P)
@@ -615,17 +614,19 @@ def residual_derivatives_kernel():
     for i, leg in enumerate(kin.legs):
         r += sp.Matrix.vstack(f[i], _cross(leg.r, f[i]))
     columns = []
-    for tag, inputs in (('Dxdd', XDD), ('Dx', X), ('Dxd', XD)):
+    for tag, inputs in (('Dx', X), ('Dxd', XD)) if forward else (('Dxdd', XDD), ('Dx', X), ('Dxd', XD)):
         for j, s in enumerate(inputs):
             tangent = Tangent(g, {s: sp.S.One}, f'{tag}{j}')
             for i, (l, w, a) in enumerate(motion):
                 dpoint = [tangent(e) for vec in (l, w, a) for e in vec]
                 for c in range(3):
                     tangent.seed[f[i][c]] = sp.Add(*[F[i][c, k] * d for k, d in enumerate(dpoint)])
-            columns.append([tangent(e) for e in r])
-    columns += [list(u[i]) + list(_cross(leg.r, u[i])) for i, leg in enumerate(kin.legs)]
-    Z = [columns[j][i] for i in range(6) for j in range(24)]
-    return KernelSpec('residual_derivatives', residual_derivatives_kernel.__doc__, g,
+            columns.append([(-1 if forward else 1) * tangent(e) for e in r])
+    if forward:
+        columns += [list(u[i]) + list(_cross(leg.r, u[i])) for i, leg in enumerate(kin.legs)]
+    Z = [columns[j][i] for i in range(6) for j in range(18)]
+    return KernelSpec(f'residual_derivatives_{"forward" if forward else "inverse"}',
+                      residual_derivatives_kernel.__doc__, g,
                       [('x', X), ('xd', XD), ('xdd', XDD), ('legs', legs)], [('Z', Z)])
 
 
@@ -699,10 +700,13 @@ INVERSE_DYNAMICS = _variants(inverse_dynamics_kernel)
 FORWARD_DYNAMICS = _variants(forward_dynamics_kernel)
 LEG_DERIVATIVES = _variants(leg_derivatives_kernel)
 
-#: The residual's partials Z at (x, xd, xdd, tau): P_i's motion, the legs, the chain rule.
-_RESIDUAL_STEPS = (Kernels((leg_points_kernel,), ('x', 'xd', 'xdd')),
-                   Kernels(LEG_DERIVATIVES, ('lwa', 'tau'), per_leg=True),
-                   Kernels((residual_derivatives_kernel,), ('x', 'xd', 'xdd', 'legs')))
+
+
+def _residual_steps(forward):
+    """The residual's partials Z at (x, xd, xdd, tau): P_i's motion, the legs, the chain rule."""
+    return (Kernels((leg_points_kernel,), ('x', 'xd', 'xdd')),
+            Kernels(LEG_DERIVATIVES, ('lwa', 'tau'), per_leg=True),
+            Kernels((partial(residual_derivatives_kernel, forward),), ('x', 'xd', 'xdd', 'legs')))
 
 #: Scratch arrays of the solves: the factors of J_C^T and of M_t (`linsolve`).
 _BAREISS_FACTORS = ('FJ', linsolve.BAREISS.size)
@@ -738,9 +742,9 @@ FUNCTIONS = (
              ('x', 'xd', 'xdd'), (('tau', 6), ('dtau_dx', 36), ('dtau_dxd', 36), ('dtau_dxdd', 36)),
              INVERSE_DYNAMICS,
              steps=(('bareiss_factor', ('JC', 'FJ')), ('bareiss_solve', ('FJ', '1', '1', 'W', 'tau')),
-                    *_RESIDUAL_STEPS,
-                    ('bareiss_solve', ('FJ', '18', '24', 'Z', 'Y')),
-                    ('split_jacobians', ('Y', '1.0', 'dtau_dxdd', '1.0', 'dtau_dx', '1.0', 'dtau_dxd'))),
+                    *_residual_steps(False),
+                    ('bareiss_solve', ('FJ', '18', '18', 'Z', 'Y')),
+                    ('split_jacobians', ('Y', 'dtau_dxdd', 'dtau_dx', 'dtau_dxd'))),
              scratch=(_BAREISS_FACTORS, ('Y', 108))),
     Function('forward_dynamics_derivatives',
              'xdd and its Jacobians (row = output, column = input): dxdd/dx = -M^-1 R_x,'
@@ -748,11 +752,10 @@ FUNCTIONS = (
              ' needs cos(theta) != 0.',
              ('x', 'xd', 'tau'), (('xdd', 6), ('dxdd_dx', 36), ('dxdd_dxd', 36), ('dxdd_dtau', 36)),
              FORWARD_DYNAMICS,
-             steps=_FORWARD_STEPS + _RESIDUAL_STEPS + (
-                                     ('ldl_solve', ('FM', '18', '24', 'Z + 6', 'Y')),
+             steps=_FORWARD_STEPS + _residual_steps(True) + (
+                                     ('ldl_solve', ('FM', '18', '18', 'Z', 'Y')),
                                      ('pose_accelerations', ('JAinv', '18', 'Y', 'D')),
-                                     ('split_jacobians', ('D', '-1.0', 'dxdd_dx', '-1.0', 'dxdd_dxd',
-                                                          '1.0', 'dxdd_dtau'))),
+                                     ('split_jacobians', ('D', 'dxdd_dx', 'dxdd_dxd', 'dxdd_dtau'))),
              scratch=(_LDL_FACTORS, ('y', 6), ('Y', 108), ('D', 108))),
     Function('rk4_step', 'One classic RK4 step of s = [x; xd], ds/dt = [xd; xdd(x, xd, tau)], tau constant:'
              ' [xn; xdn] after dt.', ('x', 'xd', 'tau'), (('xn', 6), ('xdn', 6)), (), scalars=('dt',),

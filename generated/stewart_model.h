@@ -115,28 +115,29 @@ int stewart_rk4_step(const stewart_params *p, const double x[6], const double xd
 int stewart_rk4_step_derivatives(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double dt, double xn[6], double xdn[6], double A[144], double B[72]);
 
 /* Operation counts of the generated kernels (sympy count_ops after cse):
- *   leg_lengths                   192
- *   jacobian                      276
- *   leg_rates                     350
- *   mass_matrix_axisym           1774
- *   mass_matrix_general          2045
- *   twist_mass_matrix_axisym     1726
- *   twist_mass_matrix_general    1997
- *   coriolis_matrix_axisym       5028
- *   coriolis_matrix_general      6703
- *   coriolis_vector_axisym       1688
- *   coriolis_vector_general      2187
- *   gravity_vector                414
- *   all_terms_axisym             3435
- *   all_terms_general            4126
- *   inverse_dynamics_axisym      1781
- *   inverse_dynamics_general     2280
- *   forward_dynamics_axisym      3299
- *   forward_dynamics_general     3990
- *   leg_points                    540
- *   leg_derivatives_axisym       1358
- *   leg_derivatives_general      2026
- *   residual_derivatives         6263
+ *   leg_lengths                      192
+ *   jacobian                         276
+ *   leg_rates                        350
+ *   mass_matrix_axisym              1774
+ *   mass_matrix_general             2045
+ *   twist_mass_matrix_axisym        1726
+ *   twist_mass_matrix_general       1997
+ *   coriolis_matrix_axisym          5028
+ *   coriolis_matrix_general         6703
+ *   coriolis_vector_axisym          1688
+ *   coriolis_vector_general         2187
+ *   gravity_vector                   414
+ *   all_terms_axisym                3435
+ *   all_terms_general               4126
+ *   inverse_dynamics_axisym         1781
+ *   inverse_dynamics_general        2280
+ *   forward_dynamics_axisym         3299
+ *   forward_dynamics_general        3990
+ *   leg_points                       540
+ *   leg_derivatives_axisym          1358
+ *   leg_derivatives_general         2026
+ *   residual_derivatives_inverse    6209
+ *   residual_derivatives_forward    5504
  */
 
 #ifdef __cplusplus
