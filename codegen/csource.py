@@ -3,8 +3,10 @@
 The public functions are written from their specs (`model.FUNCTIONS`): they check their
 inputs, dispatch between the axisymmetric and the general leg-inertia kernels, check the
 legs, run their steps (the small linear solves, unrolled in `linsolve`: pivoted
-elimination for J_C^T tau = W, LDL^T for M_t y = rhs) and check their outputs.  The
-fixed helpers are real C, in codegen/templates/runtime.c.
+elimination for J_C^T tau = W, LDL^T for M_t y = rhs, each factored once and solved for
+as many right-hand sides as the function needs; further kernels, once or per leg) and
+check their outputs.  The fixed helpers are real C, in codegen/templates/runtime.c; the
+RK4 step, an algorithm over the public functions, in codegen/templates/rk4.c.
 """
 
 from pathlib import Path

@@ -10,10 +10,15 @@ Performance rests on three rules:
 * every intermediate quantity (rotation matrix entries, leg vectors, unit
   vectors, velocities, momenta, ...) gets its own symbol through `Graph.define`,
   so no expression is ever expanded;
-* time derivatives are taken by the chain rule on those definitions
-  (`Graph.rate`, symbolic forward mode), never on expanded expressions;
+* time derivatives, and the partials of the derivative functions, are taken by
+  the chain rule on those definitions (`Tangent`, symbolic forward mode along a
+  seed: `Graph.rate` along time, `Graph.partials` along inputs), never on
+  expanded expressions and never by finite differences;
 * the transposed partial-velocity Jacobians of the paper (eqs. 31, 35, 57) are
-  applied as cross products (`generalized_force`), never formed as matrices.
+  applied as cross products (`generalized_force`), never formed as matrices;
+* the partials of the dynamics go through each leg's local Jacobian: a leg
+  depends on the platform only through its leg vector and the velocity and
+  acceleration of P_i (`leg_derivatives_kernel`, `residual_derivatives_kernel`).
 """
 
 from dataclasses import dataclass
