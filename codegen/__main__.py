@@ -1,6 +1,7 @@
 """CLI: regenerate generated/stewart_model.h, stewart_model.c and stewart_model.pxd."""
 
 import argparse
+import dataclasses
 import os
 import time
 from concurrent.futures import ProcessPoolExecutor
@@ -27,19 +28,12 @@ def _write_if_changed(path, text):
     return True
 
 
-def _function(index):
-    """Derive and emit the kernels of `model.FUNCTIONS[index]` and write its public C function:
-    (its emitted kernels, their derivation and emission times, its public C text)."""
-    function = model.FUNCTIONS[index]
-    members = model.PARAMS.members()
-    kernels, emitted, times = [], [], []
-    for build in function.kernels:
-        kernel, t_derive = _timed(build)
-        result, t_emit = _timed(emit.emit_kernel, kernel, members)
-        kernels.append(kernel)
-        emitted.append(result)
-        times.append((t_derive, t_emit))
-    return emitted, times, csource.public_function(function, kernels)
+def _kernel(build):
+    """Derive and emit one kernel: (its C, its spec without the derivation graph, the
+    derivation and emission times)."""
+    kernel, t_derive = _timed(build)
+    result, t_emit = _timed(emit.emit_kernel, kernel, model.PARAMS.members())
+    return result, dataclasses.replace(kernel, graph=None), t_derive, t_emit
 
 
 def main(argv=None):
@@ -47,26 +41,33 @@ def main(argv=None):
     parser.add_argument('--out', type=Path, default=DEFAULT_OUT,
                         help='output directory (default: %(default)s)')
     parser.add_argument('--jobs', type=int, default=os.cpu_count() or 1,
-                        help='processes deriving the functions side by side (default: %(default)s)')
+                        help='processes deriving the kernels side by side (default: %(default)s)')
     args = parser.parse_args(argv)
 
     total = time.perf_counter()
-    emitted, public = [], []
-    # The functions are independent: derive them side by side, collect them in their order.
+    generated = [f for f in model.FUNCTIONS if not f.template]
+    # Every kernel once, in the order the functions first use it.
+    builders = list(dict.fromkeys(
+        build for function in generated
+        for build in list(function.kernels) + [b for step in function.steps if isinstance(step, model.Kernels)
+                                               for b in step.builders]))
+    emitted, kernels = [], {}
+    # The kernels are independent: derive them side by side, collect them in their order.
     with ProcessPoolExecutor(max(1, args.jobs)) as pool:
-        for kernels, times, text in pool.map(_function, range(len(model.FUNCTIONS))):
-            for result, (t_derive, t_emit) in zip(kernels, times):
-                print(f'[codegen] {result.name:<28} derive {t_derive:5.2f} s, cse+C {t_emit:5.2f} s,'
-                      f' {result.ops:5d} ops', flush=True)
-            emitted += kernels
-            public.append(text)
+        for build, (result, kernel, t_derive, t_emit) in zip(builders, pool.map(_kernel, builders)):
+            kernels[build] = kernel
+            emitted.append(result)
+            print(f'[codegen] {kernel.name:<32} derive {t_derive:5.2f} s, cse+C {t_emit:5.2f} s,'
+                  f' {result.ops:5d} ops', flush=True)
+    public = [csource.public_function(function, kernels) for function in generated]
+    templates = list(dict.fromkeys(f.template for f in model.FUNCTIONS if f.template))
 
     start = time.perf_counter()
     args.out.mkdir(parents=True, exist_ok=True)
     ops = [(k.name, k.ops) for k in emitted]
     files = {
         'stewart_model.h': csource.header(schema.PARAM_FIELDS, model.FUNCTIONS, ops),
-        'stewart_model.c': csource.source(schema.PARAM_FIELDS, [k.source for k in emitted], public),
+        'stewart_model.c': csource.source(schema.PARAM_FIELDS, [k.source for k in emitted], public, templates),
         'stewart_model.pxd': pxd.pxd(schema.PARAM_FIELDS, schema.LEFT_OUT, model.FUNCTIONS),
     }
     written = [name for name, text in files.items() if _write_if_changed(args.out / name, text)]

@@ -10,10 +10,15 @@ Performance rests on three rules:
 * every intermediate quantity (rotation matrix entries, leg vectors, unit
   vectors, velocities, momenta, ...) gets its own symbol through `Graph.define`,
   so no expression is ever expanded;
-* time derivatives are taken by the chain rule on those definitions
-  (`Graph.rate`, symbolic forward mode), never on expanded expressions;
+* time derivatives, and the partials of the derivative functions, are taken by
+  the chain rule on those definitions (`Tangent`, symbolic forward mode along a
+  seed: `Graph.rate` along time, `Graph.partials` along inputs), never on
+  expanded expressions and never by finite differences;
 * the transposed partial-velocity Jacobians of the paper (eqs. 31, 35, 57) are
-  applied as cross products (`generalized_force`), never formed as matrices.
+  applied as cross products (`generalized_force`), never formed as matrices;
+* the partials of the dynamics go through each leg's local Jacobian: a leg
+  depends on the platform only through its leg vector and the velocity and
+  acceleration of P_i (`leg_derivatives_kernel`, `residual_derivatives_kernel`).
 """
 
 from dataclasses import dataclass
@@ -21,6 +26,7 @@ from functools import partial, reduce
 
 import sympy as sp
 
+from . import linsolve
 from .schema import PARAM_FIELDS
 
 NUM_LEGS = 6
@@ -88,8 +94,67 @@ class Params:
 PARAMS = Params()
 
 
+class Tangent:
+    """Symbolic forward-mode derivative of a graph's expressions along one direction.
+
+    `seed` maps independent inputs to their derivatives along the direction (x -> xd for
+    the time derivative, x_k -> 1 for the partial along x_k); every other symbol the
+    graph does not define is constant.  The derivative of each defined symbol is taken by
+    the chain rule on its definition, defined in the graph as `<symbol>_<tag>` (zeros
+    are not defined), and cached, so no expression is ever expanded.
+    """
+
+    def __init__(self, graph, seed, tag):
+        self.graph = graph
+        self.seed = dict(seed)
+        self.tag = tag
+        self._cache = {}
+
+    def __call__(self, expr):
+        """Derivative of `expr` along the direction."""
+        expr = sp.sympify(expr)
+        if expr.is_Symbol:
+            return self._symbol(expr)
+        if expr.is_Number:
+            return sp.S.Zero
+        if expr.is_Add:
+            return sp.Add(*[d for d in map(self, expr.args) if d is not sp.S.Zero])
+        if expr.is_Mul:
+            args = expr.args
+            terms = [(k, self(a)) for k, a in enumerate(args)]
+            return sp.Add(*[sp.Mul(*args[:k], d, *args[k + 1:]) for k, d in terms if d is not sp.S.Zero])
+        if expr.is_Pow and expr.exp.is_Number:
+            d = self(expr.base)
+            return sp.S.Zero if d is sp.S.Zero else expr.exp * expr.base ** (expr.exp - 1) * d
+        known = self.graph.known
+        if isinstance(expr, (sp.sin, sp.cos)):
+            d = self(expr.args[0])
+            if d is sp.S.Zero:
+                return d
+            if isinstance(expr, sp.sin):
+                return known(sp.cos(expr.args[0])) * d
+            return -known(sp.sin(expr.args[0])) * d
+        raise TypeError(f'no derivative rule for {expr.func}')
+
+    def _symbol(self, s):
+        if s in self.seed:
+            return self.seed[s]
+        definition = self.graph.definition(s)
+        if definition is None:
+            return sp.S.Zero
+        if s not in self._cache:
+            if definition.is_Pow and definition.exp.is_Number:
+                # d(b^k) = k b^k b^-1 db reuses s = b^k (no second root)
+                d = self(definition.base)
+                d = d if d is sp.S.Zero else definition.exp * s / definition.base * d
+            else:
+                d = self(definition)
+            self._cache[s] = self.graph.define(f'{s.name}_{self.tag}', d)
+        return self._cache[s]
+
+
 class Graph:
-    """Ordered symbol definitions with symbolic forward-mode time derivatives.
+    """Ordered symbol definitions with symbolic forward-mode derivatives (`Tangent`).
 
     `rates` maps the independent inputs to their time derivatives (x -> xd,
     optionally xd -> xdd); every other free symbol is a constant parameter.
@@ -101,7 +166,8 @@ class Graph:
         self.defs = []
         self._expr = {}
         self._by_expr = {}
-        self._rate = {}
+        self.rate = Tangent(self, self.rates, 'd')
+        """Total time derivative of an expression (forward mode along the rates)."""
 
     def define(self, name, expr):
         """Name `expr` (returned as is when it is already a number or symbol)."""
@@ -118,47 +184,22 @@ class Graph:
         self.defs.append((sym, expr))
         return sym
 
+    def definition(self, sym):
+        """The expression `sym` was defined as, or None for an input or parameter."""
+        return self._expr.get(sym)
+
+    def known(self, expr):
+        """The symbol defined as `expr`, or `expr` itself."""
+        return self._by_expr.get(expr, expr)
+
     def vector(self, name, exprs):
         return sp.Matrix([self.define(f'{name}_{c}', e) for c, e in zip(AXES, exprs)])
 
-    def rate(self, expr):
-        """Total time derivative of `expr` by forward-mode chain rule."""
-        expr = sp.sympify(expr)
-        if expr.is_Symbol:
-            return self._symbol_rate(expr)
-        if expr.is_Number:
-            return sp.S.Zero
-        if expr.is_Add:
-            return sp.Add(*[self.rate(a) for a in expr.args])
-        if expr.is_Mul:
-            args = expr.args
-            return sp.Add(*[sp.Mul(*args[:k], self.rate(a), *args[k + 1:])
-                            for k, a in enumerate(args)])
-        if expr.is_Pow and expr.exp.is_Number:
-            return expr.exp * expr.base ** (expr.exp - 1) * self.rate(expr.base)
-        if isinstance(expr, sp.sin):
-            return self._known(sp.cos(expr.args[0])) * self.rate(expr.args[0])
-        if isinstance(expr, sp.cos):
-            return -self._known(sp.sin(expr.args[0])) * self.rate(expr.args[0])
-        raise TypeError(f'no rate rule for {expr.func}')
-
-    def _known(self, expr):
-        return self._by_expr.get(expr, expr)
-
-    def _symbol_rate(self, s):
-        if s in self.rates:
-            return self.rates[s]
-        if s not in self._expr:
-            return sp.S.Zero
-        if s not in self._rate:
-            e = self._expr[s]
-            if e.is_Pow and e.exp.is_Number:
-                # d(b^k)/dt = k b^k b^-1 b' reuses s = b^k (no second root)
-                rd = e.exp * s / e.base * self.rate(e.base)
-            else:
-                rd = self.rate(e)
-            self._rate[s] = self.define(f'{s.name}_d', rd)
-        return self._rate[s]
+    def partials(self, exprs, inputs, tag):
+        """Rows d exprs_i / d inputs_j (lists), one `Tangent` per input."""
+        columns = [[Tangent(self, {s: sp.S.One}, f'{tag}{j}')(e) for e in exprs]
+                   for j, s in enumerate(inputs)]
+        return [list(row) for row in zip(*columns)]
 
 
 @dataclass
@@ -183,6 +224,22 @@ class Kinematics:
     legs: list
 
 
+def leg_geometry(g, l, r, tag, leg_frames):
+    """The geometry of a leg from its leg vector l (eq. 26): length, unit vector, l / (l . l)
+    (eq. 32) and, with `leg_frames`, the {C_i} axes (eqs. 43-48); `r` = R p_i."""
+    L2 = g.define(f'L2_{tag}', _dot(l, l))
+    iL2 = g.define(f'iL2_{tag}', 1 / L2)
+    L = g.define(f'L_{tag}', sp.sqrt(L2))
+    iL = g.define(f'iL_{tag}', L * iL2)
+    leg = Leg(r=r, l=l, L2=L2, L=L, u=g.vector(f'u{tag}', l * iL), lbar=g.vector(f'lb{tag}', l * iL2))
+    if leg_frames:
+        leg.h2 = g.define(f'h2_{tag}', l[0] ** 2 + l[1] ** 2)
+        ih = g.define(f'ih_{tag}', 1 / g.define(f'h_{tag}', sp.sqrt(leg.h2)))
+        leg.y_C = g.vector(f'yC{tag}', [-l[1] * ih, l[0] * ih, 0])
+        leg.z_C = g.vector(f'zC{tag}', _cross(leg.u, leg.y_C))
+    return leg
+
+
 def kinematics(g, P, leg_frames=False):
     """Pose-dependent geometry: R, J_A (eq. 8), legs (eqs. 26, 32, 43-48)."""
     psi, theta, phi = X[3:]
@@ -199,19 +256,7 @@ def kinematics(g, P, leg_frames=False):
     legs = []
     for i in range(NUM_LEGS):
         r = g.vector(f'r{i}', R * P.plat[i])
-        l = g.vector(f'l{i}', p + r - P.base[i])
-        L2 = g.define(f'L2_{i}', _dot(l, l))
-        iL2 = g.define(f'iL2_{i}', 1 / L2)
-        L = g.define(f'L_{i}', sp.sqrt(L2))
-        iL = g.define(f'iL_{i}', L * iL2)
-        leg = Leg(r=r, l=l, L2=L2, L=L, u=g.vector(f'u{i}', l * iL),
-                  lbar=g.vector(f'lb{i}', l * iL2))
-        if leg_frames:
-            leg.h2 = g.define(f'h2_{i}', l[0] ** 2 + l[1] ** 2)
-            ih = g.define(f'ih_{i}', 1 / g.define(f'h_{i}', sp.sqrt(leg.h2)))
-            leg.y_C = g.vector(f'yC{i}', [-l[1] * ih, l[0] * ih, 0])
-            leg.z_C = g.vector(f'zC{i}', _cross(leg.u, leg.y_C))
-        legs.append(leg)
+        legs.append(leg_geometry(g, g.vector(f'l{i}', p + r - P.base[i]), r, i, leg_frames))
     return Kinematics(R=R, J_A=J_A, c_theta=cth, legs=legs)
 
 
@@ -255,14 +300,19 @@ def leg_momenta(g, P, leg, w, axisymmetric, tag):
     return v_C, v_S, h_L
 
 
+def platform_angular_momentum(g, P, kin, omega, tag):
+    """h_P = I_P omega with I_P = R diag(I_P) R^T (eqs. 13-15)."""
+    wb = g.vector(f'{tag}wP', kin.R.T * omega)
+    return g.vector(f'{tag}hP', kin.R * sp.Matrix([P.I_P[k] * wb[k] for k in range(3)]))
+
+
 def momenta(g, P, kin, v, omega, axisymmetric, tag):
     """Body velocities and angular momenta for the twist [v; omega].
 
     Platform: I_P = R diag(I_P) R^T (eq. 13), h_P = I_P omega.  Leg i: see
     `leg_momenta` with w_i = v + omega x r_i, the velocity of P_i.
     """
-    wb = g.vector(f'{tag}wP', kin.R.T * omega)
-    h_P = g.vector(f'{tag}hP', kin.R * sp.Matrix([P.I_P[k] * wb[k] for k in range(3)]))
+    h_P = platform_angular_momentum(g, P, kin, omega, tag)
     legs = [leg_momenta(g, P, leg, g.vector(f'{tag}vP{i}', v + _cross(omega, leg.r)),
                         axisymmetric, f'{tag}{i}')
             for i, leg in enumerate(kin.legs)]
@@ -489,6 +539,102 @@ def all_terms_kernel(axisymmetric):
                       + _leg_checks(kin, axisymmetric))
 
 
+#: Inputs of the per-leg kernel: the leg vector l, the velocity w and the acceleration a of
+#: P_i (l' = w, w' = a, as b_i is fixed), and the actuator force.
+LEG_POINT = _symbols('P', 9)
+LEG_TAU = _symbols('tau_leg', 1)
+#: Size of the per-leg outputs of `leg_derivatives_kernel`: f (3), df/d[l; w; a] (27), u (3).
+LEG_OUT = 33
+
+
+def _point_motion(g, kin, v, omega):
+    """Per leg (l, w, a): the leg vector, the velocity w = v + omega x r and the acceleration
+    a = dw/dt of P_i (eqs. 26, 27)."""
+    out = []
+    for i, leg in enumerate(kin.legs):
+        w = g.vector(f'qvP{i}', v + _cross(omega, leg.r))
+        out.append((leg.l, w, w.applyfunc(g.rate)))
+    return out
+
+
+def _accelerated_graph():
+    return Graph({**{x: xd for x, xd in zip(X, XD)}, **{xd: xdd for xd, xdd in zip(XD, XDD)}})
+
+
+def leg_points_kernel():
+    """[l; w; a] of every leg's P_i (`_point_motion`), 9 per leg: the inputs of the per-leg
+    derivative kernel."""
+    g = _accelerated_graph()
+    kin = kinematics(g, PARAMS)
+    v, omega = twist(g, kin, XD, 'q')
+    points = [e for motion in _point_motion(g, kin, v, omega) for vec in motion for e in vec]
+    return KernelSpec('leg_points', leg_points_kernel.__doc__, g, [('x', X), ('xd', XD), ('xdd', XDD)],
+                      [('lwa', points)])
+
+
+def leg_derivatives_kernel(axisymmetric):
+    """One leg's share of the residual r = M xdd + V xd + G - J_C^T tau, as the force f at
+    P_i (r gets [f; r_i x f], see `generalized_force`): the leg momenta (eqs. 27-29, 55-57,
+    65) and their rates by forward mode along l' = w, w' = a, gravity (eqs. 72-76) and the
+    actuator force, f = f_legs - tau_i u_i; then df/d[l; w; a] (3 x 9, row-major) by forward
+    mode along each of them, and u = -df/dtau_i.  The leg depends on the platform only
+    through (l, w, a), so one kernel serves the six legs, each writing its slice of
+    legs = [f (3); df/d[l; w; a] (27); u (3)] per leg."""
+    P = PARAMS
+    l, w, a = (sp.Matrix(LEG_POINT[3 * k:3 * k + 3]) for k in range(3))
+    g = Graph({**dict(zip(l, w)), **dict(zip(w, a))})
+    leg = leg_geometry(g, l, None, 'i', not axisymmetric)
+    v_C, v_S, h_L = leg_momenta(g, P, leg, w, axisymmetric, 'i')
+    _, w_C, w_S = _gravity_forces(P, True)
+    rate = lambda vec: vec.applyfunc(g.rate)
+    f = leg_force(g, P, leg, P.m_C * rate(v_C) + w_C, P.m_S * rate(v_S) + w_S, rate(h_L), 'i') - LEG_TAU[0] * leg.u
+    F = g.partials(list(f), LEG_POINT, 'D')
+    return KernelSpec(f'leg_derivatives_{_variant(axisymmetric)}', leg_derivatives_kernel.__doc__, g,
+                      [('lwa', LEG_POINT), ('tau', LEG_TAU)],
+                      [('legs', list(f) + [e for row in F for e in row] + list(leg.u))])
+
+
+def residual_derivatives_kernel(forward):
+    """The partials of the residual r(x, xd, xdd, tau) = M xdd + V xd + G - J_C^T tau of the
+    equation of motion (eqs. 5, 19, 39, 51, 61, 69, 72-76) at any (xdd, tau): the platform's
+    own terms [m_P (v' + g e_z); d/dt(I_P omega)] by forward mode along each input, and per
+    leg [f_i; r_i x f_i] with the leg's f_i and df_i/d[l; w; a] from `leg_derivatives_kernel`,
+    chained to the inputs by forward mode through (l, w, a) of P_i.  Z is 6 x 18, row-major,
+    with M = dr/dxdd, R_x = dr/dx, R_xd = dr/dxd and J_C^T = -dr/dtau: inverse dynamics
+    solves J_C^T [dtau/dxdd, dtau/dx, dtau/dxd] = Z = [M, R_x, R_xd]; forward dynamics
+    (`forward`) M [dxdd/dx, dxdd/dxd, dxdd/dtau] = Z = [-R_x, -R_xd, J_C^T]."""
+    P = PARAMS
+    g = _accelerated_graph()
+    kin = kinematics(g, P)
+    v, omega = twist(g, kin, XD, 'q')
+    w_P, _, _ = _gravity_forces(P, True)
+    rate = lambda vec: vec.applyfunc(g.rate)
+    platform = sp.Matrix.vstack(P.m_P * rate(v) + w_P, rate(platform_angular_momentum(g, P, kin, omega, 'q')))
+    motion = _point_motion(g, kin, v, omega)
+    legs = _symbols('legs', NUM_LEGS * LEG_OUT)
+    f = [sp.Matrix(legs[LEG_OUT * i:LEG_OUT * i + 3]) for i in range(NUM_LEGS)]
+    F = [sp.Matrix(3, 9, legs[LEG_OUT * i + 3:LEG_OUT * i + 30]) for i in range(NUM_LEGS)]
+    u = [sp.Matrix(legs[LEG_OUT * i + 30:LEG_OUT * i + 33]) for i in range(NUM_LEGS)]
+    r = platform
+    for i, leg in enumerate(kin.legs):
+        r += sp.Matrix.vstack(f[i], _cross(leg.r, f[i]))
+    columns = []
+    for tag, inputs in (('Dx', X), ('Dxd', XD)) if forward else (('Dxdd', XDD), ('Dx', X), ('Dxd', XD)):
+        for j, s in enumerate(inputs):
+            tangent = Tangent(g, {s: sp.S.One}, f'{tag}{j}')
+            for i, (l, w, a) in enumerate(motion):
+                dpoint = [tangent(e) for vec in (l, w, a) for e in vec]
+                for c in range(3):
+                    tangent.seed[f[i][c]] = sp.Add(*[F[i][c, k] * d for k, d in enumerate(dpoint)])
+            columns.append([(-1 if forward else 1) * tangent(e) for e in r])
+    if forward:
+        columns += [list(u[i]) + list(_cross(leg.r, u[i])) for i, leg in enumerate(kin.legs)]
+    Z = [columns[j][i] for i in range(6) for j in range(18)]
+    return KernelSpec(f'residual_derivatives_{"forward" if forward else "inverse"}',
+                      residual_derivatives_kernel.__doc__, g,
+                      [('x', X), ('xd', XD), ('xdd', XDD), ('legs', legs)], [('Z', Z)])
+
+
 def euler_rates_inverse(kin):
     """J_A^-1 (inverse of eq. 8) in closed form; divides by cos(theta)."""
     cps, sps = kin.J_A[1, 1], -kin.J_A[0, 1]
@@ -518,50 +664,109 @@ def forward_dynamics_kernel(axisymmetric):
 
 
 @dataclass(frozen=True)
+class Kernels:
+    """A step running a kernel (the axisymmetric or the general one, by the leg inertias)
+    on the given arrays: the function's inputs or arrays computed by earlier steps.  A
+    `per_leg` kernel runs once per leg on consecutive slices of its inputs and outputs."""
+    builders: tuple   # builders of the kernel: one, or the axisymmetric and the general one
+    inputs: tuple     # the C arrays passed as its inputs
+    per_leg: bool = False
+
+
+@dataclass(frozen=True)
 class Function:
-    """A public C function `stewart_<name>(p, <inputs>, <result>)`.
+    """A public C function `stewart_<name>(p, <inputs>, <scalars>, <outputs>)`.
 
     It checks that the parameters and inputs are finite, runs its kernel (the axisymmetric
     or the general one, by the leg inertias), checks the legs the kernel reports (`L2`,
     `h2`), then runs `steps` while the status is STEWART_OK, and returns the status with
-    `result` NaN unless it is STEWART_OK and finite.  A step is a C function returning a
-    status (the solvers of `linsolve`, or codegen/templates/runtime.c), called with kernel
-    outputs, `scratch` arrays or `result`.
+    every output NaN unless it is STEWART_OK and all outputs are finite.  A step is a C
+    function returning a status (the solvers of `linsolve`, or codegen/templates/runtime.c),
+    called with kernel outputs, `scratch` arrays, outputs or constants, or a further kernel
+    (`Kernels`).  A function with no kernels is written in C in `template`
+    (codegen/templates), from the public functions before it.
     """
     name: str
     doc: str
     inputs: tuple     # its input arrays, 6 doubles each
-    result: str       # its output array
-    size: int         # the number of doubles in `result`
+    outputs: tuple    # (array, number of doubles) of its outputs
     kernels: tuple    # builders of its kernel: one, or the axisymmetric and the general one
-    steps: tuple = ()    # (C function, argument arrays)
+    steps: tuple = ()    # (C function, argument arrays) or `Kernels`
     scratch: tuple = ()  # (array, size) of the steps' intermediate arrays
+    scalars: tuple = ()  # its scalar (double) inputs
+    template: str = ''   # the template file of a function written in C
 
 
 def _variants(build):
     return tuple(partial(build, axisymmetric) for axisymmetric in (True, False))
 
 
+INVERSE_DYNAMICS = _variants(inverse_dynamics_kernel)
+FORWARD_DYNAMICS = _variants(forward_dynamics_kernel)
+LEG_DERIVATIVES = _variants(leg_derivatives_kernel)
+
+
+
+def _residual_steps(forward):
+    """The residual's partials Z at (x, xd, xdd, tau): P_i's motion, the legs, the chain rule."""
+    return (Kernels((leg_points_kernel,), ('x', 'xd', 'xdd')),
+            Kernels(LEG_DERIVATIVES, ('lwa', 'tau'), per_leg=True),
+            Kernels((partial(residual_derivatives_kernel, forward),), ('x', 'xd', 'xdd', 'legs')))
+
+#: Scratch arrays of the solves: the factors of J_C^T and of M_t (`linsolve`).
+_BAREISS_FACTORS = ('FJ', linsolve.BAREISS.size)
+_LDL_FACTORS = ('FM', linsolve.LDL_SIZE)
+
+_FORWARD_STEPS = (('check_euler', ('ctheta',)), ('ldl_factor', ('Mt', 'FM')),
+                  ('ldl_solve', ('FM', '1', '1', 'rhs', 'y')), ('pose_accelerations', ('JAinv', '1', 'y', 'xdd')))
+
 FUNCTIONS = (
-    Function('leg_lengths', 'Leg lengths L_i (a zero length is not an error here).', ('x',), 'L', 6,
+    Function('leg_lengths', 'Leg lengths L_i (a zero length is not an error here).', ('x',), (('L', 6),),
              (leg_lengths_kernel,)),
-    Function('jacobian', 'J_C (eq. 5): Ldot = J_C t.', ('x',), 'JC', 36, (jacobian_kernel,)),
+    Function('jacobian', 'J_C (eq. 5): Ldot = J_C t.', ('x',), (('JC', 36),), (jacobian_kernel,)),
     Function('leg_rates', 'Leg lengths L and rates Ldot = J_C T xd in one pass: LLd = [L; Ldot].',
-             ('x', 'xd'), 'LLd', 12, (leg_rates_kernel,)),
-    Function('mass_matrix', 'M = M_t T.', ('x',), 'M', 36, _variants(mass_matrix_kernel)),
+             ('x', 'xd'), (('LLd', 12),), (leg_rates_kernel,)),
+    Function('mass_matrix', 'M = M_t T.', ('x',), (('M', 36),), _variants(mass_matrix_kernel)),
     Function('twist_mass_matrix', 'M_t, the symmetric positive definite twist-space mass matrix: M = M_t T.',
-             ('x',), 'Mt', 36, _variants(twist_mass_matrix_kernel)),
-    Function('coriolis_matrix', 'V(x, xd).', ('x', 'xd'), 'V', 36, _variants(coriolis_matrix_kernel)),
-    Function('coriolis_vector', 'V xd without forming V.', ('x', 'xd'), 'Vxd', 6,
+             ('x',), (('Mt', 36),), _variants(twist_mass_matrix_kernel)),
+    Function('coriolis_matrix', 'V(x, xd).', ('x', 'xd'), (('V', 36),), _variants(coriolis_matrix_kernel)),
+    Function('coriolis_vector', 'V xd without forming V.', ('x', 'xd'), (('Vxd', 6),),
              _variants(coriolis_vector_kernel)),
-    Function('gravity_vector', 'G(x).', ('x',), 'G', 6, (gravity_kernel,)),
+    Function('gravity_vector', 'G(x).', ('x',), (('G', 6),), (gravity_kernel,)),
     Function('all_terms', 'M, V xd, G and J_C in one pass: terms = [M (36); Vxd (6); G (6); JC (36)].',
-             ('x', 'xd'), 'terms', 84, _variants(all_terms_kernel)),
-    Function('inverse_dynamics', 'tau = J_C^-T (M xdd + V xd + G).', ('x', 'xd', 'xdd'), 'tau', 6,
-             _variants(inverse_dynamics_kernel), steps=(('solve_transposed', ('JC', 'W', 'tau')),)),
+             ('x', 'xd'), (('terms', 84),), _variants(all_terms_kernel)),
+    Function('inverse_dynamics', 'tau = J_C^-T (M xdd + V xd + G).', ('x', 'xd', 'xdd'), (('tau', 6),),
+             INVERSE_DYNAMICS, steps=(('bareiss_factor', ('JC', 'FJ')), ('bareiss_solve', ('FJ', '1', '1', 'W', 'tau'))),
+             scratch=(_BAREISS_FACTORS,)),
     Function('forward_dynamics', 'xdd = M^-1 (J_C^T tau - V xd - G); needs cos(theta) != 0.',
-             ('x', 'xd', 'tau'), 'xdd', 6, _variants(forward_dynamics_kernel),
-             steps=(('check_euler', ('ctheta',)), ('cholesky_solve', ('Mt', 'rhs', 'y')),
-                    ('pose_accelerations', ('JAinv', 'y', 'xdd'))),
-             scratch=(('y', 6),)),
+             ('x', 'xd', 'tau'), (('xdd', 6),), FORWARD_DYNAMICS, steps=_FORWARD_STEPS,
+             scratch=(_LDL_FACTORS, ('y', 6))),
+    Function('inverse_dynamics_derivatives',
+             'tau and its Jacobians (row = output, column = input): dtau/dx = J_C^-T R_x,'
+             ' dtau/dxd = J_C^-T R_xd, dtau/dxdd = J_C^-T M, R = partials of M xdd + V xd + G - J_C^T tau.',
+             ('x', 'xd', 'xdd'), (('tau', 6), ('dtau_dx', 36), ('dtau_dxd', 36), ('dtau_dxdd', 36)),
+             INVERSE_DYNAMICS,
+             steps=(('bareiss_factor', ('JC', 'FJ')), ('bareiss_solve', ('FJ', '1', '1', 'W', 'tau')),
+                    *_residual_steps(False),
+                    ('bareiss_solve', ('FJ', '18', '18', 'Z', 'Y')),
+                    ('split_jacobians', ('Y', 'dtau_dxdd', 'dtau_dx', 'dtau_dxd'))),
+             scratch=(_BAREISS_FACTORS, ('Y', 108))),
+    Function('forward_dynamics_derivatives',
+             'xdd and its Jacobians (row = output, column = input): dxdd/dx = -M^-1 R_x,'
+             ' dxdd/dxd = -M^-1 R_xd, dxdd/dtau = M^-1 J_C^T, R = partials of M xdd + V xd + G - J_C^T tau;'
+             ' needs cos(theta) != 0.',
+             ('x', 'xd', 'tau'), (('xdd', 6), ('dxdd_dx', 36), ('dxdd_dxd', 36), ('dxdd_dtau', 36)),
+             FORWARD_DYNAMICS,
+             steps=_FORWARD_STEPS + _residual_steps(True) + (
+                                     ('ldl_solve', ('FM', '18', '18', 'Z', 'Y')),
+                                     ('pose_accelerations', ('JAinv', '18', 'Y', 'D')),
+                                     ('split_jacobians', ('D', 'dxdd_dx', 'dxdd_dxd', 'dxdd_dtau'))),
+             scratch=(_LDL_FACTORS, ('y', 6), ('Y', 108), ('D', 108))),
+    Function('rk4_step', 'One classic RK4 step of s = [x; xd], ds/dt = [xd; xdd(x, xd, tau)], tau constant:'
+             ' [xn; xdn] after dt.', ('x', 'xd', 'tau'), (('xn', 6), ('xdn', 6)), (), scalars=('dt',),
+             template='rk4.c'),
+    Function('rk4_step_derivatives', 'The RK4 step and its Jacobians A = d[xn; xdn]/d[x; xd] (12 x 12) and'
+             ' B = d[xn; xdn]/dtau (12 x 6), row-major, by the chain rule through the stages.',
+             ('x', 'xd', 'tau'), (('xn', 6), ('xdn', 6), ('A', 144), ('B', 72)), (), scalars=('dt',),
+             template='rk4.c'),
 )
