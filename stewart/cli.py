@@ -383,7 +383,7 @@ def cmd_optimize(args) -> int:
     force_limit = None if math.isinf(args.force_limit) else args.force_limit
     try:
         move = optimize.minimum_effort_move(plat, np.array(args.target), args.move_time, args.intervals,
-                                            force_limit=force_limit)
+                                            force_limit=force_limit, max_iterations=args.max_iterations)
     except WorkspaceError as exc:
         raise UserError(f"--target: {str(exc).partition(': ')[2]}", EXIT_WORKSPACE) from None
     except ValueError as exc:
@@ -417,7 +417,7 @@ def cmd_optimize(args) -> int:
 
 #: The user's flags for the arguments of :func:`stewart.optimize.minimum_effort_move`.
 _OPTIMIZE_FLAGS = {"target": "--target", "duration": "--move-time", "intervals": "--intervals",
-                   "force_limit": "--force-limit"}
+                   "force_limit": "--force-limit", "max_iterations": "--max-iterations"}
 
 
 def cmd_validate(args) -> int:
@@ -534,7 +534,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--move-time", type=_positive, default=5.0, help="duration of the move [s]")
     p.add_argument("--intervals", type=_count, default=50, help="RK4 intervals (multiple-shooting nodes - 1)")
     p.add_argument("--force-limit", type=_limit, default=math.inf, help="largest actuator force per leg [N]")
-    p.add_argument("--csv", metavar="FILE", help="write the nodes (t, pose, rates, forces, leg lengths) as CSV")
+    p.add_argument("--max-iterations", type=_count, default=1000, help="IPOPT's iteration budget")
+    p.add_argument("--csv", metavar="FILE", help="write the nodes (t, pose, rates, leg lengths, forces) as CSV")
     p.add_argument("--plot", metavar="DIR", help="write PNG figures of forces and leg strokes into DIR")
     p.add_argument("--json", action="store_true", help="print only a JSON summary on stdout")
 

@@ -63,15 +63,15 @@ class MinimumEffortMove:
                 f"{self.iterations} IPOPT iterations, {self.solve_seconds:.3g} s")
 
     def to_csv(self, path) -> None:
-        """Write the nodes as CSV (SI units): ``t``, the pose, its rates (``x_dot`` ...), the
-        forces ``tau0`` ... ``tau5`` held from each node to the next (the last row repeats
-        the last interval's) and the leg lengths ``L0`` ... ``L5``; a ``#`` comment line
-        gives :meth:`describe`. ``stewart simulate --trajectory`` reads the poses back."""
+        """Write the nodes as CSV (SI units), with the column names of a simulation's CSV:
+        ``t``, the pose, its rates (``x_dot`` ...), the leg lengths ``L0`` ... ``L5`` and the
+        forces ``force0`` ... ``force5`` held from each node to the next (the last row
+        repeats the last interval's); a ``#`` comment line gives :meth:`describe`."""
         pose = ["x", "y", "z", "psi", "theta", "phi"]
-        names = (["t"] + pose + [f"{name}_dot" for name in pose] + [f"tau{k}" for k in range(6)]
-                 + [f"L{k}" for k in range(6)])
+        names = (["t"] + pose + [f"{name}_dot" for name in pose] + [f"L{k}" for k in range(6)]
+                 + [f"force{k}" for k in range(6)])
         held = np.vstack([self.tau, self.tau[-1:]])
-        csvfile.write(path, names, np.column_stack([self.t, self.x, self.xd, held, self.lengths]),
+        csvfile.write(path, names, np.column_stack([self.t, self.x, self.xd, self.lengths, held]),
                       self.describe())
 
 

@@ -1,5 +1,7 @@
 """The CasADi functions over the compiled model and the minimum-effort move built on them."""
 
+import json
+
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
@@ -93,13 +95,13 @@ def test_minimum_effort_move_solves_within_its_limits(plat, move, figures):
 
 def test_minimum_effort_move_is_physical(plat, move, figures):
     """The forces, held over an interval and integrated from its first node by an
-    independent adaptive solver through the numeric reference, lead to the next node up to
+    independent adaptive solver (DOP853), lead to the next node up to
     RK4's local error: halving RK4's step shrinks the difference at a rate only a
     discretization error has (1/32 asymptotically; a model error would not shrink)."""
     worst = 0.0
     for k, tau in enumerate(move.tau):
         def rate(_, s):
-            return np.concatenate([s[6:], stewart.reference.forward_dynamics(plat.params, s[:6], s[6:], tau)])
+            return np.concatenate([s[6:], plat.forward_dynamics(s[:6], s[6:], tau)])
 
         start = np.concatenate([move.x[k], move.xd[k]])
         end = solve_ivp(rate, (0.0, move.dt), start, method="DOP853", rtol=1e-12, atol=1e-14).y[:, -1]
@@ -110,7 +112,7 @@ def test_minimum_effort_move_is_physical(plat, move, figures):
     figures("optimized move: interval error ratio, RK4 at dt/2 vs dt against DOP853", worst, 0.25)
 
 
-@pytest.mark.slow
+@pytest.mark.peers
 def test_casadis_own_model_finds_the_same_optimum(plat, move, figures):
     from benchmarks.peers import casadi_optimize
 
@@ -129,3 +131,28 @@ def test_unreachable_target_and_bad_arguments(plat):
         stewart.optimize.minimum_effort_move(plat, TARGET, 5.0, force_limit=0.0)
     with pytest.raises(ValueError, match="intervals: must be from 1"):
         stewart.optimize.minimum_effort_move(plat, TARGET, 5.0, 0)
+
+
+@pytest.mark.slow
+def test_optimize_command(move, tmp_path, capsys):
+    from test_cli import _one_error_line, _run
+
+    target = [str(v) for v in TARGET]
+    csv, figures_dir = tmp_path / "move.csv", tmp_path / "figs"
+    code, out, _ = _run(["optimize", "--target", *target, "--intervals", "20", "--force-limit", "60",
+                         "--csv", str(csv), "--plot", str(figures_dir), "--json"], capsys)
+    summary = json.loads(out)
+    assert code == 0 and summary["ok"] and summary["status"] == "Solve_Succeeded" and summary["exit_code"] == 0
+    assert max(summary["peak_force"]) <= 60 + 1e-6 and len(summary["files"]) == 3
+    assert sorted(p.name for p in figures_dir.iterdir()) == ["optimize_forces.png", "optimize_legs.png"]
+    rows = stewart.csvfile.read(csv, ["t", "x", "y", "z", "psi", "theta", "phi", "force0", "L5"])
+    np.testing.assert_allclose(rows[:, 1:7], move.x, rtol=1e-10, atol=1e-12)
+    np.testing.assert_allclose(rows[:-1, 7], move.tau[:, 0], rtol=1e-10)
+    np.testing.assert_allclose(rows[:, 8], move.lengths[:, 5], rtol=1e-10)
+    code, _, err = _run(["optimize", "--target", "0", "0", "0.5", "0", "0", "0"], capsys)
+    assert code == 3 and "longer than the maximum length" in _one_error_line(err, "optimize", "--target: ")
+    code, out, err = _run(["optimize", "--target", *target, "--max-iterations", "2"], capsys)
+    assert code == 4 and "IPOPT did not solve the problem (Maximum_Iterations_Exceeded)" in _one_error_line(
+        err, "optimize", "")
+    code, _, err = _run(["optimize"], capsys)
+    assert code == 2 and "give --target" in _one_error_line(err, "optimize", "")
