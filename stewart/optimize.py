@@ -87,8 +87,10 @@ def _force_bounds(force_limit, n: int) -> tuple[np.ndarray, np.ndarray]:
 
 def solve_move(dynamics, lengths, start, target, duration: float, intervals: int, *, initial_guess,
                force_limit=None, stroke=None, tolerance: float = 1e-8, max_iterations: int = 1000):
-    """Solve the move's NLP for any model given as CasADi functions: ``dynamics(s, tau) ->
-    s_next`` (one step over ``duration / intervals``) and ``lengths(x) -> L``. Returns
+    """Solve the move's NLP for any model given as CasADi functions over the whole horizon:
+    ``dynamics(S, U) -> S_next`` (one step over ``duration / intervals`` of each column of
+    ``S`` (12 x N) under the column of ``U`` (6 x N)) and ``lengths(X) -> L`` (6 x (N + 1)).
+    Returns
     ``(states (N+1, 12), forces (N, 6), effort, stats, seconds)``. The benchmarks solve the
     same NLP with CasADi's own model through this function."""
     import casadi as ca
@@ -97,11 +99,11 @@ def solve_move(dynamics, lengths, start, target, duration: float, intervals: int
     dt = duration / n
     states = ca.MX.sym("s", 12, n + 1)
     forces = ca.MX.sym("tau", 6, n)
-    defects = states[:, 1:] - dynamics.map(n)(states[:, :-1], forces)
+    defects = states[:, 1:] - dynamics(states[:, :-1], forces)
     constraints = [ca.vec(defects)]
     lower, upper = [np.zeros(12 * n)], [np.zeros(12 * n)]
     if stroke is not None:
-        constraints.append(ca.vec(lengths.map(n + 1)(states[:6, :])))
+        constraints.append(ca.vec(lengths(states[:6, :])))
         lower.append(np.full(6 * (n + 1), stroke[0]))
         upper.append(np.full(6 * (n + 1), stroke[1]))
     effort = ca.sumsqr(forces) * dt
@@ -175,7 +177,8 @@ def minimum_effort_move(platform: Platform, target, duration: float, intervals: 
     guess = initial_guess(platform, start, target, duration, intervals)
     dt = duration / intervals
     states, forces, effort, stats, seconds = solve_move(
-        casadi_functions.rk4_step(platform, dt), casadi_functions.leg_lengths(platform), start, target,
+        casadi_functions.rk4_step(platform, dt, intervals), casadi_functions.leg_lengths(platform, intervals + 1),
+        start, target,
         duration, intervals, initial_guess=guess, force_limit=force_limit,
         stroke=platform.params.leg_length_limits, tolerance=tolerance, max_iterations=max_iterations)
     return MinimumEffortMove(

@@ -51,7 +51,7 @@ def minimum_effort_move(platform, target, duration: float, intervals: int, force
     from stewart import optimize
 
     step, lengths = casadi_functions(platform.params, duration / intervals)
-    return optimize.solve_move(step, lengths, platform.home_pose, np.asarray(target, dtype=float), duration,
+    return optimize.solve_move(step.map(intervals), lengths.map(intervals + 1), platform.home_pose, np.asarray(target, dtype=float), duration,
                                intervals, initial_guess=optimize.initial_guess(platform, platform.home_pose, target,
                                                                                duration, intervals),
                                force_limit=force_limit, stroke=platform.params.leg_length_limits)
