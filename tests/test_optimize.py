@@ -54,6 +54,22 @@ def test_rk4_step_function_is_the_platforms_step(plat):
         casadi_functions.rk4_step(plat, 0.0)
 
 
+def test_a_batch_function_is_the_mapped_one_with_block_diagonal_jacobians(plat):
+    x, xd, xdd = random_states(plat.params, 5, np.random.default_rng(8))
+    tau = plat.inverse_dynamics(x, xd, xdd)
+    single, batch = casadi_functions.rk4_step(plat, 0.01), casadi_functions.rk4_step(plat, 0.01, 5)
+    states, forces = ca.MX.sym("S", 12, 5), ca.MX.sym("U", 6, 5)
+    outputs = {}
+    for label, function in (("mapped", single.map(5)), ("batch", batch)):
+        out = function(states, forces)
+        jacobian = ca.jacobian(ca.vec(out), ca.vertcat(ca.vec(states), ca.vec(forces)))
+        assert jacobian.sparsity().nnz() == 5 * (12 * 12 + 12 * 6)
+        outputs[label] = [np.asarray(v) for v in ca.Function(f"{label}_step", [states, forces], [out, jacobian])(
+            np.hstack([x, xd]).T, tau.T)]
+    for mapped, batch_value in zip(outputs["mapped"], outputs["batch"]):
+        np.testing.assert_array_equal(batch_value, mapped)
+
+
 def test_leg_length_jacobian_against_complex_step(plat, figures):
     x = random_states(plat.params, 1, np.random.default_rng(7))[0][0]
     function = casadi_functions.leg_lengths(plat)
