@@ -13,7 +13,7 @@ import numpy as np
 
 from . import casadi_model
 
-__all__ = ["casadi_functions", "minimum_effort_move"]
+__all__ = ["casadi_functions", "minimum_effort_move", "figures"]
 
 
 def casadi_functions(params, dt: float):
@@ -55,3 +55,42 @@ def minimum_effort_move(platform, target, duration: float, intervals: int, force
                                intervals, initial_guess=optimize.initial_guess(platform, platform.home_pose, target,
                                                                                duration, intervals),
                                force_limit=force_limit, stroke=platform.params.leg_length_limits)
+
+
+def figures(preset: str = "narayan2017", intervals: int = 50, force_limit: float = 60.0, repeats: int = 5) -> dict:
+    """The seed paper's move (home to its target in 5 s) as a minimum-effort problem, solved
+    over our CasADi functions and over CasADi's own model: each optimum, IPOPT's iterations,
+    the median wall time per solve (of ``repeats`` solves over ours; one over CasADi's,
+    which takes long enough to measure alone) and per iteration, and the relative
+    difference of the optima. CasADi's model is built once, outside the timing; both NLPs
+    are built before their solves' timing starts."""
+    import time
+
+    import stewart
+    from stewart import casadi_functions as ours
+    from stewart import optimize
+
+    plat = stewart.Platform.preset(preset)
+    target = np.array([0.04565, -0.0102, 0.192, -0.0863, 0.1046, 0.0960])
+    duration = 5.0
+    dt = duration / intervals
+    guess = optimize.initial_guess(plat, plat.home_pose, target, duration, intervals)
+    started = time.perf_counter()
+    step, lengths = casadi_functions(plat.params, dt)
+    casadi_build_s = time.perf_counter() - started
+    routes = {
+        "ours": (ours.rk4_step(plat, dt, intervals), ours.leg_lengths(plat, intervals + 1)),
+        "casadi": (step.map(intervals), lengths.map(intervals + 1)),
+    }
+    out = {"intervals": intervals, "force_limit": force_limit, "casadi_build_s": casadi_build_s}
+    for name, (dynamics, leg_lengths) in routes.items():
+        runs = [optimize.solve_move(dynamics, leg_lengths, plat.home_pose, target, duration, intervals,
+                                    initial_guess=guess, force_limit=force_limit,
+                                    stroke=plat.params.leg_length_limits)
+                for _ in range(repeats if name == "ours" else 1)]
+        _, _, effort, stats, _ = runs[0]
+        seconds = float(np.median([r[4] for r in runs]))
+        out[name] = {"effort": effort, "iterations": int(stats["iter_count"]), "status": str(stats["return_status"]),
+                     "solve_s": seconds, "per_iteration_ms": 1e3 * seconds / max(1, int(stats["iter_count"]))}
+    out["effort_relative_difference"] = abs(out["ours"]["effort"] - out["casadi"]["effort"]) / out["casadi"]["effort"]
+    return out
