@@ -367,6 +367,59 @@ def _save(args, result, quiet: bool = False) -> list[str]:
     return files
 
 
+def cmd_optimize(args) -> int:
+    if args.target is None:
+        raise UserError("give --target x y z psi theta phi")
+    _check_output("--csv", args.csv)
+    _check_output("--plot", args.plot, directory=True)
+    if args.plot:
+        _check_plotting("--plot")
+    try:
+        from . import optimize
+    except ImportError:  # pragma: no cover - depends on the environment
+        raise UserError("needs CasADi (with IPOPT): pip install 'stewart[opt]'") from None
+    params, label = _params(args)
+    plat = Platform(params)
+    force_limit = None if math.isinf(args.force_limit) else args.force_limit
+    try:
+        move = optimize.minimum_effort_move(plat, np.array(args.target), args.move_time, args.intervals,
+                                            force_limit=force_limit, max_iterations=args.max_iterations)
+    except WorkspaceError as exc:
+        raise UserError(f"--target: {str(exc).partition(': ')[2]}", EXIT_WORKSPACE) from None
+    except ValueError as exc:
+        raise UserError(_flags(str(exc), _OPTIMIZE_FLAGS)) from None
+    files = []
+    if args.csv:
+        move.to_csv(args.csv)
+        files.append(args.csv)
+    if args.plot:
+        from .plots import plot_move
+
+        files += plot_move(move, args.plot, (force_limit, params.leg_length_limits))
+    code = 0 if move.ok else OUTCOMES["failed"]
+    if args.json:
+        print(json.dumps({"command": "optimize", "platform": params.name or "unnamed", "platform_source": label,
+                          "ok": move.ok, "status": move.status, "exit_code": code, "effort": move.effort,
+                          "iterations": move.iterations, "solve_seconds": move.solve_seconds,
+                          "peak_force": np.max(np.abs(move.tau), axis=0).tolist(), "files": files}))
+        return code
+    print(f"platform {label}: {len(move.tau)} intervals "
+          f"of {move.dt:g} s, {move.status} after {move.iterations} IPOPT iterations ({move.solve_seconds:.3g} s)")
+    print(f"effort sum |tau|^2 dt = {move.effort:.6g} N^2 s")
+    print("peak force per leg [N]: " + "  ".join(f"{v:.4g}" for v in np.max(np.abs(move.tau), axis=0)))
+    print("leg length range [m]: " + f"{np.min(move.lengths):.4g} .. {np.max(move.lengths):.4g}")
+    for path in files:
+        print(f"written: {path}")
+    if not move.ok:
+        print(f"stewart optimize: error: IPOPT did not solve the problem ({move.status})", file=sys.stderr)
+    return code
+
+
+#: The user's flags for the arguments of :func:`stewart.optimize.minimum_effort_move`.
+_OPTIMIZE_FLAGS = {"target": "--target", "duration": "--move-time", "intervals": "--intervals",
+                   "force_limit": "--force-limit", "max_iterations": "--max-iterations"}
+
+
 def cmd_validate(args) -> int:
     from . import validation
 
@@ -472,6 +525,18 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--csv", metavar="FILE", help="write the time series as CSV")
     p.add_argument("--npz", metavar="FILE", help="write the time series as NPZ")
     p.add_argument("--plot", metavar="DIR", help="write PNG figures into DIR (needs matplotlib)")
+    p.add_argument("--json", action="store_true", help="print only a JSON summary on stdout")
+
+    p = _subcommand(sub, "optimize", "the least-effort move from home to a target pose within the stroke and "
+                    "force limits (trajectory optimization with IPOPT; needs CasADi)", cmd_optimize)
+    _add_params(p)
+    _six(p, "--target", "pose to move to from home, at rest at both ends: x y z psi theta phi [m, rad]")
+    p.add_argument("--move-time", type=_positive, default=5.0, help="duration of the move [s]")
+    p.add_argument("--intervals", type=_count, default=50, help="RK4 intervals (multiple-shooting nodes - 1)")
+    p.add_argument("--force-limit", type=_limit, default=math.inf, help="largest actuator force per leg [N]")
+    p.add_argument("--max-iterations", type=_count, default=1000, help="IPOPT's iteration budget")
+    p.add_argument("--csv", metavar="FILE", help="write the nodes (t, pose, rates, leg lengths, forces) as CSV")
+    p.add_argument("--plot", metavar="DIR", help="write PNG figures of forces and leg strokes into DIR")
     p.add_argument("--json", action="store_true", help="print only a JSON summary on stdout")
 
     p = _subcommand(sub, "validate", "check the model against independent physics for a platform", cmd_validate)

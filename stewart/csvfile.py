@@ -30,7 +30,8 @@ def _number(path: str, lineno: int, col: int, text: str) -> float:
 
 
 def read(path, columns: list[str]) -> np.ndarray:
-    """The ``columns`` of the CSV file ``path`` as a float array ``(rows, len(columns))``."""
+    """The ``columns`` of the CSV file ``path`` as a float array ``(rows, len(columns))``
+    (a header's names are matched regardless of case)."""
     path = os.fspath(path)
     if not os.path.exists(path):
         raise ValueError(f"{path}: no such file")
@@ -56,11 +57,11 @@ def read(path, columns: list[str]) -> np.ndarray:
                     raise ValueError(f"{path}: line {lineno}: values separated by {name}; expected commas")
         if not rows and pick is None and expected is None and not _numeric(fields[0]):
             names = [f.lower() for f in fields]
-            missing = [c for c in columns if c not in names]
+            missing = [c for c in columns if c.lower() not in names]
             if missing and len(fields) != width:
                 raise ValueError(f"{path}: line {lineno}: the header has {len(fields)} column(s) and lacks "
                                  f"{', '.join(missing)}; expected the columns {', '.join(columns)}")
-            pick = list(range(width)) if missing else [names.index(c) for c in columns]
+            pick = list(range(width)) if missing else [names.index(c.lower()) for c in columns]
             expected = len(fields)
             continue
         if expected is None:

@@ -1,6 +1,6 @@
 """PNG figures of a simulation run, after Narayan Rao et al. (2017), figs. 15-18:
-reference and actual pose, tracking error, leg (input) forces and leg velocities.
-Needs matplotlib (``pip install stewart[plot]``)."""
+reference and actual pose, tracking error, leg (input) forces and leg velocities; and of
+an optimized move: forces and leg strokes against their limits. Needs matplotlib (``pip install stewart[plot]``)."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ import os
 
 import numpy as np
 
-__all__ = ["plot_run", "plot_bars", "run_title"]
+__all__ = ["plot_run", "plot_move", "plot_bars", "run_title"]
 
 _POSE = [("x", "m"), ("y", "m"), ("z", "m"), ("psi", "rad"), ("theta", "rad"), ("phi", "rad")]
 
@@ -76,6 +76,36 @@ def plot_run(result, directory, prefix: str = "run", title: str | None = None) -
         ax.plot(t, 1e3 * result.leg_velocities[:, k])
         ax.set_ylabel(f"leg {k} velocity [mm/s]")
     paths.append(_save(plt, fig, directory, prefix, "leg_velocities", axes[3:]))
+    return paths
+
+
+def plot_move(move, directory, limits=None, prefix: str = "optimize") -> list[str]:
+    """Write ``{prefix}_forces.png`` (the actuator forces, held over each interval, with the
+    force limit dashed) and ``{prefix}_legs.png`` (the leg lengths at the nodes, with the
+    stroke limits dashed) of a :class:`stewart.optimize.MinimumEffortMove` into
+    ``directory``; ``limits`` is ``(force_limit, stroke)``, either may be None. Returns the
+    paths."""
+    plt = _pyplot()
+    os.makedirs(directory, exist_ok=True)
+    force_limit, stroke = (None, None) if limits is None else limits
+    title = f"{move.platform}: minimum-effort move"
+    paths = []
+    fig, axes = _figure(plt, f"{title}, actuator forces (limit dashed)")
+    for k, ax in enumerate(axes):
+        ax.step(move.t, np.append(move.tau[:, k], move.tau[-1, k]), where="post")
+        if force_limit is not None and np.isfinite(np.ravel(force_limit)[0]):
+            bound = np.broadcast_to(force_limit, (6,))[k]
+            for value in (-bound, bound):
+                ax.axhline(value, color="0.4", ls="--", lw=1)
+        ax.set_ylabel(f"leg {k} force [N]")
+    paths.append(_save(plt, fig, directory, prefix, "forces", axes[3:]))
+    fig, axes = _figure(plt, f"{title}, leg lengths (stroke limits dashed)")
+    for k, ax in enumerate(axes):
+        ax.plot(move.t, move.lengths[:, k], marker=".", ms=3)
+        for value in stroke or ():
+            ax.axhline(value, color="0.4", ls="--", lw=1)
+        ax.set_ylabel(f"leg {k} length [m]")
+    paths.append(_save(plt, fig, directory, prefix, "legs", axes[3:]))
     return paths
 
 
