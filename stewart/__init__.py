@@ -2,12 +2,14 @@
 
 The public API: :class:`Platform` (the compiled model), :class:`PlatformParams` and its
 presets, the kinematics functions, the numeric reference model :mod:`stewart.reference`,
-simulation under control (:func:`simulate`, trajectories, controllers), the errors
-raised for inputs where the model is undefined, and the generated C model's files for C
-programs (:func:`c_include_dir`, :func:`c_sources`, :mod:`stewart.capi`).
+simulation under control (:func:`simulate`, trajectories, controllers), the exact
+derivatives and the model as CasADi functions for optimal control
+(:mod:`stewart.casadi_functions`, :mod:`stewart.optimize`), the errors raised for inputs
+where the model is undefined (:mod:`stewart.conditions`), and the generated C model's
+files for C programs (:func:`c_include_dir`, :func:`c_sources`, :mod:`stewart.capi`).
 """
 
-from . import capi, kinematics, newton_euler, reference, workspace
+from . import capi, casadi_functions, conditions, kinematics, newton_euler, optimize, reference, workspace
 from .capi import c_include_dir, c_sources
 from .errors import ConvergenceError, SingularityError
 from .kinematics import (
@@ -24,7 +26,7 @@ from .kinematics import (
     twist_transform,
 )
 from .params import NonAxisymmetricLegWarning, PlatformParams
-from .platform import Platform
+from .platform import AllTerms, ForwardDynamicsDerivatives, InverseDynamicsDerivatives, Platform, Step, StepDerivatives
 from .control import PID, Actuators, ComputedTorque, OpenLoop
 from .simulation import SimulationInterrupted, SimulationResult, simulate
 from .trajectory import PointToPoint, SampledTrajectory
@@ -33,6 +35,11 @@ from .workspace import WorkspaceError, reachability
 
 __all__ = [
     "Platform",
+    "AllTerms",
+    "InverseDynamicsDerivatives",
+    "ForwardDynamicsDerivatives",
+    "Step",
+    "StepDerivatives",
     "PlatformParams",
     "NonAxisymmetricLegWarning",
     "presets",
@@ -49,6 +56,9 @@ __all__ = [
     "reference",
     "newton_euler",
     "SingularityError",
+    "conditions",
+    "casadi_functions",
+    "optimize",
     "ConvergenceError",
     "WorkspaceError",
     "workspace",
