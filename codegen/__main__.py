@@ -33,24 +33,29 @@ def main(argv=None):
 
     total = time.perf_counter()
     members = model.PARAMS.members()
-    emitted, public = [], []
-    for function in model.FUNCTIONS:
-        kernels = []
-        for build in function.kernels:
+    emitted, public, kernels = [], [], {}
+    generated = [f for f in model.FUNCTIONS if not f.template]
+    for function in generated:
+        builders = list(function.kernels) + [b for step in function.steps if isinstance(step, model.Kernels)
+                                             for b in step.builders]
+        for build in builders:
+            if build in kernels:
+                continue
             kernel, t_derive = _timed(build)
             result, t_emit = _timed(emit.emit_kernel, kernel, members)
-            kernels.append(kernel)
+            kernels[build] = kernel
             emitted.append(result)
-            print(f'[codegen] {kernel.name:<28} derive {t_derive:5.2f} s, cse+C {t_emit:5.2f} s,'
+            print(f'[codegen] {kernel.name:<32} derive {t_derive:5.2f} s, cse+C {t_emit:5.2f} s,'
                   f' {result.ops:5d} ops', flush=True)
         public.append(csource.public_function(function, kernels))
+    templates = list(dict.fromkeys(f.template for f in model.FUNCTIONS if f.template))
 
     start = time.perf_counter()
     args.out.mkdir(parents=True, exist_ok=True)
     ops = [(k.name, k.ops) for k in emitted]
     files = {
         'stewart_model.h': csource.header(schema.PARAM_FIELDS, model.FUNCTIONS, ops),
-        'stewart_model.c': csource.source(schema.PARAM_FIELDS, [k.source for k in emitted], public),
+        'stewart_model.c': csource.source(schema.PARAM_FIELDS, [k.source for k in emitted], public, templates),
         'stewart_model.pxd': pxd.pxd(schema.PARAM_FIELDS, schema.LEFT_OUT, model.FUNCTIONS),
     }
     written = [name for name, text in files.items() if _write_if_changed(args.out / name, text)]

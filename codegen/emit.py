@@ -14,14 +14,15 @@ from sympy.printing.precedence import PRECEDENCE
 
 
 class _Printer(C99CodePrinter):
-    """C99 printer writing b**n (|n| <= 4) as products instead of pow()."""
+    """C99 printer writing b**n (|n| <= 4) as products instead of pow(), parenthesized."""
 
     def _print_Pow(self, expr):
         base, exp = expr.as_base_exp()
         if exp.is_Integer and 1 <= abs(int(exp)) <= 4:
             factor = self.parenthesize(base, PRECEDENCE['Mul'], strict=True)
             product = '*'.join([factor] * abs(int(exp)))
-            return product if exp > 0 else f'1.0/({product})'
+            # parenthesized: the Mul printer writes a denominator b**n as '/' + _print_Pow
+            return f'({product})' if exp > 0 else f'1.0/({product})'
         return super()._print_Pow(expr)
 
 

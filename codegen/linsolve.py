@@ -1,19 +1,27 @@
-"""Straight-line C for the two 6x6 linear solves of the public functions.
+"""Straight-line C for the two 6x6 linear solves of the public functions, each split into
+a factorization and a solve for any number of right-hand sides, so the derivative
+functions reuse the factorization of the primal solve.
 
-Both solvers are fully unrolled into scalar code (no loops, no arrays), which
-lets the compiler keep the matrix in registers and overlap the eliminations:
+Both factorizations are fully unrolled into scalar code (no loops), which lets the
+compiler keep the matrix in registers and overlap the eliminations; the solves unroll
+the six rows and loop over the right-hand sides:
 
-* `solve_transposed`: J^T y = b for the leg Jacobian J (inverse dynamics), by
-  fraction-free (Bareiss) Gaussian elimination with partial pivoting.  The
-  pivot row is brought into place by a tournament of conditional row swaps;
+* `bareiss_factor` / `bareiss_solve`: J^T y = b for the leg Jacobian J (inverse
+  dynamics), by fraction-free (Bareiss) Gaussian elimination with partial pivoting.
+  The pivot row is brought into place by a tournament of conditional row swaps;
   the division by the previous pivot is a multiplication by its reciprocal,
   computed one step early, so no division lies on the elimination's critical
   path.  The last Bareiss pivot is det(J^T) (up to sign), which gives the
-  Hadamard-ratio singularity test without a separate pass.
-* `cholesky_solve`: S y = b for the symmetric twist-space mass matrix
+  Hadamard-ratio singularity test without a separate pass.  The factors record the
+  swaps, the multipliers of every step and the final upper triangle.
+* `ldl_factor` / `ldl_solve`: S y = b for the symmetric twist-space mass matrix
   (forward dynamics), by an LDL^T factorization; its pivots d_k are the
   squares of the Cholesky diagonal, so the MASS_SINGULAR test is unchanged
   and no square root is needed.
+
+A solve takes b as 6 rows of n columns with row stride ld (ld >= n) and writes y as 6
+rows of n columns (row stride n); every column is solved with exactly the operations of
+a single right-hand side.
 """
 
 N = 6
@@ -34,64 +42,138 @@ def _tournament(rows):
     return pairs
 
 
-def solve_transposed():
-    """C text of `static int solve_transposed(J, b, y)`."""
+class _BareissLayout:
+    """Offsets into the factor array of `bareiss_factor`: the swap flags (1.0 or 0.0) of
+    the tournaments in order, per step k the pivot a_kk and the entries a_ik (i > k) it
+    eliminates, the reciprocal pivots, the final strict upper triangle a_ij (i < j)."""
+
+    def __init__(self):
+        self.swaps = [pair for k in range(N) for pair in ((k, p) for p in _tournament(range(k, N)))]
+        n = len(self.swaps)
+        self.pivot = {k: n + k for k in range(N)}
+        n += N
+        self.lower, self.upper = {}, {}
+        for k in range(N - 1):
+            for i in range(k + 1, N):
+                self.lower[i, k] = n
+                n += 1
+        self.inv = {k: n + k for k in range(N)}
+        n += N
+        for i in range(N):
+            for j in range(i + 1, N):
+                self.upper[i, j] = n
+                n += 1
+        self.size = n
+
+
+BAREISS = _BareissLayout()
+
+
+def bareiss_factor():
+    """C text of `static int bareiss_factor(J, F)`."""
+    L = BAREISS
     lines = [
-        '/* Solve J^T y = b (J 6x6 row-major) by fraction-free (Bareiss) Gaussian',
-        ' * elimination with partial pivoting, unrolled; a_rc = (J^T)_rc, column 6 = b.',
-        ' * At step k the row of largest |a_ik| (i >= k) is swapped into row k and',
-        ' * a_ij <- (a_kk a_ij - a_ik a_kj) / (previous pivot), which keeps every entry',
-        ' * a minor of J^T and makes the last pivot a_55 = +-det J.  Returns',
-        ' * STEWART_ERR_JACOBIAN_SINGULAR when the Hadamard ratio',
+        '/* Factor J^T (J 6x6 row-major) by fraction-free (Bareiss) Gaussian elimination',
+        ' * with partial pivoting, unrolled; a_rc = (J^T)_rc.  At step k the row of largest',
+        ' * |a_ik| (i >= k) is swapped into row k and a_ij <- (a_kk a_ij - a_ik a_kj) /',
+        ' * (previous pivot), which keeps every entry a minor of J^T and makes the last pivot',
+        ' * a_55 = +-det J.  F receives what bareiss_solve replays (see codegen/linsolve.py).',
+        ' * Returns STEWART_ERR_JACOBIAN_SINGULAR when the Hadamard ratio',
         ' * |det J| / prod_i |row_i(J)| < STEWART_JACOBIAN_TOL, else STEWART_OK. */',
-        'static int solve_transposed(const double J[36], const double b[6], double y[6])',
+        f'static int bareiss_factor(const double J[36], double F[{L.size}])',
         '{',
     ]
     add = lines.append
     for r in range(N):
-        add('    double ' + ', '.join(f'a{r}{c} = J[{N * c + r}]' for c in range(N))
-            + f', a{r}6 = b[{r}];')
+        add('    double ' + ', '.join(f'a{r}{c} = J[{N * c + r}]' for c in range(N)) + ';')
     for i in range(N):
         add(f'    const double n{i} = '
             + ' + '.join(f'J[{N * i + j}] * J[{N * i + j}]' for j in range(N)) + ';')
     add('    double t;')
     add('    int s;')
+    swap = 0
     for k in range(N):
         add(f'    /* step {k} */')
         for i, j in _tournament(range(k, N)):
             add(f'    s = fabs(a{j}{k}) > fabs(a{i}{k});')
-            for c in range(k, N + 1):
+            add(f'    F[{swap}] = s;')
+            swap += 1
+            for c in range(k, N):
                 add(f'    t = a{i}{c}; a{i}{c} = s ? a{j}{c} : t; a{j}{c} = s ? t : a{j}{c};')
         add(f'    const double inv{k} = 1.0 / a{k}{k};')
+        add(f'    F[{L.pivot[k]}] = a{k}{k};')
+        add(f'    F[{L.inv[k]}] = inv{k};')
         if k == N - 1:
             break
         for i in range(k + 1, N):
-            for c in range(k + 1, N + 1):
+            add(f'    F[{L.lower[i, k]}] = a{i}{k};')
+            for c in range(k + 1, N):
                 e = f'a{k}{k} * a{i}{c} - a{i}{k} * a{k}{c}'
                 add(f'    a{i}{c} = ' + (e if k == 0 else f'({e}) * inv{k - 1}') + ';')
+    for (i, j), n in L.upper.items():
+        add(f'    F[{n}] = a{i}{j};')
     norms = ' * '.join(f'n{i}' for i in range(N))
     last = f'a{N - 1}{N - 1}'
     add(f'    if (!({last} * {last} >= STEWART_JACOBIAN_TOL * STEWART_JACOBIAN_TOL * ({norms}))) {{')
     add('        return STEWART_ERR_JACOBIAN_SINGULAR;')
     add('    }')
-    for i in range(N - 1, -1, -1):
-        terms = ''.join(f' - a{i}{j} * y[{j}]' for j in range(i + 1, N))
-        add(f'    y[{i}] = (a{i}6{terms}) * inv{i};')
     add('    return STEWART_OK;')
     add('}')
     return '\n'.join(lines) + '\n'
 
 
-def cholesky_solve():
-    """C text of `static int cholesky_solve(upper, b, y)`."""
-    diag = [sum(N - r for r in range(k)) for k in range(N)]  # index of S_kk in upper[]
+def bareiss_solve():
+    """C text of `static int bareiss_solve(F, n, ld, b, y)`."""
+    L = BAREISS
     lines = [
-        '/* Solve S y = b for symmetric S given by its upper triangle (21 entries,',
-        ' * row-major) by an unrolled LDL^T factorization (m_ij: the upper triangle',
-        ' * being eliminated, l_ik = m_ki / d_k).  Returns STEWART_ERR_MASS_SINGULAR when',
-        ' * a pivot d_k (the square of the Cholesky diagonal) is <= STEWART_MASS_TOL times',
+        '/* Solve J^T y = b for n right-hand sides with the factors F of bareiss_factor: the',
+        ' * same swaps and eliminations on each column of b, then back substitution. */',
+        f'static int bareiss_solve(const double F[{L.size}], int n, int ld, const double *b, double *y)',
+        '{',
+        '    int c;',
+        '    for (c = 0; c < n; ++c) {',
+    ]
+    add = lines.append
+    add('        double ' + ', '.join(f'b{r} = b[{r} * ld + c]' for r in range(N)) + ', t;')
+    swap = 0
+    for k in range(N):
+        for i, j in _tournament(range(k, N)):
+            add(f'        if (F[{swap}] != 0.0) {{ t = b{i}; b{i} = b{j}; b{j} = t; }}')
+            swap += 1
+        if k == N - 1:
+            break
+        for i in range(k + 1, N):
+            e = f'F[{L.pivot[k]}] * b{i} - F[{L.lower[i, k]}] * b{k}'
+            add(f'        b{i} = ' + (e if k == 0 else f'({e}) * F[{L.inv[k - 1]}]') + ';')
+    for i in range(N - 1, -1, -1):
+        terms = ''.join(f' - F[{L.upper[i, j]}] * y[{j} * n + c]' for j in range(i + 1, N))
+        add(f'        y[{i} * n + c] = (b{i}{terms}) * F[{L.inv[i]}];')
+    add('    }')
+    add('    return STEWART_OK;')
+    add('}')
+    return '\n'.join(lines) + '\n'
+
+
+#: Size of the factor array of `ldl_factor`: the multipliers l_ik (i > k), then 1 / d_k.
+LDL_SIZE = N * (N - 1) // 2 + N
+
+
+def _ldl_index(i, k):
+    """Index of l_ik (i > k) in the factor array of `ldl_factor`."""
+    return sum(N - 1 - m for m in range(k)) + (i - k - 1)
+
+
+def ldl_factor():
+    """C text of `static int ldl_factor(upper, F)`."""
+    diag = [sum(N - r for r in range(k)) for k in range(N)]  # index of S_kk in upper[]
+    inv_at = N * (N - 1) // 2
+    lines = [
+        '/* Factor S = L D L^T for symmetric S given by its upper triangle (21 entries,',
+        ' * row-major), unrolled (m_ij: the upper triangle being eliminated, l_ik = m_ki / d_k);',
+        f' * F receives l_ik (i > k, by columns) and then 1 / d_k.  Returns STEWART_ERR_MASS_SINGULAR',
+        ' * when a pivot d_k (the square of the Cholesky diagonal) is <= STEWART_MASS_TOL times',
         ' * its diagonal entry S_kk (or S_kk <= 0), else STEWART_OK. */',
-        'static int cholesky_solve(const double upper[21], const double b[6], double y[6])',
+        f'static int ldl_factor(const double upper[21], double F[{LDL_SIZE}])',
         '{',
     ]
     add = lines.append
@@ -102,23 +184,49 @@ def cholesky_solve():
             decl.append(f'm{i}{j} = upper[{n}]')
             n += 1
         add('    double ' + ', '.join(decl) + ';')
-    add('    double ' + ', '.join(f'b{i} = b[{i}]' for i in range(N)) + ';')
     add('    int ok = 1;')
     for k in range(N):
         add(f'    ok &= (upper[{diag[k]}] > 0.0) & (m{k}{k} > STEWART_MASS_TOL * upper[{diag[k]}]);')
         add(f'    const double inv{k} = 1.0 / m{k}{k};')
+        add(f'    F[{inv_at + k}] = inv{k};')
         for i in range(k + 1, N):
             add(f'    const double l{i}{k} = m{k}{i} * inv{k};')
+            add(f'    F[{_ldl_index(i, k)}] = l{i}{k};')
         for i in range(k + 1, N):
             for j in range(i, N):
                 add(f'    m{i}{j} -= l{i}{k} * m{k}{j};')
-            add(f'    b{i} -= l{i}{k} * b{k};')
     add('    if (!ok) {')
     add('        return STEWART_ERR_MASS_SINGULAR;')
     add('    }')
-    for i in range(N - 1, -1, -1):
-        terms = ''.join(f' - l{j}{i} * y[{j}]' for j in range(i + 1, N))
-        add(f'    y[{i}] = b{i} * inv{i}{terms};')
     add('    return STEWART_OK;')
     add('}')
     return '\n'.join(lines) + '\n'
+
+
+def ldl_solve():
+    """C text of `static int ldl_solve(F, n, ld, b, y)`."""
+    inv_at = N * (N - 1) // 2
+    lines = [
+        '/* Solve S y = b for n right-hand sides with the factors F of ldl_factor. */',
+        f'static int ldl_solve(const double F[{LDL_SIZE}], int n, int ld, const double *b, double *y)',
+        '{',
+        '    int c;',
+        '    for (c = 0; c < n; ++c) {',
+    ]
+    add = lines.append
+    add('        double ' + ', '.join(f'b{r} = b[{r} * ld + c]' for r in range(N)) + ';')
+    for k in range(N):
+        for i in range(k + 1, N):
+            add(f'        b{i} -= F[{_ldl_index(i, k)}] * b{k};')
+    for i in range(N - 1, -1, -1):
+        terms = ''.join(f' - F[{_ldl_index(j, i)}] * y[{j} * n + c]' for j in range(i + 1, N))
+        add(f'        y[{i} * n + c] = b{i} * F[{inv_at + i}]{terms};')
+    add('    }')
+    add('    return STEWART_OK;')
+    add('}')
+    return '\n'.join(lines) + '\n'
+
+
+def source():
+    """C text of the four functions."""
+    return '\n'.join([bareiss_factor(), bareiss_solve(), ldl_factor(), ldl_solve()])

@@ -21,6 +21,7 @@ from functools import partial, reduce
 
 import sympy as sp
 
+from . import linsolve
 from .schema import PARAM_FIELDS
 
 NUM_LEGS = 6
@@ -88,8 +89,67 @@ class Params:
 PARAMS = Params()
 
 
+class Tangent:
+    """Symbolic forward-mode derivative of a graph's expressions along one direction.
+
+    `seed` maps independent inputs to their derivatives along the direction (x -> xd for
+    the time derivative, x_k -> 1 for the partial along x_k); every other symbol the
+    graph does not define is constant.  The derivative of each defined symbol is taken by
+    the chain rule on its definition, defined in the graph as `<symbol>_<tag>` (zeros
+    are not defined), and cached, so no expression is ever expanded.
+    """
+
+    def __init__(self, graph, seed, tag):
+        self.graph = graph
+        self.seed = dict(seed)
+        self.tag = tag
+        self._cache = {}
+
+    def __call__(self, expr):
+        """Derivative of `expr` along the direction."""
+        expr = sp.sympify(expr)
+        if expr.is_Symbol:
+            return self._symbol(expr)
+        if expr.is_Number:
+            return sp.S.Zero
+        if expr.is_Add:
+            return sp.Add(*[d for d in map(self, expr.args) if d is not sp.S.Zero])
+        if expr.is_Mul:
+            args = expr.args
+            terms = [(k, self(a)) for k, a in enumerate(args)]
+            return sp.Add(*[sp.Mul(*args[:k], d, *args[k + 1:]) for k, d in terms if d is not sp.S.Zero])
+        if expr.is_Pow and expr.exp.is_Number:
+            d = self(expr.base)
+            return sp.S.Zero if d is sp.S.Zero else expr.exp * expr.base ** (expr.exp - 1) * d
+        known = self.graph.known
+        if isinstance(expr, (sp.sin, sp.cos)):
+            d = self(expr.args[0])
+            if d is sp.S.Zero:
+                return d
+            if isinstance(expr, sp.sin):
+                return known(sp.cos(expr.args[0])) * d
+            return -known(sp.sin(expr.args[0])) * d
+        raise TypeError(f'no derivative rule for {expr.func}')
+
+    def _symbol(self, s):
+        if s in self.seed:
+            return self.seed[s]
+        definition = self.graph.definition(s)
+        if definition is None:
+            return sp.S.Zero
+        if s not in self._cache:
+            if definition.is_Pow and definition.exp.is_Number:
+                # d(b^k) = k b^k b^-1 db reuses s = b^k (no second root)
+                d = self(definition.base)
+                d = d if d is sp.S.Zero else definition.exp * s / definition.base * d
+            else:
+                d = self(definition)
+            self._cache[s] = self.graph.define(f'{s.name}_{self.tag}', d)
+        return self._cache[s]
+
+
 class Graph:
-    """Ordered symbol definitions with symbolic forward-mode time derivatives.
+    """Ordered symbol definitions with symbolic forward-mode derivatives (`Tangent`).
 
     `rates` maps the independent inputs to their time derivatives (x -> xd,
     optionally xd -> xdd); every other free symbol is a constant parameter.
@@ -101,7 +161,8 @@ class Graph:
         self.defs = []
         self._expr = {}
         self._by_expr = {}
-        self._rate = {}
+        self.rate = Tangent(self, self.rates, 'd')
+        """Total time derivative of an expression (forward mode along the rates)."""
 
     def define(self, name, expr):
         """Name `expr` (returned as is when it is already a number or symbol)."""
@@ -118,47 +179,22 @@ class Graph:
         self.defs.append((sym, expr))
         return sym
 
+    def definition(self, sym):
+        """The expression `sym` was defined as, or None for an input or parameter."""
+        return self._expr.get(sym)
+
+    def known(self, expr):
+        """The symbol defined as `expr`, or `expr` itself."""
+        return self._by_expr.get(expr, expr)
+
     def vector(self, name, exprs):
         return sp.Matrix([self.define(f'{name}_{c}', e) for c, e in zip(AXES, exprs)])
 
-    def rate(self, expr):
-        """Total time derivative of `expr` by forward-mode chain rule."""
-        expr = sp.sympify(expr)
-        if expr.is_Symbol:
-            return self._symbol_rate(expr)
-        if expr.is_Number:
-            return sp.S.Zero
-        if expr.is_Add:
-            return sp.Add(*[self.rate(a) for a in expr.args])
-        if expr.is_Mul:
-            args = expr.args
-            return sp.Add(*[sp.Mul(*args[:k], self.rate(a), *args[k + 1:])
-                            for k, a in enumerate(args)])
-        if expr.is_Pow and expr.exp.is_Number:
-            return expr.exp * expr.base ** (expr.exp - 1) * self.rate(expr.base)
-        if isinstance(expr, sp.sin):
-            return self._known(sp.cos(expr.args[0])) * self.rate(expr.args[0])
-        if isinstance(expr, sp.cos):
-            return -self._known(sp.sin(expr.args[0])) * self.rate(expr.args[0])
-        raise TypeError(f'no rate rule for {expr.func}')
-
-    def _known(self, expr):
-        return self._by_expr.get(expr, expr)
-
-    def _symbol_rate(self, s):
-        if s in self.rates:
-            return self.rates[s]
-        if s not in self._expr:
-            return sp.S.Zero
-        if s not in self._rate:
-            e = self._expr[s]
-            if e.is_Pow and e.exp.is_Number:
-                # d(b^k)/dt = k b^k b^-1 b' reuses s = b^k (no second root)
-                rd = e.exp * s / e.base * self.rate(e.base)
-            else:
-                rd = self.rate(e)
-            self._rate[s] = self.define(f'{s.name}_d', rd)
-        return self._rate[s]
+    def partials(self, exprs, inputs, tag):
+        """Rows d exprs_i / d inputs_j (lists), one `Tangent` per input."""
+        columns = [[Tangent(self, {s: sp.S.One}, f'{tag}{j}')(e) for e in exprs]
+                   for j, s in enumerate(inputs)]
+        return [list(row) for row in zip(*columns)]
 
 
 @dataclass
@@ -489,6 +525,28 @@ def all_terms_kernel(axisymmetric):
                       + _leg_checks(kin, axisymmetric))
 
 
+def dynamics_derivatives_kernel(axisymmetric):
+    """The partials of the residual r(x, xd, xdd, tau) = M xdd + V xd + G - J_C^T tau of
+    the equation of motion (eqs. 5, 19, 39, 51, 61, 69, 72-76) at any (xdd, tau), by
+    forward mode along each input (`Graph.partials`) on the definitions of r:
+    Z = [M | R_x | R_xd | J_C^T], 6 x 24 row-major, with M = dr/dxdd, R_x = dr/dx,
+    R_xd = dr/dxd and J_C^T = -dr/dtau.  Inverse dynamics solves J_C^T [dtau/dxdd,
+    dtau/dx, dtau/dxd] = [M, R_x, R_xd] (columns 0-17), forward dynamics
+    M [dxdd/dx, dxdd/dxd, dxdd/dtau] = [-R_x, -R_xd, J_C^T] (columns 6-23)."""
+    g = Graph({**{x: xd for x, xd in zip(X, XD)}, **{xd: xdd for xd, xdd in zip(XD, XDD)}})
+    kin = kinematics(g, PARAMS, leg_frames=not axisymmetric)
+    v, omega = twist(g, kin, XD, 'q')
+    m = momenta(g, PARAMS, kin, v, omega, axisymmetric, 'q')
+    JC = jacobian_rows(kin)
+    r = list(momentum_rate_force(g, PARAMS, kin, m, True, 'q') - JC.T * sp.Matrix(TAU))
+    blocks = [g.partials(r, XDD, 'Dxdd'), g.partials(r, X, 'Dx'), g.partials(r, XD, 'Dxd'),
+              JC.T.tolist()]
+    Z = [e for i in range(6) for block in blocks for e in block[i]]
+    return KernelSpec(f'dynamics_derivatives_{_variant(axisymmetric)}',
+                      dynamics_derivatives_kernel.__doc__, g,
+                      [('x', X), ('xd', XD), ('xdd', XDD), ('tau', TAU)], [('Z', Z)])
+
+
 def euler_rates_inverse(kin):
     """J_A^-1 (inverse of eq. 8) in closed form; divides by cos(theta)."""
     cps, sps = kin.J_A[1, 1], -kin.J_A[0, 1]
@@ -518,50 +576,100 @@ def forward_dynamics_kernel(axisymmetric):
 
 
 @dataclass(frozen=True)
+class Kernels:
+    """A step running a kernel (the axisymmetric or the general one, by the leg inertias)
+    on the given arrays: the function's inputs or arrays computed by earlier steps."""
+    builders: tuple   # builders of the kernel: one, or the axisymmetric and the general one
+    inputs: tuple     # the C arrays passed as its inputs
+
+
+@dataclass(frozen=True)
 class Function:
-    """A public C function `stewart_<name>(p, <inputs>, <result>)`.
+    """A public C function `stewart_<name>(p, <inputs>, <scalars>, <outputs>)`.
 
     It checks that the parameters and inputs are finite, runs its kernel (the axisymmetric
     or the general one, by the leg inertias), checks the legs the kernel reports (`L2`,
     `h2`), then runs `steps` while the status is STEWART_OK, and returns the status with
-    `result` NaN unless it is STEWART_OK and finite.  A step is a C function returning a
-    status (the solvers of `linsolve`, or codegen/templates/runtime.c), called with kernel
-    outputs, `scratch` arrays or `result`.
+    every output NaN unless it is STEWART_OK and all outputs are finite.  A step is a C
+    function returning a status (the solvers of `linsolve`, or codegen/templates/runtime.c),
+    called with kernel outputs, `scratch` arrays, outputs or constants, or a further kernel
+    (`Kernels`).  A function with no kernels is written in C in `template`
+    (codegen/templates), from the public functions before it.
     """
     name: str
     doc: str
     inputs: tuple     # its input arrays, 6 doubles each
-    result: str       # its output array
-    size: int         # the number of doubles in `result`
+    outputs: tuple    # (array, number of doubles) of its outputs
     kernels: tuple    # builders of its kernel: one, or the axisymmetric and the general one
-    steps: tuple = ()    # (C function, argument arrays)
+    steps: tuple = ()    # (C function, argument arrays) or `Kernels`
     scratch: tuple = ()  # (array, size) of the steps' intermediate arrays
+    scalars: tuple = ()  # its scalar (double) inputs
+    template: str = ''   # the template file of a function written in C
 
 
 def _variants(build):
     return tuple(partial(build, axisymmetric) for axisymmetric in (True, False))
 
 
+INVERSE_DYNAMICS = _variants(inverse_dynamics_kernel)
+FORWARD_DYNAMICS = _variants(forward_dynamics_kernel)
+DYNAMICS_DERIVATIVES = _variants(dynamics_derivatives_kernel)
+
+#: Scratch arrays of the solves: the factors of J_C^T and of M_t (`linsolve`).
+_BAREISS_FACTORS = ('FJ', linsolve.BAREISS.size)
+_LDL_FACTORS = ('FM', linsolve.LDL_SIZE)
+
+_FORWARD_STEPS = (('check_euler', ('ctheta',)), ('ldl_factor', ('Mt', 'FM')),
+                  ('ldl_solve', ('FM', '1', '1', 'rhs', 'y')), ('pose_accelerations', ('JAinv', '1', 'y', 'xdd')))
+
 FUNCTIONS = (
-    Function('leg_lengths', 'Leg lengths L_i (a zero length is not an error here).', ('x',), 'L', 6,
+    Function('leg_lengths', 'Leg lengths L_i (a zero length is not an error here).', ('x',), (('L', 6),),
              (leg_lengths_kernel,)),
-    Function('jacobian', 'J_C (eq. 5): Ldot = J_C t.', ('x',), 'JC', 36, (jacobian_kernel,)),
+    Function('jacobian', 'J_C (eq. 5): Ldot = J_C t.', ('x',), (('JC', 36),), (jacobian_kernel,)),
     Function('leg_rates', 'Leg lengths L and rates Ldot = J_C T xd in one pass: LLd = [L; Ldot].',
-             ('x', 'xd'), 'LLd', 12, (leg_rates_kernel,)),
-    Function('mass_matrix', 'M = M_t T.', ('x',), 'M', 36, _variants(mass_matrix_kernel)),
+             ('x', 'xd'), (('LLd', 12),), (leg_rates_kernel,)),
+    Function('mass_matrix', 'M = M_t T.', ('x',), (('M', 36),), _variants(mass_matrix_kernel)),
     Function('twist_mass_matrix', 'M_t, the symmetric positive definite twist-space mass matrix: M = M_t T.',
-             ('x',), 'Mt', 36, _variants(twist_mass_matrix_kernel)),
-    Function('coriolis_matrix', 'V(x, xd).', ('x', 'xd'), 'V', 36, _variants(coriolis_matrix_kernel)),
-    Function('coriolis_vector', 'V xd without forming V.', ('x', 'xd'), 'Vxd', 6,
+             ('x',), (('Mt', 36),), _variants(twist_mass_matrix_kernel)),
+    Function('coriolis_matrix', 'V(x, xd).', ('x', 'xd'), (('V', 36),), _variants(coriolis_matrix_kernel)),
+    Function('coriolis_vector', 'V xd without forming V.', ('x', 'xd'), (('Vxd', 6),),
              _variants(coriolis_vector_kernel)),
-    Function('gravity_vector', 'G(x).', ('x',), 'G', 6, (gravity_kernel,)),
+    Function('gravity_vector', 'G(x).', ('x',), (('G', 6),), (gravity_kernel,)),
     Function('all_terms', 'M, V xd, G and J_C in one pass: terms = [M (36); Vxd (6); G (6); JC (36)].',
-             ('x', 'xd'), 'terms', 84, _variants(all_terms_kernel)),
-    Function('inverse_dynamics', 'tau = J_C^-T (M xdd + V xd + G).', ('x', 'xd', 'xdd'), 'tau', 6,
-             _variants(inverse_dynamics_kernel), steps=(('solve_transposed', ('JC', 'W', 'tau')),)),
+             ('x', 'xd'), (('terms', 84),), _variants(all_terms_kernel)),
+    Function('inverse_dynamics', 'tau = J_C^-T (M xdd + V xd + G).', ('x', 'xd', 'xdd'), (('tau', 6),),
+             INVERSE_DYNAMICS, steps=(('bareiss_factor', ('JC', 'FJ')), ('bareiss_solve', ('FJ', '1', '1', 'W', 'tau'))),
+             scratch=(_BAREISS_FACTORS,)),
     Function('forward_dynamics', 'xdd = M^-1 (J_C^T tau - V xd - G); needs cos(theta) != 0.',
-             ('x', 'xd', 'tau'), 'xdd', 6, _variants(forward_dynamics_kernel),
-             steps=(('check_euler', ('ctheta',)), ('cholesky_solve', ('Mt', 'rhs', 'y')),
-                    ('pose_accelerations', ('JAinv', 'y', 'xdd'))),
-             scratch=(('y', 6),)),
+             ('x', 'xd', 'tau'), (('xdd', 6),), FORWARD_DYNAMICS, steps=_FORWARD_STEPS,
+             scratch=(_LDL_FACTORS, ('y', 6))),
+    Function('inverse_dynamics_derivatives',
+             'tau and its Jacobians (row = output, column = input): dtau/dx = J_C^-T R_x,'
+             ' dtau/dxd = J_C^-T R_xd, dtau/dxdd = J_C^-T M, R = partials of M xdd + V xd + G - J_C^T tau.',
+             ('x', 'xd', 'xdd'), (('tau', 6), ('dtau_dx', 36), ('dtau_dxd', 36), ('dtau_dxdd', 36)),
+             INVERSE_DYNAMICS,
+             steps=(('bareiss_factor', ('JC', 'FJ')), ('bareiss_solve', ('FJ', '1', '1', 'W', 'tau')),
+                    Kernels(DYNAMICS_DERIVATIVES, ('x', 'xd', 'xdd', 'tau')),
+                    ('bareiss_solve', ('FJ', '18', '24', 'Z', 'Y')),
+                    ('split_jacobians', ('Y', '1.0', 'dtau_dxdd', '1.0', 'dtau_dx', '1.0', 'dtau_dxd'))),
+             scratch=(_BAREISS_FACTORS, ('Y', 108))),
+    Function('forward_dynamics_derivatives',
+             'xdd and its Jacobians (row = output, column = input): dxdd/dx = -M^-1 R_x,'
+             ' dxdd/dxd = -M^-1 R_xd, dxdd/dtau = M^-1 J_C^T, R = partials of M xdd + V xd + G - J_C^T tau;'
+             ' needs cos(theta) != 0.',
+             ('x', 'xd', 'tau'), (('xdd', 6), ('dxdd_dx', 36), ('dxdd_dxd', 36), ('dxdd_dtau', 36)),
+             FORWARD_DYNAMICS,
+             steps=_FORWARD_STEPS + (Kernels(DYNAMICS_DERIVATIVES, ('x', 'xd', 'xdd', 'tau')),
+                                     ('ldl_solve', ('FM', '18', '24', 'Z + 6', 'Y')),
+                                     ('pose_accelerations', ('JAinv', '18', 'Y', 'D')),
+                                     ('split_jacobians', ('D', '-1.0', 'dxdd_dx', '-1.0', 'dxdd_dxd',
+                                                          '1.0', 'dxdd_dtau'))),
+             scratch=(_LDL_FACTORS, ('y', 6), ('Y', 108), ('D', 108))),
+    Function('rk4_step', 'One classic RK4 step of s = [x; xd], ds/dt = [xd; xdd(x, xd, tau)], tau constant:'
+             ' [xn; xdn] after dt.', ('x', 'xd', 'tau'), (('xn', 6), ('xdn', 6)), (), scalars=('dt',),
+             template='rk4.c'),
+    Function('rk4_step_derivatives', 'The RK4 step and its Jacobians A = d[xn; xdn]/d[x; xd] (12 x 12) and'
+             ' B = d[xn; xdn]/dtau (12 x 6), row-major, by the chain rule through the stages.',
+             ('x', 'xd', 'tau'), (('xn', 6), ('xdn', 6), ('A', 144), ('B', 72)), (), scalars=('dt',),
+             template='rk4.c'),
 )

@@ -25,9 +25,12 @@
  *    axisymmetric kernels, which work for vertical legs; otherwise the frame
  *    {C_i} (y_C horizontal) is used, undefined for vertical legs.
  *
- * Arrays: x, xd, xdd, tau, L, G, Vxd: 6 doubles; LLd: 12 doubles ([L; Ldot]);
- * JC, M, Mt, V: 36 doubles, row-major; terms: 84 doubles ([M; Vxd; G; JC]).  Every function returns a status (STEWART_OK or an error); on
- * error all outputs are NaN.  Outputs may not alias inputs.
+ * Arrays: x, xd, xdd, tau, L, G, Vxd, xn, xdn: 6 doubles; LLd: 12 doubles ([L; Ldot]);
+ * JC, M, Mt, V: 36 doubles, row-major; terms: 84 doubles ([M; Vxd; G; JC]).
+ * Jacobians (dtau_dx, ..., dxdd_dtau: 6 x 6; A: 12 x 12; B: 12 x 6) are row-major with
+ * row = output, column = input: J[i * ncols + j] = d out_i / d in_j.  Every function
+ * returns a status (STEWART_OK or an error); on error all outputs are NaN.  Outputs may
+ * not alias inputs.
  */
 #ifndef STEWART_MODEL_H
 #define STEWART_MODEL_H
@@ -102,26 +105,36 @@ int stewart_all_terms(const stewart_params *p, const double x[6], const double x
 int stewart_inverse_dynamics(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6]);
 /* xdd = M^-1 (J_C^T tau - V xd - G); needs cos(theta) != 0. */
 int stewart_forward_dynamics(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double xdd[6]);
+/* tau and its Jacobians (row = output, column = input): dtau/dx = J_C^-T R_x, dtau/dxd = J_C^-T R_xd, dtau/dxdd = J_C^-T M, R = partials of M xdd + V xd + G - J_C^T tau. */
+int stewart_inverse_dynamics_derivatives(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6], double dtau_dx[36], double dtau_dxd[36], double dtau_dxdd[36]);
+/* xdd and its Jacobians (row = output, column = input): dxdd/dx = -M^-1 R_x, dxdd/dxd = -M^-1 R_xd, dxdd/dtau = M^-1 J_C^T, R = partials of M xdd + V xd + G - J_C^T tau; needs cos(theta) != 0. */
+int stewart_forward_dynamics_derivatives(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double xdd[6], double dxdd_dx[36], double dxdd_dxd[36], double dxdd_dtau[36]);
+/* One classic RK4 step of s = [x; xd], ds/dt = [xd; xdd(x, xd, tau)], tau constant: [xn; xdn] after dt. */
+int stewart_rk4_step(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double dt, double xn[6], double xdn[6]);
+/* The RK4 step and its Jacobians A = d[xn; xdn]/d[x; xd] (12 x 12) and B = d[xn; xdn]/dtau (12 x 6), row-major, by the chain rule through the stages. */
+int stewart_rk4_step_derivatives(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double dt, double xn[6], double xdn[6], double A[144], double B[72]);
 
 /* Operation counts of the generated kernels (sympy count_ops after cse):
- *   leg_lengths                   192
- *   jacobian                      276
- *   leg_rates                     350
- *   mass_matrix_axisym           1774
- *   mass_matrix_general          2045
- *   twist_mass_matrix_axisym     1726
- *   twist_mass_matrix_general    1997
- *   coriolis_matrix_axisym       5028
- *   coriolis_matrix_general      6703
- *   coriolis_vector_axisym       1688
- *   coriolis_vector_general      2187
- *   gravity_vector                414
- *   all_terms_axisym             3435
- *   all_terms_general            4126
- *   inverse_dynamics_axisym      1781
- *   inverse_dynamics_general     2280
- *   forward_dynamics_axisym      3299
- *   forward_dynamics_general     3990
+ *   leg_lengths                      192
+ *   jacobian                         276
+ *   leg_rates                        350
+ *   mass_matrix_axisym              1774
+ *   mass_matrix_general             2045
+ *   twist_mass_matrix_axisym        1726
+ *   twist_mass_matrix_general       1997
+ *   coriolis_matrix_axisym          5028
+ *   coriolis_matrix_general         6703
+ *   coriolis_vector_axisym          1688
+ *   coriolis_vector_general         2187
+ *   gravity_vector                   414
+ *   all_terms_axisym                3435
+ *   all_terms_general               4126
+ *   inverse_dynamics_axisym         1781
+ *   inverse_dynamics_general        2280
+ *   forward_dynamics_axisym         3299
+ *   forward_dynamics_general        3990
+ *   dynamics_derivatives_axisym    22772
+ *   dynamics_derivatives_general   31005
  */
 
 #ifdef __cplusplus

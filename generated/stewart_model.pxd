@@ -36,6 +36,10 @@ cdef extern from "stewart_model.h" nogil:
     int stewart_all_terms(const stewart_params *p, const double *x, const double *xd, double *terms)
     int stewart_inverse_dynamics(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *tau)
     int stewart_forward_dynamics(const stewart_params *p, const double *x, const double *xd, const double *tau, double *xdd)
+    int stewart_inverse_dynamics_derivatives(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd)
+    int stewart_forward_dynamics_derivatives(const stewart_params *p, const double *x, const double *xd, const double *tau, double *xdd, double *dxdd_dx, double *dxdd_dxd, double *dxdd_dtau)
+    int stewart_rk4_step(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn)
+    int stewart_rk4_step_derivatives(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B)
 
 cdef inline tuple stewart_params_fields():
     """(member, shape) of every member of stewart_params, in order: the fields of a

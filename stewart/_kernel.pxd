@@ -13,9 +13,9 @@ cdef class Kernel:
     cdef readonly int threads
 
     cdef object _run(self, str fname, int arity, void *fn, tuple names, tuple values,
-                     int width, bint return_mask)
+                     int width, bint return_mask, double scalar=*)
     cdef int _row(self, int arity, void *fn, const double *x0, const double *x1,
-                  const double *x2, double *out, int *status, int width) noexcept nogil
+                  const double *x2, double scalar, double *out, int *status, int width) noexcept nogil
     cdef object _failed(self, str fname, tuple names, tuple arrays, cnp.ndarray out,
                         cnp.ndarray status, bint batch, bint return_mask)
     cdef int leg_lengths_c(self, const double *x, double *out) noexcept nogil

@@ -37,6 +37,8 @@ ctypedef int (*state_fn)(const stewart_params *, const double *, double *) noexc
 ctypedef int (*rate_fn)(const stewart_params *, const double *, const double *, double *) noexcept nogil
 ctypedef int (*dynamics_fn)(const stewart_params *, const double *, const double *, const double *,
                             double *) noexcept nogil
+ctypedef int (*step_fn)(const stewart_params *, const double *, const double *, const double *, double,
+                        double *) noexcept nogil
 
 cdef enum:
     NONFINITE_INPUT = -1  # status of a row whose input is not finite (C status codes are >= 0)
@@ -65,16 +67,45 @@ cdef inline bint _finite6(const double *v) noexcept nogil:
     return True
 
 
-cdef object _parts(object result, bint return_mask, tuple sizes):
-    """Split the rows of a C function's one output array into its parts of ``sizes``
-    doubles (36: a 6 x 6 matrix), each C-contiguous; ``result`` is as ``Kernel._run`` returns."""
+cdef object _parts(object result, bint return_mask, tuple shapes):
+    """Split the rows of a C function's output into its parts of ``shapes`` (``(6,)``,
+    ``(6, 6)``, ...; row-major), each C-contiguous; ``result`` is as ``Kernel._run`` returns."""
     out = result[0] if return_mask else result
     parts, start = [], 0
-    for size in sizes:
+    for shape in shapes:
+        size = int(np.prod(shape))
         part = out[..., start:start + size]
-        parts.append(np.ascontiguousarray(part.reshape(part.shape[:-1] + (6, 6)) if size == 36 else part))
+        parts.append(np.ascontiguousarray(part.reshape(part.shape[:-1] + shape)))
         start += size
     return (tuple(parts), result[1]) if return_mask else tuple(parts)
+
+
+# The C functions with several output arrays, as functions of one output array holding them
+# one after the other (split by ``_parts``).
+
+cdef int _inverse_dynamics_derivatives(const stewart_params *p, const double *x, const double *xd,
+                                       const double *xdd, double *out) noexcept nogil:
+    return stewart_inverse_dynamics_derivatives(p, x, xd, xdd, out, out + 6, out + 42, out + 78)
+
+
+cdef int _forward_dynamics_derivatives(const stewart_params *p, const double *x, const double *xd,
+                                       const double *tau, double *out) noexcept nogil:
+    return stewart_forward_dynamics_derivatives(p, x, xd, tau, out, out + 6, out + 42, out + 78)
+
+
+cdef int _rk4_step(const stewart_params *p, const double *x, const double *xd, const double *tau,
+                   double dt, double *out) noexcept nogil:
+    return stewart_rk4_step(p, x, xd, tau, dt, out, out + 6)
+
+
+cdef int _rk4_step_derivatives(const stewart_params *p, const double *x, const double *xd,
+                               const double *tau, double dt, double *out) noexcept nogil:
+    return stewart_rk4_step_derivatives(p, x, xd, tau, dt, out, out + 6, out + 12, out + 156)
+
+#: Shapes of the parts of the derivative functions' outputs.
+_DERIVATIVES = ((6,), (6, 6), (6, 6), (6, 6))
+_STEP = ((6,), (6,))
+_STEP_DERIVATIVES = ((6,), (6,), (12, 12), (12, 6))
 
 
 @cython.final
@@ -87,8 +118,9 @@ cdef class Kernel:
         self.threads = _checks.thread_count(threads)
 
     cdef object _run(self, str fname, int arity, void *fn, tuple names, tuple values,
-                     int width, bint return_mask):
-        """Evaluate ``fn`` row by row. ``arity`` inputs (1-3), output rows of ``width``."""
+                     int width, bint return_mask, double scalar=0.0):
+        """Evaluate ``fn`` row by row. ``arity`` inputs (1-3; 4: three and ``scalar``, the
+        same for every row), output rows of ``width``."""
         cdef cnp.ndarray a0, a1, a2, out, status
         cdef const double *p0
         cdef const double *p1
@@ -107,6 +139,7 @@ cdef class Kernel:
         a0 = _states(names[0], values[0])
         a1 = _states(names[1], values[1]) if arity > 1 else a0
         a2 = _states(names[2], values[2]) if arity > 2 else a0
+        arrays = (a0, a1, a2)[:min(arity, 3)]
         for arr in (a0, a1, a2):
             if arr.ndim == 2:
                 if batch and arr.shape[0] != n:
@@ -136,22 +169,22 @@ cdef class Kernel:
         ps = <int *>cnp.PyArray_DATA(status)
 
         if n == 1:
-            failures = self._row(arity, fn, p0, p1, p2, po, ps, width)
+            failures = self._row(arity, fn, p0, p1, p2, scalar, po, ps, width)
         elif nthreads > 1:
             for i in prange(n, nogil=True, num_threads=nthreads, schedule="static"):
-                failures += self._row(arity, fn, p0 + i * s0, p1 + i * s1, p2 + i * s2,
+                failures += self._row(arity, fn, p0 + i * s0, p1 + i * s1, p2 + i * s2, scalar,
                                       po + i * width, ps + i, width)
         else:
             with nogil:
                 for i in range(n):
-                    failures += self._row(arity, fn, p0 + i * s0, p1 + i * s1, p2 + i * s2,
+                    failures += self._row(arity, fn, p0 + i * s0, p1 + i * s1, p2 + i * s2, scalar,
                                           po + i * width, ps + i, width)
         if failures == 0:
             return (out, np.ones(n, dtype=bool) if batch else True) if return_mask else out
-        return self._failed(fname, names, (a0, a1, a2)[:arity], out, status, batch, return_mask)
+        return self._failed(fname, names, arrays, out, status, batch, return_mask)
 
     cdef int _row(self, int arity, void *fn, const double *x0, const double *x1,
-                         const double *x2, double *out, int *status, int width) noexcept nogil:
+                         const double *x2, double scalar, double *out, int *status, int width) noexcept nogil:
         cdef int k
         if not (_finite6(x0) and (arity < 2 or _finite6(x1)) and (arity < 3 or _finite6(x2))):
             status[0] = NONFINITE_INPUT
@@ -162,8 +195,10 @@ cdef class Kernel:
             status[0] = (<state_fn>fn)(&self.p, x0, out)
         elif arity == 2:
             status[0] = (<rate_fn>fn)(&self.p, x0, x1, out)
-        else:
+        elif arity == 3:
             status[0] = (<dynamics_fn>fn)(&self.p, x0, x1, x2, out)
+        else:
+            status[0] = (<step_fn>fn)(&self.p, x0, x1, x2, scalar, out)
         return status[0] != STEWART_OK
 
     cdef object _failed(self, str fname, tuple names, tuple arrays, cnp.ndarray out,
@@ -208,12 +243,12 @@ cdef class Kernel:
     def leg_rates(self, x, xd, *, return_mask=False):
         """``(L, Ldot)`` from the C function's one array ``[L; Ldot]`` per row."""
         return _parts(self._run("leg_rates", 2, <void *>stewart_leg_rates, ("x", "xd"), (x, xd), 12, return_mask),
-                      return_mask, (6, 6))
+                      return_mask, ((6,), (6,)))
 
     def all_terms(self, x, xd, *, return_mask=False):
         """``(M, V xd, G, J_C)`` from the C function's one array ``[M; Vxd; G; JC]`` per row."""
         return _parts(self._run("all_terms", 2, <void *>stewart_all_terms, ("x", "xd"), (x, xd), 84, return_mask),
-                      return_mask, (36, 6, 6, 36))
+                      return_mask, ((6, 6), (6,), (6,), (6, 6)))
 
     def mass_matrix(self, x, *, return_mask=False):
         return self._run("mass_matrix", 1, <void *>stewart_mass_matrix, ("x",), (x,), 36, return_mask)
@@ -240,3 +275,22 @@ cdef class Kernel:
     def forward_dynamics(self, x, xd, tau, *, return_mask=False):
         return self._run("forward_dynamics", 3, <void *>stewart_forward_dynamics, ("x", "xd", "tau"),
                          (x, xd, tau), 6, return_mask)
+
+    def inverse_dynamics_derivatives(self, x, xd, xdd, *, return_mask=False):
+        """``(tau, dtau_dx, dtau_dxd, dtau_dxdd)`` from the C function's outputs one after the other."""
+        return _parts(self._run("inverse_dynamics_derivatives", 3, <void *>_inverse_dynamics_derivatives,
+                                ("x", "xd", "xdd"), (x, xd, xdd), 114, return_mask), return_mask, _DERIVATIVES)
+
+    def forward_dynamics_derivatives(self, x, xd, tau, *, return_mask=False):
+        """``(xdd, dxdd_dx, dxdd_dxd, dxdd_dtau)`` from the C function's outputs one after the other."""
+        return _parts(self._run("forward_dynamics_derivatives", 3, <void *>_forward_dynamics_derivatives,
+                                ("x", "xd", "tau"), (x, xd, tau), 114, return_mask), return_mask, _DERIVATIVES)
+
+    def rk4_step(self, x, xd, tau, double dt, *, bint jacobians=False, return_mask=False):
+        """``(x, xd)`` after one RK4 step of ``dt`` (a positive finite number, checked by the
+        caller), with ``(A, B)`` after them when ``jacobians``."""
+        if jacobians:
+            return _parts(self._run("rk4_step", 4, <void *>_rk4_step_derivatives, ("x", "xd", "tau"),
+                                    (x, xd, tau), 228, return_mask, dt), return_mask, _STEP_DERIVATIVES)
+        return _parts(self._run("rk4_step", 4, <void *>_rk4_step, ("x", "xd", "tau"), (x, xd, tau), 12,
+                                return_mask, dt), return_mask, _STEP)

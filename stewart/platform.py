@@ -6,11 +6,12 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import kinematics, newton_euler
+from . import _checks, kinematics, newton_euler
 from ._kernel import Kernel
 from .params import PlatformParams, checked_params
 
-__all__ = ["Platform", "AllTerms"]
+__all__ = ["Platform", "AllTerms", "InverseDynamicsDerivatives", "ForwardDynamicsDerivatives",
+           "Step", "StepDerivatives"]
 
 
 class AllTerms(NamedTuple):
@@ -21,6 +22,49 @@ class AllTerms(NamedTuple):
     coriolis_vector: np.ndarray
     gravity_vector: np.ndarray
     jacobian: np.ndarray
+
+
+class InverseDynamicsDerivatives(NamedTuple):
+    """Actuator forces and their Jacobians (:meth:`Platform.inverse_dynamics_derivatives`):
+    row = output, column = input, ``dtau_dx[..., i, j] = d tau_i / d x_j``."""
+
+    tau: np.ndarray
+    dtau_dx: np.ndarray
+    dtau_dxd: np.ndarray
+    dtau_dxdd: np.ndarray
+
+
+class ForwardDynamicsDerivatives(NamedTuple):
+    """Accelerations and their Jacobians (:meth:`Platform.forward_dynamics_derivatives`):
+    row = output, column = input, ``dxdd_dx[..., i, j] = d xddot_i / d x_j``."""
+
+    xdd: np.ndarray
+    dxdd_dx: np.ndarray
+    dxdd_dxd: np.ndarray
+    dxdd_dtau: np.ndarray
+
+
+class Step(NamedTuple):
+    """The state after one RK4 step (:meth:`Platform.rk4_step`)."""
+
+    x: np.ndarray
+    xd: np.ndarray
+
+
+class StepDerivatives(NamedTuple):
+    """The state after one RK4 step and its Jacobians (:meth:`Platform.rk4_step` with
+    ``jacobians=True``): ``A = d(x+, xd+)/d(x, xd)`` (12 x 12), ``B = d(x+, xd+)/d tau``
+    (12 x 6), row = output, column = input."""
+
+    x: np.ndarray
+    xd: np.ndarray
+    A: np.ndarray
+    B: np.ndarray
+
+
+def _named(kind, result, return_mask):
+    """``result`` of a kernel method (a tuple, or ``(tuple, ok)``) as the named tuple ``kind``."""
+    return (kind(*result[0]), result[1]) if return_mask else kind(*result)
 
 
 class Platform:
@@ -112,8 +156,7 @@ class Platform:
         """The mass matrix ``M = M_t T``, ``V xdot``, ``G`` and ``J_C`` (eqs. 5, 19, 39, 51,
         61, 69, 72-76) from one pass over the state's geometry, as an :class:`AllTerms`
         (like Pinocchio's ``computeAllTerms``); each equals the method of its name."""
-        result = self._kernel.all_terms(x, xd, return_mask=return_mask)
-        return (AllTerms(*result[0]), result[1]) if return_mask else AllTerms(*result)
+        return _named(AllTerms, self._kernel.all_terms(x, xd, return_mask=return_mask), return_mask)
 
     def inverse_dynamics(self, x, xd, xdd, *, return_mask=False):
         """Actuator forces along the legs [N]: ``tau = J_C^-T (M xddot + V xdot + G)``."""
@@ -135,3 +178,35 @@ class Platform:
         return kinematics.forward_kinematics(
             self._params, lengths, self._home if guess is None else guess, **options
         )
+
+    def inverse_dynamics_derivatives(self, x, xd, xdd, *, return_mask=False):
+        """Actuator forces and their exact Jacobians, an :class:`InverseDynamicsDerivatives`
+        ``(tau, dtau_dx, dtau_dxd, dtau_dxdd)``: with the residual ``r = M xddot + V xdot + G
+        - J_C^T tau`` of the equation of motion and its partials ``R_x``, ``R_xd`` at that
+        ``tau``, ``dtau/dx = J_C^-T R_x``, ``dtau/dxd = J_C^-T R_xd``, ``dtau/dxdd = J_C^-T M``.
+        Row = output, column = input; each Jacobian of shape ``(..., 6, 6)``."""
+        return _named(InverseDynamicsDerivatives,
+                      self._kernel.inverse_dynamics_derivatives(x, xd, xdd, return_mask=return_mask),
+                      return_mask)
+
+    def forward_dynamics_derivatives(self, x, xd, tau, *, return_mask=False):
+        """Euler accelerations and their exact Jacobians, a :class:`ForwardDynamicsDerivatives`
+        ``(xdd, dxdd_dx, dxdd_dxd, dxdd_dtau)``: ``dxdd/dx = -M^-1 R_x``, ``dxdd/dxd = -M^-1
+        R_xd`` (partials of the residual at that ``xddot``) and ``dxdd/dtau = M^-1 J_C^T``.
+        Row = output, column = input; each Jacobian of shape ``(..., 6, 6)``."""
+        return _named(ForwardDynamicsDerivatives,
+                      self._kernel.forward_dynamics_derivatives(x, xd, tau, return_mask=return_mask),
+                      return_mask)
+
+    def rk4_step(self, x, xd, tau, dt, *, jacobians=False, return_mask=False):
+        """One classic RK4 step of ``[x; xdot]`` under forces ``tau`` held over ``dt`` seconds (a
+        positive finite number): the step :func:`stewart.simulate` takes in open loop. Returns a
+        :class:`Step` ``(x, xd)``, or with ``jacobians`` a :class:`StepDerivatives` ``(x, xd,
+        A, B)`` with ``A = d(x+, xd+)/d(x, xd)`` of shape ``(..., 12, 12)`` and ``B = d(x+,
+        xd+)/d tau`` of shape ``(..., 12, 6)``, exact (the chain rule through the stages)."""
+        dt = _checks.real("dt", dt)
+        if not dt > 0:
+            raise ValueError(f"dt: must be a positive number of seconds, got {dt}")
+        return _named(StepDerivatives if jacobians else Step,
+                      self._kernel.rk4_step(x, xd, tau, dt, jacobians=bool(jacobians), return_mask=return_mask),
+                      return_mask)

@@ -104,6 +104,8 @@ PLATFORM_METHODS = {
     "all_terms": ("x", "xd"),
     "inverse_dynamics": ("x", "xd", "xdd"),
     "forward_dynamics": ("x", "xd", "tau"),
+    "inverse_dynamics_derivatives": ("x", "xd", "xdd"),
+    "forward_dynamics_derivatives": ("x", "xd", "tau"),
     "joint_reactions": ("x", "xd", "xdd"),
     "forward_kinematics": ("lengths", "guess"),
 }

@@ -2,7 +2,7 @@
  * copied verbatim by the generator after the file's first comment).  Every public function
  * checks its inputs are finite (all_finite, params_finite), runs its kernel, checks the legs
  * (check_legs), runs its steps (each returns a status: the solvers, check_euler,
- * pose_accelerations) and finishes (finish).  Compiles on its own against stewart_model.h. */
+ * pose_accelerations, split_jacobians) and finishes (finish, finish_all).  Compiles on its own against stewart_model.h. */
 #include "stewart_model.h"
 
 #include <float.h>
@@ -50,13 +50,32 @@ static int check_euler(const double ctheta[1])
     return fabs(ctheta[0]) >= STEWART_EULER_TOL ? STEWART_OK : STEWART_ERR_EULER_SINGULAR;
 }
 
-/* xdd = [y_v; J_A^-1 y_w] from the twist acceleration y = T xdd. */
-static int pose_accelerations(const double JAinv[9], const double y[6], double xdd[6])
+/* xdd = [y_v; J_A^-1 y_w] from the twist acceleration y = T xdd, for n columns (6 rows of
+ * n, row-major; y and xdd may not overlap). */
+static int pose_accelerations(const double JAinv[9], int n, const double *y, double *xdd)
 {
-    int i;
-    for (i = 0; i < 3; ++i) {
-        xdd[i] = y[i];
-        xdd[3 + i] = JAinv[3 * i] * y[3] + JAinv[3 * i + 1] * y[4] + JAinv[3 * i + 2] * y[5];
+    int i, c;
+    for (c = 0; c < n; ++c) {
+        for (i = 0; i < 3; ++i) {
+            xdd[i * n + c] = y[i * n + c];
+            xdd[(3 + i) * n + c] = JAinv[3 * i] * y[3 * n + c] + JAinv[3 * i + 1] * y[4 * n + c]
+                + JAinv[3 * i + 2] * y[5 * n + c];
+        }
+    }
+    return STEWART_OK;
+}
+
+/* The three 6 x 6 blocks of columns of Y (6 x 18, row-major), each times its scale. */
+static int split_jacobians(const double Y[108], double sa, double a[36], double sb, double b[36],
+                           double sc, double c[36])
+{
+    int i, j;
+    for (i = 0; i < 6; ++i) {
+        for (j = 0; j < 6; ++j) {
+            a[6 * i + j] = sa * Y[18 * i + j];
+            b[6 * i + j] = sb * Y[18 * i + 6 + j];
+            c[6 * i + j] = sc * Y[18 * i + 12 + j];
+        }
     }
     return STEWART_OK;
 }
@@ -73,6 +92,21 @@ static int finish(int status, double *out, int n)
         for (k = 0; k < n; ++k) {
             out[k] = NAN;
         }
+    }
+    return status;
+}
+
+/* finish() over the `count` outputs out[k] of n[k] doubles: all NaN unless every one is finite. */
+static int finish_all(int status, int count, double *const out[], const int n[])
+{
+    int k;
+    for (k = 0; k < count && status == STEWART_OK; ++k) {
+        if (!all_finite(out[k], n[k])) {
+            status = STEWART_ERR_NONFINITE;
+        }
+    }
+    for (k = 0; k < count; ++k) {
+        finish(status, out[k], n[k]);
     }
     return status;
 }
