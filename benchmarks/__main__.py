@@ -158,9 +158,7 @@ def main(argv=None) -> None:
 
 PEER_NOTES = """
 Notes: every peer runs the narayan2017 preset with runtime parameters (a 51-double input
-p, as our kernel's stewart_params). CasADi derivatives: ca.jacobian of the same SX model,
-value and 6 x 18 Jacobian in one Function; its C is compiled under a time cap
-(--jacobian-compile-cap) and reported as not finished past it. CasADi: SX model, momenta differentiated by jtimes,
+p, as our kernel's stewart_params). CasADi: SX model, momenta differentiated by jtimes,
 symbolic linear solves; its C and ours are compiled with the same flags (-O3
 -march=native) into the same C driver loop. sympy routes: our generator's expressions,
 whole, through autowrap / PyDy (their own cse), numpy solves the 6x6 systems. MuJoCo:
@@ -171,7 +169,9 @@ mechanics are the same). It replays, open loop, the forces of our computed-torqu
 the demo's move. The open-loop platform is unstable (constant leg forces push it like an
 inverted pendulum): our own open-loop replay of the same forces drifts from our
 closed-loop run just as MuJoCo does, so MuJoCo is compared with that replay, on the same
-input."""
+input. CasADi derivatives: ca.jacobian of the same SX model, value and 6 x 18 Jacobian in
+one Function; its C is compiled under a time cap (--jacobian-compile-cap) and reported as
+not finished past it."""
 
 
 if __name__ == "__main__":
