@@ -122,19 +122,25 @@ def bareiss_factor():
     return '\n'.join(lines) + '\n'
 
 
-def bareiss_solve():
-    """C text of `static int bareiss_solve(F, n, ld, b, y)`."""
-    L = BAREISS
-    lines = [
-        '/* Solve J^T y = b for n right-hand sides with the factors F of bareiss_factor: the',
-        ' * same swaps and eliminations on each column of b, then back substitution. */',
-        f'static int bareiss_solve(const double F[{L.size}], int n, int ld, const double *b, double *y)',
+def _solve_head(comment, name, size, extra):
+    """The C lines of a solve up to its loop over the columns c of b, with b's column c
+    loaded into b0 ... b5 (and the declarations `extra`)."""
+    return comment + [
+        f'static int {name}(const double F[{size}], int n, int ld, const double *b, double *y)',
         '{',
         '    int c;',
         '    for (c = 0; c < n; ++c) {',
+        '        double ' + ', '.join(f'b{r} = b[{r} * ld + c]' for r in range(N)) + extra + ';',
     ]
+
+
+def bareiss_solve():
+    """C text of `static int bareiss_solve(F, n, ld, b, y)`."""
+    L = BAREISS
+    lines = _solve_head(['/* Solve J^T y = b for n right-hand sides with the factors F of bareiss_factor: the',
+                         ' * same swaps and eliminations on each column of b, then back substitution. */'],
+                        'bareiss_solve', L.size, ', t')
     add = lines.append
-    add('        double ' + ', '.join(f'b{r} = b[{r} * ld + c]' for r in range(N)) + ', t;')
     swap = 0
     for k in range(N):
         for i, j in _tournament(range(k, N)):
@@ -206,15 +212,9 @@ def ldl_factor():
 def ldl_solve():
     """C text of `static int ldl_solve(F, n, ld, b, y)`."""
     inv_at = N * (N - 1) // 2
-    lines = [
-        '/* Solve S y = b for n right-hand sides with the factors F of ldl_factor. */',
-        f'static int ldl_solve(const double F[{LDL_SIZE}], int n, int ld, const double *b, double *y)',
-        '{',
-        '    int c;',
-        '    for (c = 0; c < n; ++c) {',
-    ]
+    lines = _solve_head(['/* Solve S y = b for n right-hand sides with the factors F of ldl_factor. */'],
+                        'ldl_solve', LDL_SIZE, '')
     add = lines.append
-    add('        double ' + ', '.join(f'b{r} = b[{r} * ld + c]' for r in range(N)) + ';')
     for k in range(N):
         for i in range(k + 1, N):
             add(f'        b{i} -= F[{_ldl_index(i, k)}] * b{k};')

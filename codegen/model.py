@@ -10,10 +10,15 @@ Performance rests on three rules:
 * every intermediate quantity (rotation matrix entries, leg vectors, unit
   vectors, velocities, momenta, ...) gets its own symbol through `Graph.define`,
   so no expression is ever expanded;
-* time derivatives are taken by the chain rule on those definitions
-  (`Graph.rate`, symbolic forward mode), never on expanded expressions;
+* time derivatives, and the partials of the derivative functions, are taken by
+  the chain rule on those definitions (`Tangent`, symbolic forward mode along a
+  seed: `Graph.rate` along time, `Graph.partials` along inputs), never on
+  expanded expressions and never by finite differences;
 * the transposed partial-velocity Jacobians of the paper (eqs. 31, 35, 57) are
-  applied as cross products (`generalized_force`), never formed as matrices.
+  applied as cross products (`generalized_force`), never formed as matrices;
+* the partials of the dynamics go through each leg's local Jacobian: a leg
+  depends on the platform only through its leg vector and the velocity and
+  acceleration of P_i (`leg_derivatives_kernel`, `residual_derivatives_kernel`).
 """
 
 from dataclasses import dataclass
@@ -219,6 +224,22 @@ class Kinematics:
     legs: list
 
 
+def leg_geometry(g, l, r, tag, leg_frames):
+    """The geometry of a leg from its leg vector l (eq. 26): length, unit vector, l / (l . l)
+    (eq. 32) and, with `leg_frames`, the {C_i} axes (eqs. 43-48); `r` = R p_i."""
+    L2 = g.define(f'L2_{tag}', _dot(l, l))
+    iL2 = g.define(f'iL2_{tag}', 1 / L2)
+    L = g.define(f'L_{tag}', sp.sqrt(L2))
+    iL = g.define(f'iL_{tag}', L * iL2)
+    leg = Leg(r=r, l=l, L2=L2, L=L, u=g.vector(f'u{tag}', l * iL), lbar=g.vector(f'lb{tag}', l * iL2))
+    if leg_frames:
+        leg.h2 = g.define(f'h2_{tag}', l[0] ** 2 + l[1] ** 2)
+        ih = g.define(f'ih_{tag}', 1 / g.define(f'h_{tag}', sp.sqrt(leg.h2)))
+        leg.y_C = g.vector(f'yC{tag}', [-l[1] * ih, l[0] * ih, 0])
+        leg.z_C = g.vector(f'zC{tag}', _cross(leg.u, leg.y_C))
+    return leg
+
+
 def kinematics(g, P, leg_frames=False):
     """Pose-dependent geometry: R, J_A (eq. 8), legs (eqs. 26, 32, 43-48)."""
     psi, theta, phi = X[3:]
@@ -235,19 +256,7 @@ def kinematics(g, P, leg_frames=False):
     legs = []
     for i in range(NUM_LEGS):
         r = g.vector(f'r{i}', R * P.plat[i])
-        l = g.vector(f'l{i}', p + r - P.base[i])
-        L2 = g.define(f'L2_{i}', _dot(l, l))
-        iL2 = g.define(f'iL2_{i}', 1 / L2)
-        L = g.define(f'L_{i}', sp.sqrt(L2))
-        iL = g.define(f'iL_{i}', L * iL2)
-        leg = Leg(r=r, l=l, L2=L2, L=L, u=g.vector(f'u{i}', l * iL),
-                  lbar=g.vector(f'lb{i}', l * iL2))
-        if leg_frames:
-            leg.h2 = g.define(f'h2_{i}', l[0] ** 2 + l[1] ** 2)
-            ih = g.define(f'ih_{i}', 1 / g.define(f'h_{i}', sp.sqrt(leg.h2)))
-            leg.y_C = g.vector(f'yC{i}', [-l[1] * ih, l[0] * ih, 0])
-            leg.z_C = g.vector(f'zC{i}', _cross(leg.u, leg.y_C))
-        legs.append(leg)
+        legs.append(leg_geometry(g, g.vector(f'l{i}', p + r - P.base[i]), r, i, leg_frames))
     return Kinematics(R=R, J_A=J_A, c_theta=cth, legs=legs)
 
 
@@ -291,14 +300,19 @@ def leg_momenta(g, P, leg, w, axisymmetric, tag):
     return v_C, v_S, h_L
 
 
+def platform_angular_momentum(g, P, kin, omega, tag):
+    """h_P = I_P omega with I_P = R diag(I_P) R^T (eqs. 13-15)."""
+    wb = g.vector(f'{tag}wP', kin.R.T * omega)
+    return g.vector(f'{tag}hP', kin.R * sp.Matrix([P.I_P[k] * wb[k] for k in range(3)]))
+
+
 def momenta(g, P, kin, v, omega, axisymmetric, tag):
     """Body velocities and angular momenta for the twist [v; omega].
 
     Platform: I_P = R diag(I_P) R^T (eq. 13), h_P = I_P omega.  Leg i: see
     `leg_momenta` with w_i = v + omega x r_i, the velocity of P_i.
     """
-    wb = g.vector(f'{tag}wP', kin.R.T * omega)
-    h_P = g.vector(f'{tag}hP', kin.R * sp.Matrix([P.I_P[k] * wb[k] for k in range(3)]))
+    h_P = platform_angular_momentum(g, P, kin, omega, tag)
     legs = [leg_momenta(g, P, leg, g.vector(f'{tag}vP{i}', v + _cross(omega, leg.r)),
                         axisymmetric, f'{tag}{i}')
             for i, leg in enumerate(kin.legs)]
@@ -525,26 +539,100 @@ def all_terms_kernel(axisymmetric):
                       + _leg_checks(kin, axisymmetric))
 
 
-def dynamics_derivatives_kernel(axisymmetric):
-    """The partials of the residual r(x, xd, xdd, tau) = M xdd + V xd + G - J_C^T tau of
-    the equation of motion (eqs. 5, 19, 39, 51, 61, 69, 72-76) at any (xdd, tau), by
-    forward mode along each input (`Graph.partials`) on the definitions of r:
-    Z = [M | R_x | R_xd | J_C^T], 6 x 24 row-major, with M = dr/dxdd, R_x = dr/dx,
-    R_xd = dr/dxd and J_C^T = -dr/dtau.  Inverse dynamics solves J_C^T [dtau/dxdd,
-    dtau/dx, dtau/dxd] = [M, R_x, R_xd] (columns 0-17), forward dynamics
-    M [dxdd/dx, dxdd/dxd, dxdd/dtau] = [-R_x, -R_xd, J_C^T] (columns 6-23)."""
-    g = Graph({**{x: xd for x, xd in zip(X, XD)}, **{xd: xdd for xd, xdd in zip(XD, XDD)}})
-    kin = kinematics(g, PARAMS, leg_frames=not axisymmetric)
+#: Inputs of the per-leg kernel: the leg vector l, the velocity w and the acceleration a of
+#: P_i (l' = w, w' = a, as b_i is fixed), and the actuator force.
+LEG_POINT = _symbols('P', 9)
+LEG_TAU = _symbols('tau_leg', 1)
+#: Size of the per-leg outputs of `leg_derivatives_kernel`: f (3), df/d[l; w; a] (27), u (3).
+LEG_OUT = 33
+
+
+def _point_motion(g, kin, v, omega):
+    """Per leg (l, w, a): the leg vector, the velocity w = v + omega x r and the acceleration
+    a = dw/dt of P_i (eqs. 26, 27)."""
+    out = []
+    for i, leg in enumerate(kin.legs):
+        w = g.vector(f'qvP{i}', v + _cross(omega, leg.r))
+        out.append((leg.l, w, w.applyfunc(g.rate)))
+    return out
+
+
+def _accelerated_graph():
+    return Graph({**{x: xd for x, xd in zip(X, XD)}, **{xd: xdd for xd, xdd in zip(XD, XDD)}})
+
+
+def leg_points_kernel():
+    """[l; w; a] of every leg's P_i (`_point_motion`), 9 per leg: the inputs of the per-leg
+    derivative kernel."""
+    g = _accelerated_graph()
+    kin = kinematics(g, PARAMS)
     v, omega = twist(g, kin, XD, 'q')
-    m = momenta(g, PARAMS, kin, v, omega, axisymmetric, 'q')
-    JC = jacobian_rows(kin)
-    r = list(momentum_rate_force(g, PARAMS, kin, m, True, 'q') - JC.T * sp.Matrix(TAU))
-    blocks = [g.partials(r, XDD, 'Dxdd'), g.partials(r, X, 'Dx'), g.partials(r, XD, 'Dxd'),
-              JC.T.tolist()]
-    Z = [e for i in range(6) for block in blocks for e in block[i]]
-    return KernelSpec(f'dynamics_derivatives_{_variant(axisymmetric)}',
-                      dynamics_derivatives_kernel.__doc__, g,
-                      [('x', X), ('xd', XD), ('xdd', XDD), ('tau', TAU)], [('Z', Z)])
+    points = [e for motion in _point_motion(g, kin, v, omega) for vec in motion for e in vec]
+    return KernelSpec('leg_points', leg_points_kernel.__doc__, g, [('x', X), ('xd', XD), ('xdd', XDD)],
+                      [('lwa', points)])
+
+
+def leg_derivatives_kernel(axisymmetric):
+    """One leg's share of the residual r = M xdd + V xd + G - J_C^T tau, as the force f at
+    P_i (r gets [f; r_i x f], see `generalized_force`): the leg momenta (eqs. 27-29, 55-57,
+    65) and their rates by forward mode along l' = w, w' = a, gravity (eqs. 72-76) and the
+    actuator force, f = f_legs - tau_i u_i; then df/d[l; w; a] (3 x 9, row-major) by forward
+    mode along each of them, and u = -df/dtau_i.  The leg depends on the platform only
+    through (l, w, a), so one kernel serves the six legs, each writing its slice of
+    legs = [f (3); df/d[l; w; a] (27); u (3)] per leg."""
+    P = PARAMS
+    l, w, a = (sp.Matrix(LEG_POINT[3 * k:3 * k + 3]) for k in range(3))
+    g = Graph({**dict(zip(l, w)), **dict(zip(w, a))})
+    leg = leg_geometry(g, l, None, 'i', not axisymmetric)
+    v_C, v_S, h_L = leg_momenta(g, P, leg, w, axisymmetric, 'i')
+    _, w_C, w_S = _gravity_forces(P, True)
+    rate = lambda vec: vec.applyfunc(g.rate)
+    f = leg_force(g, P, leg, P.m_C * rate(v_C) + w_C, P.m_S * rate(v_S) + w_S, rate(h_L), 'i') - LEG_TAU[0] * leg.u
+    F = g.partials(list(f), LEG_POINT, 'D')
+    return KernelSpec(f'leg_derivatives_{_variant(axisymmetric)}', leg_derivatives_kernel.__doc__, g,
+                      [('lwa', LEG_POINT), ('tau', LEG_TAU)],
+                      [('legs', list(f) + [e for row in F for e in row] + list(leg.u))])
+
+
+def residual_derivatives_kernel(forward):
+    """The partials of the residual r(x, xd, xdd, tau) = M xdd + V xd + G - J_C^T tau of the
+    equation of motion (eqs. 5, 19, 39, 51, 61, 69, 72-76) at any (xdd, tau): the platform's
+    own terms [m_P (v' + g e_z); d/dt(I_P omega)] by forward mode along each input, and per
+    leg [f_i; r_i x f_i] with the leg's f_i and df_i/d[l; w; a] from `leg_derivatives_kernel`,
+    chained to the inputs by forward mode through (l, w, a) of P_i.  Z is 6 x 18, row-major,
+    with M = dr/dxdd, R_x = dr/dx, R_xd = dr/dxd and J_C^T = -dr/dtau: inverse dynamics
+    solves J_C^T [dtau/dxdd, dtau/dx, dtau/dxd] = Z = [M, R_x, R_xd]; forward dynamics
+    (`forward`) M [dxdd/dx, dxdd/dxd, dxdd/dtau] = Z = [-R_x, -R_xd, J_C^T]."""
+    P = PARAMS
+    g = _accelerated_graph()
+    kin = kinematics(g, P)
+    v, omega = twist(g, kin, XD, 'q')
+    w_P, _, _ = _gravity_forces(P, True)
+    rate = lambda vec: vec.applyfunc(g.rate)
+    platform = sp.Matrix.vstack(P.m_P * rate(v) + w_P, rate(platform_angular_momentum(g, P, kin, omega, 'q')))
+    motion = _point_motion(g, kin, v, omega)
+    legs = _symbols('legs', NUM_LEGS * LEG_OUT)
+    f = [sp.Matrix(legs[LEG_OUT * i:LEG_OUT * i + 3]) for i in range(NUM_LEGS)]
+    F = [sp.Matrix(3, 9, legs[LEG_OUT * i + 3:LEG_OUT * i + 30]) for i in range(NUM_LEGS)]
+    u = [sp.Matrix(legs[LEG_OUT * i + 30:LEG_OUT * i + 33]) for i in range(NUM_LEGS)]
+    r = platform
+    for i, leg in enumerate(kin.legs):
+        r += sp.Matrix.vstack(f[i], _cross(leg.r, f[i]))
+    columns = []
+    for tag, inputs in (('Dx', X), ('Dxd', XD)) if forward else (('Dxdd', XDD), ('Dx', X), ('Dxd', XD)):
+        for j, s in enumerate(inputs):
+            tangent = Tangent(g, {s: sp.S.One}, f'{tag}{j}')
+            for i, (l, w, a) in enumerate(motion):
+                dpoint = [tangent(e) for vec in (l, w, a) for e in vec]
+                for c in range(3):
+                    tangent.seed[f[i][c]] = sp.Add(*[F[i][c, k] * d for k, d in enumerate(dpoint)])
+            columns.append([(-1 if forward else 1) * tangent(e) for e in r])
+    if forward:
+        columns += [list(u[i]) + list(_cross(leg.r, u[i])) for i, leg in enumerate(kin.legs)]
+    Z = [columns[j][i] for i in range(6) for j in range(18)]
+    return KernelSpec(f'residual_derivatives_{"forward" if forward else "inverse"}',
+                      residual_derivatives_kernel.__doc__, g,
+                      [('x', X), ('xd', XD), ('xdd', XDD), ('legs', legs)], [('Z', Z)])
 
 
 def euler_rates_inverse(kin):
@@ -578,9 +666,11 @@ def forward_dynamics_kernel(axisymmetric):
 @dataclass(frozen=True)
 class Kernels:
     """A step running a kernel (the axisymmetric or the general one, by the leg inertias)
-    on the given arrays: the function's inputs or arrays computed by earlier steps."""
+    on the given arrays: the function's inputs or arrays computed by earlier steps.  A
+    `per_leg` kernel runs once per leg on consecutive slices of its inputs and outputs."""
     builders: tuple   # builders of the kernel: one, or the axisymmetric and the general one
     inputs: tuple     # the C arrays passed as its inputs
+    per_leg: bool = False
 
 
 @dataclass(frozen=True)
@@ -613,7 +703,15 @@ def _variants(build):
 
 INVERSE_DYNAMICS = _variants(inverse_dynamics_kernel)
 FORWARD_DYNAMICS = _variants(forward_dynamics_kernel)
-DYNAMICS_DERIVATIVES = _variants(dynamics_derivatives_kernel)
+LEG_DERIVATIVES = _variants(leg_derivatives_kernel)
+
+
+
+def _residual_steps(forward):
+    """The residual's partials Z at (x, xd, xdd, tau): P_i's motion, the legs, the chain rule."""
+    return (Kernels((leg_points_kernel,), ('x', 'xd', 'xdd')),
+            Kernels(LEG_DERIVATIVES, ('lwa', 'tau'), per_leg=True),
+            Kernels((partial(residual_derivatives_kernel, forward),), ('x', 'xd', 'xdd', 'legs')))
 
 #: Scratch arrays of the solves: the factors of J_C^T and of M_t (`linsolve`).
 _BAREISS_FACTORS = ('FJ', linsolve.BAREISS.size)
@@ -649,9 +747,9 @@ FUNCTIONS = (
              ('x', 'xd', 'xdd'), (('tau', 6), ('dtau_dx', 36), ('dtau_dxd', 36), ('dtau_dxdd', 36)),
              INVERSE_DYNAMICS,
              steps=(('bareiss_factor', ('JC', 'FJ')), ('bareiss_solve', ('FJ', '1', '1', 'W', 'tau')),
-                    Kernels(DYNAMICS_DERIVATIVES, ('x', 'xd', 'xdd', 'tau')),
-                    ('bareiss_solve', ('FJ', '18', '24', 'Z', 'Y')),
-                    ('split_jacobians', ('Y', '1.0', 'dtau_dxdd', '1.0', 'dtau_dx', '1.0', 'dtau_dxd'))),
+                    *_residual_steps(False),
+                    ('bareiss_solve', ('FJ', '18', '18', 'Z', 'Y')),
+                    ('split_jacobians', ('Y', 'dtau_dxdd', 'dtau_dx', 'dtau_dxd'))),
              scratch=(_BAREISS_FACTORS, ('Y', 108))),
     Function('forward_dynamics_derivatives',
              'xdd and its Jacobians (row = output, column = input): dxdd/dx = -M^-1 R_x,'
@@ -659,11 +757,10 @@ FUNCTIONS = (
              ' needs cos(theta) != 0.',
              ('x', 'xd', 'tau'), (('xdd', 6), ('dxdd_dx', 36), ('dxdd_dxd', 36), ('dxdd_dtau', 36)),
              FORWARD_DYNAMICS,
-             steps=_FORWARD_STEPS + (Kernels(DYNAMICS_DERIVATIVES, ('x', 'xd', 'xdd', 'tau')),
-                                     ('ldl_solve', ('FM', '18', '24', 'Z + 6', 'Y')),
+             steps=_FORWARD_STEPS + _residual_steps(True) + (
+                                     ('ldl_solve', ('FM', '18', '18', 'Z', 'Y')),
                                      ('pose_accelerations', ('JAinv', '18', 'Y', 'D')),
-                                     ('split_jacobians', ('D', '-1.0', 'dxdd_dx', '-1.0', 'dxdd_dxd',
-                                                          '1.0', 'dxdd_dtau'))),
+                                     ('split_jacobians', ('D', 'dxdd_dx', 'dxdd_dxd', 'dxdd_dtau'))),
              scratch=(_LDL_FACTORS, ('y', 6), ('Y', 108), ('D', 108))),
     Function('rk4_step', 'One classic RK4 step of s = [x; xd], ds/dt = [xd; xdd(x, xd, tau)], tau constant:'
              ' [xn; xdn] after dt.', ('x', 'xd', 'tau'), (('xn', 6), ('xdn', 6)), (), scalars=('dt',),

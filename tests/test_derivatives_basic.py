@@ -54,30 +54,21 @@ def platform(request):
     return PLATFORMS[request.param]()
 
 
-def test_inverse_dynamics_derivatives_match_central_differences(platform):
+@pytest.mark.parametrize("forward", [False, True], ids=["inverse", "forward"])
+def test_dynamics_derivatives_match_central_differences(platform, forward):
     rng = np.random.default_rng(11)
     x, xd, xdd = _states(platform, rng, 3)
+    third = platform.inverse_dynamics(x, xd, xdd) if forward else xdd
+    primal = platform.forward_dynamics if forward else platform.inverse_dynamics
+    derivatives = platform.forward_dynamics_derivatives if forward else platform.inverse_dynamics_derivatives
     for i in range(3):
-        result = platform.inverse_dynamics_derivatives(x[i], xd[i], xdd[i])
-        assert isinstance(result, InverseDynamicsDerivatives)
-        _same(result.tau, platform.inverse_dynamics(x[i], xd[i], xdd[i]))
-        f = lambda *a: (platform.inverse_dynamics(*a),)
-        for which, jac in enumerate((result.dtau_dx, result.dtau_dxd, result.dtau_dxdd)):
+        inputs = (x[i], xd[i], third[i])
+        result = derivatives(*inputs)
+        assert isinstance(result, ForwardDynamicsDerivatives if forward else InverseDynamicsDerivatives)
+        _same(result[0], primal(*inputs))
+        for which, jac in enumerate(result[1:]):
             assert jac.shape == (6, 6)
-            _close(jac, _central(f, (x[i], xd[i], xdd[i]), which))
-
-
-def test_forward_dynamics_derivatives_match_central_differences(platform):
-    rng = np.random.default_rng(12)
-    x, xd, xdd = _states(platform, rng, 3)
-    tau = platform.inverse_dynamics(x, xd, xdd)
-    for i in range(3):
-        result = platform.forward_dynamics_derivatives(x[i], xd[i], tau[i])
-        assert isinstance(result, ForwardDynamicsDerivatives)
-        _same(result.xdd, platform.forward_dynamics(x[i], xd[i], tau[i]))
-        f = lambda *a: (platform.forward_dynamics(*a),)
-        for which, jac in enumerate((result.dxdd_dx, result.dxdd_dxd, result.dxdd_dtau)):
-            _close(jac, _central(f, (x[i], xd[i], tau[i]), which))
+            _close(jac, _central(lambda *a: (primal(*a),), inputs, which))
 
 
 def test_identities_between_the_jacobians(platform):

@@ -28,10 +28,11 @@ static void rk4_stage_state(const double s[12], double h, const double *k, const
     }
 }
 
-/* The stage derivative k = f(t) = [t_xd; xdd(t_x, t_xd, tau)] and, when S != NULL, its
- * Jacobians K = df/dt S and KB = df/dt U + df/dtau for the stage state's S = dt/ds and
- * U = dt/dtau; df/dt = [[0, E], [dxdd/dx, dxdd/dxd]], df/dtau = [0; dxdd/dtau]. */
-static int rk4_stage(const stewart_params *p, const double t[12], const double tau[6],
+/* The stage derivative k = f(t) = [t_xd; xdd(t_x, t_xd, tau)] and, when jac, its Jacobians
+ * K = df/dt S and KB = df/dt U + df/dtau for the stage state's S = dt/ds and U = dt/dtau
+ * (S == NULL: S = E, U = 0, the first stage); df/dt = [[0, E], [dxdd/dx, dxdd/dxd]],
+ * df/dtau = [0; dxdd/dtau]. */
+static int rk4_stage(const stewart_params *p, const double t[12], const double tau[6], int jac,
                      const double *S, const double *U, double k[12], double *K, double *KB)
 {
     double ax[36], axd[36], atau[36];
@@ -39,23 +40,28 @@ static int rk4_stage(const stewart_params *p, const double t[12], const double t
     for (i = 0; i < 6; ++i) {
         k[i] = t[6 + i];
     }
-    if (S == NULL) {
+    if (!jac) {
         return stewart_forward_dynamics(p, t, t + 6, tau, k + 6);
     }
     status = stewart_forward_dynamics_derivatives(p, t, t + 6, tau, k + 6, ax, axd, atau);
     for (i = 0; i < 6; ++i) {
         for (j = 0; j < 12; ++j) {
             double sum = 0.0;
-            K[12 * i + j] = S[12 * (6 + i) + j];
-            for (m = 0; m < 6; ++m) {
-                sum += ax[6 * i + m] * S[12 * m + j] + axd[6 * i + m] * S[12 * (6 + m) + j];
+            if (S == NULL) {
+                K[12 * i + j] = j == 6 + i ? 1.0 : 0.0;
+                sum = j < 6 ? ax[6 * i + j] : axd[6 * i + j - 6];
+            } else {
+                K[12 * i + j] = S[12 * (6 + i) + j];
+                for (m = 0; m < 6; ++m) {
+                    sum += ax[6 * i + m] * S[12 * m + j] + axd[6 * i + m] * S[12 * (6 + m) + j];
+                }
             }
             K[12 * (6 + i) + j] = sum;
         }
         for (j = 0; j < 6; ++j) {
             double sum = atau[6 * i + j];
-            KB[6 * i + j] = U[6 * (6 + i) + j];
-            for (m = 0; m < 6; ++m) {
+            KB[6 * i + j] = U == NULL ? 0.0 : U[6 * (6 + i) + j];
+            for (m = 0; U != NULL && m < 6; ++m) {
                 sum += ax[6 * i + m] * U[6 * m + j] + axd[6 * i + m] * U[6 * (6 + m) + j];
             }
             KB[6 * (6 + i) + j] = sum;
@@ -109,8 +115,8 @@ static int rk4(const stewart_params *p, const double x[6], const double xd[6], c
         const int prev = (stage + 1) % 2, cur = stage % 2;
         const double h = fraction[stage] * dt;
         rk4_stage_state(s, h, stage ? k[stage - 1] : NULL, stage ? K[prev] : NULL, stage ? KB[prev] : NULL,
-                        t, jac ? S : NULL, U);
-        status = rk4_stage(p, t, tau, jac ? S : NULL, U, k[stage], K[cur], KB[cur]);
+                        t, jac && stage ? S : NULL, U);
+        status = rk4_stage(p, t, tau, jac, stage ? S : NULL, stage ? U : NULL, k[stage], K[cur], KB[cur]);
         for (i = 0; jac && i < 144; ++i) {
             A[i] += weight[stage] * K[cur][i];
         }

@@ -65,16 +65,15 @@ static int pose_accelerations(const double JAinv[9], int n, const double *y, dou
     return STEWART_OK;
 }
 
-/* The three 6 x 6 blocks of columns of Y (6 x 18, row-major), each times its scale. */
-static int split_jacobians(const double Y[108], double sa, double a[36], double sb, double b[36],
-                           double sc, double c[36])
+/* The three 6 x 6 blocks of columns of Y (6 x 18, row-major). */
+static int split_jacobians(const double Y[108], double a[36], double b[36], double c[36])
 {
     int i, j;
     for (i = 0; i < 6; ++i) {
         for (j = 0; j < 6; ++j) {
-            a[6 * i + j] = sa * Y[18 * i + j];
-            b[6 * i + j] = sb * Y[18 * i + 6 + j];
-            c[6 * i + j] = sc * Y[18 * i + 12 + j];
+            a[6 * i + j] = Y[18 * i + j];
+            b[6 * i + j] = Y[18 * i + 6 + j];
+            c[6 * i + j] = Y[18 * i + 12 + j];
         }
     }
     return STEWART_OK;
