@@ -12,11 +12,12 @@ cdef class Kernel:
     cdef stewart_params p
     cdef readonly int threads
 
-    cdef object _run(self, str fname, int arity, void *fn, tuple names, tuple values,
-                     int width, bint return_mask, double scalar=*)
-    cdef int _row(self, int arity, void *fn, const double *x0, const double *x1,
-                  const double *x2, double scalar, double *out, int *status, int width) noexcept nogil
-    cdef object _failed(self, str fname, tuple names, tuple arrays, cnp.ndarray out,
+    cdef object _run(self, str fname, int kind, void *fn, tuple names, tuple values,
+                     tuple shapes, bint return_mask, double scalar=*)
+    cdef int _row(self, int kind, void *fn, const double *x0, const double *x1, const double *x2,
+                  double scalar, double **outs, const int *widths, int nout, Py_ssize_t row,
+                  int *status) noexcept nogil
+    cdef object _failed(self, str fname, tuple names, tuple arrays, object out,
                         cnp.ndarray status, bint batch, bint return_mask)
     cdef int leg_lengths_c(self, const double *x, double *out) noexcept nogil
     cdef int leg_rates_c(self, const double *x, const double *xd, double *L, double *Ld) noexcept nogil

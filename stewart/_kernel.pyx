@@ -37,11 +37,22 @@ ctypedef int (*state_fn)(const stewart_params *, const double *, double *) noexc
 ctypedef int (*rate_fn)(const stewart_params *, const double *, const double *, double *) noexcept nogil
 ctypedef int (*dynamics_fn)(const stewart_params *, const double *, const double *, const double *,
                             double *) noexcept nogil
+ctypedef int (*derivatives_fn)(const stewart_params *, const double *, const double *, const double *,
+                               double *, double *, double *, double *) noexcept nogil
 ctypedef int (*step_fn)(const stewart_params *, const double *, const double *, const double *, double,
-                        double *) noexcept nogil
+                        double *, double *) noexcept nogil
+ctypedef int (*step_derivatives_fn)(const stewart_params *, const double *, const double *, const double *,
+                                    double, double *, double *, double *, double *) noexcept nogil
 
 cdef enum:
     NONFINITE_INPUT = -1  # status of a row whose input is not finite (C status codes are >= 0)
+    MAX_OUTPUTS = 4
+
+cdef enum Signature:
+    # The C signatures _run calls: 1-3 input arrays and one output, or as named.
+    DERIVATIVES = 4       # (p, x0, x1, x2, out0, out1, out2, out3)
+    STEP = 5              # (p, x0, x1, x2, scalar, out0, out1)
+    STEP_DERIVATIVES = 6  # (p, x0, x1, x2, scalar, out0, out1, out2, out3)
 
 
 cdef cnp.ndarray _states(str name, object value):
@@ -68,41 +79,22 @@ cdef inline bint _finite6(const double *v) noexcept nogil:
 
 
 cdef object _parts(object result, bint return_mask, tuple shapes):
-    """Split the rows of a C function's output into its parts of ``shapes`` (``(6,)``,
-    ``(6, 6)``, ...; row-major), each C-contiguous; ``result`` is as ``Kernel._run`` returns."""
+    """Split the rows of a C function's one output array into its parts of ``shapes``
+    (``(6,)`` or ``(6, 6)``; row-major), each C-contiguous; ``result`` is as ``Kernel._run``
+    returns."""
     out = result[0] if return_mask else result
     parts, start = [], 0
     for shape in shapes:
-        size = int(np.prod(shape))
+        size = 36 if len(shape) == 2 else 6
         part = out[..., start:start + size]
         parts.append(np.ascontiguousarray(part.reshape(part.shape[:-1] + shape)))
         start += size
     return (tuple(parts), result[1]) if return_mask else tuple(parts)
 
 
-# The C functions with several output arrays, as functions of one output array holding them
-# one after the other (split by ``_parts``).
-
-cdef int _inverse_dynamics_derivatives(const stewart_params *p, const double *x, const double *xd,
-                                       const double *xdd, double *out) noexcept nogil:
-    return stewart_inverse_dynamics_derivatives(p, x, xd, xdd, out, out + 6, out + 42, out + 78)
-
-
-cdef int _forward_dynamics_derivatives(const stewart_params *p, const double *x, const double *xd,
-                                       const double *tau, double *out) noexcept nogil:
-    return stewart_forward_dynamics_derivatives(p, x, xd, tau, out, out + 6, out + 42, out + 78)
-
-
-cdef int _rk4_step(const stewart_params *p, const double *x, const double *xd, const double *tau,
-                   double dt, double *out) noexcept nogil:
-    return stewart_rk4_step(p, x, xd, tau, dt, out, out + 6)
-
-
-cdef int _rk4_step_derivatives(const stewart_params *p, const double *x, const double *xd,
-                               const double *tau, double dt, double *out) noexcept nogil:
-    return stewart_rk4_step_derivatives(p, x, xd, tau, dt, out, out + 6, out + 12, out + 156)
-
-#: Shapes of the parts of the derivative functions' outputs.
+#: Row shapes of the outputs of the C functions.
+_VECTOR = ((6,),)
+_MATRIX = ((6, 6),)
 _DERIVATIVES = ((6,), (6, 6), (6, 6), (6, 6))
 _STEP = ((6,), (6,))
 _STEP_DERIVATIVES = ((6,), (6,), (12, 12), (12, 6))
@@ -117,29 +109,31 @@ cdef class Kernel:
         stewart_params_fill(&self.p, params)
         self.threads = _checks.thread_count(threads)
 
-    cdef object _run(self, str fname, int arity, void *fn, tuple names, tuple values,
-                     int width, bint return_mask, double scalar=0.0):
-        """Evaluate ``fn`` row by row. ``arity`` inputs (1-3; 4: three and ``scalar``, the
-        same for every row), output rows of ``width``."""
-        cdef cnp.ndarray a0, a1, a2, out, status
+    cdef object _run(self, str fname, int kind, void *fn, tuple names, tuple values,
+                     tuple shapes, bint return_mask, double scalar=0.0):
+        """Evaluate ``fn`` row by row: ``kind`` 1-3 input arrays and one output, or a
+        ``Signature`` (three inputs, and ``scalar`` the same for every row); an output array
+        per row shape in ``shapes``, returned as it is for one, as a tuple for several."""
+        cdef cnp.ndarray a0, a1, a2, status
         cdef const double *p0
         cdef const double *p1
         cdef const double *p2
-        cdef double *po
+        cdef double *po[MAX_OUTPUTS]
+        cdef int widths[MAX_OUTPUTS]
         cdef int *ps
         cdef cnp.npy_intp n = 1
         cdef Py_ssize_t i, s0 = 0, s1 = 0, s2 = 0
         cdef bint batch = False
         cdef int nthreads = self.threads
         cdef int failures = 0
+        cdef int k, nout = len(shapes)
+        cdef int arity = kind if kind <= 3 else 3
         cdef cnp.npy_intp dims[3]
-        cdef int nd = 0
-        cdef int width_row = width
+        cdef int nd
 
         a0 = _states(names[0], values[0])
         a1 = _states(names[1], values[1]) if arity > 1 else a0
         a2 = _states(names[2], values[2]) if arity > 2 else a0
-        arrays = (a0, a1, a2)[:min(arity, 3)]
         for arr in (a0, a1, a2):
             if arr.ndim == 2:
                 if batch and arr.shape[0] != n:
@@ -151,57 +145,72 @@ cdef class Kernel:
         if a1.ndim == 2: s1 = 6
         if a2.ndim == 2: s2 = 6
 
-        if batch:
-            dims[nd] = n
-            nd += 1
-        if width == 36:
-            dims[nd] = 6
-            nd += 1
-            width_row = 6
-        dims[nd] = width_row
-        nd += 1
-        out = cnp.PyArray_EMPTY(nd, dims, cnp.NPY_DOUBLE, 0)
+        outs = []
+        for k in range(nout):
+            shape = shapes[k]
+            nd = 0
+            if batch:
+                dims[nd] = n
+                nd += 1
+            widths[k] = 1
+            for size in shape:
+                dims[nd] = size
+                nd += 1
+                widths[k] *= size
+            out = cnp.PyArray_EMPTY(nd, dims, cnp.NPY_DOUBLE, 0)
+            po[k] = <double *>cnp.PyArray_DATA(out)
+            outs.append(out)
         status = cnp.PyArray_ZEROS(1, &n, cnp.NPY_INT, 0)
         p0 = <const double *>cnp.PyArray_DATA(a0)
         p1 = <const double *>cnp.PyArray_DATA(a1)
         p2 = <const double *>cnp.PyArray_DATA(a2)
-        po = <double *>cnp.PyArray_DATA(out)
         ps = <int *>cnp.PyArray_DATA(status)
 
         if n == 1:
-            failures = self._row(arity, fn, p0, p1, p2, scalar, po, ps, width)
+            failures = self._row(kind, fn, p0, p1, p2, scalar, po, widths, nout, 0, ps)
         elif nthreads > 1:
             for i in prange(n, nogil=True, num_threads=nthreads, schedule="static"):
-                failures += self._row(arity, fn, p0 + i * s0, p1 + i * s1, p2 + i * s2, scalar,
-                                      po + i * width, ps + i, width)
+                failures += self._row(kind, fn, p0 + i * s0, p1 + i * s1, p2 + i * s2, scalar,
+                                      po, widths, nout, i, ps + i)
         else:
             with nogil:
                 for i in range(n):
-                    failures += self._row(arity, fn, p0 + i * s0, p1 + i * s1, p2 + i * s2, scalar,
-                                          po + i * width, ps + i, width)
+                    failures += self._row(kind, fn, p0 + i * s0, p1 + i * s1, p2 + i * s2, scalar,
+                                          po, widths, nout, i, ps + i)
+        result = outs[0] if nout == 1 else tuple(outs)
         if failures == 0:
-            return (out, np.ones(n, dtype=bool) if batch else True) if return_mask else out
-        return self._failed(fname, names, arrays, out, status, batch, return_mask)
+            return (result, np.ones(n, dtype=bool) if batch else True) if return_mask else result
+        return self._failed(fname, names, (a0, a1, a2)[:arity], result, status, batch, return_mask)
 
-    cdef int _row(self, int arity, void *fn, const double *x0, const double *x1,
-                         const double *x2, double scalar, double *out, int *status, int width) noexcept nogil:
-        cdef int k
-        if not (_finite6(x0) and (arity < 2 or _finite6(x1)) and (arity < 3 or _finite6(x2))):
+    cdef int _row(self, int kind, void *fn, const double *x0, const double *x1, const double *x2,
+                  double scalar, double **outs, const int *widths, int nout, Py_ssize_t row,
+                  int *status) noexcept nogil:
+        """Row ``row``: its outputs start ``row * widths[k]`` into ``outs[k]``."""
+        cdef int j, k
+        cdef double *o[MAX_OUTPUTS]
+        for k in range(nout):
+            o[k] = outs[k] + row * widths[k]
+        if not (_finite6(x0) and (kind < 2 or _finite6(x1)) and (kind < 3 or _finite6(x2))):
             status[0] = NONFINITE_INPUT
-            for k in range(width):
-                out[k] = NAN
+            for k in range(nout):
+                for j in range(widths[k]):
+                    o[k][j] = NAN
             return 1
-        if arity == 1:
-            status[0] = (<state_fn>fn)(&self.p, x0, out)
-        elif arity == 2:
-            status[0] = (<rate_fn>fn)(&self.p, x0, x1, out)
-        elif arity == 3:
-            status[0] = (<dynamics_fn>fn)(&self.p, x0, x1, x2, out)
+        if kind == 1:
+            status[0] = (<state_fn>fn)(&self.p, x0, o[0])
+        elif kind == 2:
+            status[0] = (<rate_fn>fn)(&self.p, x0, x1, o[0])
+        elif kind == 3:
+            status[0] = (<dynamics_fn>fn)(&self.p, x0, x1, x2, o[0])
+        elif kind == DERIVATIVES:
+            status[0] = (<derivatives_fn>fn)(&self.p, x0, x1, x2, o[0], o[1], o[2], o[3])
+        elif kind == STEP:
+            status[0] = (<step_fn>fn)(&self.p, x0, x1, x2, scalar, o[0], o[1])
         else:
-            status[0] = (<step_fn>fn)(&self.p, x0, x1, x2, scalar, out)
+            status[0] = (<step_derivatives_fn>fn)(&self.p, x0, x1, x2, scalar, o[0], o[1], o[2], o[3])
         return status[0] != STEWART_OK
 
-    cdef object _failed(self, str fname, tuple names, tuple arrays, cnp.ndarray out,
+    cdef object _failed(self, str fname, tuple names, tuple arrays, object out,
                         cnp.ndarray status, bint batch, bint return_mask):
         if np.any(status == NONFINITE_INPUT):
             for name, arr in zip(names, arrays):
@@ -235,62 +244,62 @@ cdef class Kernel:
         return stewart_forward_dynamics(&self.p, x, xd, tau, out)
 
     def leg_lengths(self, x, *, return_mask=False):
-        return self._run("leg_lengths", 1, <void *>stewart_leg_lengths, ("x",), (x,), 6, return_mask)
+        return self._run("leg_lengths", 1, <void *>stewart_leg_lengths, ("x",), (x,), _VECTOR, return_mask)
 
     def jacobian(self, x, *, return_mask=False):
-        return self._run("jacobian", 1, <void *>stewart_jacobian, ("x",), (x,), 36, return_mask)
+        return self._run("jacobian", 1, <void *>stewart_jacobian, ("x",), (x,), _MATRIX, return_mask)
 
     def leg_rates(self, x, xd, *, return_mask=False):
         """``(L, Ldot)`` from the C function's one array ``[L; Ldot]`` per row."""
-        return _parts(self._run("leg_rates", 2, <void *>stewart_leg_rates, ("x", "xd"), (x, xd), 12, return_mask),
+        return _parts(self._run("leg_rates", 2, <void *>stewart_leg_rates, ("x", "xd"), (x, xd), ((12,),), return_mask),
                       return_mask, ((6,), (6,)))
 
     def all_terms(self, x, xd, *, return_mask=False):
         """``(M, V xd, G, J_C)`` from the C function's one array ``[M; Vxd; G; JC]`` per row."""
-        return _parts(self._run("all_terms", 2, <void *>stewart_all_terms, ("x", "xd"), (x, xd), 84, return_mask),
+        return _parts(self._run("all_terms", 2, <void *>stewart_all_terms, ("x", "xd"), (x, xd), ((84,),), return_mask),
                       return_mask, ((6, 6), (6,), (6,), (6, 6)))
 
     def mass_matrix(self, x, *, return_mask=False):
-        return self._run("mass_matrix", 1, <void *>stewart_mass_matrix, ("x",), (x,), 36, return_mask)
+        return self._run("mass_matrix", 1, <void *>stewart_mass_matrix, ("x",), (x,), _MATRIX, return_mask)
 
     def twist_mass_matrix(self, x, *, return_mask=False):
-        return self._run("twist_mass_matrix", 1, <void *>stewart_twist_mass_matrix, ("x",), (x,), 36,
+        return self._run("twist_mass_matrix", 1, <void *>stewart_twist_mass_matrix, ("x",), (x,), _MATRIX,
                          return_mask)
 
     def gravity_vector(self, x, *, return_mask=False):
-        return self._run("gravity_vector", 1, <void *>stewart_gravity_vector, ("x",), (x,), 6, return_mask)
+        return self._run("gravity_vector", 1, <void *>stewart_gravity_vector, ("x",), (x,), _VECTOR, return_mask)
 
     def coriolis_matrix(self, x, xd, *, return_mask=False):
-        return self._run("coriolis_matrix", 2, <void *>stewart_coriolis_matrix, ("x", "xd"), (x, xd), 36,
+        return self._run("coriolis_matrix", 2, <void *>stewart_coriolis_matrix, ("x", "xd"), (x, xd), _MATRIX,
                          return_mask)
 
     def coriolis_vector(self, x, xd, *, return_mask=False):
-        return self._run("coriolis_vector", 2, <void *>stewart_coriolis_vector, ("x", "xd"), (x, xd), 6,
+        return self._run("coriolis_vector", 2, <void *>stewart_coriolis_vector, ("x", "xd"), (x, xd), _VECTOR,
                          return_mask)
 
     def inverse_dynamics(self, x, xd, xdd, *, return_mask=False):
         return self._run("inverse_dynamics", 3, <void *>stewart_inverse_dynamics, ("x", "xd", "xdd"),
-                         (x, xd, xdd), 6, return_mask)
+                         (x, xd, xdd), _VECTOR, return_mask)
 
     def forward_dynamics(self, x, xd, tau, *, return_mask=False):
         return self._run("forward_dynamics", 3, <void *>stewart_forward_dynamics, ("x", "xd", "tau"),
-                         (x, xd, tau), 6, return_mask)
+                         (x, xd, tau), _VECTOR, return_mask)
 
     def inverse_dynamics_derivatives(self, x, xd, xdd, *, return_mask=False):
-        """``(tau, dtau_dx, dtau_dxd, dtau_dxdd)`` from the C function's outputs one after the other."""
-        return _parts(self._run("inverse_dynamics_derivatives", 3, <void *>_inverse_dynamics_derivatives,
-                                ("x", "xd", "xdd"), (x, xd, xdd), 114, return_mask), return_mask, _DERIVATIVES)
+        """``(tau, dtau_dx, dtau_dxd, dtau_dxdd)``."""
+        return self._run("inverse_dynamics_derivatives", DERIVATIVES, <void *>stewart_inverse_dynamics_derivatives,
+                         ("x", "xd", "xdd"), (x, xd, xdd), _DERIVATIVES, return_mask)
 
     def forward_dynamics_derivatives(self, x, xd, tau, *, return_mask=False):
-        """``(xdd, dxdd_dx, dxdd_dxd, dxdd_dtau)`` from the C function's outputs one after the other."""
-        return _parts(self._run("forward_dynamics_derivatives", 3, <void *>_forward_dynamics_derivatives,
-                                ("x", "xd", "tau"), (x, xd, tau), 114, return_mask), return_mask, _DERIVATIVES)
+        """``(xdd, dxdd_dx, dxdd_dxd, dxdd_dtau)``."""
+        return self._run("forward_dynamics_derivatives", DERIVATIVES, <void *>stewart_forward_dynamics_derivatives,
+                         ("x", "xd", "tau"), (x, xd, tau), _DERIVATIVES, return_mask)
 
     def rk4_step(self, x, xd, tau, double dt, *, bint jacobians=False, return_mask=False):
         """``(x, xd)`` after one RK4 step of ``dt`` (a positive finite number, checked by the
         caller), with ``(A, B)`` after them when ``jacobians``."""
         if jacobians:
-            return _parts(self._run("rk4_step", 4, <void *>_rk4_step_derivatives, ("x", "xd", "tau"),
-                                    (x, xd, tau), 228, return_mask, dt), return_mask, _STEP_DERIVATIVES)
-        return _parts(self._run("rk4_step", 4, <void *>_rk4_step, ("x", "xd", "tau"), (x, xd, tau), 12,
-                                return_mask, dt), return_mask, _STEP)
+            return self._run("rk4_step", STEP_DERIVATIVES, <void *>stewart_rk4_step_derivatives, ("x", "xd", "tau"),
+                             (x, xd, tau), _STEP_DERIVATIVES, return_mask, dt)
+        return self._run("rk4_step", STEP, <void *>stewart_rk4_step, ("x", "xd", "tau"), (x, xd, tau), _STEP,
+                         return_mask, dt)

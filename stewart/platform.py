@@ -204,9 +204,10 @@ class Platform:
         :class:`Step` ``(x, xd)``, or with ``jacobians`` a :class:`StepDerivatives` ``(x, xd,
         A, B)`` with ``A = d(x+, xd+)/d(x, xd)`` of shape ``(..., 12, 12)`` and ``B = d(x+,
         xd+)/d tau`` of shape ``(..., 12, 6)``, exact (the chain rule through the stages)."""
-        dt = _checks.real("dt", dt)
-        if not dt > 0:
-            raise ValueError(f"dt: must be a positive number of seconds, got {dt}")
+        if type(dt) is not float or not 0.0 < dt < np.inf:  # a positive finite float passes as it is
+            dt = _checks.real("dt", dt)
+            if not dt > 0:
+                raise ValueError(f"dt: must be a positive number of seconds, got {dt}")
         return _named(StepDerivatives if jacobians else Step,
                       self._kernel.rk4_step(x, xd, tau, dt, jacobians=bool(jacobians), return_mask=return_mask),
                       return_mask)
