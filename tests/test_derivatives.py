@@ -26,6 +26,7 @@ import pytest
 import stewart
 from stewart import reference as ref
 from stewart.checks import (
+    complex_step_jacobians,
     random_states,
     reference_forward_dynamics_jacobians,
     reference_inverse_dynamics_jacobians,
@@ -362,3 +363,21 @@ def test_casadi_jacobians_match_the_oracle(name, figures):
         _, jac = casadi_derivatives.unpack(np.asarray(rows).T)
         worst = max(worst, relative_error(jac, np.concatenate([o[:n] for o in oracle], axis=-1)))
     figures(f"oracle vs CasADi ca.jacobian of its own model ({name})", worst, 1e-11)
+
+
+def test_complex_step_jacobians_of_one_point_and_of_a_batch():
+    """The oracle's helper: one point gives ``(m, n)`` per argument, a batch ``(N, m, n)``,
+    equal row for row; on ``f(u, v) = [u0 v1, sin(u2)]`` the exact partials."""
+
+    def function(u, v):
+        return np.stack([u[:, 0] * v[:, 1], np.sin(u[:, 2])], axis=-1)
+
+    u, v = np.array([[0.3, 0.0, 1.1], [2.0, 1.0, -0.4]]), np.array([[1.5, -2.0], [0.5, 3.0]])
+    d_u, d_v = complex_step_jacobians(function, u, v)
+    assert d_u.shape == (2, 2, 3) and d_v.shape == (2, 2, 2)
+    for k in range(2):
+        one_u, one_v = complex_step_jacobians(function, u[k], v[k])
+        np.testing.assert_array_equal(one_u, d_u[k])
+        np.testing.assert_array_equal(one_v, d_v[k])
+        np.testing.assert_allclose(one_u, [[v[k, 1], 0, 0], [0, 0, np.cos(u[k, 2])]], rtol=1e-15, atol=0)
+        np.testing.assert_allclose(one_v, [[0, u[k, 0]], [0, 0]], rtol=1e-15, atol=0)
