@@ -9,8 +9,8 @@
 #include <math.h>
 #include <stddef.h>
 
-/* The stage state t = s + h k (k == NULL: t = s) and, when S != NULL, its Jacobians
- * S = dt/ds = E + h K, U = dt/dtau = h KB (K, KB: those of k; NULL: zero). */
+/* The stage state t = s + h k (k == NULL: t = s, the first stage) and, when S != NULL, its
+ * Jacobians S = dt/ds = E + h K, U = dt/dtau = h KB (K, KB: those of k). */
 static void rk4_stage_state(const double s[12], double h, const double *k, const double *K,
                             const double *KB, double t[12], double *S, double *U)
 {
@@ -20,10 +20,10 @@ static void rk4_stage_state(const double s[12], double h, const double *k, const
     }
     for (i = 0; S != NULL && i < 12; ++i) {
         for (j = 0; j < 12; ++j) {
-            S[12 * i + j] = (i == j ? 1.0 : 0.0) + (K == NULL ? 0.0 : h * K[12 * i + j]);
+            S[12 * i + j] = (i == j ? 1.0 : 0.0) + h * K[12 * i + j];
         }
         for (j = 0; j < 6; ++j) {
-            U[6 * i + j] = KB == NULL ? 0.0 : h * KB[6 * i + j];
+            U[6 * i + j] = h * KB[6 * i + j];
         }
     }
 }
