@@ -110,7 +110,8 @@ def derivative_figures(preset: str, batch: int) -> dict:
         out[f"batch_{name}_us"] = median_time(lambda: exact(*args), 1, 5) / batch * 1e6
         out[f"single_{name}_us"] = median_time(lambda: exact(*one), 2000) * 1e6
         out[f"python_overhead_{name}_us"] = out[f"single_{name}_us"] - out[f"batch_{name}_us"]
-        out[f"finite_differences_{name}_us"] = median_time(lambda: forward_differences(primal, *args), 1, 5) / batch * 1e6
+        differences = median_time(lambda: forward_differences(primal, *args), 1, 5)
+        out[f"finite_differences_{name}_us"] = differences / batch * 1e6
         result = exact(*args)
         jac = np.concatenate(result[2:] if name == "rk4_step_jacobians" else result[1:], axis=-1)
         out[f"finite_differences_{name}_rel_error"] = relative_error(forward_differences(primal, *args), jac)

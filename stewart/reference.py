@@ -22,7 +22,7 @@ equation of motion is ``M xddot + V xdot + G = J_C^T tau`` (eqs. 1-2).
 Complex inputs: :func:`inverse_dynamics`, :func:`forward_dynamics` and :func:`body_terms`
 accept complex ``x``, ``xdot``, ``xddot`` and ``tau``, so that they can themselves be
 differentiated by complex step (the derivative oracle of the compiled kernel's
-Jacobians, :func:`stewart.checks.complex_step_jacobian`). A complex step cannot nest on
+Jacobians, :func:`stewart.checks.complex_step_jacobians`). A complex step cannot nest on
 the inner one, so for complex ``x`` or ``xdot`` the time derivative of ``A_b`` is taken
 instead by the sixth-order central difference along the real time ``s``
 
@@ -49,7 +49,8 @@ import numpy as np
 
 from . import _checks
 from .errors import SingularityError
-from .kinematics import jacobian, leg_lengths, leg_unit_vectors, leg_vectors, platform_points_in_base, rotation, twist_transform
+from .kinematics import (jacobian, leg_lengths, leg_unit_vectors, leg_vectors, platform_points_in_base, rotation,
+                         twist_transform)
 from .params import PlatformParams, checked_params
 
 __all__ = [
@@ -234,16 +235,17 @@ def _inertia_rates(params: PlatformParams, x: np.ndarray, xd: np.ndarray, genera
     if not (np.iscomplexobj(x) or np.iscomplexobj(xd)):
         step = _STEP / np.maximum(1.0, np.max(np.abs(xd), axis=-1))
         _, shifted = _inertia_times_t(params, x + 1j * step[..., None] * xd, general)
-        return {body: a.imag / step.reshape(step.shape + (1,) * (a.ndim - step.ndim)) for body, a in shifted.items()}
-    rates = np.abs(np.real(xd))
-    shortest = np.min(leg_lengths(params, np.real(x)), axis=-1)
-    speed = np.maximum(np.max(rates[..., :3], axis=-1) / shortest, np.max(rates[..., 3:], axis=-1))
-    step = _DIFFERENCE_STEP / np.where(speed > 0.0, speed, 1.0)
-    total = {}
-    for offset, weight in _DIFFERENCE_WEIGHTS:
-        _, shifted = _inertia_times_t(params, x + offset * step[..., None] * xd, general)
-        for body, a in shifted.items():
-            total[body] = total.get(body, 0.0) + weight * a
+        total = {body: a.imag for body, a in shifted.items()}
+    else:
+        rates = np.abs(np.real(xd))
+        shortest = np.min(leg_lengths(params, np.real(x)), axis=-1)
+        speed = np.maximum(np.max(rates[..., :3], axis=-1) / shortest, np.max(rates[..., 3:], axis=-1))
+        step = _DIFFERENCE_STEP / np.where(speed > 0.0, speed, 1.0)
+        total = {}
+        for offset, weight in _DIFFERENCE_WEIGHTS:
+            _, shifted = _inertia_times_t(params, x + offset * step[..., None] * xd, general)
+            for body, a in shifted.items():
+                total[body] = total.get(body, 0.0) + weight * a
     return {body: a / step.reshape(step.shape + (1,) * (a.ndim - step.ndim)) for body, a in total.items()}
 
 

@@ -86,8 +86,10 @@ def _derivatives_vs_oracle(params, plat, x, xd, xdd) -> list[Check]:
     want_a, want_b = reference_rk4_jacobians(params, x, xd, inverse.tau, DERIVATIVE_DT)
     eye = np.eye(12)
     pairs = {
-        "inverse dynamics dtau/d(x, xd, xdd)": (inverse[1:], reference_inverse_dynamics_jacobians(params, x, xd, xdd)),
-        "forward dynamics dxdd/d(x, xd, tau)": (forward[1:], reference_forward_dynamics_jacobians(params, x, xd, inverse.tau)),
+        "inverse dynamics dtau/d(x, xd, xdd)": (
+            inverse[1:], reference_inverse_dynamics_jacobians(params, x, xd, xdd)),
+        "forward dynamics dxdd/d(x, xd, tau)": (
+            forward[1:], reference_forward_dynamics_jacobians(params, x, xd, inverse.tau)),
         f"RK4 step A - I and B (dt {DERIVATIVE_DT:g} s)": ((a_mat - eye, b_mat), (want_a - eye, want_b)),
     }
     return [
