@@ -56,10 +56,10 @@ def code_figures() -> dict:
     return {"generated_c_bytes": len(source), "generated_c_lines": source.count(b"\n"), "operation_counts": ops}
 
 
-PEERS = ("casadi", "casadi_derivatives", "sympy", "mujoco")
+PEERS = ("casadi", "casadi_derivatives", "pinocchio", "sympy", "mujoco")
 #: Importable module each peer needs.
-_NEEDS = {"casadi": ("casadi",), "casadi_derivatives": ("casadi",), "sympy": ("sympy", "Cython"),
-          "mujoco": ("mujoco",)}
+_NEEDS = {"casadi": ("casadi",), "casadi_derivatives": ("casadi",), "pinocchio": ("pinocchio",),
+          "sympy": ("sympy", "Cython"), "mujoco": ("mujoco",)}
 #: Default cap on compiling CasADi's Jacobian C (s): its inverse-dynamics Jacobian takes
 #: about 10 minutes of gcc on this machine.
 JACOBIAN_COMPILE_CAP_S = 600.0
@@ -85,6 +85,10 @@ def peer_figures(names, batch: int, jacobian_compile_cap_s: float = JACOBIAN_COM
 
                 out[name] = casadi_derivatives.figures("narayan2017", n_batch=min(batch, 2_000),
                                                        compile_cap_s=jacobian_compile_cap_s)
+            elif name == "pinocchio":
+                from .peers import pinocchio_model
+
+                out[name] = pinocchio_model.figures("narayan2017")
             elif name == "sympy":
                 from .peers import sympy_route
 
@@ -171,7 +175,10 @@ inverted pendulum): our own open-loop replay of the same forces drifts from our
 closed-loop run just as MuJoCo does, so MuJoCo is compared with that replay, on the same
 input. CasADi derivatives: ca.jacobian of the same SX model, value and 6 x 18 Jacobian in
 one Function; its C is compiled under a time cap (--jacobian-compile-cap) and reported as
-not finished past it."""
+not finished past it. Pinocchio: the platform on a free-flyer joint, each leg a universal
+joint and a slider, tied to the platform by 3-D point constraints (24 DOF, 18
+constraints); constraintDynamics and computeConstraintDynamicsDerivatives called from
+Python per state, at rest poses."""
 
 
 if __name__ == "__main__":

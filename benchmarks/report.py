@@ -104,6 +104,7 @@ def rows(peers: dict, ours: dict) -> list[tuple[str, str, str, str]]:
         out.append(("CasADi: agreement, max relative error of tau / xdd", "", f"{cas['tau_rel_error']:.1e} / "
                     f"{cas['xdd_rel_error']:.1e}", ""))
     out += _casadi_derivative_rows(peers.get("casadi_derivatives"))
+    out += _pinocchio_rows(peers.get("pinocchio"))
     sym = peers.get("sympy")
     if sym and "error" not in sym:
         for route, label in (("autowrap", "sympy autowrap (Cython)"), ("pydy", "PyDy CythonMatrixGenerator")):
@@ -180,6 +181,26 @@ def _casadi_derivative_rows(cas: dict | None) -> list[tuple[str, str, str, str]]
         out.append((f"{label}, generated C", "", compiled, ""))
         out.append((f"{label}, agreement with ours, max relative error of the Jacobian", "",
                     f"{fig['jacobian_rel_error']:.1e}", ""))
+    return out
+
+
+def _pinocchio_rows(pin: dict | None) -> list[tuple[str, str, str, str]]:
+    """Rows of Pinocchio's closed-loop constraint dynamics and derivatives against ours."""
+    if not pin or "error" in pin:
+        return []
+    label = f"Pinocchio {pin['pinocchio_version']} closed loop, from Python"
+    pairs = [
+        ("forward dynamics, one call (constraintDynamics)", "ours_single_forward_dynamics_us",
+         "constraint_dynamics_us", "us"),
+        ("forward dynamics with its Jacobians, one call (+ computeConstraintDynamicsDerivatives)",
+         "ours_single_forward_dynamics_derivatives_us", "constraint_dynamics_derivatives_us", "us"),
+        ("same, ours in a batch", "ours_batch_forward_dynamics_derivatives_us", "constraint_dynamics_derivatives_us",
+         "us/state"),
+    ]
+    out = [(f"{label}: {what}", _num(pin[k_ours], unit), _num(pin[k_peer], "us"), f"{pin[k_peer] / pin[k_ours]:.1f}x")
+           for what, k_ours, k_peer, unit in pairs]
+    out.append((f"{label}: agreement at rest, legs without axial inertia: xdd / dxdd/dtau", "",
+                f"{pin['platform_acceleration_rel_error']:.1e} / {pin['dxdd_dtau_rel_error']:.1e}", ""))
     return out
 
 

@@ -183,3 +183,13 @@ def test_casadi_derivative_rows_say_when_the_compilation_did_not_finish(compiled
     else:
         assert c_row == ("3.50 us/state", "did not finish compiling in 600 s", "")
     assert rows["CasADi ca.jacobian: xdd + dxdd/d(x, xd, tau), one call from Python"] == ("5.00 us", "1150 us", "230x")
+
+
+def test_pinocchio_rows_compare_one_call_and_batches():
+    fig = {"pinocchio_version": "4.1.0", "constraint_dynamics_us": 13.0, "constraint_dynamics_derivatives_us": 77.0,
+           "ours_single_forward_dynamics_us": 1.3, "ours_single_forward_dynamics_derivatives_us": 5.5,
+           "ours_batch_forward_dynamics_derivatives_us": 2.2, "platform_acceleration_rel_error": 1.8e-15,
+           "dxdd_dtau_rel_error": 1.3e-15}
+    rows = [r for r in report.rows({"pinocchio": fig}, {}) if r[0].startswith("Pinocchio")]
+    assert [r[1:] for r in rows] == [("1.30 us", "13.0 us", "10.0x"), ("5.50 us", "77.0 us", "14.0x"),
+                                     ("2.20 us/state", "77.0 us", "35.0x"), ("", "1.8e-15 / 1.3e-15", "")]

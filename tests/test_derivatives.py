@@ -381,3 +381,16 @@ def test_complex_step_jacobians_of_one_point_and_of_a_batch():
         np.testing.assert_array_equal(one_v, d_v[k])
         np.testing.assert_allclose(one_u, [[v[k, 1], 0, 0], [0, 0, np.cos(u[k, 2])]], rtol=1e-15, atol=0)
         np.testing.assert_allclose(one_v, [[0, u[k, 0]], [0, 0]], rtol=1e-15, atol=0)
+
+
+@pytest.mark.peers
+def test_pinocchio_closed_loop_matches_the_kernel(figures):
+    """Pinocchio's constraint dynamics of the platform as a closed loop (benchmarks/peers),
+    with legs of no axial inertia, against our forward dynamics and ``dxddot/dtau`` at rest."""
+    pytest.importorskip("pinocchio")
+    pytest.importorskip("benchmarks", reason="needs the checkout (benchmarks/)")
+    from benchmarks.peers import pinocchio_model
+
+    out = pinocchio_model.figures("narayan2017", n_states=20, repeats=1)
+    figures("Pinocchio closed loop vs kernel: xdd at rest (narayan2017)", out["platform_acceleration_rel_error"], 1e-12)
+    figures("Pinocchio closed loop vs kernel: dxdd/dtau at rest (narayan2017)", out["dxdd_dtau_rel_error"], 1e-12)
