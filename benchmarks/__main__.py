@@ -56,12 +56,16 @@ def code_figures() -> dict:
     return {"generated_c_bytes": len(source), "generated_c_lines": source.count(b"\n"), "operation_counts": ops}
 
 
-PEERS = ("casadi", "sympy", "mujoco")
+PEERS = ("casadi", "casadi_derivatives", "pinocchio", "sympy", "mujoco")
 #: Importable module each peer needs.
-_NEEDS = {"casadi": ("casadi",), "sympy": ("sympy", "Cython"), "mujoco": ("mujoco",)}
+_NEEDS = {"casadi": ("casadi",), "casadi_derivatives": ("casadi",), "pinocchio": ("pinocchio",),
+          "sympy": ("sympy", "Cython"), "mujoco": ("mujoco",)}
+#: Default cap on compiling CasADi's Jacobian C (s): its inverse-dynamics Jacobian takes
+#: about 10 minutes of gcc on this machine.
+JACOBIAN_COMPILE_CAP_S = 600.0
 
 
-def peer_figures(names, batch: int) -> dict:
+def peer_figures(names, batch: int, jacobian_compile_cap_s: float = JACOBIAN_COMPILE_CAP_S) -> dict:
     """Each peer's figures, or {"error": why it was skipped}."""
     out = {}
     for name in names:
@@ -76,6 +80,15 @@ def peer_figures(names, batch: int) -> dict:
                 from .peers import casadi_bench
 
                 out[name] = casadi_bench.figures("narayan2017", n_batch=min(batch, 20_000))
+            elif name == "casadi_derivatives":
+                from .peers import casadi_derivatives
+
+                out[name] = casadi_derivatives.figures("narayan2017", n_batch=min(batch, 2_000),
+                                                       compile_cap_s=jacobian_compile_cap_s)
+            elif name == "pinocchio":
+                from .peers import pinocchio_model
+
+                out[name] = pinocchio_model.figures("narayan2017")
             elif name == "sympy":
                 from .peers import sympy_route
 
@@ -94,9 +107,14 @@ def main(argv=None) -> None:
     parser = argparse.ArgumentParser(prog="python -m benchmarks", description=__doc__)
     parser.add_argument("--json", default=str(ROOT / "out" / "benchmarks.json"), help="where to write the figures")
     parser.add_argument("--batch", type=int, default=200_000, help="states per batch (default 200000)")
+    parser.add_argument("--presets", type=lambda v: [p.strip() for p in v.split(",") if p.strip()], default=None,
+                        help="comma-separated presets to time (default: all)")
     parser.add_argument("--skip-build", action="store_true", help="skip the generation and clean-build timings")
     parser.add_argument("--peers", default=",".join(PEERS),
                         help=f"comma-separated peers to compare ({','.join(PEERS)}; 'none' for none)")
+    parser.add_argument("--jacobian-compile-cap", type=float, default=JACOBIAN_COMPILE_CAP_S, metavar="S",
+                        help="seconds CasADi's Jacobian C may take to compile before it is reported as not "
+                             f"finished (default {JACOBIAN_COMPILE_CAP_S:g})")
     parser.add_argument("--chart", default=str(ROOT / "out" / "benchmarks_peers.png"), help="bar chart path")
     args = parser.parse_args(argv)
     peers = [] if args.peers.strip().lower() == "none" else [p.strip() for p in args.peers.split(",") if p.strip()]
@@ -109,15 +127,17 @@ def main(argv=None) -> None:
         "machine": report.machine(),
         "kernel": {},
     }
-    for preset in sorted(stewart.presets()):
+    for preset in args.presets or sorted(stewart.presets()):
         print(f"[bench] kernel, reference and simulation loop, {preset} ...", flush=True)
         results["kernel"][preset] = bench.kernel_figures(preset, args.batch)
         results["kernel"][preset].update(bench.simulation_figures(preset))
+        print(f"[bench] exact derivatives and finite differences, {preset} ...", flush=True)
+        results["kernel"][preset].update(bench.derivative_figures(preset, min(args.batch, bench.DERIVATIVE_BATCH)))
     if not args.skip_build:
         print("[bench] generation and clean build ...", flush=True)
         results["generation"] = generation_figures()
     results["code"] = code_figures()
-    results["peers"] = peer_figures(peers, args.batch)
+    results["peers"] = peer_figures(peers, args.batch, args.jacobian_compile_cap)
     table_rows = report.our_rows(results)
     results["targets"] = report.targets(table_rows)
     print()
@@ -153,7 +173,12 @@ mechanics are the same). It replays, open loop, the forces of our computed-torqu
 the demo's move. The open-loop platform is unstable (constant leg forces push it like an
 inverted pendulum): our own open-loop replay of the same forces drifts from our
 closed-loop run just as MuJoCo does, so MuJoCo is compared with that replay, on the same
-input."""
+input. CasADi derivatives: ca.jacobian of the same SX model, value and 6 x 18 Jacobian in
+one Function; its C is compiled under a time cap (--jacobian-compile-cap) and reported as
+not finished past it. Pinocchio: the platform on a free-flyer joint, each leg a universal
+joint and a slider, tied to the platform by 3-D point constraints (24 DOF, 18
+constraints); constraintDynamics and computeConstraintDynamicsDerivatives called from
+Python per state, at rest poses."""
 
 
 if __name__ == "__main__":

@@ -103,6 +103,8 @@ def rows(peers: dict, ours: dict) -> list[tuple[str, str, str, str]]:
                     f"{cas['build_s'] + cas['generate_s']:.2f} s + {cas['compile_s']:.1f} s", ratio))
         out.append(("CasADi: agreement, max relative error of tau / xdd", "", f"{cas['tau_rel_error']:.1e} / "
                     f"{cas['xdd_rel_error']:.1e}", ""))
+    out += _casadi_derivative_rows(peers.get("casadi_derivatives"))
+    out += _pinocchio_rows(peers.get("pinocchio"))
     sym = peers.get("sympy")
     if sym and "error" not in sym:
         for route, label in (("autowrap", "sympy autowrap (Cython)"), ("pydy", "PyDy CythonMatrixGenerator")):
@@ -151,6 +153,54 @@ def rows(peers: dict, ours: dict) -> list[tuple[str, str, str, str]]:
             out.append((f"{name}: skipped", "", info["error"], ""))
         for what in info.get("skipped", []):
             out.append((f"{name}: skipped", "", f"{what}; pip install '.[peers]'", ""))
+    return out
+
+
+def _casadi_derivative_rows(cas: dict | None) -> list[tuple[str, str, str, str]]:
+    """Rows of CasADi's ca.jacobian code against our exact derivatives."""
+    if not cas or "error" in cas:
+        return []
+    out = []
+    for name, what in (("inverse_dynamics_derivatives", "tau + dtau/d(x, xd, xdd)"),
+                       ("forward_dynamics_derivatives", "xdd + dxdd/d(x, xd, tau)")):
+        fig = cas[name]
+        label = f"CasADi ca.jacobian: {what}"
+        out.append((f"{label}, one call from Python", _num(fig["ours_single_us"], "us"),
+                    _num(fig["python_single_us"], "us"), f"{fig['python_single_us'] / fig['ours_single_us']:.0f}x"))
+        out.append((f"{label}, batch from Python (ours: Platform batch; CasADi: .map(N))",
+                    _num(fig["ours_batch_us"], "us/state"), _num(fig["python_map_us"], "us/state"),
+                    f"{fig['python_map_us'] / fig['ours_batch_us']:.0f}x"))
+        compiled = f"{fig['generated_c_bytes'] / 2**20:.1f} MiB of C"
+        if fig.get("c_loop_us") is not None:
+            peer, ratio = _num(fig["c_loop_us"], "us/state"), f"{fig['c_loop_us'] / fig['ours_batch_us']:.0f}x"
+            compiled += f", {fig['compile_s']:.0f} s to compile"
+        else:
+            peer, ratio = fig["did_not_finish"], ""
+        out.append((f"{label}, generated C in a C loop (ours: Platform batch)", _num(fig["ours_batch_us"], "us/state"),
+                    peer, ratio))
+        out.append((f"{label}, generated C", "", compiled, ""))
+        out.append((f"{label}, agreement with ours, max relative error of the Jacobian", "",
+                    f"{fig['jacobian_rel_error']:.1e}", ""))
+    return out
+
+
+def _pinocchio_rows(pin: dict | None) -> list[tuple[str, str, str, str]]:
+    """Rows of Pinocchio's closed-loop constraint dynamics and derivatives against ours."""
+    if not pin or "error" in pin:
+        return []
+    label = f"Pinocchio {pin['pinocchio_version']} closed loop, from Python"
+    pairs = [
+        ("forward dynamics, one call (constraintDynamics)", "ours_single_forward_dynamics_us",
+         "constraint_dynamics_us", "us"),
+        ("forward dynamics with its Jacobians, one call (+ computeConstraintDynamicsDerivatives)",
+         "ours_single_forward_dynamics_derivatives_us", "constraint_dynamics_derivatives_us", "us"),
+        ("same, ours in a batch", "ours_batch_forward_dynamics_derivatives_us", "constraint_dynamics_derivatives_us",
+         "us/state"),
+    ]
+    out = [(f"{label}: {what}", _num(pin[k_ours], unit), _num(pin[k_peer], "us"), f"{pin[k_peer] / pin[k_ours]:.1f}x")
+           for what, k_ours, k_peer, unit in pairs]
+    out.append((f"{label}: agreement at rest, legs without axial inertia: xdd / dxdd/dtau", "",
+                f"{pin['platform_acceleration_rel_error']:.1e} / {pin['dxdd_dtau_rel_error']:.1e}", ""))
     return out
 
 

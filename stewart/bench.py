@@ -10,9 +10,10 @@ import numpy as np
 
 import stewart
 from stewart import reference
+from stewart.checks import relative_error
 
-__all__ = ["TARGETS", "Target", "median_time", "states", "kernel_figures", "simulation_figures", "kernel_rows",
-           "measure_row", "format_table"]
+__all__ = ["TARGETS", "Target", "median_time", "states", "kernel_figures", "simulation_figures", "derivative_figures",
+           "forward_differences", "kernel_rows", "measure_row", "format_table"]
 
 
 def median_time(fn, number: int, repeat: int = 7) -> float:
@@ -56,6 +57,68 @@ def kernel_figures(preset: str, batch: int) -> dict:
     return out
 
 
+#: Relative step of the forward differences the exact derivatives are timed against.
+DIFFERENCE_STEP = 1e-7
+#: Time step of the timed RK4 steps.
+RK4_DT = 1e-3
+#: Most states a derivative batch holds (each carries 3 to 4 matrices).
+DERIVATIVE_BATCH = 20_000
+
+
+def forward_differences(function, *args, step: float = DIFFERENCE_STEP) -> np.ndarray:
+    """Jacobian of ``function(*args)`` by forward differences, the way a user without exact
+    derivatives gets one: input ``j`` moves by ``step * max(1, |a_j|)``, and the batch
+    ``(N, 6)`` with its ``6 len(args)`` shifted copies goes to ``function`` in one call
+    (``1 + 6 len(args)`` primal evaluations a state). Returns ``(N, m, 6 len(args))``:
+    row = output, column = input."""
+    arrays = [np.asarray(a, dtype=float) for a in args]
+    shifts = step * np.maximum(1.0, np.abs(np.concatenate(arrays, axis=-1)))  # (N, width)
+    width = shifts.shape[-1]
+    stacked = []
+    for k, a in enumerate(arrays):
+        copies = np.repeat(a[None], 1 + width, axis=0)
+        for i in range(6):
+            copies[1 + 6 * k + i, :, i] += shifts[:, 6 * k + i]
+        stacked.append(copies.reshape(-1, 6))
+    out = np.asarray(function(*stacked)).reshape(1 + width, len(arrays[0]), -1)
+    return np.moveaxis((out[1:] - out[0]) / shifts.T[..., None], 0, -1)
+
+
+def derivative_figures(preset: str, batch: int) -> dict:
+    """The exact derivatives (issue 11): the C batch loop per state and one call from
+    Python for ``tau`` with its three Jacobians, ``xddot`` with its three, and an RK4 step
+    with ``A`` and ``B``; side by side, forward differences of the kernel's own primal
+    functions over the same inputs (19 evaluations a state), and their error against the
+    exact Jacobians (:func:`stewart.checks.relative_error`)."""
+    plat = stewart.Platform.preset(preset)
+    x, xd, xdd = states(plat.params, batch)
+    tau = plat.inverse_dynamics(x, xd, xdd)
+    dt = RK4_DT
+
+    def step(*a):
+        return np.concatenate(plat.rk4_step(*a, dt), axis=-1)
+
+    cases = {
+        "inverse_dynamics_derivatives": (plat.inverse_dynamics_derivatives, plat.inverse_dynamics, (x, xd, xdd)),
+        "forward_dynamics_derivatives": (plat.forward_dynamics_derivatives, plat.forward_dynamics, (x, xd, tau)),
+        "rk4_step_jacobians": (lambda *a: plat.rk4_step(*a, dt, jacobians=True), step, (x, xd, tau)),
+    }
+    out = {"batch_rk4_step_us": median_time(lambda: plat.rk4_step(x, xd, tau, dt), 1, 5) / batch * 1e6}
+    for name in DERIVATIVE_FUNCTIONS:
+        exact, primal, args = cases[name]
+        one = tuple(a[0] for a in args)
+        out[f"batch_{name}_us"] = median_time(lambda: exact(*args), 1, 5) / batch * 1e6
+        out[f"single_{name}_us"] = median_time(lambda: exact(*one), 2000) * 1e6
+        out[f"python_overhead_{name}_us"] = out[f"single_{name}_us"] - out[f"batch_{name}_us"]
+        differences = median_time(lambda: forward_differences(primal, *args), 1, 5)
+        out[f"finite_differences_{name}_us"] = differences / batch * 1e6
+        result = exact(*args)
+        jac = np.concatenate(result[2:] if name == "rk4_step_jacobians" else result[1:], axis=-1)
+        out[f"finite_differences_{name}_rel_error"] = relative_error(forward_differences(primal, *args), jac)
+    out["states"] = batch
+    return out
+
+
 def simulation_figures(preset: str) -> dict:
     """Wall time of the paper's 5 s move at 1 kHz with RK4 and PID, in the compiled loop."""
     plat = stewart.Platform.preset(preset)
@@ -87,6 +150,12 @@ TARGETS: dict[str, Target] = {
     "rk4_pid_5s_at_1kHz_ms": Target(50.0, True),
     "generation_s": Target(10.0, True),
     "clean_build_s": Target(30.0, True),
+    "batch_inverse_dynamics_derivatives_us": Target(2.0, True),
+    "batch_forward_dynamics_derivatives_us": Target(3.0, True),
+    "batch_rk4_step_jacobians_us": Target(15.0, True),
+    "python_overhead_inverse_dynamics_derivatives_us": Target(1.0, True),
+    "python_overhead_forward_dynamics_derivatives_us": Target(1.0, True),
+    "python_overhead_rk4_step_jacobians_us": Target(1.0, True),
 }
 
 #: Table rows of the kernel figures: (measure, figure key, display scale, unit, format).
@@ -107,10 +176,33 @@ KERNEL_MEASURES = [
 ]
 
 
+#: The timed derivative functions: figure-key stem and the table's name for each.
+DERIVATIVE_FUNCTIONS = {
+    "inverse_dynamics_derivatives": "tau and its 3 Jacobians",
+    "forward_dynamics_derivatives": "xdd and its 3 Jacobians",
+    "rk4_step_jacobians": "RK4 step with A and B",
+}
+
+#: Table rows of the derivative figures, in the form of :data:`KERNEL_MEASURES`.
+DERIVATIVE_MEASURES = [("RK4 step, C batch loop", "batch_rk4_step_us", 1.0, "us/state", ".2f")] + [
+    row
+    for name, what in DERIVATIVE_FUNCTIONS.items()
+    for row in (
+        (f"{what}, C batch loop", f"batch_{name}_us", 1.0, "us/state", ".2f"),
+        (f"{what}, one call from Python", f"single_{name}_us", 1.0, "us", ".2f"),
+        (f"{what}, one call minus C batch loop", f"python_overhead_{name}_us", 1.0, "us", ".2f"),
+        (f"{what} by forward differences of our kernel (19 calls)", f"finite_differences_{name}_us", 1.0,
+         "us/state", ".2f"),
+        (f"{what} by forward differences: worst error (relative)", f"finite_differences_{name}_rel_error", 1.0,
+         "", ".1e"),
+    )
+]
+
+
 def measure_row(measure: str, key: str, value: float, scale: float, unit: str, fmt: str) -> tuple[str, str, str, str]:
     """One table row (measure, median, target, verdict); target and verdict are empty for
     a figure without a target in :data:`TARGETS`."""
-    sep = "" if unit == "x" else " "
+    sep = "" if unit in ("x", "") else " "
     median = f"{value * scale:{fmt}}{sep}{unit}"
     target = TARGETS.get(key)
     if target is None:
@@ -120,9 +212,10 @@ def measure_row(measure: str, key: str, value: float, scale: float, unit: str, f
 
 
 def kernel_rows(preset: str, fig: dict) -> list[tuple[str, str, str, str]]:
-    """Table rows (measure, median, target, verdict) for one preset's figures."""
+    """Table rows (measure, median, target, verdict) for one preset's figures (kernel,
+    simulation and derivatives: those measured)."""
     return [measure_row(f"[{preset}] {measure}", key, fig[key], scale, unit, fmt)
-            for measure, key, scale, unit, fmt in KERNEL_MEASURES if key in fig]
+            for measure, key, scale, unit, fmt in KERNEL_MEASURES + DERIVATIVE_MEASURES if key in fig]
 
 
 def format_table(rows: list[tuple[str, str, str, str]]) -> str:
@@ -147,6 +240,7 @@ def main(presets=None, batch: int = 200_000) -> dict:
         print(f"[bench] {preset} ...", flush=True)
         fig = kernel_figures(preset, batch)
         fig.update(simulation_figures(preset))
+        fig.update(derivative_figures(preset, min(batch, DERIVATIVE_BATCH)))
         results[preset] = fig
         rows += kernel_rows(preset, fig)
     print(format_table(rows))

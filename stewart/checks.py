@@ -4,6 +4,11 @@ kernel must obey.
 
 * :func:`random_states` — the states every comparison runs over;
 * :func:`relative_error` — the one measure of disagreement between two results;
+* :func:`complex_step_jacobians` — Jacobians of a complex-capable function by complex
+  step, and with it the derivative oracle of the kernel's Jacobians, built on the numeric
+  reference :mod:`stewart.reference` (not on the kernel):
+  :func:`reference_inverse_dynamics_jacobians`, :func:`reference_forward_dynamics_jacobians`
+  and :func:`reference_rk4_jacobians` of the RK4 step :func:`reference_rk4_step`;
 * :func:`energy` — the mechanical energy written out from the bodies (section 3), and with
   it :func:`power_balance` (``dE/dt = tau . Ldot``) and :func:`energy_drift` (conservation
   with ``tau = 0``);
@@ -18,12 +23,13 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import kinematics, newton_euler, workspace
+from . import kinematics, newton_euler, reference, workspace
 from .params import PlatformParams
 from .platform import Platform
 
 __all__ = ["random_states", "relative_error", "energy", "power_balance", "energy_drift", "statics_residuals",
-           "twist_mass_matrix_figures", "COMPLEX_STEP"]
+           "twist_mass_matrix_figures", "complex_step_jacobians", "reference_inverse_dynamics_jacobians",
+           "reference_forward_dynamics_jacobians", "reference_rk4_step", "reference_rk4_jacobians", "COMPLEX_STEP"]
 
 #: Complex-step size for exact first derivatives.
 COMPLEX_STEP = 1e-30
@@ -97,6 +103,68 @@ def relative_error(got, want) -> float:
     scale = np.max(np.abs(want), axis=1, keepdims=True)
     scale = np.where(scale > 0.0, scale, 1.0)
     return float(np.max(np.abs(got - want) / scale))
+
+
+def complex_step_jacobians(function, *args, step: float = COMPLEX_STEP) -> tuple[np.ndarray, ...]:
+    """Jacobians of ``function(*args)`` with respect to each argument, by complex step:
+    column ``j`` of the Jacobian for argument ``a`` is ``Im f(.., a + i h e_j, ..) / h``,
+    exact to round-off for a holomorphic ``function`` (no subtractive cancellation).
+
+    Each argument is one point ``(n,)`` or a batch ``(N, n)``; ``function`` takes batches
+    ``(K, n)`` and returns ``(K, m)``. Returns one array per argument, ``(m, n)`` for one
+    point or ``(N, m, n)`` for a batch: row = output, column = input. Each argument costs
+    one call of ``function`` on the batch repeated ``n`` times, the other arguments real.
+    """
+    arrays = [np.asarray(a, dtype=float) for a in args]
+    single = arrays[0].ndim == 1
+    arrays = [a.reshape(-1, a.shape[-1]) for a in arrays]
+    count = len(arrays[0])
+    jacobians = []
+    for k, arg in enumerate(arrays):
+        width = arg.shape[-1]
+        shifted = (arg[:, None, :] + 1j * step * np.eye(width)).reshape(-1, width)
+        inputs = [shifted if j == k else np.repeat(a, width, axis=0) for j, a in enumerate(arrays)]
+        out = np.asarray(function(*inputs)).imag.reshape(count, width, -1) / step
+        jac = np.swapaxes(out, -1, -2)
+        jacobians.append(jac[0] if single else jac)
+    return tuple(jacobians)
+
+
+def reference_inverse_dynamics_jacobians(params: PlatformParams, x, xd, xdd) -> tuple[np.ndarray, ...]:
+    """``(dtau/dx, dtau/dxdot, dtau/dxddot)`` of the reference's inverse dynamics (eqs. 1-2,
+    20) by complex step, ``(6, 6)`` or ``(N, 6, 6)``."""
+    return complex_step_jacobians(lambda *a: reference.inverse_dynamics(params, *a), x, xd, xdd)
+
+
+def reference_forward_dynamics_jacobians(params: PlatformParams, x, xd, tau) -> tuple[np.ndarray, ...]:
+    """``(dxddot/dx, dxddot/dxdot, dxddot/dtau)`` of the reference's forward dynamics by
+    complex step, ``(6, 6)`` or ``(N, 6, 6)``."""
+    return complex_step_jacobians(lambda *a: reference.forward_dynamics(params, *a), x, xd, tau)
+
+
+def reference_rk4_step(params: PlatformParams, x, xd, tau, dt: float) -> np.ndarray:
+    """One classic RK4 step of ``y = [x; xdot]``, ``ydot = [xdot; xddot(x, xdot, tau)]``,
+    under ``tau`` held constant over ``dt``, with the reference's forward dynamics: the new
+    ``[x; xdot]``, ``(12,)`` or ``(N, 12)``. Complex inputs are carried through."""
+
+    def rate(y):
+        return np.concatenate([y[..., 6:], reference.forward_dynamics(params, y[..., :6], y[..., 6:], tau)], axis=-1)
+
+    y = np.concatenate([x, xd], axis=-1)
+    k1 = rate(y)
+    k2 = rate(y + 0.5 * dt * k1)
+    k3 = rate(y + 0.5 * dt * k2)
+    k4 = rate(y + dt * k3)
+    return y + dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+
+
+def reference_rk4_jacobians(params: PlatformParams, x, xd, tau, dt: float) -> tuple[np.ndarray, np.ndarray]:
+    """``(A, B)`` of :func:`reference_rk4_step` by complex step: ``A = d[x+; xdot+]/d[x; xdot]``
+    ``(12, 12)`` and ``B = d[x+; xdot+]/dtau`` ``(12, 6)`` (a leading batch axis for a batch)."""
+    d_x, d_xd, d_tau = complex_step_jacobians(
+        lambda *a: reference_rk4_step(params, *a, dt), x, xd, tau
+    )
+    return np.concatenate([d_x, d_xd], axis=-1), d_tau
 
 
 def power_balance(params: PlatformParams, x, xd, xdd, tau) -> float:

@@ -6,6 +6,8 @@ disagreement of the compiled kernel (:class:`stewart.Platform`) with
 * the numeric reference model (:mod:`stewart.reference`): inverse and forward dynamics,
   ``M``, ``V xdot`` and ``G``;
 * the independent Newton-Euler formulation (:mod:`stewart.newton_euler`);
+* the derivative oracle (:func:`stewart.checks.complex_step_jacobians` of the reference):
+  the exact Jacobians of inverse dynamics, forward dynamics and the RK4 step;
 * itself: forward dynamics of the inverse dynamics gives back ``xddot``;
 * physics (:mod:`stewart.checks`, shared with the test suite): the power balance
   ``dE/dt = tau . Ldot`` with the mechanical energy :func:`energy` written out from the
@@ -26,6 +28,7 @@ import numpy as np
 
 from . import newton_euler, reference
 from .checks import energy, energy_drift, power_balance, random_states, relative_error, statics_residuals
+from .checks import reference_forward_dynamics_jacobians, reference_inverse_dynamics_jacobians, reference_rk4_jacobians
 from .checks import twist_mass_matrix_figures
 from .params import PlatformParams
 from .platform import Platform
@@ -67,6 +70,34 @@ def _kernel_vs_reference(params, plat, x, xd, xdd) -> list[Check]:
     ]
 
 
+#: States of the derivative checks (the oracle differentiates the slow reference), and
+#: the RK4 step they use (an MPC-like 10 ms).
+DERIVATIVE_STATES = 20
+DERIVATIVE_DT = 0.01
+
+
+def _derivatives_vs_oracle(params, plat, x, xd, xdd) -> list[Check]:
+    """The kernel's exact Jacobians against complex step of the reference (``A - I``
+    compared, so that the identity does not hide the dynamics)."""
+    x, xd, xdd = x[:DERIVATIVE_STATES], xd[:DERIVATIVE_STATES], xdd[:DERIVATIVE_STATES]
+    inverse = plat.inverse_dynamics_derivatives(x, xd, xdd)
+    forward = plat.forward_dynamics_derivatives(x, xd, inverse.tau)
+    _, _, a_mat, b_mat = plat.rk4_step(x, xd, inverse.tau, DERIVATIVE_DT, jacobians=True)
+    want_a, want_b = reference_rk4_jacobians(params, x, xd, inverse.tau, DERIVATIVE_DT)
+    eye = np.eye(12)
+    pairs = {
+        "inverse dynamics dtau/d(x, xd, xdd)": (
+            inverse[1:], reference_inverse_dynamics_jacobians(params, x, xd, xdd)),
+        "forward dynamics dxdd/d(x, xd, tau)": (
+            forward[1:], reference_forward_dynamics_jacobians(params, x, xd, inverse.tau)),
+        f"RK4 step A - I and B (dt {DERIVATIVE_DT:g} s)": ((a_mat - eye, b_mat), (want_a - eye, want_b)),
+    }
+    return [
+        _check(f"kernel vs oracle: {label}", max(relative_error(g, w) for g, w in zip(got, want)), 1e-9)
+        for label, (got, want) in pairs.items()
+    ]
+
+
 def run(params: PlatformParams, n_states: int = 200, seed: int = 0) -> list[Check]:
     """All checks for ``params`` over ``n_states`` random states around home (seeded)."""
     if not isinstance(params, PlatformParams):
@@ -75,6 +106,7 @@ def run(params: PlatformParams, n_states: int = 200, seed: int = 0) -> list[Chec
     plat = Platform(params)
     x, xd, xdd = random_states(params, n_states, rng)
     checks = _kernel_vs_reference(params, plat, x, xd, xdd)
+    checks += _derivatives_vs_oracle(params, plat, x, xd, xdd)
     tau = plat.inverse_dynamics(x, xd, xdd)
     checks.append(_check("kernel: forward(inverse(xddot)) round trip", relative_error(plat.forward_dynamics(x, xd, tau), xdd), 1e-9))
 

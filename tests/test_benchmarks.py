@@ -4,6 +4,7 @@ chart drawing a bar for every figure, and the README blocks rewritten from the c
 import json
 import math
 
+import numpy as np
 import pytest
 
 from stewart import bench
@@ -148,3 +149,47 @@ def test_performance_block_marks_targets_from_the_bench_figures(tmp_path):
     assert block.splitlines()[-1] == (
         "Targets over every preset in that run: 11 met, 3 missed ([narayan2017] inverse dynamics, C batch "
         "loop; [motion_simulator] inverse dynamics, C batch loop; generation (python -m codegen)).")
+
+
+def test_forward_differences_of_a_known_function():
+    """The benchmark's forward differences: rows are outputs, columns the inputs of every
+    argument in order, each shifted by 1e-7 max(1, |input|)."""
+    rng = np.random.default_rng(0)
+    a, b = rng.normal(size=(3, 6)) * 10, rng.normal(size=(3, 6))
+    jac = bench.forward_differences(lambda u, v: np.concatenate([u * u, u * v], axis=-1), a, b)
+    want = np.zeros((3, 12, 12))
+    for n in range(3):
+        want[n, :6, :6] = np.diag(2 * a[n])
+        want[n, 6:, :6] = np.diag(b[n])
+        want[n, 6:, 6:] = np.diag(a[n])
+    # u^2 has second derivative 2: the forward difference is off by the shift, 1e-7 max(1, |u|).
+    np.testing.assert_allclose(jac, want, rtol=0, atol=2e-7 * max(1.0, np.abs(a).max()) + 1e-6)
+
+
+def _casadi_derivatives(compiled: bool) -> dict:
+    fig = {"ours_single_us": 5.0, "ours_batch_us": 3.5, "python_single_us": 1150.0, "python_map_us": 1050.0,
+           "generated_c_bytes": 4.3 * 2**20, "jacobian_rel_error": 1.4e-13}
+    fig.update({"c_loop_us": 105.0, "compile_s": 580.0} if compiled else
+               {"compile_s": None, "did_not_finish": "did not finish compiling in 600 s"})
+    return {"inverse_dynamics_derivatives": fig, "forward_dynamics_derivatives": fig}
+
+
+@pytest.mark.parametrize("compiled", [True, False])
+def test_casadi_derivative_rows_say_when_the_compilation_did_not_finish(compiled):
+    rows = {r[0]: r[1:] for r in report.rows({"casadi_derivatives": _casadi_derivatives(compiled)}, {})}
+    c_row = rows["CasADi ca.jacobian: tau + dtau/d(x, xd, xdd), generated C in a C loop (ours: Platform batch)"]
+    if compiled:
+        assert c_row == ("3.50 us/state", "105 us/state", "30x")
+    else:
+        assert c_row == ("3.50 us/state", "did not finish compiling in 600 s", "")
+    assert rows["CasADi ca.jacobian: xdd + dxdd/d(x, xd, tau), one call from Python"] == ("5.00 us", "1150 us", "230x")
+
+
+def test_pinocchio_rows_compare_one_call_and_batches():
+    fig = {"pinocchio_version": "4.1.0", "constraint_dynamics_us": 13.0, "constraint_dynamics_derivatives_us": 77.0,
+           "ours_single_forward_dynamics_us": 1.3, "ours_single_forward_dynamics_derivatives_us": 5.5,
+           "ours_batch_forward_dynamics_derivatives_us": 2.2, "platform_acceleration_rel_error": 1.8e-15,
+           "dxdd_dtau_rel_error": 1.3e-15}
+    rows = [r for r in report.rows({"pinocchio": fig}, {}) if r[0].startswith("Pinocchio")]
+    assert [r[1:] for r in rows] == [("1.30 us", "13.0 us", "10.0x"), ("5.50 us", "77.0 us", "14.0x"),
+                                     ("2.20 us/state", "77.0 us", "35.0x"), ("", "1.8e-15 / 1.3e-15", "")]

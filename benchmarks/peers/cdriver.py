@@ -20,16 +20,22 @@ def build_ours(workdir) -> pathlib.Path:
     return exe
 
 
-def build_casadi(workdir, c_source) -> tuple[pathlib.Path, float]:
-    """The driver linked with CasADi's generated C; returns the executable and the compile time."""
-    exe = pathlib.Path(workdir) / "driver_casadi"
-    seconds = compile_c([HERE / "driver.c", c_source], exe, include=[pathlib.Path(c_source).parent],
-                        extra=["-DPEER_CASADI"])
+def build_casadi(workdir, c_source, *, function=None, width: int = 6, timeout=None) -> tuple[pathlib.Path, float]:
+    """The driver linked with CasADi's generated C: its ``stewart_casadi_id`` and
+    ``stewart_casadi_fd``, or the one ``function`` for both modes, returning ``width``
+    doubles a state. Returns the executable and the compile time (``timeout``: see
+    :func:`compile_c`)."""
+    exe = pathlib.Path(workdir) / f"driver_{function or 'casadi'}"
+    extra = ["-DPEER_CASADI", f"-DOUT_WIDTH={width}"]
+    if function:
+        extra += [f"-DPEER_ID={function}", f"-DPEER_FD={function}"]
+    seconds = compile_c([HERE / "driver.c", c_source], exe, include=[pathlib.Path(c_source).parent], extra=extra,
+                        timeout=timeout)
     return exe, seconds
 
 
-def run(exe, mode: str, pvec, x, xd, third, repeats: int = 7) -> tuple[float, np.ndarray]:
-    """Median time per state [s] over ``repeats`` passes, and the (N, 6) outputs."""
+def run(exe, mode: str, pvec, x, xd, third, repeats: int = 7, width: int = 6) -> tuple[float, np.ndarray]:
+    """Median time per state [s] over ``repeats`` passes, and the (N, width) outputs."""
     workdir = pathlib.Path(exe).parent
     n = len(x)
     inp, out = workdir / f"in_{mode}.bin", workdir / f"out_{mode}.bin"
@@ -43,4 +49,4 @@ def run(exe, mode: str, pvec, x, xd, third, repeats: int = 7) -> tuple[float, np
     seconds, failures = proc.stdout.split()
     if int(failures):
         raise RuntimeError(f"{exe.name} {mode}: {failures} states failed")
-    return float(seconds), np.fromfile(out, dtype=np.float64).reshape(n, 6)
+    return float(seconds), np.fromfile(out, dtype=np.float64).reshape(n, width)

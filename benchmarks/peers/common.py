@@ -6,6 +6,7 @@ from __future__ import annotations
 import importlib.util
 import os
 import shutil
+import signal
 import subprocess
 import time
 
@@ -59,16 +60,25 @@ def compiler() -> str:
     return cc
 
 
-def compile_c(sources, output, *, shared=False, include=(), extra=()) -> float:
-    """Compile ``sources`` with :data:`CFLAGS`; returns the wall time in seconds."""
+def compile_c(sources, output, *, shared=False, include=(), extra=(), timeout=None) -> float:
+    """Compile ``sources`` with :data:`CFLAGS`; returns the wall time in seconds.
+
+    With ``timeout`` (seconds) a compilation still running then is stopped, the
+    compiler's own subprocesses too, and ``subprocess.TimeoutExpired`` is raised."""
     cmd = [compiler(), "-std=c99", *CFLAGS, *(f"-I{d}" for d in include), *map(str, sources), "-o", str(output),
            *extra, "-lm"]
     if shared:
         cmd[1:1] = ["-shared", "-fPIC"]
     start = time.perf_counter()
-    proc = subprocess.run(cmd, capture_output=True, text=True)
+    proc = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True, start_new_session=True)
+    try:
+        _, stderr = proc.communicate(timeout=timeout)
+    except subprocess.TimeoutExpired:
+        os.killpg(proc.pid, signal.SIGKILL)  # the driver and cc1, its child
+        proc.communicate()
+        raise
     if proc.returncode != 0:
-        raise RuntimeError(f"compiling {sources} failed:\n{proc.stderr[-3000:]}")
+        raise RuntimeError(f"compiling {sources} failed:\n{stderr[-3000:]}")
     return time.perf_counter() - start
 
 

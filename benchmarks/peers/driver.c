@@ -1,14 +1,16 @@
 /* Batch driver: one model function called over N states from a plain C loop, timed.
  *
  * Built at bench time twice with the same flags as our extension (-O3 -march=native):
- *   -DPEER_CASADI  with CasADi's generated C (stewart_casadi_id / stewart_casadi_fd),
+ *   -DPEER_CASADI  with CasADi's generated C (stewart_casadi_id / stewart_casadi_fd, or
+ *                  the functions named by -DPEER_ID=NAME -DPEER_FD=NAME),
  *   otherwise      with our generated/stewart_model.c.
  *
  * usage: driver MODE INPUT OUTPUT REPEATS
  *   MODE   id (inverse dynamics: third input is xdd) or fd (forward dynamics: tau)
  *   INPUT  binary: int64 N, int64 NP, NP doubles of parameters (stewart_params order:
  *          every member, row-major), then N rows of 18 doubles (x, xd, third input)
- *   OUTPUT binary: N rows of 6 doubles (tau or xdd)
+ *   OUTPUT binary: N rows of OUT_WIDTH doubles (tau or xdd; -DOUT_WIDTH=W for a CasADi
+ *          function with a wider output, such as a value and its Jacobian)
  * Prints the median over REPEATS passes of the time per state, in seconds.
  */
 #define _POSIX_C_SOURCE 199309L
@@ -18,8 +20,20 @@
 #include <string.h>
 #include <time.h>
 
+#ifndef OUT_WIDTH
+#define OUT_WIDTH 6
+#endif
+
 #ifdef PEER_CASADI
 #include "casadi_stewart.h"
+#ifndef PEER_ID
+#define PEER_ID stewart_casadi_id
+#endif
+#ifndef PEER_FD
+#define PEER_FD stewart_casadi_fd
+#endif
+#define CAT_(a, b) a##b
+#define CAT(a, b) CAT_(a, b)
 #else
 #include "stewart_model.h"
 #endif
@@ -49,16 +63,16 @@ int main(int argc, char **argv) {
     size_t n = (size_t)n64, np = (size_t)np64;
     double *p = malloc((np > 0 ? np : 1) * sizeof(double));
     if (!p || fread(p, sizeof(double), np, in) != np) return 1;
-    double *rows = malloc(n * 18 * sizeof(double)), *out = malloc(n * 6 * sizeof(double));
+    double *rows = malloc(n * 18 * sizeof(double)), *out = malloc(n * OUT_WIDTH * sizeof(double));
     if (!rows || !out || fread(rows, sizeof(double), n * 18, in) != n * 18) return 1;
     fclose(in);
 
 #ifdef PEER_CASADI
     casadi_int sz_arg, sz_res, sz_iw, sz_w;
     int (*fn)(const casadi_real **, casadi_real **, casadi_int *, casadi_real *, int) =
-        fd_mode ? stewart_casadi_fd : stewart_casadi_id;
-    if (fd_mode) stewart_casadi_fd_work(&sz_arg, &sz_res, &sz_iw, &sz_w);
-    else stewart_casadi_id_work(&sz_arg, &sz_res, &sz_iw, &sz_w);
+        fd_mode ? PEER_FD : PEER_ID;
+    if (fd_mode) CAT(PEER_FD, _work)(&sz_arg, &sz_res, &sz_iw, &sz_w);
+    else CAT(PEER_ID, _work)(&sz_arg, &sz_res, &sz_iw, &sz_w);
     const casadi_real **arg = malloc((sz_arg > 4 ? sz_arg : 4) * sizeof *arg);
     casadi_real **res = malloc((sz_res > 1 ? sz_res : 1) * sizeof *res);
     casadi_int *iw = malloc((sz_iw > 0 ? sz_iw : 1) * sizeof *iw);
@@ -84,7 +98,7 @@ int main(int argc, char **argv) {
             arg[0] = r;
             arg[1] = r + 6;
             arg[2] = r + 12;
-            res[0] = out + 6 * i;
+            res[0] = out + OUT_WIDTH * i;
             failures += fn(arg, res, iw, w, 0) != 0;
 #else
             failures += (fd_mode ? stewart_forward_dynamics(&sp, r, r + 6, r + 12, out + 6 * i)
@@ -95,7 +109,7 @@ int main(int argc, char **argv) {
     }
     qsort(times, (size_t)repeats, sizeof(double), cmp);
     FILE *o = fopen(argv[3], "wb");
-    if (!o || fwrite(out, sizeof(double), n * 6, o) != n * 6) return 1;
+    if (!o || fwrite(out, sizeof(double), n * OUT_WIDTH, o) != n * OUT_WIDTH) return 1;
     fclose(o);
     printf("%.6e %d\n", times[repeats / 2], failures);
     return 0;
