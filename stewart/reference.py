@@ -364,7 +364,7 @@ def inverse_dynamics(params: PlatformParams, x, xd, xdd) -> np.ndarray:
     xd = _checks.states("xd", xd, allow_complex=True)
     xdd = _checks.states("xdd", xdd, allow_complex=True)
     _checks.same_batch(x=x, xd=xd, xdd=xdd)
-    rows = x.reshape(-1, 6)
+    rows = np.real(x).reshape(-1, 6)  # definedness is a property of the real point
     _check_legs("inverse_dynamics", checked_params(params), x, _general(params),
                 lambda todo: conditions.jacobian_codes(jacobian(params, rows[todo])))
     jac = jacobian(params, x)
@@ -389,8 +389,8 @@ def forward_dynamics(params: PlatformParams, x, xd, tau) -> np.ndarray:
     xd = _checks.states("xd", xd, allow_complex=True)
     tau = _checks.states("tau", tau, allow_complex=True)
     _checks.same_batch(x=x, xd=xd, tau=tau)
-    rows = x.reshape(-1, 6)
-    _check_legs("forward_dynamics", checked_params(params), x, _general(params), conditions.euler_codes(x),
+    rows = np.real(x).reshape(-1, 6)  # definedness is a property of the real point
+    _check_legs("forward_dynamics", checked_params(params), x, _general(params), conditions.euler_codes(rows),
                 lambda todo: conditions.mass_codes(twist_mass_matrix(params, rows[todo])))
     total = _totals(params, x, xd, "forward_dynamics")
     with np.errstate(over="ignore", invalid="ignore"):
