@@ -373,7 +373,9 @@ class _Run:
                 raise ValueError(f"feedforward: must return forces of shape (N, 6): {exc}") from None
         if ff.shape != (len(times), 6) or not np.all(np.isfinite(ff)):
             raise ValueError("feedforward: must return finite forces of shape (N, 6) for N times")
-        return np.ascontiguousarray(np.hstack([x_r, xd_r, xdd_r])), np.ascontiguousarray(ff)
+        # Copies: the user's array may be a read-only view (np.broadcast_to), which the
+        # compiled loop cannot take.
+        return np.ascontiguousarray(np.hstack([x_r, xd_r, xdd_r])), np.array(ff, dtype=float, order="C")
 
 
 def _checked_run(platform, trajectory, controller, *, duration, dt, method, actuators, feedforward, x0, xd0,

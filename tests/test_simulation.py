@@ -495,3 +495,14 @@ def test_a_model_error_ends_the_run_at_the_sample_before_it(plat, method):
     assert run.outcome == "failed" and not run.completed
     assert run.reason == "a leg has zero length at t = 0.1990 s" and run.t[-1] == pytest.approx(0.199)
     np.testing.assert_allclose(run.x, held.x[:len(run.t)], rtol=0, atol=1e-12)
+
+
+def test_feedforward_may_return_a_read_only_view(plat):
+    """Open loop under the static forces of home, returned as a read-only broadcast view: the
+    platform stays at rest (the forces hold it), as with a writable array."""
+    hold = plat.inverse_dynamics(plat.home_pose, np.zeros(6), np.zeros(6))
+    still = stewart.PointToPoint(plat.home_pose, plat.home_pose, 0.05)
+    views = stewart.simulate(plat, still, stewart.OpenLoop(), feedforward=lambda t: np.broadcast_to(hold, (len(t), 6)))
+    copies = stewart.simulate(plat, still, stewart.OpenLoop(), feedforward=lambda t: np.tile(hold, (len(t), 1)))
+    np.testing.assert_array_equal(views.x, copies.x)
+    assert np.max(np.abs(views.x - plat.home_pose)) < 1e-9
