@@ -56,9 +56,10 @@ def code_figures() -> dict:
     return {"generated_c_bytes": len(source), "generated_c_lines": source.count(b"\n"), "operation_counts": ops}
 
 
-PEERS = ("casadi", "casadi_derivatives", "pinocchio", "sympy", "mujoco")
+PEERS = ("casadi", "casadi_derivatives", "pinocchio", "optimization", "sympy", "mujoco")
 #: Importable module each peer needs.
 _NEEDS = {"casadi": ("casadi",), "casadi_derivatives": ("casadi",), "pinocchio": ("pinocchio",),
+          "optimization": ("casadi",),
           "sympy": ("sympy", "Cython"), "mujoco": ("mujoco",)}
 #: Default cap on compiling CasADi's Jacobian C (s): its inverse-dynamics Jacobian takes
 #: about 10 minutes of gcc on this machine.
@@ -89,6 +90,10 @@ def peer_figures(names, batch: int, jacobian_compile_cap_s: float = JACOBIAN_COM
                 from .peers import pinocchio_model
 
                 out[name] = pinocchio_model.figures("narayan2017")
+            elif name == "optimization":
+                from .peers import casadi_optimize
+
+                out[name] = casadi_optimize.figures("narayan2017")
             elif name == "sympy":
                 from .peers import sympy_route
 

@@ -105,6 +105,7 @@ def rows(peers: dict, ours: dict) -> list[tuple[str, str, str, str]]:
                     f"{cas['xdd_rel_error']:.1e}", ""))
     out += _casadi_derivative_rows(peers.get("casadi_derivatives"))
     out += _pinocchio_rows(peers.get("pinocchio"))
+    out += _optimization_rows(peers.get("optimization"))
     sym = peers.get("sympy")
     if sym and "error" not in sym:
         for route, label in (("autowrap", "sympy autowrap (Cython)"), ("pydy", "PyDy CythonMatrixGenerator")):
@@ -202,6 +203,24 @@ def _pinocchio_rows(pin: dict | None) -> list[tuple[str, str, str, str]]:
     out.append((f"{label}: agreement at rest, legs without axial inertia: xdd / dxdd/dtau", "",
                 f"{pin['platform_acceleration_rel_error']:.1e} / {pin['dxdd_dtau_rel_error']:.1e}", ""))
     return out
+
+
+def _optimization_rows(opt: dict | None) -> list[tuple[str, str, str, str]]:
+    """Rows of the minimum-effort move solved over our CasADi functions and over CasADi's own
+    model (:mod:`benchmarks.peers.casadi_optimize`)."""
+    if not opt or "error" in opt:
+        return []
+    ours, cas = opt["ours"], opt["casadi"]
+    label = f"IPOPT, minimum-effort move ({opt['intervals']} RK4 intervals; CasADi: its own SX model)"
+    return [
+        (f"{label}: optimum sum |tau|^2 dt [N^2 s]", f"{ours['effort']:.10g}", f"{cas['effort']:.10g}",
+         f"{opt['effort_relative_difference']:.1e} apart"),
+        (f"{label}: iterations", str(ours["iterations"]), str(cas["iterations"]), ""),
+        (f"{label}: wall time per solve", f"{ours['solve_s']:.3g} s", f"{cas['solve_s']:.3g} s",
+         f"{cas['solve_s'] / ours['solve_s']:.0f}x"),
+        (f"{label}: wall time per iteration", f"{ours['per_iteration_ms']:.3g} ms", f"{cas['per_iteration_ms']:.3g} ms",
+         f"{cas['per_iteration_ms'] / ours['per_iteration_ms']:.0f}x"),
+    ]
 
 
 def format_rows(table_rows) -> str:
