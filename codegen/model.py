@@ -224,17 +224,18 @@ class Kinematics:
     legs: list
 
 
-def leg_geometry(g, l, r, tag, leg_frames):
+def leg_geometry(g, l, r, tag, leg_frames, lengths=None):
     """The geometry of a leg from its leg vector l (eq. 26): length, unit vector, l / (l . l)
-    (eq. 32) and, with `leg_frames`, the {C_i} axes (eqs. 43-48); `r` = R p_i."""
+    (eq. 32) and, with `leg_frames`, the {C_i} axes (eqs. 43-48); `r` = R p_i.  `lengths`,
+    when given, are symbols for |l| and sqrt(l_x^2 + l_y^2) (no square root here)."""
     L2 = g.define(f'L2_{tag}', _dot(l, l))
     iL2 = g.define(f'iL2_{tag}', 1 / L2)
-    L = g.define(f'L_{tag}', sp.sqrt(L2))
+    L = lengths[0] if lengths else g.define(f'L_{tag}', sp.sqrt(L2))
     iL = g.define(f'iL_{tag}', L * iL2)
     leg = Leg(r=r, l=l, L2=L2, L=L, u=g.vector(f'u{tag}', l * iL), lbar=g.vector(f'lb{tag}', l * iL2))
     if leg_frames:
         leg.h2 = g.define(f'h2_{tag}', l[0] ** 2 + l[1] ** 2)
-        ih = g.define(f'ih_{tag}', 1 / g.define(f'h_{tag}', sp.sqrt(leg.h2)))
+        ih = g.define(f'ih_{tag}', 1 / (lengths[1] if lengths else g.define(f'h_{tag}', sp.sqrt(leg.h2))))
         leg.y_C = g.vector(f'yC{tag}', [-l[1] * ih, l[0] * ih, 0])
         leg.z_C = g.vector(f'zC{tag}', _cross(leg.u, leg.y_C))
     return leg
@@ -406,12 +407,15 @@ def jacobian_rows(kin):
 
 @dataclass
 class KernelSpec:
-    """One straight-line C function: named input arrays -> named output arrays."""
+    """One straight-line C function: named input arrays -> named output arrays.  With
+    `lanes` > 1 it runs on that many independent sets of inputs at once (a loop the
+    compiler vectorizes), entry k of set i at index k * lanes + i of every array."""
     name: str
     doc: str
     graph: Graph
     inputs: list     # [(C array name, [symbols])]
     outputs: list    # [(C array name, [expressions])]
+    lanes: int = 1
 
 
 def _leg_checks(kin, axisymmetric):
@@ -540,8 +544,8 @@ def all_terms_kernel(axisymmetric):
 
 
 #: Inputs of the per-leg kernel: the leg vector l, the velocity w and the acceleration a of
-#: P_i (l' = w, w' = a, as b_i is fixed), and the actuator force.
-LEG_POINT = _symbols('P', 9)
+#: P_i (l' = w, w' = a, as b_i is fixed), |l| and sqrt(l_x^2 + l_y^2), and the actuator force.
+LEG_POINT = _symbols('P', 11)
 LEG_TAU = _symbols('tau_leg', 1)
 #: Size of the per-leg outputs of `leg_derivatives_kernel`: f (3), df/d[l; w; a] (27), u (3).
 LEG_OUT = 33
@@ -562,14 +566,15 @@ def _accelerated_graph():
 
 
 def leg_points_kernel():
-    """[l; w; a] of every leg's P_i (`_point_motion`), 9 per leg: the inputs of the per-leg
-    derivative kernel."""
+    """[l; w; a; |l|; sqrt(l_x^2 + l_y^2)] of every leg's P_i (`_point_motion`), 11 per leg,
+    interleaved (entry k of leg i at k * 6 + i): the inputs of the per-leg derivative kernel."""
     g = _accelerated_graph()
     kin = kinematics(g, PARAMS)
     v, omega = twist(g, kin, XD, 'q')
-    points = [e for motion in _point_motion(g, kin, v, omega) for vec in motion for e in vec]
+    points = [list(l) + list(w) + list(a) + [leg.L, sp.sqrt(l[0] ** 2 + l[1] ** 2)]
+              for leg, (l, w, a) in zip(kin.legs, _point_motion(g, kin, v, omega))]
     return KernelSpec('leg_points', leg_points_kernel.__doc__, g, [('x', X), ('xd', XD), ('xdd', XDD)],
-                      [('lwa', points)])
+                      [('lwa', [points[i][k] for k in range(len(LEG_POINT)) for i in range(NUM_LEGS)])])
 
 
 def leg_derivatives_kernel(axisymmetric):
@@ -578,20 +583,29 @@ def leg_derivatives_kernel(axisymmetric):
     65) and their rates by forward mode along l' = w, w' = a, gravity (eqs. 72-76) and the
     actuator force, f = f_legs - tau_i u_i; then df/d[l; w; a] (3 x 9, row-major) by forward
     mode along each of them, and u = -df/dtau_i.  The leg depends on the platform only
-    through (l, w, a), so one kernel serves the six legs, each writing its slice of
-    legs = [f (3); df/d[l; w; a] (27); u (3)] per leg."""
+    through (l, w, a), so one kernel serves the six legs at once (`KernelSpec.lanes`):
+    legs = [f (3); df/d[l; w; a] (27); u (3)] per leg, interleaved.  |l| and
+    sqrt(l_x^2 + l_y^2) come in with their derivatives as seeds, so the six legs run with no
+    square root, which would keep the compiler from vectorizing them."""
     P = PARAMS
     l, w, a = (sp.Matrix(LEG_POINT[3 * k:3 * k + 3]) for k in range(3))
-    g = Graph({**dict(zip(l, w)), **dict(zip(w, a))})
-    leg = leg_geometry(g, l, None, 'i', not axisymmetric)
+    L, h = LEG_POINT[9:]
+    # dL = u . dl, dh = (l_x dl_x + l_y dl_y) / h
+    along = lambda d: {L: _dot(l, d) / L, h: (l[0] * d[0] + l[1] * d[1]) / h}
+    g = Graph({**dict(zip(l, w)), **dict(zip(w, a)), **along(w)})
+    leg = leg_geometry(g, l, None, 'i', not axisymmetric, (L, h))
     v_C, v_S, h_L = leg_momenta(g, P, leg, w, axisymmetric, 'i')
     _, w_C, w_S = _gravity_forces(P, True)
     rate = lambda vec: vec.applyfunc(g.rate)
     f = leg_force(g, P, leg, P.m_C * rate(v_C) + w_C, P.m_S * rate(v_S) + w_S, rate(h_L), 'i') - LEG_TAU[0] * leg.u
-    F = g.partials(list(f), LEG_POINT, 'D')
+    columns = []
+    for k, s in enumerate(LEG_POINT[:9]):
+        e = [1 if j == k else 0 for j in range(3)]
+        tangent = Tangent(g, {s: sp.S.One, **(along(e) if k < 3 else {})}, f'D{k}')
+        columns.append([tangent(c) for c in f])
+    out = list(f) + [columns[k][c] for c in range(3) for k in range(9)] + list(leg.u)
     return KernelSpec(f'leg_derivatives_{_variant(axisymmetric)}', leg_derivatives_kernel.__doc__, g,
-                      [('lwa', LEG_POINT), ('tau', LEG_TAU)],
-                      [('legs', list(f) + [e for row in F for e in row] + list(leg.u))])
+                      [('lwa', LEG_POINT), ('tau', LEG_TAU)], [('legs', out)], lanes=NUM_LEGS)
 
 
 def residual_derivatives_kernel(forward):
@@ -612,9 +626,10 @@ def residual_derivatives_kernel(forward):
     platform = sp.Matrix.vstack(P.m_P * rate(v) + w_P, rate(platform_angular_momentum(g, P, kin, omega, 'q')))
     motion = _point_motion(g, kin, v, omega)
     legs = _symbols('legs', NUM_LEGS * LEG_OUT)
-    f = [sp.Matrix(legs[LEG_OUT * i:LEG_OUT * i + 3]) for i in range(NUM_LEGS)]
-    F = [sp.Matrix(3, 9, legs[LEG_OUT * i + 3:LEG_OUT * i + 30]) for i in range(NUM_LEGS)]
-    u = [sp.Matrix(legs[LEG_OUT * i + 30:LEG_OUT * i + 33]) for i in range(NUM_LEGS)]
+    entry = lambda i, k: legs[k * NUM_LEGS + i]  # interleaved, see `leg_derivatives_kernel`
+    f = [sp.Matrix([entry(i, k) for k in range(3)]) for i in range(NUM_LEGS)]
+    F = [sp.Matrix(3, 9, [entry(i, k) for k in range(3, 30)]) for i in range(NUM_LEGS)]
+    u = [sp.Matrix([entry(i, k) for k in range(30, 33)]) for i in range(NUM_LEGS)]
     r = platform
     for i, leg in enumerate(kin.legs):
         r += sp.Matrix.vstack(f[i], _cross(leg.r, f[i]))
@@ -666,11 +681,9 @@ def forward_dynamics_kernel(axisymmetric):
 @dataclass(frozen=True)
 class Kernels:
     """A step running a kernel (the axisymmetric or the general one, by the leg inertias)
-    on the given arrays: the function's inputs or arrays computed by earlier steps.  A
-    `per_leg` kernel runs once per leg on consecutive slices of its inputs and outputs."""
+    on the given arrays: the function's inputs or arrays computed by earlier steps."""
     builders: tuple   # builders of the kernel: one, or the axisymmetric and the general one
     inputs: tuple     # the C arrays passed as its inputs
-    per_leg: bool = False
 
 
 @dataclass(frozen=True)
@@ -710,7 +723,7 @@ LEG_DERIVATIVES = _variants(leg_derivatives_kernel)
 def _residual_steps(forward):
     """The residual's partials Z at (x, xd, xdd, tau): P_i's motion, the legs, the chain rule."""
     return (Kernels((leg_points_kernel,), ('x', 'xd', 'xdd')),
-            Kernels(LEG_DERIVATIVES, ('lwa', 'tau'), per_leg=True),
+            Kernels(LEG_DERIVATIVES, ('lwa', 'tau')),
             Kernels((partial(residual_derivatives_kernel, forward),), ('x', 'xd', 'xdd', 'legs')))
 
 #: Scratch arrays of the solves: the factors of J_C^T and of M_t (`linsolve`).

@@ -133,10 +133,10 @@ int stewart_rk4_step_derivatives(const stewart_params *p, const double x[6], con
  *   inverse_dynamics_general        2280
  *   forward_dynamics_axisym         3299
  *   forward_dynamics_general        3990
- *   leg_points                       540
- *   leg_derivatives_axisym          1358
- *   leg_derivatives_general         2026
- *   residual_derivatives_inverse    6209
+ *   leg_points                       594
+ *   leg_derivatives_axisym          1347
+ *   leg_derivatives_general         1995
+ *   residual_derivatives_inverse    6197
  *   residual_derivatives_forward    5504
  */
 
