@@ -87,7 +87,8 @@ def emit_kernel(kernel, param_members):
 
     `param_members` maps parameter symbols to C expressions reading them from
     `const stewart_params *p`.  A kernel with `lanes` > 1 is a loop over its lanes with
-    interleaved arrays (entry k of lane i at k * lanes + i), vectorized under OpenMP.
+    interleaved arrays (entry k of lane i at k * lanes + i; its `shared` inputs whole),
+    vectorized under OpenMP.
     """
     outputs = [sp.sympify(e) for _, exprs in kernel.outputs for e in exprs]
     statements, reduced, ops = _statements(_prune(kernel.graph.defs, outputs), outputs)
@@ -96,7 +97,8 @@ def emit_kernel(kernel, param_members):
     at = (lambda k: f'[{k}]') if lanes == 1 else (lambda k: f'[{k} * {lanes} + lane]')
     qualifier = '' if lanes == 1 else 'restrict '
 
-    args = ['const stewart_params *p'] + [f'const double *{qualifier}{name}' for name, _ in kernel.inputs]
+    args = ['const stewart_params *p'] + [f'const double *{"" if name in kernel.shared else qualifier}{name}'
+                                          for name, _ in kernel.inputs]
     args += [f'double *{qualifier}{name}' for name, _ in kernel.outputs]
     lines = [f'/* {kernel.doc} */', f'static void kernel_{kernel.name}({", ".join(args)})', '{']
     lines += [f'    const double {s.name} = p->{member};' for s, member in param_members if s in used]
@@ -108,7 +110,8 @@ def emit_kernel(kernel, param_members):
                   f'    for (lane = 0; lane < {lanes}; ++lane) {{']
         indent = '        '
     for name, syms in kernel.inputs:
-        lines += [f'{indent}const double {s.name} = {name}{at(k)};' for k, s in enumerate(syms) if s in used]
+        index = (lambda k: f'[{k}]') if name in kernel.shared else at
+        lines += [f'{indent}const double {s.name} = {name}{index(k)};' for k, s in enumerate(syms) if s in used]
     lines += [f'{indent}const double {s.name} = {ccode(e)};' for s, e in statements]
     k = 0
     for name, exprs in kernel.outputs:

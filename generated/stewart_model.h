@@ -136,8 +136,10 @@ int stewart_rk4_step_derivatives(const stewart_params *p, const double x[6], con
  *   leg_points                       594
  *   leg_derivatives_axisym          1347
  *   leg_derivatives_general         1995
- *   residual_derivatives_inverse    6197
- *   residual_derivatives_forward    5504
+ *   leg_chain_inverse                809
+ *   residual_derivatives_inverse    1571
+ *   leg_chain_forward                752
+ *   residual_derivatives_forward    1388
  */
 
 #ifdef __cplusplus
