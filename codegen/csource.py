@@ -5,7 +5,7 @@ The public functions are written from their specs (`model.FUNCTIONS`): they chec
 inputs, dispatch between the axisymmetric and the general leg-inertia kernels, check the
 legs, run their steps (the small linear solves, unrolled in `linsolve`: pivoted
 elimination for J_C^T tau = W, LDL^T for M_t y = rhs, each factored once and solved for
-as many right-hand sides as the function needs; further kernels, once or per leg) and
+as many right-hand sides as the function needs; further kernels) and
 check their outputs.  The fixed helpers are real C, in codegen/templates/runtime.c; the
 RK4 step, an algorithm over the public functions, in codegen/templates/rk4.c.
 """
@@ -13,7 +13,6 @@ RK4 step, an algorithm over the public functions, in codegen/templates/rk4.c.
 from pathlib import Path
 
 from . import conditions, linsolve
-from .model import NUM_LEGS
 
 
 HEADER = r'''/* stewart_model.h -- dynamic model of a 6-DOF Stewart platform.
@@ -142,10 +141,9 @@ def public_function(function, kernels):
     each of its kernel builders to its built `model.KernelSpec`: inputs finite, kernel,
     legs, steps (solves, helpers, further kernels), finish."""
     first = _builds(kernels, function.kernels)
-    runs = [(first, 1)] + [(_builds(kernels, step.builders), NUM_LEGS if step.per_leg else 1)
-                           for step in function.steps if hasattr(step, 'builders')]
+    runs = [first] + [_builds(kernels, step.builders) for step in function.steps if hasattr(step, 'builders')]
     outputs = dict(function.outputs)
-    arrays = {name: len(exprs) * count for specs, count in runs for k in specs for name, exprs in k.outputs
+    arrays = {name: len(exprs) * k.lanes for specs in runs for k in specs for name, exprs in k.outputs
               if name not in outputs}
     arrays.update(function.scratch)
     finite = (['params_finite(p)'] + [f'all_finite({name}, 6)' for name in function.inputs]
@@ -160,31 +158,24 @@ def public_function(function, kernels):
     lines += ['    if (' + ' || '.join(f'!{c}' for c in finite) + ') {',
               f'        return {_finish("STEWART_ERR_NONFINITE", function.outputs)};', '    }']
 
-    def run(kernel, inputs, indent, check, per_leg):
+    def run(kernel, inputs, indent, check):
         names = [name for name, _ in kernel.outputs]
-        if per_leg:
-            slices = [f'{name} + {len(syms)} * leg' for (_, syms), name in zip(kernel.inputs, inputs)]
-            slices += [f'{name} + {len(exprs)} * leg' for name, exprs in kernel.outputs]
-            return [f'{indent}for (leg = 0; leg < {NUM_LEGS}; ++leg) {{',
-                    indent + '    ' + _call(f'kernel_{kernel.name}', ['p', *slices]), f'{indent}}}']
         out = [indent + _call(f'kernel_{kernel.name}', ['p', *inputs, *names])]
         if check:
             out.append(indent + f'status = check_legs(L2, {"h2" if "h2" in names else "NULL"});')
         return out
 
-    def dispatch(specs, inputs, indent, check, per_leg=False):
+    def dispatch(specs, inputs, indent, check):
         if len(specs) == 1:
-            return run(specs[0], inputs, indent, check, per_leg)
-        return [f'{indent}if (stewart_is_axisymmetric(p)) {{', *run(specs[0], inputs, indent + '    ', check, per_leg),
-                f'{indent}}} else {{', *run(specs[1], inputs, indent + '    ', check, per_leg), f'{indent}}}']
+            return run(specs[0], inputs, indent, check)
+        return [f'{indent}if (stewart_is_axisymmetric(p)) {{', *run(specs[0], inputs, indent + '    ', check),
+                f'{indent}}} else {{', *run(specs[1], inputs, indent + '    ', check), f'{indent}}}']
 
-    if any(getattr(step, 'per_leg', False) for step in function.steps):
-        lines.append('    int leg;')
     lines += dispatch(first, function.inputs, '    ', checked)
     for step in function.steps:
         lines.append('    if (status == STEWART_OK) {')
         if hasattr(step, 'builders'):
-            lines += dispatch(_builds(kernels, step.builders), step.inputs, '        ', False, step.per_leg)
+            lines += dispatch(_builds(kernels, step.builders), step.inputs, '        ', False)
         else:
             lines.append(f'        status = {_call(*step)}')
         lines.append('    }')

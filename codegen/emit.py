@@ -86,26 +86,39 @@ def emit_kernel(kernel, param_members):
     """C source of `static void kernel_<name>(...)` for a `model.KernelSpec`.
 
     `param_members` maps parameter symbols to C expressions reading them from
-    `const stewart_params *p`.
+    `const stewart_params *p`.  A kernel with `lanes` > 1 is a loop over its lanes with
+    interleaved arrays (entry k of lane i at k * lanes + i; its `shared` inputs whole),
+    vectorized under OpenMP.
     """
     outputs = [sp.sympify(e) for _, exprs in kernel.outputs for e in exprs]
     statements, reduced, ops = _statements(_prune(kernel.graph.defs, outputs), outputs)
     used = set().union(*[e.free_symbols for _, e in statements], *[e.free_symbols for e in reduced])
+    lanes = kernel.lanes
+    at = (lambda k: f'[{k}]') if lanes == 1 else (lambda k: f'[{k} * {lanes} + lane]')
+    qualifier = '' if lanes == 1 else 'restrict '
 
-    args = ['const stewart_params *p'] + [f'const double *{name}' for name, _ in kernel.inputs]
-    args += [f'double *{name}' for name, _ in kernel.outputs]
+    args = ['const stewart_params *p'] + [f'const double *{"" if name in kernel.shared else qualifier}{name}'
+                                          for name, _ in kernel.inputs]
+    args += [f'double *{qualifier}{name}' for name, _ in kernel.outputs]
     lines = [f'/* {kernel.doc} */', f'static void kernel_{kernel.name}({", ".join(args)})', '{']
-    loads = [(s, f'p->{member}') for s, member in param_members if s in used]
-    for name, syms in kernel.inputs:
-        loads += [(s, f'{name}[{k}]') for k, s in enumerate(syms) if s in used]
-    lines += [f'    const double {s.name} = {src};' for s, src in loads]
+    lines += [f'    const double {s.name} = p->{member};' for s, member in param_members if s in used]
     if not any(s in used for s, _ in param_members):
         lines.append('    (void)p;')
-    lines += [f'    const double {s.name} = {ccode(e)};' for s, e in statements]
+    indent = '    '
+    if lanes > 1:
+        lines += ['    int lane;', '#ifdef _OPENMP', '#pragma omp simd', '#endif',
+                  f'    for (lane = 0; lane < {lanes}; ++lane) {{']
+        indent = '        '
+    for name, syms in kernel.inputs:
+        index = (lambda k: f'[{k}]') if name in kernel.shared else at
+        lines += [f'{indent}const double {s.name} = {name}{index(k)};' for k, s in enumerate(syms) if s in used]
+    lines += [f'{indent}const double {s.name} = {ccode(e)};' for s, e in statements]
     k = 0
     for name, exprs in kernel.outputs:
         for j in range(len(exprs)):
-            lines.append(f'    {name}[{j}] = {ccode(reduced[k])};')
+            lines.append(f'{indent}{name}{at(j)} = {ccode(reduced[k])};')
             k += 1
+    if lanes > 1:
+        lines.append('    }')
     lines.append('}')
     return EmittedKernel(kernel.name, '\n'.join(lines) + '\n', ops)

@@ -176,7 +176,7 @@ def ldl_factor():
     lines = [
         '/* Factor S = L D L^T for symmetric S given by its upper triangle (21 entries,',
         ' * row-major), unrolled (m_ij: the upper triangle being eliminated, l_ik = m_ki / d_k);',
-        f' * F receives l_ik (i > k, by columns) and then 1 / d_k.  Returns STEWART_ERR_MASS_SINGULAR',
+        ' * F receives l_ik (i > k, by columns) and then 1 / d_k.  Returns STEWART_ERR_MASS_SINGULAR',
         ' * when a pivot d_k (the square of the Cholesky diagonal) is <= STEWART_MASS_TOL times',
         ' * its diagonal entry S_kk (or S_kk <= 0), else STEWART_OK. */',
         f'static int ldl_factor(const double upper[21], double F[{LDL_SIZE}])',

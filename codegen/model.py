@@ -224,17 +224,18 @@ class Kinematics:
     legs: list
 
 
-def leg_geometry(g, l, r, tag, leg_frames):
+def leg_geometry(g, l, r, tag, leg_frames, lengths=None):
     """The geometry of a leg from its leg vector l (eq. 26): length, unit vector, l / (l . l)
-    (eq. 32) and, with `leg_frames`, the {C_i} axes (eqs. 43-48); `r` = R p_i."""
+    (eq. 32) and, with `leg_frames`, the {C_i} axes (eqs. 43-48); `r` = R p_i.  `lengths`,
+    when given, are symbols for |l| and sqrt(l_x^2 + l_y^2) (no square root here)."""
     L2 = g.define(f'L2_{tag}', _dot(l, l))
     iL2 = g.define(f'iL2_{tag}', 1 / L2)
-    L = g.define(f'L_{tag}', sp.sqrt(L2))
+    L = lengths[0] if lengths else g.define(f'L_{tag}', sp.sqrt(L2))
     iL = g.define(f'iL_{tag}', L * iL2)
     leg = Leg(r=r, l=l, L2=L2, L=L, u=g.vector(f'u{tag}', l * iL), lbar=g.vector(f'lb{tag}', l * iL2))
     if leg_frames:
         leg.h2 = g.define(f'h2_{tag}', l[0] ** 2 + l[1] ** 2)
-        ih = g.define(f'ih_{tag}', 1 / g.define(f'h_{tag}', sp.sqrt(leg.h2)))
+        ih = g.define(f'ih_{tag}', 1 / (lengths[1] if lengths else g.define(f'h_{tag}', sp.sqrt(leg.h2))))
         leg.y_C = g.vector(f'yC{tag}', [-l[1] * ih, l[0] * ih, 0])
         leg.z_C = g.vector(f'zC{tag}', _cross(leg.u, leg.y_C))
     return leg
@@ -406,12 +407,16 @@ def jacobian_rows(kin):
 
 @dataclass
 class KernelSpec:
-    """One straight-line C function: named input arrays -> named output arrays."""
+    """One straight-line C function: named input arrays -> named output arrays.  With
+    `lanes` > 1 it runs on that many independent sets of inputs at once (a loop the
+    compiler vectorizes), entry k of set i at index k * lanes + i of every array."""
     name: str
     doc: str
     graph: Graph
     inputs: list     # [(C array name, [symbols])]
     outputs: list    # [(C array name, [expressions])]
+    lanes: int = 1
+    shared: tuple = ()  # with lanes > 1: the inputs every lane reads whole
 
 
 def _leg_checks(kin, axisymmetric):
@@ -540,11 +545,13 @@ def all_terms_kernel(axisymmetric):
 
 
 #: Inputs of the per-leg kernel: the leg vector l, the velocity w and the acceleration a of
-#: P_i (l' = w, w' = a, as b_i is fixed), and the actuator force.
-LEG_POINT = _symbols('P', 9)
+#: P_i (l' = w, w' = a, as b_i is fixed), |l| and sqrt(l_x^2 + l_y^2), and the actuator force.
+LEG_POINT = _symbols('P', 11)
 LEG_TAU = _symbols('tau_leg', 1)
 #: Size of the per-leg outputs of `leg_derivatives_kernel`: f (3), df/d[l; w; a] (27), u (3).
 LEG_OUT = 33
+#: Size of the per-leg outputs of `leg_points_kernel`: the inputs of the leg kernel, then r_i.
+POINT_OUT = len(LEG_POINT) + 3
 
 
 def _point_motion(g, kin, v, omega):
@@ -562,14 +569,15 @@ def _accelerated_graph():
 
 
 def leg_points_kernel():
-    """[l; w; a] of every leg's P_i (`_point_motion`), 9 per leg: the inputs of the per-leg
-    derivative kernel."""
+    """[l; w; a; |l|; sqrt(l_x^2 + l_y^2); r] of every leg's P_i (`_point_motion`), 14 per
+    leg, interleaved (entry k of leg i at k * 6 + i): the inputs of the per-leg kernels."""
     g = _accelerated_graph()
     kin = kinematics(g, PARAMS)
     v, omega = twist(g, kin, XD, 'q')
-    points = [e for motion in _point_motion(g, kin, v, omega) for vec in motion for e in vec]
+    points = [list(l) + list(w) + list(a) + [leg.L, sp.sqrt(l[0] ** 2 + l[1] ** 2)] + list(leg.r)
+              for leg, (l, w, a) in zip(kin.legs, _point_motion(g, kin, v, omega))]
     return KernelSpec('leg_points', leg_points_kernel.__doc__, g, [('x', X), ('xd', XD), ('xdd', XDD)],
-                      [('lwa', points)])
+                      [('lwa', [points[i][k] for k in range(POINT_OUT) for i in range(NUM_LEGS)])])
 
 
 def leg_derivatives_kernel(axisymmetric):
@@ -578,31 +586,77 @@ def leg_derivatives_kernel(axisymmetric):
     65) and their rates by forward mode along l' = w, w' = a, gravity (eqs. 72-76) and the
     actuator force, f = f_legs - tau_i u_i; then df/d[l; w; a] (3 x 9, row-major) by forward
     mode along each of them, and u = -df/dtau_i.  The leg depends on the platform only
-    through (l, w, a), so one kernel serves the six legs, each writing its slice of
-    legs = [f (3); df/d[l; w; a] (27); u (3)] per leg."""
+    through (l, w, a), so one kernel serves the six legs at once (`KernelSpec.lanes`):
+    legs = [f (3); df/d[l; w; a] (27); u (3)] per leg, interleaved.  |l| and
+    sqrt(l_x^2 + l_y^2) come in with their derivatives as seeds, so the six legs run with no
+    square root, which would keep the compiler from vectorizing them."""
     P = PARAMS
     l, w, a = (sp.Matrix(LEG_POINT[3 * k:3 * k + 3]) for k in range(3))
-    g = Graph({**dict(zip(l, w)), **dict(zip(w, a))})
-    leg = leg_geometry(g, l, None, 'i', not axisymmetric)
+    L, h = LEG_POINT[9:]
+    # dL = u . dl, dh = (l_x dl_x + l_y dl_y) / h
+    along = lambda d: {L: _dot(l, d) / L, h: (l[0] * d[0] + l[1] * d[1]) / h}
+    g = Graph({**dict(zip(l, w)), **dict(zip(w, a)), **along(w)})
+    leg = leg_geometry(g, l, None, 'i', not axisymmetric, (L, h))
     v_C, v_S, h_L = leg_momenta(g, P, leg, w, axisymmetric, 'i')
     _, w_C, w_S = _gravity_forces(P, True)
     rate = lambda vec: vec.applyfunc(g.rate)
     f = leg_force(g, P, leg, P.m_C * rate(v_C) + w_C, P.m_S * rate(v_S) + w_S, rate(h_L), 'i') - LEG_TAU[0] * leg.u
-    F = g.partials(list(f), LEG_POINT, 'D')
+    columns = []
+    for k, s in enumerate(LEG_POINT[:9]):
+        e = [1 if j == k else 0 for j in range(3)]
+        tangent = Tangent(g, {s: sp.S.One, **(along(e) if k < 3 else {})}, f'D{k}')
+        columns.append([tangent(c) for c in f])
+    out = list(f) + [columns[k][c] for c in range(3) for k in range(9)] + list(leg.u)
     return KernelSpec(f'leg_derivatives_{_variant(axisymmetric)}', leg_derivatives_kernel.__doc__, g,
-                      [('lwa', LEG_POINT), ('tau', LEG_TAU)],
-                      [('legs', list(f) + [e for row in F for e in row] + list(leg.u))])
+                      [('lwa', LEG_POINT), ('tau', LEG_TAU)], [('legs', out)], lanes=NUM_LEGS)
+
+
+def _directions(forward):
+    """(tag, inputs) of the partials: dr/dxdd (inverse dynamics only), dr/dx, dr/dxd."""
+    return (('Dx', X), ('Dxd', XD)) if forward else (('Dxdd', XDD), ('Dx', X), ('Dxd', XD))
+
+
+def leg_chain_kernel(forward):
+    """One leg's share [f; r x f] of the residual's partials (see `residual_derivatives_kernel`):
+    its f and df/d[l; w; a] from `leg_derivatives_kernel` chained to x, xd (and xdd) by
+    forward mode through l = p + r - b, w = v + omega x r and a = dw/dt, with r = R p_i given
+    (r' = omega x r, dr/dtheta_k = (J_A e_k) x r).  The six legs at once (`KernelSpec.lanes`):
+    chain = 6 x (12 or 18) per leg, row-major, interleaved, negated for forward dynamics."""
+    g = _accelerated_graph()
+    kin = kinematics(g, PARAMS)
+    v, omega = twist(g, kin, XD, 'q')
+    point = _symbols('Q', POINT_OUT)
+    rv = sp.Matrix(point[-3:])
+    g.rate.seed.update(zip(rv, _cross(omega, rv)))
+    w = g.vector('qvP', v + _cross(omega, rv))
+    motion = (sp.Matrix(X[:3]) + rv, w, w.applyfunc(g.rate))  # l up to the constant b_i
+    leg = _symbols('Lg', LEG_OUT)
+    f, F = sp.Matrix(leg[:3]), sp.Matrix(3, 9, leg[3:30])
+    share = list(f) + list(_cross(rv, f))
+    columns = []
+    for tag, inputs in _directions(forward):
+        for j, s in enumerate(inputs):
+            seed = {s: sp.S.One}
+            if s in X[3:]:
+                seed.update(zip(rv, _cross(kin.J_A[:, X.index(s) - 3], rv)))
+            tangent = Tangent(g, seed, f'{tag}{j}')
+            dpoint = [tangent(e) for vec in motion for e in vec]
+            tangent.seed.update({f[c]: sp.Add(*[F[c, k] * d for k, d in enumerate(dpoint)]) for c in range(3)})
+            columns.append([(-1 if forward else 1) * tangent(e) for e in share])
+    chain = [columns[j][i] for i in range(6) for j in range(len(columns))]
+    return KernelSpec(f'leg_chain_{"forward" if forward else "inverse"}', leg_chain_kernel.__doc__, g,
+                      [('x', X), ('xd', XD), ('xdd', XDD), ('lwa', point), ('legs', leg)], [('chain', chain)],
+                      lanes=NUM_LEGS, shared=('x', 'xd', 'xdd'))
 
 
 def residual_derivatives_kernel(forward):
     """The partials of the residual r(x, xd, xdd, tau) = M xdd + V xd + G - J_C^T tau of the
     equation of motion (eqs. 5, 19, 39, 51, 61, 69, 72-76) at any (xdd, tau): the platform's
-    own terms [m_P (v' + g e_z); d/dt(I_P omega)] by forward mode along each input, and per
-    leg [f_i; r_i x f_i] with the leg's f_i and df_i/d[l; w; a] from `leg_derivatives_kernel`,
-    chained to the inputs by forward mode through (l, w, a) of P_i.  Z is 6 x 18, row-major,
-    with M = dr/dxdd, R_x = dr/dx, R_xd = dr/dxd and J_C^T = -dr/dtau: inverse dynamics
-    solves J_C^T [dtau/dxdd, dtau/dx, dtau/dxd] = Z = [M, R_x, R_xd]; forward dynamics
-    (`forward`) M [dxdd/dx, dxdd/dxd, dxdd/dtau] = Z = [-R_x, -R_xd, J_C^T]."""
+    own terms [m_P (v' + g e_z); d/dt(I_P omega)] by forward mode along each input, plus the
+    legs' shares [f_i; r_i x f_i] from `leg_chain_kernel`.  Z is 6 x 18, row-major, with
+    M = dr/dxdd, R_x = dr/dx, R_xd = dr/dxd and J_C^T = -dr/dtau (row i = [u_i; r_i x u_i]):
+    inverse dynamics solves J_C^T [dtau/dxdd, dtau/dx, dtau/dxd] = Z = [M, R_x, R_xd];
+    forward dynamics (`forward`) M [dxdd/dx, dxdd/dxd, dxdd/dtau] = Z = [-R_x, -R_xd, J_C^T]."""
     P = PARAMS
     g = _accelerated_graph()
     kin = kinematics(g, P)
@@ -610,29 +664,25 @@ def residual_derivatives_kernel(forward):
     w_P, _, _ = _gravity_forces(P, True)
     rate = lambda vec: vec.applyfunc(g.rate)
     platform = sp.Matrix.vstack(P.m_P * rate(v) + w_P, rate(platform_angular_momentum(g, P, kin, omega, 'q')))
-    motion = _point_motion(g, kin, v, omega)
+    columns = [[(-1 if forward else 1) * Tangent(g, {s: sp.S.One}, f'{tag}{j}')(e) for e in platform]
+               for tag, inputs in _directions(forward) for j, s in enumerate(inputs)]
+    ncol = len(columns)
+    chain = _symbols('chain', NUM_LEGS * 6 * ncol)
+    lwa = _symbols('lwa', NUM_LEGS * POINT_OUT)
     legs = _symbols('legs', NUM_LEGS * LEG_OUT)
-    f = [sp.Matrix(legs[LEG_OUT * i:LEG_OUT * i + 3]) for i in range(NUM_LEGS)]
-    F = [sp.Matrix(3, 9, legs[LEG_OUT * i + 3:LEG_OUT * i + 30]) for i in range(NUM_LEGS)]
-    u = [sp.Matrix(legs[LEG_OUT * i + 30:LEG_OUT * i + 33]) for i in range(NUM_LEGS)]
-    r = platform
-    for i, leg in enumerate(kin.legs):
-        r += sp.Matrix.vstack(f[i], _cross(leg.r, f[i]))
-    columns = []
-    for tag, inputs in (('Dx', X), ('Dxd', XD)) if forward else (('Dxdd', XDD), ('Dx', X), ('Dxd', XD)):
-        for j, s in enumerate(inputs):
-            tangent = Tangent(g, {s: sp.S.One}, f'{tag}{j}')
-            for i, (l, w, a) in enumerate(motion):
-                dpoint = [tangent(e) for vec in (l, w, a) for e in vec]
-                for c in range(3):
-                    tangent.seed[f[i][c]] = sp.Add(*[F[i][c, k] * d for k, d in enumerate(dpoint)])
-            columns.append([(-1 if forward else 1) * tangent(e) for e in r])
+    Z = [[columns[j][i] + sp.Add(*[chain[(i * ncol + j) * NUM_LEGS + leg] for leg in range(NUM_LEGS)])
+          for j in range(ncol)] for i in range(6)]
     if forward:
-        columns += [list(u[i]) + list(_cross(leg.r, u[i])) for i, leg in enumerate(kin.legs)]
-    Z = [columns[j][i] for i in range(6) for j in range(18)]
+        for leg in range(NUM_LEGS):
+            u = sp.Matrix([legs[k * NUM_LEGS + leg] for k in range(30, 33)])
+            rv = sp.Matrix([lwa[k * NUM_LEGS + leg] for k in range(POINT_OUT - 3, POINT_OUT)])
+            for i, e in enumerate(list(u) + list(_cross(rv, u))):
+                Z[i].append(e)
     return KernelSpec(f'residual_derivatives_{"forward" if forward else "inverse"}',
                       residual_derivatives_kernel.__doc__, g,
-                      [('x', X), ('xd', XD), ('xdd', XDD), ('legs', legs)], [('Z', Z)])
+                      [('x', X), ('xd', XD), ('xdd', XDD), ('chain', chain)]
+                      + ([('lwa', lwa), ('legs', legs)] if forward else []),
+                      [('Z', [e for row in Z for e in row])])
 
 
 def euler_rates_inverse(kin):
@@ -666,11 +716,9 @@ def forward_dynamics_kernel(axisymmetric):
 @dataclass(frozen=True)
 class Kernels:
     """A step running a kernel (the axisymmetric or the general one, by the leg inertias)
-    on the given arrays: the function's inputs or arrays computed by earlier steps.  A
-    `per_leg` kernel runs once per leg on consecutive slices of its inputs and outputs."""
+    on the given arrays: the function's inputs or arrays computed by earlier steps."""
     builders: tuple   # builders of the kernel: one, or the axisymmetric and the general one
     inputs: tuple     # the C arrays passed as its inputs
-    per_leg: bool = False
 
 
 @dataclass(frozen=True)
@@ -708,10 +756,13 @@ LEG_DERIVATIVES = _variants(leg_derivatives_kernel)
 
 
 def _residual_steps(forward):
-    """The residual's partials Z at (x, xd, xdd, tau): P_i's motion, the legs, the chain rule."""
+    """The residual's partials Z at (x, xd, xdd, tau): P_i's motion, the legs, the chain rule
+    per leg, the sum with the platform's terms."""
     return (Kernels((leg_points_kernel,), ('x', 'xd', 'xdd')),
-            Kernels(LEG_DERIVATIVES, ('lwa', 'tau'), per_leg=True),
-            Kernels((partial(residual_derivatives_kernel, forward),), ('x', 'xd', 'xdd', 'legs')))
+            Kernels(LEG_DERIVATIVES, ('lwa', 'tau')),
+            Kernels((partial(leg_chain_kernel, forward),), ('x', 'xd', 'xdd', 'lwa', 'legs')),
+            Kernels((partial(residual_derivatives_kernel, forward),),
+                    ('x', 'xd', 'xdd', 'chain') + (('lwa', 'legs') if forward else ())))
 
 #: Scratch arrays of the solves: the factors of J_C^T and of M_t (`linsolve`).
 _BAREISS_FACTORS = ('FJ', linsolve.BAREISS.size)

@@ -140,11 +140,13 @@ int stewart_rk4_step_derivatives(const stewart_params *p, const double x[6], con
  *   inverse_dynamics_general        2280
  *   forward_dynamics_axisym         3299
  *   forward_dynamics_general        3990
- *   leg_points                       540
- *   leg_derivatives_axisym          1358
- *   leg_derivatives_general         2026
- *   residual_derivatives_inverse    6209
- *   residual_derivatives_forward    5504
+ *   leg_points                       594
+ *   leg_derivatives_axisym          1347
+ *   leg_derivatives_general         1995
+ *   leg_chain_inverse                809
+ *   residual_derivatives_inverse    1571
+ *   leg_chain_forward                752
+ *   residual_derivatives_forward    1388
  */
 
 #ifdef __cplusplus
