@@ -1,0 +1,187 @@
+/* The vector path of stewart_model.c (codegen/templates/vector.c, copied verbatim by the
+ * generator before the generated kernels): STEWART_LANES states evaluated at once, one per
+ * lane of a GCC/Clang vector of doubles.  The generated vector kernels (vkernel_*), the
+ * vector solvers (vbareiss_*, vldl_*) and the block functions of the batch functions
+ * (vblock_*) work on structure-of-arrays blocks: entry k of the block's states is one vector.
+ * Every status test becomes a lane mask (all bits set: true), and every step returns the
+ * status of each lane (0: STEWART_OK), merged so that a lane keeps its first error, as the
+ * scalar functions stop at theirs.  batch_rows carries a batch of row-major states through
+ * a block function, block by block, with the transposes, the finiteness tests and the NaN
+ * rows of the scalar functions.  Compiles on its own against stewart_model.h. */
+#include "stewart_model.h"
+
+#include <float.h>
+#include <math.h>
+#include <stddef.h>
+
+/* STEWART_LANES doubles, and the masks (and per-lane statuses) comparisons of them give. */
+typedef double stewart_vd __attribute__((vector_size(8 * STEWART_LANES)));
+typedef __typeof__((stewart_vd){0} < (stewart_vd){0}) stewart_vl;
+
+int stewart_batch_lanes(void)
+{
+    return STEWART_LANES;
+}
+
+static stewart_vd vsplat(double a)
+{
+    stewart_vd v;
+    int lane;
+    for (lane = 0; lane < STEWART_LANES; ++lane) {
+        v[lane] = a;
+    }
+    return v;
+}
+
+static stewart_vd vsqrt(stewart_vd a)
+{
+    int lane;
+    for (lane = 0; lane < STEWART_LANES; ++lane) {
+        a[lane] = sqrt(a[lane]);
+    }
+    return a;
+}
+
+static stewart_vd vsin(stewart_vd a)
+{
+    int lane;
+    for (lane = 0; lane < STEWART_LANES; ++lane) {
+        a[lane] = sin(a[lane]);
+    }
+    return a;
+}
+
+static stewart_vd vcos(stewart_vd a)
+{
+    int lane;
+    for (lane = 0; lane < STEWART_LANES; ++lane) {
+        a[lane] = cos(a[lane]);
+    }
+    return a;
+}
+
+/* All lanes STEWART_OK (a mask of no lanes). */
+static stewart_vl vnone(void)
+{
+    const stewart_vd zero = vsplat(0.0);
+    return zero != zero;
+}
+
+/* |a|, lane-wise (the sign bit cleared). */
+static stewart_vd vabs(stewart_vd a)
+{
+    return (stewart_vd)((stewart_vl)a & ~(stewart_vl)vsplat(-0.0));
+}
+
+/* a where mask, else b, lane-wise. */
+static stewart_vd vselect(stewart_vl mask, stewart_vd a, stewart_vd b)
+{
+    return (stewart_vd)(((stewart_vl)a & mask) | ((stewart_vl)b & ~mask));
+}
+
+/* The statuses `status`, with `next` in the lanes still STEWART_OK (a lane keeps its first error). */
+static stewart_vl vmerge(stewart_vl status, stewart_vl next)
+{
+    return status | ((status == 0) & next);
+}
+
+/* Lanes whose n entries v[k] are all finite. */
+static stewart_vl vfinite(const stewart_vd *v, int n)
+{
+    stewart_vl ok = ~vnone();
+    int k;
+    for (k = 0; k < n; ++k) {
+        ok &= vabs(v[k]) <= DBL_MAX;
+    }
+    return ok;
+}
+
+/* check_legs of runtime.c, lane by lane. */
+static stewart_vl vcheck_legs(const stewart_vd L2[6], const stewart_vd *h2)
+{
+    stewart_vl degenerate = vnone(), overflow = vnone(), vertical = vnone();
+    int i;
+    for (i = 0; i < 6; ++i) {
+        degenerate |= ~(L2[i] >= STEWART_DEGENERATE_TOL);
+        overflow |= ~(L2[i] <= DBL_MAX);
+        if (h2 != NULL) {
+            vertical |= ~(h2[i] >= STEWART_VERTICAL_TOL * L2[i]);
+        }
+    }
+    return vmerge(vmerge(degenerate & STEWART_ERR_LEG_DEGENERATE, overflow & STEWART_ERR_NONFINITE),
+                  vertical & STEWART_ERR_LEG_VERTICAL);
+}
+
+/* check_euler of runtime.c, lane by lane. */
+static stewart_vl vcheck_euler(const stewart_vd ctheta[1])
+{
+    return ~(vabs(ctheta[0]) >= STEWART_EULER_TOL) & STEWART_ERR_EULER_SINGULAR;
+}
+
+/* pose_accelerations of runtime.c over a block. */
+static stewart_vl vpose_accelerations(const stewart_vd JAinv[9], int n, const stewart_vd *y, stewart_vd *xdd)
+{
+    int i, c;
+    for (c = 0; c < n; ++c) {
+        for (i = 0; i < 3; ++i) {
+            xdd[i * n + c] = y[i * n + c];
+            xdd[(3 + i) * n + c] = JAinv[3 * i] * y[3 * n + c] + JAinv[3 * i + 1] * y[4 * n + c]
+                + JAinv[3 * i + 2] * y[5 * n + c];
+        }
+    }
+    return vnone();
+}
+
+/* A block function: the outputs out[j] (size[j] vectors each) of the block of states whose
+ * inputs are in[i] (6 vectors each); returns each lane's status. */
+typedef stewart_vl (*vblock_fn)(const stewart_params *p, const stewart_vd *const in[], stewart_vd *const out[]);
+
+/* The n rows of a batch through `block`, STEWART_LANES rows at a time (the last block padded
+ * with copies of the last row): rows[i] holds input i (n x 6, row-major), results[j] output j
+ * (n x size[j]), in[i] and out[j] the block's buffers.  Row r gets the status of the scalar
+ * function in status[r] (status may be NULL): STEWART_ERR_NONFINITE when the parameters
+ * (params_ok == 0) or its inputs are not finite, else its lane's status, else
+ * STEWART_ERR_NONFINITE if an output is not finite; its outputs are NaN unless STEWART_OK.
+ * Returns the status of the first row that is not STEWART_OK, or STEWART_OK. */
+static int batch_rows(int params_ok, const stewart_params *p, vblock_fn block, size_t n,
+                      int nin, const double *const rows[], stewart_vd *const in[],
+                      int nout, double *const results[], stewart_vd *const out[], const int size[],
+                      int *status)
+{
+    int first = STEWART_OK;
+    size_t base;
+    for (base = 0; base < n; base += STEWART_LANES) {
+        stewart_vl ok = vsplat(params_ok ? 0.0 : 1.0) == 0.0, lanes;
+        int i, k, lane;
+        for (i = 0; i < nin; ++i) {
+            for (lane = 0; lane < STEWART_LANES; ++lane) {
+                const double *row = rows[i] + 6 * (base + lane < n ? base + lane : n - 1);
+                for (k = 0; k < 6; ++k) {
+                    in[i][k][lane] = row[k];
+                }
+            }
+            ok &= vfinite(in[i], 6);
+        }
+        lanes = vmerge(~ok & STEWART_ERR_NONFINITE, block(p, (const stewart_vd *const *)in, out));
+        ok = lanes == 0;
+        for (i = 0; i < nout; ++i) {
+            ok &= vfinite(out[i], size[i]);
+        }
+        lanes = vmerge(lanes, ~ok & STEWART_ERR_NONFINITE);
+        for (lane = 0; lane < STEWART_LANES && base + lane < n; ++lane) {
+            const size_t r = base + lane;
+            for (i = 0; i < nout; ++i) {
+                for (k = 0; k < size[i]; ++k) {
+                    results[i][size[i] * r + k] = lanes[lane] == STEWART_OK ? out[i][k][lane] : NAN;
+                }
+            }
+            if (status != NULL) {
+                status[r] = (int)lanes[lane];
+            }
+            if (first == STEWART_OK) {
+                first = (int)lanes[lane];
+            }
+        }
+    }
+    return first;
+}
