@@ -14,6 +14,12 @@
 #include <math.h>
 #include <stddef.h>
 
+#if defined(__SSE2__)
+#include <immintrin.h>
+#elif defined(__aarch64__)
+#include <arm_neon.h>
+#endif
+
 /* STEWART_LANES doubles, and the masks (and per-lane statuses) comparisons of them give. */
 typedef double stewart_vd __attribute__((vector_size(8 * STEWART_LANES)));
 typedef __typeof__((stewart_vd){0} < (stewart_vd){0}) stewart_vl;
@@ -33,31 +39,24 @@ static stewart_vd vsplat(double a)
     return v;
 }
 
+/* sqrt, lane-wise (correctly rounded, as sqrt). */
 static stewart_vd vsqrt(stewart_vd a)
 {
+#if STEWART_LANES == 8 && defined(__AVX512F__)
+    return (stewart_vd)_mm512_sqrt_pd((__m512d)a);
+#elif STEWART_LANES == 4 && defined(__AVX__)
+    return (stewart_vd)_mm256_sqrt_pd((__m256d)a);
+#elif STEWART_LANES == 2 && defined(__SSE2__)
+    return (stewart_vd)_mm_sqrt_pd((__m128d)a);
+#elif STEWART_LANES == 2 && defined(__aarch64__)
+    return (stewart_vd)vsqrtq_f64((float64x2_t)a);
+#else
     int lane;
     for (lane = 0; lane < STEWART_LANES; ++lane) {
         a[lane] = sqrt(a[lane]);
     }
     return a;
-}
-
-static stewart_vd vsin(stewart_vd a)
-{
-    int lane;
-    for (lane = 0; lane < STEWART_LANES; ++lane) {
-        a[lane] = sin(a[lane]);
-    }
-    return a;
-}
-
-static stewart_vd vcos(stewart_vd a)
-{
-    int lane;
-    for (lane = 0; lane < STEWART_LANES; ++lane) {
-        a[lane] = cos(a[lane]);
-    }
-    return a;
+#endif
 }
 
 /* All lanes STEWART_OK (a mask of no lanes). */
@@ -73,10 +72,55 @@ static stewart_vd vabs(stewart_vd a)
     return (stewart_vd)((stewart_vl)a & ~(stewart_vl)vsplat(-0.0));
 }
 
+/* -a where mask, else a, lane-wise. */
+static stewart_vd vnegate(stewart_vl mask, stewart_vd a)
+{
+    return (stewart_vd)((stewart_vl)a ^ (mask & (stewart_vl)vsplat(-0.0)));
+}
+
 /* a where mask, else b, lane-wise. */
 static stewart_vd vselect(stewart_vl mask, stewart_vd a, stewart_vd b)
 {
     return (stewart_vd)(((stewart_vl)a & mask) | ((stewart_vl)b & ~mask));
+}
+
+/* sin (cosine == 0) or cos of a, lane-wise, to within an ulp of libm's: a = n pi/2 + r
+ * (Cody-Waite, pi/2 in three parts of 33 bits, so n pi/2 is exact for |n| < 2^20), then the
+ * fdlibm kernels of sin and cos on |r| <= pi/4 by the quadrant n mod 4.  Lanes with
+ * |a| >= 2^19 (or not finite) take libm's. */
+static stewart_vd vsincos(stewart_vd a, int cosine)
+{
+    const double shift = 6755399441055744.0; /* 1.5 * 2^52: t's last bits hold n */
+    const stewart_vd t = a * 6.36619772367581382433e-01 + shift, n = t - shift;
+    const stewart_vd r = ((a - n * 1.57079632673412561417e+00) - n * 6.07710050630396597660e-11)
+        - n * 2.02226624871116645580e-21;
+    const stewart_vl quadrant = ((stewart_vl)t & 3) + cosine;
+    const stewart_vd z = r * r, hz = 0.5 * z, w = 1.0 - hz;
+    const stewart_vd sin_r = r + z * r * (-1.66666666666666324348e-01 + z * (8.33333333332248946124e-03
+        + z * (-1.98412698298579493134e-04 + z * (2.75573137070700676789e-06 + z * (-2.50507602534068634195e-08
+        + z * 1.58969099521155010221e-10)))));
+    const stewart_vd cos_r = w + (((1.0 - w) - hz) + z * z * (4.16666666666666019037e-02
+        + z * (-1.38888888888741095749e-03 + z * (2.48015872894767294178e-05 + z * (-2.75573143513906633035e-07
+        + z * (2.08757232129817482790e-09 + z * -1.13596475577881948265e-11))))));
+    stewart_vd v = vnegate((quadrant & 2) != 0, vselect((quadrant & 1) != 0, cos_r, sin_r));
+    const stewart_vl far = ~(vabs(a) < 524288.0);
+    int lane;
+    for (lane = 0; lane < STEWART_LANES; ++lane) {
+        if (far[lane]) {
+            v[lane] = cosine ? cos(a[lane]) : sin(a[lane]);
+        }
+    }
+    return v;
+}
+
+static stewart_vd vsin(stewart_vd a)
+{
+    return vsincos(a, 0);
+}
+
+static stewart_vd vcos(stewart_vd a)
+{
+    return vsincos(a, 1);
 }
 
 /* The statuses `status`, with `next` in the lanes still STEWART_OK (a lane keeps its first error). */
