@@ -212,11 +212,17 @@ static int batch_rows(int params_ok, const stewart_params *p, vblock_fn block, s
             ok &= vfinite(out[i], size[i]);
         }
         lanes = vmerge(lanes, ~ok & STEWART_ERR_NONFINITE);
+        for (i = 0; i < nout; ++i) {
+            for (k = 0; k < size[i]; ++k) {
+                out[i][k] = vselect(lanes == 0, out[i][k], vsplat(NAN));
+            }
+        }
         for (lane = 0; lane < STEWART_LANES && base + lane < n; ++lane) {
             const size_t r = base + lane;
             for (i = 0; i < nout; ++i) {
+                double *result = results[i] + size[i] * r;
                 for (k = 0; k < size[i]; ++k) {
-                    results[i][size[i] * r + k] = lanes[lane] == STEWART_OK ? out[i][k][lane] : NAN;
+                    result[k] = out[i][k][lane];
                 }
             }
             if (status != NULL) {
