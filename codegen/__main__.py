@@ -60,7 +60,7 @@ def main(argv=None):
             print(f'[codegen] {kernel.name:<32} derive {t_derive:5.2f} s, cse+C {t_emit:5.2f} s,'
                   f' {result.ops:5d} ops', flush=True)
     public = [csource.public_function(function, kernels) for function in generated]
-    batches = [f for f in generated if csource.batched(f)]
+    batches = [f for f in model.FUNCTIONS if csource.batched(f)]
     batch = [csource.batch_function(function, kernels) for function in batches]
     # The vector kernels the batch functions run.
     vector = {kernels[build].name for f in batches for build in f.kernels}

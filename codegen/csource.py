@@ -74,7 +74,7 @@ int stewart_is_axisymmetric(const stewart_params *p);
 
 @FUNCTIONS@
 /* ---- batches ----
- * stewart_batch_<name>(p, n, <inputs>, <outputs>, status) is stewart_<name> on n states at
+ * stewart_batch_<name>(p, n, <inputs>, <scalars>, <outputs>, status) is stewart_<name> on n states at
  * once: each input and output an n-row, row-major array (row r of x at x + 6 * r), row r's
  * status in status[r] (status may be NULL) and its outputs NaN unless it is STEWART_OK,
  * exactly as stewart_<name> gives them for the row alone.  Returns the status of the first
@@ -148,16 +148,22 @@ def header(fields, functions, ops):
     return text
 
 
+#: The block functions of the batched functions written in C (codegen/templates/vector.c), by name.
+VECTOR_TEMPLATES = {'rk4_step': 'vrk4_step(p, vblock_forward_dynamics, scalar, in, out)'}
+
+
 def batched(function):
     """Whether a `model.Function` has a batch function: every generated function whose steps
-    are solves and helpers (not further kernels)."""
-    return not function.template and not function.scalars and not any(
-        hasattr(step, 'builders') for step in function.steps)
+    are solves and helpers (not further kernels), and those of `VECTOR_TEMPLATES`."""
+    if function.template:
+        return function.name in VECTOR_TEMPLATES
+    return not function.scalars and not any(hasattr(step, 'builders') for step in function.steps)
 
 
 def batch_prototype(function):
     """`int stewart_batch_<name>(const stewart_params *p, size_t n, ..., int *status)`."""
     args = (['const stewart_params *p', 'size_t n'] + [f'const double *{name}' for name in function.inputs]
+            + [f'double {name}' for name in function.scalars]
             + [f'double *{name}' for name, _ in function.outputs] + ['int *status'])
     return f'int stewart_batch_{function.name}({", ".join(args)})'
 
@@ -228,15 +234,39 @@ def public_function(function, kernels):
 def batch_function(function, kernels):
     """C text of `stewart_batch_<name>` for a `batched` `model.Function`, `kernels` as for
     `public_function`: its block function `vblock_<name>` runs the vector kernels and the
-    vector steps of `public_function`'s on a block of states, merging their lanes' statuses,
-    and `batch_rows` (codegen/templates/vector.c) carries the rows through it."""
+    vector steps of `public_function`'s on a block of states, merging their lanes' statuses
+    (or, for a function written in C, its block function in `VECTOR_TEMPLATES`), and
+    `batch_rows` (codegen/templates/vector.c) carries the rows through it."""
+    lines = [f'/* stewart_{function.name} over a block of states (batch_rows). */',
+             f'static stewart_vl vblock_{function.name}(const stewart_params *p, double scalar,'
+             ' const stewart_vd *const in[], stewart_vd *const out[])', '{']
+    if function.template:
+        lines += [f'    return {VECTOR_TEMPLATES[function.name]};', '}', '']
+    else:
+        lines += _block_body(function, kernels)
+    nin, nout = len(function.inputs), len(function.outputs)
+    lines += [batch_prototype(function), '{']
+    lines.append('    stewart_vd ' + ', '.join([f'in{k}[6]' for k in range(nin)]
+                                              + [f'out{k}[{size}]' for k, (_, size) in enumerate(function.outputs)])
+                 + ';')
+    arrays = lambda kind, names: '(' + kind + '[]){' + ', '.join(names) + '}'
+    lines.append('    return ' + _call('batch_rows', [
+        'params_finite(p)', 'p', f'vblock_{function.name}', function.scalars[0] if function.scalars else '0.0', 'n',
+        str(nin), arrays('const double *const ', function.inputs), arrays('stewart_vd *const ', [f'in{k}' for k in range(nin)]),
+        str(nout), arrays('double *const ', [name for name, _ in function.outputs]),
+        arrays('stewart_vd *const ', [f'out{k}' for k in range(nout)]),
+        arrays('const int ', [str(size) for _, size in function.outputs]), 'status']))
+    lines.append('}')
+    return '\n'.join(lines) + '\n'
+
+
+def _block_body(function, kernels):
+    """The C lines of the body of `vblock_<name>` for a generated function."""
     first = _builds(kernels, function.kernels)
     outputs = dict(function.outputs)
     arrays = {name: len(exprs) for k in first for name, exprs in k.outputs if name not in outputs}
     arrays.update(function.scratch)
-    lines = [f'/* stewart_{function.name} over a block of states (batch_rows). */',
-             f'static stewart_vl vblock_{function.name}(const stewart_params *p, const stewart_vd *const in[],'
-             ' stewart_vd *const out[])', '{']
+    lines = ['    (void)scalar;']
     lines += [f'    const stewart_vd *{name} = in[{k}];' for k, name in enumerate(function.inputs)]
     lines += [f'    stewart_vd *{name} = out[{k}];' for k, (name, _) in enumerate(function.outputs)]
     if arrays:
@@ -257,20 +287,7 @@ def batch_function(function, kernels):
                   *run(first[1], '        '), '    }']
     lines += [f'    status = vmerge(status, {_call("v" + step[0], step[1])[:-1]});' for step in function.steps]
     lines += ['    return status;', '}', '']
-    nin, nout = len(function.inputs), len(function.outputs)
-    lines += [batch_prototype(function), '{']
-    lines.append('    stewart_vd ' + ', '.join([f'in{k}[6]' for k in range(nin)]
-                                              + [f'out{k}[{size}]' for k, (_, size) in enumerate(function.outputs)])
-                 + ';')
-    arrays = lambda kind, names: '(' + kind + '[]){' + ', '.join(names) + '}'
-    lines.append('    return ' + _call('batch_rows', [
-        'params_finite(p)', 'p', f'vblock_{function.name}', 'n',
-        str(nin), arrays('const double *const ', function.inputs), arrays('stewart_vd *const ', [f'in{k}' for k in range(nin)]),
-        str(nout), arrays('double *const ', [name for name, _ in function.outputs]),
-        arrays('stewart_vd *const ', [f'out{k}' for k in range(nout)]),
-        arrays('const int ', [str(size) for _, size in function.outputs]), 'status']))
-    lines.append('}')
-    return '\n'.join(lines) + '\n'
+    return lines
 
 
 def _finish(status, outputs):

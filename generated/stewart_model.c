@@ -20108,8 +20108,48 @@ static stewart_vl vpose_accelerations(const stewart_vd JAinv[9], int n, const st
 }
 
 /* A block function: the outputs out[j] (size[j] vectors each) of the block of states whose
- * inputs are in[i] (6 vectors each); returns each lane's status. */
-typedef stewart_vl (*vblock_fn)(const stewart_params *p, const stewart_vd *const in[], stewart_vd *const out[]);
+ * inputs are in[i] (6 vectors each), with the function's scalar input (if it has one);
+ * returns each lane's status. */
+typedef stewart_vl (*vblock_fn)(const stewart_params *p, double scalar, const stewart_vd *const in[],
+                                stewart_vd *const out[]);
+
+/* rk4 of rk4.c without the Jacobians over a block of states: in = {x, xd, tau}, out = {xn,
+ * xdn}, the stages' accelerations by `forward`, the block function of stewart_forward_dynamics,
+ * each stage with the checks stewart_forward_dynamics makes of its state and its result. */
+static stewart_vl vrk4_step(const stewart_params *p, vblock_fn forward, double dt, const stewart_vd *const in[],
+                            stewart_vd *const out[])
+{
+    static const double fraction[4] = {0.0, 0.5, 0.5, 1.0};
+    stewart_vd s[12], t[12], k[4][12];
+    stewart_vl status = vsplat(isfinite(dt) ? 0.0 : 1.0) != 0.0;
+    int i, stage;
+    status &= STEWART_ERR_NONFINITE;
+    for (i = 0; i < 6; ++i) {
+        s[i] = in[0][i];
+        s[6 + i] = in[1][i];
+    }
+    for (stage = 0; stage < 4; ++stage) {
+        const double h = fraction[stage] * dt;
+        for (i = 0; i < 12; ++i) {
+            t[i] = stage ? s[i] + h * k[stage - 1][i] : s[i];
+        }
+        for (i = 0; i < 6; ++i) {
+            k[stage][i] = t[6 + i];
+        }
+        status = vmerge(status, ~vfinite(t, 12) & STEWART_ERR_NONFINITE);
+        status = vmerge(status, forward(p, 0.0, (const stewart_vd *const[]){t, t + 6, in[2]},
+                                        (stewart_vd *const[]){k[stage] + 6}));
+        status = vmerge(status, ~vfinite(k[stage] + 6, 6) & STEWART_ERR_NONFINITE);
+    }
+    for (i = 0; i < 12; ++i) {
+        t[i] = s[i] + dt / 6.0 * (k[0][i] + 2.0 * k[1][i] + 2.0 * k[2][i] + k[3][i]);
+    }
+    for (i = 0; i < 6; ++i) {
+        out[0][i] = t[i];
+        out[1][i] = t[6 + i];
+    }
+    return status;
+}
 
 /* The n rows of a batch through `block`, STEWART_LANES rows at a time (the last block padded
  * with copies of the last row): rows[i] holds input i (n x 6, row-major), results[j] output j
@@ -20118,7 +20158,7 @@ typedef stewart_vl (*vblock_fn)(const stewart_params *p, const stewart_vd *const
  * (params_ok == 0) or its inputs are not finite, else its lane's status, else
  * STEWART_ERR_NONFINITE if an output is not finite; its outputs are NaN unless STEWART_OK.
  * Returns the status of the first row that is not STEWART_OK, or STEWART_OK. */
-static int batch_rows(int params_ok, const stewart_params *p, vblock_fn block, size_t n,
+static int batch_rows(int params_ok, const stewart_params *p, vblock_fn block, double scalar, size_t n,
                       int nin, const double *const rows[], stewart_vd *const in[],
                       int nout, double *const results[], stewart_vd *const out[], const int size[],
                       int *status)
@@ -20137,7 +20177,7 @@ static int batch_rows(int params_ok, const stewart_params *p, vblock_fn block, s
             }
             ok &= vfinite(in[i], 6);
         }
-        lanes = vmerge(~ok & STEWART_ERR_NONFINITE, block(p, (const stewart_vd *const *)in, out));
+        lanes = vmerge(~ok & STEWART_ERR_NONFINITE, block(p, scalar, (const stewart_vd *const *)in, out));
         ok = lanes == 0;
         for (i = 0; i < nout; ++i) {
             ok &= vfinite(out[i], size[i]);
@@ -35693,8 +35733,9 @@ static void vkernel_forward_dynamics_general(const stewart_params *p, const stew
 /* ---- batches ---- */
 
 /* stewart_leg_lengths over a block of states (batch_rows). */
-static stewart_vl vblock_leg_lengths(const stewart_params *p, const stewart_vd *const in[], stewart_vd *const out[])
+static stewart_vl vblock_leg_lengths(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
 {
+    (void)scalar;
     const stewart_vd *x = in[0];
     stewart_vd *L = out[0];
     stewart_vl status = vnone();
@@ -35705,12 +35746,13 @@ static stewart_vl vblock_leg_lengths(const stewart_params *p, const stewart_vd *
 int stewart_batch_leg_lengths(const stewart_params *p, size_t n, const double *x, double *L, int *status)
 {
     stewart_vd in0[6], out0[6];
-    return batch_rows(params_finite(p), p, vblock_leg_lengths, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 1, (double *const []){L}, (stewart_vd *const []){out0}, (const int []){6}, status);
+    return batch_rows(params_finite(p), p, vblock_leg_lengths, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 1, (double *const []){L}, (stewart_vd *const []){out0}, (const int []){6}, status);
 }
 
 /* stewart_jacobian over a block of states (batch_rows). */
-static stewart_vl vblock_jacobian(const stewart_params *p, const stewart_vd *const in[], stewart_vd *const out[])
+static stewart_vl vblock_jacobian(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
 {
+    (void)scalar;
     const stewart_vd *x = in[0];
     stewart_vd *JC = out[0];
     stewart_vd L2[6];
@@ -35723,12 +35765,13 @@ static stewart_vl vblock_jacobian(const stewart_params *p, const stewart_vd *con
 int stewart_batch_jacobian(const stewart_params *p, size_t n, const double *x, double *JC, int *status)
 {
     stewart_vd in0[6], out0[36];
-    return batch_rows(params_finite(p), p, vblock_jacobian, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 1, (double *const []){JC}, (stewart_vd *const []){out0}, (const int []){36}, status);
+    return batch_rows(params_finite(p), p, vblock_jacobian, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 1, (double *const []){JC}, (stewart_vd *const []){out0}, (const int []){36}, status);
 }
 
 /* stewart_leg_rates over a block of states (batch_rows). */
-static stewart_vl vblock_leg_rates(const stewart_params *p, const stewart_vd *const in[], stewart_vd *const out[])
+static stewart_vl vblock_leg_rates(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
 {
+    (void)scalar;
     const stewart_vd *x = in[0];
     const stewart_vd *xd = in[1];
     stewart_vd *LLd = out[0];
@@ -35742,12 +35785,13 @@ static stewart_vl vblock_leg_rates(const stewart_params *p, const stewart_vd *co
 int stewart_batch_leg_rates(const stewart_params *p, size_t n, const double *x, const double *xd, double *LLd, int *status)
 {
     stewart_vd in0[6], in1[6], out0[12];
-    return batch_rows(params_finite(p), p, vblock_leg_rates, n, 2, (const double *const []){x, xd}, (stewart_vd *const []){in0, in1}, 1, (double *const []){LLd}, (stewart_vd *const []){out0}, (const int []){12}, status);
+    return batch_rows(params_finite(p), p, vblock_leg_rates, 0.0, n, 2, (const double *const []){x, xd}, (stewart_vd *const []){in0, in1}, 1, (double *const []){LLd}, (stewart_vd *const []){out0}, (const int []){12}, status);
 }
 
 /* stewart_mass_matrix over a block of states (batch_rows). */
-static stewart_vl vblock_mass_matrix(const stewart_params *p, const stewart_vd *const in[], stewart_vd *const out[])
+static stewart_vl vblock_mass_matrix(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
 {
+    (void)scalar;
     const stewart_vd *x = in[0];
     stewart_vd *M = out[0];
     stewart_vd L2[6], h2[6];
@@ -35765,12 +35809,13 @@ static stewart_vl vblock_mass_matrix(const stewart_params *p, const stewart_vd *
 int stewart_batch_mass_matrix(const stewart_params *p, size_t n, const double *x, double *M, int *status)
 {
     stewart_vd in0[6], out0[36];
-    return batch_rows(params_finite(p), p, vblock_mass_matrix, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 1, (double *const []){M}, (stewart_vd *const []){out0}, (const int []){36}, status);
+    return batch_rows(params_finite(p), p, vblock_mass_matrix, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 1, (double *const []){M}, (stewart_vd *const []){out0}, (const int []){36}, status);
 }
 
 /* stewart_twist_mass_matrix over a block of states (batch_rows). */
-static stewart_vl vblock_twist_mass_matrix(const stewart_params *p, const stewart_vd *const in[], stewart_vd *const out[])
+static stewart_vl vblock_twist_mass_matrix(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
 {
+    (void)scalar;
     const stewart_vd *x = in[0];
     stewart_vd *Mt = out[0];
     stewart_vd L2[6], h2[6];
@@ -35788,12 +35833,13 @@ static stewart_vl vblock_twist_mass_matrix(const stewart_params *p, const stewar
 int stewart_batch_twist_mass_matrix(const stewart_params *p, size_t n, const double *x, double *Mt, int *status)
 {
     stewart_vd in0[6], out0[36];
-    return batch_rows(params_finite(p), p, vblock_twist_mass_matrix, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 1, (double *const []){Mt}, (stewart_vd *const []){out0}, (const int []){36}, status);
+    return batch_rows(params_finite(p), p, vblock_twist_mass_matrix, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 1, (double *const []){Mt}, (stewart_vd *const []){out0}, (const int []){36}, status);
 }
 
 /* stewart_coriolis_matrix over a block of states (batch_rows). */
-static stewart_vl vblock_coriolis_matrix(const stewart_params *p, const stewart_vd *const in[], stewart_vd *const out[])
+static stewart_vl vblock_coriolis_matrix(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
 {
+    (void)scalar;
     const stewart_vd *x = in[0];
     const stewart_vd *xd = in[1];
     stewart_vd *V = out[0];
@@ -35812,12 +35858,13 @@ static stewart_vl vblock_coriolis_matrix(const stewart_params *p, const stewart_
 int stewart_batch_coriolis_matrix(const stewart_params *p, size_t n, const double *x, const double *xd, double *V, int *status)
 {
     stewart_vd in0[6], in1[6], out0[36];
-    return batch_rows(params_finite(p), p, vblock_coriolis_matrix, n, 2, (const double *const []){x, xd}, (stewart_vd *const []){in0, in1}, 1, (double *const []){V}, (stewart_vd *const []){out0}, (const int []){36}, status);
+    return batch_rows(params_finite(p), p, vblock_coriolis_matrix, 0.0, n, 2, (const double *const []){x, xd}, (stewart_vd *const []){in0, in1}, 1, (double *const []){V}, (stewart_vd *const []){out0}, (const int []){36}, status);
 }
 
 /* stewart_coriolis_vector over a block of states (batch_rows). */
-static stewart_vl vblock_coriolis_vector(const stewart_params *p, const stewart_vd *const in[], stewart_vd *const out[])
+static stewart_vl vblock_coriolis_vector(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
 {
+    (void)scalar;
     const stewart_vd *x = in[0];
     const stewart_vd *xd = in[1];
     stewart_vd *Vxd = out[0];
@@ -35836,12 +35883,13 @@ static stewart_vl vblock_coriolis_vector(const stewart_params *p, const stewart_
 int stewart_batch_coriolis_vector(const stewart_params *p, size_t n, const double *x, const double *xd, double *Vxd, int *status)
 {
     stewart_vd in0[6], in1[6], out0[6];
-    return batch_rows(params_finite(p), p, vblock_coriolis_vector, n, 2, (const double *const []){x, xd}, (stewart_vd *const []){in0, in1}, 1, (double *const []){Vxd}, (stewart_vd *const []){out0}, (const int []){6}, status);
+    return batch_rows(params_finite(p), p, vblock_coriolis_vector, 0.0, n, 2, (const double *const []){x, xd}, (stewart_vd *const []){in0, in1}, 1, (double *const []){Vxd}, (stewart_vd *const []){out0}, (const int []){6}, status);
 }
 
 /* stewart_gravity_vector over a block of states (batch_rows). */
-static stewart_vl vblock_gravity_vector(const stewart_params *p, const stewart_vd *const in[], stewart_vd *const out[])
+static stewart_vl vblock_gravity_vector(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
 {
+    (void)scalar;
     const stewart_vd *x = in[0];
     stewart_vd *G = out[0];
     stewart_vd L2[6];
@@ -35854,12 +35902,13 @@ static stewart_vl vblock_gravity_vector(const stewart_params *p, const stewart_v
 int stewart_batch_gravity_vector(const stewart_params *p, size_t n, const double *x, double *G, int *status)
 {
     stewart_vd in0[6], out0[6];
-    return batch_rows(params_finite(p), p, vblock_gravity_vector, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 1, (double *const []){G}, (stewart_vd *const []){out0}, (const int []){6}, status);
+    return batch_rows(params_finite(p), p, vblock_gravity_vector, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 1, (double *const []){G}, (stewart_vd *const []){out0}, (const int []){6}, status);
 }
 
 /* stewart_all_terms over a block of states (batch_rows). */
-static stewart_vl vblock_all_terms(const stewart_params *p, const stewart_vd *const in[], stewart_vd *const out[])
+static stewart_vl vblock_all_terms(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
 {
+    (void)scalar;
     const stewart_vd *x = in[0];
     const stewart_vd *xd = in[1];
     stewart_vd *terms = out[0];
@@ -35878,12 +35927,13 @@ static stewart_vl vblock_all_terms(const stewart_params *p, const stewart_vd *co
 int stewart_batch_all_terms(const stewart_params *p, size_t n, const double *x, const double *xd, double *terms, int *status)
 {
     stewart_vd in0[6], in1[6], out0[84];
-    return batch_rows(params_finite(p), p, vblock_all_terms, n, 2, (const double *const []){x, xd}, (stewart_vd *const []){in0, in1}, 1, (double *const []){terms}, (stewart_vd *const []){out0}, (const int []){84}, status);
+    return batch_rows(params_finite(p), p, vblock_all_terms, 0.0, n, 2, (const double *const []){x, xd}, (stewart_vd *const []){in0, in1}, 1, (double *const []){terms}, (stewart_vd *const []){out0}, (const int []){84}, status);
 }
 
 /* stewart_inverse_dynamics over a block of states (batch_rows). */
-static stewart_vl vblock_inverse_dynamics(const stewart_params *p, const stewart_vd *const in[], stewart_vd *const out[])
+static stewart_vl vblock_inverse_dynamics(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
 {
+    (void)scalar;
     const stewart_vd *x = in[0];
     const stewart_vd *xd = in[1];
     const stewart_vd *xdd = in[2];
@@ -35905,12 +35955,13 @@ static stewart_vl vblock_inverse_dynamics(const stewart_params *p, const stewart
 int stewart_batch_inverse_dynamics(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, int *status)
 {
     stewart_vd in0[6], in1[6], in2[6], out0[6];
-    return batch_rows(params_finite(p), p, vblock_inverse_dynamics, n, 3, (const double *const []){x, xd, xdd}, (stewart_vd *const []){in0, in1, in2}, 1, (double *const []){tau}, (stewart_vd *const []){out0}, (const int []){6}, status);
+    return batch_rows(params_finite(p), p, vblock_inverse_dynamics, 0.0, n, 3, (const double *const []){x, xd, xdd}, (stewart_vd *const []){in0, in1, in2}, 1, (double *const []){tau}, (stewart_vd *const []){out0}, (const int []){6}, status);
 }
 
 /* stewart_forward_dynamics over a block of states (batch_rows). */
-static stewart_vl vblock_forward_dynamics(const stewart_params *p, const stewart_vd *const in[], stewart_vd *const out[])
+static stewart_vl vblock_forward_dynamics(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
 {
+    (void)scalar;
     const stewart_vd *x = in[0];
     const stewart_vd *xd = in[1];
     const stewart_vd *tau = in[2];
@@ -35934,5 +35985,17 @@ static stewart_vl vblock_forward_dynamics(const stewart_params *p, const stewart
 int stewart_batch_forward_dynamics(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, int *status)
 {
     stewart_vd in0[6], in1[6], in2[6], out0[6];
-    return batch_rows(params_finite(p), p, vblock_forward_dynamics, n, 3, (const double *const []){x, xd, tau}, (stewart_vd *const []){in0, in1, in2}, 1, (double *const []){xdd}, (stewart_vd *const []){out0}, (const int []){6}, status);
+    return batch_rows(params_finite(p), p, vblock_forward_dynamics, 0.0, n, 3, (const double *const []){x, xd, tau}, (stewart_vd *const []){in0, in1, in2}, 1, (double *const []){xdd}, (stewart_vd *const []){out0}, (const int []){6}, status);
+}
+
+/* stewart_rk4_step over a block of states (batch_rows). */
+static stewart_vl vblock_rk4_step(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    return vrk4_step(p, vblock_forward_dynamics, scalar, in, out);
+}
+
+int stewart_batch_rk4_step(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status)
+{
+    stewart_vd in0[6], in1[6], in2[6], out0[6], out1[6];
+    return batch_rows(params_finite(p), p, vblock_rk4_step, dt, n, 3, (const double *const []){x, xd, tau}, (stewart_vd *const []){in0, in1, in2}, 2, (double *const []){xn, xdn}, (stewart_vd *const []){out0, out1}, (const int []){6, 6}, status);
 }

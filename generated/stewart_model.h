@@ -123,7 +123,7 @@ int stewart_rk4_step(const stewart_params *p, const double x[6], const double xd
 int stewart_rk4_step_derivatives(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double dt, double xn[6], double xdn[6], double A[144], double B[72]);
 
 /* ---- batches ----
- * stewart_batch_<name>(p, n, <inputs>, <outputs>, status) is stewart_<name> on n states at
+ * stewart_batch_<name>(p, n, <inputs>, <scalars>, <outputs>, status) is stewart_<name> on n states at
  * once: each input and output an n-row, row-major array (row r of x at x + 6 * r), row r's
  * status in status[r] (status may be NULL) and its outputs NaN unless it is STEWART_OK,
  * exactly as stewart_<name> gives them for the row alone.  Returns the status of the first
@@ -156,6 +156,7 @@ int stewart_batch_gravity_vector(const stewart_params *p, size_t n, const double
 int stewart_batch_all_terms(const stewart_params *p, size_t n, const double *x, const double *xd, double *terms, int *status);
 int stewart_batch_inverse_dynamics(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, int *status);
 int stewart_batch_forward_dynamics(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, int *status);
+int stewart_batch_rk4_step(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status);
 
 /* Operation counts of the generated kernels (sympy count_ops after cse):
  *   leg_lengths                      192

@@ -57,6 +57,7 @@ cdef extern from "stewart_model.h" nogil:
     int stewart_batch_all_terms(const stewart_params *p, size_t n, const double *x, const double *xd, double *terms, int *status)
     int stewart_batch_inverse_dynamics(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, int *status)
     int stewart_batch_forward_dynamics(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, int *status)
+    int stewart_batch_rk4_step(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status)
 
 cdef inline dict stewart_conditions():
     """{status code: (name, message, tolerance or None)} of every status code of the C

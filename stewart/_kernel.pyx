@@ -57,6 +57,8 @@ ctypedef int (*batch_rate_fn)(const stewart_params *, size_t, const double *, co
                               int *) noexcept nogil
 ctypedef int (*batch_dynamics_fn)(const stewart_params *, size_t, const double *, const double *,
                                   const double *, double *, int *) noexcept nogil
+ctypedef int (*batch_step_fn)(const stewart_params *, size_t, const double *, const double *, const double *,
+                              double, double *, double *, int *) noexcept nogil
 
 #: Rows of a batch function's states evaluated at once (one per vector lane).
 LANES = stewart_batch_lanes()
@@ -121,18 +123,21 @@ _STEP_DERIVATIVES = ((6,), (6,), (12, 12), (12, 6))
 
 
 cdef inline void _batch_call(const stewart_params *p, int kind, void *fn, Py_ssize_t start, Py_ssize_t count,
-                             const double *x0, const double *x1, const double *x2, double *out, int width,
-                             int *status) noexcept nogil:
+                             const double *x0, const double *x1, const double *x2, double scalar,
+                             double **outs, const int *widths, int *status) noexcept nogil:
     """Rows start ... start + count - 1 of a batch through the batch function ``fn``."""
+    cdef double *out = outs[0] + widths[0] * start
     x0 += 6 * start
     x1 += 6 * start
     x2 += 6 * start
     if kind == 1:
-        (<batch_state_fn>fn)(p, count, x0, out + width * start, status + start)
+        (<batch_state_fn>fn)(p, count, x0, out, status + start)
     elif kind == 2:
-        (<batch_rate_fn>fn)(p, count, x0, x1, out + width * start, status + start)
+        (<batch_rate_fn>fn)(p, count, x0, x1, out, status + start)
+    elif kind == 3:
+        (<batch_dynamics_fn>fn)(p, count, x0, x1, x2, out, status + start)
     else:
-        (<batch_dynamics_fn>fn)(p, count, x0, x1, x2, out + width * start, status + start)
+        (<batch_step_fn>fn)(p, count, x0, x1, x2, scalar, out, outs[1] + widths[1] * start, status + start)
 
 
 @cython.final
@@ -149,8 +154,8 @@ cdef class Kernel:
         """Evaluate ``fn`` row by row: ``kind`` 1-3 input arrays and one output, or a
         ``Signature`` (three inputs, and ``scalar`` the same for every row); an output array
         per row shape in ``shapes``, returned as it is for one, as a tuple for several.
-        ``batch_fn``, the batch function of ``fn`` (``kind`` 1-3), if it has one, evaluates
-        batches of ``LANES`` rows or more."""
+        ``batch_fn``, the batch function of ``fn`` (``kind`` 1-3 or ``STEP``), if it has one,
+        evaluates batches of ``LANES`` rows or more."""
         cdef cnp.ndarray a0, a1, a2, status
         cdef const double *p0
         cdef const double *p1
@@ -210,7 +215,7 @@ cdef class Kernel:
             if a2.ndim == 1: a2 = np.ascontiguousarray(np.broadcast_to(a2, (n, 6)))
             self._batch(kind, batch_fn, n, <const double *>cnp.PyArray_DATA(a0),
                         <const double *>cnp.PyArray_DATA(a1), <const double *>cnp.PyArray_DATA(a2),
-                        po[0], widths[0], ps)
+                        scalar, po, widths, ps)
             failures = np.count_nonzero(status)
         elif n == 1:
             failures = self._row(kind, fn, p0, p1, p2, scalar, po, widths, nout, 0, ps)
@@ -229,17 +234,18 @@ cdef class Kernel:
         return self._failed(fname, names, (a0, a1, a2)[:arity], result, status, batch, return_mask)
 
     cdef void _batch(self, int kind, void *fn, Py_ssize_t n, const double *x0, const double *x1,
-                     const double *x2, double *out, int width, int *status) noexcept nogil:
-        """The batch function ``fn`` (``kind`` 1-3 inputs) on n rows, in blocks of BATCH_BLOCK
-        rows split over the threads."""
+                     const double *x2, double scalar, double **outs, const int *widths,
+                     int *status) noexcept nogil:
+        """The batch function ``fn`` (``kind`` 1-3 inputs and one output, or ``STEP``) on n rows,
+        in blocks of BATCH_BLOCK rows split over the threads."""
         cdef Py_ssize_t b, start, count, nblocks = (n + BATCH_BLOCK - 1) // BATCH_BLOCK
         if self.threads > 1 and nblocks > 1:
             for b in prange(nblocks, num_threads=self.threads, schedule="static"):
                 start = b * BATCH_BLOCK
                 count = min(BATCH_BLOCK, n - start)
-                _batch_call(&self.p, kind, fn, start, count, x0, x1, x2, out, width, status)
+                _batch_call(&self.p, kind, fn, start, count, x0, x1, x2, scalar, outs, widths, status)
         else:
-            _batch_call(&self.p, kind, fn, 0, n, x0, x1, x2, out, width, status)
+            _batch_call(&self.p, kind, fn, 0, n, x0, x1, x2, scalar, outs, widths, status)
 
     cdef int _row(self, int kind, void *fn, const double *x0, const double *x1, const double *x2,
                   double scalar, double **outs, const int *widths, int nout, Py_ssize_t row,
@@ -371,4 +377,4 @@ cdef class Kernel:
             return self._run("rk4_step", STEP_DERIVATIVES, <void *>stewart_rk4_step_derivatives, ("x", "xd", "tau"),
                              (x, xd, tau), _STEP_DERIVATIVES, return_mask, dt)
         return self._run("rk4_step", STEP, <void *>stewart_rk4_step, ("x", "xd", "tau"), (x, xd, tau), _STEP,
-                         return_mask, dt)
+                         return_mask, dt, <void *>stewart_batch_rk4_step)

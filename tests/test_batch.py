@@ -24,7 +24,7 @@ ZERO = np.zeros(6)
 #: (method, inputs) of every Kernel method with a batch function.
 METHODS = [("leg_lengths", 1), ("jacobian", 1), ("leg_rates", 2), ("mass_matrix", 1), ("twist_mass_matrix", 1),
            ("coriolis_matrix", 2), ("coriolis_vector", 2), ("gravity_vector", 1), ("all_terms", 2),
-           ("inverse_dynamics", 3), ("forward_dynamics", 3)]
+           ("inverse_dynamics", 3), ("forward_dynamics", 3), ("rk4_step", 3)]
 SIZES = [1, W - 1, W + 1, 1003]
 
 
@@ -51,11 +51,20 @@ def batch(params, n, seed=0):
     return [x] + rates
 
 
+#: Time step of the RK4 steps (Kernel.rk4_step's scalar input).
+DT = 1e-3
+
+
+def call(kernel, method, inputs, **kwargs):
+    """Kernel.<method> on the inputs (and the RK4 step's DT)."""
+    return getattr(kernel, method)(*inputs, *([DT] if method == "rk4_step" else []), **kwargs)
+
+
 def rows_alone(kernel, method, inputs):
     """Each row through the scalar function alone: (values, mask)."""
     values, mask = [], []
     for row in zip(*inputs):
-        value, ok = getattr(kernel, method)(*row, return_mask=True)
+        value, ok = call(kernel, method, row, return_mask=True)
         values.append(value)
         mask.append(ok)
     stacked = [np.stack(part) for part in zip(*values)] if isinstance(values[0], tuple) else np.stack(values)
@@ -77,7 +86,7 @@ def test_batch_equals_rows_alone(params, method, arity, n):
     kernel = _kernel.Kernel(params)
     inputs = batch(params, n)[:arity]
     want, want_mask = rows_alone(kernel, method, inputs)
-    got, mask = getattr(kernel, method)(*inputs, return_mask=True)
+    got, mask = call(kernel, method, inputs, return_mask=True)
     np.testing.assert_array_equal(mask, want_mask)
     assert_rows_equal(got, want, mask)
 
@@ -97,24 +106,25 @@ def test_batches_hold_every_singular_state():
     assert conditions == {"jacobian_singular", "leg_degenerate", "euler_singular", "leg_vertical"}
 
 
-@pytest.mark.parametrize("method, arity", [("inverse_dynamics", 3), ("forward_dynamics", 3), ("mass_matrix", 1)])
+@pytest.mark.parametrize("method, arity", [("inverse_dynamics", 3), ("forward_dynamics", 3), ("mass_matrix", 1),
+                                           ("rk4_step", 3)])
 def test_batch_error_names_the_rows_alone_fail_at(method, arity):
     kernel = _kernel.Kernel(GENERAL)
     x, xd, xdd = batch(GENERAL, 3 * W + 5)
     x[-3] = np.nan  # not finite: the error names the argument
     inputs = (x, xd, xdd)[:arity]
     with pytest.raises(ValueError, match="x") as info:
-        getattr(kernel, method)(*inputs)
+        call(kernel, method, inputs)
     assert not isinstance(info.value, SingularityError)
     x[-3] = x[0]
     _, mask = rows_alone(kernel, method, inputs)
     conditions = []
     for row in np.flatnonzero(~mask):
         with pytest.raises(SingularityError) as alone:
-            getattr(kernel, method)(*[a[row] for a in inputs])
+            call(kernel, method, [a[row] for a in inputs])
         conditions.append(alone.value.condition)
     with pytest.raises(SingularityError) as info:
-        getattr(kernel, method)(*inputs)
+        call(kernel, method, inputs)
     assert info.value.rows == np.flatnonzero(~mask).tolist()
     assert info.value.condition == conditions[0]
 

@@ -177,8 +177,48 @@ static stewart_vl vpose_accelerations(const stewart_vd JAinv[9], int n, const st
 }
 
 /* A block function: the outputs out[j] (size[j] vectors each) of the block of states whose
- * inputs are in[i] (6 vectors each); returns each lane's status. */
-typedef stewart_vl (*vblock_fn)(const stewart_params *p, const stewart_vd *const in[], stewart_vd *const out[]);
+ * inputs are in[i] (6 vectors each), with the function's scalar input (if it has one);
+ * returns each lane's status. */
+typedef stewart_vl (*vblock_fn)(const stewart_params *p, double scalar, const stewart_vd *const in[],
+                                stewart_vd *const out[]);
+
+/* rk4 of rk4.c without the Jacobians over a block of states: in = {x, xd, tau}, out = {xn,
+ * xdn}, the stages' accelerations by `forward`, the block function of stewart_forward_dynamics,
+ * each stage with the checks stewart_forward_dynamics makes of its state and its result. */
+static stewart_vl vrk4_step(const stewart_params *p, vblock_fn forward, double dt, const stewart_vd *const in[],
+                            stewart_vd *const out[])
+{
+    static const double fraction[4] = {0.0, 0.5, 0.5, 1.0};
+    stewart_vd s[12], t[12], k[4][12];
+    stewart_vl status = vsplat(isfinite(dt) ? 0.0 : 1.0) != 0.0;
+    int i, stage;
+    status &= STEWART_ERR_NONFINITE;
+    for (i = 0; i < 6; ++i) {
+        s[i] = in[0][i];
+        s[6 + i] = in[1][i];
+    }
+    for (stage = 0; stage < 4; ++stage) {
+        const double h = fraction[stage] * dt;
+        for (i = 0; i < 12; ++i) {
+            t[i] = stage ? s[i] + h * k[stage - 1][i] : s[i];
+        }
+        for (i = 0; i < 6; ++i) {
+            k[stage][i] = t[6 + i];
+        }
+        status = vmerge(status, ~vfinite(t, 12) & STEWART_ERR_NONFINITE);
+        status = vmerge(status, forward(p, 0.0, (const stewart_vd *const[]){t, t + 6, in[2]},
+                                        (stewart_vd *const[]){k[stage] + 6}));
+        status = vmerge(status, ~vfinite(k[stage] + 6, 6) & STEWART_ERR_NONFINITE);
+    }
+    for (i = 0; i < 12; ++i) {
+        t[i] = s[i] + dt / 6.0 * (k[0][i] + 2.0 * k[1][i] + 2.0 * k[2][i] + k[3][i]);
+    }
+    for (i = 0; i < 6; ++i) {
+        out[0][i] = t[i];
+        out[1][i] = t[6 + i];
+    }
+    return status;
+}
 
 /* The n rows of a batch through `block`, STEWART_LANES rows at a time (the last block padded
  * with copies of the last row): rows[i] holds input i (n x 6, row-major), results[j] output j
@@ -187,7 +227,7 @@ typedef stewart_vl (*vblock_fn)(const stewart_params *p, const stewart_vd *const
  * (params_ok == 0) or its inputs are not finite, else its lane's status, else
  * STEWART_ERR_NONFINITE if an output is not finite; its outputs are NaN unless STEWART_OK.
  * Returns the status of the first row that is not STEWART_OK, or STEWART_OK. */
-static int batch_rows(int params_ok, const stewart_params *p, vblock_fn block, size_t n,
+static int batch_rows(int params_ok, const stewart_params *p, vblock_fn block, double scalar, size_t n,
                       int nin, const double *const rows[], stewart_vd *const in[],
                       int nout, double *const results[], stewart_vd *const out[], const int size[],
                       int *status)
@@ -206,7 +246,7 @@ static int batch_rows(int params_ok, const stewart_params *p, vblock_fn block, s
             }
             ok &= vfinite(in[i], 6);
         }
-        lanes = vmerge(~ok & STEWART_ERR_NONFINITE, block(p, (const stewart_vd *const *)in, out));
+        lanes = vmerge(~ok & STEWART_ERR_NONFINITE, block(p, scalar, (const stewart_vd *const *)in, out));
         ok = lanes == 0;
         for (i = 0; i < nout; ++i) {
             ok &= vfinite(out[i], size[i]);

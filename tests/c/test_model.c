@@ -142,6 +142,24 @@ BATCHED_2(all_terms)
 BATCHED_3(inverse_dynamics)
 BATCHED_3(forward_dynamics)
 
+#define MAX_ROWS 1003
+#define RK4_DT 1e-3
+
+/* The RK4 step of RK4_DT, [xn; xdn] a row. */
+static int row_rk4_step(const stewart_params *p, const double *const *in, double *out) {
+    return stewart_rk4_step(p, in[0], in[1], in[2], RK4_DT, out, out + 6);
+}
+
+static int batch_rk4_step(const stewart_params *p, size_t n, const double *const *in, double *out, int *status) {
+    static double xn[MAX_ROWS * 6], xdn[MAX_ROWS * 6];
+    int first = stewart_batch_rk4_step(p, n, in[0], in[1], in[2], RK4_DT, xn, xdn, status);
+    for (size_t r = 0; r < n; ++r) {
+        memcpy(out + 12 * r, xn + 6 * r, sizeof(double[6]));
+        memcpy(out + 12 * r + 6, xdn + 6 * r, sizeof(double[6]));
+    }
+    return first;
+}
+
 static const struct {
     const char *name;
     row_fn row;
@@ -159,9 +177,8 @@ static const struct {
     {"all_terms", row_all_terms, batch_all_terms, 84},
     {"inverse_dynamics", row_inverse_dynamics, batch_inverse_dynamics, 6},
     {"forward_dynamics", row_forward_dynamics, batch_forward_dynamics, 6},
+    {"rk4_step", row_rk4_step, batch_rk4_step, 12},
 };
-
-#define MAX_ROWS 1003
 
 /* A number in [-1, 1) from the state of a linear congruential generator. */
 static double uniform(unsigned long long *state) {
