@@ -23,7 +23,7 @@ import time
 import stewart
 from stewart import bench
 
-from . import report
+from . import batch_loop, report
 from .peers.common import peer_available
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
@@ -138,6 +138,8 @@ def main(argv=None) -> None:
         results["kernel"][preset].update(bench.simulation_figures(preset))
         print(f"[bench] exact derivatives and finite differences, {preset} ...", flush=True)
         results["kernel"][preset].update(bench.derivative_figures(preset, min(args.batch, bench.DERIVATIVE_BATCH)))
+    print("[bench] vector batch path against the scalar one, C loop ...", flush=True)
+    results["batch_loop"] = batch_loop.figures("narayan2017", min(args.batch, 100_000))
     if not args.skip_build:
         print("[bench] generation and clean build ...", flush=True)
         results["generation"] = generation_figures()
@@ -147,6 +149,8 @@ def main(argv=None) -> None:
     results["targets"] = report.targets(table_rows)
     print()
     print(bench.format_table(table_rows))
+    print()
+    print(batch_loop.format_rows(results["batch_loop"]))
     if results["peers"]:
         ops = results["code"]["operation_counts"]
         ours = {"ops": {"inverse_dynamics": ops.get("inverse_dynamics_axisym"),

@@ -60,6 +60,10 @@ def main(argv=None):
             print(f'[codegen] {kernel.name:<32} derive {t_derive:5.2f} s, cse+C {t_emit:5.2f} s,'
                   f' {result.ops:5d} ops', flush=True)
     public = [csource.public_function(function, kernels) for function in generated]
+    batches = [f for f in model.FUNCTIONS if csource.batched(f)]
+    batch = [csource.batch_function(function, kernels) for function in batches]
+    # The vector kernels the batch functions run.
+    vector = {kernels[build].name for f in batches for build in f.kernels}
     templates = list(dict.fromkeys(f.template for f in model.FUNCTIONS if f.template))
 
     start = time.perf_counter()
@@ -67,7 +71,8 @@ def main(argv=None):
     ops = [(k.name, k.ops) for k in emitted]
     files = {
         'stewart_model.h': csource.header(schema.PARAM_FIELDS, model.FUNCTIONS, ops),
-        'stewart_model.c': csource.source(schema.PARAM_FIELDS, [k.source for k in emitted], public, templates),
+        'stewart_model.c': csource.source(schema.PARAM_FIELDS, [k.source for k in emitted], public, templates,
+                                          [k.vector for k in emitted if k.name in vector], batch),
         'stewart_model.pxd': pxd.pxd(schema.PARAM_FIELDS, schema.LEFT_OUT, model.FUNCTIONS),
     }
     written = [name for name, text in files.items() if _write_if_changed(args.out / name, text)]

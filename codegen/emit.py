@@ -33,11 +33,39 @@ def ccode(expr):
     return _PRINTER.doprint(expr)
 
 
+class _VectorPrinter(_Printer):
+    """The printer of the vector kernels: an expression over the `varying` symbols (one value
+    per lane) is a `stewart_vd`, with sqrt, sin and cos of it as the lane-wise `vsqrt`, `vsin`,
+    `vcos` (codegen/templates/vector.c); the parameters stay scalars, broadcast by the
+    arithmetic operators."""
+
+    def __init__(self, varying):
+        super().__init__()
+        self.varying = varying
+
+    def _varies(self, expr):
+        return bool(expr.free_symbols & self.varying)
+
+    def _print_Pow(self, expr):
+        if expr.exp in (sp.S.Half, -sp.S.Half) and self._varies(expr.base):
+            root = f'vsqrt({self._print(expr.base)})'
+            return root if expr.exp > 0 else f'1.0/{root}'
+        return super()._print_Pow(expr)
+
+    def _print_Function(self, expr):
+        if isinstance(expr, (sp.sin, sp.cos)) and self._varies(expr):
+            return f'v{type(expr).__name__}({self._print(expr.args[0])})'
+        return super()._print_Function(expr)
+
+    _print_sin = _print_cos = _print_Function
+
+
 @dataclass
 class EmittedKernel:
     name: str
     source: str
     ops: int          # sympy count_ops of the cse output
+    vector: str = ''  # C source of its vector variant (kernels with one lane)
 
 
 def _prune(defs, outputs):
@@ -121,4 +149,37 @@ def emit_kernel(kernel, param_members):
     if lanes > 1:
         lines.append('    }')
     lines.append('}')
-    return EmittedKernel(kernel.name, '\n'.join(lines) + '\n', ops)
+    return EmittedKernel(kernel.name, '\n'.join(lines) + '\n', ops,
+                         vector_kernel(kernel, statements, reduced, used, param_members) if lanes == 1 else '')
+
+
+def vector_kernel(kernel, statements, reduced, used, param_members):
+    """C source of `static void vkernel_<name>(...)`, the kernel over a block of STEWART_LANES
+    states: the same statements with every quantity that depends on the state a `stewart_vd`
+    (one state per lane; inputs and outputs are arrays of them, entry k of the states in
+    element k), the parameters and what depends on them alone computed once, as doubles."""
+    varying = {s for _, syms in kernel.inputs for s in syms}
+    printer = _VectorPrinter(varying)
+    args = (['const stewart_params *p'] + [f'const stewart_vd *{name}' for name, _ in kernel.inputs]
+            + [f'stewart_vd *{name}' for name, _ in kernel.outputs])
+    lines = [f'/* {kernel.name} over a block of states. */', f'static void vkernel_{kernel.name}({", ".join(args)})',
+             '{']
+    lines += [f'    const double {s.name} = p->{member};' for s, member in param_members if s in used]
+    if not any(s in used for s, _ in param_members):
+        lines.append('    (void)p;')
+    for name, syms in kernel.inputs:
+        lines += [f'    const stewart_vd {s.name} = {name}[{k}];' for k, s in enumerate(syms) if s in used]
+    for s, e in statements:
+        vary = bool(e.free_symbols & varying)
+        if vary:
+            varying.add(s)
+        lines.append(f'    const {"stewart_vd" if vary else "double"} {s.name} = {printer.doprint(e)};')
+    k = 0
+    for name, exprs in kernel.outputs:
+        for j in range(len(exprs)):
+            e = reduced[k]
+            value = printer.doprint(e)
+            lines.append(f'    {name}[{j}] = {value if e.free_symbols & varying else f"vsplat({value})"};')
+            k += 1
+    lines.append('}')
+    return '\n'.join(lines) + '\n'

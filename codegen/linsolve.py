@@ -22,9 +22,34 @@ the six rows and loop over the right-hand sides:
 A solve takes b as 6 rows of n columns with row stride ld (ld >= n) and writes y as 6
 rows of n columns (row stride n); every column is solved with exactly the operations of
 a single right-hand side.
+
+Each function also has a vector variant (`vector=True`: `vbareiss_factor`, ...) over a
+block of states, one per lane of a `stewart_vd` (codegen/templates/vector.c): the same
+operations lane-wise, the conditional row swaps as lane-wise selects, and the status of
+each lane returned as a `stewart_vl` (0: STEWART_OK).
 """
 
+from dataclasses import dataclass
+
 N = 6
+
+
+@dataclass(frozen=True)
+class _Types:
+    """The C types and names of the scalar or the vector variant of the solvers."""
+    real: str     # a number
+    flag: str     # a comparison's result
+    status: str   # the return type
+    prefix: str   # of the function names
+    abs: str      # |a|
+
+
+SCALAR = _Types('double', 'int', 'int', '', 'fabs')
+VECTOR = _Types('stewart_vd', 'stewart_vl', 'stewart_vl', 'v', 'vabs')
+
+
+def _types(vector):
+    return VECTOR if vector else SCALAR
 
 
 def _tournament(rows):
@@ -69,10 +94,11 @@ class _BareissLayout:
 BAREISS = _BareissLayout()
 
 
-def bareiss_factor():
-    """C text of `static int bareiss_factor(J, F)`."""
-    L = BAREISS
-    lines = [
+def bareiss_factor(vector=False):
+    """C text of `static int bareiss_factor(J, F)` (or its vector variant)."""
+    L, T = BAREISS, _types(vector)
+    lines = ['/* bareiss_factor over a block of states: the swaps lane-wise, F[swap] a lane mask. */',
+             f'static stewart_vl vbareiss_factor(const stewart_vd J[36], stewart_vd F[{L.size}])', '{'] if vector else [
         '/* Factor J^T (J 6x6 row-major) by fraction-free (Bareiss) Gaussian elimination',
         ' * with partial pivoting, unrolled; a_rc = (J^T)_rc.  At step k the row of largest',
         ' * |a_ik| (i >= k) is swapped into row k and a_ij <- (a_kk a_ij - a_ik a_kj) /',
@@ -85,22 +111,22 @@ def bareiss_factor():
     ]
     add = lines.append
     for r in range(N):
-        add('    double ' + ', '.join(f'a{r}{c} = J[{N * c + r}]' for c in range(N)) + ';')
+        add(f'    {T.real} ' + ', '.join(f'a{r}{c} = J[{N * c + r}]' for c in range(N)) + ';')
     for i in range(N):
-        add(f'    const double n{i} = '
+        add(f'    const {T.real} n{i} = '
             + ' + '.join(f'J[{N * i + j}] * J[{N * i + j}]' for j in range(N)) + ';')
-    add('    double t;')
-    add('    int s;')
+    add(f'    {T.real} t;')
+    add(f'    {T.flag} s;')
     swap = 0
     for k in range(N):
         add(f'    /* step {k} */')
         for i, j in _tournament(range(k, N)):
-            add(f'    s = fabs(a{j}{k}) > fabs(a{i}{k});')
-            add(f'    F[{swap}] = s;')
+            add(f'    s = {T.abs}(a{j}{k}) > {T.abs}(a{i}{k});')
+            add(f'    F[{swap}] = {"(stewart_vd)" if vector else ""}s;')
             swap += 1
             for c in range(k, N):
-                add(f'    t = a{i}{c}; a{i}{c} = s ? a{j}{c} : t; a{j}{c} = s ? t : a{j}{c};')
-        add(f'    const double inv{k} = 1.0 / a{k}{k};')
+                add(f'    t = a{i}{c}; ' + _swap(vector, 's', f'a{i}{c}', f'a{j}{c}'))
+        add(f'    const {T.real} inv{k} = 1.0 / a{k}{k};')
         add(f'    F[{L.pivot[k]}] = a{k}{k};')
         add(f'    F[{L.inv[k]}] = inv{k};')
         if k == N - 1:
@@ -114,37 +140,59 @@ def bareiss_factor():
         add(f'    F[{n}] = a{i}{j};')
     norms = ' * '.join(f'n{i}' for i in range(N))
     last = f'a{N - 1}{N - 1}'
-    add(f'    if (!({last} * {last} >= STEWART_JACOBIAN_TOL * STEWART_JACOBIAN_TOL * ({norms}))) {{')
-    add('        return STEWART_ERR_JACOBIAN_SINGULAR;')
-    add('    }')
-    add('    return STEWART_OK;')
+    test = f'{last} * {last} >= STEWART_JACOBIAN_TOL * STEWART_JACOBIAN_TOL * ({norms})'
+    if vector:
+        add(f'    return ~({test}) & STEWART_ERR_JACOBIAN_SINGULAR;')
+    else:
+        add(f'    if (!({test})) {{')
+        add('        return STEWART_ERR_JACOBIAN_SINGULAR;')
+        add('    }')
+        add('    return STEWART_OK;')
     add('}')
     return '\n'.join(lines) + '\n'
 
 
-def _solve_head(comment, name, size, extra):
+def _swap(vector, flag, a, b):
+    """C text exchanging a and b where `flag` holds, t holding a's value."""
+    if vector:
+        return f'{a} = vselect({flag}, {b}, t); {b} = vselect({flag}, t, {b});'
+    return f'{a} = {flag} ? {b} : t; {b} = {flag} ? t : {b};'
+
+
+def _solve_head(comment, name, size, extra, vector):
     """The C lines of a solve up to its loop over the columns c of b, with b's column c
     loaded into b0 ... b5 (and the declarations `extra`)."""
+    T = _types(vector)
+    if vector:
+        comment = [f'/* {name} over a block of states. */']
     return comment + [
-        f'static int {name}(const double F[{size}], int n, int ld, const double *b, double *y)',
+        f'static {T.status} {T.prefix}{name}(const {T.real} F[{size}], int n, int ld, const {T.real} *b, {T.real} *y)',
         '{',
         '    int c;',
         '    for (c = 0; c < n; ++c) {',
-        '        double ' + ', '.join(f'b{r} = b[{r} * ld + c]' for r in range(N)) + extra + ';',
+        f'        {T.real} ' + ', '.join(f'b{r} = b[{r} * ld + c]' for r in range(N)) + extra + ';',
     ]
 
 
-def bareiss_solve():
-    """C text of `static int bareiss_solve(F, n, ld, b, y)`."""
+def _solved(vector):
+    """The C lines ending a solve."""
+    return ['    }', '    return vnone();' if vector else '    return STEWART_OK;', '}']
+
+
+def bareiss_solve(vector=False):
+    """C text of `static int bareiss_solve(F, n, ld, b, y)` (or its vector variant)."""
     L = BAREISS
     lines = _solve_head(['/* Solve J^T y = b for n right-hand sides with the factors F of bareiss_factor: the',
                          ' * same swaps and eliminations on each column of b, then back substitution. */'],
-                        'bareiss_solve', L.size, ', t')
+                        'bareiss_solve', L.size, ', t', vector)
     add = lines.append
     swap = 0
     for k in range(N):
         for i, j in _tournament(range(k, N)):
-            add(f'        if (F[{swap}] != 0.0) {{ t = b{i}; b{i} = b{j}; b{j} = t; }}')
+            if vector:
+                add(f'        t = b{i}; ' + _swap(vector, f'(stewart_vl)F[{swap}]', f'b{i}', f'b{j}'))
+            else:
+                add(f'        if (F[{swap}] != 0.0) {{ t = b{i}; b{i} = b{j}; b{j} = t; }}')
             swap += 1
         if k == N - 1:
             break
@@ -154,9 +202,7 @@ def bareiss_solve():
     for i in range(N - 1, -1, -1):
         terms = ''.join(f' - F[{L.upper[i, j]}] * y[{j} * n + c]' for j in range(i + 1, N))
         add(f'        y[{i} * n + c] = (b{i}{terms}) * F[{L.inv[i]}];')
-    add('    }')
-    add('    return STEWART_OK;')
-    add('}')
+    lines += _solved(vector)
     return '\n'.join(lines) + '\n'
 
 
@@ -169,11 +215,13 @@ def _ldl_index(i, k):
     return sum(N - 1 - m for m in range(k)) + (i - k - 1)
 
 
-def ldl_factor():
-    """C text of `static int ldl_factor(upper, F)`."""
+def ldl_factor(vector=False):
+    """C text of `static int ldl_factor(upper, F)` (or its vector variant)."""
+    T = _types(vector)
     diag = [sum(N - r for r in range(k)) for k in range(N)]  # index of S_kk in upper[]
     inv_at = N * (N - 1) // 2
-    lines = [
+    lines = ['/* ldl_factor over a block of states, lane by lane. */',
+             f'static stewart_vl vldl_factor(const stewart_vd upper[21], stewart_vd F[{LDL_SIZE}])', '{'] if vector else [
         '/* Factor S = L D L^T for symmetric S given by its upper triangle (21 entries,',
         ' * row-major), unrolled (m_ij: the upper triangle being eliminated, l_ik = m_ki / d_k);',
         ' * F receives l_ik (i > k, by columns) and then 1 / d_k.  Returns STEWART_ERR_MASS_SINGULAR',
@@ -189,31 +237,34 @@ def ldl_factor():
         for j in range(i, N):
             decl.append(f'm{i}{j} = upper[{n}]')
             n += 1
-        add('    double ' + ', '.join(decl) + ';')
-    add('    int ok = 1;')
+        add(f'    {T.real} ' + ', '.join(decl) + ';')
+    add('    stewart_vl ok = ~vnone();' if vector else '    int ok = 1;')
     for k in range(N):
         add(f'    ok &= (upper[{diag[k]}] > 0.0) & (m{k}{k} > STEWART_MASS_TOL * upper[{diag[k]}]);')
-        add(f'    const double inv{k} = 1.0 / m{k}{k};')
+        add(f'    const {T.real} inv{k} = 1.0 / m{k}{k};')
         add(f'    F[{inv_at + k}] = inv{k};')
         for i in range(k + 1, N):
-            add(f'    const double l{i}{k} = m{k}{i} * inv{k};')
+            add(f'    const {T.real} l{i}{k} = m{k}{i} * inv{k};')
             add(f'    F[{_ldl_index(i, k)}] = l{i}{k};')
         for i in range(k + 1, N):
             for j in range(i, N):
                 add(f'    m{i}{j} -= l{i}{k} * m{k}{j};')
-    add('    if (!ok) {')
-    add('        return STEWART_ERR_MASS_SINGULAR;')
-    add('    }')
-    add('    return STEWART_OK;')
+    if vector:
+        add('    return ~ok & STEWART_ERR_MASS_SINGULAR;')
+    else:
+        add('    if (!ok) {')
+        add('        return STEWART_ERR_MASS_SINGULAR;')
+        add('    }')
+        add('    return STEWART_OK;')
     add('}')
     return '\n'.join(lines) + '\n'
 
 
-def ldl_solve():
-    """C text of `static int ldl_solve(F, n, ld, b, y)`."""
+def ldl_solve(vector=False):
+    """C text of `static int ldl_solve(F, n, ld, b, y)` (or its vector variant)."""
     inv_at = N * (N - 1) // 2
     lines = _solve_head(['/* Solve S y = b for n right-hand sides with the factors F of ldl_factor. */'],
-                        'ldl_solve', LDL_SIZE, '')
+                        'ldl_solve', LDL_SIZE, '', vector)
     add = lines.append
     for k in range(N):
         for i in range(k + 1, N):
@@ -221,12 +272,10 @@ def ldl_solve():
     for i in range(N - 1, -1, -1):
         terms = ''.join(f' - F[{_ldl_index(j, i)}] * y[{j} * n + c]' for j in range(i + 1, N))
         add(f'        y[{i} * n + c] = b{i} * F[{inv_at + i}]{terms};')
-    add('    }')
-    add('    return STEWART_OK;')
-    add('}')
+    lines += _solved(vector)
     return '\n'.join(lines) + '\n'
 
 
-def source():
-    """C text of the four functions."""
-    return '\n'.join([bareiss_factor(), bareiss_solve(), ldl_factor(), ldl_solve()])
+def source(vector=False):
+    """C text of the four functions (or of their vector variants)."""
+    return '\n'.join([bareiss_factor(vector), bareiss_solve(vector), ldl_factor(vector), ldl_solve(vector)])

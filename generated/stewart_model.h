@@ -36,6 +36,7 @@
 #define STEWART_MODEL_H
 
 #include <float.h>
+#include <stddef.h>
 
 #ifdef __cplusplus
 extern "C" {
@@ -120,6 +121,42 @@ int stewart_forward_dynamics_derivatives(const stewart_params *p, const double x
 int stewart_rk4_step(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double dt, double xn[6], double xdn[6]);
 /* The RK4 step and its Jacobians A = d[xn; xdn]/d[x; xd] (12 x 12) and B = d[xn; xdn]/dtau (12 x 6), row-major, by the chain rule through the stages. */
 int stewart_rk4_step_derivatives(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double dt, double xn[6], double xdn[6], double A[144], double B[72]);
+
+/* ---- batches ----
+ * stewart_batch_<name>(p, n, <inputs>, <scalars>, <outputs>, status) is stewart_<name> on n states at
+ * once: each input and output an n-row, row-major array (row r of x at x + 6 * r), row r's
+ * status in status[r] (status may be NULL) and its outputs NaN unless it is STEWART_OK,
+ * exactly as stewart_<name> gives them for the row alone.  Returns the status of the first
+ * row that is not STEWART_OK, or STEWART_OK.  The states are evaluated STEWART_LANES at a
+ * time, one per lane of a vector (GCC/Clang vector extensions); STEWART_LANES defaults to the
+ * widest vectors the compiler targets (8 with AVX-512, 4 with AVX, else 2) and may be set
+ * when compiling stewart_model.c.
+ */
+#ifndef STEWART_LANES
+#if defined(__AVX512F__)
+#define STEWART_LANES 8
+#elif defined(__AVX__)
+#define STEWART_LANES 4
+#else
+#define STEWART_LANES 2
+#endif
+#endif
+
+/* The number of states the batch functions evaluate at once (STEWART_LANES when compiled). */
+int stewart_batch_lanes(void);
+
+int stewart_batch_leg_lengths(const stewart_params *p, size_t n, const double *x, double *L, int *status);
+int stewart_batch_jacobian(const stewart_params *p, size_t n, const double *x, double *JC, int *status);
+int stewart_batch_leg_rates(const stewart_params *p, size_t n, const double *x, const double *xd, double *LLd, int *status);
+int stewart_batch_mass_matrix(const stewart_params *p, size_t n, const double *x, double *M, int *status);
+int stewart_batch_twist_mass_matrix(const stewart_params *p, size_t n, const double *x, double *Mt, int *status);
+int stewart_batch_coriolis_matrix(const stewart_params *p, size_t n, const double *x, const double *xd, double *V, int *status);
+int stewart_batch_coriolis_vector(const stewart_params *p, size_t n, const double *x, const double *xd, double *Vxd, int *status);
+int stewart_batch_gravity_vector(const stewart_params *p, size_t n, const double *x, double *G, int *status);
+int stewart_batch_all_terms(const stewart_params *p, size_t n, const double *x, const double *xd, double *terms, int *status);
+int stewart_batch_inverse_dynamics(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, int *status);
+int stewart_batch_forward_dynamics(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, int *status);
+int stewart_batch_rk4_step(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status);
 
 /* Operation counts of the generated kernels (sympy count_ops after cse):
  *   leg_lengths                      192

@@ -45,6 +45,19 @@ cdef extern from "stewart_model.h" nogil:
     int stewart_forward_dynamics_derivatives(const stewart_params *p, const double *x, const double *xd, const double *tau, double *xdd, double *dxdd_dx, double *dxdd_dxd, double *dxdd_dtau)
     int stewart_rk4_step(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn)
     int stewart_rk4_step_derivatives(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B)
+    int stewart_batch_lanes()
+    int stewart_batch_leg_lengths(const stewart_params *p, size_t n, const double *x, double *L, int *status)
+    int stewart_batch_jacobian(const stewart_params *p, size_t n, const double *x, double *JC, int *status)
+    int stewart_batch_leg_rates(const stewart_params *p, size_t n, const double *x, const double *xd, double *LLd, int *status)
+    int stewart_batch_mass_matrix(const stewart_params *p, size_t n, const double *x, double *M, int *status)
+    int stewart_batch_twist_mass_matrix(const stewart_params *p, size_t n, const double *x, double *Mt, int *status)
+    int stewart_batch_coriolis_matrix(const stewart_params *p, size_t n, const double *x, const double *xd, double *V, int *status)
+    int stewart_batch_coriolis_vector(const stewart_params *p, size_t n, const double *x, const double *xd, double *Vxd, int *status)
+    int stewart_batch_gravity_vector(const stewart_params *p, size_t n, const double *x, double *G, int *status)
+    int stewart_batch_all_terms(const stewart_params *p, size_t n, const double *x, const double *xd, double *terms, int *status)
+    int stewart_batch_inverse_dynamics(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, int *status)
+    int stewart_batch_forward_dynamics(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, int *status)
+    int stewart_batch_rk4_step(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status)
 
 cdef inline dict stewart_conditions():
     """{status code: (name, message, tolerance or None)} of every status code of the C

@@ -13,7 +13,10 @@ cdef class Kernel:
     cdef readonly int threads
 
     cdef object _run(self, str fname, int kind, void *fn, tuple names, tuple values,
-                     tuple shapes, bint return_mask, double scalar=*)
+                     tuple shapes, bint return_mask, double scalar=*, void *batch_fn=*)
+    cdef void _batch(self, int kind, void *fn, Py_ssize_t n, const double *x0, const double *x1,
+                     const double *x2, double scalar, double **outs, const int *widths,
+                     int *status) noexcept nogil
     cdef int _row(self, int kind, void *fn, const double *x0, const double *x1, const double *x2,
                   double scalar, double **outs, const int *widths, int nout, Py_ssize_t row,
                   int *status) noexcept nogil

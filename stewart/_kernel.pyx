@@ -5,7 +5,9 @@ It only moves arrays: it takes one state ``(6,)`` or a batch ``(N, 6)`` (a singl
 broadcasts against a batch), makes every input C-contiguous float64 (copying only when
 needed), checks that inputs are finite, runs the C function over the rows with the GIL
 released (split over threads with OpenMP when asked), and turns the C status codes into
-Python errors. All the mathematics is in the generated C.
+Python errors. A batch of at least ``stewart_batch_lanes()`` rows goes through the C batch
+function (``stewart_batch_<name>``, several states per vector instruction), a single state
+or a smaller batch through the scalar one. All the mathematics is in the generated C.
 """
 
 import numpy as np
@@ -49,6 +51,20 @@ ctypedef int (*step_fn)(const stewart_params *, const double *, const double *, 
                         double *, double *) noexcept nogil
 ctypedef int (*step_derivatives_fn)(const stewart_params *, const double *, const double *, const double *,
                                     double, double *, double *, double *, double *) noexcept nogil
+
+ctypedef int (*batch_state_fn)(const stewart_params *, size_t, const double *, double *, int *) noexcept nogil
+ctypedef int (*batch_rate_fn)(const stewart_params *, size_t, const double *, const double *, double *,
+                              int *) noexcept nogil
+ctypedef int (*batch_dynamics_fn)(const stewart_params *, size_t, const double *, const double *,
+                                  const double *, double *, int *) noexcept nogil
+ctypedef int (*batch_step_fn)(const stewart_params *, size_t, const double *, const double *, const double *,
+                              double, double *, double *, int *) noexcept nogil
+
+#: Rows of a batch function's states evaluated at once (one per vector lane).
+LANES = stewart_batch_lanes()
+#: Rows a thread takes at a time from a batch: whole blocks of LANES rows, a few hundred states'
+#: inputs and outputs in the core's cache.
+cdef Py_ssize_t BATCH_BLOCK = 32 * stewart_batch_lanes()
 
 cdef enum:
     NONFINITE_INPUT = -1  # status of a row whose input is not finite (C status codes are >= 0)
@@ -106,6 +122,24 @@ _STEP = ((6,), (6,))
 _STEP_DERIVATIVES = ((6,), (6,), (12, 12), (12, 6))
 
 
+cdef inline void _batch_call(const stewart_params *p, int kind, void *fn, Py_ssize_t start, Py_ssize_t count,
+                             const double *x0, const double *x1, const double *x2, double scalar,
+                             double **outs, const int *widths, int *status) noexcept nogil:
+    """Rows start ... start + count - 1 of a batch through the batch function ``fn``."""
+    cdef double *out = outs[0] + widths[0] * start
+    x0 += 6 * start
+    x1 += 6 * start
+    x2 += 6 * start
+    if kind == 1:
+        (<batch_state_fn>fn)(p, count, x0, out, status + start)
+    elif kind == 2:
+        (<batch_rate_fn>fn)(p, count, x0, x1, out, status + start)
+    elif kind == 3:
+        (<batch_dynamics_fn>fn)(p, count, x0, x1, x2, out, status + start)
+    else:
+        (<batch_step_fn>fn)(p, count, x0, x1, x2, scalar, out, outs[1] + widths[1] * start, status + start)
+
+
 @cython.final
 cdef class Kernel:
     """The compiled model for one parameter set. ``threads`` > 1 splits batches over
@@ -116,10 +150,12 @@ cdef class Kernel:
         self.threads = _checks.thread_count(threads)
 
     cdef object _run(self, str fname, int kind, void *fn, tuple names, tuple values,
-                     tuple shapes, bint return_mask, double scalar=0.0):
+                     tuple shapes, bint return_mask, double scalar=0.0, void *batch_fn=NULL):
         """Evaluate ``fn`` row by row: ``kind`` 1-3 input arrays and one output, or a
         ``Signature`` (three inputs, and ``scalar`` the same for every row); an output array
-        per row shape in ``shapes``, returned as it is for one, as a tuple for several."""
+        per row shape in ``shapes``, returned as it is for one, as a tuple for several.
+        ``batch_fn``, the batch function of ``fn`` (``kind`` 1-3 or ``STEP``), if it has one,
+        evaluates batches of ``LANES`` rows or more."""
         cdef cnp.ndarray a0, a1, a2, status
         cdef const double *p0
         cdef const double *p1
@@ -172,7 +208,16 @@ cdef class Kernel:
         p2 = <const double *>cnp.PyArray_DATA(a2)
         ps = <int *>cnp.PyArray_DATA(status)
 
-        if n == 1:
+        if batch and batch_fn != NULL and n >= LANES:
+            # The batch function takes whole arrays: a row broadcast against the batch is copied.
+            if a0.ndim == 1: a0 = np.ascontiguousarray(np.broadcast_to(a0, (n, 6)))
+            if a1.ndim == 1: a1 = np.ascontiguousarray(np.broadcast_to(a1, (n, 6)))
+            if a2.ndim == 1: a2 = np.ascontiguousarray(np.broadcast_to(a2, (n, 6)))
+            self._batch(kind, batch_fn, n, <const double *>cnp.PyArray_DATA(a0),
+                        <const double *>cnp.PyArray_DATA(a1), <const double *>cnp.PyArray_DATA(a2),
+                        scalar, po, widths, ps)
+            failures = np.count_nonzero(status)
+        elif n == 1:
             failures = self._row(kind, fn, p0, p1, p2, scalar, po, widths, nout, 0, ps)
         elif nthreads > 1:
             for i in prange(n, nogil=True, num_threads=nthreads, schedule="static"):
@@ -187,6 +232,20 @@ cdef class Kernel:
         if failures == 0:
             return (result, np.ones(n, dtype=bool) if batch else True) if return_mask else result
         return self._failed(fname, names, (a0, a1, a2)[:arity], result, status, batch, return_mask)
+
+    cdef void _batch(self, int kind, void *fn, Py_ssize_t n, const double *x0, const double *x1,
+                     const double *x2, double scalar, double **outs, const int *widths,
+                     int *status) noexcept nogil:
+        """The batch function ``fn`` (``kind`` 1-3 inputs and one output, or ``STEP``) on n rows,
+        in blocks of BATCH_BLOCK rows split over the threads."""
+        cdef Py_ssize_t b, start, count, nblocks = (n + BATCH_BLOCK - 1) // BATCH_BLOCK
+        if self.threads > 1 and nblocks > 1:
+            for b in prange(nblocks, num_threads=self.threads, schedule="static"):
+                start = b * BATCH_BLOCK
+                count = min(BATCH_BLOCK, n - start)
+                _batch_call(&self.p, kind, fn, start, count, x0, x1, x2, scalar, outs, widths, status)
+        else:
+            _batch_call(&self.p, kind, fn, 0, n, x0, x1, x2, scalar, outs, widths, status)
 
     cdef int _row(self, int kind, void *fn, const double *x0, const double *x1, const double *x2,
                   double scalar, double **outs, const int *widths, int nout, Py_ssize_t row,
@@ -218,7 +277,8 @@ cdef class Kernel:
 
     cdef object _failed(self, str fname, tuple names, tuple arrays, object out,
                         cnp.ndarray status, bint batch, bint return_mask):
-        if np.any(status == NONFINITE_INPUT):
+        # The batch functions report a row with a non-finite input as STEWART_ERR_NONFINITE.
+        if np.any((status == NONFINITE_INPUT) | (status == STEWART_ERR_NONFINITE)):
             for name, arr in zip(names, arrays):
                 _checks.finite_states(name, arr)
         rows = np.flatnonzero(status != STEWART_OK)
@@ -248,46 +308,57 @@ cdef class Kernel:
         return stewart_forward_dynamics(&self.p, x, xd, tau, out)
 
     def leg_lengths(self, x, *, return_mask=False):
-        return self._run("leg_lengths", 1, <void *>stewart_leg_lengths, ("x",), (x,), _VECTOR, return_mask)
+        return self._run("leg_lengths", 1, <void *>stewart_leg_lengths, ("x",), (x,), _VECTOR, return_mask,
+                         0.0, <void *>stewart_batch_leg_lengths)
 
     def jacobian(self, x, *, return_mask=False):
-        return self._run("jacobian", 1, <void *>stewart_jacobian, ("x",), (x,), _MATRIX, return_mask)
+        return self._run("jacobian", 1, <void *>stewart_jacobian, ("x",), (x,), _MATRIX, return_mask,
+                         0.0, <void *>stewart_batch_jacobian)
 
     def leg_rates(self, x, xd, *, return_mask=False):
         """``(L, Ldot)`` from the C function's one array ``[L; Ldot]`` per row."""
-        return _parts(self._run("leg_rates", 2, <void *>stewart_leg_rates, ("x", "xd"), (x, xd), ((12,),), return_mask),
+        return _parts(self._run("leg_rates", 2, <void *>stewart_leg_rates, ("x", "xd"), (x, xd), ((12,),), return_mask,
+                                0.0, <void *>stewart_batch_leg_rates),
                       return_mask, ((6,), (6,)))
 
     def all_terms(self, x, xd, *, return_mask=False):
         """``(M, V xd, G, J_C)`` from the C function's one array ``[M; Vxd; G; JC]`` per row."""
-        return _parts(self._run("all_terms", 2, <void *>stewart_all_terms, ("x", "xd"), (x, xd), ((84,),), return_mask),
+        return _parts(self._run("all_terms", 2, <void *>stewart_all_terms, ("x", "xd"), (x, xd), ((84,),), return_mask,
+                                0.0, <void *>stewart_batch_all_terms),
                       return_mask, ((6, 6), (6,), (6,), (6, 6)))
 
     def mass_matrix(self, x, *, return_mask=False):
-        return self._run("mass_matrix", 1, <void *>stewart_mass_matrix, ("x",), (x,), _MATRIX, return_mask)
+        return self._run("mass_matrix", 1, <void *>stewart_mass_matrix, ("x",), (x,), _MATRIX, return_mask,
+                         0.0, <void *>stewart_batch_mass_matrix)
 
     def twist_mass_matrix(self, x, *, return_mask=False):
         return self._run("twist_mass_matrix", 1, <void *>stewart_twist_mass_matrix, ("x",), (x,), _MATRIX,
-                         return_mask)
+                         return_mask,
+                         0.0, <void *>stewart_batch_twist_mass_matrix)
 
     def gravity_vector(self, x, *, return_mask=False):
-        return self._run("gravity_vector", 1, <void *>stewart_gravity_vector, ("x",), (x,), _VECTOR, return_mask)
+        return self._run("gravity_vector", 1, <void *>stewart_gravity_vector, ("x",), (x,), _VECTOR, return_mask,
+                         0.0, <void *>stewart_batch_gravity_vector)
 
     def coriolis_matrix(self, x, xd, *, return_mask=False):
         return self._run("coriolis_matrix", 2, <void *>stewart_coriolis_matrix, ("x", "xd"), (x, xd), _MATRIX,
-                         return_mask)
+                         return_mask,
+                         0.0, <void *>stewart_batch_coriolis_matrix)
 
     def coriolis_vector(self, x, xd, *, return_mask=False):
         return self._run("coriolis_vector", 2, <void *>stewart_coriolis_vector, ("x", "xd"), (x, xd), _VECTOR,
-                         return_mask)
+                         return_mask,
+                         0.0, <void *>stewart_batch_coriolis_vector)
 
     def inverse_dynamics(self, x, xd, xdd, *, return_mask=False):
         return self._run("inverse_dynamics", 3, <void *>stewart_inverse_dynamics, ("x", "xd", "xdd"),
-                         (x, xd, xdd), _VECTOR, return_mask)
+                         (x, xd, xdd), _VECTOR, return_mask,
+                         0.0, <void *>stewart_batch_inverse_dynamics)
 
     def forward_dynamics(self, x, xd, tau, *, return_mask=False):
         return self._run("forward_dynamics", 3, <void *>stewart_forward_dynamics, ("x", "xd", "tau"),
-                         (x, xd, tau), _VECTOR, return_mask)
+                         (x, xd, tau), _VECTOR, return_mask,
+                         0.0, <void *>stewart_batch_forward_dynamics)
 
     def inverse_dynamics_derivatives(self, x, xd, xdd, *, return_mask=False):
         """``(tau, dtau_dx, dtau_dxd, dtau_dxdd)``."""
@@ -306,4 +377,4 @@ cdef class Kernel:
             return self._run("rk4_step", STEP_DERIVATIVES, <void *>stewart_rk4_step_derivatives, ("x", "xd", "tau"),
                              (x, xd, tau), _STEP_DERIVATIVES, return_mask, dt)
         return self._run("rk4_step", STEP, <void *>stewart_rk4_step, ("x", "xd", "tau"), (x, xd, tau), _STEP,
-                         return_mask, dt)
+                         return_mask, dt, <void *>stewart_batch_rk4_step)

@@ -194,3 +194,21 @@ def test_pinocchio_rows_compare_one_call_and_batches():
     rows = [r for r in report.rows({"pinocchio": fig}, {}) if r[0].startswith("Pinocchio")]
     assert [r[1:] for r in rows] == [("1.30 us", "13.0 us", "10.0x"), ("5.50 us", "77.0 us", "14.0x"),
                                      ("2.20 us/state", "77.0 us", "35.0x"), ("", "1.8e-15 / 1.3e-15", "")]
+
+
+def test_batch_loop_rows_mark_the_batch_targets():
+    """The vector batch table: per-state times in us, the speed-up over the scalar loop, and
+    each target met or missed by the figures given."""
+    from benchmarks import batch_loop
+
+    loop = {"lanes": 8, "inverse_dynamics": (0.40e-6, 0.10e-6, 2e-15, 0), "forward_dynamics": (0.6e-6, 0.16e-6, 1e-15, 3),
+            "mass_matrix": (0.26e-6, 0.08e-6, 0.0, 0), "coriolis_vector": (0.27e-6, 0.05e-6, 0.0, 0),
+            "gravity_vector": (0.1e-6, 0.09e-6, 0.0, 0)}
+    fig = {"c_loop": loop, "python_inverse_dynamics_us": 0.105, "python_threads2_inverse_dynamics_us": 0.05}
+    inverse, forward, _, _, gravity, python, threads = batch_loop.rows(fig)
+    assert inverse[1:] == ("0.400 us", "0.100 us (4.0x)", "<= 0.10 us, >= 3.5x", "met")
+    assert forward[4] == "MISSED" and "3 failed rows" in forward[0]
+    assert gravity[2:] == ("0.090 us (1.1x)", "<= 0.08 us", "MISSED")
+    assert python[2:] == ("0.105 us (1.05x C loop)", "<= 1.10x C loop", "met")
+    assert threads[2:] == ("20.0 M states/s (2.10x 1 thread)", ">= 18 M/s, >= 1.8x", "met")
+    assert "| vector (8 lanes) |" in batch_loop.format_rows(fig).replace("  ", "")

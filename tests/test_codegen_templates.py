@@ -13,7 +13,7 @@ TEMPLATES = sorted((ROOT / "codegen" / "templates").glob("*.[ch]"))
 
 
 def test_there_are_templates():
-    assert [t.name for t in TEMPLATES] == ["rk4.c", "runtime.c"]
+    assert [t.name for t in TEMPLATES] == ["rk4.c", "runtime.c", "vector.c"]
 
 
 @pytest.mark.parametrize("template", TEMPLATES, ids=lambda t: t.name)

@@ -100,6 +100,155 @@ static void check_jacobian(const char *what, const char *name, three_input_fn f,
     check(err <= 1e-6, what, name, err);
 }
 
+
+/* The batch functions against the scalar ones: every function with a batch variant, as
+ * (p, inputs[3], out) and (p, n, inputs[3], out, status). */
+typedef int (*row_fn)(const stewart_params *, const double *const *, double *);
+typedef int (*batch_fn)(const stewart_params *, size_t, const double *const *, double *, int *);
+
+#define BATCHED_1(name)                                                                        \
+    static int row_##name(const stewart_params *p, const double *const *in, double *out) {     \
+        return stewart_##name(p, in[0], out);                                                  \
+    }                                                                                          \
+    static int batch_##name(const stewart_params *p, size_t n, const double *const *in,         \
+                            double *out, int *status) {                                        \
+        return stewart_batch_##name(p, n, in[0], out, status);                                 \
+    }
+#define BATCHED_2(name)                                                                        \
+    static int row_##name(const stewart_params *p, const double *const *in, double *out) {     \
+        return stewart_##name(p, in[0], in[1], out);                                           \
+    }                                                                                          \
+    static int batch_##name(const stewart_params *p, size_t n, const double *const *in,         \
+                            double *out, int *status) {                                        \
+        return stewart_batch_##name(p, n, in[0], in[1], out, status);                          \
+    }
+#define BATCHED_3(name)                                                                        \
+    static int row_##name(const stewart_params *p, const double *const *in, double *out) {     \
+        return stewart_##name(p, in[0], in[1], in[2], out);                                    \
+    }                                                                                          \
+    static int batch_##name(const stewart_params *p, size_t n, const double *const *in,         \
+                            double *out, int *status) {                                        \
+        return stewart_batch_##name(p, n, in[0], in[1], in[2], out, status);                   \
+    }
+BATCHED_1(leg_lengths)
+BATCHED_1(jacobian)
+BATCHED_2(leg_rates)
+BATCHED_1(mass_matrix)
+BATCHED_1(twist_mass_matrix)
+BATCHED_2(coriolis_matrix)
+BATCHED_2(coriolis_vector)
+BATCHED_1(gravity_vector)
+BATCHED_2(all_terms)
+BATCHED_3(inverse_dynamics)
+BATCHED_3(forward_dynamics)
+
+#define MAX_ROWS 1003
+#define RK4_DT 1e-3
+
+/* The RK4 step of RK4_DT, [xn; xdn] a row. */
+static int row_rk4_step(const stewart_params *p, const double *const *in, double *out) {
+    return stewart_rk4_step(p, in[0], in[1], in[2], RK4_DT, out, out + 6);
+}
+
+static int batch_rk4_step(const stewart_params *p, size_t n, const double *const *in, double *out, int *status) {
+    static double xn[MAX_ROWS * 6], xdn[MAX_ROWS * 6];
+    int first = stewart_batch_rk4_step(p, n, in[0], in[1], in[2], RK4_DT, xn, xdn, status);
+    for (size_t r = 0; r < n; ++r) {
+        memcpy(out + 12 * r, xn + 6 * r, sizeof(double[6]));
+        memcpy(out + 12 * r + 6, xdn + 6 * r, sizeof(double[6]));
+    }
+    return first;
+}
+
+static const struct {
+    const char *name;
+    row_fn row;
+    batch_fn batch;
+    int size;
+} BATCHED[] = {
+    {"leg_lengths", row_leg_lengths, batch_leg_lengths, 6},
+    {"jacobian", row_jacobian, batch_jacobian, 36},
+    {"leg_rates", row_leg_rates, batch_leg_rates, 12},
+    {"mass_matrix", row_mass_matrix, batch_mass_matrix, 36},
+    {"twist_mass_matrix", row_twist_mass_matrix, batch_twist_mass_matrix, 36},
+    {"coriolis_matrix", row_coriolis_matrix, batch_coriolis_matrix, 36},
+    {"coriolis_vector", row_coriolis_vector, batch_coriolis_vector, 6},
+    {"gravity_vector", row_gravity_vector, batch_gravity_vector, 6},
+    {"all_terms", row_all_terms, batch_all_terms, 84},
+    {"inverse_dynamics", row_inverse_dynamics, batch_inverse_dynamics, 6},
+    {"forward_dynamics", row_forward_dynamics, batch_forward_dynamics, 6},
+    {"rk4_step", row_rk4_step, batch_rk4_step, 12},
+};
+
+/* A number in [-1, 1) from the state of a linear congruential generator. */
+static double uniform(unsigned long long *state) {
+    *state = *state * 6364136223846793005ULL + 1442695040888963407ULL;
+    return (double)(*state >> 11) / 4503599627370496.0 - 1.0;
+}
+
+/* n rows of inputs around the case's state, with a singular row every 13: the platform in the
+ * base plane (J_C singular), a zero-length leg, theta = 90 deg, a vertical leg, a NaN. */
+static void batch_states(const reference_case *rc, size_t n, double in[3][MAX_ROWS][6]) {
+    unsigned long long seed = 12345;
+    const stewart_params *p = &rc->params;
+    for (size_t r = 0; r < n; ++r) {
+        for (int k = 0; k < 6; ++k) {
+            in[0][r][k] = rc->x[k] + 0.05 * uniform(&seed);
+            in[1][r][k] = rc->xd[k] + 0.5 * uniform(&seed);
+            in[2][r][k] = rc->xdd[k] + 0.5 * uniform(&seed);
+        }
+        switch (r % 13) {
+        case 3:
+            for (int k = 0; k < 6; ++k) in[0][r][k] = 0.0;
+            break;
+        case 5:
+        case 9:
+            for (int k = 0; k < 6; ++k) in[0][r][k] = 0.0;
+            for (int k = 0; k < 3; ++k) in[0][r][k] = p->base_points[r % 13 == 5 ? 0 : 2][k] - p->platform_points[r % 13 == 5 ? 0 : 2][k];
+            in[0][r][2] += r % 13 == 5 ? 0.0 : 0.3;
+            break;
+        case 7:
+            in[0][r][4] = acos(0.0);
+            break;
+        case 11:
+            in[1][r][1] = NAN;
+            break;
+        }
+    }
+}
+
+/* Every batch function against its scalar function on the case's batch of n rows: each row's
+ * status and outputs as the scalar function gives them for the row alone (1e-14 of the row's
+ * largest output), the first failing row's status as the return value. */
+static void check_batches(const reference_case *rc, size_t n, double *worst, unsigned *seen) {
+    static double in[3][MAX_ROWS][6], got[MAX_ROWS * 84], want[84];
+    static int status[MAX_ROWS];
+    batch_states(rc, n, in);
+    const double *const rows[3] = {in[0][0], in[1][0], in[2][0]};
+    for (size_t f = 0; f < sizeof BATCHED / sizeof BATCHED[0]; ++f) {
+        int first = BATCHED[f].batch(&rc->params, n, rows, got, status), want_first = STEWART_OK;
+        int same = 1;
+        for (size_t r = 0; r < n; ++r) {
+            const double *const row[3] = {in[0][r], in[1][r], in[2][r]};
+            int st = BATCHED[f].row(&rc->params, row, want);
+            if (want_first == STEWART_OK) want_first = st;
+            same &= st == status[r];
+            *seen |= 1u << st;
+            const double *g = got + r * (size_t)BATCHED[f].size;
+            if (st != STEWART_OK) {
+                for (int k = 0; k < BATCHED[f].size; ++k) same &= isnan(g[k]);
+                continue;
+            }
+            double err = rel_error(g, want, BATCHED[f].size);
+            if (!(err <= *worst)) *worst = err;
+            same &= err <= 1e-14;
+        }
+        char what[80];
+        snprintf(what, sizeof what, "batch %s, %zu rows", BATCHED[f].name, n);
+        check(same && first == want_first, what, rc->name, *worst);
+    }
+}
+
 int main(void) {
     double worst = 0.0, worst_fd = 0.0;
     int general = 0;
@@ -286,7 +435,22 @@ int main(void) {
     }
     check(strcmp(stewart_status_message(-1), "unknown status") == 0, "unknown status message", "", -1);
 
+    /* Batches of 1, W - 1, W + 1 and 1000 + 3 rows, with singular rows, for every case. */
+    double worst_batch = 0.0;
+    unsigned seen = 0;
+    const size_t lanes = (size_t)stewart_batch_lanes();
+    const size_t sizes[] = {1, lanes - 1, lanes + 1, MAX_ROWS};
+    for (int c = 0; c < NCASES; ++c) {
+        for (size_t k = 0; k < sizeof sizes / sizeof sizes[0]; ++k) check_batches(&CASES[c], sizes[k], &worst_batch, &seen);
+    }
+    const int mixed[] = {STEWART_OK, STEWART_ERR_NONFINITE, STEWART_ERR_LEG_DEGENERATE, STEWART_ERR_JACOBIAN_SINGULAR,
+                         STEWART_ERR_EULER_SINGULAR, STEWART_ERR_LEG_VERTICAL};
+    for (size_t k = 0; k < sizeof mixed / sizeof mixed[0]; ++k) {
+        check((seen >> mixed[k]) & 1u, "batches: rows of this status among the rows", stewart_status_message(mixed[k]), seen);
+    }
+
     printf("generated C vs numeric reference: worst relative error %.3e over %d states\n", worst, NCASES);
+    printf("batches (%zu lanes) vs the scalar functions: worst relative difference %.3e\n", lanes, worst_batch);
     printf("derivatives vs central differences of the primal functions: worst relative error %.3e\n", worst_fd);
     printf("%d passed, %d failed\n", passed, failed);
     return failed != 0;

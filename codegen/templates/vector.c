@@ -1,0 +1,277 @@
+/* The vector path of stewart_model.c (codegen/templates/vector.c, copied verbatim by the
+ * generator before the generated kernels): STEWART_LANES states evaluated at once, one per
+ * lane of a GCC/Clang vector of doubles.  The generated vector kernels (vkernel_*), the
+ * vector solvers (vbareiss_*, vldl_*) and the block functions of the batch functions
+ * (vblock_*) work on structure-of-arrays blocks: entry k of the block's states is one vector.
+ * Every status test becomes a lane mask (all bits set: true), and every step returns the
+ * status of each lane (0: STEWART_OK), merged so that a lane keeps its first error, as the
+ * scalar functions stop at theirs.  batch_rows carries a batch of row-major states through
+ * a block function, block by block, with the transposes, the finiteness tests and the NaN
+ * rows of the scalar functions.  Compiles on its own against stewart_model.h. */
+#include "stewart_model.h"
+
+#include <float.h>
+#include <math.h>
+#include <stddef.h>
+
+#if defined(__SSE2__)
+#include <immintrin.h>
+#elif defined(__aarch64__)
+#include <arm_neon.h>
+#endif
+
+/* STEWART_LANES doubles, and the masks (and per-lane statuses) comparisons of them give. */
+typedef double stewart_vd __attribute__((vector_size(8 * STEWART_LANES)));
+typedef __typeof__((stewart_vd){0} < (stewart_vd){0}) stewart_vl;
+
+int stewart_batch_lanes(void)
+{
+    return STEWART_LANES;
+}
+
+static stewart_vd vsplat(double a)
+{
+    stewart_vd v;
+    int lane;
+    for (lane = 0; lane < STEWART_LANES; ++lane) {
+        v[lane] = a;
+    }
+    return v;
+}
+
+/* sqrt, lane-wise (correctly rounded, as sqrt). */
+static stewart_vd vsqrt(stewart_vd a)
+{
+#if STEWART_LANES == 8 && defined(__AVX512F__)
+    return (stewart_vd)_mm512_sqrt_pd((__m512d)a);
+#elif STEWART_LANES == 4 && defined(__AVX__)
+    return (stewart_vd)_mm256_sqrt_pd((__m256d)a);
+#elif STEWART_LANES == 2 && defined(__SSE2__)
+    return (stewart_vd)_mm_sqrt_pd((__m128d)a);
+#elif STEWART_LANES == 2 && defined(__aarch64__)
+    return (stewart_vd)vsqrtq_f64((float64x2_t)a);
+#else
+    int lane;
+    for (lane = 0; lane < STEWART_LANES; ++lane) {
+        a[lane] = sqrt(a[lane]);
+    }
+    return a;
+#endif
+}
+
+/* All lanes STEWART_OK (a mask of no lanes). */
+static stewart_vl vnone(void)
+{
+    const stewart_vd zero = vsplat(0.0);
+    return zero != zero;
+}
+
+/* |a|, lane-wise (the sign bit cleared). */
+static stewart_vd vabs(stewart_vd a)
+{
+    return (stewart_vd)((stewart_vl)a & ~(stewart_vl)vsplat(-0.0));
+}
+
+/* -a where mask, else a, lane-wise. */
+static stewart_vd vnegate(stewart_vl mask, stewart_vd a)
+{
+    return (stewart_vd)((stewart_vl)a ^ (mask & (stewart_vl)vsplat(-0.0)));
+}
+
+/* a where mask, else b, lane-wise. */
+static stewart_vd vselect(stewart_vl mask, stewart_vd a, stewart_vd b)
+{
+    return (stewart_vd)(((stewart_vl)a & mask) | ((stewart_vl)b & ~mask));
+}
+
+/* sin (cosine == 0) or cos of a, lane-wise, to within an ulp of libm's: a = n pi/2 + r
+ * (Cody-Waite, pi/2 in three parts of 33 bits, so n pi/2 is exact for |n| < 2^20), then the
+ * fdlibm kernels of sin and cos on |r| <= pi/4 by the quadrant n mod 4.  Lanes with
+ * |a| >= 2^19 (or not finite) take libm's. */
+static stewart_vd vsincos(stewart_vd a, int cosine)
+{
+    const double shift = 6755399441055744.0; /* 1.5 * 2^52: t's last bits hold n */
+    const stewart_vd t = a * 6.36619772367581382433e-01 + shift, n = t - shift;
+    const stewart_vd r = ((a - n * 1.57079632673412561417e+00) - n * 6.07710050630396597660e-11)
+        - n * 2.02226624871116645580e-21;
+    const stewart_vl quadrant = ((stewart_vl)t & 3) + cosine;
+    const stewart_vd z = r * r, hz = 0.5 * z, w = 1.0 - hz;
+    const stewart_vd sin_r = r + z * r * (-1.66666666666666324348e-01 + z * (8.33333333332248946124e-03
+        + z * (-1.98412698298579493134e-04 + z * (2.75573137070700676789e-06 + z * (-2.50507602534068634195e-08
+        + z * 1.58969099521155010221e-10)))));
+    const stewart_vd cos_r = w + (((1.0 - w) - hz) + z * z * (4.16666666666666019037e-02
+        + z * (-1.38888888888741095749e-03 + z * (2.48015872894767294178e-05 + z * (-2.75573143513906633035e-07
+        + z * (2.08757232129817482790e-09 + z * -1.13596475577881948265e-11))))));
+    stewart_vd v = vnegate((quadrant & 2) != 0, vselect((quadrant & 1) != 0, cos_r, sin_r));
+    const stewart_vl far = ~(vabs(a) < 524288.0);
+    int lane;
+    for (lane = 0; lane < STEWART_LANES; ++lane) {
+        if (far[lane]) {
+            v[lane] = cosine ? cos(a[lane]) : sin(a[lane]);
+        }
+    }
+    return v;
+}
+
+static stewart_vd vsin(stewart_vd a)
+{
+    return vsincos(a, 0);
+}
+
+static stewart_vd vcos(stewart_vd a)
+{
+    return vsincos(a, 1);
+}
+
+/* The statuses `status`, with `next` in the lanes still STEWART_OK (a lane keeps its first error). */
+static stewart_vl vmerge(stewart_vl status, stewart_vl next)
+{
+    return status | ((status == 0) & next);
+}
+
+/* Lanes whose n entries v[k] are all finite. */
+static stewart_vl vfinite(const stewart_vd *v, int n)
+{
+    stewart_vl ok = ~vnone();
+    int k;
+    for (k = 0; k < n; ++k) {
+        ok &= vabs(v[k]) <= DBL_MAX;
+    }
+    return ok;
+}
+
+/* check_legs of runtime.c, lane by lane. */
+static stewart_vl vcheck_legs(const stewart_vd L2[6], const stewart_vd *h2)
+{
+    stewart_vl degenerate = vnone(), overflow = vnone(), vertical = vnone();
+    int i;
+    for (i = 0; i < 6; ++i) {
+        degenerate |= ~(L2[i] >= STEWART_DEGENERATE_TOL);
+        overflow |= ~(L2[i] <= DBL_MAX);
+        if (h2 != NULL) {
+            vertical |= ~(h2[i] >= STEWART_VERTICAL_TOL * L2[i]);
+        }
+    }
+    return vmerge(vmerge(degenerate & STEWART_ERR_LEG_DEGENERATE, overflow & STEWART_ERR_NONFINITE),
+                  vertical & STEWART_ERR_LEG_VERTICAL);
+}
+
+/* check_euler of runtime.c, lane by lane. */
+static stewart_vl vcheck_euler(const stewart_vd ctheta[1])
+{
+    return ~(vabs(ctheta[0]) >= STEWART_EULER_TOL) & STEWART_ERR_EULER_SINGULAR;
+}
+
+/* pose_accelerations of runtime.c over a block. */
+static stewart_vl vpose_accelerations(const stewart_vd JAinv[9], int n, const stewart_vd *y, stewart_vd *xdd)
+{
+    int i, c;
+    for (c = 0; c < n; ++c) {
+        for (i = 0; i < 3; ++i) {
+            xdd[i * n + c] = y[i * n + c];
+            xdd[(3 + i) * n + c] = JAinv[3 * i] * y[3 * n + c] + JAinv[3 * i + 1] * y[4 * n + c]
+                + JAinv[3 * i + 2] * y[5 * n + c];
+        }
+    }
+    return vnone();
+}
+
+/* A block function: the outputs out[j] (size[j] vectors each) of the block of states whose
+ * inputs are in[i] (6 vectors each), with the function's scalar input (if it has one);
+ * returns each lane's status. */
+typedef stewart_vl (*vblock_fn)(const stewart_params *p, double scalar, const stewart_vd *const in[],
+                                stewart_vd *const out[]);
+
+/* rk4 of rk4.c without the Jacobians over a block of states: in = {x, xd, tau}, out = {xn,
+ * xdn}, the stages' accelerations by `forward`, the block function of stewart_forward_dynamics,
+ * each stage with the checks stewart_forward_dynamics makes of its state and its result. */
+static stewart_vl vrk4_step(const stewart_params *p, vblock_fn forward, double dt, const stewart_vd *const in[],
+                            stewart_vd *const out[])
+{
+    static const double fraction[4] = {0.0, 0.5, 0.5, 1.0};
+    stewart_vd s[12], t[12], k[4][12];
+    stewart_vl status = vsplat(isfinite(dt) ? 0.0 : 1.0) != 0.0;
+    int i, stage;
+    status &= STEWART_ERR_NONFINITE;
+    for (i = 0; i < 6; ++i) {
+        s[i] = in[0][i];
+        s[6 + i] = in[1][i];
+    }
+    for (stage = 0; stage < 4; ++stage) {
+        const double h = fraction[stage] * dt;
+        for (i = 0; i < 12; ++i) {
+            t[i] = stage ? s[i] + h * k[stage - 1][i] : s[i];
+        }
+        for (i = 0; i < 6; ++i) {
+            k[stage][i] = t[6 + i];
+        }
+        status = vmerge(status, ~vfinite(t, 12) & STEWART_ERR_NONFINITE);
+        status = vmerge(status, forward(p, 0.0, (const stewart_vd *const[]){t, t + 6, in[2]},
+                                        (stewart_vd *const[]){k[stage] + 6}));
+        status = vmerge(status, ~vfinite(k[stage] + 6, 6) & STEWART_ERR_NONFINITE);
+    }
+    for (i = 0; i < 12; ++i) {
+        t[i] = s[i] + dt / 6.0 * (k[0][i] + 2.0 * k[1][i] + 2.0 * k[2][i] + k[3][i]);
+    }
+    for (i = 0; i < 6; ++i) {
+        out[0][i] = t[i];
+        out[1][i] = t[6 + i];
+    }
+    return status;
+}
+
+/* The n rows of a batch through `block`, STEWART_LANES rows at a time (the last block padded
+ * with copies of the last row): rows[i] holds input i (n x 6, row-major), results[j] output j
+ * (n x size[j]), in[i] and out[j] the block's buffers.  Row r gets the status of the scalar
+ * function in status[r] (status may be NULL): STEWART_ERR_NONFINITE when the parameters
+ * (params_ok == 0) or its inputs are not finite, else its lane's status, else
+ * STEWART_ERR_NONFINITE if an output is not finite; its outputs are NaN unless STEWART_OK.
+ * Returns the status of the first row that is not STEWART_OK, or STEWART_OK. */
+static int batch_rows(int params_ok, const stewart_params *p, vblock_fn block, double scalar, size_t n,
+                      int nin, const double *const rows[], stewart_vd *const in[],
+                      int nout, double *const results[], stewart_vd *const out[], const int size[],
+                      int *status)
+{
+    int first = STEWART_OK;
+    size_t base;
+    for (base = 0; base < n; base += STEWART_LANES) {
+        stewart_vl ok = vsplat(params_ok ? 0.0 : 1.0) == 0.0, lanes;
+        int i, k, lane;
+        for (i = 0; i < nin; ++i) {
+            for (lane = 0; lane < STEWART_LANES; ++lane) {
+                const double *row = rows[i] + 6 * (base + lane < n ? base + lane : n - 1);
+                for (k = 0; k < 6; ++k) {
+                    in[i][k][lane] = row[k];
+                }
+            }
+            ok &= vfinite(in[i], 6);
+        }
+        lanes = vmerge(~ok & STEWART_ERR_NONFINITE, block(p, scalar, (const stewart_vd *const *)in, out));
+        ok = lanes == 0;
+        for (i = 0; i < nout; ++i) {
+            ok &= vfinite(out[i], size[i]);
+        }
+        lanes = vmerge(lanes, ~ok & STEWART_ERR_NONFINITE);
+        for (i = 0; i < nout; ++i) {
+            for (k = 0; k < size[i]; ++k) {
+                out[i][k] = vselect(lanes == 0, out[i][k], vsplat(NAN));
+            }
+        }
+        for (lane = 0; lane < STEWART_LANES && base + lane < n; ++lane) {
+            const size_t r = base + lane;
+            for (i = 0; i < nout; ++i) {
+                double *result = results[i] + size[i] * r;
+                for (k = 0; k < size[i]; ++k) {
+                    result[k] = out[i][k][lane];
+                }
+            }
+            if (status != NULL) {
+                status[r] = (int)lanes[lane];
+            }
+            if (first == STEWART_OK) {
+                first = (int)lanes[lane];
+            }
+        }
+    }
+    return first;
+}
