@@ -4,11 +4,13 @@ The public API: :class:`Platform` (the compiled model), :class:`PlatformParams` 
 presets, the kinematics functions, the numeric reference model :mod:`stewart.reference`,
 simulation under control (:func:`simulate`, trajectories, controllers), the errors
 raised for inputs where the model is undefined, and the generated C model's files for C
-programs (:func:`c_include_dir`, :func:`c_sources`, :mod:`stewart.capi`).
+programs (:func:`c_include_dir`, :func:`c_sources`, :mod:`stewart.capi`), and how the
+compiled model was built and which of its instruction-set paths runs (:func:`build_info`).
 """
 
 from . import capi, kinematics, newton_euler, reference, workspace
 from .capi import c_include_dir, c_sources
+from ._kernel import build_info
 from .errors import ConvergenceError, SingularityError
 from .kinematics import (
     euler_jacobian,
@@ -67,6 +69,7 @@ __all__ = [
     "capi",
     "c_include_dir",
     "c_sources",
+    "build_info",
 ]
 
 __version__ = "0.1.0"

@@ -29,7 +29,8 @@ UV = find_uv_bin()
 #: What a build needs, as paths inside the sdist (after its ``stewart-<version>/`` prefix).
 SDIST_NEEDS = {"setup.py", "pyproject.toml", "MANIFEST.in", "README.md", "LICENSE",
                "stewart/_kernel.pyx", "stewart/_kernel.pxd", "stewart/_simulate.pyx",
-               "generated/stewart_model.h", "generated/stewart_model.c", "generated/stewart_model.pxd"}
+               "generated/stewart_model.h", "generated/stewart_model.c", "generated/stewart_model.pxd",
+               "generated/stewart_dispatch.h", "generated/stewart_target.c"}
 #: Cython's C translation of the .pyx: written at build time, shipped in neither.
 CYTHON_OUTPUT = {"stewart/_kernel.c", "stewart/_simulate.c"}
 
