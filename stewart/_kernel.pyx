@@ -4,8 +4,13 @@
 It only moves arrays: it takes one state ``(6,)`` or a batch ``(N, 6)`` (a single row
 broadcasts against a batch), makes every input C-contiguous float64 (copying only when
 needed), checks that inputs are finite, runs the C function over the rows with the GIL
-released (split over threads with OpenMP when asked), and turns the C status codes into
-Python errors. All the mathematics is in the generated C.
+released (split over threads in blocks of rows when asked: OpenMP threads, or plain threads
+in a build without OpenMP), and turns the C status codes into Python errors. All the
+mathematics is in the generated C.
+
+The C functions are called through a table (generated/stewart_dispatch.h): the build
+compiles the model once per instruction set, and the import picks the copy this CPU runs
+best, or the one ``STEWART_SIMD`` names.
 """
 
 import os
@@ -117,9 +122,9 @@ ctypedef int (*step_derivatives_fn)(const stewart_params *, const double *, cons
 cdef enum:
     NONFINITE_INPUT = -1  # status of a row whose input is not finite (C status codes are >= 0)
     MAX_OUTPUTS = 4
-    # Rows a thread takes at a time: a block's inputs and outputs (at most 3 x 48 + 1,200
-    # bytes a row, for the derivatives) stay within a core's L2 cache; threads that finish
-    # early take the next block.
+    # Rows a thread takes at a time: a block's inputs and outputs stay within a core's L2
+    # cache (inverse dynamics: 192 bytes a row, 48 kB a block; at most, the RK4 step's
+    # Jacobians: 1,968 bytes a row, 0.5 MB); threads that finish early take the next block.
     BLOCK_ROWS = 256
 
 cdef enum Signature:
@@ -177,7 +182,7 @@ _STEP_DERIVATIVES = ((6,), (6,), (12, 12), (12, 6))
 @cython.final
 cdef class Kernel:
     """The compiled model for one parameter set. ``threads`` > 1 splits batches over
-    that many OpenMP threads."""
+    that many threads."""
 
     def __cinit__(self, params, threads=1):
         stewart_params_fill(&self.p, params)
