@@ -74,6 +74,11 @@ class BuildKernel(build_ext):
         targets = [(name, OPTIMIZE + [f"-march={arch}"], level) for name, arch, level in X86_TARGETS]
         return [targets[0]] + [t for t in targets[1:] if self._builds(LEVEL_PROBE % t[2], t[1], link=True)]
 
+    def finalize_options(self):
+        super().finalize_options()
+        if self.parallel is None:  # the extensions side by side (-j), one per core
+            self.parallel = os.cpu_count() or 1
+
     def build_extensions(self):
         self.openmp = os.environ.get("STEWART_OPENMP", "1") != "0" and self._builds(
             OPENMP_PROBE, ["-fopenmp"], link=True)
