@@ -1,33 +1,139 @@
 """Build script: the pure-Python package plus the Cython kernel over the generated C.
 
-The kernel is compiled for the building machine's CPU (``-march=native``); set
-``STEWART_MARCH`` (e.g. ``x86-64-v2``) to target another instruction set, as for a
-wheel meant for other machines. A wheel built here is tagged for the plain platform
-(``linux_x86_64``), not ``manylinux``: it claims to run only where it was built.
+Portable by default: on x86-64 the model (generated/stewart_target.c, a copy of
+stewart_model.c and its table of functions) is compiled once per target into the one
+extension -- ``baseline`` (x86-64), ``avx2`` (x86-64-v3: AVX2, FMA) and ``avx512``
+(x86-64-v4) -- and the kernel runs the best copy the CPU supports, chosen at import
+(``STEWART_SIMD`` forces one; ``stewart.build_info()`` tells which). A target the compiler
+cannot build (its flags, or its level in ``__builtin_cpu_supports``) is left out. On any
+other CPU (aarch64: NEON is its baseline) one baseline copy is compiled, with the
+compiler's default target.
+
+``STEWART_MARCH`` (e.g. ``native``) builds one copy for that ``-march`` instead: faster
+to build, but it runs only on CPUs with that instruction set.
+
+Batches run on OpenMP threads when the compiler has OpenMP (a test compile tells); without
+it (or with ``STEWART_OPENMP=0``) the kernel splits batches over plain threads. A wheel built
+here is tagged for the plain platform (``linux_x86_64``), not ``manylinux``: it claims to
+run on this platform's C library, on any CPU of its architecture.
 """
 
 import os
+import platform
+import re
+import tempfile
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 from Cython.Build import cythonize
 from setuptools import Extension, setup
+from setuptools.command.build_ext import build_ext
+from setuptools.errors import CCompilerError, CompileError, LinkError
+from setuptools.modified import newer_group
+
+#: The portable targets on x86-64: (name, -march, the x86-64 level the CPU needs), the one
+#: that runs everywhere first.
+X86_TARGETS = (("baseline", "x86-64", ""), ("avx2", "x86-64-v3", "x86-64-v3"), ("avx512", "x86-64-v4", "x86-64-v4"))
+OPTIMIZE = ["-O3"]
+#: The model, compiled once per target; what its copies depend on.
+TARGET_SOURCE = "generated/stewart_target.c"
+MODEL = [TARGET_SOURCE, "generated/stewart_model.c", "generated/stewart_model.h", "generated/stewart_dispatch.h"]
+
+OPENMP_PROBE = """#include <omp.h>
+int main(void) { return omp_get_max_threads() > 0 ? 0 : 1; }
+"""
+LEVEL_PROBE = """int main(void) { __builtin_cpu_init(); return !__builtin_cpu_supports("%s"); }
+"""
+
+
+class BuildKernel(build_ext):
+    """build_ext that first probes the compiler (OpenMP, the targets), then compiles the model
+    once per target and links the copies into stewart._kernel."""
+
+    def _builds(self, code, flags, link=False):
+        """Whether the compiler builds the C program ``code`` with ``flags`` (and links it)."""
+        with tempfile.TemporaryDirectory() as tmp:
+            source = os.path.join(tmp, "probe.c")
+            with open(source, "w", encoding="ascii") as f:
+                f.write(code)
+            try:
+                objects = self.compiler.compile([source], output_dir=tmp, extra_postargs=flags)
+                if link:
+                    self.compiler.link_executable(objects, "probe", output_dir=tmp, extra_postargs=flags)
+            except (CCompilerError, CompileError, LinkError):
+                return False
+        return True
+
+    def _targets(self):
+        """(name, flags, level) of every copy of the model to compile."""
+        march = os.environ.get("STEWART_MARCH")
+        if march:
+            return [(re.sub(r"\W", "_", march), OPTIMIZE + [f"-march={march}"], "")]
+        if platform.machine().lower() not in ("x86_64", "amd64"):
+            return [("baseline", OPTIMIZE, "")]
+        targets = [(name, OPTIMIZE + [f"-march={arch}"], level) for name, arch, level in X86_TARGETS]
+        return [targets[0]] + [t for t in targets[1:] if self._builds(LEVEL_PROBE % t[2], t[1], link=True)]
+
+    def finalize_options(self):
+        super().finalize_options()
+        if self.parallel is None:  # the extensions side by side (-j), one per core
+            self.parallel = os.cpu_count() or 1
+
+    def build_extensions(self):
+        self.openmp = os.environ.get("STEWART_OPENMP", "1") != "0" and self._builds(
+            OPENMP_PROBE, ["-fopenmp"], link=True)
+        self.targets = self._targets()
+        wrapper = self.targets[0][1]  # the Cython wrappers run on every CPU the base copy runs on
+        openmp = ["-fopenmp"] if self.openmp else []
+        for ext in self.extensions:
+            ext.extra_compile_args = wrapper + openmp
+            ext.extra_link_args = openmp
+            if ext.name == "stewart._kernel":
+                tables = [("STEWART_TABLES", " ".join(f"X({name})" for name, _, _ in self.targets))]
+                if any(level for _, _, level in self.targets):
+                    tables.append(("STEWART_CPU_LEVELS", "1"))
+                ext.define_macros = ext.define_macros + tables
+        super().build_extensions()
+
+    def build_extension(self, ext):
+        if ext.name == "stewart._kernel":
+            ext.extra_objects = self._model_objects(ext)
+        super().build_extension(ext)
+
+    def _model_objects(self, ext):
+        """Compile the model once per target (side by side), each copy into its own directory;
+        the object files."""
+        def compile_target(index):
+            name, flags, level = self.targets[index]
+            macros = [("STEWART_TARGET", name), ("STEWART_TARGET_LEVEL", f'"{level}"'),
+                      ("STEWART_TARGET_FLAGS", '"' + " ".join(flags) + '"')]
+            if index > 0:  # the first copy keeps the public names
+                macros.append(("STEWART_PREFIX", f"stewart_{name}"))
+            output_dir = os.path.join(self.build_temp, name)
+            objects = self.compiler.object_filenames([TARGET_SOURCE], output_dir=output_dir)
+            if not self.force and not newer_group(MODEL + ["setup.py"], objects[0]):
+                return objects  # compiled already, from the same sources
+            return self.compiler.compile([TARGET_SOURCE], output_dir=output_dir, macros=macros,
+                                         include_dirs=["generated"], extra_postargs=flags, depends=MODEL)
+        with ThreadPoolExecutor(min(len(self.targets), os.cpu_count() or 1)) as pool:
+            return [obj for objects in pool.map(compile_target, range(len(self.targets))) for obj in objects]
+
 
 FLAGS = dict(
     include_dirs=["generated", np.get_include()],
     define_macros=[("NPY_NO_DEPRECATED_API", "NPY_1_7_API_VERSION")],
-    extra_compile_args=["-O3", f"-march={os.environ.get('STEWART_MARCH', 'native')}", "-fopenmp"],
-    extra_link_args=["-fopenmp"],
     libraries=["m"],
-    # Rebuild (build_ext compares times) when the model's header or these flags change.
-    depends=["generated/stewart_model.h", "generated/stewart_model.pxd", "setup.py"],
+    # Rebuild (build_ext compares times) when the model, its header or this script change.
+    depends=MODEL + ["generated/stewart_model.pxd", "setup.py"],
 )
 
 extensions = [
-    # The model itself: the generated C and its array wrapper.
-    Extension("stewart._kernel", sources=["stewart/_kernel.pyx", "generated/stewart_model.c"], **FLAGS),
+    # The model's array wrapper, linked with the copies of the model (BuildKernel).
+    Extension("stewart._kernel", sources=["stewart/_kernel.pyx"], **FLAGS),
     # The simulation loop, which calls the model through the kernel's C-level methods.
     Extension("stewart._simulate", sources=["stewart/_simulate.pyx"], **FLAGS),
 ]
 
 # generated/stewart_model.pxd, the model's Cython declarations, is cimported by stewart/_kernel.pxd.
-setup(ext_modules=cythonize(extensions, language_level=3, include_path=["generated"]))
+setup(ext_modules=cythonize(extensions, language_level=3, include_path=["generated"]),
+      cmdclass={"build_ext": BuildKernel})

@@ -11,7 +11,17 @@ import sys
 
 import numpy as np
 
+import stewart
 from stewart import bench
+
+
+def _march() -> str:
+    """The -march of the path the kernel runs (stewart.build_info()), and whether the import
+    chose it among the portable build's paths."""
+    info = stewart.build_info()
+    flags = info["flags"][info["simd"]].split()
+    march = next((f.split("=", 1)[1] for f in flags if f.startswith("-march=")), "the compiler's default")
+    return march if len(info["compiled"]) == 1 else f"{march} (dispatched)"
 
 
 def machine() -> dict:
@@ -25,7 +35,7 @@ def machine() -> dict:
     compiler = subprocess.run([os.environ.get("CC", "cc"), "--version"], capture_output=True, text=True)
     return {"platform": host.platform(), "processor": cpu, "cpus": os.cpu_count(), "python": sys.version.split()[0],
             "numpy": np.__version__, "compiler": compiler.stdout.splitlines()[0] if compiler.returncode == 0 else "?",
-            "march": os.environ.get("STEWART_MARCH", "native"),
+            "march": _march(),
             "load_average": os.getloadavg()[0] if hasattr(os, "getloadavg") else None}
 
 

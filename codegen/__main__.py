@@ -1,4 +1,5 @@
-"""CLI: regenerate generated/stewart_model.h, stewart_model.c and stewart_model.pxd."""
+"""CLI: regenerate generated/stewart_model.h, stewart_model.c, stewart_model.pxd and the
+dispatch between compiled copies of the model, stewart_dispatch.h and stewart_target.c."""
 
 import argparse
 import dataclasses
@@ -74,6 +75,8 @@ def main(argv=None):
         'stewart_model.c': csource.source(schema.PARAM_FIELDS, [k.source for k in emitted], public, templates,
                                           [k.vector for k in emitted if k.name in vector], batch),
         'stewart_model.pxd': pxd.pxd(schema.PARAM_FIELDS, schema.LEFT_OUT, model.FUNCTIONS),
+        'stewart_dispatch.h': csource.dispatch_header(model.FUNCTIONS),
+        'stewart_target.c': csource.target_source(model.FUNCTIONS),
     }
     written = [name for name, text in files.items() if _write_if_changed(args.out / name, text)]
     print(f'[codegen] write {args.out} ({", ".join(written) or "unchanged"}) ...'

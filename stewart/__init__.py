@@ -5,12 +5,15 @@ presets, the kinematics functions, the numeric reference model :mod:`stewart.ref
 simulation under control (:func:`simulate`, trajectories, controllers), the exact
 derivatives and the model as CasADi functions for optimal control
 (:mod:`stewart.casadi_functions`, :mod:`stewart.optimize`), the errors raised for inputs
-where the model is undefined (:mod:`stewart.conditions`), and the generated C model's
-files for C programs (:func:`c_include_dir`, :func:`c_sources`, :mod:`stewart.capi`).
+where the model is undefined (:mod:`stewart.conditions`), the generated C model's files
+for C programs (:func:`c_include_dir`, :func:`c_sources`, :mod:`stewart.capi`), and how
+the compiled model was built and which of its instruction-set paths runs
+(:func:`build_info`).
 """
 
 from . import capi, casadi_functions, conditions, kinematics, newton_euler, optimize, reference, workspace
 from .capi import c_include_dir, c_sources
+from ._kernel import build_info
 from .errors import ConvergenceError, SingularityError
 from .kinematics import (
     euler_jacobian,
@@ -77,6 +80,7 @@ __all__ = [
     "capi",
     "c_include_dir",
     "c_sources",
+    "build_info",
 ]
 
 __version__ = "0.1.0"

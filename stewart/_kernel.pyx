@@ -4,11 +4,19 @@
 It only moves arrays: it takes one state ``(6,)`` or a batch ``(N, 6)`` (a single row
 broadcasts against a batch), makes every input C-contiguous float64 (copying only when
 needed), checks that inputs are finite, runs the C function over the rows with the GIL
-released (split over threads with OpenMP when asked), and turns the C status codes into
-Python errors. A batch of at least ``stewart_batch_lanes()`` rows goes through the C batch
-function (``stewart_batch_<name>``, several states per vector instruction), a single state
-or a smaller batch through the scalar one. All the mathematics is in the generated C.
+released (split over threads in blocks of rows when asked: OpenMP threads, or plain threads
+in a build without OpenMP), and turns the C status codes into Python errors. A batch of at
+least ``LANES`` rows goes through the C batch function (``batch_<name>``, several states
+per vector instruction), a single state or a smaller batch through the scalar one. All the
+mathematics is in the generated C.
+
+The C functions are called through a table (generated/stewart_dispatch.h): the build
+compiles the model once per instruction set, and the import picks the copy this CPU runs
+best, or the one ``STEWART_SIMD`` names.
 """
+
+import os
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
@@ -21,6 +29,67 @@ from . import _checks
 from .errors import SingularityError
 
 cnp.import_array()
+
+
+cdef extern from "stewart_dispatch.h" nogil:
+    const stewart_table **stewart_tables  # the compiled copies of the model, NULL-terminated
+    int stewart_cpu_supports(const char *level)
+    const int STEWART_OPENMP
+
+
+#: The environment variable that forces a compiled copy of the model (a name of
+#: ``build_info()["compiled"]``).
+SIMD_VARIABLE = "STEWART_SIMD"
+
+
+cdef list _compiled():
+    """(name, level, flags, compiler, whether this CPU runs it) of every compiled copy of the
+    model, the one that runs everywhere first."""
+    cdef int i = 0
+    cdef const stewart_table *t
+    out = []
+    while stewart_tables[i] != NULL:
+        t = stewart_tables[i]
+        out.append((t.name.decode(), t.level.decode(), t.flags.decode(), t.compiler.decode(),
+                    bool(stewart_cpu_supports(t.level))))
+        i += 1
+    return out
+
+
+cdef const stewart_table *_choose() except NULL:
+    """The table of the copy the kernel runs: the one named by STEWART_SIMD, else the last
+    (most capable) one this CPU runs."""
+    compiled = _compiled()
+    forced = os.environ.get(SIMD_VARIABLE, "")
+    names = [c[0] for c in compiled]
+    if not forced:
+        return stewart_tables[max(i for i, c in enumerate(compiled) if c[4])]
+    if forced not in names:
+        raise RuntimeError(f"{SIMD_VARIABLE}={forced!r}: no such path compiled in (compiled: {', '.join(names)})")
+    i = names.index(forced)
+    if not compiled[i][4]:
+        raise RuntimeError(f"{SIMD_VARIABLE}={forced!r}: this CPU lacks its instruction set ({compiled[i][1]})")
+    return stewart_tables[i]
+
+
+#: The table of functions of the copy of the model in use.
+cdef const stewart_table *T = _choose()
+
+
+def build_info():
+    """How the kernel was built and what it runs: the path in use (``simd``), the paths
+    compiled in and those this CPU supports, each path's compiler and flags, and whether
+    batches run on OpenMP threads (else on plain threads)."""
+    compiled = _compiled()
+    return {
+        "simd": T.name.decode(),
+        "compiled": [c[0] for c in compiled],
+        "supported": [c[0] for c in compiled if c[4]],
+        "compiler": T.compiler.decode(),
+        "flags": {c[0]: c[2] for c in compiled},
+        "openmp": bool(STEWART_OPENMP),
+        "threads": "OpenMP" if STEWART_OPENMP else "Python threads over the C loop, without the GIL",
+    }
 
 
 #: (member, shape) of every member of the C struct stewart_params, in order: the fields of a
@@ -38,7 +107,7 @@ CONDITIONS = stewart_conditions()
 
 def status_message(int status):
     """The generated C's description of a status code."""
-    return stewart_status_message(status).decode()
+    return T.status_message(status).decode()
 
 
 ctypedef int (*state_fn)(const stewart_params *, const double *, double *) noexcept nogil
@@ -60,15 +129,19 @@ ctypedef int (*batch_dynamics_fn)(const stewart_params *, size_t, const double *
 ctypedef int (*batch_step_fn)(const stewart_params *, size_t, const double *, const double *, const double *,
                               double, double *, double *, int *) noexcept nogil
 
-#: Rows of a batch function's states evaluated at once (one per vector lane).
-LANES = stewart_batch_lanes()
+#: Rows of a batch function's states evaluated at once (one per vector lane of the copy in use).
+LANES = T.batch_lanes()
 #: Rows a thread takes at a time from a batch: whole blocks of LANES rows, a few hundred states'
 #: inputs and outputs in the core's cache.
-cdef Py_ssize_t BATCH_BLOCK = 32 * stewart_batch_lanes()
+cdef Py_ssize_t BATCH_BLOCK = 32 * T.batch_lanes()
 
 cdef enum:
     NONFINITE_INPUT = -1  # status of a row whose input is not finite (C status codes are >= 0)
     MAX_OUTPUTS = 4
+    # Rows a thread takes at a time: a block's inputs and outputs stay within a core's L2
+    # cache (inverse dynamics: 192 bytes a row, 48 kB a block; at most, the RK4 step's
+    # Jacobians: 1,968 bytes a row, 0.5 MB); threads that finish early take the next block.
+    BLOCK_ROWS = 256
 
 cdef enum Signature:
     # The C signatures _run calls: 1-3 input arrays and one output, or as named.
@@ -143,7 +216,7 @@ cdef inline void _batch_call(const stewart_params *p, int kind, void *fn, Py_ssi
 @cython.final
 cdef class Kernel:
     """The compiled model for one parameter set. ``threads`` > 1 splits batches over
-    that many OpenMP threads."""
+    that many threads."""
 
     def __cinit__(self, params, threads=1):
         stewart_params_fill(&self.p, params)
@@ -213,16 +286,24 @@ cdef class Kernel:
             if a0.ndim == 1: a0 = np.ascontiguousarray(np.broadcast_to(a0, (n, 6)))
             if a1.ndim == 1: a1 = np.ascontiguousarray(np.broadcast_to(a1, (n, 6)))
             if a2.ndim == 1: a2 = np.ascontiguousarray(np.broadcast_to(a2, (n, 6)))
-            self._batch(kind, batch_fn, n, <const double *>cnp.PyArray_DATA(a0),
-                        <const double *>cnp.PyArray_DATA(a1), <const double *>cnp.PyArray_DATA(a2),
-                        scalar, po, widths, ps)
+            p0 = <const double *>cnp.PyArray_DATA(a0)
+            p1 = <const double *>cnp.PyArray_DATA(a1)
+            p2 = <const double *>cnp.PyArray_DATA(a2)
+            with nogil:
+                self._batch(kind, batch_fn, n, p0, p1, p2, scalar, po, widths, ps)
             failures = np.count_nonzero(status)
         elif n == 1:
             failures = self._row(kind, fn, p0, p1, p2, scalar, po, widths, nout, 0, ps)
-        elif nthreads > 1:
-            for i in prange(n, nogil=True, num_threads=nthreads, schedule="static"):
+        elif nthreads > 1 and STEWART_OPENMP:
+            for i in prange(n, nogil=True, num_threads=nthreads, schedule="dynamic", chunksize=BLOCK_ROWS):
                 failures += self._row(kind, fn, p0 + i * s0, p1 + i * s1, p2 + i * s2, scalar,
                                       po, widths, nout, i, ps + i)
+        elif nthreads > 1:
+            rows = _Rows(self, kind, <Py_ssize_t>fn, scalar, nout, n)
+            rows.p0, rows.p1, rows.p2, rows.s0, rows.s1, rows.s2 = p0, p1, p2, s0, s1, s2
+            rows.po, rows.widths, rows.ps = po, widths, ps
+            with ThreadPoolExecutor(nthreads) as pool:
+                failures = sum(pool.map(rows.run, range(nthreads), [nthreads] * nthreads))
         else:
             with nogil:
                 for i in range(n):
@@ -288,12 +369,12 @@ cdef class Kernel:
         raise SingularityError.at_rows(fname, condition, message, rows.tolist(), batch)
 
     cdef int leg_lengths_c(self, const double *x, double *out) noexcept nogil:
-        return stewart_leg_lengths(&self.p, x, out)
+        return T.leg_lengths(&self.p, x, out)
 
     cdef int leg_rates_c(self, const double *x, const double *xd, double *L, double *Ld) noexcept nogil:
         cdef double out[12]
         cdef int k
-        cdef int status = stewart_leg_rates(&self.p, x, xd, out)
+        cdef int status = T.leg_rates(&self.p, x, xd, out)
         for k in range(6):
             L[k] = out[k]
             Ld[k] = out[6 + k]
@@ -301,80 +382,114 @@ cdef class Kernel:
 
     cdef int inverse_dynamics_c(self, const double *x, const double *xd, const double *xdd,
                                 double *out) noexcept nogil:
-        return stewart_inverse_dynamics(&self.p, x, xd, xdd, out)
+        return T.inverse_dynamics(&self.p, x, xd, xdd, out)
 
     cdef int forward_dynamics_c(self, const double *x, const double *xd, const double *tau,
                                 double *out) noexcept nogil:
-        return stewart_forward_dynamics(&self.p, x, xd, tau, out)
+        return T.forward_dynamics(&self.p, x, xd, tau, out)
 
     def leg_lengths(self, x, *, return_mask=False):
-        return self._run("leg_lengths", 1, <void *>stewart_leg_lengths, ("x",), (x,), _VECTOR, return_mask,
-                         0.0, <void *>stewart_batch_leg_lengths)
+        return self._run("leg_lengths", 1, <void *>T.leg_lengths, ("x",), (x,), _VECTOR, return_mask,
+                         0.0, <void *>T.batch_leg_lengths)
 
     def jacobian(self, x, *, return_mask=False):
-        return self._run("jacobian", 1, <void *>stewart_jacobian, ("x",), (x,), _MATRIX, return_mask,
-                         0.0, <void *>stewart_batch_jacobian)
+        return self._run("jacobian", 1, <void *>T.jacobian, ("x",), (x,), _MATRIX, return_mask,
+                         0.0, <void *>T.batch_jacobian)
 
     def leg_rates(self, x, xd, *, return_mask=False):
         """``(L, Ldot)`` from the C function's one array ``[L; Ldot]`` per row."""
-        return _parts(self._run("leg_rates", 2, <void *>stewart_leg_rates, ("x", "xd"), (x, xd), ((12,),), return_mask,
-                                0.0, <void *>stewart_batch_leg_rates),
+        return _parts(self._run("leg_rates", 2, <void *>T.leg_rates, ("x", "xd"), (x, xd), ((12,),), return_mask,
+                                0.0, <void *>T.batch_leg_rates),
                       return_mask, ((6,), (6,)))
 
     def all_terms(self, x, xd, *, return_mask=False):
         """``(M, V xd, G, J_C)`` from the C function's one array ``[M; Vxd; G; JC]`` per row."""
-        return _parts(self._run("all_terms", 2, <void *>stewart_all_terms, ("x", "xd"), (x, xd), ((84,),), return_mask,
-                                0.0, <void *>stewart_batch_all_terms),
+        return _parts(self._run("all_terms", 2, <void *>T.all_terms, ("x", "xd"), (x, xd), ((84,),), return_mask,
+                                0.0, <void *>T.batch_all_terms),
                       return_mask, ((6, 6), (6,), (6,), (6, 6)))
 
     def mass_matrix(self, x, *, return_mask=False):
-        return self._run("mass_matrix", 1, <void *>stewart_mass_matrix, ("x",), (x,), _MATRIX, return_mask,
-                         0.0, <void *>stewart_batch_mass_matrix)
+        return self._run("mass_matrix", 1, <void *>T.mass_matrix, ("x",), (x,), _MATRIX, return_mask,
+                         0.0, <void *>T.batch_mass_matrix)
 
     def twist_mass_matrix(self, x, *, return_mask=False):
-        return self._run("twist_mass_matrix", 1, <void *>stewart_twist_mass_matrix, ("x",), (x,), _MATRIX,
+        return self._run("twist_mass_matrix", 1, <void *>T.twist_mass_matrix, ("x",), (x,), _MATRIX,
                          return_mask,
-                         0.0, <void *>stewart_batch_twist_mass_matrix)
+                         0.0, <void *>T.batch_twist_mass_matrix)
 
     def gravity_vector(self, x, *, return_mask=False):
-        return self._run("gravity_vector", 1, <void *>stewart_gravity_vector, ("x",), (x,), _VECTOR, return_mask,
-                         0.0, <void *>stewart_batch_gravity_vector)
+        return self._run("gravity_vector", 1, <void *>T.gravity_vector, ("x",), (x,), _VECTOR, return_mask,
+                         0.0, <void *>T.batch_gravity_vector)
 
     def coriolis_matrix(self, x, xd, *, return_mask=False):
-        return self._run("coriolis_matrix", 2, <void *>stewart_coriolis_matrix, ("x", "xd"), (x, xd), _MATRIX,
+        return self._run("coriolis_matrix", 2, <void *>T.coriolis_matrix, ("x", "xd"), (x, xd), _MATRIX,
                          return_mask,
-                         0.0, <void *>stewart_batch_coriolis_matrix)
+                         0.0, <void *>T.batch_coriolis_matrix)
 
     def coriolis_vector(self, x, xd, *, return_mask=False):
-        return self._run("coriolis_vector", 2, <void *>stewart_coriolis_vector, ("x", "xd"), (x, xd), _VECTOR,
+        return self._run("coriolis_vector", 2, <void *>T.coriolis_vector, ("x", "xd"), (x, xd), _VECTOR,
                          return_mask,
-                         0.0, <void *>stewart_batch_coriolis_vector)
+                         0.0, <void *>T.batch_coriolis_vector)
 
     def inverse_dynamics(self, x, xd, xdd, *, return_mask=False):
-        return self._run("inverse_dynamics", 3, <void *>stewart_inverse_dynamics, ("x", "xd", "xdd"),
+        return self._run("inverse_dynamics", 3, <void *>T.inverse_dynamics, ("x", "xd", "xdd"),
                          (x, xd, xdd), _VECTOR, return_mask,
-                         0.0, <void *>stewart_batch_inverse_dynamics)
+                         0.0, <void *>T.batch_inverse_dynamics)
 
     def forward_dynamics(self, x, xd, tau, *, return_mask=False):
-        return self._run("forward_dynamics", 3, <void *>stewart_forward_dynamics, ("x", "xd", "tau"),
+        return self._run("forward_dynamics", 3, <void *>T.forward_dynamics, ("x", "xd", "tau"),
                          (x, xd, tau), _VECTOR, return_mask,
-                         0.0, <void *>stewart_batch_forward_dynamics)
+                         0.0, <void *>T.batch_forward_dynamics)
 
     def inverse_dynamics_derivatives(self, x, xd, xdd, *, return_mask=False):
         """``(tau, dtau_dx, dtau_dxd, dtau_dxdd)``."""
-        return self._run("inverse_dynamics_derivatives", DERIVATIVES, <void *>stewart_inverse_dynamics_derivatives,
+        return self._run("inverse_dynamics_derivatives", DERIVATIVES, <void *>T.inverse_dynamics_derivatives,
                          ("x", "xd", "xdd"), (x, xd, xdd), _DERIVATIVES, return_mask)
 
     def forward_dynamics_derivatives(self, x, xd, tau, *, return_mask=False):
         """``(xdd, dxdd_dx, dxdd_dxd, dxdd_dtau)``."""
-        return self._run("forward_dynamics_derivatives", DERIVATIVES, <void *>stewart_forward_dynamics_derivatives,
+        return self._run("forward_dynamics_derivatives", DERIVATIVES, <void *>T.forward_dynamics_derivatives,
                          ("x", "xd", "tau"), (x, xd, tau), _DERIVATIVES, return_mask)
 
     def rk4_step(self, x, xd, tau, double dt, *, bint jacobians=False, return_mask=False):
         """``(x, xd)`` after one RK4 step of ``dt`` (a positive finite number, checked by the
         caller), with ``(A, B)`` after them when ``jacobians``."""
         if jacobians:
-            return self._run("rk4_step", STEP_DERIVATIVES, <void *>stewart_rk4_step_derivatives, ("x", "xd", "tau"),
+            return self._run("rk4_step", STEP_DERIVATIVES, <void *>T.rk4_step_derivatives, ("x", "xd", "tau"),
                              (x, xd, tau), _STEP_DERIVATIVES, return_mask, dt)
-        return self._run("rk4_step", STEP, <void *>stewart_rk4_step, ("x", "xd", "tau"), (x, xd, tau), _STEP,
-                         return_mask, dt, <void *>stewart_batch_rk4_step)
+        return self._run("rk4_step", STEP, <void *>T.rk4_step, ("x", "xd", "tau"), (x, xd, tau), _STEP,
+                         return_mask, dt, <void *>T.batch_rk4_step)
+
+
+@cython.final
+cdef class _Rows:
+    """A batch split over plain threads (a build without OpenMP): thread ``k`` of ``m`` runs
+    blocks k, k + m, ... of ``BLOCK_ROWS`` rows through ``Kernel._row`` without the GIL."""
+    cdef Kernel kernel
+    cdef int kind, nout
+    cdef void *fn
+    cdef double scalar
+    cdef Py_ssize_t n, s0, s1, s2
+    cdef const double *p0
+    cdef const double *p1
+    cdef const double *p2
+    cdef double **po
+    cdef const int *widths
+    cdef int *ps
+
+    def __cinit__(self, Kernel kernel, int kind, Py_ssize_t fn, double scalar, int nout, Py_ssize_t n):
+        self.kernel, self.kind, self.fn, self.scalar, self.nout, self.n = kernel, kind, <void *>fn, scalar, nout, n
+
+    def run(self, Py_ssize_t first, Py_ssize_t step):
+        """Run blocks ``first``, ``first + step``, ...; the number of rows that failed."""
+        cdef Py_ssize_t block, i
+        cdef int failures = 0
+        with nogil:
+            block = first * BLOCK_ROWS
+            while block < self.n:
+                for i in range(block, min(block + BLOCK_ROWS, self.n)):
+                    failures += self.kernel._row(self.kind, self.fn, self.p0 + i * self.s0, self.p1 + i * self.s1,
+                                                 self.p2 + i * self.s2, self.scalar, self.po, self.widths,
+                                                 self.nout, i, self.ps + i)
+                block += step * BLOCK_ROWS
+        return failures

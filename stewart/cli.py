@@ -14,7 +14,7 @@ import sys
 
 import numpy as np
 
-from . import __version__, csvfile
+from . import __version__, build_info, csvfile
 from .control import PID, Actuators, ComputedTorque
 from .params import PlatformParams
 from .platform import Platform
@@ -196,6 +196,19 @@ def _print_table(label: str, header: list[str], rows: np.ndarray, csv_path: str 
 
 
 # ---------------------------------------------------------------------------- commands
+
+def cmd_info(args) -> int:
+    """How the compiled model was built and which path runs (stewart.build_info())."""
+    info = build_info()
+    print(f"stewart {__version__}")
+    print(f"simd path     {info['simd']} (compiled: {', '.join(info['compiled'])};"
+          f" this CPU: {', '.join(info['supported'])}; force one with STEWART_SIMD)")
+    print(f"compiler      {info['compiler']}")
+    for name, flags in info["flags"].items():
+        print(f"flags         {name}: {flags}")
+    print(f"threads       {info['threads']}")
+    return 0
+
 
 def cmd_presets(args) -> int:
     for name, desc in list_presets().items():
@@ -470,9 +483,12 @@ def cmd_c_export(args) -> int:
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="stewart", description=__doc__.replace("``", ""),
                                      formatter_class=_Formatter, epilog=EXIT_CODES)
-    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    info = build_info()
+    parser.add_argument("--version", action="version",
+                        version=f"%(prog)s {__version__} ({info['simd']} path, {info['compiler']})")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
 
+    _subcommand(sub, "info", "how the compiled model was built and which instruction-set path runs", cmd_info)
     _subcommand(sub, "presets", "list the built-in parameter sets", cmd_presets)
 
     state_commands = [

@@ -262,12 +262,21 @@ def test_ctrl_c_saves_what_was_computed_and_exits_130(tmp_path, capsys, monkeypa
 
 def test_version_help_and_exit_codes(capsys):
     code, out, _ = _run(["--version"], capsys)
-    assert code == 0 and out.strip() == f"stewart {stewart.__version__}"
+    info = stewart.build_info()
+    assert code == 0 and out.strip() == f"stewart {stewart.__version__} ({info['simd']} path, {info['compiler']})"
     code, out, _ = _run(["--help"], capsys)
     assert code == 0 and "exit codes:" in out and "130  interrupted" in out
     code, out, _ = _run(["simulate", "--help"], capsys)
     assert "(default: 0.001)" in out and "(default: 5.0)" in out and "(default: narayan2017)" in out
     assert "6    the commanded actuator force exceeded --force-limit" in out
+
+
+def test_info_shows_the_build(capsys):
+    code, out, _ = _run(["info"], capsys)
+    info = stewart.build_info()
+    assert code == 0 and f"simd path     {info['simd']} (compiled: {', '.join(info['compiled'])};" in out
+    assert all(f"flags         {name}: {flags}" in out for name, flags in info["flags"].items())
+    assert f"threads       {info['threads']}" in out
 
 
 def test_json_summaries(capsys):

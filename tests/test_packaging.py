@@ -12,8 +12,10 @@ a directory outside the checkout. Marked ``packaging``: ``pytest -m "not packagi
 leaves it out.
 """
 
+import json
 import shutil
 import sys
+import sysconfig
 import tarfile
 import zipfile
 from pathlib import Path
@@ -29,7 +31,8 @@ UV = find_uv_bin()
 #: What a build needs, as paths inside the sdist (after its ``stewart-<version>/`` prefix).
 SDIST_NEEDS = {"setup.py", "pyproject.toml", "MANIFEST.in", "README.md", "LICENSE",
                "stewart/_kernel.pyx", "stewart/_kernel.pxd", "stewart/_simulate.pyx",
-               "generated/stewart_model.h", "generated/stewart_model.c", "generated/stewart_model.pxd"}
+               "generated/stewart_model.h", "generated/stewart_model.c", "generated/stewart_model.pxd",
+               "generated/stewart_dispatch.h", "generated/stewart_target.c"}
 #: Cython's C translation of the .pyx: written at build time, shipped in neither.
 CYTHON_OUTPUT = {"stewart/_kernel.c", "stewart/_simulate.c"}
 
@@ -91,6 +94,8 @@ def test_sdist_is_the_complete_source_and_nothing_else(dists):
 
 
 def test_wheel_holds_the_c_model_and_no_cython_output(dists):
+    # Tagged for the plain platform it was built on (not manylinux: not audited for it).
+    assert dists[1].name.endswith(f"-{sysconfig.get_platform().replace('-', '_').replace('.', '_')}.whl")
     with zipfile.ZipFile(dists[1]) as wheel:
         names = set(wheel.namelist())
     assert {"stewart/generated/stewart_model.h", "stewart/generated/stewart_model.c"} <= names
@@ -104,3 +109,14 @@ def test_wheel_holds_the_c_model_and_no_cython_output(dists):
 def test_installs_and_runs_outside_the_checkout(dists, tree, tmp_path):
     python = dists[2]
     assert "smoke test passed" in run_command([python, tree / "tests" / "installed_smoke.py"], cwd=tmp_path)
+
+
+def test_wheel_is_portable(dists, tmp_path):
+    """The wheel carries the portable build's copies of the model, as the checkout's build
+    does (STEWART_MARCH unset), and runs the best one this CPU supports."""
+    import stewart
+
+    info = json.loads(run_command([dists[2], "-c", "import json, stewart; print(json.dumps(stewart.build_info()))"],
+                                  cwd=tmp_path))
+    assert info["compiled"] == stewart.build_info()["compiled"]
+    assert info["simd"] == info["supported"][-1]

@@ -1,0 +1,32 @@
+/* One compiled copy of stewart_model.c and its table, for one instruction set.
+ *
+ * The build compiles this file once per target, with that target's flags and
+ *   -DSTEWART_TARGET=<name>              the table's name: stewart_table_<name>
+ *   -DSTEWART_TARGET_LEVEL="<level>"     the x86-64 level the CPU must have ("" for none)
+ *   -DSTEWART_TARGET_FLAGS="<flags>"     the flags, for build_info
+ *   -DSTEWART_PREFIX=<prefix>            (all copies but one) the public functions are
+ *                                        renamed <prefix>_<name>, so the copies link together.
+ */
+#define STEWART_JOIN_(a, b) a##_##b
+#define STEWART_JOIN(a, b) STEWART_JOIN_(a, b)
+#define STEWART_STRING_(a) #a
+#define STEWART_STRING(a) STEWART_STRING_(a)
+#if defined(__clang__)
+#define STEWART_COMPILER "clang " __VERSION__
+#elif defined(__GNUC__)
+#define STEWART_COMPILER "gcc " __VERSION__
+#else
+#define STEWART_COMPILER "unknown compiler"
+#endif
+
+#ifdef STEWART_PREFIX
+@RENAME@
+#endif
+
+#include "stewart_model.c"
+#include "stewart_dispatch.h"
+
+const stewart_table STEWART_JOIN(stewart_table, STEWART_TARGET) = {
+    STEWART_STRING(STEWART_TARGET), STEWART_TARGET_LEVEL, STEWART_TARGET_FLAGS, STEWART_COMPILER,
+@ENTRIES@
+};
