@@ -20,16 +20,7 @@
 
 #include "stewart_model.h"
 
-static double now(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_MONOTONIC, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
-static int cmp(const void *a, const void *b) {
-    double x = *(const double *)a, y = *(const double *)b;
-    return (x > y) - (x < y);
-}
+#include "timing.h"
 
 enum { ID, FD, M, VXD, G, NFUNCTIONS };
 static const char *const NAMES[NFUNCTIONS] = {"inverse_dynamics", "forward_dynamics", "mass_matrix",
