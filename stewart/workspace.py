@@ -1,5 +1,5 @@
 """Which poses the platform can reach: the one test used before a simulation and by the
-command line's ``ik``, ``id`` and ``fd``.
+command line's ``ik``, ``id`` and ``fd``, and the workspaces built from it.
 
 A pose is reachable when
 
@@ -8,7 +8,17 @@ A pose is reachable when
 * every spherical joint lies above the highest universal joint (the platform is above the base);
 * ``J_C`` (eq. 5) is well conditioned: its condition number, with the rotational columns
   divided by the platform radius so that it does not depend on the units, is at most
-  :data:`CONDITION_LIMIT` (the actuator forces that hold a load grow with it);
+  :data:`CONDITION_LIMIT` (the actuator forces that hold a load grow with it). Its
+  inverse, ``sigma_min / sigma_max`` of that unit-free ``J_C``, is the **singularity
+  margin** reported per pose (:attr:`Reachability.margin`): the local conditioning index
+  of Gosselin & Angeles (1991), 1 for an isotropic pose, 0 at a singularity;
+* every universal joint is within ``params.universal_joint_max_angle`` and every
+  spherical joint within ``params.spherical_joint_max_angle`` (when set): the angle
+  between the leg and the joint's neutral axis, the leg's direction at the home pose,
+  fixed in {B} for a universal joint and in {P} for a spherical joint (so a joint is
+  centred in its range at home, as it is mounted);
+* no two legs, taken as the segments ``B_i P_i``, come closer than
+  ``params.leg_diameter`` (when set), axis to axis;
 * the ZYX Euler angles are regular: ``|cos theta|`` is at least ``1 / CONDITION_LIMIT``
   (``T`` of eq. 18 is singular at ``theta = +-90 deg``);
 * ``det J_C`` has the sign of the assembly mode the platform is in (by default the home
@@ -26,7 +36,7 @@ import numpy as np
 from . import _checks, kinematics
 from .params import PlatformParams
 
-__all__ = ["WorkspaceError", "Reachability", "reachability", "CONDITION_LIMIT"]
+__all__ = ["WorkspaceError", "Reachability", "reachability", "CONDITION_LIMIT", "joint_angles", "segment_distances"]
 
 #: Largest unit-free condition number of ``J_C`` (and of the Euler-angle map) accepted.
 CONDITION_LIMIT = 1e3
@@ -38,6 +48,12 @@ SINGULAR = 8
 EULER_SINGULAR = 16
 OTHER_ASSEMBLY_MODE = 32
 OUT_OF_RANGE = 64
+UNIVERSAL_JOINT_LIMIT = 128
+SPHERICAL_JOINT_LIMIT = 256
+LEG_COLLISION = 512
+
+#: The 15 pairs of legs whose clearance is checked, ``(i, j)`` with ``i < j``.
+LEG_PAIRS = np.array([(i, j) for i in range(6) for j in range(i + 1, 6)])
 
 
 class WorkspaceError(ValueError):
@@ -60,18 +76,32 @@ class Reachability:
 
     ``flags`` holds one integer per pose, a sum of the problem bits (0 for a reachable
     pose); ``lengths`` the leg lengths; ``condition`` the unit-free condition number of
-    ``J_C`` where it exceeds :data:`CONDITION_LIMIT`, else an upper bound of it below the
-    limit; ``ok`` is ``flags == 0``.
+    ``J_C`` (inf where it is singular or undefined); ``universal_angles`` and
+    ``spherical_angles`` the joint angles from their neutral axes ``(N, 6)`` [rad];
+    ``clearance`` the smallest distance between two leg axes [m] and ``closest_legs``
+    the index into :data:`LEG_PAIRS` of that pair (both None unless the parameters set
+    ``leg_diameter``); ``params`` the parameter set checked.
     """
 
     flags: np.ndarray
     lengths: np.ndarray
     condition: np.ndarray
     limits: tuple[float, float] | None
+    universal_angles: np.ndarray | None = None
+    spherical_angles: np.ndarray | None = None
+    clearance: np.ndarray | None = None
+    closest_legs: np.ndarray | None = None
+    params: PlatformParams | None = None
 
     @property
     def ok(self) -> np.ndarray:
         return self.flags == 0
+
+    @property
+    def margin(self) -> np.ndarray:
+        """The singularity margin ``1 / condition`` per pose: the inverse condition number
+        of the unit-free ``J_C``, in [0, 1] (1 isotropic, 0 singular)."""
+        return 1.0 / self.condition
 
     def _reason(self, bit: int, row: int) -> str:
         lengths = self.lengths[row]
@@ -85,6 +115,16 @@ class Reachability:
             legs = np.flatnonzero(lengths > self.limits[1]).tolist()
             return (f"leg(s) {legs} longer than the maximum length {self.limits[1]:g} m "
                     f"({', '.join(f'{lengths[i]:.6g}' for i in legs)} m)")
+        if bit in (UNIVERSAL_JOINT_LIMIT, SPHERICAL_JOINT_LIMIT):
+            kind = "universal" if bit == UNIVERSAL_JOINT_LIMIT else "spherical"
+            angles, limit = getattr(self, f"{kind}_angles")[row], getattr(self.params, f"{kind}_joint_max_angle")
+            legs = np.flatnonzero(angles > limit).tolist()
+            return (f"{kind} joint(s) {legs} beyond their cone half-angle {limit:g} rad "
+                    f"({', '.join(f'{angles[i]:.4g}' for i in legs)} rad)")
+        if bit == LEG_COLLISION:
+            i, j = LEG_PAIRS[self.closest_legs[row]]
+            return (f"legs {i} and {j} collide: their axes are {self.clearance[row]:.4g} m apart, less than "
+                    f"the leg diameter {self.params.leg_diameter:g} m")
         if bit == BELOW_BASE:
             return "the platform is not above the base"
         if bit == SINGULAR:
@@ -113,7 +153,8 @@ class Reachability:
         return f"{bad.size} of {len(self.flags)} {what}(s) outside the workspace: " + "; ".join(parts)
 
 
-_BITS = (OUT_OF_RANGE, LEG_TOO_SHORT, LEG_TOO_LONG, BELOW_BASE, SINGULAR, EULER_SINGULAR, OTHER_ASSEMBLY_MODE)
+_BITS = (OUT_OF_RANGE, LEG_TOO_SHORT, LEG_TOO_LONG, BELOW_BASE, SINGULAR, EULER_SINGULAR, OTHER_ASSEMBLY_MODE,
+         UNIVERSAL_JOINT_LIMIT, SPHERICAL_JOINT_LIMIT, LEG_COLLISION)
 
 
 def _platform_radius(params: PlatformParams) -> float:
@@ -150,33 +191,81 @@ def reachability(platform, poses, *, mode: float | None = None, name: str = "pos
         raise ValueError(f"{name}: expected real poses")
     if mode is None:
         mode = assembly_mode(plat, plat.home_pose)
-    blocks = [_block(plat, x[i:i + _BLOCK], mode) for i in range(0, len(x), _BLOCK)]
-    flags, lengths, condition = (np.concatenate(parts) for parts in zip(*blocks))
-    return Reachability(flags=flags, lengths=lengths, condition=condition, limits=plat.params.leg_length_limits)
+    neutral = _neutral_axes(plat)
+    blocks = [_block(plat, x[i:i + _BLOCK], mode, neutral) for i in range(0, len(x), _BLOCK)]
+    parts = {key: np.concatenate([b[key] for b in blocks]) if blocks[0][key] is not None else None
+             for key in blocks[0]}
+    return Reachability(**parts, limits=plat.params.leg_length_limits, params=plat.params)
 
 
 _BLOCK = 50_000  # poses checked at a time (bounds the memory of long trajectories)
 
 
-def _condition(jac: np.ndarray, det: np.ndarray) -> np.ndarray:
-    """Condition numbers of a batch of 6x6 matrices (inf where singular or non-finite).
+def _neutral_axes(plat) -> np.ndarray:
+    """The joints' neutral axes: the unit leg vectors at the home pose (in {B}, and equally
+    in {P}, whose orientation at home is the identity), ``(6, 3)``."""
+    return plat.jacobian(plat.home_pose)[:, :3]
 
-    Guggenheimer, Edelman & Johnson's bound ``2 / |det J| (|J|_F / sqrt 6)^6`` (SIAM J.
-    Numer. Anal. 32, 1995) exceeds the 2-norm condition number and costs no more than the
-    determinant; only rows where it exceeds :data:`CONDITION_LIMIT` get the exact value
-    from an SVD, so the other rows hold the bound.
+
+def _angle(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The angle between unit vectors, ``atan2(|a x b|, a . b)`` (accurate near 0 and pi)."""
+    return np.arctan2(np.linalg.norm(np.cross(a, b), axis=-1), np.sum(a * b, axis=-1))
+
+
+def joint_angles(params: PlatformParams, poses) -> tuple[np.ndarray, np.ndarray]:
+    """The universal- and spherical-joint angles [rad] at ``poses`` (``(6,)`` or ``(N, 6)``),
+    each ``(..., 6)``: the angle between leg ``i`` and its joints' neutral axis (the leg's
+    direction at the home pose, fixed in {B} for the universal joint and in {P} for the
+    spherical joint)."""
+    from .platform import Platform
+
+    plat = Platform(_params(params))
+    x = _checks.states("poses", poses)
+    units = kinematics.leg_unit_vectors(plat.params, x)
+    return _joint_angles(units, kinematics.rotation(x), _neutral_axes(plat))
+
+
+def _joint_angles(units, rotations, neutral):
+    # The spherical joint's neutral axis n_i is fixed in {P}: in {B} it is R n_i.
+    return _angle(units, neutral), _angle(units, np.einsum("...jk,ik->...ij", rotations, neutral))
+
+
+def segment_distances(p0, p1, q0, q1) -> np.ndarray:
+    """The smallest distance between the segments ``[p0, p1]`` and ``[q0, q1]`` (arrays
+    ``(..., 3)``, segments of positive length), batched over the leading axes.
+
+    The squared distance between ``p0 + s (p1 - p0)`` and ``q0 + t (q1 - q0)`` is a convex
+    quadratic on the square ``0 <= s, t <= 1``: its minimum is the stationary point when
+    that lies inside, else on an edge of the square, where it is the distance from an end
+    point of one segment to the other segment.
     """
-    with np.errstate(all="ignore"):
-        out = 2.0 / np.abs(det) * (np.sum(jac * jac, axis=(1, 2)) / 6.0) ** 3
-    exact = np.flatnonzero(~(out <= CONDITION_LIMIT))
-    finite = exact[np.all(np.isfinite(jac[exact]), axis=(1, 2))]
-    out[exact] = np.inf
-    if finite.size:
-        out[finite] = np.linalg.cond(jac[finite])
+    d1, d2, r = p1 - p0, q1 - q0, p0 - q0
+    a, e, b = (np.sum(u * v, axis=-1) for u, v in ((d1, d1), (d2, d2), (d1, d2)))
+    c, f = np.sum(d1 * r, axis=-1), np.sum(d2 * r, axis=-1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        denom = a * e - b * b
+        s = (b * f - c * e) / denom
+        t = (a * f - b * c) / denom
+        inside = (denom > 1e-12 * a * e) & (s >= 0) & (s <= 1) & (t >= 0) & (t <= 1)
+        best = np.where(inside, np.linalg.norm(r + s[..., None] * d1 - t[..., None] * d2, axis=-1), np.inf)
+    for point, start, direction in ((p0, q0, d2), (p1, q0, d2), (q0, p0, d1), (q1, p0, d1)):
+        along = np.clip(np.sum((point - start) * direction, axis=-1) / np.sum(direction * direction, axis=-1), 0, 1)
+        best = np.minimum(best, np.linalg.norm(point - start - along[..., None] * direction, axis=-1))
+    return best
+
+
+def _margin(jac: np.ndarray) -> np.ndarray:
+    """``sigma_min / sigma_max`` of a batch of 6x6 matrices (0 where non-finite)."""
+    out = np.zeros(len(jac))
+    finite = np.all(np.isfinite(jac), axis=(1, 2))
+    if finite.any():
+        sv = np.linalg.svd(jac[finite], compute_uv=False)
+        with np.errstate(invalid="ignore"):
+            out[finite] = np.nan_to_num(sv[:, -1] / sv[:, 0])
     return out
 
 
-def _block(plat, x: np.ndarray, mode: float):
+def _block(plat, x: np.ndarray, mode: float, neutral: np.ndarray) -> dict:
     params = plat.params
     lengths = plat.leg_lengths(x, return_mask=True)[0]
     flags = np.where(np.all(np.isfinite(lengths), axis=1), 0, OUT_OF_RANGE)
@@ -192,10 +281,26 @@ def _block(plat, x: np.ndarray, mode: float):
     flags |= np.where(np.min(joint_heights, axis=1) <= np.max(params.base_points[:, 2]), BELOW_BASE, 0)
     with np.errstate(all="ignore"):
         jac = plat.jacobian(x, return_mask=True)[0]
+        units = jac[..., :3].copy()
+        universal, spherical = _joint_angles(units, kinematics.rotation(x), neutral)
         jac[..., 3:] /= _platform_radius(params)
         det = np.linalg.det(np.nan_to_num(jac))
-        condition = _condition(jac, det)
+        condition = 1.0 / _margin(jac)
     flags |= np.where(~(condition <= CONDITION_LIMIT), SINGULAR, 0)
     flags |= np.where(np.abs(np.cos(x[:, 4])) < 1.0 / CONDITION_LIMIT, EULER_SINGULAR, 0)
     flags |= np.where(np.sign(det) * mode < 0, OTHER_ASSEMBLY_MODE, 0)
-    return flags, lengths, condition
+    for angles, limit, bit in ((universal, params.universal_joint_max_angle, UNIVERSAL_JOINT_LIMIT),
+                               (spherical, params.spherical_joint_max_angle, SPHERICAL_JOINT_LIMIT)):
+        if limit is not None:
+            flags |= np.where(np.any(~(angles <= limit), axis=1), bit, 0)
+    clearance = closest = None
+    if params.leg_diameter is not None:
+        ends = params.base_points + lengths[..., None] * units  # P_i = B_i + L_i u_i
+        i, j = LEG_PAIRS.T
+        with np.errstate(all="ignore"):
+            pairs = segment_distances(params.base_points[i], ends[:, i], params.base_points[j], ends[:, j])
+        closest = np.argmin(np.nan_to_num(pairs, nan=-1.0), axis=1)
+        clearance = pairs[np.arange(len(x)), closest]
+        flags |= np.where(~(clearance >= params.leg_diameter), LEG_COLLISION, 0)
+    return dict(flags=flags, lengths=lengths, condition=condition, universal_angles=universal,
+                spherical_angles=spherical, clearance=clearance, closest_legs=closest)
