@@ -127,7 +127,7 @@ def test_segment_distances_against_brute_force():
     """Random segments, and parallel, collinear and crossing ones: the distance is the
     minimum over a dense grid of points on both segments, to the grid's resolution."""
     rng = np.random.default_rng(11)
-    p0, p1, q0, q1 = (rng.normal(size=(200, 3)) for _ in range(4))
+    p0, p1, q0, q1 = (rng.normal(size=(60, 3)) for _ in range(4))
     across = np.cross(p1 - p0, [0.0, 0.0, 1.0])
     across = 0.3 * across / np.linalg.norm(across, axis=1)[:, None]
     q0[:20], q1[:20] = p0[:20] + across[:20], p1[:20] + across[:20]  # parallel, 0.3 apart
@@ -135,11 +135,11 @@ def test_segment_distances_against_brute_force():
     q0[20:30], q1[20:30] = p1[20:30] + 0.5 * ahead, p1[20:30] + 2 * ahead  # collinear, half a length apart
     q0[30:40], q1[30:40] = 0.5 * (p0[30:40] + p1[30:40]) - [0, 1, 0], 0.5 * (p0[30:40] + p1[30:40]) + [0, 1, 0]
     exact = workspace.segment_distances(p0, p1, q0, q1)
-    s = np.linspace(0, 1, 801)[:, None]
+    s = np.linspace(0, 1, 401)[:, None]
     for k in range(len(exact)):
         a, b = p0[k] + s * (p1[k] - p0[k]), q0[k] + s * (q1[k] - q0[k])
         brute = np.min(np.linalg.norm(a[:, None] - b[None], axis=-1))
-        step = (np.linalg.norm(p1[k] - p0[k]) + np.linalg.norm(q1[k] - q0[k])) / 800
+        step = (np.linalg.norm(p1[k] - p0[k]) + np.linalg.norm(q1[k] - q0[k])) / 400
         assert exact[k] <= brute + 1e-12 and brute - exact[k] <= step, k
     np.testing.assert_allclose(exact[:20], 0.3, rtol=1e-12)
     np.testing.assert_allclose(exact[20:30], 0.5 * np.linalg.norm(ahead, axis=1), rtol=1e-12)
