@@ -473,7 +473,8 @@ def cmd_workspace(args) -> int:
         study = workspace.translational_workspace if args.kind == "translational" else workspace.orientation_workspace
         result = study(params, **fixed, region=region, samples=None if args.grid else args.samples, grid=args.grid,
                        seed=args.seed, chunk_size=args.chunk_size, progress=progress)
-        slices = [workspace.workspace_slice(params, axes, **fixed, resolution=args.resolution)
+        slices = [workspace.workspace_slice(params, axes, **fixed, region=_zoom(result, axes),
+                                            resolution=args.resolution)
                   for axes in _SLICES[args.kind]] if args.slices else []
     except ValueError as exc:
         raise UserError(_flags(str(exc), _WORKSPACE_FLAGS)) from None
@@ -501,6 +502,19 @@ def cmd_workspace(args) -> int:
         raise UserError(f"no sampled pose is reachable ({result.samples} samples; excluded: {excluded})",
                         EXIT_WORKSPACE)
     return code
+
+
+def _zoom(result, axes: str):
+    """The two rows of the sampled region for a slice's ``axes``, narrowed to the reachable
+    samples' bounding box widened by a fifth of its size (the whole region if none is reachable)."""
+    names = axes.split(",") if "," in axes else list(axes)
+    rows = [result.axes.index(name) for name in names]
+    region = result.region[rows]
+    if result.bounding_box is None:
+        return region
+    box = result.bounding_box[rows]
+    pad = 0.2 * (box[:, 1] - box[:, 0]) + 1e-9 * (region[:, 1] - region[:, 0])
+    return np.column_stack([np.maximum(box[:, 0] - pad, region[:, 0]), np.minimum(box[:, 1] + pad, region[:, 1])])
 
 
 def _workspace_report(result, label: str, files: list[str]) -> None:
@@ -670,7 +684,7 @@ def build_parser() -> argparse.ArgumentParser:
                    "(overrides the parameters')")
     p.add_argument("--chunk-size", type=_count, default=20_000, help="poses per chunk")
     p.add_argument("--slices", metavar="DIR", help="write PNG heat maps of the margin on the three coordinate "
-                   "planes through home into DIR (needs matplotlib)")
+                   "planes through home, around the reachable samples, into DIR (needs matplotlib)")
     p.add_argument("--resolution", type=_count, default=121, help="cells per axis of each slice")
     p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
                    help="progress bar on stderr (default: when stderr is a terminal)")

@@ -162,7 +162,7 @@ def plot_workspace_slices(slices, path: str, title: str = "") -> str:
                              vmax=top, shading="nearest")
         ax.set_xlabel(f"{s.axes[0]} [{unit}]")
         ax.set_ylabel(f"{s.axes[1]} [{unit}]")
-        ax.set_title(f"{s.at[0]} = {scale * s.at[1]:.4g} {unit}", fontsize=10)
+        ax.set_title(f"{s.at[0]} = {np.round(scale * s.at[1], 9):.4g} {unit}", fontsize=10)  # 1e-16 shows as 0
         ax.set_aspect("equal")
     fig.colorbar(mesh, ax=axes[0].tolist(), label="singularity margin, 1 / cond(J_C) (unit-free)")
     axes[0][0].legend(handles=[Patch(color="0.85", label="unreachable")], loc="upper right", fontsize=8)
