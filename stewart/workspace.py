@@ -246,18 +246,24 @@ def segment_distances(p0, p1, q0, q1) -> np.ndarray:
     point of one segment to the other segment.
     """
     d1, d2, r = p1 - p0, q1 - q0, p0 - q0
-    a, e, b = (np.sum(u * v, axis=-1) for u, v in ((d1, d1), (d2, d2), (d1, d2)))
-    c, f = np.sum(d1 * r, axis=-1), np.sum(d2 * r, axis=-1)
+    a, e, b, c, f = _dot(d1, d1), _dot(d2, d2), _dot(d1, d2), _dot(d1, r), _dot(d2, r)
     with np.errstate(divide="ignore", invalid="ignore"):
         denom = a * e - b * b
         s = (b * f - c * e) / denom
         t = (a * f - b * c) / denom
         inside = (denom > 1e-12 * a * e) & (s >= 0) & (s <= 1) & (t >= 0) & (t <= 1)
-        best = np.where(inside, np.linalg.norm(r + s[..., None] * d1 - t[..., None] * d2, axis=-1), np.inf)
-    for point, start, direction in ((p0, q0, d2), (p1, q0, d2), (q0, p0, d1), (q1, p0, d1)):
-        along = np.clip(np.sum((point - start) * direction, axis=-1) / np.sum(direction * direction, axis=-1), 0, 1)
-        best = np.minimum(best, np.linalg.norm(point - start - along[..., None] * direction, axis=-1))
-    return best
+        gap = r + s[..., None] * d1 - t[..., None] * d2
+        best = np.where(inside, _dot(gap, gap), np.inf)
+    for point, start, direction, length in ((p0, q0, d2, e), (p1, q0, d2, e), (q0, p0, d1, a), (q1, p0, d1, a)):
+        along = np.clip(_dot(point - start, direction) / length, 0, 1)
+        gap = point - start - along[..., None] * direction
+        best = np.minimum(best, _dot(gap, gap))
+    return np.sqrt(best)
+
+
+def _dot(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Row-wise dot products over the last axis (of length 3)."""
+    return np.einsum("...k,...k->...", u, v)
 
 
 def _margin(jac: np.ndarray) -> np.ndarray:
