@@ -41,7 +41,8 @@ from .params import PlatformParams
 
 __all__ = [
     "WorkspaceError", "Reachability", "reachability", "CONDITION_LIMIT", "joint_angles", "segment_distances",
-    "Workspace", "translational_workspace", "orientation_workspace", "position_bounds", "Slice", "workspace_slice",
+    "Workspace", "WorkspaceJob", "translational_workspace", "orientation_workspace", "position_bounds", "Slice",
+    "workspace_slice",
 ]
 
 #: Largest unit-free condition number of ``J_C`` (and of the Euler-angle map) accepted.
