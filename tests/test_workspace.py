@@ -301,3 +301,16 @@ def test_dask_cluster_gives_the_local_result(capsys):
     assert remote == local and all(r["reachable"] > 0 for r in remote)
     printed = json.loads(capsys.readouterr().out)
     assert printed["volume"] == local[0]["volume"] and printed["margin_mean"] == local[0]["margin_mean"]
+
+
+def test_a_region_inside_the_workspace_is_all_reachable_and_clipped():
+    """A 10 cm box around home lies inside the motion simulator's workspace: the volume is
+    the box's, exactly, with no sampling error, and every axis is reported clipped."""
+    params = stewart.PlatformParams.preset("motion_simulator")
+    home = stewart.home_pose(params)[:3]
+    box = np.column_stack([home - 0.05, home + 0.05])
+    for kw in (dict(samples=2000), dict(grid=8)):
+        result = workspace.translational_workspace(params, region=box, **kw)
+        assert result.reachable == result.samples and result.volume == pytest.approx(1e-3, rel=1e-12)
+        assert result.clipped == ("x", "y", "z") and result.excluded == {}
+    assert result.volume_error == 0.0
