@@ -216,7 +216,8 @@ def _neutral_axes(plat) -> np.ndarray:
 
 def _angle(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """The angle between unit vectors, ``atan2(|a x b|, a . b)`` (accurate near 0 and pi)."""
-    return np.arctan2(np.linalg.norm(np.cross(a, b), axis=-1), np.sum(a * b, axis=-1))
+    normal = np.cross(a, b)
+    return np.arctan2(np.sqrt(_dot(normal, normal)), _dot(a, b))
 
 
 def joint_angles(params: PlatformParams, poses) -> tuple[np.ndarray, np.ndarray]:
