@@ -133,6 +133,8 @@ cdef inline dict stewart_params_left_out():
     return {
         'leg_length_limits': 'the C model has no stroke limits (compare stewart_leg_lengths() with them)',
         'name': 'a label, not a model input',
+        'universal_joint_axes': 'the general model (issue 15); the paper model has legs that do not spin',
+        'platform_com': 'the general model (issue 15); the paper model has the centre of mass at the origin',
     }
 
 
