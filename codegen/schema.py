@@ -63,4 +63,6 @@ LEFT_OUT = {
     'spherical_joint_max_angle': 'a workspace bound, checked in Python (stewart.workspace)',
     'leg_diameter': 'a workspace bound, checked in Python (stewart.workspace)',
     'name': 'a label, not a model input',
+    'universal_joint_axes': 'the general model (issue 15); the paper model has legs that do not spin',
+    'platform_com': 'the general model (issue 15); the paper model has the centre of mass at the origin',
 }

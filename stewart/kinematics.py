@@ -14,7 +14,7 @@ import numpy as np
 
 from . import _checks, conditions
 from .errors import ConvergenceError
-from .params import PlatformParams, checked_params
+from .params import TOLERANCE, PlatformParams, checked_params
 
 __all__ = [
     "rotation",
@@ -27,6 +27,7 @@ __all__ = [
     "euler_jacobian",
     "leg_velocities",
     "home_pose",
+    "check_universal_joint_axes",
     "forward_kinematics",
 ]
 
@@ -179,6 +180,26 @@ def home_pose(params: PlatformParams, leg_length: float | None = None) -> np.nda
 
 #: Most Newton iterations :func:`forward_kinematics` may be asked for.
 MAX_ITERATIONS = 10_000
+
+
+def check_universal_joint_axes(params: PlatformParams, home: np.ndarray | None = None) -> None:
+    """``ValueError`` naming ``universal_joint_axes`` when a joint's first axis lies within
+    :data:`stewart.params.TOLERANCE` radians of parallel to its leg at the home pose (the
+    joint's gimbal lock); nothing for the paper's model. ``home`` defaults to
+    :func:`home_pose`. (The check needs the home pose, so it runs here and in
+    :class:`stewart.Platform`, not in :class:`PlatformParams`.)"""
+    params = checked_params(params)
+    axes = params.universal_joint_axes
+    if axes is None:
+        return
+    units = leg_unit_vectors(params, home_pose(params) if home is None else home)
+    sines = np.linalg.norm(np.cross(axes, units), axis=1) / np.linalg.norm(axes, axis=1)
+    if np.any(sines <= TOLERANCE):
+        i = int(np.argmin(sines))
+        raise ValueError(
+            f"universal_joint_axes: axis {i} is parallel to leg {i} at the home pose "
+            "(the joint's gimbal lock); choose a first axis across the leg"
+        )
 
 
 def forward_kinematics(

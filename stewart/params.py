@@ -74,6 +74,10 @@ def _points(name: str, value: Any) -> np.ndarray:
 
 def _inertia(name: str, value: Any) -> np.ndarray:
     arr = _vector3(name, value)
+    return _moments(name, arr)
+
+
+def _moments(name: str, arr: np.ndarray) -> np.ndarray:
     if np.any(arr < 0.0):
         raise ValueError(f"{name}: principal moments must be >= 0, got {arr.tolist()}")
     total = arr.sum()
@@ -100,6 +104,50 @@ def _optional_bound(name: str, value: Any, maximum: float) -> float | None:
     return val
 
 
+#: Tolerance of the parameter checks on unit vectors and on the symmetry of a tensor
+#: (relative), and on the angle in radians between a joint axis and its leg at home.
+TOLERANCE = 1e-6
+
+
+def _inertia_tensor(name: str, value: Any) -> np.ndarray:
+    """Principal moments (3,) as given, or a symmetric positive-semidefinite (3, 3) tensor
+    whose eigenvalues (the principal moments) satisfy the triangle inequality."""
+    arr = _checks.reals(name, value)
+    if arr.shape == (3,):
+        return _inertia(name, arr)
+    if arr.shape != (3, 3):
+        raise ValueError(f"{name}: expected 3 principal moments or a (3, 3) tensor, got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name}: values must be finite, got {arr.tolist()}")
+    if np.max(np.abs(arr - arr.T)) > TOLERANCE * np.max(np.abs(arr)):
+        raise ValueError(f"{name}: the inertia tensor must be symmetric, got {arr.tolist()}")
+    moments = np.linalg.eigvalsh(0.5 * (arr + arr.T))
+    slack = 1e-12 * max(float(np.sum(np.abs(moments))), np.finfo(float).tiny)
+    if np.any(moments < -slack):
+        raise ValueError(f"{name}: the inertia tensor must be positive-semidefinite, "
+                         f"got eigenvalues {moments.tolist()}")
+    _moments(name, np.maximum(moments, 0.0))
+    return arr
+
+
+def _joint_axes(name: str, value: Any) -> np.ndarray | None:
+    """Six unit vectors (6, 3), each within :data:`TOLERANCE` of length 1."""
+    if value is None:
+        return None
+    arr = _checks.reals(name, value)
+    if arr.shape != (6, 3):
+        raise ValueError(f"{name}: expected shape (6, 3), got {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name}: values must be finite, got {arr.tolist()}")
+    norms = np.sqrt(np.sum(arr * arr, axis=1))
+    bad = np.flatnonzero(np.abs(norms - 1.0) > TOLERANCE)
+    if bad.size:
+        i = int(bad[0])
+        what = "is zero" if norms[i] == 0.0 else f"has length {norms[i]:.12g}"
+        raise ValueError(f"{name}: axis {i} {what}; each axis must be a unit vector")
+    return arr
+
+
 def _readonly(arr: np.ndarray) -> np.ndarray:
     arr.flags.writeable = False
     return arr
@@ -113,8 +161,9 @@ class PlatformParams:
     ----------
     base_points : (6, 3) universal-joint centres b_i in the base frame {B}.
     platform_points : (6, 3) spherical-joint centres p_i in the platform frame {P}.
-    platform_mass : m_P; the centre of mass is at the origin of {P} (eq. 10).
-    platform_inertia : (I_Pxx, I_Pyy, I_Pzz) in {P} about the centre of mass (eq. 12).
+    platform_mass : m_P (eq. 10).
+    platform_inertia : (I_Pxx, I_Pyy, I_Pzz) principal moments in {P} (eq. 12), or a symmetric
+        (3, 3) tensor in {P}; about the centre of mass in both cases.
     cylinder_mass : m_C (eq. 36).
     cylinder_inertia : (axial, I_yy, I_zz) in the cylinder frame {C_i} (eq. 48).
     cylinder_com_distance : b_C, from B_i along the leg to the cylinder's centre of mass (eq. 24).
@@ -131,10 +180,17 @@ class PlatformParams:
     leg_diameter : optional outer diameter of the legs in metres; two legs (segments B_i P_i)
         closer than it collide (:mod:`stewart.workspace`).
     name : optional label.
+    universal_joint_axes : optional (6, 3) first (base-fixed) axis a_i of each universal joint
+        in {B}, unit vectors (within :data:`TOLERANCE`). Given, the legs turn with their
+        joints: leg frame x = u_i, y = a_i x u_i / |a_i x u_i|, z = x x y (a_i = z gives the
+        frame of eqs. 44-47). ``None``: the paper's legs that do not spin (eq. 29).
+    platform_com : optional centre of mass in {P}; ``None`` is the origin of {P} (eq. 10).
 
     Arrays are stored read-only. Construction validates every field and raises
-    ``ValueError`` naming the field; leg inertias with I_yy != I_zz give a
-    :class:`NonAxisymmetricLegWarning`.
+    ``ValueError`` naming the field; without ``universal_joint_axes``, leg inertias with
+    I_yy != I_zz give a :class:`NonAxisymmetricLegWarning`. An axis parallel to its leg at
+    the home pose is rejected when a :class:`stewart.Platform` is built
+    (:func:`stewart.kinematics.check_universal_joint_axes`).
     """
 
     base_points: np.ndarray
@@ -153,13 +209,15 @@ class PlatformParams:
     spherical_joint_max_angle: float | None = None
     leg_diameter: float | None = None
     name: str | None = None
+    universal_joint_axes: np.ndarray | None = None
+    platform_com: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         fields = {
             "base_points": _points("base_points", self.base_points),
             "platform_points": _points("platform_points", self.platform_points),
             "platform_mass": _scalar("platform_mass", self.platform_mass),
-            "platform_inertia": _inertia("platform_inertia", self.platform_inertia),
+            "platform_inertia": _inertia_tensor("platform_inertia", self.platform_inertia),
             "cylinder_mass": _scalar("cylinder_mass", self.cylinder_mass),
             "cylinder_inertia": _inertia("cylinder_inertia", self.cylinder_inertia),
             "cylinder_com_distance": _scalar("cylinder_com_distance", self.cylinder_com_distance),
@@ -170,12 +228,14 @@ class PlatformParams:
             "leg_length_limits": self._checked_limits(self.leg_length_limits),
             **{key: _optional_bound(key, getattr(self, key), top) for key, top in _BOUNDS.items()},
             "name": self._checked_name(self.name),
+            "universal_joint_axes": _joint_axes("universal_joint_axes", self.universal_joint_axes),
+            "platform_com": None if self.platform_com is None else _vector3("platform_com", self.platform_com),
         }
         for key, val in fields.items():
             if isinstance(val, np.ndarray):
                 val = _readonly(val)
             object.__setattr__(self, key, val)
-        if not self.is_axisymmetric:
+        if not self.is_axisymmetric and self.universal_joint_axes is None:
             warnings.warn(
                 f"PlatformParams{'' if self.name is None else ' ' + repr(self.name)}: "
                 "cylinder_inertia or piston_inertia has I_yy != I_zz; the model's legs do not "
@@ -210,6 +270,67 @@ class PlatformParams:
             self.cylinder_inertia[1] == self.cylinder_inertia[2]
             and self.piston_inertia[1] == self.piston_inertia[2]
         )
+
+    @property
+    def platform_inertia_tensor(self) -> np.ndarray:
+        """The platform's (3, 3) inertia tensor in {P} about its centre of mass (read-only)."""
+        inertia = self.platform_inertia
+        return _readonly(np.diag(inertia) if inertia.shape == (3,) else inertia.copy())
+
+    @property
+    def is_paper_model(self) -> bool:
+        """True for the paper's model: legs that do not spin (no ``universal_joint_axes``),
+        the centre of mass at the origin of {P} and a diagonal inertia tensor in {P}."""
+        tensor = self.platform_inertia_tensor
+        return bool(
+            self.universal_joint_axes is None
+            and (self.platform_com is None or not np.any(self.platform_com))
+            and not np.any(tensor - np.diag(np.diag(tensor)))
+        )
+
+    def with_payload(self, mass: Any, com: Any, inertia: Any) -> "PlatformParams":
+        """The platform carrying a rigid payload: ``mass`` in kg, centre of mass ``com`` in
+        {P}, ``inertia`` (3 principal moments in {P} or a (3, 3) tensor in {P}) about the
+        payload's own centre of mass. Masses add, the centre of mass is their mean, and
+        each body's tensor moves to the common centre of mass by the parallel-axis
+        theorem, I + m (|d|^2 E - d d^T)."""
+        mass = _scalar("mass", mass)
+        com = _vector3("com", com)
+        tensor = _inertia_tensor("inertia", inertia)
+        tensor = np.diag(tensor) if tensor.shape == (3,) else tensor
+        bodies = [(self.platform_mass, self._com(), self.platform_inertia_tensor), (mass, com, tensor)]
+        total = self.platform_mass + mass
+        if total == 0.0:
+            raise ValueError("mass: the platform and the payload have no mass together")
+        centre = sum(m * c for m, c, _ in bodies) / total
+        combined = sum(i + m * (np.dot(c - centre, c - centre) * np.eye(3) - np.outer(c - centre, c - centre))
+                       for m, c, i in bodies)
+        diagonal = not np.any(combined - np.diag(np.diag(combined)))
+        return self.replace(
+            platform_mass=total,
+            platform_com=centre if np.any(centre) or self.platform_com is not None else None,
+            platform_inertia=np.diag(combined) if diagonal else 0.5 * (combined + combined.T),
+        )
+
+    def with_universal_joints(self, axes: Any = None) -> "PlatformParams":
+        """A copy with universal joints whose first axes are ``axes`` (6, 3) in {B}.
+
+        By default each first axis is horizontal and tangential to the base circle: the
+        unit vector z x r_i / |z x r_i| with r_i the horizontal offset of b_i from the base
+        joints' centroid. That is an assumption about the machine (a common way to mount
+        the joints), not part of the paper's parameters."""
+        if axes is None:
+            radial = self.base_points - self.base_points.mean(axis=0)
+            tangent = np.stack([-radial[:, 1], radial[:, 0], np.zeros(6)], axis=1)
+            norms = np.sqrt(np.sum(tangent * tangent, axis=1))
+            if np.any(norms == 0.0):
+                raise ValueError("axes: a base joint lies above the base centroid; "
+                                 "its tangential axis is undefined, give the axes explicitly")
+            axes = tangent / norms[:, None]
+        return self.replace(universal_joint_axes=axes)
+
+    def _com(self) -> np.ndarray:
+        return np.zeros(3) if self.platform_com is None else self.platform_com
 
     def replace(self, **changes: Any) -> "PlatformParams":
         """A copy with some fields changed (validated again)."""

@@ -89,6 +89,11 @@ class Platform:
         self._params = checked_params(params)
         self._home = kinematics.home_pose(params)
         self._home.flags.writeable = False
+        kinematics.check_universal_joint_axes(params, self._home)
+        if not params.is_paper_model or params.platform_inertia.shape != (3,):
+            raise ValueError("params: the compiled model takes the paper's parameters (no universal_joint_axes, "
+                             "no platform_com, 3 principal moments); evaluate the general model with "
+                             "stewart.reference")
         self._kernel = Kernel(params, threads)
 
     @classmethod
@@ -100,6 +105,11 @@ class Platform:
     def load(cls, path, **options) -> "Platform":
         """The compiled model of a TOML or JSON parameter file."""
         return cls(PlatformParams.load(path), **options)
+
+    def with_payload(self, mass, com, inertia) -> "Platform":
+        """The compiled model of this platform carrying a rigid payload
+        (:meth:`PlatformParams.with_payload`), with the same options."""
+        return type(self)(self._params.with_payload(mass, com, inertia), threads=self.threads)
 
     @property
     def params(self) -> PlatformParams:

@@ -75,6 +75,15 @@ def test_arrays_are_read_only_and_params_immutable():
         ("leg_diameter", -0.05, "leg_diameter: need > 0 (metres), got -0.05"),
         ("leg_diameter", float("inf"), "leg_diameter: must be finite"),
         ("name", 42, "name: expected a string"),
+        ("universal_joint_axes", [[1.0, 0.0, 0.0]] * 5 + [[0.0, 0.0, 0.0]], "universal_joint_axes: axis 5 is zero"),
+        ("universal_joint_axes", [[1.0, 0.0, 0.0]] * 5 + [[0.6, 0.6, 0.0]], "universal_joint_axes: axis 5 has length"),
+        ("universal_joint_axes", [[1.0, 0.0, np.inf]] * 6, "universal_joint_axes: values must be finite"),
+        ("universal_joint_axes", [[1.0, 0.0, 0.0]] * 3, "universal_joint_axes: expected shape (6, 3)"),
+        ("platform_com", (0.0, np.nan, 0.0), "platform_com: values must be finite"),
+        ("platform_inertia", [[1.0, 0.1, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 1.0]], "platform_inertia: the inertia tensor must be symmetric"),
+        ("platform_inertia", [[1.0, 2.0, 0.0], [2.0, 1.0, 0.0], [0.0, 0.0, 1.5]], "platform_inertia: the inertia tensor must be positive-semidefinite"),
+        ("platform_inertia", [[1.0, 0.0, 0.0], [0.0, 1.0, 0.0], [0.0, 0.0, 2.5]], "platform_inertia: principal moments"),
+        ("platform_inertia", np.eye(2), "platform_inertia: expected 3 principal moments or a (3, 3) tensor"),
     ],
 )
 def test_bad_parameters_name_the_field(field, value, message):
@@ -97,6 +106,95 @@ def test_non_axisymmetric_legs_warn():
     with pytest.warns(stewart.NonAxisymmetricLegWarning, match="I_yy != I_zz"):
         params = PlatformParams(**kwargs)
     assert not params.is_axisymmetric
+
+
+def test_non_axisymmetric_legs_with_joint_axes_do_not_warn():
+    kwargs = _valid_kwargs()
+    kwargs["cylinder_inertia"] = (1e-4, 6e-4, 5e-4)
+    axes = PlatformParams.preset("narayan2017").with_universal_joints().universal_joint_axes
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        params = PlatformParams(**kwargs, universal_joint_axes=axes)
+    assert not params.is_axisymmetric and not params.is_paper_model
+
+
+def test_joint_axis_parallel_to_its_leg_at_home_names_the_field():
+    params = PlatformParams.preset("narayan2017")
+    home = stewart.kinematics.home_pose(params)
+    axes = np.array(params.with_universal_joints().universal_joint_axes)
+    axes[2] = stewart.kinematics.leg_unit_vectors(params, home)[2]
+    with pytest.raises(ValueError, match="^universal_joint_axes: axis 2 is parallel to leg 2 at the home pose"):
+        stewart.Platform(params.with_universal_joints(axes))
+    stewart.kinematics.check_universal_joint_axes(params.with_universal_joints())
+
+
+def test_default_joint_axes_are_horizontal_and_tangential(preset_params):
+    general = preset_params.with_universal_joints()
+    axes = general.universal_joint_axes
+    radial = preset_params.base_points - preset_params.base_points.mean(axis=0)
+    np.testing.assert_allclose(np.linalg.norm(axes, axis=1), 1.0, rtol=0, atol=1e-15)
+    np.testing.assert_allclose(axes[:, 2], 0.0, atol=0)
+    np.testing.assert_allclose(np.sum(axes * radial, axis=1), 0.0, atol=1e-15)
+    assert not axes.flags.writeable and preset_params.is_paper_model and not general.is_paper_model
+    assert general.replace(universal_joint_axes=None) == preset_params
+
+
+def test_inertia_tensor_and_paper_model():
+    params = PlatformParams.preset("narayan2017")
+    moments = params.platform_inertia
+    np.testing.assert_array_equal(params.platform_inertia_tensor, np.diag(moments))
+    as_tensor = params.replace(platform_inertia=np.diag(moments), platform_com=(0.0, 0.0, 0.0))
+    assert as_tensor.is_paper_model and as_tensor.platform_inertia.shape == (3, 3)
+    assert not as_tensor.platform_inertia.flags.writeable and not as_tensor.platform_com.flags.writeable
+    tilted = np.diag(moments)
+    tilted[0, 1] = tilted[1, 0] = 0.01 * moments[0]
+    assert not params.replace(platform_inertia=tilted).is_paper_model
+    assert not params.replace(platform_com=(0.0, 0.0, 1e-3)).is_paper_model
+
+
+def test_with_payload_by_the_parallel_axis_theorem():
+    """Hand-worked: a 2 kg platform, I = diag(1, 1, 2), at the origin; a 2 kg point-like box
+    with I = diag(0.1, 0.2, 0.3) at (0.4, 0, 0.2). Centre of mass (0.2, 0, 0.1); each body
+    is 0.2236 m from it along (±0.2, 0, ±0.1), adding m(|d|^2 E - d d^T) = 2 [[0.01, 0, -0.02],
+    [0, 0.05, 0], [-0.02, 0, 0.04]] each."""
+    kwargs = _valid_kwargs()
+    kwargs.update(platform_mass=2.0, platform_inertia=(1.0, 1.0, 2.0))
+    params = PlatformParams(**kwargs)
+    loaded = params.with_payload(2.0, (0.4, 0.0, 0.2), (0.1, 0.2, 0.3))
+    assert loaded.platform_mass == 4.0
+    np.testing.assert_allclose(loaded.platform_com, (0.2, 0.0, 0.1), rtol=0, atol=1e-16)
+    expected = np.array([[1.1 + 0.04, 0.0, -0.08], [0.0, 1.2 + 0.2, 0.0], [-0.08, 0.0, 2.3 + 0.16]])
+    np.testing.assert_allclose(loaded.platform_inertia_tensor, expected, rtol=0, atol=1e-15)
+    # Two payloads in turn equal their combination, and a payload at the origin keeps the paper's model.
+    again = loaded.with_payload(1.0, (0.0, 0.5, 0.0), np.eye(3) * 0.05)
+    both = params.with_payload(3.0, (0.8 / 3.0, 0.5 / 3.0, 0.4 / 3.0),
+                               PlatformParams(**{**kwargs, "platform_mass": 2.0, "platform_inertia": (0.1, 0.2, 0.3),
+                                                 "platform_com": (0.4, 0.0, 0.2)})
+                               .with_payload(1.0, (0.0, 0.5, 0.0), np.eye(3) * 0.05).platform_inertia_tensor)
+    np.testing.assert_allclose(again.platform_inertia_tensor, both.platform_inertia_tensor, rtol=1e-14, atol=0)
+    centred = params.with_payload(1.0, (0.0, 0.0, 0.0), (0.1, 0.1, 0.2))
+    assert centred.is_paper_model and centred.platform_inertia.shape == (3,)
+    np.testing.assert_array_equal(centred.platform_inertia, (1.1, 1.1, 2.2))
+    with pytest.raises(ValueError, match="^com: expected 3 values"):
+        params.with_payload(1.0, (0.0, 0.0), (0.1, 0.1, 0.1))
+    with pytest.raises(ValueError, match="^inertia: principal moments"):
+        params.with_payload(1.0, (0.0, 0.0, 0.0), (0.1, 0.1, 0.3))
+    with pytest.raises(ValueError, match="^mass: must be >= 0"):
+        stewart.Platform.preset("narayan2017").with_payload(-1.0, (0.0, 0.0, 0.0), (0.1, 0.1, 0.1))
+
+
+def test_general_fields_round_trip_through_files(tmp_path):
+    params = (PlatformParams.preset("narayan2017").with_universal_joints()
+              .with_payload(3.0, (0.01, -0.02, 0.05), [[0.1, 0.01, 0.0], [0.01, 0.12, 0.0], [0.0, 0.0, 0.2]]))
+    assert params.platform_inertia.shape == (3, 3)
+    for suffix in (".toml", ".json"):
+        params.save(tmp_path / f"p{suffix}")
+        loaded = PlatformParams.load(tmp_path / f"p{suffix}")
+        assert loaded == params and hash(loaded) == hash(params)
+        np.testing.assert_array_equal(loaded.universal_joint_axes, params.universal_joint_axes)
+        np.testing.assert_array_equal(loaded.platform_inertia, params.platform_inertia)
+        np.testing.assert_array_equal(loaded.platform_com, params.platform_com)
+    assert params != params.replace(platform_com=None)
 
 
 def test_unknown_preset_lists_the_available_ones():
