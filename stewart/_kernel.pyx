@@ -26,7 +26,7 @@ from cython.parallel cimport prange
 from libc.math cimport isfinite, NAN
 
 from . import _checks
-from .errors import SingularityError
+from .errors import SimdPathError, SingularityError
 
 cnp.import_array()
 
@@ -58,17 +58,21 @@ cdef list _compiled():
 
 cdef const stewart_table *_choose() except NULL:
     """The table of the copy the kernel runs: the one named by STEWART_SIMD, else the last
-    (most capable) one this CPU runs."""
+    (most capable) one this CPU runs. A STEWART_SIMD that names no path this CPU runs is a
+    SimdPathError: one line naming the variable and its valid values, exit code 2."""
     compiled = _compiled()
     forced = os.environ.get(SIMD_VARIABLE, "")
     names = [c[0] for c in compiled]
+    supported = [c[0] for c in compiled if c[4]]
     if not forced:
         return stewart_tables[max(i for i, c in enumerate(compiled) if c[4])]
+    valid = f"valid values: {', '.join(supported)} (or unset: the best this CPU runs)"
     if forced not in names:
-        raise RuntimeError(f"{SIMD_VARIABLE}={forced!r}: no such path compiled in (compiled: {', '.join(names)})")
+        raise SimdPathError.report(f"{SIMD_VARIABLE}={forced!r} names no path of this build; {valid}")
     i = names.index(forced)
     if not compiled[i][4]:
-        raise RuntimeError(f"{SIMD_VARIABLE}={forced!r}: this CPU lacks its instruction set ({compiled[i][1]})")
+        raise SimdPathError.report(
+            f"{SIMD_VARIABLE}={forced!r}: this CPU lacks its instruction set ({compiled[i][1]}); {valid}")
     return stewart_tables[i]
 
 
