@@ -9,6 +9,8 @@
  * Prints the lanes, then per function a line: name, the median over REPEATS passes of the
  * time per state of the scalar loop and of the batch function (s), the worst difference of
  * their outputs relative to each row's largest output, and the rows either reports failed.
+ * The derivative functions run on the first ND states (forward dynamics and the RK4 step
+ * with the forces inverse dynamics gives).
  */
 #define _POSIX_C_SOURCE 199309L
 #include <math.h>
@@ -22,40 +24,79 @@
 
 #include "timing.h"
 
-enum { ID, FD, M, VXD, G, NFUNCTIONS };
+enum { ID, FD, M, VXD, G, IDD, FDD, RK4D, NFUNCTIONS };
 static const char *const NAMES[NFUNCTIONS] = {"inverse_dynamics", "forward_dynamics", "mass_matrix",
-                                              "coriolis_vector", "gravity_vector"};
-static const int WIDTH[NFUNCTIONS] = {6, 6, 36, 6, 6};
+                                              "coriolis_vector", "gravity_vector", "inverse_dynamics_derivatives",
+                                              "forward_dynamics_derivatives", "rk4_step_derivatives"};
+/* The sizes of each function's outputs (a row's), at most four. */
+static const int WIDTH[NFUNCTIONS][4] = {{6}, {6}, {36}, {6}, {6}, {6, 36, 36, 36}, {6, 36, 36, 36},
+                                         {6, 6, 144, 72}};
+/* The derivative functions (the last three) run on the first ND states. */
+enum { ND = 10000 };
+/* Time step of the RK4 step. */
+static const double DT = 1e-3;
+
+/* Output k of function f on n states, in out: the n rows of each output one after the other. */
+static double *part(int f, int k, double *out, size_t n) {
+    for (int j = 0; j < k; ++j) out += (size_t)WIDTH[f][j] * n;
+    return out;
+}
 
 /* Function f on n states: row by row with the scalar function, or with the batch function. */
 static int run(int f, int batch, const stewart_params *p, size_t n, const double *x, const double *xd,
                const double *third, double *out, int *status) {
+    double *o[4];
     int failures = 0;
+    for (int k = 0; k < 4; ++k) o[k] = part(f, k, out, n);
     if (batch) {
         switch (f) {
-        case ID: stewart_batch_inverse_dynamics(p, n, x, xd, third, out, status); break;
-        case FD: stewart_batch_forward_dynamics(p, n, x, xd, third, out, status); break;
-        case M: stewart_batch_mass_matrix(p, n, x, out, status); break;
-        case VXD: stewart_batch_coriolis_vector(p, n, x, xd, out, status); break;
-        default: stewart_batch_gravity_vector(p, n, x, out, status); break;
+        case ID: stewart_batch_inverse_dynamics(p, n, x, xd, third, o[0], status); break;
+        case FD: stewart_batch_forward_dynamics(p, n, x, xd, third, o[0], status); break;
+        case M: stewart_batch_mass_matrix(p, n, x, o[0], status); break;
+        case VXD: stewart_batch_coriolis_vector(p, n, x, xd, o[0], status); break;
+        case G: stewart_batch_gravity_vector(p, n, x, o[0], status); break;
+        case IDD: stewart_batch_inverse_dynamics_derivatives(p, n, x, xd, third, o[0], o[1], o[2], o[3], status); break;
+        case FDD: stewart_batch_forward_dynamics_derivatives(p, n, x, xd, third, o[0], o[1], o[2], o[3], status); break;
+        default: stewart_batch_rk4_step_derivatives(p, n, x, xd, third, DT, o[0], o[1], o[2], o[3], status); break;
         }
         for (size_t i = 0; i < n; ++i) failures += status[i] != STEWART_OK;
         return failures;
     }
     for (size_t i = 0; i < n; ++i) {
         const double *a = x + 6 * i, *b = xd + 6 * i, *c = third + 6 * i;
-        double *o = out + (size_t)WIDTH[f] * i;
+        double *r[4];
         int st;
+        for (int k = 0; k < 4; ++k) r[k] = o[k] + (size_t)WIDTH[f][k] * i;
         switch (f) {
-        case ID: st = stewart_inverse_dynamics(p, a, b, c, o); break;
-        case FD: st = stewart_forward_dynamics(p, a, b, c, o); break;
-        case M: st = stewart_mass_matrix(p, a, o); break;
-        case VXD: st = stewart_coriolis_vector(p, a, b, o); break;
-        default: st = stewart_gravity_vector(p, a, o); break;
+        case ID: st = stewart_inverse_dynamics(p, a, b, c, r[0]); break;
+        case FD: st = stewart_forward_dynamics(p, a, b, c, r[0]); break;
+        case M: st = stewart_mass_matrix(p, a, r[0]); break;
+        case VXD: st = stewart_coriolis_vector(p, a, b, r[0]); break;
+        case G: st = stewart_gravity_vector(p, a, r[0]); break;
+        case IDD: st = stewart_inverse_dynamics_derivatives(p, a, b, c, r[0], r[1], r[2], r[3]); break;
+        case FDD: st = stewart_forward_dynamics_derivatives(p, a, b, c, r[0], r[1], r[2], r[3]); break;
+        default: st = stewart_rk4_step_derivatives(p, a, b, c, DT, r[0], r[1], r[2], r[3]); break;
         }
         failures += st != STEWART_OK;
     }
     return failures;
+}
+
+/* The worst difference of the rows of b from those of a (n rows of `width`), relative to each
+ * row's largest |a|, over the rows a gives a value for. */
+static double worst_rows(const double *a, const double *b, size_t n, int width) {
+    double worst = 0.0;
+    for (size_t i = 0; i < n; ++i) {
+        const double *u = a + (size_t)width * i, *v = b + (size_t)width * i;
+        double scale = 0.0, err = 0.0;
+        for (int k = 0; k < width; ++k) scale = fabs(u[k]) > scale ? fabs(u[k]) : scale;
+        for (int k = 0; k < width; ++k) {
+            double e = fabs(u[k] - v[k]) / (scale > 0.0 ? scale : 1.0);
+            if (!(e <= err)) err = e;
+        }
+        if (!(err <= worst) && !isnan(u[0])) worst = err;
+    }
+    return worst;
 }
 
 int main(int argc, char **argv) {
@@ -78,8 +119,9 @@ int main(int argc, char **argv) {
     }
     double *rows = malloc(n * 18 * sizeof(double)), *x = malloc(n * 6 * sizeof(double));
     double *xd = malloc(n * 6 * sizeof(double)), *xdd = malloc(n * 6 * sizeof(double));
-    double *tau = malloc(n * 6 * sizeof(double)), *out[2] = {malloc(n * 36 * sizeof(double)),
-                                                            malloc(n * 36 * sizeof(double))};
+    const size_t nd = n < ND ? n : ND, size = n * 36 > nd * 228 ? n * 36 : nd * 228;
+    double *tau = malloc(n * 6 * sizeof(double)), *out[2] = {malloc(size * sizeof(double)),
+                                                            malloc(size * sizeof(double))};
     double *times = malloc((size_t)repeats * sizeof(double));
     int *status = malloc(n * sizeof(int));
     if (!rows || !x || !xd || !xdd || !tau || !out[0] || !out[1] || !times || !status
@@ -94,27 +136,23 @@ int main(int argc, char **argv) {
 
     printf("lanes %d\n", stewart_batch_lanes());
     for (int f = 0; f < NFUNCTIONS; ++f) {
+        const size_t m = f >= IDD ? nd : n;
         double median[2];
         int failures[2];
         for (int batch = 0; batch < 2; ++batch) {
             for (int rep = 0; rep < repeats; ++rep) {
                 double start = now();
-                failures[batch] = run(f, batch, &p, n, x, xd, f == FD ? tau : xdd, out[batch], status);
-                times[rep] = (now() - start) / (double)n;
+                failures[batch] = run(f, batch, &p, m, x, xd, f == FD || f == FDD || f == RK4D ? tau : xdd,
+                                      out[batch], status);
+                times[rep] = (now() - start) / (double)m;
             }
             qsort(times, (size_t)repeats, sizeof(double), cmp);
             median[batch] = times[repeats / 2];
         }
         double worst = 0.0;
-        for (size_t i = 0; i < n; ++i) {
-            const double *a = out[0] + (size_t)WIDTH[f] * i, *b = out[1] + (size_t)WIDTH[f] * i;
-            double scale = 0.0, err = 0.0;
-            for (int k = 0; k < WIDTH[f]; ++k) scale = fabs(a[k]) > scale ? fabs(a[k]) : scale;
-            for (int k = 0; k < WIDTH[f]; ++k) {
-                double e = fabs(a[k] - b[k]) / (scale > 0.0 ? scale : 1.0);
-                if (!(e <= err)) err = e;
-            }
-            if (!(err <= worst) && !isnan(a[0])) worst = err;
+        for (int k = 0; k < 4 && WIDTH[f][k]; ++k) {
+            double e = worst_rows(part(f, k, out[0], m), part(f, k, out[1], m), m, WIDTH[f][k]);
+            worst = e > worst ? e : worst;
         }
         printf("%s %.6e %.6e %.3e %d %d\n", NAMES[f], median[0], median[1], worst, failures[0], failures[1]);
     }

@@ -1,8 +1,11 @@
 """The vector batch path against the scalar one (``python -m benchmarks.batch_loop``, and in
 ``make bench``): per-state time on one core of each batched function in the same C loop
-(``batch_loop.c``: the scalar function row by row, then the batch function, one run), the
-batch call from Python on one and two threads, and the targets of the batch path marked
-met or missed."""
+(``batch_loop.c``: the scalar function row by row, then the batch function, one run), built
+once per instruction-set path of the portable build this CPU runs (with that path's flags)
+and once with ``-march=native``, side by side; the batch call from Python on one and two
+threads; CasADi's generated C and ``casadi.Function.map(N, "thread", 2)`` for inverse dynamics
+on the same states (skipped without casadi); and the targets of the batch path marked met or
+missed."""
 
 from __future__ import annotations
 
@@ -10,6 +13,7 @@ import argparse
 import pathlib
 import subprocess
 import tempfile
+from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
@@ -21,8 +25,9 @@ from .peers.common import compile_c, param_vector
 HERE = pathlib.Path(__file__).resolve().parent
 ROOT = HERE.parent
 
-#: Functions timed, in batch_loop.c's order.
-FUNCTIONS = ("inverse_dynamics", "forward_dynamics", "mass_matrix", "coriolis_vector", "gravity_vector")
+#: Functions timed, in batch_loop.c's order (the derivative functions on its first ND states).
+FUNCTIONS = ("inverse_dynamics", "forward_dynamics", "mass_matrix", "coriolis_vector", "gravity_vector",
+             "inverse_dynamics_derivatives", "forward_dynamics_derivatives", "rk4_step_derivatives")
 #: Most microseconds per state (one core) of each batch function.
 US_PER_STATE = {"inverse_dynamics": 0.10, "forward_dynamics": 0.15, "mass_matrix": 0.08, "coriolis_vector": 0.08,
                 "gravity_vector": 0.08}
@@ -34,21 +39,26 @@ BOTH_CORES_STATES_PER_S = 18e6
 THREAD_SPEEDUP = 1.8
 #: Most a batch call from Python may take over the C loop's batch function.
 PYTHON_OVERHEAD = 1.10
+#: Most the portable build's dispatched path may take over a -march=native build.
+NATIVE_RATIO = 1.05
+#: The -march=native build's column.
+NATIVE = "native"
 
 
-def c_loop(params, n: int, repeats: int = 7) -> dict:
-    """{function: (scalar s/state, batch s/state, worst relative difference, failures)} of
-    the C loop on n states, and the lanes."""
-    x, xd, xdd = bench.states(params, n)
-    with tempfile.TemporaryDirectory() as tmp:
-        exe, data = pathlib.Path(tmp) / "batch_loop", pathlib.Path(tmp) / "in.bin"
-        compile_c([HERE / "batch_loop.c", ROOT / "generated" / "stewart_model.c"], exe,
-                  include=[ROOT / "generated"])
-        pvec = param_vector(params)
-        data.write_bytes(np.int64(n).tobytes() + np.int64(len(pvec)).tobytes() + pvec.tobytes()
-                         + np.ascontiguousarray(np.hstack([x, xd, xdd]), dtype=np.float64).tobytes())
-        lines = subprocess.run([str(exe), str(data), str(repeats)], capture_output=True, text=True,
-                               check=True).stdout.split("\n")
+def paths() -> dict:
+    """{path: compiler flags} of every path of the portable build this CPU runs (its flags in
+    ``stewart.build_info()``), and of a ``-march=native`` build."""
+    info = stewart.build_info()
+    out = {name: info["flags"][name].split() for name in info["supported"]}
+    out.setdefault(NATIVE, ["-O3", "-march=native"])
+    return out
+
+
+def c_loop(exe, data, repeats: int) -> dict:
+    """{function: (scalar s/state, batch s/state, worst relative difference, failures)} of the
+    C loop ``exe`` on the states of ``data``, and the lanes."""
+    lines = subprocess.run([str(exe), str(data), str(repeats)], capture_output=True, text=True,
+                           check=True).stdout.split("\n")
     out = {"lanes": int(lines[0].split()[1])}
     for line in lines[1:]:
         if line:
@@ -57,15 +67,63 @@ def c_loop(params, n: int, repeats: int = 7) -> dict:
     return out
 
 
+def c_loops(params, n: int, flags: dict, repeats: int = 7) -> dict:
+    """{path: `c_loop` figures} of the C loop on n states, built with each path's ``flags``
+    (side by side), run one after the other."""
+    x, xd, xdd = bench.states(params, n)
+    with tempfile.TemporaryDirectory() as tmp:
+        data = pathlib.Path(tmp) / "in.bin"
+        pvec = param_vector(params)
+        data.write_bytes(np.int64(n).tobytes() + np.int64(len(pvec)).tobytes() + pvec.tobytes()
+                         + np.ascontiguousarray(np.hstack([x, xd, xdd]), dtype=np.float64).tobytes())
+        exes = {name: pathlib.Path(tmp) / f"batch_loop_{name}" for name in flags}
+        with ThreadPoolExecutor(2) as pool:
+            list(pool.map(lambda name: compile_c([HERE / "batch_loop.c", ROOT / "generated" / "stewart_model.c"],
+                                                 exes[name], include=[ROOT / "generated"], extra=flags[name]),
+                          flags))
+        return {name: c_loop(exe, data, repeats) for name, exe in exes.items()}
+
+
+def casadi_figures(params, n: int, repeats: int = 7) -> dict:
+    """CasADi's inverse dynamics on the same n states: its generated C in the C loop of the
+    peers (``peers/driver.c``, our flags) and ``Function.map(n, "thread", 2)`` from Python,
+    s a state; ``{"skipped": why}`` without casadi."""
+    try:
+        import casadi as ca
+    except ImportError:
+        return {"skipped": "casadi is not installed"}
+    from .peers import casadi_model, cdriver
+
+    x, xd, xdd = bench.states(params, n)
+    pvec = param_vector(params)
+    funcs = casadi_model.build(general=not params.is_axisymmetric)
+    f_id = funcs["inverse_dynamics"]
+    mapped = f_id.map(n, "thread", 2)
+    xT, xdT, xddT = (np.ascontiguousarray(a.T) for a in (x, xd, xdd))
+    out = {"casadi_version": ca.__version__,
+           "map_thread2_s": bench.median_time(lambda: mapped(xT, xdT, xddT, pvec), 1, 3) / n}
+    with tempfile.TemporaryDirectory(prefix="stewart-casadi-") as tmp:
+        gen = ca.CodeGenerator("casadi_stewart.c", {"with_header": True})
+        gen.add(f_id)
+        gen.add(funcs["forward_dynamics"])  # the driver links both
+        gen.generate(tmp + "/")
+        exe, _ = cdriver.build_casadi(tmp, pathlib.Path(tmp) / "casadi_stewart.c")
+        out["c_loop_s"], _ = cdriver.run(exe, "id", pvec, x, xd, xdd, repeats)
+    return out
+
+
 def figures(preset: str = "narayan2017", n: int = 100_000) -> dict:
-    """The C loop's figures, the Python batch call of inverse dynamics on one and two threads."""
+    """The C loop's figures per path, the Python batch call of inverse dynamics on one and two
+    threads, CasADi's on the same states."""
     plat = stewart.Platform.preset(preset)
     both = stewart.Platform.preset(preset, threads=2)
-    fig = {"c_loop": c_loop(plat.params, n), "states": n}
+    fig = {"paths": c_loops(plat.params, n, paths()), "dispatched": stewart.build_info()["simd"], "states": n}
+    fig["c_loop"] = fig["paths"][fig["dispatched"]]
     x, xd, xdd = bench.states(plat.params, n)
     fig["python_inverse_dynamics_us"] = bench.median_time(lambda: plat.inverse_dynamics(x, xd, xdd), 3) / n * 1e6
     fig["python_threads2_inverse_dynamics_us"] = (
         bench.median_time(lambda: both.inverse_dynamics(x, xd, xdd), 3) / n * 1e6)
+    fig["casadi"] = casadi_figures(plat.params, n)
     return fig
 
 
@@ -73,29 +131,54 @@ def _mark(ok: bool) -> str:
     return "met" if ok else "MISSED"
 
 
-def rows(fig: dict) -> list[tuple[str, str, str, str, str]]:
-    """(measure, scalar, vector, target, met) rows of the figures."""
-    loop, out = fig["c_loop"], []
+def rows(fig: dict) -> list[tuple[str, ...]]:
+    """(measure, scalar, the batch function on each path, target, met) rows of the figures:
+    the targets are those of the dispatched path."""
+    loop, names = fig["c_loop"], list(fig["paths"])
+    out = []
     for name in FUNCTIONS:
         scalar, batch, worst, failures = loop[name]
         speedup = scalar / batch
-        ok = batch * 1e6 <= US_PER_STATE[name] and speedup >= SPEEDUP.get(name, 0.0)
-        target = f"<= {US_PER_STATE[name]:.2f} us" + (f", >= {SPEEDUP[name]}x" if name in SPEEDUP else "")
+        cells = [f"{fig['paths'][path][name][1] * 1e6:.3f} us ({scalar / fig['paths'][path][name][1]:.1f}x)"
+                 for path in names]
+        if name in US_PER_STATE:
+            ok = batch * 1e6 <= US_PER_STATE[name] and speedup >= SPEEDUP.get(name, 0.0)
+            target = f"<= {US_PER_STATE[name]:.2f} us" + (f", >= {SPEEDUP[name]}x" if name in SPEEDUP else "")
+            mark = _mark(ok)
+        else:
+            target = mark = ""
         out.append((f"{name}, C loop, 1 core (max diff {worst:.0e}, {failures} failed rows)",
-                    f"{scalar * 1e6:.3f} us", f"{batch * 1e6:.3f} us ({speedup:.1f}x)", target, _mark(ok)))
+                    f"{scalar * 1e6:.3f} us", *cells, target, mark))
+    blank = [""] * len(names)
+    if NATIVE in fig["paths"] and fig["dispatched"] != NATIVE:
+        native = fig["paths"][NATIVE]["inverse_dynamics"][1]
+        ratio = loop["inverse_dynamics"][1] / native
+        out.append((f"inverse_dynamics, {fig['dispatched']} (dispatched) over -march=native", "",
+                    *blank[:-1], f"{ratio:.2f}x", f"<= {NATIVE_RATIO:.2f}x", _mark(ratio <= NATIVE_RATIO)))
     one, two = fig["python_inverse_dynamics_us"], fig["python_threads2_inverse_dynamics_us"]
     c_batch = loop["inverse_dynamics"][1] * 1e6
-    out.append(("inverse_dynamics, batch from Python, 1 thread", "", f"{one:.3f} us ({one / c_batch:.2f}x C loop)",
+    out.append(("inverse_dynamics, batch from Python, 1 thread", "", *blank[:-1],
+                f"{one:.3f} us ({one / c_batch:.2f}x C loop)",
                 f"<= {PYTHON_OVERHEAD:.2f}x C loop", _mark(one <= PYTHON_OVERHEAD * c_batch)))
-    out.append(("inverse_dynamics, batch from Python, 2 threads", "",
-                f"{1 / two:.1f} M states/s ({one / two:.2f}x 1 thread)",
+    out.append(("inverse_dynamics, batch from Python, 2 threads", "", *blank[:-1],
+                f"{two:.3f} us, {1 / two:.1f} M states/s ({one / two:.2f}x 1 thread)",
                 f">= {BOTH_CORES_STATES_PER_S / 1e6:.0f} M/s, >= {THREAD_SPEEDUP}x",
                 _mark(1e6 / two >= BOTH_CORES_STATES_PER_S and one / two >= THREAD_SPEEDUP)))
+    peer = fig.get("casadi", {})
+    if "skipped" in peer:
+        out.append((f"inverse_dynamics, CasADi: skipped ({peer['skipped']})", "", *blank, "", ""))
+    elif peer:
+        for label, key, ours in (("generated C, C loop, 1 core", "c_loop_s", c_batch),
+                                 ('Function.map(N, "thread", 2)', "map_thread2_s", two)):
+            us = peer[key] * 1e6
+            out.append((f"inverse_dynamics, CasADi {peer['casadi_version']} {label}", "", *blank[:-1],
+                        f"{us:.3f} us (ours: {ours:.3f} us, {us / ours:.1f}x)", "", ""))
     return out
 
 
 def format_rows(fig: dict) -> str:
-    header = ("measure", "scalar", f"vector ({fig['c_loop']['lanes']} lanes)", "target", "")
+    header = ("measure", "scalar", *(f"{path} ({fig['paths'][path]['lanes']} lanes)" for path in fig["paths"]),
+              "target", "")
     table = [header] + rows(fig)
     widths = [max(len(r[k]) for r in table) for k in range(len(header))]
     return "\n".join("| " + " | ".join(c.ljust(w) for c, w in zip(r, widths)) + " |" for r in table)

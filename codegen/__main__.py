@@ -64,7 +64,7 @@ def main(argv=None):
     batches = [f for f in model.FUNCTIONS if csource.batched(f)]
     batch = [csource.batch_function(function, kernels) for function in batches]
     # The vector kernels the batch functions run.
-    vector = {kernels[build].name for f in batches for build in f.kernels}
+    vector = {k.name for f in batches if not f.template for specs in csource.kernel_runs(f, kernels) for k in specs}
     templates = list(dict.fromkeys(f.template for f in model.FUNCTIONS if f.template))
 
     start = time.perf_counter()

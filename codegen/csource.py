@@ -213,15 +213,16 @@ def header(fields, functions, ops):
 
 
 #: The block functions of the batched functions written in C (codegen/templates/vector.c), by name.
-VECTOR_TEMPLATES = {'rk4_step': 'vrk4_step(p, vblock_forward_dynamics, scalar, in, out)'}
+VECTOR_TEMPLATES = {'rk4_step': 'vrk4(p, vblock_forward_dynamics, 0, scalar, in, out)',
+                    'rk4_step_derivatives': 'vrk4(p, vblock_forward_dynamics_derivatives, 1, scalar, in, out)'}
 
 
 def batched(function):
-    """Whether a `model.Function` has a batch function: every generated function whose steps
-    are solves and helpers (not further kernels), and those of `VECTOR_TEMPLATES`."""
+    """Whether a `model.Function` has a batch function: every generated function without
+    scalar inputs, and those of `VECTOR_TEMPLATES`."""
     if function.template:
         return function.name in VECTOR_TEMPLATES
-    return not function.scalars and not any(hasattr(step, 'builders') for step in function.steps)
+    return not function.scalars
 
 
 def _batch_arguments(function):
@@ -258,8 +259,8 @@ def public_function(function, kernels):
     """C text of `stewart_<name>` for a generated `model.Function`, with `kernels` mapping
     each of its kernel builders to its built `model.KernelSpec`: inputs finite, kernel,
     legs, steps (solves, helpers, further kernels), finish."""
-    first = _builds(kernels, function.kernels)
-    runs = [first] + [_builds(kernels, step.builders) for step in function.steps if hasattr(step, 'builders')]
+    runs = kernel_runs(function, kernels)
+    first = runs[0]
     outputs = dict(function.outputs)
     arrays = {name: len(exprs) * k.lanes for specs in runs for k in specs for name, exprs in k.outputs
               if name not in outputs}
@@ -331,10 +332,12 @@ def batch_function(function, kernels):
 
 
 def _block_body(function, kernels):
-    """The C lines of the body of `vblock_<name>` for a generated function."""
-    first = _builds(kernels, function.kernels)
+    """The C lines of the body of `vblock_<name>` for a generated function: `public_function`'s
+    kernels and steps over the block, every step on every lane, the statuses merged."""
+    runs = kernel_runs(function, kernels)
     outputs = dict(function.outputs)
-    arrays = {name: len(exprs) for k in first for name, exprs in k.outputs if name not in outputs}
+    arrays = {name: len(exprs) * k.lanes for specs in runs for k in specs for name, exprs in k.outputs
+              if name not in outputs}
     arrays.update(function.scratch)
     lines = ['    (void)scalar;']
     lines += [f'    const stewart_vd *{name} = in[{k}];' for k, name in enumerate(function.inputs)]
@@ -343,21 +346,34 @@ def _block_body(function, kernels):
         lines.append('    stewart_vd ' + ', '.join(f'{name}[{n}]' for name, n in arrays.items()) + ';')
     lines.append('    stewart_vl status = vnone();')
 
-    def run(kernel, indent):
+    def run(kernel, inputs, indent):
         names = [name for name, _ in kernel.outputs]
-        out = [indent + _call(f'vkernel_{kernel.name}', ['p', *function.inputs, *names])]
+        out = [indent + _call(f'vkernel_{kernel.name}', ['p', *inputs, *names])]
         if 'L2' in names:
             out.append(indent + f'status = vcheck_legs(L2, {"h2" if "h2" in names else "NULL"});')
         return out
 
-    if len(first) == 1:
-        lines += run(first[0], '    ')
-    else:
-        lines += ['    if (stewart_is_axisymmetric(p)) {', *run(first[0], '        '), '    } else {',
-                  *run(first[1], '        '), '    }']
-    lines += [f'    status = vmerge(status, {_call("v" + step[0], step[1])[:-1]});' for step in function.steps]
+    def dispatch(specs, inputs):
+        if len(specs) == 1:
+            return run(specs[0], inputs, '    ')
+        return ['    if (stewart_is_axisymmetric(p)) {', *run(specs[0], inputs, '        '), '    } else {',
+                *run(specs[1], inputs, '        '), '    }']
+
+    lines += dispatch(runs[0], function.inputs)
+    for step in function.steps:
+        if hasattr(step, 'builders'):
+            lines += dispatch(_builds(kernels, step.builders), step.inputs)
+        else:
+            lines.append(f'    status = vmerge(status, {_call("v" + step[0], step[1])[:-1]});')
     lines += ['    return status;', '}', '']
     return lines
+
+
+def kernel_runs(function, kernels):
+    """The built `model.KernelSpec`s a generated function runs: its kernel (one, or the
+    axisymmetric and the general one), then those of each of its `Kernels` steps."""
+    return [_builds(kernels, function.kernels)] + [_builds(kernels, step.builders) for step in function.steps
+                                                   if hasattr(step, 'builders')]
 
 
 def _finish(status, outputs):

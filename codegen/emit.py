@@ -65,7 +65,7 @@ class EmittedKernel:
     name: str
     source: str
     ops: int          # sympy count_ops of the cse output
-    vector: str = ''  # C source of its vector variant (kernels with one lane)
+    vector: str = ''  # C source of its vector variant
 
 
 def _prune(defs, outputs):
@@ -150,16 +150,20 @@ def emit_kernel(kernel, param_members):
         lines.append('    }')
     lines.append('}')
     return EmittedKernel(kernel.name, '\n'.join(lines) + '\n', ops,
-                         vector_kernel(kernel, statements, reduced, used, param_members) if lanes == 1 else '')
+                         vector_kernel(kernel, statements, reduced, used, param_members))
 
 
 def vector_kernel(kernel, statements, reduced, used, param_members):
     """C source of `static void vkernel_<name>(...)`, the kernel over a block of STEWART_LANES
     states: the same statements with every quantity that depends on the state a `stewart_vd`
     (one state per lane; inputs and outputs are arrays of them, entry k of the states in
-    element k), the parameters and what depends on them alone computed once, as doubles."""
+    element k), the parameters and what depends on them alone computed once, as doubles.  A
+    kernel with `lanes` > 1 loops over its lanes as the scalar one does, its arrays
+    interleaved the same way (entry k of lane i at k * lanes + i; its `shared` inputs whole)."""
     varying = {s for _, syms in kernel.inputs for s in syms}
     printer = _VectorPrinter(varying)
+    lanes = kernel.lanes
+    at = (lambda k: f'[{k}]') if lanes == 1 else (lambda k: f'[{k} * {lanes} + lane]')
     args = (['const stewart_params *p'] + [f'const stewart_vd *{name}' for name, _ in kernel.inputs]
             + [f'stewart_vd *{name}' for name, _ in kernel.outputs])
     lines = [f'/* {kernel.name} over a block of states. */', f'static void vkernel_{kernel.name}({", ".join(args)})',
@@ -167,19 +171,26 @@ def vector_kernel(kernel, statements, reduced, used, param_members):
     lines += [f'    const double {s.name} = p->{member};' for s, member in param_members if s in used]
     if not any(s in used for s, _ in param_members):
         lines.append('    (void)p;')
+    indent = '    '
+    if lanes > 1:
+        lines += ['    int lane;', f'    for (lane = 0; lane < {lanes}; ++lane) {{']
+        indent = '        '
     for name, syms in kernel.inputs:
-        lines += [f'    const stewart_vd {s.name} = {name}[{k}];' for k, s in enumerate(syms) if s in used]
+        index = (lambda k: f'[{k}]') if name in kernel.shared else at
+        lines += [f'{indent}const stewart_vd {s.name} = {name}{index(k)};' for k, s in enumerate(syms) if s in used]
     for s, e in statements:
         vary = bool(e.free_symbols & varying)
         if vary:
             varying.add(s)
-        lines.append(f'    const {"stewart_vd" if vary else "double"} {s.name} = {printer.doprint(e)};')
+        lines.append(f'{indent}const {"stewart_vd" if vary else "double"} {s.name} = {printer.doprint(e)};')
     k = 0
     for name, exprs in kernel.outputs:
         for j in range(len(exprs)):
             e = reduced[k]
             value = printer.doprint(e)
-            lines.append(f'    {name}[{j}] = {value if e.free_symbols & varying else f"vsplat({value})"};')
+            lines.append(f'{indent}{name}{at(j)} = {value if e.free_symbols & varying else f"vsplat({value})"};')
             k += 1
+    if lanes > 1:
+        lines.append('    }')
     lines.append('}')
     return '\n'.join(lines) + '\n'

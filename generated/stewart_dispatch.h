@@ -42,7 +42,10 @@ typedef struct {
     int (*batch_all_terms)(const stewart_params *p, size_t n, const double *x, const double *xd, double *terms, int *status);
     int (*batch_inverse_dynamics)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, int *status);
     int (*batch_forward_dynamics)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, int *status);
+    int (*batch_inverse_dynamics_derivatives)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd, int *status);
+    int (*batch_forward_dynamics_derivatives)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, double *dxdd_dx, double *dxdd_dxd, double *dxdd_dtau, int *status);
     int (*batch_rk4_step)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status);
+    int (*batch_rk4_step_derivatives)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B, int *status);
 } stewart_table;
 
 /* The compiled copies of the model and the choice between them at run time

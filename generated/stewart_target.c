@@ -50,7 +50,10 @@
 #define stewart_batch_all_terms STEWART_JOIN(STEWART_PREFIX, batch_all_terms)
 #define stewart_batch_inverse_dynamics STEWART_JOIN(STEWART_PREFIX, batch_inverse_dynamics)
 #define stewart_batch_forward_dynamics STEWART_JOIN(STEWART_PREFIX, batch_forward_dynamics)
+#define stewart_batch_inverse_dynamics_derivatives STEWART_JOIN(STEWART_PREFIX, batch_inverse_dynamics_derivatives)
+#define stewart_batch_forward_dynamics_derivatives STEWART_JOIN(STEWART_PREFIX, batch_forward_dynamics_derivatives)
 #define stewart_batch_rk4_step STEWART_JOIN(STEWART_PREFIX, batch_rk4_step)
+#define stewart_batch_rk4_step_derivatives STEWART_JOIN(STEWART_PREFIX, batch_rk4_step_derivatives)
 #endif
 
 #include "stewart_model.c"
@@ -87,5 +90,8 @@ const stewart_table STEWART_JOIN(stewart_table, STEWART_TARGET) = {
     stewart_batch_all_terms,
     stewart_batch_inverse_dynamics,
     stewart_batch_forward_dynamics,
+    stewart_batch_inverse_dynamics_derivatives,
+    stewart_batch_forward_dynamics_derivatives,
     stewart_batch_rk4_step,
+    stewart_batch_rk4_step_derivatives,
 };

@@ -14,7 +14,7 @@ the compiled model was built and which of its instruction-set paths runs
 from . import capi, casadi_functions, conditions, exactness, kinematics, newton_euler, optimize, reference, workspace
 from .capi import c_include_dir, c_sources
 from ._kernel import build_info
-from .errors import ConvergenceError, SingularityError
+from .errors import ConvergenceError, SimdPathError, SingularityError
 from .kinematics import (
     euler_jacobian,
     euler_rate_jacobian,
@@ -60,6 +60,7 @@ __all__ = [
     "newton_euler",
     "exactness",
     "SingularityError",
+    "SimdPathError",
     "conditions",
     "casadi_functions",
     "optimize",

@@ -26,7 +26,7 @@ from cython.parallel cimport prange
 from libc.math cimport isfinite, NAN
 
 from . import _checks
-from .errors import SingularityError
+from .errors import SimdPathError, SingularityError
 
 cnp.import_array()
 
@@ -58,17 +58,21 @@ cdef list _compiled():
 
 cdef const stewart_table *_choose() except NULL:
     """The table of the copy the kernel runs: the one named by STEWART_SIMD, else the last
-    (most capable) one this CPU runs."""
+    (most capable) one this CPU runs. A STEWART_SIMD that names no path this CPU runs is a
+    SimdPathError: one line naming the variable and its valid values, exit code 2."""
     compiled = _compiled()
     forced = os.environ.get(SIMD_VARIABLE, "")
     names = [c[0] for c in compiled]
+    supported = [c[0] for c in compiled if c[4]]
     if not forced:
         return stewart_tables[max(i for i, c in enumerate(compiled) if c[4])]
+    valid = f"valid values: {', '.join(supported)} (or unset: the best this CPU runs)"
     if forced not in names:
-        raise RuntimeError(f"{SIMD_VARIABLE}={forced!r}: no such path compiled in (compiled: {', '.join(names)})")
+        raise SimdPathError.report(f"{SIMD_VARIABLE}={forced!r} names no path of this build; {valid}")
     i = names.index(forced)
     if not compiled[i][4]:
-        raise RuntimeError(f"{SIMD_VARIABLE}={forced!r}: this CPU lacks its instruction set ({compiled[i][1]})")
+        raise SimdPathError.report(
+            f"{SIMD_VARIABLE}={forced!r}: this CPU lacks its instruction set ({compiled[i][1]}); {valid}")
     return stewart_tables[i]
 
 
@@ -126,14 +130,17 @@ ctypedef int (*batch_rate_fn)(const stewart_params *, size_t, const double *, co
                               int *) noexcept nogil
 ctypedef int (*batch_dynamics_fn)(const stewart_params *, size_t, const double *, const double *,
                                   const double *, double *, int *) noexcept nogil
+ctypedef int (*batch_derivatives_fn)(const stewart_params *, size_t, const double *, const double *,
+                                     const double *, double *, double *, double *, double *, int *) noexcept nogil
 ctypedef int (*batch_step_fn)(const stewart_params *, size_t, const double *, const double *, const double *,
                               double, double *, double *, int *) noexcept nogil
+ctypedef int (*batch_step_derivatives_fn)(const stewart_params *, size_t, const double *, const double *,
+                                          const double *, double, double *, double *, double *, double *,
+                                          int *) noexcept nogil
 
 #: Rows of a batch function's states evaluated at once (one per vector lane of the copy in use).
 LANES = T.batch_lanes()
-#: Rows a thread takes at a time from a batch: whole blocks of LANES rows, a few hundred states'
-#: inputs and outputs in the core's cache.
-cdef Py_ssize_t BATCH_BLOCK = 32 * T.batch_lanes()
+cdef Py_ssize_t C_LANES = T.batch_lanes()
 
 cdef enum:
     NONFINITE_INPUT = -1  # status of a row whose input is not finite (C status codes are >= 0)
@@ -142,6 +149,9 @@ cdef enum:
     # cache (inverse dynamics: 192 bytes a row, 48 kB a block; at most, the RK4 step's
     # Jacobians: 1,968 bytes a row, 0.5 MB); threads that finish early take the next block.
     BLOCK_ROWS = 256
+    # Bytes of inputs and outputs a thread takes at a time from a batch function: whole blocks
+    # of LANES rows, within a core's L1 and L2 caches (Zen 4: 32 kB, 1 MB).
+    BATCH_BYTES = 65536
 
 cdef enum Signature:
     # The C signatures _run calls: 1-3 input arrays and one output, or as named.
@@ -197,20 +207,37 @@ _STEP_DERIVATIVES = ((6,), (6,), (12, 12), (12, 6))
 
 cdef inline void _batch_call(const stewart_params *p, int kind, void *fn, Py_ssize_t start, Py_ssize_t count,
                              const double *x0, const double *x1, const double *x2, double scalar,
-                             double **outs, const int *widths, int *status) noexcept nogil:
-    """Rows start ... start + count - 1 of a batch through the batch function ``fn``."""
-    cdef double *out = outs[0] + widths[0] * start
+                             int nout, double **outs, const int *widths, int *status) noexcept nogil:
+    """Rows start ... start + count - 1 of a batch through the batch function ``fn`` (``kind``
+    1-3 inputs and one output, or a ``Signature``), its ``nout`` outputs in ``outs``."""
+    cdef double *o[MAX_OUTPUTS]
+    cdef int k
+    for k in range(nout):
+        o[k] = outs[k] + widths[k] * start
     x0 += 6 * start
     x1 += 6 * start
     x2 += 6 * start
     if kind == 1:
-        (<batch_state_fn>fn)(p, count, x0, out, status + start)
+        (<batch_state_fn>fn)(p, count, x0, o[0], status + start)
     elif kind == 2:
-        (<batch_rate_fn>fn)(p, count, x0, x1, out, status + start)
+        (<batch_rate_fn>fn)(p, count, x0, x1, o[0], status + start)
     elif kind == 3:
-        (<batch_dynamics_fn>fn)(p, count, x0, x1, x2, out, status + start)
+        (<batch_dynamics_fn>fn)(p, count, x0, x1, x2, o[0], status + start)
+    elif kind == DERIVATIVES:
+        (<batch_derivatives_fn>fn)(p, count, x0, x1, x2, o[0], o[1], o[2], o[3], status + start)
+    elif kind == STEP:
+        (<batch_step_fn>fn)(p, count, x0, x1, x2, scalar, o[0], o[1], status + start)
     else:
-        (<batch_step_fn>fn)(p, count, x0, x1, x2, scalar, out, outs[1] + widths[1] * start, status + start)
+        (<batch_step_derivatives_fn>fn)(p, count, x0, x1, x2, scalar, o[0], o[1], o[2], o[3], status + start)
+
+
+cdef Py_ssize_t _batch_block(int arity, int nout, const int *widths) noexcept nogil:
+    """Rows a thread takes at a time from a batch function: BATCH_BYTES of their inputs,
+    outputs and statuses, in whole blocks of LANES rows."""
+    cdef Py_ssize_t k, row = 6 * arity * sizeof(double) + sizeof(int)
+    for k in range(nout):
+        row += widths[k] * sizeof(double)
+    return max(1, BATCH_BYTES // row // C_LANES) * C_LANES
 
 
 @cython.final
@@ -227,8 +254,8 @@ cdef class Kernel:
         """Evaluate ``fn`` row by row: ``kind`` 1-3 input arrays and one output, or a
         ``Signature`` (three inputs, and ``scalar`` the same for every row); an output array
         per row shape in ``shapes``, returned as it is for one, as a tuple for several.
-        ``batch_fn``, the batch function of ``fn`` (``kind`` 1-3 or ``STEP``), if it has one,
-        evaluates batches of ``LANES`` rows or more."""
+        ``batch_fn``, the batch function of ``fn``, if it has one, evaluates batches of ``LANES``
+        rows or more."""
         cdef cnp.ndarray a0, a1, a2, status
         cdef const double *p0
         cdef const double *p1
@@ -240,6 +267,7 @@ cdef class Kernel:
         cdef Py_ssize_t i, s0 = 0, s1 = 0, s2 = 0
         cdef bint batch = False
         cdef int nthreads = self.threads
+        cdef Py_ssize_t block
         cdef int failures = 0
         cdef int k, nout = len(shapes)
         cdef int arity = kind if kind <= 3 else 3
@@ -289,8 +317,12 @@ cdef class Kernel:
             p0 = <const double *>cnp.PyArray_DATA(a0)
             p1 = <const double *>cnp.PyArray_DATA(a1)
             p2 = <const double *>cnp.PyArray_DATA(a2)
-            with nogil:
-                self._batch(kind, batch_fn, n, p0, p1, p2, scalar, po, widths, ps)
+            block = _batch_block(arity, nout, widths)
+            if nthreads > 1 and n > block and not STEWART_OPENMP:
+                self._threads(kind, batch_fn, scalar, nout, n, block, True, p0, p1, p2, 6, 6, 6, po, widths, ps)
+            else:
+                with nogil:
+                    self._batch(kind, batch_fn, n, block, p0, p1, p2, scalar, nout, po, widths, ps)
             failures = np.count_nonzero(status)
         elif n == 1:
             failures = self._row(kind, fn, p0, p1, p2, scalar, po, widths, nout, 0, ps)
@@ -299,11 +331,8 @@ cdef class Kernel:
                 failures += self._row(kind, fn, p0 + i * s0, p1 + i * s1, p2 + i * s2, scalar,
                                       po, widths, nout, i, ps + i)
         elif nthreads > 1:
-            rows = _Rows(self, kind, <Py_ssize_t>fn, scalar, nout, n)
-            rows.p0, rows.p1, rows.p2, rows.s0, rows.s1, rows.s2 = p0, p1, p2, s0, s1, s2
-            rows.po, rows.widths, rows.ps = po, widths, ps
-            with ThreadPoolExecutor(nthreads) as pool:
-                failures = sum(pool.map(rows.run, range(nthreads), [nthreads] * nthreads))
+            failures = self._threads(kind, fn, scalar, nout, n, BLOCK_ROWS, False, p0, p1, p2, s0, s1, s2,
+                                     po, widths, ps)
         else:
             with nogil:
                 for i in range(n):
@@ -314,19 +343,31 @@ cdef class Kernel:
             return (result, np.ones(n, dtype=bool) if batch else True) if return_mask else result
         return self._failed(fname, names, (a0, a1, a2)[:arity], result, status, batch, return_mask)
 
-    cdef void _batch(self, int kind, void *fn, Py_ssize_t n, const double *x0, const double *x1,
-                     const double *x2, double scalar, double **outs, const int *widths,
-                     int *status) noexcept nogil:
-        """The batch function ``fn`` (``kind`` 1-3 inputs and one output, or ``STEP``) on n rows,
-        in blocks of BATCH_BLOCK rows split over the threads."""
-        cdef Py_ssize_t b, start, count, nblocks = (n + BATCH_BLOCK - 1) // BATCH_BLOCK
+    cdef void _batch(self, int kind, void *fn, Py_ssize_t n, Py_ssize_t block, const double *x0,
+                     const double *x1, const double *x2, double scalar, int nout, double **outs,
+                     const int *widths, int *status) noexcept nogil:
+        """The batch function ``fn`` (``kind`` as for ``_batch_call``) on n rows, in blocks of
+        ``block`` rows split over OpenMP threads (one thread without OpenMP)."""
+        cdef Py_ssize_t b, start, count, nblocks = (n + block - 1) // block
         if self.threads > 1 and nblocks > 1:
-            for b in prange(nblocks, num_threads=self.threads, schedule="static"):
-                start = b * BATCH_BLOCK
-                count = min(BATCH_BLOCK, n - start)
-                _batch_call(&self.p, kind, fn, start, count, x0, x1, x2, scalar, outs, widths, status)
+            for b in prange(nblocks, num_threads=self.threads, schedule="dynamic"):
+                start = b * block
+                count = min(block, n - start)
+                _batch_call(&self.p, kind, fn, start, count, x0, x1, x2, scalar, nout, outs, widths, status)
         else:
-            _batch_call(&self.p, kind, fn, 0, n, x0, x1, x2, scalar, outs, widths, status)
+            _batch_call(&self.p, kind, fn, 0, n, x0, x1, x2, scalar, nout, outs, widths, status)
+
+    cdef int _threads(self, int kind, void *fn, double scalar, int nout, Py_ssize_t n, Py_ssize_t block,
+                      bint batch, const double *p0, const double *p1, const double *p2, Py_ssize_t s0,
+                      Py_ssize_t s1, Py_ssize_t s2, double **po, const int *widths, int *ps) except -1:
+        """The n rows split over plain threads (a build without OpenMP) in blocks of ``block``
+        rows, through the batch function ``fn`` (``batch``) or the scalar one row by row; the
+        number of rows the scalar function failed at."""
+        blocks = _Blocks(self, kind, <Py_ssize_t>fn, scalar, nout, n, block, batch)
+        blocks.p0, blocks.p1, blocks.p2, blocks.s0, blocks.s1, blocks.s2 = p0, p1, p2, s0, s1, s2
+        blocks.po, blocks.widths, blocks.ps = po, widths, ps
+        with ThreadPoolExecutor(self.threads) as pool:
+            return sum(pool.map(blocks.run, range(self.threads), [self.threads] * self.threads))
 
     cdef int _row(self, int kind, void *fn, const double *x0, const double *x1, const double *x2,
                   double scalar, double **outs, const int *widths, int nout, Py_ssize_t row,
@@ -444,32 +485,36 @@ cdef class Kernel:
     def inverse_dynamics_derivatives(self, x, xd, xdd, *, return_mask=False):
         """``(tau, dtau_dx, dtau_dxd, dtau_dxdd)``."""
         return self._run("inverse_dynamics_derivatives", DERIVATIVES, <void *>T.inverse_dynamics_derivatives,
-                         ("x", "xd", "xdd"), (x, xd, xdd), _DERIVATIVES, return_mask)
+                         ("x", "xd", "xdd"), (x, xd, xdd), _DERIVATIVES, return_mask,
+                         0.0, <void *>T.batch_inverse_dynamics_derivatives)
 
     def forward_dynamics_derivatives(self, x, xd, tau, *, return_mask=False):
         """``(xdd, dxdd_dx, dxdd_dxd, dxdd_dtau)``."""
         return self._run("forward_dynamics_derivatives", DERIVATIVES, <void *>T.forward_dynamics_derivatives,
-                         ("x", "xd", "tau"), (x, xd, tau), _DERIVATIVES, return_mask)
+                         ("x", "xd", "tau"), (x, xd, tau), _DERIVATIVES, return_mask,
+                         0.0, <void *>T.batch_forward_dynamics_derivatives)
 
     def rk4_step(self, x, xd, tau, double dt, *, bint jacobians=False, return_mask=False):
         """``(x, xd)`` after one RK4 step of ``dt`` (a positive finite number, checked by the
         caller), with ``(A, B)`` after them when ``jacobians``."""
         if jacobians:
             return self._run("rk4_step", STEP_DERIVATIVES, <void *>T.rk4_step_derivatives, ("x", "xd", "tau"),
-                             (x, xd, tau), _STEP_DERIVATIVES, return_mask, dt)
+                             (x, xd, tau), _STEP_DERIVATIVES, return_mask, dt, <void *>T.batch_rk4_step_derivatives)
         return self._run("rk4_step", STEP, <void *>T.rk4_step, ("x", "xd", "tau"), (x, xd, tau), _STEP,
                          return_mask, dt, <void *>T.batch_rk4_step)
 
 
 @cython.final
-cdef class _Rows:
+cdef class _Blocks:
     """A batch split over plain threads (a build without OpenMP): thread ``k`` of ``m`` runs
-    blocks k, k + m, ... of ``BLOCK_ROWS`` rows through ``Kernel._row`` without the GIL."""
+    blocks k, k + m, ... of ``block`` rows without the GIL, through the batch function
+    (``batch``) or through ``Kernel._row`` row by row."""
     cdef Kernel kernel
     cdef int kind, nout
+    cdef bint batch
     cdef void *fn
     cdef double scalar
-    cdef Py_ssize_t n, s0, s1, s2
+    cdef Py_ssize_t n, block, s0, s1, s2
     cdef const double *p0
     cdef const double *p1
     cdef const double *p2
@@ -477,19 +522,26 @@ cdef class _Rows:
     cdef const int *widths
     cdef int *ps
 
-    def __cinit__(self, Kernel kernel, int kind, Py_ssize_t fn, double scalar, int nout, Py_ssize_t n):
+    def __cinit__(self, Kernel kernel, int kind, Py_ssize_t fn, double scalar, int nout, Py_ssize_t n,
+                  Py_ssize_t block, bint batch):
         self.kernel, self.kind, self.fn, self.scalar, self.nout, self.n = kernel, kind, <void *>fn, scalar, nout, n
+        self.block, self.batch = block, batch
 
     def run(self, Py_ssize_t first, Py_ssize_t step):
-        """Run blocks ``first``, ``first + step``, ...; the number of rows that failed."""
-        cdef Py_ssize_t block, i
+        """Run blocks ``first``, ``first + step``, ...; the number of rows the scalar function
+        failed at."""
+        cdef Py_ssize_t start, i
         cdef int failures = 0
         with nogil:
-            block = first * BLOCK_ROWS
-            while block < self.n:
-                for i in range(block, min(block + BLOCK_ROWS, self.n)):
-                    failures += self.kernel._row(self.kind, self.fn, self.p0 + i * self.s0, self.p1 + i * self.s1,
-                                                 self.p2 + i * self.s2, self.scalar, self.po, self.widths,
-                                                 self.nout, i, self.ps + i)
-                block += step * BLOCK_ROWS
+            start = first * self.block
+            while start < self.n:
+                if self.batch:
+                    _batch_call(&self.kernel.p, self.kind, self.fn, start, min(self.block, self.n - start),
+                                self.p0, self.p1, self.p2, self.scalar, self.nout, self.po, self.widths, self.ps)
+                else:
+                    for i in range(start, min(start + self.block, self.n)):
+                        failures += self.kernel._row(self.kind, self.fn, self.p0 + i * self.s0,
+                                                     self.p1 + i * self.s1, self.p2 + i * self.s2, self.scalar,
+                                                     self.po, self.widths, self.nout, i, self.ps + i)
+                start += step * self.block
         return failures

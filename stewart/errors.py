@@ -1,8 +1,11 @@
-"""Exceptions raised for inputs where the model is undefined."""
+"""Exceptions raised for inputs where the model is undefined, and for an environment that
+names no instruction-set path of the build."""
 
 from __future__ import annotations
 
-__all__ = ["SingularityError", "ConvergenceError"]
+import sys
+
+__all__ = ["SingularityError", "ConvergenceError", "SimdPathError"]
 
 
 def row_list(rows) -> str:
@@ -42,3 +45,26 @@ class ConvergenceError(ValueError):
     def __init__(self, message: str, rows=None):
         super().__init__(message)
         self.rows = [] if rows is None else list(rows)
+
+
+class SimdPathError(SystemExit):
+    """``STEWART_SIMD`` names no instruction-set path of the build, or one this CPU lacks: a
+    mistake in the environment, found when ``stewart`` is imported.  It is reported as the
+    ``stewart`` command reports a usage error: one line on stderr (:meth:`report`), exit
+    code 2, no traceback.  ``message`` is the line."""
+
+    #: The exit code (a usage error, as argparse and the ``stewart`` command give it).
+    CODE = 2
+
+    def __init__(self, message: str):
+        super().__init__(self.CODE)
+        self.message = message
+
+    def __str__(self) -> str:
+        return self.message
+
+    @classmethod
+    def report(cls, message: str) -> "SimdPathError":
+        """Print ``stewart: error: <message>`` to stderr; the error to raise."""
+        print(f"stewart: error: {message}", file=sys.stderr)
+        return cls(message)

@@ -24,7 +24,8 @@ ZERO = np.zeros(6)
 #: (method, inputs) of every Kernel method with a batch function.
 METHODS = [("leg_lengths", 1), ("jacobian", 1), ("leg_rates", 2), ("mass_matrix", 1), ("twist_mass_matrix", 1),
            ("coriolis_matrix", 2), ("coriolis_vector", 2), ("gravity_vector", 1), ("all_terms", 2),
-           ("inverse_dynamics", 3), ("forward_dynamics", 3), ("rk4_step", 3)]
+           ("inverse_dynamics", 3), ("forward_dynamics", 3), ("rk4_step", 3), ("inverse_dynamics_derivatives", 3),
+           ("forward_dynamics_derivatives", 3), ("rk4_step_jacobians", 3)]
 SIZES = [1, W - 1, W + 1, 1003]
 
 
@@ -56,8 +57,11 @@ DT = 1e-3
 
 
 def call(kernel, method, inputs, **kwargs):
-    """Kernel.<method> on the inputs (and the RK4 step's DT)."""
-    return getattr(kernel, method)(*inputs, *([DT] if method == "rk4_step" else []), **kwargs)
+    """Kernel.<method> on the inputs (and the RK4 step's DT; "rk4_step_jacobians": the RK4 step
+    with its Jacobians)."""
+    if method.startswith("rk4_step"):
+        return kernel.rk4_step(*inputs, DT, jacobians=method == "rk4_step_jacobians", **kwargs)
+    return getattr(kernel, method)(*inputs, **kwargs)
 
 
 def rows_alone(kernel, method, inputs):
@@ -107,7 +111,8 @@ def test_batches_hold_every_singular_state():
 
 
 @pytest.mark.parametrize("method, arity", [("inverse_dynamics", 3), ("forward_dynamics", 3), ("mass_matrix", 1),
-                                           ("rk4_step", 3)])
+                                           ("rk4_step", 3), ("inverse_dynamics_derivatives", 3),
+                                           ("rk4_step_jacobians", 3)])
 def test_batch_error_names_the_rows_alone_fail_at(method, arity):
     kernel = _kernel.Kernel(GENERAL)
     x, xd, xdd = batch(GENERAL, 3 * W + 5)

@@ -197,18 +197,32 @@ def test_pinocchio_rows_compare_one_call_and_batches():
 
 
 def test_batch_loop_rows_mark_the_batch_targets():
-    """The vector batch table: per-state times in us, the speed-up over the scalar loop, and
-    each target met or missed by the figures given."""
+    """The vector batch table: per-state times in us on each path, the speed-up over the scalar
+    loop, and each target met or missed by the dispatched path's figures."""
     from benchmarks import batch_loop
 
-    loop = {"lanes": 8, "inverse_dynamics": (0.40e-6, 0.10e-6, 2e-15, 0), "forward_dynamics": (0.6e-6, 0.16e-6, 1e-15, 3),
-            "mass_matrix": (0.26e-6, 0.08e-6, 0.0, 0), "coriolis_vector": (0.27e-6, 0.05e-6, 0.0, 0),
-            "gravity_vector": (0.1e-6, 0.09e-6, 0.0, 0)}
-    fig = {"c_loop": loop, "python_inverse_dynamics_us": 0.105, "python_threads2_inverse_dynamics_us": 0.05}
-    inverse, forward, _, _, gravity, python, threads = batch_loop.rows(fig)
-    assert inverse[1:] == ("0.400 us", "0.100 us (4.0x)", "<= 0.10 us, >= 3.5x", "met")
-    assert forward[4] == "MISSED" and "3 failed rows" in forward[0]
-    assert gravity[2:] == ("0.090 us (1.1x)", "<= 0.08 us", "MISSED")
-    assert python[2:] == ("0.105 us (1.05x C loop)", "<= 1.10x C loop", "met")
-    assert threads[2:] == ("20.0 M states/s (2.10x 1 thread)", ">= 18 M/s, >= 1.8x", "met")
-    assert "| vector (8 lanes) |" in batch_loop.format_rows(fig).replace("  ", "")
+    def loop(lanes, scale):
+        out = {"lanes": lanes, "inverse_dynamics": (0.40e-6, 0.10e-6 * scale, 2e-15, 0),
+               "forward_dynamics": (0.6e-6, 0.16e-6 * scale, 1e-15, 3), "mass_matrix": (0.26e-6, 0.08e-6, 0.0, 0),
+               "coriolis_vector": (0.27e-6, 0.05e-6, 0.0, 0), "gravity_vector": (0.1e-6, 0.09e-6, 0.0, 0)}
+        out.update({name: (4e-6, 1e-6, 3e-15, 0) for name in batch_loop.FUNCTIONS[5:]})
+        return out
+
+    paths = {"avx2": loop(4, 2.0), "avx512": loop(8, 1.0), "native": loop(8, 0.9)}
+    fig = {"paths": paths, "dispatched": "avx512", "c_loop": paths["avx512"], "python_inverse_dynamics_us": 0.105,
+           "python_threads2_inverse_dynamics_us": 0.05,
+           "casadi": {"casadi_version": "3.8.2", "c_loop_s": 0.5e-6, "map_thread2_s": 0.4e-6}}
+    table = batch_loop.rows(fig)
+    inverse, forward, _, _, gravity, derivatives, _, _, native, python, threads, casadi_c, casadi_map = table
+    assert inverse[1:] == ("0.400 us", "0.200 us (2.0x)", "0.100 us (4.0x)", "0.090 us (4.4x)",
+                           "<= 0.10 us, >= 3.5x", "met")
+    assert forward[-1] == "MISSED" and "3 failed rows" in forward[0]
+    assert gravity[-3:] == ("0.090 us (1.1x)", "<= 0.08 us", "MISSED")
+    assert derivatives[1:] == ("4.000 us", "1.000 us (4.0x)", "1.000 us (4.0x)", "1.000 us (4.0x)", "", "")
+    assert native[-3:] == ("1.11x", "<= 1.05x", "MISSED")
+    assert python[-3:] == ("0.105 us (1.05x C loop)", "<= 1.10x C loop", "met")
+    assert threads[-3:] == ("0.050 us, 20.0 M states/s (2.10x 1 thread)", ">= 18 M/s, >= 1.8x", "met")
+    assert casadi_c[-3] == "0.500 us (ours: 0.100 us, 5.0x)" and casadi_map[-3] == "0.400 us (ours: 0.050 us, 8.0x)"
+    assert "| avx512 (8 lanes) |" in batch_loop.format_rows(fig).replace("  ", "")
+    fig["casadi"] = {"skipped": "casadi is not installed"}
+    assert batch_loop.rows(fig)[-1][0] == "inverse_dynamics, CasADi: skipped (casadi is not installed)"

@@ -99,11 +99,18 @@ def test_each_path_agrees_with_the_baseline(path, baseline, tmp_path):
     assert_same_results(result, baseline)
 
 
-def test_an_unavailable_path_is_an_error_naming_it():
-    env = dict(os.environ, **{SIMD_VARIABLE: "sse1"})
-    proc = subprocess.run([sys.executable, "-c", "import stewart"], env=env, capture_output=True, text=True)
-    assert proc.returncode != 0
-    assert f"{SIMD_VARIABLE}='sse1': no such path compiled in" in proc.stderr
+@pytest.mark.parametrize("command", [["-c", "import stewart"], ["-m", "stewart", "info"]], ids=["import", "cli"])
+@pytest.mark.parametrize("value", ["sse1", "AVX2", " "])
+def test_an_unknown_path_is_a_one_line_error_naming_the_valid_ones(command, value):
+    """At import and from the command: stderr is one line naming STEWART_SIMD and every path
+    this CPU runs, exit code 2, no traceback."""
+    env = dict(os.environ, **{SIMD_VARIABLE: value})
+    proc = subprocess.run([sys.executable, *command], env=env, capture_output=True, text=True)
+    assert proc.returncode == 2
+    assert proc.stdout == "" and "Traceback" not in proc.stderr
+    line, = proc.stderr.splitlines()
+    assert line.startswith(f"stewart: error: {SIMD_VARIABLE}={value!r} names no path of this build;")
+    assert line.endswith("valid values: " + ", ".join(INFO["supported"]) + " (or unset: the best this CPU runs)")
 
 
 def test_the_dispatch_header_compiles_on_its_own(tmp_path):

@@ -182,33 +182,123 @@ static stewart_vl vpose_accelerations(const stewart_vd JAinv[9], int n, const st
 typedef stewart_vl (*vblock_fn)(const stewart_params *p, double scalar, const stewart_vd *const in[],
                                 stewart_vd *const out[]);
 
-/* rk4 of rk4.c without the Jacobians over a block of states: in = {x, xd, tau}, out = {xn,
- * xdn}, the stages' accelerations by `forward`, the block function of stewart_forward_dynamics,
- * each stage with the checks stewart_forward_dynamics makes of its state and its result. */
-static stewart_vl vrk4_step(const stewart_params *p, vblock_fn forward, double dt, const stewart_vd *const in[],
-                            stewart_vd *const out[])
+/* split_jacobians of runtime.c over a block. */
+static stewart_vl vsplit_jacobians(const stewart_vd Y[108], stewart_vd a[36], stewart_vd b[36], stewart_vd c[36])
+{
+    int i, j;
+    for (i = 0; i < 6; ++i) {
+        for (j = 0; j < 6; ++j) {
+            a[6 * i + j] = Y[18 * i + j];
+            b[6 * i + j] = Y[18 * i + 6 + j];
+            c[6 * i + j] = Y[18 * i + 12 + j];
+        }
+    }
+    return vnone();
+}
+
+/* rk4_stage_state of rk4.c over a block, for the stages after the first: t = s + h k and, when
+ * S != NULL, S = E + h K, U = h KB. */
+static void vrk4_stage_state(const stewart_vd s[12], double h, const stewart_vd k[12], const stewart_vd *K,
+                             const stewart_vd *KB, stewart_vd t[12], stewart_vd *S, stewart_vd *U)
+{
+    int i, j;
+    for (i = 0; i < 12; ++i) {
+        t[i] = s[i] + h * k[i];
+    }
+    for (i = 0; S != NULL && i < 12; ++i) {
+        for (j = 0; j < 12; ++j) {
+            S[12 * i + j] = (i == j ? 1.0 : 0.0) + h * K[12 * i + j];
+        }
+        for (j = 0; j < 6; ++j) {
+            U[6 * i + j] = h * KB[6 * i + j];
+        }
+    }
+}
+
+/* The Jacobians K, KB of rk4_stage of rk4.c over a block, from the forward-dynamics
+ * Jacobians ax = dxdd/dx, axd = dxdd/dxd, atau = dxdd/dtau at the stage state, whose
+ * Jacobians are S, U (S == NULL: the first stage). */
+static void vrk4_stage_jacobians(const stewart_vd ax[36], const stewart_vd axd[36], const stewart_vd atau[36],
+                                 const stewart_vd *S, const stewart_vd *U, stewart_vd K[144], stewart_vd KB[72])
+{
+    int i, j, m;
+    for (i = 0; i < 6; ++i) {
+        for (j = 0; j < 12; ++j) {
+            stewart_vd sum = vsplat(0.0);
+            if (S == NULL) {
+                K[12 * i + j] = vsplat(j == 6 + i ? 1.0 : 0.0);
+                sum = j < 6 ? ax[6 * i + j] : axd[6 * i + j - 6];
+            } else {
+                K[12 * i + j] = S[12 * (6 + i) + j];
+                for (m = 0; m < 6; ++m) {
+                    sum += ax[6 * i + m] * S[12 * m + j] + axd[6 * i + m] * S[12 * (6 + m) + j];
+                }
+            }
+            K[12 * (6 + i) + j] = sum;
+        }
+        for (j = 0; j < 6; ++j) {
+            stewart_vd sum = atau[6 * i + j];
+            KB[6 * i + j] = U == NULL ? vsplat(0.0) : U[6 * (6 + i) + j];
+            for (m = 0; U != NULL && m < 6; ++m) {
+                sum += ax[6 * i + m] * U[6 * m + j] + axd[6 * i + m] * U[6 * (6 + m) + j];
+            }
+            KB[6 * (6 + i) + j] = sum;
+        }
+    }
+}
+
+/* rk4 of rk4.c over a block of states: in = {x, xd, tau}, out = {xn, xdn} and, when `jac`,
+ * {A, B}; the stages' accelerations by `forward`, the block function of
+ * stewart_forward_dynamics (out = {xdd}), or with `jac` of stewart_forward_dynamics_derivatives
+ * (out = {xdd, dxdd/dx, dxdd/dxd, dxdd/dtau}), each stage with the checks that function
+ * makes of its state and its results.  Every stage runs on every lane; a lane keeps the status
+ * of its first failing stage. */
+static stewart_vl vrk4(const stewart_params *p, vblock_fn forward, int jac, double dt, const stewart_vd *const in[],
+                       stewart_vd *const out[])
 {
     static const double fraction[4] = {0.0, 0.5, 0.5, 1.0};
-    stewart_vd s[12], t[12], k[4][12];
+    static const double weight[4] = {1.0, 2.0, 2.0, 1.0};
+    stewart_vd s[12], t[12], k[4][12], ax[36], axd[36], atau[36], S[144], U[72], K[2][144], KB[2][72];
+    stewart_vd *const A = jac ? out[2] : NULL, *const B = jac ? out[3] : NULL;
     stewart_vl status = vsplat(isfinite(dt) ? 0.0 : 1.0) != 0.0;
-    int i, stage;
+    int i, j, stage;
     status &= STEWART_ERR_NONFINITE;
     for (i = 0; i < 6; ++i) {
         s[i] = in[0][i];
         s[6 + i] = in[1][i];
     }
+    for (i = 0; jac && i < 144; ++i) {
+        A[i] = vsplat(0.0);
+    }
+    for (i = 0; jac && i < 72; ++i) {
+        B[i] = vsplat(0.0);
+    }
     for (stage = 0; stage < 4; ++stage) {
-        const double h = fraction[stage] * dt;
-        for (i = 0; i < 12; ++i) {
-            t[i] = stage ? s[i] + h * k[stage - 1][i] : s[i];
+        const int prev = (stage + 1) % 2, cur = stage % 2;
+        if (stage) {
+            vrk4_stage_state(s, fraction[stage] * dt, k[stage - 1], K[prev], KB[prev], t, jac ? S : NULL, U);
+        } else {
+            for (i = 0; i < 12; ++i) {
+                t[i] = s[i];
+            }
         }
         for (i = 0; i < 6; ++i) {
             k[stage][i] = t[6 + i];
         }
         status = vmerge(status, ~vfinite(t, 12) & STEWART_ERR_NONFINITE);
         status = vmerge(status, forward(p, 0.0, (const stewart_vd *const[]){t, t + 6, in[2]},
-                                        (stewart_vd *const[]){k[stage] + 6}));
+                                        (stewart_vd *const[]){k[stage] + 6, ax, axd, atau}));
         status = vmerge(status, ~vfinite(k[stage] + 6, 6) & STEWART_ERR_NONFINITE);
+        if (jac) {
+            status = vmerge(status, ~(vfinite(ax, 36) & vfinite(axd, 36) & vfinite(atau, 36)) & STEWART_ERR_NONFINITE);
+            vrk4_stage_jacobians(ax, axd, atau, stage ? S : NULL, stage ? U : NULL, K[cur], KB[cur]);
+            for (i = 0; i < 144; ++i) {
+                A[i] += weight[stage] * K[cur][i];
+            }
+            for (i = 0; i < 72; ++i) {
+                B[i] += weight[stage] * KB[cur][i];
+            }
+        }
     }
     for (i = 0; i < 12; ++i) {
         t[i] = s[i] + dt / 6.0 * (k[0][i] + 2.0 * k[1][i] + 2.0 * k[2][i] + k[3][i]);
@@ -216,6 +306,14 @@ static stewart_vl vrk4_step(const stewart_params *p, vblock_fn forward, double d
     for (i = 0; i < 6; ++i) {
         out[0][i] = t[i];
         out[1][i] = t[6 + i];
+    }
+    for (i = 0; jac && i < 12; ++i) {
+        for (j = 0; j < 12; ++j) {
+            A[12 * i + j] = (i == j ? 1.0 : 0.0) + dt / 6.0 * A[12 * i + j];
+        }
+        for (j = 0; j < 6; ++j) {
+            B[6 * i + j] = dt / 6.0 * B[6 * i + j];
+        }
     }
     return status;
 }
