@@ -19,11 +19,19 @@
  *        M(x) xdd + V(x, xd) xd + G(x) = J_C(x)^T tau
  *    with M = M_t T (NOT symmetric; M_t, the twist-space mass matrix, is
  *    symmetric positive definite).
- *  - Leg bodies (cylinder, piston) do not spin about the leg axis, so their
- *    axial inertia (first entry of cylinder_inertia / piston_inertia) has no
- *    effect.  Legs with cylinder and piston Iyy == Izz (exactly) use the
- *    axisymmetric kernels, which work for vertical legs; otherwise the frame
- *    {C_i} (y_C horizontal) is used, undefined for vertical legs.
+ *  - The paper's model (stewart_is_paper_model): leg bodies (cylinder, piston)
+ *    do not spin about the leg axis, so their axial inertia (first entry of
+ *    cylinder_inertia / piston_inertia) has no effect.  Legs with cylinder and
+ *    piston Iyy == Izz (exactly) use the axisymmetric kernels, which work for
+ *    vertical legs; otherwise the frame {C_i} (y_C horizontal) is used,
+ *    undefined for vertical legs.
+ *  - The general model (any of universal_joint_axes, platform_com,
+ *    platform_inertia_products nonzero): each leg turns with its universal
+ *    joint, in the frame x = u_i, y = a_i x u_i / |a_i x u_i|, z = x x y with
+ *    unit first axes a_i, and its principal inertias (axial, Iyy, Izz) are in
+ *    that frame; the platform's centre of mass is platform_com and its inertia
+ *    tensor has the products platform_inertia_products.  A leg along its
+ *    joint's first axis is the joint's gimbal lock.
  *
  * Arrays: x, xd, xdd, tau, L, G, Vxd, xn, xdn: 6 doubles; LLd: 12 doubles ([L; Ldot]);
  * JC, M, Mt, V: 36 doubles, row-major; terms: 84 doubles ([M; Vxd; G; JC]).
@@ -43,17 +51,20 @@ extern "C" {
 #endif
 
 typedef struct {
-    double base_points[6][3];      /* b_i in {B} */
-    double platform_points[6][3];  /* p_i in {P} */
+    double base_points[6][3];             /* b_i in {B} */
+    double platform_points[6][3];         /* p_i in {P} */
     double platform_mass;
-    double platform_inertia[3];    /* Ixx, Iyy, Izz in {P} about the COM at {P}'s origin */
+    double platform_inertia[3];           /* Ixx, Iyy, Izz in {P} about the centre of mass */
+    double platform_inertia_products[3];  /* Ixy, Ixz, Iyz (tensor entries) in {P} */
+    double platform_com[3];               /* the centre of mass in {P} */
     double cylinder_mass;
-    double cylinder_inertia[3];    /* axial, Iyy, Izz in {C_i} */
-    double cylinder_com_distance;  /* b_C from B_i along the leg */
+    double cylinder_inertia[3];           /* axial, Iyy, Izz in {C_i} */
+    double cylinder_com_distance;         /* b_C from B_i along the leg */
     double piston_mass;
-    double piston_inertia[3];      /* axial, Iyy, Izz in {S_i} */
-    double piston_com_distance;    /* b_S from P_i back along the leg */
-    double gravity;                /* m/s^2 along -z */
+    double piston_inertia[3];             /* axial, Iyy, Izz in {S_i} */
+    double piston_com_distance;           /* b_S from P_i back along the leg */
+    double gravity;                       /* m/s^2 along -z */
+    double universal_joint_axes[6][3];    /* a_i in {B}, the first axis of each universal joint; all zero (and platform_com zero, the products zero): the paper's model, whose legs do not spin (eq. 29) */
 } stewart_params;
 
 enum {
@@ -64,6 +75,7 @@ enum {
     STEWART_ERR_EULER_SINGULAR = 4,     /* theta = +-90 deg: Euler-rate map J_A singular (forward dynamics) */
     STEWART_ERR_LEG_VERTICAL = 5,       /* vertical leg with non-axisymmetric leg inertia: cylinder frame undefined */
     STEWART_ERR_MASS_SINGULAR = 6,      /* twist-space mass matrix not positive definite (e.g. massless platform) */
+    STEWART_ERR_GIMBAL_LOCK = 7,        /* a leg along its universal joint's first axis (general model) */
 };
 
 /* The tests behind the status codes:
@@ -76,7 +88,9 @@ enum {
  *                     kernels only).
  *  MASS_SINGULAR      an LDL^T pivot d_k of M_t <= STEWART_MASS_TOL * M_t[k][k], or M_t[k][k] <= 0
  *                     (invariant to unit changes).
- * In order: the inputs, then the legs (zero length, overflow, vertical), then each
+ *  GIMBAL_LOCK        |a_i x l_i|^2 < STEWART_GIMBAL_TOL * L_i^2 for a joint axis a_i and leg vector
+ *                     l_i (general model only).
+ * In order: the inputs, then the legs (zero length, overflow, vertical, gimbal lock), then each
  * function's steps (J_C; or cos(theta), then M_t), last the output.
  */
 #define STEWART_DEGENERATE_TOL DBL_MIN
@@ -84,12 +98,17 @@ enum {
 #define STEWART_EULER_TOL 1e-12
 #define STEWART_VERTICAL_TOL 1e-16
 #define STEWART_MASS_TOL 1e-12
+#define STEWART_GIMBAL_TOL 1e-16
 
 /* Message for a status code (a static string, never NULL). */
 const char *stewart_status_message(int status);
 
 /* 1 if cylinder and piston inertias have Iyy == Izz exactly, else 0. */
 int stewart_is_axisymmetric(const stewart_params *p);
+
+/* 1 for the paper's model: universal_joint_axes, platform_com and
+ * platform_inertia_products all zero; else 0 (the general model). */
+int stewart_is_paper_model(const stewart_params *p);
 
 /* Leg lengths L_i (a zero length is not an error here). */
 int stewart_leg_lengths(const stewart_params *p, const double x[6], double L[6]);
@@ -159,31 +178,43 @@ int stewart_batch_forward_dynamics(const stewart_params *p, size_t n, const doub
 int stewart_batch_rk4_step(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status);
 
 /* Operation counts of the generated kernels (sympy count_ops after cse):
- *   leg_lengths                      192
- *   jacobian                         276
- *   leg_rates                        350
- *   mass_matrix_axisym              1774
- *   mass_matrix_general             2045
- *   twist_mass_matrix_axisym        1726
- *   twist_mass_matrix_general       1997
- *   coriolis_matrix_axisym          5028
- *   coriolis_matrix_general         6703
- *   coriolis_vector_axisym          1688
- *   coriolis_vector_general         2187
- *   gravity_vector                   414
- *   all_terms_axisym                3435
- *   all_terms_general               4126
- *   inverse_dynamics_axisym         1781
- *   inverse_dynamics_general        2280
- *   forward_dynamics_axisym         3299
- *   forward_dynamics_general        3990
- *   leg_points                       594
- *   leg_derivatives_axisym          1347
- *   leg_derivatives_general         1995
- *   leg_chain_inverse                809
- *   residual_derivatives_inverse    1571
- *   leg_chain_forward                752
- *   residual_derivatives_forward    1388
+ *   leg_lengths                              192
+ *   jacobian                                 276
+ *   leg_rates                                350
+ *   mass_matrix_axisym                      1774
+ *   mass_matrix_frames                      2045
+ *   mass_matrix_general                     2602
+ *   twist_mass_matrix_axisym                1726
+ *   twist_mass_matrix_frames                1997
+ *   twist_mass_matrix_general               2554
+ *   coriolis_matrix_axisym                  5028
+ *   coriolis_matrix_frames                  6703
+ *   coriolis_matrix_general                 8428
+ *   coriolis_vector_axisym                  1688
+ *   coriolis_vector_frames                  2187
+ *   coriolis_vector_general                 2627
+ *   gravity_vector                           414
+ *   gravity_vector_general                   512
+ *   all_terms_axisym                        3435
+ *   all_terms_frames                        4126
+ *   all_terms_general                       5059
+ *   inverse_dynamics_axisym                 1781
+ *   inverse_dynamics_frames                 2280
+ *   inverse_dynamics_general                2717
+ *   forward_dynamics_axisym                 3299
+ *   forward_dynamics_frames                 3990
+ *   forward_dynamics_general                4919
+ *   leg_points                               594
+ *   leg_points_general                       594
+ *   leg_derivatives_axisym                  1347
+ *   leg_derivatives_frames                  1995
+ *   leg_derivatives_general                 2373
+ *   leg_chain_inverse                        809
+ *   residual_derivatives_inverse            1571
+ *   residual_derivatives_inverse_general    2253
+ *   leg_chain_forward                        752
+ *   residual_derivatives_forward            1388
+ *   residual_derivatives_forward_general    1997
  */
 
 #ifdef __cplusplus

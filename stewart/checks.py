@@ -50,11 +50,15 @@ def random_states(params: PlatformParams, n: int, rng: np.random.Generator):
 def energy(params: PlatformParams, x, xd) -> np.ndarray:
     """Kinetic plus potential energy (J) of platform, cylinders and pistons, ``(...)``.
 
-    Written out from the bodies: platform ``m_P v^2/2 + omega . I_P omega / 2``, cylinder
+    Written out from the bodies: platform ``m_P v_G^2/2 + omega . I_P omega / 2`` with
+    ``v_G`` the velocity of its centre of mass ``p + R c`` and ``I_P`` its tensor, cylinder
     centre of mass at ``b_i + b_C u_i``, piston centre of mass at ``p + R p_i - b_S u_i``,
-    leg angular velocity ``u x udot`` (eq. 29) with inertia ``I_t (E - u u^T) + I_a u u^T``
-    (axisymmetric legs), potential ``g`` times the mass-weighted heights (eq. 72).
-    Analytic operations only, so complex-step derivatives apply.
+    potential ``g`` times the mass-weighted heights (eq. 72). Leg angular velocity: ``u x
+    udot`` (eq. 29) with inertia ``I_t (E - u u^T) + I_a u u^T`` (axisymmetric legs) or the
+    principal moments in the frames of eqs. 44-47; with ``universal_joint_axes``, the rate
+    ``omega = 1/2 sum_k e_k x edot_k`` of the leg frame ``e = (u, y, z)``, ``y = a x u / |a x
+    u|``, ``z = u x y``, differentiated term by term. Analytic operations only, so
+    complex-step derivatives apply.
     """
     x = np.asarray(x)
     xd = np.asarray(xd)
@@ -68,29 +72,46 @@ def energy(params: PlatformParams, x, xd) -> np.ndarray:
     length_dot = np.sum(units * leg_dot, axis=-1)[..., None]
     unit_dot = (leg_dot - units * length_dot) / lengths
 
-    vel = xd[..., :3]
+    centre = np.einsum("...jk,k->...j", rot, params.platform_com_in_model)
+    vel = xd[..., :3] + np.cross(omega, centre)
     body_omega = np.einsum("...ji,...j->...i", rot, omega)  # omega in {P}
     kinetic = 0.5 * params.platform_mass * np.sum(vel * vel, axis=-1)
-    kinetic = kinetic + 0.5 * np.sum(params.platform_inertia * body_omega * body_omega, axis=-1)
+    kinetic = kinetic + 0.5 * np.einsum("...i,ij,...j->...", body_omega, params.platform_inertia_tensor, body_omega)
     cyl_vel = params.cylinder_com_distance * unit_dot
     pis_vel = leg_dot - params.piston_com_distance * unit_dot
     kinetic = kinetic + 0.5 * params.cylinder_mass * np.sum(cyl_vel * cyl_vel, axis=(-1, -2))
     kinetic = kinetic + 0.5 * params.piston_mass * np.sum(pis_vel * pis_vel, axis=(-1, -2))
-    leg_omega = np.cross(units, unit_dot)
-    along = np.sum(leg_omega * units, axis=-1)
-    axial = params.cylinder_inertia[0] + params.piston_inertia[0]
-    transverse = params.cylinder_inertia[1] + params.piston_inertia[1]
-    kinetic = kinetic + 0.5 * np.sum(
-        transverse * (np.sum(leg_omega * leg_omega, axis=-1) - along**2) + axial * along**2, axis=-1
-    )
+    kinetic = kinetic + _leg_rotation_energy(params, units, unit_dot)
     heights = (
-        params.platform_mass * x[..., 2]
+        params.platform_mass * (x[..., 2] + centre[..., 2])
         + params.cylinder_mass
         * np.sum(params.base_points[:, 2] + params.cylinder_com_distance * units[..., 2], axis=-1)
         + params.piston_mass
         * np.sum(x[..., None, 2] + arms[..., 2] - params.piston_com_distance * units[..., 2], axis=-1)
     )
     return kinetic + params.gravity * heights
+
+
+def _leg_rotation_energy(params: PlatformParams, units, unit_dot):
+    """The legs' rotational kinetic energy (see :func:`energy`)."""
+    moments = params.cylinder_inertia + params.piston_inertia
+    leg_omega = np.cross(units, unit_dot)
+    if params.universal_joint_axes is None and params.is_axisymmetric:
+        along = np.sum(leg_omega * units, axis=-1)
+        return 0.5 * np.sum(moments[1] * (np.sum(leg_omega * leg_omega, axis=-1) - along**2)
+                            + moments[0] * along**2, axis=-1)
+    axes = params.universal_joint_axes
+    normal = np.cross(np.array([0.0, 0.0, 1.0]) if axes is None else axes, units)
+    size = np.sqrt(np.sum(normal * normal, axis=-1))[..., None]
+    y = normal / size
+    z = np.cross(units, y)
+    if axes is not None:
+        normal_dot = np.cross(axes, unit_dot)
+        y_dot = normal_dot / size - normal * np.sum(normal * normal_dot, axis=-1)[..., None] / size**3
+        z_dot = np.cross(unit_dot, y) + np.cross(units, y_dot)
+        leg_omega = 0.5 * (np.cross(units, unit_dot) + np.cross(y, y_dot) + np.cross(z, z_dot))
+    return 0.5 * np.sum(sum(moments[k] * np.sum(e * leg_omega, axis=-1) ** 2
+                            for k, e in enumerate((units, y, z))), axis=-1)
 
 
 def relative_error(got, want) -> float:
