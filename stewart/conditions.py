@@ -11,8 +11,8 @@ defined and raise the same :class:`~stewart.SingularityError` condition:
 * ``nonfinite``: a leg length that overflows (and, in :mod:`stewart._checks`, a result);
 * ``leg_vertical``: ``l_x^2 + l_y^2 < VERTICAL_TOL L_i^2`` with non-axisymmetric leg
   inertia, where the cylinder frame of eqs. 44-47 is undefined;
-* ``gimbal_lock``: ``|a_i x l_i|^2 < GIMBAL_TOL L_i^2`` in the general model, a leg along
-  its universal joint's first axis ``a_i``, where the leg frame is undefined;
+* ``gimbal_lock``: ``|a_i x l_i|^2 < GIMBAL_TOL L_i^2`` for the general model's universal-joint
+  axes ``a_i``, where the leg frame ``y = a_i x u_i / |a_i x u_i|`` is undefined;
 * ``jacobian_singular``: the Hadamard ratio ``|det J_C| / prod_i |row_i(J_C)|`` of eq. 5's
   ``J_C`` below ``JACOBIAN_TOL``;
 * ``euler_singular``: ``|cos theta| < EULER_TOL``, where the Euler-rate map ``J_A`` of
@@ -107,11 +107,11 @@ def _first(tests: list[tuple[np.ndarray, int]], n: int) -> np.ndarray:
     return codes
 
 
-def leg_codes(length_sq, horizontal_sq=None, gimbal_sq=None) -> np.ndarray:
-    """The C's leg tests per row, from ``L_i^2``, (for non-axisymmetric leg inertia in the
-    paper's frames) ``l_x^2 + l_y^2`` and (for the general model) ``|a_i x l_i|^2`` of the
-    legs, shapes ``(..., 6)``: ``leg_degenerate`` if a leg has ``L_i^2 < DEGENERATE_TOL`` (or
-    NaN), else ``nonfinite`` if a length overflows, else ``leg_vertical`` if a leg has
+def leg_codes(length_sq, horizontal_sq=None, locked_sq=None) -> np.ndarray:
+    """The C's leg tests per row, from ``L_i^2``, (for the paper's model with non-axisymmetric
+    leg inertia) ``l_x^2 + l_y^2`` and (for the general model) ``|a_i x l_i|^2`` of the legs,
+    shapes ``(..., 6)``: ``leg_degenerate`` if a leg has ``L_i^2 < DEGENERATE_TOL`` (or NaN),
+    else ``nonfinite`` if a length overflows, else ``leg_vertical`` if a leg has
     ``l_x^2 + l_y^2 < VERTICAL_TOL L_i^2``, else ``gimbal_lock`` if a leg has
     ``|a_i x l_i|^2 < GIMBAL_TOL L_i^2``."""
     length_sq = np.real(length_sq).reshape(-1, 6)
@@ -119,10 +119,12 @@ def leg_codes(length_sq, horizontal_sq=None, gimbal_sq=None) -> np.ndarray:
         (~(length_sq >= DEGENERATE_TOL).all(axis=1), Status.LEG_DEGENERATE),
         (~(length_sq <= np.finfo(float).max).all(axis=1), Status.NONFINITE),
     ]
-    for value, tol, code in ((horizontal_sq, VERTICAL_TOL, Status.LEG_VERTICAL),
-                             (gimbal_sq, GIMBAL_TOL, Status.GIMBAL_LOCK)):
-        if value is not None:
-            tests.append((~(np.real(value).reshape(-1, 6) >= tol * length_sq).all(axis=1), code))
+    if horizontal_sq is not None:
+        horizontal_sq = np.real(horizontal_sq).reshape(-1, 6)
+        tests.append((~(horizontal_sq >= VERTICAL_TOL * length_sq).all(axis=1), Status.LEG_VERTICAL))
+    if locked_sq is not None:
+        locked_sq = np.real(locked_sq).reshape(-1, 6)
+        tests.append((~(locked_sq >= GIMBAL_TOL * length_sq).all(axis=1), Status.GIMBAL_LOCK))
     return _first(tests, len(length_sq))
 
 
