@@ -331,8 +331,8 @@ def leg_momenta(g, P, leg, w, variant, tag):
     y = n / |n|, z = x x y with n = a_i x l, and its angular velocity
     omega = vee(Rdot R^T) = alpha' a_i + beta' y (the joint's two rates) works out to
     omega_l + q lbar with the spin q = (a_i . l)(n . w) / (n . n), so (u . omega) u = q lbar
-    and h_L = I_zz omega + (I_ax - I_zz) q lbar + (I_yy - I_zz) (n . omega_l) n / (n . n):
-    no square root.  The spin does not move the centres of mass (lbar x u = 0).
+    and h_L = I_zz omega + (I_ax - I_zz) q lbar + (I_yy - I_zz) (n . omega_l) n / (n . n)
+    = I_zz omega_l + I_ax q lbar + (I_yy - I_zz) (n . omega_l) n / (n . n): no square root.  The spin does not move the centres of mass (lbar x u = 0).
     Returns (v_C, v_S, h_L).
     """
     wl = g.vector(f'{tag}wl', _cross(leg.lbar, w))
@@ -344,8 +344,7 @@ def leg_momenta(g, P, leg, w, variant, tag):
     elif variant == 'general':
         q = g.define(f'{tag}q', leg.al * _dot(leg.n, w) * leg.in2)
         ny = g.define(f'{tag}ny', _dot(leg.n, wl) * leg.in2)
-        h_L = g.vector(f'{tag}hL', I_L[2] * (wl + q * leg.lbar) + (I_L[0] - I_L[2]) * q * leg.lbar
-                       + (I_L[1] - I_L[2]) * ny * leg.n)
+        h_L = g.vector(f'{tag}hL', I_L[2] * wl + I_L[0] * q * leg.lbar + (I_L[1] - I_L[2]) * ny * leg.n)
     else:
         a_y = g.define(f'{tag}ay', _dot(leg.y_C, wl))
         a_z = g.define(f'{tag}az', _dot(leg.z_C, wl))

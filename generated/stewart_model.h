@@ -183,32 +183,32 @@ int stewart_batch_rk4_step(const stewart_params *p, size_t n, const double *x, c
  *   leg_rates                                350
  *   mass_matrix_axisym                      1774
  *   mass_matrix_frames                      2045
- *   mass_matrix_general                     2602
+ *   mass_matrix_general                     2492
  *   twist_mass_matrix_axisym                1726
  *   twist_mass_matrix_frames                1997
- *   twist_mass_matrix_general               2554
+ *   twist_mass_matrix_general               2444
  *   coriolis_matrix_axisym                  5028
  *   coriolis_matrix_frames                  6703
- *   coriolis_matrix_general                 8428
+ *   coriolis_matrix_general                 8030
  *   coriolis_vector_axisym                  1688
  *   coriolis_vector_frames                  2187
- *   coriolis_vector_general                 2627
+ *   coriolis_vector_general                 2565
  *   gravity_vector                           414
  *   gravity_vector_general                   512
  *   all_terms_axisym                        3435
  *   all_terms_frames                        4126
- *   all_terms_general                       5059
+ *   all_terms_general                       4889
  *   inverse_dynamics_axisym                 1781
  *   inverse_dynamics_frames                 2280
- *   inverse_dynamics_general                2717
+ *   inverse_dynamics_general                2655
  *   forward_dynamics_axisym                 3299
  *   forward_dynamics_frames                 3990
- *   forward_dynamics_general                4919
+ *   forward_dynamics_general                4749
  *   leg_points                               594
  *   leg_points_general                       594
  *   leg_derivatives_axisym                  1347
  *   leg_derivatives_frames                  1995
- *   leg_derivatives_general                 2373
+ *   leg_derivatives_general                 2226
  *   leg_chain_inverse                        809
  *   residual_derivatives_inverse            1571
  *   residual_derivatives_inverse_general    2253

@@ -14,6 +14,7 @@ import pytest
 
 import stewart
 from stewart import checks, conditions, kinematics
+from stewart import reference as ref
 from stewart.checks import COMPLEX_STEP, random_states, relative_error
 
 from conftest import random_params
@@ -32,7 +33,7 @@ def random_tensor(rng, scale):
     return q @ np.diag(moments) @ q.T
 
 
-def general_params(seed):
+def random_general(seed):
     """A random platform with random joint axes, non-axisymmetric legs and an off-centre
     payload with a full tensor."""
     rng = np.random.default_rng(seed)
@@ -81,9 +82,40 @@ def kernel_forces(plat, x, xd, xdd):
     return np.einsum("nji,nj->ni", kinematics.twist_transform(x), wrench)
 
 
+def test_kernel_matches_the_reference(general_params, figures):
+    """Every term of the general kernel against the numeric reference's general model."""
+    plat = stewart.Platform(general_params)
+    x, xd, xdd = random_states(general_params, 10, np.random.default_rng(12))
+    tau = plat.inverse_dynamics(x, xd, xdd)
+    worst = max(
+        relative_error(tau, ref.inverse_dynamics(general_params, x, xd, xdd)),
+        relative_error(plat.forward_dynamics(x, xd, tau), ref.forward_dynamics(general_params, x, xd, tau)),
+        relative_error(plat.mass_matrix(x), ref.mass_matrix(general_params, x)),
+        relative_error(plat.twist_mass_matrix(x), ref.twist_mass_matrix(general_params, x)),
+        relative_error(plat.coriolis_vector(x, xd), ref.coriolis_vector(general_params, x, xd)),
+        relative_error(plat.gravity_vector(x), ref.gravity_vector(general_params, x)),
+    )
+    figures(f"general kernel vs reference ({general_params.name})", worst, 1e-12)
+    assert worst <= 1e-12
+
+
+def test_derivative_kernels_match_complex_step_of_the_reference(figures):
+    params = random_general(3)
+    plat = stewart.Platform(params)
+    x, xd, xdd = random_states(params, 3, np.random.default_rng(3))
+    tau = plat.inverse_dynamics(x, xd, xdd)
+    inv = plat.inverse_dynamics_derivatives(x, xd, xdd)
+    fwd = plat.forward_dynamics_derivatives(x, xd, tau)
+    worst = max(max(relative_error(got, want) for got, want in zip(out[1:], oracle)) for out, oracle in (
+        (inv, checks.reference_inverse_dynamics_jacobians(params, x, xd, xdd)),
+        (fwd, checks.reference_forward_dynamics_jacobians(params, x, xd, tau))))
+    figures("general kernel derivatives vs complex step of the reference", worst, 1e-9)
+    assert worst <= 1e-9
+
+
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_inverse_dynamics_obeys_lagrange(seed, figures):
-    params = general_params(seed)
+    params = random_general(seed)
     plat = stewart.Platform(params)
     x, xd, xdd = random_states(params, 4, np.random.default_rng(seed))
     err = relative_error(kernel_forces(plat, x, xd, xdd), lagrange_forces(params, x, xd, xdd))
@@ -125,21 +157,21 @@ def test_any_joint_axes_reproduce_the_paper_model():
 
 @pytest.mark.parametrize("seed", [0, 3])
 def test_power_balance(seed):
-    params = general_params(seed)
+    params = random_general(seed)
     plat = stewart.Platform(params)
     x, xd, xdd = random_states(params, 5, np.random.default_rng(seed))
     assert checks.power_balance(params, x, xd, xdd, plat.inverse_dynamics(x, xd, xdd)) <= 1e-12
 
 
 def test_forward_dynamics_inverts_inverse_dynamics():
-    params = general_params(4)
+    params = random_general(4)
     plat = stewart.Platform(params)
     x, xd, xdd = random_states(params, 5, np.random.default_rng(4))
     assert relative_error(plat.forward_dynamics(x, xd, plat.inverse_dynamics(x, xd, xdd)), xdd) <= 1e-12
 
 
 def test_batch_matches_single_states():
-    params = general_params(6)
+    params = random_general(6)
     plat = stewart.Platform(params)
     x, xd, xdd = random_states(params, 24, np.random.default_rng(6))
     batch = plat.inverse_dynamics(x, xd, xdd)
@@ -150,7 +182,7 @@ def test_batch_matches_single_states():
 
 
 def test_gimbal_lock_is_flagged_per_state():
-    params = general_params(8)
+    params = random_general(8)
     plat = stewart.Platform(params)
     x, xd, xdd = random_states(params, 3, np.random.default_rng(8))
     legs = kinematics.leg_vectors(params, x[1])
@@ -185,7 +217,7 @@ def test_derivative_kernels_match_differences_of_the_values(seed, figures):
     and forward dynamics (which Lagrange's equations check above): exact up to round-off in
     xd, xdd and tau (tau is quadratic in xd, linear in xdd; xdd linear in tau), about 1e-9
     in x with steps of 1e-5."""
-    params = general_params(seed)
+    params = random_general(seed)
     plat = stewart.Platform(params)
     x, xd, xdd = random_states(params, 4, np.random.default_rng(seed))
     tau = plat.inverse_dynamics(x, xd, xdd)
@@ -213,13 +245,13 @@ def test_energy_is_conserved_with_no_forces():
     """tau = 0 in zero gravity (checks.energy_drift, DOP853 on the kernel's forward
     dynamics), with spinning non-axisymmetric legs and an off-centre payload."""
     pytest.importorskip("scipy")
-    assert checks.energy_drift(general_params(1), 1.0, seed=1) <= 1e-9
+    assert checks.energy_drift(random_general(1), 1.0, seed=1) <= 1e-9
 
 
 def test_energy_is_conserved_under_gravity_by_the_rk4_step():
     """The package's RK4 step at 1e-4 s over 0.05 s with tau = 0 and gravity: the energy
     (potential included) is kept to the step's truncation error."""
-    params = general_params(2)
+    params = random_general(2)
     plat = stewart.Platform(params)
     x, xd = plat.home_pose, np.zeros(6)
     start = checks.energy(params, x, xd)
