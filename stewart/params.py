@@ -86,6 +86,20 @@ def _inertia(name: str, value: Any) -> np.ndarray:
     return arr
 
 
+#: Optional workspace bounds and their largest values (the smallest is always > 0).
+_BOUNDS = {"universal_joint_max_angle": np.pi / 2, "spherical_joint_max_angle": np.pi / 2, "leg_diameter": np.inf}
+
+
+def _optional_bound(name: str, value: Any, maximum: float) -> float | None:
+    if value is None:
+        return None
+    val = _checks.real(name, value)
+    if not 0.0 < val <= maximum:
+        need = "> 0 (metres)" if maximum == np.inf else f"0 < angle <= {maximum:.6g} (a cone half-angle in radians)"
+        raise ValueError(f"{name}: need {need}, got {val}")
+    return val
+
+
 def _readonly(arr: np.ndarray) -> np.ndarray:
     arr.flags.writeable = False
     return arr
@@ -109,6 +123,13 @@ class PlatformParams:
     piston_com_distance : b_S, from P_i back along the leg to the piston's centre of mass (eq. 54).
     gravity : g in m/s^2, acting along -z of {B} (eq. 72).
     leg_length_limits : optional (min, max) leg length |l_i| in metres.
+    universal_joint_max_angle, spherical_joint_max_angle : optional cone half-angles in
+        radians (0 < angle <= pi/2) of the joints' range, as joint catalogues state it:
+        the angle between the leg and the joint's neutral axis, the leg direction at the
+        home pose (:func:`stewart.kinematics.home_pose`), fixed in {B} for the universal
+        joints and in {P} for the spherical joints (:mod:`stewart.workspace`).
+    leg_diameter : optional outer diameter of the legs in metres; two legs (segments B_i P_i)
+        closer than it collide (:mod:`stewart.workspace`).
     name : optional label.
 
     Arrays are stored read-only. Construction validates every field and raises
@@ -128,6 +149,9 @@ class PlatformParams:
     piston_com_distance: float
     gravity: float = 9.81
     leg_length_limits: tuple[float, float] | None = None
+    universal_joint_max_angle: float | None = None
+    spherical_joint_max_angle: float | None = None
+    leg_diameter: float | None = None
     name: str | None = None
 
     def __post_init__(self) -> None:
@@ -144,6 +168,7 @@ class PlatformParams:
             "piston_com_distance": _scalar("piston_com_distance", self.piston_com_distance),
             "gravity": _scalar("gravity", self.gravity),
             "leg_length_limits": self._checked_limits(self.leg_length_limits),
+            **{key: _optional_bound(key, getattr(self, key), top) for key, top in _BOUNDS.items()},
             "name": self._checked_name(self.name),
         }
         for key, val in fields.items():

@@ -8,7 +8,7 @@ import os
 
 import numpy as np
 
-__all__ = ["plot_run", "plot_move", "plot_bars", "run_title"]
+__all__ = ["plot_run", "plot_move", "plot_bars", "run_title", "plot_workspace_slices"]
 
 _POSE = [("x", "m"), ("y", "m"), ("z", "m"), ("psi", "rad"), ("theta", "rad"), ("phi", "rad")]
 
@@ -141,6 +141,32 @@ def plot_bars(labels, series: dict[str, np.ndarray], ylabel: str, title: str, pa
     ax.margins(y=0.25)  # room for the legend above the tallest bars
     ax.legend(loc="upper center", ncols=len(series))
     ax.grid(True, axis="y", alpha=0.3)
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+    return path
+
+
+def plot_workspace_slices(slices, path: str, title: str = "") -> str:
+    """One heat map per :class:`stewart.workspace.Slice` of the singularity margin, side by
+    side with one colour scale; unreachable cells are grey. Angles are drawn in degrees."""
+    plt = _pyplot()
+    from matplotlib.patches import Patch
+
+    fig, axes = plt.subplots(1, len(slices), figsize=(5.2 * len(slices) + 1.2, 4.8), constrained_layout=True,
+                             squeeze=False)
+    cmap = plt.get_cmap("viridis").with_extremes(bad="0.85")
+    top = max([float(np.nanmax(s.margin)) for s in slices if np.isfinite(s.margin).any()] or [1.0])
+    for ax, s in zip(axes[0], slices):
+        scale, unit = (180.0 / np.pi, "deg") if s.unit == "rad" else (1.0, s.unit)
+        mesh = ax.pcolormesh(scale * s.u, scale * s.v, np.ma.masked_invalid(s.margin), cmap=cmap, vmin=0.0,
+                             vmax=top, shading="nearest")
+        ax.set_xlabel(f"{s.axes[0]} [{unit}]")
+        ax.set_ylabel(f"{s.axes[1]} [{unit}]")
+        ax.set_title(f"{s.at[0]} = {np.round(scale * s.at[1], 9):.4g} {unit}", fontsize=10)  # 1e-16 shows as 0
+        ax.set_aspect("equal")
+    fig.colorbar(mesh, ax=axes[0].tolist(), label="singularity margin, 1 / cond(J_C) (unit-free)")
+    axes[0][0].legend(handles=[Patch(color="0.85", label="unreachable")], loc="upper right", fontsize=8)
+    fig.suptitle(title or f"{slices[0].platform}: workspace slices")
     fig.savefig(path, dpi=90)
     plt.close(fig)
     return path

@@ -1,5 +1,5 @@
 """Which poses the platform can reach: the one test used before a simulation and by the
-command line's ``ik``, ``id`` and ``fd``.
+command line's ``ik``, ``id`` and ``fd``, and the workspaces built from it.
 
 A pose is reachable when
 
@@ -8,7 +8,17 @@ A pose is reachable when
 * every spherical joint lies above the highest universal joint (the platform is above the base);
 * ``J_C`` (eq. 5) is well conditioned: its condition number, with the rotational columns
   divided by the platform radius so that it does not depend on the units, is at most
-  :data:`CONDITION_LIMIT` (the actuator forces that hold a load grow with it);
+  :data:`CONDITION_LIMIT` (the actuator forces that hold a load grow with it). Its
+  inverse, ``sigma_min / sigma_max`` of that unit-free ``J_C``, is the **singularity
+  margin** reported per pose (:attr:`Reachability.margin`): the local conditioning index
+  of Gosselin & Angeles (1991), 1 for an isotropic pose, 0 at a singularity;
+* every universal joint is within ``params.universal_joint_max_angle`` and every
+  spherical joint within ``params.spherical_joint_max_angle`` (when set): the angle
+  between the leg and the joint's neutral axis, the leg's direction at the home pose,
+  fixed in {B} for a universal joint and in {P} for a spherical joint (so a joint is
+  centred in its range at home, as it is mounted);
+* no two legs, taken as the segments ``B_i P_i``, come closer than
+  ``params.leg_diameter`` (when set), axis to axis;
 * the ZYX Euler angles are regular: ``|cos theta|`` is at least ``1 / CONDITION_LIMIT``
   (``T`` of eq. 18 is singular at ``theta = +-90 deg``);
 * ``det J_C`` has the sign of the assembly mode the platform is in (by default the home
@@ -26,7 +36,10 @@ import numpy as np
 from . import _checks, kinematics
 from .params import PlatformParams
 
-__all__ = ["WorkspaceError", "Reachability", "reachability", "CONDITION_LIMIT"]
+__all__ = [
+    "WorkspaceError", "Reachability", "reachability", "CONDITION_LIMIT", "joint_angles", "segment_distances",
+    "Workspace", "translational_workspace", "orientation_workspace", "position_bounds", "Slice", "workspace_slice",
+]
 
 #: Largest unit-free condition number of ``J_C`` (and of the Euler-angle map) accepted.
 CONDITION_LIMIT = 1e3
@@ -38,6 +51,12 @@ SINGULAR = 8
 EULER_SINGULAR = 16
 OTHER_ASSEMBLY_MODE = 32
 OUT_OF_RANGE = 64
+UNIVERSAL_JOINT_LIMIT = 128
+SPHERICAL_JOINT_LIMIT = 256
+LEG_COLLISION = 512
+
+#: The 15 pairs of legs whose clearance is checked, ``(i, j)`` with ``i < j``.
+LEG_PAIRS = np.array([(i, j) for i in range(6) for j in range(i + 1, 6)])
 
 
 class WorkspaceError(ValueError):
@@ -60,18 +79,32 @@ class Reachability:
 
     ``flags`` holds one integer per pose, a sum of the problem bits (0 for a reachable
     pose); ``lengths`` the leg lengths; ``condition`` the unit-free condition number of
-    ``J_C`` where it exceeds :data:`CONDITION_LIMIT`, else an upper bound of it below the
-    limit; ``ok`` is ``flags == 0``.
+    ``J_C`` (inf where it is singular or undefined); ``universal_angles`` and
+    ``spherical_angles`` the joint angles from their neutral axes ``(N, 6)`` [rad];
+    ``clearance`` the smallest distance between two leg axes [m] and ``closest_legs``
+    the index into :data:`LEG_PAIRS` of that pair (both None unless the parameters set
+    ``leg_diameter``); ``params`` the parameter set checked.
     """
 
     flags: np.ndarray
     lengths: np.ndarray
     condition: np.ndarray
     limits: tuple[float, float] | None
+    universal_angles: np.ndarray | None = None
+    spherical_angles: np.ndarray | None = None
+    clearance: np.ndarray | None = None
+    closest_legs: np.ndarray | None = None
+    params: PlatformParams | None = None
 
     @property
     def ok(self) -> np.ndarray:
         return self.flags == 0
+
+    @property
+    def margin(self) -> np.ndarray:
+        """The singularity margin ``1 / condition`` per pose: the inverse condition number
+        of the unit-free ``J_C``, in [0, 1] (1 isotropic, 0 singular)."""
+        return 1.0 / self.condition
 
     def _reason(self, bit: int, row: int) -> str:
         lengths = self.lengths[row]
@@ -85,6 +118,16 @@ class Reachability:
             legs = np.flatnonzero(lengths > self.limits[1]).tolist()
             return (f"leg(s) {legs} longer than the maximum length {self.limits[1]:g} m "
                     f"({', '.join(f'{lengths[i]:.6g}' for i in legs)} m)")
+        if bit in (UNIVERSAL_JOINT_LIMIT, SPHERICAL_JOINT_LIMIT):
+            kind = "universal" if bit == UNIVERSAL_JOINT_LIMIT else "spherical"
+            angles, limit = getattr(self, f"{kind}_angles")[row], getattr(self.params, f"{kind}_joint_max_angle")
+            legs = np.flatnonzero(angles > limit).tolist()
+            return (f"{kind} joint(s) {legs} beyond their cone half-angle {limit:g} rad "
+                    f"({', '.join(f'{angles[i]:.4g}' for i in legs)} rad)")
+        if bit == LEG_COLLISION:
+            i, j = LEG_PAIRS[self.closest_legs[row]]
+            return (f"legs {i} and {j} collide: their axes are {self.clearance[row]:.4g} m apart, less than "
+                    f"the leg diameter {self.params.leg_diameter:g} m")
         if bit == BELOW_BASE:
             return "the platform is not above the base"
         if bit == SINGULAR:
@@ -113,7 +156,8 @@ class Reachability:
         return f"{bad.size} of {len(self.flags)} {what}(s) outside the workspace: " + "; ".join(parts)
 
 
-_BITS = (OUT_OF_RANGE, LEG_TOO_SHORT, LEG_TOO_LONG, BELOW_BASE, SINGULAR, EULER_SINGULAR, OTHER_ASSEMBLY_MODE)
+_BITS = (OUT_OF_RANGE, LEG_TOO_SHORT, LEG_TOO_LONG, BELOW_BASE, SINGULAR, EULER_SINGULAR, OTHER_ASSEMBLY_MODE,
+         UNIVERSAL_JOINT_LIMIT, SPHERICAL_JOINT_LIMIT, LEG_COLLISION)
 
 
 def _platform_radius(params: PlatformParams) -> float:
@@ -150,33 +194,81 @@ def reachability(platform, poses, *, mode: float | None = None, name: str = "pos
         raise ValueError(f"{name}: expected real poses")
     if mode is None:
         mode = assembly_mode(plat, plat.home_pose)
-    blocks = [_block(plat, x[i:i + _BLOCK], mode) for i in range(0, len(x), _BLOCK)]
-    flags, lengths, condition = (np.concatenate(parts) for parts in zip(*blocks))
-    return Reachability(flags=flags, lengths=lengths, condition=condition, limits=plat.params.leg_length_limits)
+    neutral = _neutral_axes(plat)
+    blocks = [_block(plat, x[i:i + _BLOCK], mode, neutral) for i in range(0, len(x), _BLOCK)]
+    parts = {key: np.concatenate([b[key] for b in blocks]) if blocks[0][key] is not None else None
+             for key in blocks[0]}
+    return Reachability(**parts, limits=plat.params.leg_length_limits, params=plat.params)
 
 
 _BLOCK = 50_000  # poses checked at a time (bounds the memory of long trajectories)
 
 
-def _condition(jac: np.ndarray, det: np.ndarray) -> np.ndarray:
-    """Condition numbers of a batch of 6x6 matrices (inf where singular or non-finite).
+def _neutral_axes(plat) -> np.ndarray:
+    """The joints' neutral axes: the unit leg vectors at the home pose (in {B}, and equally
+    in {P}, whose orientation at home is the identity), ``(6, 3)``."""
+    return plat.jacobian(plat.home_pose)[:, :3]
 
-    Guggenheimer, Edelman & Johnson's bound ``2 / |det J| (|J|_F / sqrt 6)^6`` (SIAM J.
-    Numer. Anal. 32, 1995) exceeds the 2-norm condition number and costs no more than the
-    determinant; only rows where it exceeds :data:`CONDITION_LIMIT` get the exact value
-    from an SVD, so the other rows hold the bound.
+
+def _angle(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """The angle between unit vectors, ``atan2(|a x b|, a . b)`` (accurate near 0 and pi)."""
+    return np.arctan2(np.linalg.norm(np.cross(a, b), axis=-1), np.sum(a * b, axis=-1))
+
+
+def joint_angles(params: PlatformParams, poses) -> tuple[np.ndarray, np.ndarray]:
+    """The universal- and spherical-joint angles [rad] at ``poses`` (``(6,)`` or ``(N, 6)``),
+    each ``(..., 6)``: the angle between leg ``i`` and its joints' neutral axis (the leg's
+    direction at the home pose, fixed in {B} for the universal joint and in {P} for the
+    spherical joint)."""
+    from .platform import Platform
+
+    plat = Platform(_params(params))
+    x = _checks.states("poses", poses)
+    units = kinematics.leg_unit_vectors(plat.params, x)
+    return _joint_angles(units, kinematics.rotation(x), _neutral_axes(plat))
+
+
+def _joint_angles(units, rotations, neutral):
+    # The spherical joint's neutral axis n_i is fixed in {P}: in {B} it is R n_i.
+    return _angle(units, neutral), _angle(units, np.einsum("...jk,ik->...ij", rotations, neutral))
+
+
+def segment_distances(p0, p1, q0, q1) -> np.ndarray:
+    """The smallest distance between the segments ``[p0, p1]`` and ``[q0, q1]`` (arrays
+    ``(..., 3)``, segments of positive length), batched over the leading axes.
+
+    The squared distance between ``p0 + s (p1 - p0)`` and ``q0 + t (q1 - q0)`` is a convex
+    quadratic on the square ``0 <= s, t <= 1``: its minimum is the stationary point when
+    that lies inside, else on an edge of the square, where it is the distance from an end
+    point of one segment to the other segment.
     """
-    with np.errstate(all="ignore"):
-        out = 2.0 / np.abs(det) * (np.sum(jac * jac, axis=(1, 2)) / 6.0) ** 3
-    exact = np.flatnonzero(~(out <= CONDITION_LIMIT))
-    finite = exact[np.all(np.isfinite(jac[exact]), axis=(1, 2))]
-    out[exact] = np.inf
-    if finite.size:
-        out[finite] = np.linalg.cond(jac[finite])
+    d1, d2, r = p1 - p0, q1 - q0, p0 - q0
+    a, e, b = (np.sum(u * v, axis=-1) for u, v in ((d1, d1), (d2, d2), (d1, d2)))
+    c, f = np.sum(d1 * r, axis=-1), np.sum(d2 * r, axis=-1)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        denom = a * e - b * b
+        s = (b * f - c * e) / denom
+        t = (a * f - b * c) / denom
+        inside = (denom > 1e-12 * a * e) & (s >= 0) & (s <= 1) & (t >= 0) & (t <= 1)
+        best = np.where(inside, np.linalg.norm(r + s[..., None] * d1 - t[..., None] * d2, axis=-1), np.inf)
+    for point, start, direction in ((p0, q0, d2), (p1, q0, d2), (q0, p0, d1), (q1, p0, d1)):
+        along = np.clip(np.sum((point - start) * direction, axis=-1) / np.sum(direction * direction, axis=-1), 0, 1)
+        best = np.minimum(best, np.linalg.norm(point - start - along[..., None] * direction, axis=-1))
+    return best
+
+
+def _margin(jac: np.ndarray) -> np.ndarray:
+    """``sigma_min / sigma_max`` of a batch of 6x6 matrices (0 where non-finite)."""
+    out = np.zeros(len(jac))
+    finite = np.all(np.isfinite(jac), axis=(1, 2))
+    if finite.any():
+        sv = np.linalg.svd(jac[finite], compute_uv=False)
+        with np.errstate(invalid="ignore"):
+            out[finite] = np.nan_to_num(sv[:, -1] / sv[:, 0])
     return out
 
 
-def _block(plat, x: np.ndarray, mode: float):
+def _block(plat, x: np.ndarray, mode: float, neutral: np.ndarray) -> dict:
     params = plat.params
     lengths = plat.leg_lengths(x, return_mask=True)[0]
     flags = np.where(np.all(np.isfinite(lengths), axis=1), 0, OUT_OF_RANGE)
@@ -192,10 +284,383 @@ def _block(plat, x: np.ndarray, mode: float):
     flags |= np.where(np.min(joint_heights, axis=1) <= np.max(params.base_points[:, 2]), BELOW_BASE, 0)
     with np.errstate(all="ignore"):
         jac = plat.jacobian(x, return_mask=True)[0]
+        units = jac[..., :3].copy()
+        universal, spherical = _joint_angles(units, kinematics.rotation(x), neutral)
         jac[..., 3:] /= _platform_radius(params)
         det = np.linalg.det(np.nan_to_num(jac))
-        condition = _condition(jac, det)
+        condition = 1.0 / _margin(jac)
     flags |= np.where(~(condition <= CONDITION_LIMIT), SINGULAR, 0)
     flags |= np.where(np.abs(np.cos(x[:, 4])) < 1.0 / CONDITION_LIMIT, EULER_SINGULAR, 0)
     flags |= np.where(np.sign(det) * mode < 0, OTHER_ASSEMBLY_MODE, 0)
-    return flags, lengths, condition
+    for angles, limit, bit in ((universal, params.universal_joint_max_angle, UNIVERSAL_JOINT_LIMIT),
+                               (spherical, params.spherical_joint_max_angle, SPHERICAL_JOINT_LIMIT)):
+        if limit is not None:
+            flags |= np.where(np.any(~(angles <= limit), axis=1), bit, 0)
+    clearance = closest = None
+    if params.leg_diameter is not None:
+        ends = params.base_points + lengths[..., None] * units  # P_i = B_i + L_i u_i
+        i, j = LEG_PAIRS.T
+        with np.errstate(all="ignore"):
+            pairs = segment_distances(params.base_points[i], ends[:, i], params.base_points[j], ends[:, j])
+        closest = np.argmin(np.nan_to_num(pairs, nan=-1.0), axis=1)
+        clearance = pairs[np.arange(len(x)), closest]
+        flags |= np.where(~(clearance >= params.leg_diameter), LEG_COLLISION, 0)
+    return dict(flags=flags, lengths=lengths, condition=condition, universal_angles=universal,
+                spherical_angles=spherical, clearance=clearance, closest_legs=closest)
+
+
+# ---------------------------------------------------------------------------- workspaces
+
+#: The coordinates a workspace varies, and their unit, by kind.
+KINDS = {"translational": (("x", "y", "z"), "m"), "orientation": (("psi", "theta", "phi"), "rad")}
+
+#: Poses evaluated per chunk (one task of the execution layer).
+CHUNK_SIZE = 20_000
+
+_NAMES = {OUT_OF_RANGE: "out_of_range", LEG_TOO_SHORT: "leg_too_short", LEG_TOO_LONG: "leg_too_long",
+          BELOW_BASE: "below_base", SINGULAR: "singular", EULER_SINGULAR: "euler_singular",
+          OTHER_ASSEMBLY_MODE: "other_assembly_mode", UNIVERSAL_JOINT_LIMIT: "universal_joint_limit",
+          SPHERICAL_JOINT_LIMIT: "spherical_joint_limit", LEG_COLLISION: "leg_collision"}
+
+
+@dataclass(frozen=True)
+class Workspace:
+    """The reachable set of a 3-parameter family of poses, estimated on a grid or by sampling.
+
+    ``kind`` is ``"translational"`` (positions ``x, y, z`` at the constant orientation
+    ``fixed``) or ``"orientation"`` (ZYX Euler angles ``psi, theta, phi`` at the position
+    ``fixed``); ``region`` the box ``(3, 2)`` sampled, in ``unit`` (m or rad).
+
+    ``volume`` is the reachable volume [m^3, or rad^3 of Euler-angle space]:
+
+    * by sampling (``method="random"``), the box volume times the reachable fraction of
+      ``samples`` uniform poses; ``volume_error`` is the standard error of that Monte-Carlo
+      estimate, ``V_box sqrt(p (1 - p) / N)``, which shrinks like ``1 / sqrt(N)``;
+    * on a grid (``method="grid"``), the volume of the cells whose centre is reachable;
+      ``volume_error`` is half the volume of the boundary cells (reachable cells with an
+      unreachable face neighbour and vice versa): the discretization error when the
+      boundary cuts each of them about in half, a deterministic estimate, not a statistical one.
+
+    ``bounding_box`` ``(3, 2)`` spans the reachable samples (None if none is);
+    ``clipped`` names the axes on which reachable samples come within a sample spacing of
+    the faces of a region given by the caller (then the workspace may extend beyond it:
+    widen the region); the default regions hold the whole workspace. ``margin_min``,
+    ``margin_mean`` and ``margin_max`` are statistics of the singularity margin
+    (:attr:`Reachability.margin`) over the reachable samples; ``margin_mean`` is the
+    global conditioning index of Gosselin & Angeles (1991). ``excluded`` counts the
+    samples each problem excludes (a sample may have several).
+    """
+
+    kind: str
+    fixed: np.ndarray
+    region: np.ndarray
+    method: str
+    samples: int
+    reachable: int
+    volume: float
+    volume_error: float
+    bounding_box: np.ndarray | None
+    clipped: tuple[str, ...]
+    margin_min: float
+    margin_mean: float
+    margin_max: float
+    excluded: dict
+    seed: int | None
+    platform: str
+
+    @property
+    def axes(self) -> tuple[str, str, str]:
+        return KINDS[self.kind][0]
+
+    @property
+    def unit(self) -> str:
+        return KINDS[self.kind][1]
+
+    def summary(self) -> dict:
+        """Plain-Python form (for JSON)."""
+        out = {key: getattr(self, key) for key in self.__dataclass_fields__}
+        for key in ("fixed", "region", "bounding_box"):
+            out[key] = None if out[key] is None else np.asarray(out[key]).tolist()
+        out.update(axes=list(self.axes), unit=self.unit, clipped=list(self.clipped))
+        return out
+
+
+@dataclass(frozen=True)
+class _Sampler:
+    """The poses of one workspace study and their per-chunk reduction: ``self(index, seed)``
+    checks chunk ``index`` (with random poses drawn from ``seed`` and the index) and
+    returns counts, sums and extremes, never the poses."""
+
+    params: PlatformParams
+    kind: str
+    fixed: np.ndarray
+    region: np.ndarray
+    method: str
+    samples: int
+    resolution: int
+    chunk_size: int
+
+    @property
+    def chunks(self) -> int:
+        return -(-self.samples // self.chunk_size)
+
+    def poses(self, index: int, seed: int) -> np.ndarray:
+        start = index * self.chunk_size
+        count = min(self.chunk_size, self.samples - start)
+        lo, hi = self.region[:, 0], self.region[:, 1]
+        if self.method == "random":
+            rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index,)))
+            coords = lo + (hi - lo) * rng.random((count, 3))
+        else:
+            cells = np.unravel_index(np.arange(start, start + count), (self.resolution,) * 3)
+            coords = lo + (hi - lo) * (np.column_stack(cells) + 0.5) / self.resolution
+        fixed = np.broadcast_to(self.fixed, (count, 3))
+        return np.hstack([coords, fixed] if self.kind == "translational" else [fixed, coords])
+
+    def __call__(self, index: int, seed: int) -> dict:
+        poses = self.poses(index, seed)
+        check = reachability(self.params, poses)
+        ok = check.ok
+        coords = poses[:, :3] if self.kind == "translational" else poses[:, 3:]
+        margin = check.margin[ok]
+        return dict(
+            count=int(ok.sum()),
+            margin_sum=float(margin.sum()),
+            margin_min=float(margin.min(initial=np.inf)),
+            margin_max=float(margin.max(initial=-np.inf)),
+            lo=coords[ok].min(axis=0, initial=np.inf),
+            hi=coords[ok].max(axis=0, initial=-np.inf),
+            excluded=np.array([int(np.count_nonzero(check.flags & bit)) for bit in _BITS]),
+            cells=ok if self.method == "grid" else None,
+        )
+
+
+def combine(a: dict, b: dict) -> dict:
+    """Two chunks' reductions (:class:`_Sampler`) as one; ``b`` follows ``a``."""
+    return dict(
+        count=a["count"] + b["count"],
+        margin_sum=a["margin_sum"] + b["margin_sum"],
+        margin_min=min(a["margin_min"], b["margin_min"]),
+        margin_max=max(a["margin_max"], b["margin_max"]),
+        lo=np.minimum(a["lo"], b["lo"]),
+        hi=np.maximum(a["hi"], b["hi"]),
+        excluded=a["excluded"] + b["excluded"],
+        cells=None if a["cells"] is None else np.concatenate([a["cells"], b["cells"]]),
+    )
+
+
+def _run(sampler: _Sampler, seed: int, progress) -> dict:
+    """Every chunk of ``sampler``, reduced in order, with a progress bar."""
+    import sys
+
+    from tqdm.auto import tqdm
+
+    enabled = sys.stderr.isatty() if progress is None else bool(progress)
+    total = None
+    for index in tqdm(range(sampler.chunks), disable=not enabled, unit="chunk", desc=f"{sampler.kind} workspace"):
+        part = sampler(index, seed)
+        total = part if total is None else combine(total, part)
+    return total
+
+
+def _grid_error(cells: np.ndarray, resolution: int, cell_volume: float) -> float:
+    """Half the volume of the grid cells with a face neighbour of the other status."""
+    grid = cells.reshape((resolution,) * 3)
+    boundary = np.zeros_like(grid)
+    for axis in range(3):
+        differs = np.diff(grid, axis=axis)
+        before = [slice(None)] * 3
+        after = [slice(None)] * 3
+        before[axis], after[axis] = slice(None, -1), slice(1, None)
+        boundary[tuple(before)] |= differs
+        boundary[tuple(after)] |= differs
+    return 0.5 * cell_volume * int(boundary.sum())
+
+
+def _three(name: str, value) -> np.ndarray:
+    arr = _checks.reals(name, value)
+    if arr.shape != (3,) or not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name}: expected 3 finite numbers, got {np.asarray(value).tolist()}")
+    return arr
+
+
+def _region(name: str, value) -> np.ndarray:
+    arr = _checks.reals(name, value)
+    if arr.shape != (3, 2) or not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name}: expected 3 finite (low, high) pairs, got {np.asarray(value).tolist()}")
+    empty = np.flatnonzero(~(arr[:, 1] > arr[:, 0]))
+    if empty.size:
+        raise ValueError(f"{name}: empty or inverted bounds on axis {int(empty[0])} (low {arr[empty[0], 0]:g} "
+                         f">= high {arr[empty[0], 1]:g})")
+    return arr
+
+
+def position_bounds(params: PlatformParams, orientation=(0.0, 0.0, 0.0)) -> np.ndarray:
+    """A box ``(3, 2)`` [m] that holds every position reachable at ``orientation`` within
+    the stroke limits: leg ``i`` reaches only the ball of radius ``L_max`` about
+    ``b_i - R p_i``, so the positions lie in the intersection of the balls' boxes, above
+    the height where a spherical joint meets the highest universal joint."""
+    params = _params(params)
+    if params.leg_length_limits is None:
+        raise ValueError("region: the parameters have no leg_length_limits; give the region to sample")
+    reach = params.leg_length_limits[1]
+    orientation = _three("orientation", orientation)
+    arms = kinematics.platform_points_in_base(params, np.r_[0.0, 0.0, 0.0, orientation])
+    centres = params.base_points - arms
+    box = np.column_stack([np.max(centres - reach, axis=0), np.min(centres + reach, axis=0)])
+    box[2, 0] = max(box[2, 0], np.max(params.base_points[:, 2]) - np.min(arms[:, 2]))
+    if not np.all(box[:, 1] > box[:, 0]):
+        raise ValueError(f"orientation: no position is within the stroke limits at {orientation.tolist()}")
+    return box
+
+
+#: The default orientation region [rad], which holds every orientation once:
+#: ``psi, phi`` in [-pi, pi], ``theta`` in [-pi/2, pi/2].
+ORIENTATION_REGION = np.array([[-np.pi, np.pi], [-np.pi / 2, np.pi / 2], [-np.pi, np.pi]])
+
+
+def _study(params, kind, fixed, region, complete, samples, grid, seed, chunk_size, progress) -> Workspace:
+    params = _params(params)
+    if (samples is None) == (grid is None):
+        raise ValueError("samples, grid: give exactly one (random samples, or grid points per axis)")
+    if grid is not None:
+        resolution = _checks.count("grid", grid, 1000)
+        total = resolution ** 3
+    else:
+        resolution = 0
+        total = _checks.count("samples", samples, 10 ** 12)
+    seed = 0 if seed is None else seed
+    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
+        raise ValueError(f"seed: expected a non-negative integer, got {seed!r}")
+    sampler = _Sampler(params, kind, fixed, region, "grid" if grid is not None else "random", total, resolution,
+                       _checks.count("chunk_size", chunk_size, 10 ** 7))
+    parts = _run(sampler, int(seed), progress)
+    box_volume = float(np.prod(region[:, 1] - region[:, 0]))
+    count = parts["count"]
+    if sampler.method == "random":
+        fraction = count / total
+        volume, error = box_volume * fraction, box_volume * np.sqrt(fraction * (1 - fraction) / total)
+    else:
+        cell = box_volume / total
+        volume, error = cell * count, _grid_error(parts["cells"], resolution, cell)
+    bbox = np.column_stack([parts["lo"], parts["hi"]]) if count else None
+    clipped = ()
+    if count and not complete:
+        # A sample within a cell's width (or the mean spacing of random samples) of a face.
+        step = (region[:, 1] - region[:, 0]) / (resolution or np.cbrt(total))
+        touches = (bbox[:, 0] <= region[:, 0] + step) | (bbox[:, 1] >= region[:, 1] - step)
+        clipped = tuple(name for name, hit in zip(KINDS[kind][0], touches) if hit)
+    return Workspace(
+        kind=kind, fixed=fixed, region=region, method=sampler.method, samples=total, reachable=count,
+        volume=volume, volume_error=float(error), bounding_box=bbox, clipped=clipped,
+        margin_min=parts["margin_min"] if count else float("nan"),
+        margin_mean=parts["margin_sum"] / count if count else float("nan"),
+        margin_max=parts["margin_max"] if count else float("nan"),
+        excluded={_NAMES[bit]: int(n) for bit, n in zip(_BITS, parts["excluded"]) if n},
+        seed=None if sampler.method == "grid" else int(seed), platform=params.name or "unnamed",
+    )
+
+
+def translational_workspace(platform, orientation=(0.0, 0.0, 0.0), *, region=None, samples=None, grid=None,
+                            seed=0, chunk_size=CHUNK_SIZE, progress=None) -> Workspace:
+    """The constant-orientation workspace: the positions ``(x, y, z)`` [m] reachable at
+    the ZYX Euler angles ``orientation`` [rad], by :func:`reachability`.
+
+    ``region`` is the box ``[[x_lo, x_hi], [y_lo, y_hi], [z_lo, z_hi]]`` sampled (default
+    :func:`position_bounds`, which holds the whole workspace). Give ``samples`` (uniform
+    random poses drawn from ``seed``) or ``grid`` (points per axis, cell centres).
+    ``progress`` shows a bar (default: when stderr is a terminal). Returns a :class:`Workspace`.
+    """
+    params = _params(platform)
+    orientation = _three("orientation", orientation)
+    complete = region is None
+    region = position_bounds(params, orientation) if complete else _region("region", region)
+    return _study(params, "translational", orientation, region, complete, samples, grid, seed, chunk_size, progress)
+
+
+def orientation_workspace(platform, position=None, *, region=None, samples=None, grid=None, seed=0,
+                          chunk_size=CHUNK_SIZE, progress=None) -> Workspace:
+    """The orientation workspace: the ZYX Euler angles ``(psi, theta, phi)`` [rad]
+    reachable at ``position`` [m] (default: the home pose's), by :func:`reachability`.
+
+    ``region`` is the box of angles sampled (default :data:`ORIENTATION_REGION`, every
+    orientation); the other arguments are those of :func:`translational_workspace`.
+    The volume is measured in Euler-angle coordinates [rad^3].
+    """
+    params = _params(platform)
+    position = kinematics.home_pose(params)[:3] if position is None else _three("position", position)
+    complete = region is None
+    region = ORIENTATION_REGION if complete else _region("region", region)
+    return _study(params, "orientation", position, region, complete, samples, grid, seed, chunk_size, progress)
+
+
+@dataclass(frozen=True)
+class Slice:
+    """The singularity margin on a plane of poses: ``axes`` the two coordinates varied
+    (``u`` along columns, ``v`` along rows, in ``unit``), ``at`` the third coordinate's name
+    and value, ``fixed`` the orientation (translational slices) or position held;
+    ``margin`` ``(len(v), len(u))`` is NaN where the pose is unreachable and ``flags`` the
+    problem bits of :func:`reachability` there."""
+
+    axes: tuple[str, str]
+    unit: str
+    u: np.ndarray
+    v: np.ndarray
+    at: tuple[str, float]
+    fixed: np.ndarray
+    margin: np.ndarray
+    flags: np.ndarray
+    platform: str
+
+
+def _axes(value) -> tuple[str, tuple[int, int, int]]:
+    """The kind of a pair of axis names and the indices of the pair and the third axis."""
+    if isinstance(value, str):  # "xy", "x,z" or "psi,theta"
+        value = value.replace(",", " ").split() if ("," in value or " " in value) else list(value)
+    names = tuple(value)
+    for kind, (all_names, _) in KINDS.items():
+        if len(names) == 2 and names[0] != names[1] and set(names) <= set(all_names):
+            first, second = all_names.index(names[0]), all_names.index(names[1])
+            return kind, (first, second, 3 - first - second)
+    raise ValueError(f"axes: expected two of x, y, z or two of psi, theta, phi, got {value!r}")
+
+
+def workspace_slice(platform, axes="xy", at=None, *, orientation=(0.0, 0.0, 0.0), position=None, region=None,
+                    resolution=101) -> Slice:
+    """The singularity margin over a plane of poses (:class:`Slice`).
+
+    ``axes`` names two coordinates of one workspace (``"xy"``, ``("x", "z")``,
+    ``("psi", "theta")`` ...); the third is held at ``at`` (default: the home pose's value).
+    Translational slices hold ``orientation`` [rad], orientation slices ``position`` [m]
+    (default: home). ``region`` ``(2, 2)`` bounds the two axes (default: those of
+    :func:`position_bounds` or :data:`ORIENTATION_REGION`); ``resolution`` is the number
+    of cell centres per axis.
+    """
+    params = _params(platform)
+    kind, (first, second, third) = _axes(axes)
+    home = kinematics.home_pose(params)
+    if kind == "translational":
+        fixed = _three("orientation", orientation)
+        full = position_bounds(params, fixed) if region is None else None
+        base = home[:3]
+    else:
+        fixed = home[:3] if position is None else _three("position", position)
+        full = ORIENTATION_REGION if region is None else None
+        base = np.zeros(3)
+    if region is None:
+        region = full[[first, second]]
+    else:
+        region = _region("region", np.vstack([region, [0.0, 1.0]]))[:2]
+    at = float(base[third]) if at is None else _checks.real("at", at)
+    n = _checks.count("resolution", resolution, 2000)
+    u, v = ((lo + (hi - lo) * (np.arange(n) + 0.5) / n) for lo, hi in region)
+    coords = np.empty((n * n, 3))
+    vv, uu = np.meshgrid(v, u, indexing="ij")
+    coords[:, first], coords[:, second], coords[:, third] = uu.ravel(), vv.ravel(), at
+    fixed_rows = np.broadcast_to(fixed, (n * n, 3))
+    poses = np.hstack([coords, fixed_rows] if kind == "translational" else [fixed_rows, coords])
+    check = reachability(params, poses)
+    margin = np.where(check.ok, check.margin, np.nan).reshape(n, n)
+    names, unit = KINDS[kind]
+    return Slice(axes=(names[first], names[second]), unit=unit, u=u, v=v, at=(names[third], at), fixed=fixed,
+                 margin=margin, flags=check.flags.reshape(n, n), platform=params.name or "unnamed")

@@ -69,6 +69,11 @@ def test_arrays_are_read_only_and_params_immutable():
         ("cylinder_com_distance", -0.1, "cylinder_com_distance: must be >= 0"),
         ("gravity", float("nan"), "gravity: must be finite"),
         ("leg_length_limits", (0.3, 0.2), "leg_length_limits: need finite 0 < min < max"),
+        ("universal_joint_max_angle", 30.0, "universal_joint_max_angle: need 0 < angle <= 1.5708"),
+        ("spherical_joint_max_angle", 0.0, "spherical_joint_max_angle: need 0 < angle"),
+        ("spherical_joint_max_angle", "wide", "spherical_joint_max_angle: expected a number"),
+        ("leg_diameter", -0.05, "leg_diameter: need > 0 (metres), got -0.05"),
+        ("leg_diameter", float("inf"), "leg_diameter: must be finite"),
         ("name", 42, "name: expected a string"),
     ],
 )
@@ -109,6 +114,17 @@ def test_file_round_trip_is_exact(tmp_path, preset_params, suffix):
     assert loaded.leg_length_limits == preset_params.leg_length_limits
 
 
+@pytest.mark.parametrize("suffix", [".toml", ".json"])
+def test_workspace_bounds_round_trip_through_files(tmp_path, suffix):
+    bounds = dict(universal_joint_max_angle=0.5, spherical_joint_max_angle=0.7, leg_diameter=0.03)
+    params = PlatformParams.preset("narayan2017").replace(**bounds)
+    path = tmp_path / f"platform{suffix}"
+    params.save(path)
+    loaded = PlatformParams.load(path)
+    assert {key: getattr(loaded, key) for key in bounds} == bounds
+    assert PlatformParams.from_dict(params.to_dict()) == params != PlatformParams.preset("narayan2017")
+
+
 def test_toml_file_is_readable_by_hand(tmp_path):
     path = tmp_path / "p.toml"
     path.write_text(
@@ -127,7 +143,7 @@ piston_com_distance = 0.3
 """
     )
     params = PlatformParams.load(path)
-    assert params.gravity == 9.81 and params.leg_length_limits is None
+    assert params.gravity == 9.81 and params.leg_length_limits is None and params.leg_diameter is None
     assert params.platform_inertia.tolist() == [10.0, 10.0, 18.0]
 
 
