@@ -592,6 +592,11 @@ def _add_execution(parser) -> None:
     """The flags of a chunked study (:mod:`stewart.execution`)."""
     parser.add_argument("--seed", type=int, default=0, help="seed of the random samples")
     parser.add_argument("--chunk-size", type=_count, default=50_000, help="states per chunk (per task on a cluster)")
+    _add_cluster(parser)
+
+
+def _add_cluster(parser) -> None:
+    """Where a study runs: ``--scheduler`` of a Dask cluster, and its progress bar."""
     parser.add_argument("--scheduler", metavar="ADDRESS", help="run the chunks on the Dask cluster of this "
                         "scheduler (e.g. tcp://10.0.0.5:8786; needs pip install 'stewart[cluster]')")
     parser.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
@@ -682,6 +687,37 @@ def cmd_envelope(args) -> int:
     if result.outside_stroke + result.singular == result.states:
         print("stewart envelope: error: no state of the specification is reachable", file=sys.stderr)
         return EXIT_WORKSPACE
+    return 0
+
+
+def cmd_sweep(args) -> int:
+    from . import sweep
+
+    for flag in ("--csv", "--json", "--plot"):
+        _check_output(flag, getattr(args, flag[2:]))
+    if args.plot:
+        _check_plotting("--plot")
+    if not os.path.isfile(args.design):
+        raise UserError(f"{args.design}: no such file")
+    try:
+        spec = sweep.load(args.design)
+    except ValueError as exc:
+        raise UserError(f"{args.design}: {exc}") from None
+    with _client(args) as client:
+        result = sweep.sweep(spec, client=client, progress=_progress(args))
+    front = result.front()
+    names = list(spec.designs[0])
+    shown = names + ["workspace_volume", "margin_mean", "peak_force", "peak_universal_joint", "peak_spherical_joint"]
+    print(f"# design sweep of {result.platform}: {len(spec.designs)} designs; * on the Pareto front of "
+          f"{spec.pareto[0]} and {spec.pareto[1]}")
+    print(f"{'design':>7} " + "".join(f"{name:>22}" for name in shown))
+    for k, design in enumerate(spec.designs):
+        values = [design[n] for n in names] + [result.metrics[m][k] for m in shown[len(names):]]
+        print(f"{k:>6}{'*' if front[k] else ' '} " + "".join(f"{v:>22.6g}" for v in values))
+    for flag, write in (("csv", result.to_csv), ("json", result.to_json), ("plot", result.plot)):
+        if getattr(args, flag):
+            write(getattr(args, flag))
+            print(f"wrote {getattr(args, flag)}")
     return 0
 
 
@@ -810,6 +846,15 @@ def build_parser() -> argparse.ArgumentParser:
                    help="progress bar on stderr (default: when stderr is a terminal)")
     p.add_argument("--csv", metavar="FILE", help="write the summary's numbers as a one-row CSV file")
     p.add_argument("--json", action="store_true", help="print only a JSON summary on stdout")
+
+    p = _subcommand(sub, "sweep", "size a family of designs (geometry and mass parameters on a grid or at random, "
+                    "from a TOML file): workspace volume, force and joint-load peaks, singularity margin, and the "
+                    "Pareto front of two of them", cmd_sweep)
+    p.add_argument("design", metavar="DESIGN.toml", help="the sweep file (see examples/sweep.toml)")
+    _add_cluster(p)
+    p.add_argument("--csv", metavar="FILE", help="write every design's parameters and metrics as CSV")
+    p.add_argument("--json", metavar="FILE", help="write them as JSON")
+    p.add_argument("--plot", metavar="FILE", help="write the Pareto-front figure (PNG)")
 
     p = _subcommand(sub, "validate", "check the model against independent physics for a platform", cmd_validate)
     _add_params(p)
