@@ -679,7 +679,7 @@ def cmd_envelope(args) -> int:
           f"({result.outside_stroke:,} outside the stroke, {result.singular:,} singular, left out)")
     print(f"{'leg':>4}" + "".join(f"{f'{q} [{u}]':>22}" for q, u in QUANTITIES))
     for leg in range(6):
-        print(f"{leg + 1:>4}" + "".join(f"{result.value(q)[leg]:>22.6g}" for q, _ in QUANTITIES))
+        print(f"{leg:>4}" + "".join(f"{result.value(q)[leg]:>22.6g}" for q, _ in QUANTITIES))
     for flag, write in (("csv", result.to_csv), ("json", result.to_json), ("plot", result.plot)):
         if getattr(args, flag):
             write(getattr(args, flag))

@@ -182,9 +182,21 @@ class _EnvelopeJob:
         from .platform import Platform
 
         x, xd, xdd = self.spec.states(chunk)
-        values, outside, singular = _magnitudes(Platform(self.params), x, xd, xdd)
-        return {"peak": Peak.of(values, np.hstack([x, xd, xdd]), chunk.start),
-                "states": chunk.size, "outside_stroke": outside, "singular": singular}
+        plat = Platform(self.params)
+        total = None
+        for lo in range(0, chunk.size, _BLOCK):
+            hi = min(lo + _BLOCK, chunk.size)
+            values, outside, singular = _magnitudes(plat, x[lo:hi], xd[lo:hi], xdd[lo:hi])
+            part = {"peak": Peak.of(values, np.hstack([x[lo:hi], xd[lo:hi], xdd[lo:hi]]), chunk.start + lo),
+                    "states": hi - lo, "outside_stroke": outside, "singular": singular}
+            total = execution.combine(total, part)
+        return total
+
+
+#: States evaluated at a time within a chunk: the temporaries (64 kB a column) stay in the
+#: cache and below glibc's mmap threshold (Dask's worker processes set MALLOC_TRIM_THRESHOLD_,
+#: which pins it at 128 kB, so larger arrays would be mapped and unmapped at every operation).
+_BLOCK = 8192
 
 
 def _magnitudes(plat, x, xd, xdd):
@@ -232,7 +244,7 @@ class Envelope:
         for k, (quantity, unit) in enumerate(QUANTITIES):
             for leg in range(6):
                 col = 6 * k + leg
-                row = {"quantity": quantity, "leg": leg + 1, "peak": float(self.peak.value[col]), "unit": unit,
+                row = {"quantity": quantity, "leg": leg, "peak": float(self.peak.value[col]), "unit": unit,
                        "state_index": int(self.peak.index[col])}
                 row.update(zip(names, self.peak.state[col].tolist()))
                 out.append(row)
@@ -260,7 +272,7 @@ class Envelope:
 
         plt = _pyplot()
         fig, axes = plt.subplots(1, len(QUANTITIES), figsize=(15, 3.6), constrained_layout=True)
-        legs = np.arange(1, 7)
+        legs = np.arange(6)
         for ax, (quantity, unit) in zip(axes, QUANTITIES):
             ax.bar(legs, self.value(quantity), color="tab:blue")
             ax.set_title(_LABELS[quantity], fontsize=10)
