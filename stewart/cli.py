@@ -179,6 +179,24 @@ def _check_plotting(flag: str) -> None:
         raise UserError(f"{flag}: plotting needs matplotlib; install it with pip install 'stewart[plot]'") from None
 
 
+@contextlib.contextmanager
+def _scheduler(address: str | None):
+    """A ``dask.distributed.Client`` of the cluster at ``address`` (``--scheduler``), or None."""
+    if address is None:
+        yield None
+        return
+    try:
+        from distributed import Client
+    except ImportError:
+        raise UserError("--scheduler: needs dask.distributed; install it with pip install 'stewart[cluster]'") from None
+    try:
+        client = Client(address, timeout=10)
+    except (OSError, ValueError, TypeError) as exc:
+        raise UserError(f"--scheduler {address}: cannot connect ({exc})") from None
+    with client:
+        yield client
+
+
 def _read_csv(flag: str, path: str, columns: list[str]) -> np.ndarray:
     try:
         return csvfile.read(path, columns)
@@ -473,8 +491,10 @@ def cmd_workspace(args) -> int:
         params = params.replace(**{key: math.radians(v) if "angle" in key else v
                                    for key, v in bounds.items() if v is not None})
         study = workspace.translational_workspace if args.kind == "translational" else workspace.orientation_workspace
-        result = study(params, **fixed, region=region, samples=None if args.grid else args.samples, grid=args.grid,
-                       seed=args.seed, chunk_size=args.chunk_size, progress=progress)
+        with _scheduler(args.scheduler) as client:
+            result = study(params, **fixed, region=region, samples=None if args.grid else args.samples,
+                           grid=args.grid, seed=args.seed, chunk_size=args.chunk_size, client=client,
+                           progress=progress)
         slices = [workspace.workspace_slice(params, axes, **fixed, region=_zoom(result, axes),
                                             resolution=args.resolution)
                   for axes in _SLICES[args.kind]] if args.slices else []
@@ -838,7 +858,9 @@ def build_parser() -> argparse.ArgumentParser:
                    help="spherical-joint cone half-angle [deg] (overrides the parameters')")
     p.add_argument("--leg-diameter", type=_positive, metavar="M", help="leg diameter for the leg-leg clearance [m] "
                    "(overrides the parameters')")
-    p.add_argument("--chunk-size", type=_count, default=20_000, help="poses per chunk")
+    p.add_argument("--chunk-size", type=_count, default=20_000, help="poses per chunk (one task)")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="run the chunks on the Dask cluster at ADDRESS "
+                   "(e.g. tcp://host:8786; needs stewart[cluster]) instead of the local cores")
     p.add_argument("--slices", metavar="DIR", help="write PNG heat maps of the margin on the three coordinate "
                    "planes through home, around the reachable samples, into DIR (needs matplotlib)")
     p.add_argument("--resolution", type=_count, default=121, help="cells per axis of each slice")

@@ -33,12 +33,16 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _checks, kinematics
+import sys
+
+from . import _checks, execution, kinematics
+from .execution import Peak
 from .params import PlatformParams
 
 __all__ = [
     "WorkspaceError", "Reachability", "reachability", "CONDITION_LIMIT", "joint_angles", "segment_distances",
-    "Workspace", "translational_workspace", "orientation_workspace", "position_bounds", "Slice", "workspace_slice",
+    "Workspace", "WorkspaceJob", "translational_workspace", "orientation_workspace", "position_bounds", "Slice",
+    "workspace_slice",
 ]
 
 #: Largest unit-free condition number of ``J_C`` (and of the Euler-angle map) accepted.
@@ -212,7 +216,8 @@ def _neutral_axes(plat) -> np.ndarray:
 
 def _angle(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """The angle between unit vectors, ``atan2(|a x b|, a . b)`` (accurate near 0 and pi)."""
-    return np.arctan2(np.linalg.norm(np.cross(a, b), axis=-1), np.sum(a * b, axis=-1))
+    normal = np.cross(a, b)
+    return np.arctan2(np.sqrt(_dot(normal, normal)), _dot(a, b))
 
 
 def joint_angles(params: PlatformParams, poses) -> tuple[np.ndarray, np.ndarray]:
@@ -243,18 +248,24 @@ def segment_distances(p0, p1, q0, q1) -> np.ndarray:
     point of one segment to the other segment.
     """
     d1, d2, r = p1 - p0, q1 - q0, p0 - q0
-    a, e, b = (np.sum(u * v, axis=-1) for u, v in ((d1, d1), (d2, d2), (d1, d2)))
-    c, f = np.sum(d1 * r, axis=-1), np.sum(d2 * r, axis=-1)
+    a, e, b, c, f = _dot(d1, d1), _dot(d2, d2), _dot(d1, d2), _dot(d1, r), _dot(d2, r)
     with np.errstate(divide="ignore", invalid="ignore"):
         denom = a * e - b * b
         s = (b * f - c * e) / denom
         t = (a * f - b * c) / denom
         inside = (denom > 1e-12 * a * e) & (s >= 0) & (s <= 1) & (t >= 0) & (t <= 1)
-        best = np.where(inside, np.linalg.norm(r + s[..., None] * d1 - t[..., None] * d2, axis=-1), np.inf)
-    for point, start, direction in ((p0, q0, d2), (p1, q0, d2), (q0, p0, d1), (q1, p0, d1)):
-        along = np.clip(np.sum((point - start) * direction, axis=-1) / np.sum(direction * direction, axis=-1), 0, 1)
-        best = np.minimum(best, np.linalg.norm(point - start - along[..., None] * direction, axis=-1))
-    return best
+        gap = r + s[..., None] * d1 - t[..., None] * d2
+        best = np.where(inside, _dot(gap, gap), np.inf)
+    for point, start, direction, length in ((p0, q0, d2, e), (p1, q0, d2, e), (q0, p0, d1, a), (q1, p0, d1, a)):
+        along = np.clip(_dot(point - start, direction) / length, 0, 1)
+        gap = point - start - along[..., None] * direction
+        best = np.minimum(best, _dot(gap, gap))
+    return np.sqrt(best)
+
+
+def _dot(u: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """Row-wise dot products over the last axis (of length 3)."""
+    return np.einsum("...k,...k->...", u, v)
 
 
 def _margin(jac: np.ndarray) -> np.ndarray:
@@ -314,7 +325,7 @@ def _block(plat, x: np.ndarray, mode: float, neutral: np.ndarray) -> dict:
 #: The coordinates a workspace varies, and their unit, by kind.
 KINDS = {"translational": (("x", "y", "z"), "m"), "orientation": (("psi", "theta", "phi"), "rad")}
 
-#: Poses evaluated per chunk (one task of the execution layer).
+#: Poses checked per chunk (one task of :mod:`stewart.execution`).
 CHUNK_SIZE = 20_000
 
 _NAMES = {OUT_OF_RANGE: "out_of_range", LEG_TOO_SHORT: "leg_too_short", LEG_TOO_LONG: "leg_too_long",
@@ -347,7 +358,8 @@ class Workspace:
     widen the region); the default regions hold the whole workspace. ``margin_min``,
     ``margin_mean`` and ``margin_max`` are statistics of the singularity margin
     (:attr:`Reachability.margin`) over the reachable samples; ``margin_mean`` is the
-    global conditioning index of Gosselin & Angeles (1991). ``excluded`` counts the
+    global conditioning index of Gosselin & Angeles (1991); ``margin_min_pose`` is the
+    reachable pose closest to a singularity. ``excluded`` counts the
     samples each problem excludes (a sample may have several).
     """
 
@@ -364,6 +376,7 @@ class Workspace:
     margin_min: float
     margin_mean: float
     margin_max: float
+    margin_min_pose: np.ndarray | None
     excluded: dict
     seed: int | None
     platform: str
@@ -379,88 +392,58 @@ class Workspace:
     def summary(self) -> dict:
         """Plain-Python form (for JSON)."""
         out = {key: getattr(self, key) for key in self.__dataclass_fields__}
-        for key in ("fixed", "region", "bounding_box"):
+        for key in ("fixed", "region", "bounding_box", "margin_min_pose"):
             out[key] = None if out[key] is None else np.asarray(out[key]).tolist()
         out.update(axes=list(self.axes), unit=self.unit, clipped=list(self.clipped))
         return out
 
 
 @dataclass(frozen=True)
-class _Sampler:
-    """The poses of one workspace study and their per-chunk reduction: ``self(index, seed)``
-    checks chunk ``index`` (with random poses drawn from ``seed`` and the index) and
-    returns counts, sums and extremes, never the poses."""
+class WorkspaceJob:
+    """The per-chunk work of a workspace study (an :mod:`stewart.execution` job):
+    ``job(chunk)`` builds the chunk's poses (uniform random ones from ``chunk.rng()``, or the
+    grid's cells ``chunk.start`` to ``chunk.stop``), checks them with :func:`reachability`
+    and returns counts, sums and peaks, never the poses."""
 
     params: PlatformParams
     kind: str
     fixed: np.ndarray
     region: np.ndarray
-    method: str
-    samples: int
-    resolution: int
-    chunk_size: int
+    resolution: int  # grid points per axis; 0 for random samples
 
-    @property
-    def chunks(self) -> int:
-        return -(-self.samples // self.chunk_size)
-
-    def poses(self, index: int, seed: int) -> np.ndarray:
-        start = index * self.chunk_size
-        count = min(self.chunk_size, self.samples - start)
+    def poses(self, chunk) -> np.ndarray:
         lo, hi = self.region[:, 0], self.region[:, 1]
-        if self.method == "random":
-            rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(index,)))
-            coords = lo + (hi - lo) * rng.random((count, 3))
-        else:
-            cells = np.unravel_index(np.arange(start, start + count), (self.resolution,) * 3)
+        if self.resolution:
+            cells = np.unravel_index(np.arange(chunk.start, chunk.stop), (self.resolution,) * 3)
             coords = lo + (hi - lo) * (np.column_stack(cells) + 0.5) / self.resolution
-        fixed = np.broadcast_to(self.fixed, (count, 3))
+        else:
+            coords = lo + (hi - lo) * chunk.rng().random((chunk.size, 3))
+        fixed = np.broadcast_to(self.fixed, (chunk.size, 3))
         return np.hstack([coords, fixed] if self.kind == "translational" else [fixed, coords])
 
-    def __call__(self, index: int, seed: int) -> dict:
-        poses = self.poses(index, seed)
+    def __call__(self, chunk) -> dict:
+        poses = self.poses(chunk)
         check = reachability(self.params, poses)
-        ok = check.ok
+        ok = check.ok[:, None]
         coords = poses[:, :3] if self.kind == "translational" else poses[:, 3:]
-        margin = check.margin[ok]
-        return dict(
+        margin = np.where(ok, check.margin[:, None], np.nan)
+        coords = np.where(ok, coords, np.nan)
+        part = dict(
             count=int(ok.sum()),
-            margin_sum=float(margin.sum()),
-            margin_min=float(margin.min(initial=np.inf)),
-            margin_max=float(margin.max(initial=-np.inf)),
-            lo=coords[ok].min(axis=0, initial=np.inf),
-            hi=coords[ok].max(axis=0, initial=-np.inf),
-            excluded=np.array([int(np.count_nonzero(check.flags & bit)) for bit in _BITS]),
-            cells=ok if self.method == "grid" else None,
+            margin_sum=float(np.nansum(margin)),
+            # Peaks of -margin, margin, -coords and coords over the reachable poses (NaN
+            # elsewhere): the extremes with the poses where they occur.
+            margin=Peak.of(np.hstack([-margin, margin]), poses, chunk.start),
+            extent=Peak.of(np.hstack([-coords, coords]), poses, chunk.start),
+            excluded=np.array([np.count_nonzero(check.flags & bit) for bit in _BITS]),
         )
-
-
-def combine(a: dict, b: dict) -> dict:
-    """Two chunks' reductions (:class:`_Sampler`) as one; ``b`` follows ``a``."""
-    return dict(
-        count=a["count"] + b["count"],
-        margin_sum=a["margin_sum"] + b["margin_sum"],
-        margin_min=min(a["margin_min"], b["margin_min"]),
-        margin_max=max(a["margin_max"], b["margin_max"]),
-        lo=np.minimum(a["lo"], b["lo"]),
-        hi=np.maximum(a["hi"], b["hi"]),
-        excluded=a["excluded"] + b["excluded"],
-        cells=None if a["cells"] is None else np.concatenate([a["cells"], b["cells"]]),
-    )
-
-
-def _run(sampler: _Sampler, seed: int, progress) -> dict:
-    """Every chunk of ``sampler``, reduced in order, with a progress bar."""
-    import sys
-
-    from tqdm.auto import tqdm
-
-    enabled = sys.stderr.isatty() if progress is None else bool(progress)
-    total = None
-    for index in tqdm(range(sampler.chunks), disable=not enabled, unit="chunk", desc=f"{sampler.kind} workspace"):
-        part = sampler(index, seed)
-        total = part if total is None else combine(total, part)
-    return total
+        if self.resolution:
+            # The reachable cells as bits of the whole grid: the chunks' bits are disjoint,
+            # so adding the partials (as execution.combine does) sets each cell once.
+            cells = np.zeros(self.resolution ** 3, dtype=bool)
+            cells[chunk.start:chunk.stop] = ok[:, 0]
+            part["cells"] = np.packbits(cells)
+        return part
 
 
 def _grid_error(cells: np.ndarray, resolution: int, cell_volume: float) -> float:
@@ -519,67 +502,66 @@ def position_bounds(params: PlatformParams, orientation=(0.0, 0.0, 0.0)) -> np.n
 ORIENTATION_REGION = np.array([[-np.pi, np.pi], [-np.pi / 2, np.pi / 2], [-np.pi, np.pi]])
 
 
-def _study(params, kind, fixed, region, complete, samples, grid, seed, chunk_size, progress) -> Workspace:
-    params = _params(params)
+def _study(params, kind, fixed, region, complete, samples, grid, seed, chunk_size, client, progress) -> Workspace:
     if (samples is None) == (grid is None):
         raise ValueError("samples, grid: give exactly one (random samples, or grid points per axis)")
-    if grid is not None:
-        resolution = _checks.count("grid", grid, 1000)
-        total = resolution ** 3
-    else:
-        resolution = 0
-        total = _checks.count("samples", samples, 10 ** 12)
-    seed = 0 if seed is None else seed
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)) or seed < 0:
-        raise ValueError(f"seed: expected a non-negative integer, got {seed!r}")
-    sampler = _Sampler(params, kind, fixed, region, "grid" if grid is not None else "random", total, resolution,
-                       _checks.count("chunk_size", chunk_size, 10 ** 7))
-    parts = _run(sampler, int(seed), progress)
+    resolution = 0 if grid is None else _checks.count("grid", grid, 1000)
+    total = resolution ** 3 if grid is not None else _checks.count("samples", samples, 10 ** 12)
+    job = WorkspaceJob(params, kind, fixed, region, resolution)
+    progress = sys.stderr.isatty() if progress is None else bool(progress)
+    parts = execution.run(job, total, seed=None if grid is not None else seed, chunk_size=chunk_size,
+                          client=client, progress=progress, desc=f"{kind} workspace")
     box_volume = float(np.prod(region[:, 1] - region[:, 0]))
     count = parts["count"]
-    if sampler.method == "random":
+    if grid is None:
         fraction = count / total
         volume, error = box_volume * fraction, box_volume * np.sqrt(fraction * (1 - fraction) / total)
     else:
         cell = box_volume / total
-        volume, error = cell * count, _grid_error(parts["cells"], resolution, cell)
-    bbox = np.column_stack([parts["lo"], parts["hi"]]) if count else None
+        cells = np.unpackbits(parts["cells"], count=total).astype(bool)
+        volume, error = cell * count, _grid_error(cells, resolution, cell)
+    extent, margin = parts["extent"].value, parts["margin"].value
+    bbox = np.column_stack([-extent[:3], extent[3:]]) if count else None
     clipped = ()
     if count and not complete:
         # A sample within a cell's width (or the mean spacing of random samples) of a face.
         step = (region[:, 1] - region[:, 0]) / (resolution or np.cbrt(total))
         touches = (bbox[:, 0] <= region[:, 0] + step) | (bbox[:, 1] >= region[:, 1] - step)
         clipped = tuple(name for name, hit in zip(KINDS[kind][0], touches) if hit)
+    nan = float("nan")
     return Workspace(
-        kind=kind, fixed=fixed, region=region, method=sampler.method, samples=total, reachable=count,
-        volume=volume, volume_error=float(error), bounding_box=bbox, clipped=clipped,
-        margin_min=parts["margin_min"] if count else float("nan"),
-        margin_mean=parts["margin_sum"] / count if count else float("nan"),
-        margin_max=parts["margin_max"] if count else float("nan"),
+        kind=kind, fixed=fixed, region=region, method="random" if grid is None else "grid", samples=total,
+        reachable=count, volume=volume, volume_error=float(error), bounding_box=bbox, clipped=clipped,
+        margin_min=float(-margin[0]) if count else nan, margin_mean=parts["margin_sum"] / count if count else nan,
+        margin_max=float(margin[1]) if count else nan,
+        margin_min_pose=parts["margin"].state[0] if count else None,
         excluded={_NAMES[bit]: int(n) for bit, n in zip(_BITS, parts["excluded"]) if n},
-        seed=None if sampler.method == "grid" else int(seed), platform=params.name or "unnamed",
+        seed=None if grid is not None else int(seed), platform=params.name or "unnamed",
     )
 
 
 def translational_workspace(platform, orientation=(0.0, 0.0, 0.0), *, region=None, samples=None, grid=None,
-                            seed=0, chunk_size=CHUNK_SIZE, progress=None) -> Workspace:
+                            seed=0, chunk_size=CHUNK_SIZE, client=None, progress=None) -> Workspace:
     """The constant-orientation workspace: the positions ``(x, y, z)`` [m] reachable at
     the ZYX Euler angles ``orientation`` [rad], by :func:`reachability`.
 
     ``region`` is the box ``[[x_lo, x_hi], [y_lo, y_hi], [z_lo, z_hi]]`` sampled (default
     :func:`position_bounds`, which holds the whole workspace). Give ``samples`` (uniform
-    random poses drawn from ``seed``) or ``grid`` (points per axis, cell centres).
-    ``progress`` shows a bar (default: when stderr is a terminal). Returns a :class:`Workspace`.
+    random poses drawn from ``seed``) or ``grid`` (points per axis, cell centres). The
+    poses are checked in chunks of ``chunk_size`` by :func:`stewart.execution.run`: on the
+    local cores, or with ``client`` (a ``dask.distributed.Client``) on its cluster, with the
+    same result. ``progress`` shows a bar with an ETA (default: when stderr is a terminal).
+    Returns a :class:`Workspace`.
     """
     params = _params(platform)
     orientation = _three("orientation", orientation)
     complete = region is None
     region = position_bounds(params, orientation) if complete else _region("region", region)
-    return _study(params, "translational", orientation, region, complete, samples, grid, seed, chunk_size, progress)
+    return _study(params, "translational", orientation, region, complete, samples, grid, seed, chunk_size, client, progress)
 
 
 def orientation_workspace(platform, position=None, *, region=None, samples=None, grid=None, seed=0,
-                          chunk_size=CHUNK_SIZE, progress=None) -> Workspace:
+                          chunk_size=CHUNK_SIZE, client=None, progress=None) -> Workspace:
     """The orientation workspace: the ZYX Euler angles ``(psi, theta, phi)`` [rad]
     reachable at ``position`` [m] (default: the home pose's), by :func:`reachability`.
 
@@ -591,7 +573,7 @@ def orientation_workspace(platform, position=None, *, region=None, samples=None,
     position = kinematics.home_pose(params)[:3] if position is None else _three("position", position)
     complete = region is None
     region = ORIENTATION_REGION if complete else _region("region", region)
-    return _study(params, "orientation", position, region, complete, samples, grid, seed, chunk_size, progress)
+    return _study(params, "orientation", position, region, complete, samples, grid, seed, chunk_size, client, progress)
 
 
 @dataclass(frozen=True)

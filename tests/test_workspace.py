@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 import stewart
-from stewart import workspace
+from stewart import execution, workspace
 from stewart.cli import main
 from stewart.presets import hexapod_points
 
@@ -60,10 +60,9 @@ def test_membership_agrees_with_forward_kinematics():
     assert not np.any(check.flags & stroke) and check.ok.mean() > 0.9
 
     result = workspace.translational_workspace(params, samples=4000, seed=5, chunk_size=1000)
-    sampler_poses = np.vstack([workspace._Sampler(
-        params, "translational", np.zeros(3), workspace.position_bounds(params), "random", 4000, 0, 1000
-    ).poses(k, 5) for k in range(4)])
-    reachable = sampler_poses[stewart.reachability(params, sampler_poses).ok]
+    job = workspace.WorkspaceJob(params, "translational", np.zeros(3), workspace.position_bounds(params), 0)
+    sampled = np.vstack([job.poses(chunk) for chunk in execution.chunks(4000, 1000, seed=5)])
+    reachable = sampled[stewart.reachability(params, sampled).ok]
     assert len(reachable) == result.reachable > 50
     found = stewart.forward_kinematics(params, stewart.leg_lengths(params, reachable))
     np.testing.assert_allclose(found, reachable, atol=1e-9)
@@ -166,6 +165,8 @@ def test_volume_converges_as_the_samples_grow(figures):
         box = result.bounding_box
         assert np.all(result.region[:, 0] <= box[:, 0]) and np.all(box[:, 1] <= result.region[:, 1])
         assert 0 < result.margin_min <= result.margin_mean <= result.margin_max <= 1 and result.clipped == ()
+        worst = stewart.reachability(params, result.margin_min_pose)
+        assert worst.ok[0] and worst.margin[0] == result.margin_min
 
 
 def test_chunks_and_seeds_give_reproducible_results():
@@ -226,7 +227,7 @@ def test_slices_hold_the_margin_where_reachable():
         (lambda p: workspace.translational_workspace(p), "samples, grid: give exactly one"),
         (lambda p: workspace.translational_workspace(p, samples=10, grid=3), "samples, grid: give exactly one"),
         (lambda p: workspace.translational_workspace(p, samples=0), "samples: must be from 1"),
-        (lambda p: workspace.translational_workspace(p, samples=10, seed=-2), "seed: expected a non-negative"),
+        (lambda p: workspace.translational_workspace(p, samples=10, seed=-2), "seed: expected a whole number >= 0"),
         (lambda p: workspace.translational_workspace(p, [0, np.nan, 0], samples=10), "orientation: expected 3 finite"),
         (lambda p: workspace.orientation_workspace(p, [0, 0], samples=10), "position: expected 3 finite"),
         (lambda p: workspace.translational_workspace(p.replace(leg_length_limits=None), samples=10),
@@ -272,7 +273,7 @@ def test_cli_joint_limits_shrink_the_workspace(capsys):
         (["--leg-diameter", "0.5", "--samples", "500"], 3, "leg_collision 500"),
         (["--universal-max-angle", "120"], 2, "--universal-max-angle: a cone half-angle needs 0 < DEG <= 90"),
         (["--kind", "orientation", "--orientation", "0", "0", "0"], 2, "--orientation: holds the orientation"),
-        (["--seed", "-1"], 2, "--seed: expected a non-negative integer"),
+        (["--seed", "-1"], 2, "--seed: expected a whole number >= 0"),
         (["--params", "/no/such/file.toml"], 2, "--params /no/such/file.toml: no such file"),
     ],
 )
@@ -281,3 +282,35 @@ def test_cli_bad_specifications_exit_with_one_line(argv, code, message, capsys):
         main(["workspace", "--samples", "500", *argv] if "--samples" not in argv else ["workspace", *argv])
     err = capsys.readouterr().err.strip()
     assert info.value.code == code and message in err and len(err.splitlines()) == 1
+
+
+def test_dask_cluster_gives_the_local_result(capsys):
+    """Two worker processes of a LocalCluster: the job travels to them by pickle and the
+    result equals the local run's, for random samples and for a grid, from Python and from
+    ``stewart workspace --scheduler``."""
+    distributed = pytest.importorskip("distributed")
+    params = stewart.PlatformParams.preset("narayan2017").replace(spherical_joint_max_angle=0.6, leg_diameter=0.01)
+    studies = [dict(samples=6000, seed=9, chunk_size=1500), dict(grid=14, chunk_size=700)]
+    local = [workspace.translational_workspace(params, **kw).summary() for kw in studies]
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=True,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        remote = [workspace.translational_workspace(params, **kw, client=client).summary() for kw in studies]
+        capsys.readouterr()
+        main(["workspace", "--samples", "6000", "--seed", "9", "--chunk-size", "1500", "--spherical-max-angle",
+              str(np.degrees(0.6)), "--leg-diameter", "0.01", "--scheduler", cluster.scheduler_address, "--json"])
+    assert remote == local and all(r["reachable"] > 0 for r in remote)
+    printed = json.loads(capsys.readouterr().out)
+    assert printed["volume"] == local[0]["volume"] and printed["margin_mean"] == local[0]["margin_mean"]
+
+
+def test_a_region_inside_the_workspace_is_all_reachable_and_clipped():
+    """A 10 cm box around home lies inside the motion simulator's workspace: the volume is
+    the box's, exactly, with no sampling error, and every axis is reported clipped."""
+    params = stewart.PlatformParams.preset("motion_simulator")
+    home = stewart.home_pose(params)[:3]
+    box = np.column_stack([home - 0.05, home + 0.05])
+    for kw in (dict(samples=2000), dict(grid=8)):
+        result = workspace.translational_workspace(params, region=box, **kw)
+        assert result.reachable == result.samples and result.volume == pytest.approx(1e-3, rel=1e-12)
+        assert result.clipped == ("x", "y", "z") and result.excluded == {}
+    assert result.volume_error == 0.0
