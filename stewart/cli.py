@@ -623,24 +623,6 @@ def _add_cluster(parser) -> None:
                         help="progress bar on stderr (default: when stderr is a terminal)")
 
 
-@contextlib.contextmanager
-def _client(args):
-    """A Dask client of ``--scheduler`` for the run (None without it)."""
-    if not args.scheduler:
-        yield None
-        return
-    try:
-        from distributed import Client
-    except ImportError:
-        raise UserError("--scheduler: needs dask.distributed; install it with pip install 'stewart[cluster]'") from None
-    try:
-        client = Client(args.scheduler, timeout=10)
-    except (OSError, ValueError, TypeError) as exc:
-        raise UserError(f"--scheduler {args.scheduler}: cannot connect ({exc})") from None
-    with client:
-        yield client
-
-
 def _progress(args) -> bool:
     return sys.stderr.isatty() if args.progress is None else args.progress
 
@@ -692,7 +674,7 @@ def cmd_envelope(args) -> int:
     if args.trajectory or (args.target is not None and args.margin is None):
         if args.samples is not None:
             raise UserError("--samples: trajectories are sampled every --dt seconds")
-    with _client(args) as client:
+    with _scheduler(args.scheduler) as client:
         result = envelope(params, spec, samples=args.samples, seed=args.seed, client=client,
                           chunk_size=args.chunk_size, progress=_progress(args))
     print(f"# platform {label}: envelope over {what}, {result.states:,} states "
@@ -723,7 +705,7 @@ def cmd_sweep(args) -> int:
         spec = sweep.load(args.design)
     except ValueError as exc:
         raise UserError(f"{args.design}: {exc}") from None
-    with _client(args) as client:
+    with _scheduler(args.scheduler) as client:
         result = sweep.sweep(spec, client=client, progress=_progress(args))
     front = result.front()
     names = list(spec.designs[0])
