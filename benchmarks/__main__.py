@@ -23,7 +23,7 @@ import time
 import stewart
 from stewart import bench
 
-from . import batch_loop, report
+from . import batch_loop, report, studies
 from .peers.common import peer_available
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
@@ -142,6 +142,11 @@ def main(argv=None) -> None:
         results["kernel"][preset].update(bench.derivative_figures(preset, min(args.batch, bench.DERIVATIVE_BATCH)))
     print("[bench] vector batch path against the scalar one, C loop ...", flush=True)
     results["batch_loop"] = batch_loop.figures("narayan2017", min(args.batch, 100_000))
+    if peer_available("distributed"):
+        print("[bench] envelopes in process and on a 2-worker Dask LocalCluster ...", flush=True)
+        results["studies"] = studies.figures("narayan2017")
+    else:
+        print("[bench] studies: skipped, dask.distributed not installed (pip install '.[cluster]')", flush=True)
     if not args.skip_build:
         print("[bench] generation and clean build ...", flush=True)
         results["generation"] = generation_figures()
@@ -153,6 +158,9 @@ def main(argv=None) -> None:
     print(bench.format_table(table_rows))
     print()
     print(batch_loop.format_rows(results["batch_loop"]))
+    if "studies" in results:
+        print()
+        print(studies.format_rows(results["studies"]))
     if results["peers"]:
         ops = results["code"]["operation_counts"]
         ours = {"ops": {"inverse_dynamics": ops.get("inverse_dynamics_axisym"),

@@ -14,7 +14,7 @@ import sys
 
 import numpy as np
 
-from . import __version__, build_info, csvfile
+from . import __version__, build_info, csvfile, kinematics
 from .control import PID, Actuators, ComputedTorque
 from .params import PlatformParams
 from .platform import Platform
@@ -111,6 +111,8 @@ _METAVARS = {
     "--pose": tuple(POSE), "--target": tuple(POSE),
     "--vel": tuple(f"{p}'" for p in POSE), "--acc": tuple(f"{p}''" for p in POSE),
     "--force": tuple(f"tau{i}" for i in range(6)),
+    "--lower": tuple(POSE), "--upper": tuple(POSE),
+    "--velocity": tuple(f"{p}'" for p in POSE), "--acceleration": tuple(f"{p}''" for p in POSE),
 }
 
 
@@ -628,6 +630,121 @@ def cmd_c_export(args) -> int:
 
 # ---------------------------------------------------------------------------- parser
 
+def _add_execution(parser) -> None:
+    """The flags of a chunked study (:mod:`stewart.execution`)."""
+    parser.add_argument("--seed", type=int, default=0, help="seed of the random samples")
+    parser.add_argument("--chunk-size", type=_count, default=50_000, help="states per chunk (per task on a cluster)")
+    _add_cluster(parser)
+
+
+def _add_cluster(parser) -> None:
+    """Where a study runs: ``--scheduler`` of a Dask cluster, and its progress bar."""
+    parser.add_argument("--scheduler", metavar="ADDRESS", help="run the chunks on the Dask cluster of this "
+                        "scheduler (e.g. tcp://10.0.0.5:8786; needs pip install 'stewart[cluster]')")
+    parser.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
+                        help="progress bar on stderr (default: when stderr is a terminal)")
+
+
+def _progress(args) -> bool:
+    return sys.stderr.isatty() if args.progress is None else args.progress
+
+
+def _envelope_spec(args, params):
+    from . import envelope
+
+    box = [args.lower, args.upper, args.velocity, args.acceleration]
+    if args.trajectory:
+        if any(v is not None for v in box) or args.target is not None:
+            raise UserError("--trajectory cannot be combined with --target or the box flags")
+        motions = []
+        for path in args.trajectory:
+            try:
+                motions.append(SampledTrajectory.from_csv(path))
+            except ValueError as exc:
+                message = str(exc)
+                raise UserError(f"--trajectory {message if message.startswith(path) else path + ': ' + message}") \
+                    from None
+        return envelope.Trajectories(motions, args.dt), f"{len(motions)} trajectory file(s)"
+    if args.target is not None:
+        if any(v is not None for v in box):
+            raise UserError("--target cannot be combined with the box flags (--lower, --upper, ...)")
+        try:
+            move = PointToPoint(kinematics.home_pose(params), args.target, args.move_time, args.profile)
+        except ValueError as exc:
+            raise UserError(f"--target, --move-time: {exc}") from None
+        if args.margin is None:
+            return envelope.Trajectories([move], args.dt), "the move to --target"
+        return envelope.Box.around(move, args.margin, args.dt), f"the box around the move, margin {args.margin:g}"
+    missing = [f for f, v in zip(("--lower", "--upper", "--velocity", "--acceleration"), box) if v is None]
+    if missing:
+        raise UserError(f"give the box ({' '.join(missing)} missing), --target or --trajectory")
+    try:
+        return envelope.Box(*box), "the box"
+    except ValueError as exc:
+        raise UserError("--" + str(exc)) from None
+
+
+def cmd_envelope(args) -> int:
+    from .envelope import QUANTITIES, envelope
+
+    for flag in ("--csv", "--json", "--plot"):
+        _check_output(flag, getattr(args, flag[2:]))
+    if args.plot:
+        _check_plotting("--plot")
+    params, label = _params(args)
+    spec, what = _envelope_spec(args, params)
+    if args.trajectory or (args.target is not None and args.margin is None):
+        if args.samples is not None:
+            raise UserError("--samples: trajectories are sampled every --dt seconds")
+    with _scheduler(args.scheduler) as client:
+        result = envelope(params, spec, samples=args.samples, seed=args.seed, client=client,
+                          chunk_size=args.chunk_size, progress=_progress(args))
+    print(f"# platform {label}: envelope over {what}, {result.states:,} states "
+          f"({result.outside_stroke:,} outside the stroke, {result.singular:,} singular, left out)")
+    print(f"{'leg':>4}" + "".join(f"{f'{q} [{u}]':>22}" for q, u in QUANTITIES))
+    for leg in range(6):
+        print(f"{leg:>4}" + "".join(f"{result.value(q)[leg]:>22.6g}" for q, _ in QUANTITIES))
+    for flag, write in (("csv", result.to_csv), ("json", result.to_json), ("plot", result.plot)):
+        if getattr(args, flag):
+            write(getattr(args, flag))
+            print(f"wrote {getattr(args, flag)}")
+    if result.outside_stroke + result.singular == result.states:
+        print("stewart envelope: error: no state of the specification is reachable", file=sys.stderr)
+        return EXIT_WORKSPACE
+    return 0
+
+
+def cmd_sweep(args) -> int:
+    from . import sweep
+
+    for flag in ("--csv", "--json", "--plot"):
+        _check_output(flag, getattr(args, flag[2:]))
+    if args.plot:
+        _check_plotting("--plot")
+    if not os.path.isfile(args.design):
+        raise UserError(f"{args.design}: no such file")
+    try:
+        spec = sweep.load(args.design)
+    except ValueError as exc:
+        raise UserError(f"{args.design}: {exc}") from None
+    with _scheduler(args.scheduler) as client:
+        result = sweep.sweep(spec, client=client, progress=_progress(args))
+    front = result.front()
+    names = list(spec.designs[0])
+    shown = names + ["workspace_volume", "margin_mean", "peak_force", "peak_universal_joint", "peak_spherical_joint"]
+    print(f"# design sweep of {result.platform}: {len(spec.designs)} designs; * on the Pareto front of "
+          f"{spec.pareto[0]} and {spec.pareto[1]}")
+    print(f"{'design':>7} " + "".join(f"{name:>22}" for name in shown))
+    for k, design in enumerate(spec.designs):
+        values = [design[n] for n in names] + [result.metrics[m][k] for m in shown[len(names):]]
+        print(f"{k:>6}{'*' if front[k] else ' '} " + "".join(f"{v:>22.6g}" for v in values))
+    for flag, write in (("csv", result.to_csv), ("json", result.to_json), ("plot", result.plot)):
+        if getattr(args, flag):
+            write(getattr(args, flag))
+            print(f"wrote {getattr(args, flag)}")
+    return 0
+
+
 def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="stewart", description=__doc__.replace("``", ""),
                                      formatter_class=_Formatter, epilog=EXIT_CODES)
@@ -703,6 +820,27 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--plot", metavar="DIR", help="write PNG figures of forces and leg strokes into DIR")
     p.add_argument("--json", action="store_true", help="print only a JSON summary on stdout")
 
+    p = _subcommand(sub, "envelope", "peak actuator force, velocity and power and joint forces per leg over a "
+                    "box of poses with velocity and acceleration bounds, a move or trajectory files", cmd_envelope)
+    _add_params(p)
+    _six(p, "--lower", "lowest pose of the box: x y z psi theta phi [m, rad]")
+    _six(p, "--upper", "highest pose of the box [m, rad]")
+    _six(p, "--velocity", "largest |rate| per axis [m/s, rad/s]")
+    _six(p, "--acceleration", "largest |acceleration| per axis [m/s^2, rad/s^2]")
+    _six(p, "--target", "instead of a box: the move from home to this pose [m, rad]")
+    p.add_argument("--move-time", type=_positive, default=5.0, help="duration of the move to --target [s]")
+    p.add_argument("--profile", choices=sorted(PROFILES), default="sinusoidal", help="velocity profile of the move")
+    p.add_argument("--margin", type=_non_negative, help="with --target: the box around the move, each pose range "
+                   "widened by this fraction on either side and the rate bounds by 1 + this fraction")
+    p.add_argument("--trajectory", action="append", metavar="CSV", help="instead of a box: t,x,y,z,psi,theta,phi "
+                   "rows of a trajectory (repeatable)")
+    p.add_argument("--dt", type=_positive, default=1e-3, help="sampling interval of moves and trajectories [s]")
+    p.add_argument("--samples", type=_count, help="states drawn from the box (default 1000000)")
+    _add_execution(p)
+    p.add_argument("--csv", metavar="FILE", help="write the sizing table (peaks with their states) as CSV")
+    p.add_argument("--json", metavar="FILE", help="write the sizing table as JSON")
+    p.add_argument("--plot", metavar="FILE", help="write a PNG figure of the peaks per leg")
+
     p = _subcommand(sub, "workspace", "the reachable workspace: volume with its error, bounding box, singularity "
                     "margin, and slices as heat maps", cmd_workspace)
     _add_params(p)
@@ -734,6 +872,15 @@ def build_parser() -> argparse.ArgumentParser:
                    help="progress bar on stderr (default: when stderr is a terminal)")
     p.add_argument("--csv", metavar="FILE", help="write the summary's numbers as a one-row CSV file")
     p.add_argument("--json", action="store_true", help="print only a JSON summary on stdout")
+
+    p = _subcommand(sub, "sweep", "size a family of designs (geometry and mass parameters on a grid or at random, "
+                    "from a TOML file): workspace volume, force and joint-load peaks, singularity margin, and the "
+                    "Pareto front of two of them", cmd_sweep)
+    p.add_argument("design", metavar="DESIGN.toml", help="the sweep file (see examples/sweep.toml)")
+    _add_cluster(p)
+    p.add_argument("--csv", metavar="FILE", help="write every design's parameters and metrics as CSV")
+    p.add_argument("--json", metavar="FILE", help="write them as JSON")
+    p.add_argument("--plot", metavar="FILE", help="write the Pareto-front figure (PNG)")
 
     p = _subcommand(sub, "validate", "check the model against independent physics for a platform", cmd_validate)
     _add_params(p)

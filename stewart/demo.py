@@ -4,7 +4,9 @@ Narayan Rao et al. (2017) move their platform from an initial pose to a target p
 5 s along a sinusoidal velocity profile with joint-space PID. This demo makes that move
 from the home pose on the ``narayan2017`` preset with the compiled model, then the same
 move with computed torque; prints peak forces and tracking errors; writes the paper's
-figures as PNG; and repeats the paper's leg-inertia study.
+figures as PNG; repeats the paper's leg-inertia study; and ends with a sizing run: workspace
+slices, the force and joint-load envelope of the move and of a box around it with a 20 %
+margin, and a small sweep of the joint radii.
 """
 
 from __future__ import annotations
@@ -19,6 +21,10 @@ from stewart import reference
 from stewart.presets import narayan2017_target_pose
 
 MOVE_DURATION = 5.0
+#: Widening of the box around the move for the sizing envelope (each range and rate bound).
+SIZING_MARGIN = 0.2
+SIZING_SAMPLES = 500_000
+SWEEP_FILE = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "examples", "sweep.toml")
 
 
 def _row(label: str, values, fmt: str = "{:>10.4f}", width: int = 34) -> str:
@@ -102,8 +108,10 @@ def main(argv=None) -> None:
         change = "" if name == "full model" else f"   ({100 * (np.max(peaks) / np.max(full) - 1):+.1f}% of max)"
         print(f"  {name:<42}" + "".join(f"{v:>10.3f}" for v in peaks) + f"{np.max(peaks):>10.3f}{change}")
 
+    sizing = sizing_run(params, move)
+
     if not args.no_plots:
-        from stewart.plots import plot_bars, plot_run
+        from stewart.plots import plot_bars, plot_run, plot_workspace_slices
 
         paths = []
         for name, run in runs.items():
@@ -115,9 +123,52 @@ def main(argv=None) -> None:
             caption=f"largest |force| of each leg over the seed paper's {MOVE_DURATION:g} s move (home to target, "
                     "sinusoidal profile), by inverse dynamics along the reference path",
             value_format="{:.2f}"))
+        paths.append(plot_workspace_slices(sizing["slices"], os.path.join(args.out, "workspace_slices.png")))
+        paths.append(sizing["move"].plot(os.path.join(args.out, "envelope_move.png")))
+        paths.append(sizing["box"].plot(os.path.join(args.out, "envelope_margin_box.png")))
+        if sizing["sweep"] is not None:
+            paths.append(sizing["sweep"].plot(os.path.join(args.out, "sweep_pareto.png")))
         print(f"\nFigures written to {os.path.abspath(args.out)}:")
         for path in paths:
             print(f"  {os.path.basename(path)}")
+
+
+def sizing_run(params: stewart.PlatformParams, move) -> dict:
+    """Workspace slices, the envelopes of ``move`` and of the box around it widened by
+    :data:`SIZING_MARGIN`, and the sweep of ``examples/sweep.toml`` (when the checkout has
+    it); prints the tables and returns the results."""
+    from stewart import envelope, sweep, workspace
+
+    print("\nSizing: the translational workspace at zero rotation")
+    work = workspace.translational_workspace(params, samples=100_000, seed=0, progress=False)
+    print(f"  volume {work.volume * 1e6:.0f} +- {work.volume_error * 1e6:.0f} cm^3, mean singularity margin "
+          f"{work.margin_mean:.3f} (the smallest {work.margin_min:.3g})")
+    slices = [workspace.workspace_slice(params, axes, resolution=81) for axes in ("xy", "xz", "yz")]
+
+    peaks = {"move": envelope.envelope(params, envelope.Trajectories([move], 1e-3), progress=False),
+             "box": envelope.envelope(params, envelope.Box.around(move, SIZING_MARGIN), samples=SIZING_SAMPLES,
+                                      progress=False)}
+    labels = {"move": f"the move ({peaks['move'].states:,} samples)",
+              "box": f"the box around it, +-{SIZING_MARGIN:.0%} ({peaks['box'].states:,} states, "
+                     f"{peaks['box'].outside_stroke:,} outside the stroke)"}
+    for key, result in peaks.items():
+        print(f"\nEnvelope of {labels[key]}: peaks per leg")
+        print(f"  {'':<34}" + "".join(f"{f'leg {k}':>10}" for k in range(6)))
+        for quantity, unit in envelope.QUANTITIES:
+            print(_row(f"{quantity.replace('_', ' ')} [{unit}]", result.value(quantity), "{:>10.3f}"))
+
+    result = None
+    if os.path.exists(SWEEP_FILE):
+        spec = sweep.load(SWEEP_FILE)
+        result = sweep.sweep(spec, progress=False)
+        front = result.front()
+        print(f"\nSweep of the joint radii ({len(spec.designs)} designs, examples/sweep.toml); * on the Pareto "
+              f"front of {spec.pareto[0]} and {spec.pareto[1]}")
+        print(f"  {'base radius [m]':>16}{'platform radius [m]':>21}{'volume [cm^3]':>15}{'peak force [N]':>16}")
+        for k, design in enumerate(spec.designs):
+            print(f"{'*' if front[k] else ' ':>2}{design['base_radius']:>16.3f}{design['platform_radius']:>21.3f}"
+                  f"{result.metrics['workspace_volume'][k] * 1e6:>15.0f}{result.metrics['peak_force'][k]:>16.2f}")
+    return {"workspace": work, "slices": slices, **peaks, "sweep": result}
 
 
 if __name__ == "__main__":

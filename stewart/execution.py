@@ -155,7 +155,8 @@ def run(job, n_states: int, *, seed: int | None = None, chunk_size: int = DEFAUL
     ``client``: a :class:`dask.distributed.Client` to run each chunk as a task on its
     cluster; ``None`` (the default) runs the chunks here on ``workers`` threads (default:
     the number of cores). ``progress`` shows a progress bar (named ``desc``) over the
-    states with an ETA. The result does not depend on where the chunks ran.
+    states with an ETA. The result does not depend on where the chunks ran. An exception
+    in a chunk is raised here, and the chunks not yet started are cancelled.
     """
     parts = chunks(n_states, chunk_size, seed)
     bar = _progress(n_states, desc, progress)
@@ -165,19 +166,28 @@ def run(job, n_states: int, *, seed: int | None = None, chunk_size: int = DEFAUL
             workers = (os.cpu_count() or 1) if workers is None else _count("workers", workers, 1)
             with ThreadPoolExecutor(max_workers=min(workers, max(len(parts), 1))) as pool:
                 futures = {pool.submit(job, chunk): chunk for chunk in parts}
-                for future in threads_completed(futures):
-                    chunk = futures[future]
-                    results[chunk.index] = future.result()
-                    bar.update(chunk.size)
+                try:
+                    for future in threads_completed(futures):
+                        chunk = futures[future]
+                        results[chunk.index] = future.result()
+                        bar.update(chunk.size)
+                except BaseException:  # a failed chunk or Ctrl-C: the chunks not started are dropped
+                    for future in futures:
+                        future.cancel()
+                    raise
         else:
             from distributed import as_completed
 
             futures = client.map(job, parts, pure=False)
             order = {future.key: chunk for future, chunk in zip(futures, parts)}
-            for future in as_completed(futures):
-                chunk = order[future.key]
-                results[chunk.index] = future.result()
-                bar.update(chunk.size)
+            try:
+                for future in as_completed(futures):
+                    chunk = order[future.key]
+                    results[chunk.index] = future.result()
+                    bar.update(chunk.size)
+            except BaseException:
+                client.cancel(futures)
+                raise
     finally:
         bar.close()
     total = None

@@ -226,3 +226,15 @@ def test_batch_loop_rows_mark_the_batch_targets():
     assert "| avx512 (8 lanes) |" in batch_loop.format_rows(fig).replace("  ", "")
     fig["casadi"] = {"skipped": "casadi is not installed"}
     assert batch_loop.rows(fig)[-1][0] == "inverse_dynamics, CasADi: skipped (casadi is not installed)"
+
+
+def test_cluster_estimate_by_hand():
+    from benchmarks import studies
+
+    fig = {"chunk_s": 0.1, "chunk_size": 50_000, "task_overhead_s": 0.004}
+    # 1e10 states at 2 us each over 200 cores: 100 s of work; 2e5 tasks at 4 ms: 800 s on the scheduler.
+    est = studies.estimate(fig, designs=1e4, states=1e6, nodes=100, cores=2)
+    assert est["tasks"] == 2e5 and np.isclose(est["compute_s"], 100.0) and np.isclose(est["scheduler_s"], 800.0)
+    assert est["total_s"] == est["scheduler_s"] and np.isclose(est["efficiency"], 0.125)
+    whole = studies.estimate(fig, chunk_size=1e6)
+    assert whole["tasks"] == 1e4 and np.isclose(whole["scheduler_s"], 40.0) and whole["efficiency"] == 1.0

@@ -115,3 +115,21 @@ def test_dask_cluster_matches_the_local_run(job):
     assert np.array_equal(remote["sum"], local["sum"])
     for field in ("value", "state", "index"):
         assert np.array_equal(getattr(remote["peak"], field), getattr(local["peak"], field))
+
+
+class _FailsFirst:
+    def __init__(self):
+        self.calls = 0
+
+    def __call__(self, chunk: Chunk):
+        self.calls += 1
+        if chunk.index == 0:
+            raise ValueError("chunk 0 failed")
+        return chunk.size
+
+
+def test_a_failed_chunk_raises_and_cancels_the_rest():
+    job = _FailsFirst()
+    with pytest.raises(ValueError, match="chunk 0 failed"):
+        execution.run(job, 50, chunk_size=1, workers=1, progress=False)
+    assert job.calls <= 2

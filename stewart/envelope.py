@@ -1,0 +1,303 @@
+"""Force and joint-load envelopes: the sizing table of a platform for a motion specification.
+
+For every state ``(x, xdot, xddot)`` of a motion specification the envelope evaluates, per
+leg ``i``,
+
+* the actuator force ``tau_i`` (``tau = J_C^-T (M xddot + V xdot + G)``, eqs. 5, 18-23, 72-76,
+  by the compiled kernel),
+* the leg velocity ``Ldot_i`` (``Ldot = J_C T xdot``, eqs. 5, 8, 18) and the actuator power
+  ``tau_i Ldot_i``,
+* the magnitudes of the universal-joint force (base on leg, at ``B_i``) and of the
+  spherical-joint force (leg on platform, at ``P_i``) from the Newton-Euler joint reactions
+  (:func:`stewart.newton_euler.joint_reactions`, axisymmetric legs),
+
+and keeps the peak of each magnitude with the state where it occurs (:class:`Envelope`).
+States whose legs leave the stroke limits (``params.leg_length_limits``) or where the model
+is undefined (a singular ``J_C``) are counted and left out.
+
+A motion specification is
+
+* a :class:`Box`: poses in a box with per-axis velocity and acceleration bounds. The
+  worst case is searched by sampling: poses uniformly in the box, velocities and
+  accelerations at random vertices of their bound boxes (each component at ``+bound`` or
+  ``-bound``). At a fixed pose and velocity the forces (actuator and joint) are affine in
+  ``xddot`` and the leg velocities linear in ``xdot``, so the largest magnitude over the
+  acceleration box lies at one of its vertices and that over the velocity box, for the leg
+  velocities, too; the poses and the velocity's quadratic (Coriolis) terms are sampled.
+  Every reported peak is attained by a state of the box: it is a lower bound of the true
+  worst case that approaches it as the sample count grows (the tests compare it with dense
+  grids of small boxes);
+* :class:`Trajectories`: moves with ``sample(t) -> (x, xdot, xddot)`` (the package's
+  :class:`~stewart.PointToPoint` and :class:`~stewart.SampledTrajectory`, the latter also
+  from CSV files), sampled every ``dt`` seconds from 0 to their duration.
+
+The states are generated and reduced chunk by chunk (:mod:`stewart.execution`), locally or
+on a Dask cluster (``client=``), with the same result for the same seed.
+"""
+
+from __future__ import annotations
+
+import csv
+import json
+import os
+from dataclasses import dataclass
+
+import numpy as np
+
+from . import _checks, execution, newton_euler
+from .execution import Peak
+from .params import PlatformParams, checked_params
+
+__all__ = ["Box", "Trajectories", "Envelope", "envelope", "QUANTITIES", "AXES"]
+
+#: The pose coordinates, in the order of a state, with their units.
+AXES = (("x", "m"), ("y", "m"), ("z", "m"), ("psi", "rad"), ("theta", "rad"), ("phi", "rad"))
+
+#: The enveloped quantities (each one column per leg), with their units.
+QUANTITIES = (("force", "N"), ("velocity", "m/s"), ("power", "W"), ("universal_joint", "N"),
+              ("spherical_joint", "N"))
+
+_LABELS = {"force": "actuator force |tau|", "velocity": "leg velocity |Ldot|", "power": "actuator power |tau Ldot|",
+           "universal_joint": "universal-joint force", "spherical_joint": "spherical-joint force"}
+
+#: Samples of a box unless told otherwise.
+DEFAULT_SAMPLES = 1_000_000
+
+
+def _bounds(name: str, value) -> np.ndarray:
+    arr = _checks.reals(name, value)
+    if arr.shape != (6,) or not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name}: expected six finite numbers (x, y, z, psi, theta, phi), got {np.shape(value)}")
+    return arr
+
+
+@dataclass(frozen=True)
+class Box:
+    """Poses with ``lower <= x <= upper`` (per axis; an axis with ``lower == upper`` is held),
+    velocities ``|xdot| <= velocity`` and accelerations ``|xddot| <= acceleration`` per axis
+    (Euler angles and their rates, rad, rad/s, rad/s^2). ``ValueError`` naming the field for
+    an empty box (an upper bound below the lower one) or a negative rate bound."""
+
+    lower: np.ndarray
+    upper: np.ndarray
+    velocity: np.ndarray
+    acceleration: np.ndarray
+
+    def __post_init__(self):
+        fields = {name: _bounds(name, getattr(self, name)) for name in ("lower", "upper", "velocity", "acceleration")}
+        inverted = np.flatnonzero(fields["upper"] < fields["lower"])
+        if inverted.size:
+            axis = AXES[inverted[0]][0]
+            raise ValueError(f"upper: below lower on axis {axis} ({fields['upper'][inverted[0]]:g} < "
+                             f"{fields['lower'][inverted[0]]:g}): the box is empty")
+        for name in ("velocity", "acceleration"):
+            if np.any(fields[name] < 0):
+                raise ValueError(f"{name}: bounds must be >= 0, got {fields[name].tolist()}")
+        for name, arr in fields.items():
+            arr.flags.writeable = False
+            object.__setattr__(self, name, arr)
+
+    @classmethod
+    def around(cls, motion, margin: float = 0.2, dt: float = 0.01) -> "Box":
+        """The box around a trajectory's states (sampled every ``dt`` s) widened by
+        ``margin``: each pose range by ``margin`` times its width on either side, the peak
+        speed and acceleration of each axis times ``1 + margin``."""
+        margin = _checks.real("margin", margin)
+        if margin < 0:
+            raise ValueError(f"margin: must be >= 0, got {margin}")
+        x, xd, xdd = motion.sample(_sample_times(motion, Trajectories((motion,), dt).dt))
+        low, high = x.min(axis=0), x.max(axis=0)
+        pad = margin * (high - low)
+        return cls(low - pad, high + pad, (1 + margin) * np.abs(xd).max(axis=0),
+                   (1 + margin) * np.abs(xdd).max(axis=0))
+
+    def count(self, samples: int | None) -> int:
+        if samples is None:
+            return DEFAULT_SAMPLES
+        if isinstance(samples, (bool, np.bool_)) or not isinstance(samples, (int, np.integer)) or samples < 1:
+            raise ValueError(f"samples: expected a whole number >= 1, got {samples!r}")
+        return int(samples)
+
+    def states(self, chunk: execution.Chunk):
+        """The chunk's samples: uniform poses, velocities and accelerations at random vertices."""
+        rng = chunk.rng()
+        x = self.lower + rng.random((chunk.size, 6)) * (self.upper - self.lower)
+        signs = rng.integers(0, 2, (chunk.size, 12), dtype=np.int8) * 2.0 - 1.0
+        return x, signs[:, :6] * self.velocity, signs[:, 6:] * self.acceleration
+
+
+def _sample_times(motion, dt: float) -> np.ndarray:
+    return np.arange(int(np.floor(motion.duration / dt)) + 1) * dt
+
+
+@dataclass(frozen=True)
+class Trajectories:
+    """Moves with ``sample(t) -> (x, xdot, xddot)`` and a ``duration``, each sampled every
+    ``dt`` seconds from 0 to its duration."""
+
+    motions: tuple
+    dt: float = 0.001
+
+    def __post_init__(self):
+        motions = tuple(self.motions)
+        if not motions:
+            raise ValueError("motions: need at least one trajectory")
+        for k, motion in enumerate(motions):
+            if not (hasattr(motion, "sample") and hasattr(motion, "duration")):
+                raise ValueError(f"motions: item {k} is a {type(motion).__name__}, not a trajectory")
+        object.__setattr__(self, "motions", motions)
+        dt = _checks.real("dt", self.dt)
+        if not dt > 0:
+            raise ValueError(f"dt: must be a positive number of seconds, got {dt}")
+        object.__setattr__(self, "dt", dt)
+
+    @property
+    def offsets(self) -> np.ndarray:
+        """Index of each trajectory's first sample in the study, and the total count at the end."""
+        return np.concatenate([[0], np.cumsum([len(_sample_times(m, self.dt)) for m in self.motions])])
+
+    def count(self, samples: int | None) -> int:
+        if samples is not None:
+            raise ValueError("samples: trajectories are sampled every dt seconds; give dt instead")
+        return int(self.offsets[-1])
+
+    def states(self, chunk: execution.Chunk):
+        offsets = self.offsets
+        parts = []
+        for k, motion in enumerate(self.motions):
+            lo, hi = max(chunk.start, offsets[k]), min(chunk.stop, offsets[k + 1])
+            if lo < hi:
+                parts.append(motion.sample((np.arange(lo, hi) - offsets[k]) * self.dt))
+        return tuple(np.concatenate(arrays) for arrays in zip(*parts))
+
+
+@dataclass(frozen=True)
+class _EnvelopeJob:
+    """One chunk of an envelope: generate the states, evaluate, reduce (:mod:`stewart.execution`)."""
+
+    params: PlatformParams
+    spec: Box | Trajectories
+
+    def __call__(self, chunk: execution.Chunk):
+        from .platform import Platform
+
+        x, xd, xdd = self.spec.states(chunk)
+        plat = Platform(self.params)
+        total = None
+        for lo in range(0, chunk.size, _BLOCK):
+            hi = min(lo + _BLOCK, chunk.size)
+            values, outside, singular = _magnitudes(plat, x[lo:hi], xd[lo:hi], xdd[lo:hi])
+            part = {"peak": Peak.of(values, np.hstack([x[lo:hi], xd[lo:hi], xdd[lo:hi]]), chunk.start + lo),
+                    "states": hi - lo, "outside_stroke": outside, "singular": singular}
+            total = execution.combine(total, part)
+        return total
+
+
+#: States evaluated at a time within a chunk: the temporaries (64 kB a column) stay in the
+#: cache and below glibc's mmap threshold (Dask's worker processes set MALLOC_TRIM_THRESHOLD_,
+#: which pins it at 128 kB, so larger arrays would be mapped and unmapped at every operation).
+_BLOCK = 8192
+
+
+def _magnitudes(plat, x, xd, xdd):
+    """The per-leg magnitudes of :data:`QUANTITIES` side by side, ``(n, 30)``, NaN on the rows
+    left out, with the counts of rows outside the stroke and of singular rows."""
+    params = plat.params
+    (length, rate), ok = plat.leg_rates(x, xd, return_mask=True)
+    limits = params.leg_length_limits
+    inside = ok if limits is None else ok & np.all((length >= limits[0]) & (length <= limits[1]), axis=1)
+    tau, ok_tau = plat.inverse_dynamics(x, xd, xdd, return_mask=True)
+    good = inside & ok_tau
+    values = np.full((len(x), 6 * len(QUANTITIES)), np.nan)
+    rows = np.flatnonzero(good)
+    if rows.size:
+        t, r = tau[rows], rate[rows]
+        universal, spherical = newton_euler.joint_force_magnitudes(params, x[rows], xd[rows], xdd[rows], t)
+        values[rows] = np.hstack([np.abs(t), np.abs(r), np.abs(t * r), universal, spherical])
+    outside = int(np.count_nonzero(ok & ~inside))
+    return values, outside, int(len(x) - rows.size - outside)
+
+
+@dataclass(frozen=True)
+class Envelope:
+    """The peaks of an envelope: ``peak`` a :class:`~stewart.execution.Peak` over the
+    ``6 * len(QUANTITIES)`` columns (quantity-major, leg-minor; the state of a peak is
+    ``[x, xdot, xddot]``), ``states`` the states drawn, ``outside_stroke`` and ``singular``
+    those left out."""
+
+    peak: Peak
+    states: int
+    outside_stroke: int
+    singular: int
+    platform: str = ""
+
+    def value(self, quantity: str) -> np.ndarray:
+        """The six legs' peaks of one quantity of :data:`QUANTITIES`."""
+        k = [name for name, _ in QUANTITIES].index(quantity)
+        return self.peak.value[6 * k:6 * k + 6]
+
+    def rows(self) -> list[dict]:
+        """The sizing table: one row per quantity and leg with the peak, its unit, the study
+        index of the state causing it and that state."""
+        out = []
+        names = [f"{a}" for a, _ in AXES] + [f"{a}_dot" for a, _ in AXES] + [f"{a}_ddot" for a, _ in AXES]
+        for k, (quantity, unit) in enumerate(QUANTITIES):
+            for leg in range(6):
+                col = 6 * k + leg
+                row = {"quantity": quantity, "leg": leg, "peak": float(self.peak.value[col]), "unit": unit,
+                       "state_index": int(self.peak.index[col])}
+                row.update(zip(names, self.peak.state[col].tolist()))
+                out.append(row)
+        return out
+
+    def summary(self) -> dict:
+        return {"platform": self.platform, "states": self.states, "outside_stroke": self.outside_stroke,
+                "singular": self.singular}
+
+    def to_csv(self, path) -> None:
+        rows = self.rows()
+        with open(path, "w", newline="") as fh:
+            fh.write("# " + ", ".join(f"{k} = {v}" for k, v in self.summary().items()) + "\n")
+            writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
+            writer.writeheader()
+            writer.writerows(rows)
+
+    def to_json(self, path) -> None:
+        with open(path, "w") as fh:
+            json.dump({**self.summary(), "peaks": self.rows()}, fh, indent=1)
+
+    def plot(self, path) -> str:
+        """A figure of the peaks per leg, one panel per quantity."""
+        from .plots import _pyplot
+
+        plt = _pyplot()
+        fig, axes = plt.subplots(1, len(QUANTITIES), figsize=(15, 3.6), constrained_layout=True)
+        legs = np.arange(6)
+        for ax, (quantity, unit) in zip(axes, QUANTITIES):
+            ax.bar(legs, self.value(quantity), color="tab:blue")
+            ax.set_title(_LABELS[quantity], fontsize=10)
+            ax.set_xlabel("leg")
+            ax.set_ylabel(f"peak [{unit}]")
+            ax.set_xticks(legs)
+            ax.grid(True, axis="y", alpha=0.3)
+        fig.suptitle(f"Envelope of {self.platform or 'the platform'}: peaks over {self.states:,} states "
+                     f"({self.outside_stroke:,} outside the stroke, {self.singular:,} singular, left out)")
+        os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+        fig.savefig(path, dpi=90)
+        plt.close(fig)
+        return path
+
+
+def envelope(platform, spec, *, samples: int | None = None, seed: int = 0, client=None,
+             chunk_size: int = execution.DEFAULT_CHUNK_SIZE, progress: bool = True) -> Envelope:
+    """The :class:`Envelope` of ``platform`` (a :class:`~stewart.Platform` or
+    :class:`~stewart.PlatformParams`) over ``spec`` (a :class:`Box`, of ``samples`` states,
+    default :data:`DEFAULT_SAMPLES`, drawn from ``seed``; or :class:`Trajectories`).
+    ``client``, ``chunk_size`` and ``progress`` as in :func:`stewart.execution.run`."""
+    params = checked_params(getattr(platform, "params", platform), "platform")
+    if not isinstance(spec, (Box, Trajectories)):
+        raise ValueError(f"spec: expected a Box or Trajectories, got {type(spec).__name__}")
+    n = spec.count(samples)
+    total = execution.run(_EnvelopeJob(params, spec), n, seed=seed, chunk_size=chunk_size, client=client,
+                          progress=progress, desc="envelope")
+    return Envelope(total["peak"], total["states"], total["outside_stroke"], total["singular"], params.name or "")
