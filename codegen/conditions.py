@@ -10,7 +10,7 @@ which `stewart.conditions` reads the tolerances.  The tests themselves are writt
 in numpy (`stewart.conditions`), each after the `test` given here.
 
 Precedence, the same in C and Python: non-finite inputs; then the legs (a zero-length leg,
-then an overflowing one, then a vertical one); then each function's steps in order
+then an overflowing one, then a vertical one, then one in gimbal lock); then each function's steps in order
 (inverse dynamics: J_C; forward dynamics: the Euler-rate map, then M_t); last a non-finite
 result.
 """
@@ -56,6 +56,10 @@ CONDITIONS = (
               'twist-space mass matrix is not positive definite',
               'an LDL^T pivot d_k of M_t <= STEWART_MASS_TOL * M_t[k][k], or M_t[k][k] <= 0 '
               '(invariant to unit changes)', '1e-12', 'STEWART_MASS_TOL'),
+    Condition('gimbal_lock', "a leg along its universal joint's first axis (general model)",
+              "a leg is along its universal joint's first axis (gimbal lock)",
+              '|a_i x l_i|^2 < STEWART_GIMBAL_TOL * L_i^2 for a joint axis a_i and leg vector l_i '
+              '(general model only)', '1e-16', 'STEWART_GIMBAL_TOL'),
 )
 
 
@@ -66,7 +70,7 @@ def tolerances():
                    + f'\n *  {"":<{width}}'.join(textwrap.wrap(c.test + '.', 80)) + '\n'
                    for c in CONDITIONS if c.test)
     defines = ''.join(f'#define {c.macro} {c.tolerance}\n' for c in CONDITIONS if c.macro)
-    order = (' * In order: the inputs, then the legs (zero length, overflow, vertical), then each\n'
+    order = (' * In order: the inputs, then the legs (zero length, overflow, vertical, gimbal lock), then each\n'
              " * function's steps (J_C; or cos(theta), then M_t), last the output.\n")
     return f'/* The tests behind the status codes:\n{docs}{order} */\n{defines}'
 

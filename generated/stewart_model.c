@@ -129,6 +129,7 @@ const char *stewart_status_message(int status)
     case STEWART_ERR_EULER_SINGULAR: return "theta = +-90 deg: the Euler-rate map J_A is singular";
     case STEWART_ERR_LEG_VERTICAL: return "vertical leg with non-axisymmetric leg inertia: cylinder frame undefined";
     case STEWART_ERR_MASS_SINGULAR: return "twist-space mass matrix is not positive definite";
+    case STEWART_ERR_GIMBAL_LOCK: return "a leg is along its universal joint's first axis (gimbal lock)";
     default: return "unknown status";
     }
 }

@@ -64,6 +64,7 @@ enum {
     STEWART_ERR_EULER_SINGULAR = 4,     /* theta = +-90 deg: Euler-rate map J_A singular (forward dynamics) */
     STEWART_ERR_LEG_VERTICAL = 5,       /* vertical leg with non-axisymmetric leg inertia: cylinder frame undefined */
     STEWART_ERR_MASS_SINGULAR = 6,      /* twist-space mass matrix not positive definite (e.g. massless platform) */
+    STEWART_ERR_GIMBAL_LOCK = 7,        /* a leg along its universal joint's first axis (general model) */
 };
 
 /* The tests behind the status codes:
@@ -76,7 +77,9 @@ enum {
  *                     kernels only).
  *  MASS_SINGULAR      an LDL^T pivot d_k of M_t <= STEWART_MASS_TOL * M_t[k][k], or M_t[k][k] <= 0
  *                     (invariant to unit changes).
- * In order: the inputs, then the legs (zero length, overflow, vertical), then each
+ *  GIMBAL_LOCK        |a_i x l_i|^2 < STEWART_GIMBAL_TOL * L_i^2 for a joint axis a_i and leg vector
+ *                     l_i (general model only).
+ * In order: the inputs, then the legs (zero length, overflow, vertical, gimbal lock), then each
  * function's steps (J_C; or cos(theta), then M_t), last the output.
  */
 #define STEWART_DEGENERATE_TOL DBL_MIN
@@ -84,6 +87,7 @@ enum {
 #define STEWART_EULER_TOL 1e-12
 #define STEWART_VERTICAL_TOL 1e-16
 #define STEWART_MASS_TOL 1e-12
+#define STEWART_GIMBAL_TOL 1e-16
 
 /* Message for a status code (a static string, never NULL). */
 const char *stewart_status_message(int status);

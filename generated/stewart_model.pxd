@@ -23,11 +23,13 @@ cdef extern from "stewart_model.h" nogil:
         STEWART_ERR_EULER_SINGULAR
         STEWART_ERR_LEG_VERTICAL
         STEWART_ERR_MASS_SINGULAR
+        STEWART_ERR_GIMBAL_LOCK
     const double STEWART_DEGENERATE_TOL
     const double STEWART_JACOBIAN_TOL
     const double STEWART_EULER_TOL
     const double STEWART_VERTICAL_TOL
     const double STEWART_MASS_TOL
+    const double STEWART_GIMBAL_TOL
     const char *stewart_status_message(int status)
     int stewart_is_axisymmetric(const stewart_params *p)
     int stewart_leg_lengths(const stewart_params *p, const double *x, double *L)
@@ -107,6 +109,7 @@ cdef inline dict stewart_conditions():
         STEWART_ERR_EULER_SINGULAR: ('euler_singular', stewart_status_message(STEWART_ERR_EULER_SINGULAR).decode(), STEWART_EULER_TOL),
         STEWART_ERR_LEG_VERTICAL: ('leg_vertical', stewart_status_message(STEWART_ERR_LEG_VERTICAL).decode(), STEWART_VERTICAL_TOL),
         STEWART_ERR_MASS_SINGULAR: ('mass_singular', stewart_status_message(STEWART_ERR_MASS_SINGULAR).decode(), STEWART_MASS_TOL),
+        STEWART_ERR_GIMBAL_LOCK: ('gimbal_lock', stewart_status_message(STEWART_ERR_GIMBAL_LOCK).decode(), STEWART_GIMBAL_TOL),
     }
 
 

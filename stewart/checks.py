@@ -50,11 +50,15 @@ def random_states(params: PlatformParams, n: int, rng: np.random.Generator):
 def energy(params: PlatformParams, x, xd) -> np.ndarray:
     """Kinetic plus potential energy (J) of platform, cylinders and pistons, ``(...)``.
 
-    Written out from the bodies: platform ``m_P v^2/2 + omega . I_P omega / 2``, cylinder
-    centre of mass at ``b_i + b_C u_i``, piston centre of mass at ``p + R p_i - b_S u_i``,
-    leg angular velocity ``u x udot`` (eq. 29) with inertia ``I_t (E - u u^T) + I_a u u^T``
-    (axisymmetric legs), potential ``g`` times the mass-weighted heights (eq. 72).
-    Analytic operations only, so complex-step derivatives apply.
+    Written out from the bodies: platform ``m_P v_G^2/2 + omega . I_P omega / 2`` with the
+    centre of mass at ``p + R c`` and the full tensor ``I_P`` in {P}, cylinder centre of
+    mass at ``b_i + b_C u_i``, piston centre of mass at ``p + R p_i - b_S u_i``, potential
+    ``g`` times the mass-weighted heights (eq. 72). Legs: without ``universal_joint_axes``,
+    angular velocity ``u x udot`` (eq. 29) with inertia ``I_t (E - u u^T) + I_a u u^T``
+    (axisymmetric legs); with them, the leg frame ``e = (u, y, z)``,
+    ``y = a x u / |a x u|``, turns at ``omega = (e_k x edot_k) / 2`` (summed over k) and the
+    energy is ``sum_k I_k (omega . e_k)^2 / 2``. Analytic operations only, so complex-step
+    derivatives apply.
     """
     x = np.asarray(x)
     xd = np.asarray(xd)
@@ -68,29 +72,50 @@ def energy(params: PlatformParams, x, xd) -> np.ndarray:
     length_dot = np.sum(units * leg_dot, axis=-1)[..., None]
     unit_dot = (leg_dot - units * length_dot) / lengths
 
-    vel = xd[..., :3]
+    com = np.zeros(3) if params.platform_com is None else params.platform_com
+    com_arm = np.einsum("...jk,k->...j", rot, com)
+    vel = xd[..., :3] + np.cross(omega, com_arm)
     body_omega = np.einsum("...ji,...j->...i", rot, omega)  # omega in {P}
     kinetic = 0.5 * params.platform_mass * np.sum(vel * vel, axis=-1)
-    kinetic = kinetic + 0.5 * np.sum(params.platform_inertia * body_omega * body_omega, axis=-1)
+    kinetic = kinetic + 0.5 * np.einsum("...i,ij,...j->...", body_omega, params.platform_inertia_tensor, body_omega)
     cyl_vel = params.cylinder_com_distance * unit_dot
     pis_vel = leg_dot - params.piston_com_distance * unit_dot
     kinetic = kinetic + 0.5 * params.cylinder_mass * np.sum(cyl_vel * cyl_vel, axis=(-1, -2))
     kinetic = kinetic + 0.5 * params.piston_mass * np.sum(pis_vel * pis_vel, axis=(-1, -2))
-    leg_omega = np.cross(units, unit_dot)
-    along = np.sum(leg_omega * units, axis=-1)
-    axial = params.cylinder_inertia[0] + params.piston_inertia[0]
-    transverse = params.cylinder_inertia[1] + params.piston_inertia[1]
-    kinetic = kinetic + 0.5 * np.sum(
-        transverse * (np.sum(leg_omega * leg_omega, axis=-1) - along**2) + axial * along**2, axis=-1
-    )
+    moments = params.cylinder_inertia + params.piston_inertia
+    if params.universal_joint_axes is None:
+        leg_omega = np.cross(units, unit_dot)
+        along = np.sum(leg_omega * units, axis=-1)
+        kinetic = kinetic + 0.5 * np.sum(
+            moments[1] * (np.sum(leg_omega * leg_omega, axis=-1) - along**2) + moments[0] * along**2, axis=-1
+        )
+    else:
+        frame, frame_dot = _leg_frames(params.universal_joint_axes, units, unit_dot)
+        leg_omega = 0.5 * sum(np.cross(e, e_dot) for e, e_dot in zip(frame, frame_dot))
+        kinetic = kinetic + 0.5 * sum(m * np.sum(np.sum(leg_omega * e, axis=-1) ** 2, axis=-1)
+                                      for m, e in zip(moments, frame))
     heights = (
-        params.platform_mass * x[..., 2]
+        params.platform_mass * (x[..., 2] + com_arm[..., 2])
         + params.cylinder_mass
         * np.sum(params.base_points[:, 2] + params.cylinder_com_distance * units[..., 2], axis=-1)
         + params.piston_mass
         * np.sum(x[..., None, 2] + arms[..., 2] - params.piston_com_distance * units[..., 2], axis=-1)
     )
     return kinetic + params.gravity * heights
+
+
+def _leg_frames(axes: np.ndarray, units: np.ndarray, unit_dot: np.ndarray):
+    """The leg frames ``(u, y, z)``, ``y = a x u / |a x u|``, ``z = u x y``, and their time
+    derivatives, each ``(..., 6, 3)``, differentiated by hand from ``udot``."""
+    across = np.cross(axes, units)
+    across_dot = np.cross(axes, unit_dot)
+    size = np.sqrt(np.sum(across * across, axis=-1))[..., None]
+    size_dot = np.sum(across * across_dot, axis=-1)[..., None] / size
+    y = across / size
+    y_dot = across_dot / size - across * size_dot / size**2
+    z = np.cross(units, y)
+    z_dot = np.cross(unit_dot, y) + np.cross(units, y_dot)
+    return (units, y, z), (unit_dot, y_dot, z_dot)
 
 
 def relative_error(got, want) -> float:

@@ -453,6 +453,28 @@ def cmd_validate(args) -> int:
     return code
 
 
+def cmd_exactness(args) -> int:
+    from . import exactness
+
+    params, label = _params(args)
+    effect = exactness.leg_spin_effect(params, n_states=args.states, seed=args.seed)
+    if args.json:
+        print(json.dumps({"command": "exactness", "platform": params.name or "unnamed", "platform_source": label,
+                          "states": args.states, "seed": args.seed, "assumed_axes": effect.assumed_axes,
+                          "dynamic": effect.dynamic._asdict(), "velocity": effect.velocity._asdict(),
+                          "exit_code": 0}))
+        return 0
+    axes = ("first axes horizontal and tangential to the base circle (assumed)" if effect.assumed_axes
+            else "the parameters' universal_joint_axes")
+    print(f"platform {label}: the paper's legs (no spin, eq. 29) against legs that turn with their universal "
+          f"joints, {axes}; {args.states} random states, seed {args.seed}")
+    print(f"{'relative change of the actuator forces':<44} {'median':>9} {'max':>9}")
+    for name, change in (("dynamic forces (all but gravity)", effect.dynamic),
+                         ("velocity-dependent forces", effect.velocity)):
+        print(f"{name:<44} {change.median:>9.1e} {change.max:>9.1e}")
+    return 0
+
+
 def cmd_bench(args) -> int:
     from . import bench
 
@@ -579,6 +601,13 @@ def build_parser() -> argparse.ArgumentParser:
     p = _subcommand(sub, "validate", "check the model against independent physics for a platform", cmd_validate)
     _add_params(p)
     p.add_argument("--states", type=_count, default=200, help="random states per check")
+    p.add_argument("--seed", type=int, default=0, help="seed of the random states")
+    p.add_argument("--json", action="store_true", help="print only a JSON summary on stdout")
+
+    p = _subcommand(sub, "exactness", "how much the legs' spin with their universal joints changes the actuator "
+                    "forces: the paper's model against the exact-leg model", cmd_exactness)
+    _add_params(p)
+    p.add_argument("--states", type=_count, default=200, help="random states around home")
     p.add_argument("--seed", type=int, default=0, help="seed of the random states")
     p.add_argument("--json", action="store_true", help="print only a JSON summary on stdout")
 

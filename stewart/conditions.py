@@ -11,6 +11,8 @@ defined and raise the same :class:`~stewart.SingularityError` condition:
 * ``nonfinite``: a leg length that overflows (and, in :mod:`stewart._checks`, a result);
 * ``leg_vertical``: ``l_x^2 + l_y^2 < VERTICAL_TOL L_i^2`` with non-axisymmetric leg
   inertia, where the cylinder frame of eqs. 44-47 is undefined;
+* ``gimbal_lock``: ``|a_i x l_i|^2 < GIMBAL_TOL L_i^2`` for the general model's universal-joint
+  axes ``a_i``, where the leg frame ``y = a_i x u_i / |a_i x u_i|`` is undefined;
 * ``jacobian_singular``: the Hadamard ratio ``|det J_C| / prod_i |row_i(J_C)|`` of eq. 5's
   ``J_C`` below ``JACOBIAN_TOL``;
 * ``euler_singular``: ``|cos theta| < EULER_TOL``, where the Euler-rate map ``J_A`` of
@@ -19,7 +21,7 @@ defined and raise the same :class:`~stewart.SingularityError` condition:
   (eqs. 19-23) with ``d_k <= MASS_TOL M_t[k, k]`` or ``M_t[k, k] <= 0``.
 
 Each function checks in the C's order (:func:`check`): the legs (zero length, overflow,
-vertical), then its own steps; a batch fails with the condition of its first bad row.
+vertical, gimbal lock), then its own steps; a batch fails with the condition of its first bad row.
 """
 
 from __future__ import annotations
@@ -66,6 +68,8 @@ Status = IntEnum("Status", {c.name.upper(): c.code for c in CONDITIONS.values()}
 DEGENERATE_TOL = CONDITIONS["leg_degenerate"].tolerance
 #: A leg is vertical when ``l_x^2 + l_y^2 < VERTICAL_TOL L_i^2``.
 VERTICAL_TOL = CONDITIONS["leg_vertical"].tolerance
+#: A leg is in its universal joint's gimbal lock when ``|a_i x l_i|^2 < GIMBAL_TOL L_i^2``.
+GIMBAL_TOL = CONDITIONS["gimbal_lock"].tolerance
 #: ``J_C`` is singular when its Hadamard ratio is below this.
 JACOBIAN_TOL = CONDITIONS["jacobian_singular"].tolerance
 #: ``J_A`` is singular when ``|cos theta|`` is below this.
@@ -103,11 +107,13 @@ def _first(tests: list[tuple[np.ndarray, int]], n: int) -> np.ndarray:
     return codes
 
 
-def leg_codes(length_sq, horizontal_sq=None) -> np.ndarray:
-    """The C's leg tests per row, from ``L_i^2`` and (for non-axisymmetric leg inertia)
-    ``l_x^2 + l_y^2`` of the legs, shapes ``(..., 6)``: ``leg_degenerate`` if a leg has
-    ``L_i^2 < DEGENERATE_TOL`` (or NaN), else ``nonfinite`` if a length overflows, else
-    ``leg_vertical`` if a leg has ``l_x^2 + l_y^2 < VERTICAL_TOL L_i^2``."""
+def leg_codes(length_sq, horizontal_sq=None, locked_sq=None) -> np.ndarray:
+    """The C's leg tests per row, from ``L_i^2``, (for the paper's model with non-axisymmetric
+    leg inertia) ``l_x^2 + l_y^2`` and (for the general model) ``|a_i x l_i|^2`` of the legs,
+    shapes ``(..., 6)``: ``leg_degenerate`` if a leg has ``L_i^2 < DEGENERATE_TOL`` (or NaN),
+    else ``nonfinite`` if a length overflows, else ``leg_vertical`` if a leg has
+    ``l_x^2 + l_y^2 < VERTICAL_TOL L_i^2``, else ``gimbal_lock`` if a leg has
+    ``|a_i x l_i|^2 < GIMBAL_TOL L_i^2``."""
     length_sq = np.real(length_sq).reshape(-1, 6)
     tests = [
         (~(length_sq >= DEGENERATE_TOL).all(axis=1), Status.LEG_DEGENERATE),
@@ -116,6 +122,9 @@ def leg_codes(length_sq, horizontal_sq=None) -> np.ndarray:
     if horizontal_sq is not None:
         horizontal_sq = np.real(horizontal_sq).reshape(-1, 6)
         tests.append((~(horizontal_sq >= VERTICAL_TOL * length_sq).all(axis=1), Status.LEG_VERTICAL))
+    if locked_sq is not None:
+        locked_sq = np.real(locked_sq).reshape(-1, 6)
+        tests.append((~(locked_sq >= GIMBAL_TOL * length_sq).all(axis=1), Status.GIMBAL_LOCK))
     return _first(tests, len(length_sq))
 
 

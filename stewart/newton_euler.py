@@ -18,14 +18,22 @@ Conventions (those of the model): {B} z up, gravity ``g_vec = -g e_z``;
 Per leg i, with ``r_i = R p_i``, ``l_i = p + r_i - b_i = L_i u_i``:
 
 * joint P_i: ``v_P = v + omega x r``, ``a_P = a + alpha x r + omega x (omega x r)``;
-* leg rates: ``Ldot = u . v_P``, ``udot = (v_P - Ldot u) / L``; the leg does not spin
-  about its axis, so its angular velocity is ``omega_l = u x udot`` (eq. 29 of the
+* leg rates: ``Ldot = u . v_P``, ``udot = (v_P - Ldot u) / L``,
+  ``uddot = (a_P - Lddot u - 2 Ldot udot) / L``. In the paper's model the leg does not
+  spin about its axis, so its angular velocity is ``omega_l = u x udot`` (eq. 29 of the
   paper) and, since ``udot x udot = 0``, its angular acceleration is
-  ``alpha_l = u x uddot`` with ``uddot = (a_P - Lddot u - 2 Ldot udot) / L``;
+  ``alpha_l = u x uddot``. With ``universal_joint_axes`` the leg turns with its joint:
+  the joint angles q1 about the base-fixed axis ``a`` and q2 about the cross axis
+  ``y = a x u / |a x u|`` (``z = u x y``) give ``omega_l = q1' a + q2' y``, and from
+  ``udot = omega_l x u = q1' |a x u| y - q2' z``: ``q1' = udot . y / |a x u|``,
+  ``q2' = -udot . z``. The cross axis turns with the first, ``ydot = q1' a x y``, so
+  ``alpha_l = q1'' a + q2'' y + q1' q2' a x y``, with ``q1''``, ``q2''`` read off
+  ``alpha_l x u = uddot - omega_l x (omega_l x u)`` in the same way;
 * centres of mass: cylinder ``c = b + b_C u``, ``a_C = b_C uddot``; piston
   ``s = p + r - b_S u``, ``a_S = a_P - b_S uddot``;
 * the cylinder hangs from the base by a universal joint at B_i (a force ``f_B`` and a
-  moment about the leg axis only), the piston slides in the cylinder (the actuator force
+  moment ``n_B = mu n`` about ``n = a x y``, the direction neither joint axis turns
+  about; in the paper's model, where no axis is given, a moment about the leg axis), the piston slides in the cylinder (the actuator force
   ``tau u`` on the piston plus transverse constraint forces and moments, no axial
   friction), and the piston meets the platform at a spherical joint at P_i (a force
   only: ``f_P`` on the platform, ``-f_P`` on the leg).
@@ -35,27 +43,34 @@ Moment balance of the whole leg (cylinder + piston) about the fixed point B_i::
     l x (-f_P) + b_C u x m_C g_vec + (L - b_S) u x m_S g_vec + n_B
         = sum over the two parts of [I alpha_l + omega_l x I omega_l + (c - b) x m a]
 
-with the leg inertia in {B} ``I = I_t (E - u u^T) + I_a u u^T``. Every term but the
-universal joint's moment ``n_B`` is perpendicular to ``u`` (``omega_l`` and ``alpha_l``
-are, and ``omega_l x I omega_l = 0`` for axisymmetric legs), so ``n_B = 0`` and the
+with the leg inertia in {B} ``I = I_t (E - u u^T) + I_a u u^T`` (paper's model) or
+``I = e diag(I_a, I_yy, I_zz) e^T`` in the leg frame ``e = (u, y, z)`` (with joint axes).
+In the paper's model every term but the universal joint's moment ``n_B`` is
+perpendicular to ``u`` (``omega_l`` and ``alpha_l`` are, and ``omega_l x I omega_l = 0``
+for axisymmetric legs), so ``n_B = 0``. With joint axes the balance's component along
+``u`` gives ``mu = k . u / n . u`` (``n . u = -|a x u|``, zero only in the gimbal lock),
+where ``k`` is the right-hand side less the weights' moments. Either way the rest of the
 balance gives the component of ``f_P`` perpendicular to the leg. The piston's axial force
 balance ``u . (-f_P) + tau + m_S u . g_vec = m_S u . a_S`` gives its axial component, so
 ``-f_P = f0 - tau u``: ``f0`` known from the motion. The base force follows from the
 leg's Newton equation ``f_B - f_P + (m_C + m_S) g_vec = m_C a_C + m_S a_S``.
 
-Finally the platform's Newton and Euler equations about its centre of mass,
+Finally the platform's Newton equation for its centre of mass ``p + c``, ``c = R c_P``,
+and its Euler equation about the platform origin,
 
-    m_P (a - g_vec) = sum_i f_P,i
-    I_P alpha + omega x I_P omega = sum_i r_i x f_P,i,   I_P = R diag(I_P) R^T,
+    m_P (a_c - g_vec) = sum_i f_P,i,   a_c = a + alpha x c + omega x (omega x c),
+    I_P alpha + omega x I_P omega + c x m_P (a_c - g_vec) = sum_i r_i x f_P,i,
+    I_P = R I_P,{P} R^T (the full tensor about the centre of mass),
 
 with ``f_P,i = tau_i u_i - f0_i`` are six linear equations ``J_C^T tau = w`` in the
 actuator forces (``J_C`` rows ``[u_i, r_i x u_i]``), solved per state.
 
-Axisymmetric legs only (``I_yy == I_zz`` for cylinder and piston): with ``I_yy != I_zz``
-a non-spinning leg needs an axial moment ``omega_l x I omega_l`` that no joint of the
-model supplies, and the paper's frame {C_i} turns about the leg as it swings, so the
-paper's generalized-momentum model is not the dynamics of a rigid-body system and no
-Newton-Euler formulation reproduces it. Such parameters raise ``ValueError``.
+The paper's model (no ``universal_joint_axes``) needs axisymmetric legs (``I_yy == I_zz``
+for cylinder and piston): with ``I_yy != I_zz`` a non-spinning leg needs an axial moment
+``omega_l x I omega_l`` that no joint of the model supplies, and the paper's frame {C_i}
+turns about the leg as it swings, so the paper's generalized-momentum model is not the
+dynamics of a rigid-body system and no Newton-Euler formulation reproduces it. Such
+parameters raise ``ValueError``; with joint axes every leg inertia is allowed.
 """
 
 from __future__ import annotations
@@ -77,11 +92,14 @@ class JointReactions(NamedTuple):
     tau : (..., 6) actuator force along each leg, positive pushing the platform away.
     base : (..., 6, 3) force the base exerts on leg i at its universal joint B_i.
     platform : (..., 6, 3) force leg i exerts on the platform at its spherical joint P_i.
+    base_moment : (..., 6, 3) moment the base exerts on leg i through its universal joint,
+        along ``a_i x y_i`` (zero in the paper's model).
     """
 
     tau: np.ndarray
     base: np.ndarray
     platform: np.ndarray
+    base_moment: np.ndarray
 
 
 def _euler_rate_jacobian_dot(x: np.ndarray, xd: np.ndarray) -> np.ndarray:
@@ -107,21 +125,36 @@ def _dot(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.sum(a * b, axis=-1)
 
 
-def _leg_inertia_times(inertia: np.ndarray, u: np.ndarray, vec: np.ndarray) -> np.ndarray:
-    """``(I_t (E - u u^T) + I_a u u^T) vec`` for an axisymmetric leg part."""
-    axial, transverse = inertia[0], inertia[1]
-    along = _dot(u, vec)[..., None] * u
-    return transverse * (vec - along) + axial * along
+def _leg_inertia_times(inertia: np.ndarray, frame: tuple, vec: np.ndarray) -> np.ndarray:
+    """``e diag(inertia) e^T vec`` in the leg frame ``e`` (columns ``frame``)."""
+    return sum(moment * _dot(e, vec)[..., None] * e for moment, e in zip(inertia, frame))
+
+
+def _joint_motion(axes: np.ndarray, u: np.ndarray, u_dot: np.ndarray, u_ddot: np.ndarray):
+    """The leg frame ``(u, y, z)`` and the leg's angular velocity and acceleration as its
+    universal joint turns (module docstring), and ``n = a x y`` with ``n . u``."""
+    across = np.cross(axes, u)
+    size = np.sqrt(_dot(across, across))[..., None]
+    y = across / size
+    z = np.cross(u, y)
+    rate1 = _dot(u_dot, y)[..., None] / size
+    rate2 = -_dot(u_dot, z)[..., None]
+    omega = rate1 * axes + rate2 * y
+    normal = np.cross(axes, y)
+    turning = u_ddot - np.cross(omega, np.cross(omega, u)) - rate1 * rate2 * np.cross(normal, u)
+    alpha = _dot(turning, y)[..., None] / size * axes - _dot(turning, z)[..., None] * y + rate1 * rate2 * normal
+    return (u, y, z), omega, alpha, normal
 
 
 def _solve(params: PlatformParams, x, xd, xdd) -> JointReactions:
     params = checked_params(params)
-    if not params.is_axisymmetric:
+    axes = params.universal_joint_axes
+    if axes is None and not params.is_axisymmetric:
         raise ValueError(
-            "params: the Newton-Euler formulation needs axisymmetric legs (I_yy == I_zz for "
+            "params: the Newton-Euler formulation of the paper's model needs axisymmetric legs (I_yy == I_zz for "
             f"cylinder_inertia {params.cylinder_inertia.tolist()} and piston_inertia "
             f"{params.piston_inertia.tolist()}); the paper's no-spin leg model is not a "
-            "rigid-body system otherwise"
+            "rigid-body system otherwise (give universal_joint_axes for legs that turn with their joints)"
         )
     x = _checks.states("x", x)
     xd = _checks.states("xd", xd)
@@ -155,41 +188,63 @@ def _solve(params: PlatformParams, x, xd, xdd) -> JointReactions:
         u_dot = (v_p - l_dot * u) / length
         l_ddot = _dot(u_dot, v_p)[..., None] + _dot(u, a_p)[..., None]
         u_ddot = (a_p - l_ddot * u - 2.0 * l_dot * u_dot) / length
-        omega_leg = np.cross(u, u_dot)
-        alpha_leg = np.cross(u, u_ddot)
+        if axes is None:
+            omega_leg = np.cross(u, u_dot)
+            alpha_leg = np.cross(u, u_ddot)
+        else:
+            frame, omega_leg, alpha_leg, normal = _joint_motion(axes, u, u_dot, u_ddot)
         a_cyl = b_c * u_ddot
         a_pis = a_p - b_s * u_ddot
 
         # Rate of change of the leg's angular momentum about B_i (Euler + transport terms).
         inertia_sum = params.cylinder_inertia + params.piston_inertia
+
+        def leg_inertia_times(vec):
+            if axes is not None:
+                return _leg_inertia_times(inertia_sum, frame, vec)
+            along = _dot(u, vec)[..., None] * u
+            return inertia_sum[1] * (vec - along) + inertia_sum[0] * along
+
         h_dot = (
-            _leg_inertia_times(inertia_sum, u, alpha_leg)
-            + np.cross(omega_leg, _leg_inertia_times(inertia_sum, u, omega_leg))
+            leg_inertia_times(alpha_leg)
+            + np.cross(omega_leg, leg_inertia_times(omega_leg))
             + np.cross(b_c * u, m_c * a_cyl)
             + np.cross((length - b_s) * u, m_s * a_pis)
         )
         weight_moment = np.cross(b_c * u, m_c * g_vec) + np.cross((length - b_s) * u, m_s * g_vec)
-        # l x (-f_P) = h_dot - weight_moment  ->  transverse part of -f_P.
-        k = (h_dot - weight_moment) / length
-        transverse = np.cross(k, u)
+        # l x (-f_P) + n_B = h_dot - weight_moment: n_B takes the part along u, and the
+        # rest gives the transverse part of -f_P.
+        k = h_dot - weight_moment
+        if axes is None:
+            base_moment = np.zeros_like(k)
+        else:
+            base_moment = (_dot(k, u) / _dot(normal, u))[..., None] * normal
+        transverse = np.cross((k - base_moment) / length, u)
         # Piston axial balance: u.(-f_P) = m_S u.(a_S - g_vec) - tau.
         f0 = transverse + m_s * _dot(u, a_pis - g_vec)[..., None] * u
 
-        # Platform: J_C^T tau = [m_P (a - g_vec) + sum f0; I_P alpha + omega x I_P omega + sum r x f0].
-        inertia_p = (rot * params.platform_inertia) @ np.swapaxes(rot, -1, -2)
+        # Platform: J_C^T tau = [m_P (a_c - g_vec) + sum f0;
+        #                        I_P alpha + omega x I_P omega + c x m_P (a_c - g_vec) + sum r x f0].
+        com = np.zeros(3) if params.platform_com is None else params.platform_com
+        com_arm = _matvec(rot, com)
+        a_com = acc + np.cross(alpha, com_arm) + np.cross(omega, np.cross(omega, com_arm))
+        inertia_p = rot @ params.platform_inertia_tensor @ np.swapaxes(rot, -1, -2)
         euler = _matvec(inertia_p, alpha) + np.cross(omega, _matvec(inertia_p, omega))
+        force = m_p * (a_com - g_vec)
         wrench = np.concatenate(
-            [m_p * (acc - g_vec) + f0.sum(axis=-2), euler + np.cross(arms, f0).sum(axis=-2)], axis=-1
+            [force + f0.sum(axis=-2), euler + np.cross(com_arm, force) + np.cross(arms, f0).sum(axis=-2)], axis=-1
         )
         jac = np.concatenate([u, np.cross(arms, u)], axis=-1)  # J_C, row i = [u_i, r_i x u_i]
         # The checks of the model's inverse dynamics, in its order: the legs, then J_C.
-        conditions.check("joint_reactions", x, conditions.leg_codes(length_sq),
+        locked = None if axes is None else np.cross(axes, legs)
+        legs_codes = conditions.leg_codes(length_sq, None, None if axes is None else _dot(locked, locked))
+        conditions.check("joint_reactions", x, legs_codes,
                          lambda rows: conditions.jacobian_codes(jac.reshape(-1, 6, 6)[rows]))
         tau = np.linalg.solve(np.swapaxes(jac, -1, -2), wrench[..., None])[..., 0]
 
         on_platform = tau[..., None] * u - f0  # f_P
         base = m_c * a_cyl + m_s * a_pis - (m_c + m_s) * g_vec + on_platform
-    return _checks.finite_result("joint_reactions", JointReactions(tau, base, on_platform), x)
+    return _checks.finite_result("joint_reactions", JointReactions(tau, base, on_platform, base_moment), x)
 
 
 def joint_reactions(params: PlatformParams, x, xd, xdd) -> JointReactions:
@@ -198,13 +253,15 @@ def joint_reactions(params: PlatformParams, x, xd, xdd) -> JointReactions:
     ``x``, ``xd``, ``xdd``: one state ``(6,)`` or a batch ``(N, 6)`` of Euler-angle poses,
     rates and accelerations. Returns :class:`JointReactions` ``(tau, base, platform)``
     with shapes ``(..., 6)``, ``(..., 6, 3)`` and ``(..., 6, 3)``, forces in {B} (see the
-    module docstring for the equations). Raises ``ValueError`` naming ``params`` for
-    non-axisymmetric legs and :class:`~stewart.SingularityError` where ``J_C`` is singular.
+    module docstring for the equations), and the universal joints' moments ``base_moment``
+    ``(..., 6, 3)``. Raises ``ValueError`` naming ``params`` for non-axisymmetric legs in
+    the paper's model (no ``universal_joint_axes``), and :class:`~stewart.SingularityError` where ``J_C`` is singular.
     """
     return _solve(params, x, xd, xdd)
 
 
 def inverse_dynamics(params: PlatformParams, x, xd, xdd) -> np.ndarray:
     """Actuator forces ``tau`` (..., 6) by Newton-Euler; equals the model's
-    ``J_C^-T (M xddot + V xdot + G)`` for axisymmetric legs."""
+    ``J_C^-T (M xddot + V xdot + G)`` for axisymmetric legs, and for any legs with
+    ``universal_joint_axes``."""
     return _solve(params, x, xd, xdd).tau

@@ -115,9 +115,12 @@ def _skew(a: np.ndarray) -> np.ndarray:
 def partial_velocity_jacobians(params: PlatformParams, x) -> dict[str, np.ndarray]:
     """``J_b``: twist ``[v; omega]`` -> velocity of each body part, ``(..., [6,] 3, 6)``.
 
-    Platform parts: ``[E 0]`` and ``[0 E]``. Leg angular velocity (both leg parts):
-    ``J_D = [lbar~, lbar~ r~^T]`` (eq. 31). Cylinder centre of mass:
-    ``J_B = b_C u~^T J_D`` (eq. 35). Piston centre of mass:
+    Platform parts: ``[E (R c)~^T]`` (the centre of mass ``c`` in {P}; ``[E 0]`` at the
+    origin, eq. 10) and ``[0 E]``. Leg angular velocity (both leg parts): the paper's
+    ``J_D = [lbar~, lbar~ r~^T]`` (eq. 31, no spin), or with ``universal_joint_axes`` the
+    rate of the leg frame ``vee(Rdot R^T)``, ``J_W = (E + (a.u) / |a x u|^2 u a^T) J_D``: the
+    spin about ``u`` that keeps ``omega`` in the span of ``a`` and ``y = a x u / |a x u|``.
+    Cylinder centre of mass: ``J_B = b_C u~^T J_D`` (eq. 35). Piston centre of mass:
     ``J_G = (E - b_S u~^T lbar~) [E, r~^T]`` (eq. 57).
     """
     params = checked_params(params)
@@ -132,55 +135,83 @@ def partial_velocity_jacobians(params: PlatformParams, x) -> dict[str, np.ndarra
     j_d = lbar_x @ point
     zeros = np.zeros(x.shape[:-1] + (3, 3), dtype=x.dtype)
     eye_p = np.broadcast_to(np.eye(3, dtype=x.dtype), zeros.shape)
+    com_xT = zeros if params.platform_com is None else -_skew(rotation(x) @ params.platform_com)
     with np.errstate(over="ignore", invalid="ignore"):
+        j_w = j_d if params.universal_joint_axes is None else _spin(params.universal_joint_axes, units, j_d)
         jacs = {
-            "platform_translation": np.concatenate([eye_p, zeros], axis=-1),
+            "platform_translation": np.concatenate([eye_p, com_xT], axis=-1),
             "platform_rotation": np.concatenate([zeros, eye_p], axis=-1),
             "cylinder_translation": -params.cylinder_com_distance * u_x @ j_d,
-            "cylinder_rotation": j_d,
+            "cylinder_rotation": j_w,
             "piston_translation": point + params.piston_com_distance * u_x @ j_d,
-            "piston_rotation": j_d,
+            "piston_rotation": j_w,
         }
     return _checks.finite_result("partial_velocity_jacobians", jacs, x)
+
+
+def _spin(axes: np.ndarray, units: np.ndarray, j_d: np.ndarray) -> np.ndarray:
+    """``J_W = (E + (a.u) / |a x u|^2 u a^T) J_D``: the leg's angular velocity with the spin
+    its universal joint imposes. ``J_D`` gives ``u x udot``, the part across the leg; the
+    axial part ``s u`` makes ``omega`` orthogonal to ``n = a x y``, and since
+    ``u . n = -|a x u|`` and ``(u x udot) . n = (a.u) a.(u x udot) / |a x u|`` (the ``u``
+    part of ``n`` is orthogonal to ``u x udot``), ``s = (a.u) a.(u x udot) / |a x u|^2``."""
+    across = np.cross(axes, units)
+    gain = np.sum(axes * units, axis=-1) / np.sum(across * across, axis=-1)
+    return j_d + (gain[..., None] * units)[..., :, None] * np.einsum("ik,...ikj->...ij", axes, j_d)[..., None, :]
 
 
 def _check_legs(function: str, params: PlatformParams, x: np.ndarray, general: bool, *steps) -> None:
     """Raise :class:`~stewart.SingularityError` where the generated C's ``function`` would at
     ``x``: the legs' tests (the vertical-leg test only with ``general``, the paper's
-    cylinder frames), then ``steps`` (see :func:`stewart.conditions.check`)."""
+    cylinder frames; the gimbal-lock test with ``universal_joint_axes``), then ``steps``
+    (see :func:`stewart.conditions.check`)."""
     legs = leg_vectors(params, np.real(x))
+    axes = params.universal_joint_axes
     with np.errstate(over="ignore", invalid="ignore"):
         length_sq = np.sum(legs * legs, axis=-1)
         horizontal_sq = legs[..., 0] * legs[..., 0] + legs[..., 1] * legs[..., 1]
-    conditions.check(function, x, conditions.leg_codes(length_sq, horizontal_sq if general else None), *steps)
+        locked = None if axes is None else np.cross(axes, legs)
+        locked_sq = None if axes is None else np.sum(locked * locked, axis=-1)
+    vertical = horizontal_sq if general and axes is None else None
+    conditions.check(function, x, conditions.leg_codes(length_sq, vertical, locked_sq), *steps)
 
 
-def _leg_inertia(units: np.ndarray, inertia: np.ndarray, general: bool) -> np.ndarray:
+def _leg_inertia(units: np.ndarray, inertia: np.ndarray, axes: np.ndarray | None) -> np.ndarray:
     """Rotational inertia of a leg part in {B} (eqs. 43-48 and 65-66).
 
-    With ``general`` the paper's cylinder frame {C_i} is built (x_C along the leg, y_C
-    horizontal); otherwise the axisymmetric form ``I_t (E - u u^T) + I_a u u^T``, equal
-    when ``I_yy == I_zz`` and defined for vertical legs too.
+    With ``axes`` (the universal joints' first axes ``a_i``; ``e_z`` for the paper's
+    cylinder frame {C_i} of eqs. 44-47) the leg frame x = u, y = a x u / |a x u|, z = x x y
+    is built and the principal moments (axial, I_yy, I_zz) placed in it; without, the
+    axisymmetric form ``I_t (E - u u^T) + I_a u u^T``, equal when ``I_yy == I_zz`` and
+    defined for every leg direction.
     """
-    axial, iyy, izz = inertia
     uu = units[..., :, None] * units[..., None, :]
-    if not general:
-        return iyy * (np.eye(3) - uu) + axial * uu
-    horiz_sq = units[..., 0] ** 2 + units[..., 1] ** 2
-    horiz = np.sqrt(horiz_sq)
-    y_c = np.stack([-units[..., 1] / horiz, units[..., 0] / horiz, np.zeros_like(horiz)], axis=-1)
+    if axes is None:
+        return inertia[1] * (np.eye(3) - uu) + inertia[0] * uu
+    across = np.cross(axes, units)
+    y_c = across / np.sqrt(np.sum(across * across, axis=-1))[..., None]
     z_c = np.cross(units, y_c)
-    frame = np.stack([units, y_c, z_c], axis=-1)  # columns x_C, y_C, z_C (eq. 44)
+    frame = np.stack([units, y_c, z_c], axis=-1)  # columns x, y, z (eq. 44 for a = e_z)
     return (frame * inertia) @ np.swapaxes(frame, -1, -2)
 
 
-def rotational_inertias(params: PlatformParams, x, general: bool | None = None) -> dict[str, np.ndarray]:
-    """Rotational inertias in {B}: platform ``R I_P R^T`` (eq. 13), ``(..., 3, 3)``;
-    cylinders (eq. 43) and pistons (eq. 65), ``(..., 6, 3, 3)``.
+def _leg_axes(params: PlatformParams, general: bool) -> np.ndarray | None:
+    """The axes the leg frames are built on: the universal joints' first axes when given,
+    else ``e_z`` (the paper's cylinder frame) with ``general``, else none (axisymmetric form)."""
+    if params.universal_joint_axes is not None:
+        return params.universal_joint_axes
+    return np.array([0.0, 0.0, 1.0]) if general else None
 
-    ``general`` picks the leg inertia form (default: the paper's frame form only when the
-    legs are not axisymmetric). Raises :class:`SingularityError` for a vertical leg in
-    the frame form, where {C_i} is undefined (:mod:`stewart.conditions`).
+
+def rotational_inertias(params: PlatformParams, x, general: bool | None = None) -> dict[str, np.ndarray]:
+    """Rotational inertias in {B}: platform ``R I_P R^T`` (eq. 13, ``I_P`` the full tensor),
+    ``(..., 3, 3)``; cylinders (eq. 43) and pistons (eq. 65), ``(..., 6, 3, 3)``.
+
+    ``general`` picks the paper's leg inertia form (default: the frame form only when the
+    legs are not axisymmetric); with ``universal_joint_axes`` the legs' frames are always
+    built on those axes. Raises :class:`SingularityError` for a vertical leg in the paper's
+    frame form, where {C_i} is undefined, and for a leg along its joint's first axis
+    (:mod:`stewart.conditions`).
     """
     params = checked_params(params)
     x = _checks.states("x", x, allow_complex=True)
@@ -189,11 +220,12 @@ def rotational_inertias(params: PlatformParams, x, general: bool | None = None) 
     _check_legs("rotational_inertias", params, x, general)
     rot = rotation(x)
     units = leg_unit_vectors(params, x)
+    axes = _leg_axes(params, general)
     with np.errstate(over="ignore", invalid="ignore"):
         inertias = {
-            "platform_rotation": (rot * params.platform_inertia) @ np.swapaxes(rot, -1, -2),
-            "cylinder_rotation": _leg_inertia(units, params.cylinder_inertia, general),
-            "piston_rotation": _leg_inertia(units, params.piston_inertia, general),
+            "platform_rotation": rot @ params.platform_inertia_tensor @ np.swapaxes(rot, -1, -2),
+            "cylinder_rotation": _leg_inertia(units, params.cylinder_inertia, axes),
+            "piston_rotation": _leg_inertia(units, params.piston_inertia, axes),
         }
     return _checks.finite_result("rotational_inertias", inertias, x)
 

@@ -59,6 +59,39 @@ def any_params(request):
     return stewart.PlatformParams.preset(request.param)
 
 
+@pytest.fixture(params=PRESETS + ["random-0"])
+def general_params(request):
+    """Every preset and a random parameter set made general (:func:`make_general`)."""
+    rng = np.random.default_rng(500)
+    if request.param.startswith("random-"):
+        return make_general(random_params(rng).replace(name=request.param), rng)
+    return make_general(stewart.PlatformParams.preset(request.param), rng)
+
+
+def make_general(params, rng):
+    """``params`` with the general model's every feature: universal joints whose first axes are
+    the default tangential ones tilted by up to 0.5 rad about the radial direction,
+    non-axisymmetric leg inertias (I_yy, I_zz the paper's transverse moment -+ 0.4 times the
+    axial one, within the triangle inequality), and a payload of a third of the platform's mass off-centre by a tenth of the
+    platform's size with a full inertia tensor."""
+    joints = params.with_universal_joints()
+    radial = np.cross(joints.universal_joint_axes, [0.0, 0.0, 1.0])
+    tilt = rng.uniform(-0.5, 0.5, size=(6, 1))
+    axes = np.cos(tilt) * joints.universal_joint_axes + np.sin(tilt) * np.cross(radial, joints.universal_joint_axes)
+    size = np.max(np.linalg.norm(params.platform_points, axis=1))
+    mass = params.platform_mass / 3.0
+    spin = np.linalg.qr(rng.normal(size=(3, 3)))[0]
+    tensor = spin @ np.diag(mass * size**2 * np.array([0.05, 0.07, 0.1])) @ spin.T
+
+    def leg(inertia):
+        return (inertia[0], inertia[1] - 0.4 * inertia[0], inertia[1] + 0.4 * inertia[0])
+
+    return joints.replace(
+        universal_joint_axes=axes / np.linalg.norm(axes, axis=1, keepdims=True),
+        cylinder_inertia=leg(params.cylinder_inertia), piston_inertia=leg(params.piston_inertia),
+    ).with_payload(mass, rng.normal(size=3) * 0.1 * size, tensor)
+
+
 def random_params(rng, axisymmetric=True):
     """A random, physically valid parameter set (a hexapod of random size and masses)."""
     radius = rng.uniform(0.1, 2.0)

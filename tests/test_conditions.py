@@ -28,7 +28,8 @@ from conftest import random_params, random_states
 ROOT = Path(__file__).resolve().parent.parent
 PARAMS = stewart.PlatformParams.preset("narayan2017")
 ZERO = np.zeros(6)
-NAMES = ["ok", "nonfinite", "leg_degenerate", "jacobian_singular", "euler_singular", "leg_vertical", "mass_singular"]
+NAMES = ["ok", "nonfinite", "leg_degenerate", "jacobian_singular", "euler_singular", "leg_vertical", "mass_singular",
+         "gimbal_lock"]
 
 
 def replaced(params, **changes):
