@@ -137,6 +137,21 @@ def test_model_is_the_platform(general):
     assert np.max(np.abs(data.efc_pos)) < 1e-15  # the ball joints close at the assembly pose
 
 
+def test_massless_legs_and_any_name_compile():
+    """Massless legs (written as :data:`stewart.mjcf.MOMENT_FLOOR`, MuJoCo refusing zero) keep
+    the paper's dynamics; the name is quoted as XML."""
+    pytest.importorskip("mujoco")
+    from benchmarks.peers import mujoco_model
+
+    params = stewart.PlatformParams.preset(PRESET).replace(
+        cylinder_mass=0.0, cylinder_inertia=(0, 0, 0), piston_mass=0.0, piston_inertia=(0, 0, 0), name='a "b" <c> & d')
+    _, model, _ = _compiled(params)
+    assert model.names.startswith(b'stewart platform a "b" <c> & d')
+    worst = mujoco_model.acceleration_differences(params, mujoco_model.on_random_axes(params),
+                                                  stewart.Platform(params).inverse_dynamics, states=2, seed=1)
+    assert worst["rigid"] < 1e-11
+
+
 def test_joint_velocities_keep_the_ball_joints_closed():
     """MuJoCo's constraint velocities ``J qvel`` vanish at the velocities of
     :func:`stewart.mjcf.joint_velocities` and its platform velocity is the state's."""
