@@ -136,6 +136,8 @@ def main(argv=None) -> None:
         print(f"[bench] kernel, reference and simulation loop, {preset} ...", flush=True)
         results["kernel"][preset] = bench.kernel_figures(preset, args.batch)
         results["kernel"][preset].update(bench.simulation_figures(preset))
+        print(f"[bench] general model against the paper's, {preset} ...", flush=True)
+        results["kernel"][preset].update(bench.general_model_figures(preset, args.batch))
         print(f"[bench] exact derivatives and finite differences, {preset} ...", flush=True)
         results["kernel"][preset].update(bench.derivative_figures(preset, min(args.batch, bench.DERIVATIVE_BATCH)))
     print("[bench] vector batch path against the scalar one, C loop ...", flush=True)

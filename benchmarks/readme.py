@@ -15,7 +15,9 @@ in ``README.md`` and starts with the date, the machine and the command that prod
     (:func:`benchmarks.peers.mujoco_model.export_figures`; needs MuJoCo);
 ``performance``
     our own rows of the last ``make bench`` run, read from its JSON figures
-    (``out/benchmarks.json``), each target marked met or missed.
+    (``out/benchmarks.json``), each target marked met or missed;
+``exactness``
+    what ``stewart exactness`` measures for both presets (the legs' spin), as one table.
 
 Everything apart from the measured numbers, the date and the machine is deterministic.
 ``python -m benchmarks.readme validate checks`` rewrites only those blocks.
@@ -34,7 +36,7 @@ import sys
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 README = ROOT / "README.md"
 BENCH_JSON = ROOT / "out" / "benchmarks.json"
-SECTIONS = ("validate", "checks", "mujoco", "performance")
+SECTIONS = ("validate", "checks", "mujoco", "performance", "exactness")
 #: The presets ``make validate`` reports on, in its order.
 VALIDATE_PRESETS = ("narayan2017", "motion_simulator")
 #: The preset whose kernel rows the README's performance table shows (all presets count
@@ -99,6 +101,24 @@ def mujoco_block() -> str:
              "|---|---|---|---|---|---|"]
     lines += [f"| {_cell(label)} | {f['rigid']:.1e} | {f['soft']:.1e} | {f['position_m']:.1e} m | "
               f"{f['angle_rad']:.1e} rad | {f['gap_m']:.1e} m |" for label, f in fig.items()]
+    return "\n".join(lines)
+
+
+def exactness_block() -> str:
+    """``stewart exactness`` for both presets as one Markdown table."""
+    from stewart import PlatformParams, exactness
+
+    effects = {name: exactness.leg_spin_effect(PlatformParams.preset(name)) for name in VALIDATE_PRESETS}
+    states = effects[VALIDATE_PRESETS[0]].states
+    lines = [f"Sample output of `stewart exactness --preset NAME` ({states} random states around home, seed 0; "
+             f"first joint axes horizontal and tangential to the base circle), {where()}:", "",
+             "| relative change of the actuator forces | " + " | ".join(
+                 f"{name} median | {name} max" for name in VALIDATE_PRESETS) + " |",
+             "|---|" + "---|---|" * len(VALIDATE_PRESETS)]
+    for label, part in (("dynamic forces (all but gravity)", "dynamic"), ("velocity-dependent forces", "velocity")):
+        cells = [f"{getattr(effects[n], part).median:.1e} | {getattr(effects[n], part).max:.1e}"
+                 for n in VALIDATE_PRESETS]
+        lines.append(f"| {label} | " + " | ".join(cells) + " |")
     return "\n".join(lines)
 
 
@@ -183,6 +203,7 @@ def main(argv=None) -> None:
     for name in sections:  # in order, each written at once: the test run reads the validate block
         print(f"[readme] {name} ...", flush=True)
         body = {"validate": validate_block, "checks": checks_block, "mujoco": mujoco_block,
+                "exactness": exactness_block,
                 "performance": lambda: performance_block(args.bench_json)}[name]()
         README.write_text(replace_block(README.read_text(), name, body))
     print(f"rewrote {', '.join(sections)} in {README}")

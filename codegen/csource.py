@@ -2,7 +2,7 @@
 their tolerances come from `conditions`).
 
 The public functions are written from their specs (`model.FUNCTIONS`): they check their
-inputs, dispatch between the axisymmetric and the general leg-inertia kernels, check the
+inputs, dispatch between the kernel variants (`model.VARIANTS`), check the
 legs, run their steps (the small linear solves, unrolled in `linsolve`: pivoted
 elimination for J_C^T tau = W, LDL^T for M_t y = rhs, each factored once and solved for
 as many right-hand sides as the function needs; further kernels) and
@@ -40,11 +40,19 @@ HEADER = r'''/* stewart_model.h -- dynamic model of a 6-DOF Stewart platform.
  *        M(x) xdd + V(x, xd) xd + G(x) = J_C(x)^T tau
  *    with M = M_t T (NOT symmetric; M_t, the twist-space mass matrix, is
  *    symmetric positive definite).
- *  - Leg bodies (cylinder, piston) do not spin about the leg axis, so their
- *    axial inertia (first entry of cylinder_inertia / piston_inertia) has no
- *    effect.  Legs with cylinder and piston Iyy == Izz (exactly) use the
- *    axisymmetric kernels, which work for vertical legs; otherwise the frame
- *    {C_i} (y_C horizontal) is used, undefined for vertical legs.
+ *  - The paper's model (stewart_is_paper_model): leg bodies (cylinder, piston)
+ *    do not spin about the leg axis, so their axial inertia (first entry of
+ *    cylinder_inertia / piston_inertia) has no effect.  Legs with cylinder and
+ *    piston Iyy == Izz (exactly) use the axisymmetric kernels, which work for
+ *    vertical legs; otherwise the frame {C_i} (y_C horizontal) is used,
+ *    undefined for vertical legs.
+ *  - The general model (any of universal_joint_axes, platform_com,
+ *    platform_inertia_products nonzero): each leg turns with its universal
+ *    joint, in the frame x = u_i, y = a_i x u_i / |a_i x u_i|, z = x x y with
+ *    unit first axes a_i, and its principal inertias (axial, Iyy, Izz) are in
+ *    that frame; the platform's centre of mass is platform_com and its inertia
+ *    tensor has the products platform_inertia_products.  A leg along its
+ *    joint's first axis is the joint's gimbal lock.
  *
  * Arrays: x, xd, xdd, tau, L, G, Vxd, xn, xdn: 6 doubles; LLd: 12 doubles ([L; Ldot]);
  * JC, M, Mt, V: 36 doubles, row-major; terms: 84 doubles ([M; Vxd; G; JC]).
@@ -75,6 +83,10 @@ const char *stewart_status_message(int status);
 
 /* 1 if cylinder and piston inertias have Iyy == Izz exactly, else 0. */
 int stewart_is_axisymmetric(const stewart_params *p);
+
+/* 1 for the paper's model: universal_joint_axes, platform_com and
+ * platform_inertia_products all zero; else 0 (the general model). */
+int stewart_is_paper_model(const stewart_params *p);
 
 @FUNCTIONS@
 /* ---- batches ----
@@ -147,6 +159,7 @@ def prototype(function, sizes=True):
 #: `conditions`), before those of `model.FUNCTIONS`: (name, pointer declaration).
 FIXED_ENTRIES = (('status_message', 'const char *(*status_message)(int status)'),
                  ('is_axisymmetric', 'int (*is_axisymmetric)(const stewart_params *p)'),
+                 ('is_paper_model', 'int (*is_paper_model)(const stewart_params *p)'),
                  ('batch_lanes', 'int (*batch_lanes)(void)'))
 
 
@@ -280,14 +293,11 @@ def public_function(function, kernels):
         names = [name for name, _ in kernel.outputs]
         out = [indent + _call(f'kernel_{kernel.name}', ['p', *inputs, *names])]
         if check:
-            out.append(indent + f'status = check_legs(L2, {"h2" if "h2" in names else "NULL"});')
+            out.append(indent + f'status = check_legs({_legs_checked(names)});')
         return out
 
     def dispatch(specs, inputs, indent, check):
-        if len(specs) == 1:
-            return run(specs[0], inputs, indent, check)
-        return [f'{indent}if (stewart_is_axisymmetric(p)) {{', *run(specs[0], inputs, indent + '    ', check),
-                f'{indent}}} else {{', *run(specs[1], inputs, indent + '    ', check), f'{indent}}}']
+        return _dispatch(specs, indent, lambda kernel, inner: run(kernel, inputs, inner, check))
 
     lines += dispatch(first, function.inputs, '    ', checked)
     for step in function.steps:
@@ -347,17 +357,31 @@ def _block_body(function, kernels):
         names = [name for name, _ in kernel.outputs]
         out = [indent + _call(f'vkernel_{kernel.name}', ['p', *function.inputs, *names])]
         if 'L2' in names:
-            out.append(indent + f'status = vcheck_legs(L2, {"h2" if "h2" in names else "NULL"});')
+            out.append(indent + f'status = vcheck_legs({_legs_checked(names)});')
         return out
 
-    if len(first) == 1:
-        lines += run(first[0], '    ')
-    else:
-        lines += ['    if (stewart_is_axisymmetric(p)) {', *run(first[0], '        '), '    } else {',
-                  *run(first[1], '        '), '    }']
+    lines += _dispatch(first, '    ', run)
     lines += [f'    status = vmerge(status, {_call("v" + step[0], step[1])[:-1]});' for step in function.steps]
     lines += ['    return status;', '}', '']
     return lines
+
+
+def _legs_checked(names):
+    """The arguments of check_legs for a kernel with outputs `names`."""
+    return ', '.join(name if name in names else 'NULL' for name in ('L2', 'h2', 'n2'))
+
+
+def _dispatch(specs, indent, run):
+    """C lines running the first of the kernel variants `specs` whose test (`KernelSpec.when`)
+    holds, the last one otherwise; `run(kernel, indent)` gives the lines of one."""
+    if len(specs) == 1:
+        return run(specs[0], indent)
+    lines = []
+    for k, kernel in enumerate(specs):
+        test = f'if ({kernel.when}) ' if kernel.when else ''
+        lines.append(f'{indent}{"} else " if k else ""}{test}{{')
+        lines += run(kernel, indent + '    ')
+    return lines + [f'{indent}}}']
 
 
 def _finish(status, outputs):

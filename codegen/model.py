@@ -5,6 +5,12 @@ of a Stewart Platform Using the Generalized Momentum Approach" (equation
 numbers below refer to that paper).  Every geometry
 and inertia parameter is a symbol, so one set of kernels serves every platform.
 
+The same derivation gives two kernel families (`VARIANTS`, `MODELS`): the paper's model
+(legs that do not spin, eq. 29; the centre of mass at {P}'s origin, a diagonal tensor), and
+the general model of a built machine, whose legs turn with their universal joints (leg
+frame x = u_i, y = a_i x u_i / |a_i x u_i|, z = x x y, angular velocity vee(Rdot R^T),
+`leg_momenta`) and whose platform has its centre of mass at c in {P} and a full tensor.
+
 Performance rests on three rules:
 
 * every intermediate quantity (rotation matrix entries, leg vectors, unit
@@ -214,6 +220,10 @@ class Leg:
     h2: sp.Symbol = None   # l_x^2 + l_y^2 (frame {C_i} exists iff > 0)
     y_C: sp.Matrix = None  # {C_i} axes (eqs. 43-48); x_C = u
     z_C: sp.Matrix = None
+    n: sp.Matrix = None    # exact legs: a_i x l, along the joint's second axis y = n / |n|
+    n2: sp.Symbol = None   # n . n (the joint is out of gimbal lock iff > 0)
+    in2: sp.Symbol = None  # 1 / (n . n)
+    al: sp.Symbol = None   # a_i . l
 
 
 @dataclass
@@ -222,12 +232,16 @@ class Kinematics:
     J_A: sp.Matrix     # Euler rates -> angular velocity (eq. 8)
     c_theta: sp.Symbol
     legs: list
+    rho: sp.Matrix = None   # general model: R c, the platform's centre of mass from its origin
+    I_P: sp.Matrix = None   # general model: the platform's inertia tensor in {P} about its centre of mass
 
 
-def leg_geometry(g, l, r, tag, leg_frames, lengths=None):
+def leg_geometry(g, l, r, tag, leg_frames, lengths=None, axis=None):
     """The geometry of a leg from its leg vector l (eq. 26): length, unit vector, l / (l . l)
     (eq. 32) and, with `leg_frames`, the {C_i} axes (eqs. 43-48); `r` = R p_i.  `lengths`,
-    when given, are symbols for |l| and sqrt(l_x^2 + l_y^2) (no square root here)."""
+    when given, are symbols for |l| and sqrt(l_x^2 + l_y^2) (no square root here).  With the
+    first axis a_i of its universal joint (`axis`, general model): n = a_i x l, n . n and
+    a_i . l, from which the leg frame x = u, y = n / |n|, z = x x y follows (`leg_momenta`)."""
     L2 = g.define(f'L2_{tag}', _dot(l, l))
     iL2 = g.define(f'iL2_{tag}', 1 / L2)
     L = lengths[0] if lengths else g.define(f'L_{tag}', sp.sqrt(L2))
@@ -238,11 +252,18 @@ def leg_geometry(g, l, r, tag, leg_frames, lengths=None):
         ih = g.define(f'ih_{tag}', 1 / (lengths[1] if lengths else g.define(f'h_{tag}', sp.sqrt(leg.h2))))
         leg.y_C = g.vector(f'yC{tag}', [-l[1] * ih, l[0] * ih, 0])
         leg.z_C = g.vector(f'zC{tag}', _cross(leg.u, leg.y_C))
+    if axis is not None:
+        leg.n = g.vector(f'n{tag}', _cross(axis, l))
+        leg.n2 = g.define(f'n2_{tag}', _dot(leg.n, leg.n))
+        leg.in2 = g.define(f'in2_{tag}', 1 / leg.n2)
+        leg.al = g.define(f'al_{tag}', _dot(axis, l))
     return leg
 
 
-def kinematics(g, P, leg_frames=False):
-    """Pose-dependent geometry: R, J_A (eq. 8), legs (eqs. 26, 32, 43-48)."""
+def kinematics(g, P, leg_frames=False, general=False):
+    """Pose-dependent geometry: R, J_A (eq. 8), legs (eqs. 26, 32, 43-48); for the `general`
+    model also the joints' axes (`leg_geometry`), the platform's centre of mass R c and its
+    full inertia tensor."""
     psi, theta, phi = X[3:]
     cps, sps = g.define('c_psi', sp.cos(psi)), g.define('s_psi', sp.sin(psi))
     cth, sth = g.define('c_theta', sp.cos(theta)), g.define('s_theta', sp.sin(theta))
@@ -257,8 +278,27 @@ def kinematics(g, P, leg_frames=False):
     legs = []
     for i in range(NUM_LEGS):
         r = g.vector(f'r{i}', R * P.plat[i])
-        legs.append(leg_geometry(g, g.vector(f'l{i}', p + r - P.base[i]), r, i, leg_frames))
-    return Kinematics(R=R, J_A=J_A, c_theta=cth, legs=legs)
+        legs.append(leg_geometry(g, g.vector(f'l{i}', p + r - P.base[i]), r, i, leg_frames,
+                                 axis=P.axes[i] if general else None))
+    kin = Kinematics(R=R, J_A=J_A, c_theta=cth, legs=legs)
+    if general:
+        kin.rho = g.vector('rho', R * P.c_P)
+        kin.I_P = platform_inertia_tensor(P)
+    return kin
+
+
+def platform_inertia_tensor(P):
+    """The platform's inertia tensor in {P} about its centre of mass, from its diagonal I_P and
+    its products I_Pp = (I_xy, I_xz, I_yz)."""
+    (xx, yy, zz), (xy, xz, yz) = P.I_P, P.I_Pp
+    return sp.Matrix([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+
+
+def kinematics_of(g, variant):
+    """`kinematics` for a kernel `variant`: 'axisym' (the paper's model, axisymmetric legs),
+    'frames' (the paper's model, legs with I_yy != I_zz in the frames of eqs. 43-48) or
+    'general' (legs that turn with their universal joints, payload off-centre)."""
+    return kinematics(g, PARAMS, leg_frames=variant == 'frames', general=variant == 'general')
 
 
 @dataclass
@@ -276,7 +316,7 @@ def twist(g, kin, qd, tag):
     return v, omega
 
 
-def leg_momenta(g, P, leg, w, axisymmetric, tag):
+def leg_momenta(g, P, leg, w, variant, tag):
     """Velocities and angular momentum of leg `tag` for the velocity w of P_i.
 
     omega_l = lbar x w (eq. 29, shared by cylinder and piston); cylinder COM
@@ -285,14 +325,26 @@ def leg_momenta(g, P, leg, w, axisymmetric, tag):
     the inertias in {B} of eqs. 43-48 and 65: as omega_l is normal to u = x_C,
     the axial inertia drops out, leaving I_t omega_l for axisymmetric legs
     (I_t (E - u u^T) + I_a u u^T applied to omega_l) and
-    (I_yy y_C y_C^T + I_zz z_C z_C^T) omega_l in general.
+    (I_yy y_C y_C^T + I_zz z_C z_C^T) omega_l in the paper's frames.
+
+    The general model's leg turns with its universal joint: its frame is x = u,
+    y = n / |n|, z = x x y with n = a_i x l, and its angular velocity
+    omega = vee(Rdot R^T) = alpha' a_i + beta' y (the joint's two rates) works out to
+    omega_l + q lbar with the spin q = (a_i . l)(n . w) / (n . n), so (u . omega) u = q lbar
+    and h_L = I_zz omega + (I_ax - I_zz) q lbar + (I_yy - I_zz) (n . omega_l) n / (n . n)
+    = I_zz omega_l + I_ax q lbar + (I_yy - I_zz) (n . omega_l) n / (n . n): no square root.  The spin does not move the centres of mass (lbar x u = 0).
     Returns (v_C, v_S, h_L).
     """
     wl = g.vector(f'{tag}wl', _cross(leg.lbar, w))
     v_C = g.vector(f'{tag}vC', P.b_C * _cross(wl, leg.u))
     v_S = g.vector(f'{tag}vS', w + P.b_S * _cross(leg.u, wl))
-    if axisymmetric:
+    I_L = [P.I_C[k] + P.I_S[k] for k in range(3)]
+    if variant == 'axisym':
         h_L = g.vector(f'{tag}hL', (P.I_C[1] + P.I_S[1]) * wl)
+    elif variant == 'general':
+        q = g.define(f'{tag}q', leg.al * _dot(leg.n, w) * leg.in2)
+        ny = g.define(f'{tag}ny', _dot(leg.n, wl) * leg.in2)
+        h_L = g.vector(f'{tag}hL', I_L[2] * wl + I_L[0] * q * leg.lbar + (I_L[1] - I_L[2]) * ny * leg.n)
     else:
         a_y = g.define(f'{tag}ay', _dot(leg.y_C, wl))
         a_z = g.define(f'{tag}az', _dot(leg.z_C, wl))
@@ -302,29 +354,40 @@ def leg_momenta(g, P, leg, w, axisymmetric, tag):
 
 
 def platform_angular_momentum(g, P, kin, omega, tag):
-    """h_P = I_P omega with I_P = R diag(I_P) R^T (eqs. 13-15)."""
+    """h_P = I_P omega with I_P = R diag(I_P) R^T (eqs. 13-15), R I_P R^T with the full
+    tensor I_P in {P} for the general model."""
     wb = g.vector(f'{tag}wP', kin.R.T * omega)
+    if kin.I_P is not None:
+        return g.vector(f'{tag}hP', kin.R * (kin.I_P * wb))
     return g.vector(f'{tag}hP', kin.R * sp.Matrix([P.I_P[k] * wb[k] for k in range(3)]))
 
 
-def momenta(g, P, kin, v, omega, axisymmetric, tag):
+def platform_velocity(g, kin, v, omega, tag):
+    """The velocity of the platform's centre of mass: v (eq. 10), v + omega x R c for the
+    general model."""
+    return v if kin.rho is None else g.vector(f'{tag}vG', v + _cross(omega, kin.rho))
+
+
+def momenta(g, P, kin, v, omega, variant, tag):
     """Body velocities and angular momenta for the twist [v; omega].
 
-    Platform: I_P = R diag(I_P) R^T (eq. 13), h_P = I_P omega.  Leg i: see
-    `leg_momenta` with w_i = v + omega x r_i, the velocity of P_i.
+    Platform: the velocity of its centre of mass (`platform_velocity`), I_P = R diag(I_P) R^T
+    (eq. 13), h_P = I_P omega.  Leg i: see `leg_momenta` with w_i = v + omega x r_i, the
+    velocity of P_i.
     """
     h_P = platform_angular_momentum(g, P, kin, omega, tag)
     legs = [leg_momenta(g, P, leg, g.vector(f'{tag}vP{i}', v + _cross(omega, leg.r)),
-                        axisymmetric, f'{tag}{i}')
+                        variant, f'{tag}{i}')
             for i, leg in enumerate(kin.legs)]
-    return Momenta(v=v, h_P=h_P, legs=legs)
+    return Momenta(v=platform_velocity(g, kin, v, omega, tag), h_P=h_P, legs=legs)
 
 
 def generalized_force(P, kin, platform, leg_forces, g, tag):
     """sum_b J_b^T y_b for per-body vectors y_b (eqs. 19, 39, 51, 61, 69).
 
-    `platform` is the 6-vector [y_v; y_omega] of the platform (J = identity in
-    twist coordinates); `leg_forces` holds per leg (y_C, y_S, y_L): the vectors
+    `platform` is the 6-vector [y_v; y_omega] of the platform, y_v paired with the velocity
+    of its centre of mass (J = identity in twist coordinates, [E, -[R c]x] for the general
+    model: `platform_force`); `leg_forces` holds per leg (y_C, y_S, y_L): the vectors
     paired with the cylinder COM velocity, the piston COM velocity and the leg
     angular velocity.  The transposed Jacobians of eqs. 31, 35 and 57 (with
     J_G in place of the misprinted J_B of eq. 60) act as cross products:
@@ -332,18 +395,32 @@ def generalized_force(P, kin, platform, leg_forces, g, tag):
     J_G^T y = [y; r x y] + J_D^T (b_S y x u).  Each leg thus reduces to one
     force f_i at P_i contributing [f_i; r_i x f_i].
     """
-    W = sp.Matrix(platform)
+    W = platform_force(kin, platform)
     for i, (leg, (y_C, y_S, y_L)) in enumerate(zip(kin.legs, leg_forces)):
         f = leg_force(g, P, leg, y_C, y_S, y_L, f'{tag}{i}')
         W += sp.Matrix.vstack(f, _cross(leg.r, f))
     return W
 
 
+def platform_force(kin, platform):
+    """J^T [y_v; y_omega] = [y_v; y_omega + R c x y_v] for the platform, whose centre of mass
+    moves with v + omega x R c (the general model; J = identity for the paper's)."""
+    W = sp.Matrix(platform)
+    if kin.rho is not None:
+        W[3:, 0] = W[3:, 0] + _cross(kin.rho, W[:3, 0])
+    return W
+
+
 def leg_force(g, P, leg, y_C, y_S, y_L, tag):
     """Force f at P_i equivalent to (y_C, y_S, y_L): f = y_S + z with
-    z = (y_L + b_C u x y_C + b_S y_S x u) x lbar (see `generalized_force`)."""
+    z = (y_L + b_C u x y_C + b_S y_S x u) x lbar (see `generalized_force`); for a leg that
+    spins with its joint (`leg_momenta`), the spin's partial velocity q = (a_i . l) n^T w / (n . n)
+    along lbar adds (a_i . l)(lbar . y_L) / (n . n) n."""
     z = g.vector(f'{tag}z', _cross(y_L + P.b_C * _cross(leg.u, y_C)
                                    + P.b_S * _cross(y_S, leg.u), leg.lbar))
+    if leg.n is not None:
+        s = g.define(f'{tag}sL', leg.al * _dot(leg.lbar, y_L) * leg.in2)
+        return g.vector(f'{tag}f', y_S + z + s * leg.n)
     return g.vector(f'{tag}f', y_S + z)
 
 
@@ -368,22 +445,27 @@ def momentum_rate_force(g, P, kin, m, gravity, tag):
     return generalized_force(P, kin, platform, legs, g, tag)
 
 
-def twist_mass_matrix(g, P, kin, axisymmetric):
+def twist_mass_matrix(g, P, kin, variant):
     """Twist-space mass matrix M_t = sum_b J_b^T I_b J_b (symmetric).
 
-    Platform block: blockdiag(m_P E, R diag(I_P) R^T) (eq. 13).  Every leg
+    Platform block: blockdiag(m_P E, R diag(I_P) R^T) (eq. 13); for the general model,
+    with rho = R c, [[m_P E, -m_P [rho]x], [m_P [rho]x, R I_P R^T - m_P [rho]x^2]].  Every leg
     Jacobian factors through the velocity of P_i, w_i = J_P t with
     J_P = [E, -[r_i]x] (eqs. 31, 35, 57), so leg i adds J_P^T K_i J_P with the
     symmetric 3x3 K_i whose column j is the force at P_i (`leg_force`) of the
     leg momenta for w = e_j.  Only upper triangles are derived.
     """
-    IP = kin.R * sp.diag(*P.I_P) * kin.R.T
-    Mt = sp.diag(P.m_P * sp.eye(3), IP)
+    if kin.rho is None:
+        Mt = sp.diag(P.m_P * sp.eye(3), kin.R * sp.diag(*P.I_P) * kin.R.T)
+    else:
+        S = _skew(kin.rho)
+        Mt = sp.Matrix.vstack(sp.Matrix.hstack(P.m_P * sp.eye(3), -P.m_P * S),
+                              sp.Matrix.hstack(P.m_P * S, kin.R * kin.I_P * kin.R.T - P.m_P * S * S))
     for i, leg in enumerate(kin.legs):
         K = sp.zeros(3, 3)
         for j in range(3):
             e = sp.Matrix([1 if k == j else 0 for k in range(3)])
-            v_C, v_S, h_L = leg_momenta(g, P, leg, e, axisymmetric, f'k{i}{j}')
+            v_C, v_S, h_L = leg_momenta(g, P, leg, e, variant, f'k{i}{j}')
             f = leg_force(g, P, leg, P.m_C * v_C, P.m_S * v_S, h_L, f'k{i}{j}')
             for k in range(j + 1):
                 K[k, j] = K[j, k] = g.define(f'K{i}_{k}{j}', f[k])
@@ -417,18 +499,18 @@ class KernelSpec:
     outputs: list    # [(C array name, [expressions])]
     lanes: int = 1
     shared: tuple = ()  # with lanes > 1: the inputs every lane reads whole
+    when: str = None    # of a kernel with variants: the C test under which it runs (None: otherwise)
 
 
-def _leg_checks(kin, axisymmetric):
-    """Outputs the C code checks: L_i^2 and, for the {C_i} frame, l_x^2 + l_y^2."""
+def _leg_checks(kin):
+    """Outputs the C code checks: L_i^2, for the {C_i} frame l_x^2 + l_y^2, for the general
+    model's joints |a_i x l_i|^2."""
     out = [('L2', [leg.L2 for leg in kin.legs])]
-    if not axisymmetric:
+    if kin.legs[0].h2 is not None:
         out.append(('h2', [leg.h2 for leg in kin.legs]))
+    if kin.legs[0].n2 is not None:
+        out.append(('n2', [leg.n2 for leg in kin.legs]))
     return out
-
-
-def _variant(axisymmetric):
-    return 'axisym' if axisymmetric else 'general'
 
 
 def leg_lengths_kernel():
@@ -442,7 +524,7 @@ def jacobian_kernel():
     g = Graph({})
     kin = kinematics(g, PARAMS)
     return KernelSpec('jacobian', 'J_C (eq. 5), row-major.', g, [('x', X)],
-                      [('JC', list(jacobian_rows(kin)))] + _leg_checks(kin, True))
+                      [('JC', list(jacobian_rows(kin)))] + _leg_checks(kin))
 
 
 def leg_rates_kernel():
@@ -453,7 +535,7 @@ def leg_rates_kernel():
     v, omega = twist(g, kin, XD, 'q')
     Ld = jacobian_rows(kin) * sp.Matrix.vstack(v, omega)
     return KernelSpec('leg_rates', leg_rates_kernel.__doc__, g, [('x', X), ('xd', XD)],
-                      [('LLd', [leg.L for leg in kin.legs] + list(Ld))] + _leg_checks(kin, True))
+                      [('LLd', [leg.L for leg in kin.legs] + list(Ld))] + _leg_checks(kin))
 
 
 def gravity_force(g, P, kin):
@@ -463,85 +545,85 @@ def gravity_force(g, P, kin):
                              [(w_C, w_S, sp.zeros(3, 1))] * NUM_LEGS, g, 'g')
 
 
-def gravity_kernel():
+def gravity_kernel(variant):
     g = Graph({})
-    kin = kinematics(g, PARAMS)
+    kin = kinematics_of(g, variant)
     G = gravity_force(g, PARAMS, kin)
-    return KernelSpec('gravity_vector', 'G = sum_b J_b^T m_b g e_z (eqs. 72-76).', g,
-                      [('x', X)], [('G', list(G))] + _leg_checks(kin, True))
+    return _variant_spec(variant, 'gravity_vector', 'G = sum_b J_b^T m_b g e_z (eqs. 72-76).', g,
+                      [('x', X)], [('G', list(G))] + _leg_checks(kin))
 
 
-def mass_matrix_kernel(axisymmetric):
+def mass_matrix_kernel(variant):
     g = Graph({})
-    kin = kinematics(g, PARAMS, leg_frames=not axisymmetric)
-    M = twist_mass_matrix(g, PARAMS, kin, axisymmetric) * euler_map(kin)
-    return KernelSpec(f'mass_matrix_{_variant(axisymmetric)}',
+    kin = kinematics_of(g, variant)
+    M = twist_mass_matrix(g, PARAMS, kin, variant) * euler_map(kin)
+    return _variant_spec(variant, 'mass_matrix',
                       'M = M_t T (eqs. 19, 39, 51, 61, 69), row-major.', g, [('x', X)],
-                      [('M', list(M))] + _leg_checks(kin, axisymmetric))
+                      [('M', list(M))] + _leg_checks(kin))
 
 
-def twist_mass_matrix_kernel(axisymmetric):
+def twist_mass_matrix_kernel(variant):
     g = Graph({})
-    kin = kinematics(g, PARAMS, leg_frames=not axisymmetric)
-    Mt = twist_mass_matrix(g, PARAMS, kin, axisymmetric)
-    return KernelSpec(f'twist_mass_matrix_{_variant(axisymmetric)}',
+    kin = kinematics_of(g, variant)
+    Mt = twist_mass_matrix(g, PARAMS, kin, variant)
+    return _variant_spec(variant, 'twist_mass_matrix',
                       'M_t = sum_b J_b^T I_b J_b (eqs. 19, 39, 51, 61, 69), symmetric, row-major.', g,
-                      [('x', X)], [('Mt', list(Mt))] + _leg_checks(kin, axisymmetric))
+                      [('x', X)], [('Mt', list(Mt))] + _leg_checks(kin))
 
 
-def coriolis_vector_kernel(axisymmetric):
+def coriolis_vector_kernel(variant):
     g = Graph({x: xd for x, xd in zip(X, XD)})
-    kin = kinematics(g, PARAMS, leg_frames=not axisymmetric)
+    kin = kinematics_of(g, variant)
     v, omega = twist(g, kin, XD, 'q')
-    m = momenta(g, PARAMS, kin, v, omega, axisymmetric, 'q')
+    m = momenta(g, PARAMS, kin, v, omega, variant, 'q')
     W = momentum_rate_force(g, PARAMS, kin, m, False, 'q')
-    return KernelSpec(f'coriolis_vector_{_variant(axisymmetric)}',
+    return _variant_spec(variant, 'coriolis_vector',
                       'V xd = sum_b J_b^T d/dt(I_b J_b T) xd.', g, [('x', X), ('xd', XD)],
-                      [('Vxd', list(W))] + _leg_checks(kin, axisymmetric))
+                      [('Vxd', list(W))] + _leg_checks(kin))
 
 
-def coriolis_matrix_kernel(axisymmetric):
+def coriolis_matrix_kernel(variant):
     """Column j of V is sum_b J_b^T d/dt(I_b J_b T e_j) with e_j held constant."""
     g = Graph({x: xd for x, xd in zip(X, XD)})
-    kin = kinematics(g, PARAMS, leg_frames=not axisymmetric)
+    kin = kinematics_of(g, variant)
     V = sp.zeros(6, 6)
     for j in range(6):
         e = [1 if k == j else 0 for k in range(6)]
         v, omega = twist(g, kin, e, f'c{j}')
-        m = momenta(g, PARAMS, kin, v, omega, axisymmetric, f'c{j}')
+        m = momenta(g, PARAMS, kin, v, omega, variant, f'c{j}')
         V[:, j] = momentum_rate_force(g, PARAMS, kin, m, False, f'c{j}')
-    return KernelSpec(f'coriolis_matrix_{_variant(axisymmetric)}',
+    return _variant_spec(variant, 'coriolis_matrix',
                       coriolis_matrix_kernel.__doc__ + ' Row-major.', g,
-                      [('x', X), ('xd', XD)], [('V', list(V))] + _leg_checks(kin, axisymmetric))
+                      [('x', X), ('xd', XD)], [('V', list(V))] + _leg_checks(kin))
 
 
-def inverse_dynamics_kernel(axisymmetric):
+def inverse_dynamics_kernel(variant):
     g = Graph({**{x: xd for x, xd in zip(X, XD)}, **{xd: xdd for xd, xdd in zip(XD, XDD)}})
-    kin = kinematics(g, PARAMS, leg_frames=not axisymmetric)
+    kin = kinematics_of(g, variant)
     v, omega = twist(g, kin, XD, 'q')
-    m = momenta(g, PARAMS, kin, v, omega, axisymmetric, 'q')
+    m = momenta(g, PARAMS, kin, v, omega, variant, 'q')
     W = momentum_rate_force(g, PARAMS, kin, m, True, 'q')
-    return KernelSpec(f'inverse_dynamics_{_variant(axisymmetric)}',
+    return _variant_spec(variant, 'inverse_dynamics',
                       'W = M xdd + V xd + G and J_C (to solve J_C^T tau = W).', g,
                       [('x', X), ('xd', XD), ('xdd', XDD)],
                       [('W', list(W)), ('JC', list(jacobian_rows(kin)))]
-                      + _leg_checks(kin, axisymmetric))
+                      + _leg_checks(kin))
 
 
-def all_terms_kernel(axisymmetric):
+def all_terms_kernel(variant):
     """M = M_t T, V xd, G and J_C of one state, from one pass over its geometry: the terms
     of M xdd + V xd + G = J_C^T tau (eqs. 5, 19, 39, 51, 61, 69, 72-76)."""
     g = Graph({x: xd for x, xd in zip(X, XD)})
     P = PARAMS
-    kin = kinematics(g, P, leg_frames=not axisymmetric)
-    M = twist_mass_matrix(g, P, kin, axisymmetric) * euler_map(kin)
+    kin = kinematics_of(g, variant)
+    M = twist_mass_matrix(g, P, kin, variant) * euler_map(kin)
     v, omega = twist(g, kin, XD, 'q')
-    Vxd = momentum_rate_force(g, P, kin, momenta(g, P, kin, v, omega, axisymmetric, 'q'), False, 'q')
+    Vxd = momentum_rate_force(g, P, kin, momenta(g, P, kin, v, omega, variant, 'q'), False, 'q')
     G = gravity_force(g, P, kin)
-    return KernelSpec(f'all_terms_{_variant(axisymmetric)}', all_terms_kernel.__doc__ + ' Row-major.', g,
+    return _variant_spec(variant, 'all_terms', all_terms_kernel.__doc__ + ' Row-major.', g,
                       [('x', X), ('xd', XD)],
                       [('terms', list(M) + list(Vxd) + list(G) + list(jacobian_rows(kin)))]
-                      + _leg_checks(kin, axisymmetric))
+                      + _leg_checks(kin))
 
 
 #: Inputs of the per-leg kernel: the leg vector l, the velocity w and the acceleration a of
@@ -550,8 +632,11 @@ LEG_POINT = _symbols('P', 11)
 LEG_TAU = _symbols('tau_leg', 1)
 #: Size of the per-leg outputs of `leg_derivatives_kernel`: f (3), df/d[l; w; a] (27), u (3).
 LEG_OUT = 33
-#: Size of the per-leg outputs of `leg_points_kernel`: the inputs of the leg kernel, then r_i.
+#: Size of the per-leg outputs of `leg_points_kernel`: the inputs of the leg kernel, then r_i
+#: (and, for the general model, the joint's first axis a_i after them).
 POINT_OUT = len(LEG_POINT) + 3
+#: The joint's first axis a_i, the general model's further input of the per-leg kernel.
+LEG_AXIS = _symbols('A', 3)
 
 
 def _point_motion(g, kin, v, omega):
@@ -568,19 +653,22 @@ def _accelerated_graph():
     return Graph({**{x: xd for x, xd in zip(X, XD)}, **{xd: xdd for xd, xdd in zip(XD, XDD)}})
 
 
-def leg_points_kernel():
+def leg_points_kernel(variant):
     """[l; w; a; |l|; sqrt(l_x^2 + l_y^2); r] of every leg's P_i (`_point_motion`), 14 per
-    leg, interleaved (entry k of leg i at k * 6 + i): the inputs of the per-leg kernels."""
+    leg, interleaved (entry k of leg i at k * 6 + i): the inputs of the per-leg kernels; for
+    the general model, then the joint's first axis a_i (17 per leg)."""
     g = _accelerated_graph()
     kin = kinematics(g, PARAMS)
     v, omega = twist(g, kin, XD, 'q')
     points = [list(l) + list(w) + list(a) + [leg.L, sp.sqrt(l[0] ** 2 + l[1] ** 2)] + list(leg.r)
-              for leg, (l, w, a) in zip(kin.legs, _point_motion(g, kin, v, omega))]
-    return KernelSpec('leg_points', leg_points_kernel.__doc__, g, [('x', X), ('xd', XD), ('xdd', XDD)],
-                      [('lwa', [points[i][k] for k in range(POINT_OUT) for i in range(NUM_LEGS)])])
+              + (list(PARAMS.axes[i]) if variant == 'general' else [])
+              for i, (leg, (l, w, a)) in enumerate(zip(kin.legs, _point_motion(g, kin, v, omega)))]
+    return _variant_spec(variant, 'leg_points', leg_points_kernel.__doc__, g,
+                      [('x', X), ('xd', XD), ('xdd', XDD)],
+                      [('lwa', [points[i][k] for k in range(len(points[0])) for i in range(NUM_LEGS)])])
 
 
-def leg_derivatives_kernel(axisymmetric):
+def leg_derivatives_kernel(variant):
     """One leg's share of the residual r = M xdd + V xd + G - J_C^T tau, as the force f at
     P_i (r gets [f; r_i x f], see `generalized_force`): the leg momenta (eqs. 27-29, 55-57,
     65) and their rates by forward mode along l' = w, w' = a, gravity (eqs. 72-76) and the
@@ -596,8 +684,9 @@ def leg_derivatives_kernel(axisymmetric):
     # dL = u . dl, dh = (l_x dl_x + l_y dl_y) / h
     along = lambda d: {L: _dot(l, d) / L, h: (l[0] * d[0] + l[1] * d[1]) / h}
     g = Graph({**dict(zip(l, w)), **dict(zip(w, a)), **along(w)})
-    leg = leg_geometry(g, l, None, 'i', not axisymmetric, (L, h))
-    v_C, v_S, h_L = leg_momenta(g, P, leg, w, axisymmetric, 'i')
+    general = variant == 'general'
+    leg = leg_geometry(g, l, None, 'i', variant == 'frames', (L, h), axis=sp.Matrix(LEG_AXIS) if general else None)
+    v_C, v_S, h_L = leg_momenta(g, P, leg, w, variant, 'i')
     _, w_C, w_S = _gravity_forces(P, True)
     rate = lambda vec: vec.applyfunc(g.rate)
     f = leg_force(g, P, leg, P.m_C * rate(v_C) + w_C, P.m_S * rate(v_S) + w_S, rate(h_L), 'i') - LEG_TAU[0] * leg.u
@@ -607,8 +696,9 @@ def leg_derivatives_kernel(axisymmetric):
         tangent = Tangent(g, {s: sp.S.One, **(along(e) if k < 3 else {})}, f'D{k}')
         columns.append([tangent(c) for c in f])
     out = list(f) + [columns[k][c] for c in range(3) for k in range(9)] + list(leg.u)
-    return KernelSpec(f'leg_derivatives_{_variant(axisymmetric)}', leg_derivatives_kernel.__doc__, g,
-                      [('lwa', LEG_POINT), ('tau', LEG_TAU)], [('legs', out)], lanes=NUM_LEGS)
+    return _variant_spec(variant, 'leg_derivatives', leg_derivatives_kernel.__doc__, g,
+                      [('lwa', LEG_POINT + (_symbols('Pr', 3) + LEG_AXIS if general else [])), ('tau', LEG_TAU)],
+                      [('legs', out)], lanes=NUM_LEGS)
 
 
 def _directions(forward):
@@ -649,7 +739,7 @@ def leg_chain_kernel(forward):
                       lanes=NUM_LEGS, shared=('x', 'xd', 'xdd'))
 
 
-def residual_derivatives_kernel(forward):
+def residual_derivatives_kernel(forward, variant):
     """The partials of the residual r(x, xd, xdd, tau) = M xdd + V xd + G - J_C^T tau of the
     equation of motion (eqs. 5, 19, 39, 51, 61, 69, 72-76) at any (xdd, tau): the platform's
     own terms [m_P (v' + g e_z); d/dt(I_P omega)] by forward mode along each input, plus the
@@ -659,11 +749,12 @@ def residual_derivatives_kernel(forward):
     forward dynamics (`forward`) M [dxdd/dx, dxdd/dxd, dxdd/dtau] = Z = [-R_x, -R_xd, J_C^T]."""
     P = PARAMS
     g = _accelerated_graph()
-    kin = kinematics(g, P)
+    kin = kinematics_of(g, variant)
     v, omega = twist(g, kin, XD, 'q')
     w_P, _, _ = _gravity_forces(P, True)
     rate = lambda vec: vec.applyfunc(g.rate)
-    platform = sp.Matrix.vstack(P.m_P * rate(v) + w_P, rate(platform_angular_momentum(g, P, kin, omega, 'q')))
+    platform = platform_force(kin, sp.Matrix.vstack(P.m_P * rate(platform_velocity(g, kin, v, omega, 'q')) + w_P,
+                                                    rate(platform_angular_momentum(g, P, kin, omega, 'q'))))
     columns = [[(-1 if forward else 1) * Tangent(g, {s: sp.S.One}, f'{tag}{j}')(e) for e in platform]
                for tag, inputs in _directions(forward) for j, s in enumerate(inputs)]
     ncol = len(columns)
@@ -678,7 +769,7 @@ def residual_derivatives_kernel(forward):
             rv = sp.Matrix([lwa[k * NUM_LEGS + leg] for k in range(POINT_OUT - 3, POINT_OUT)])
             for i, e in enumerate(list(u) + list(_cross(rv, u))):
                 Z[i].append(e)
-    return KernelSpec(f'residual_derivatives_{"forward" if forward else "inverse"}',
+    return _variant_spec(variant, f'residual_derivatives_{"forward" if forward else "inverse"}',
                       residual_derivatives_kernel.__doc__, g,
                       [('x', X), ('xd', XD), ('xdd', XDD), ('chain', chain)]
                       + ([('lwa', lwa), ('legs', legs)] if forward else []),
@@ -694,30 +785,30 @@ def euler_rates_inverse(kin):
                       [cps / cth, sps / cth, 0]])
 
 
-def forward_dynamics_kernel(axisymmetric):
+def forward_dynamics_kernel(variant):
     """Upper triangle of M_t, rhs = J_C^T tau - V xd - G, J_A^-1 and cos(theta).
 
     The C code solves M_t y = rhs (y = T xdd) and returns xdd = [y_v; J_A^-1 y_w].
     """
     g = Graph({x: xd for x, xd in zip(X, XD)})
-    kin = kinematics(g, PARAMS, leg_frames=not axisymmetric)
-    Mt = twist_mass_matrix(g, PARAMS, kin, axisymmetric)
+    kin = kinematics_of(g, variant)
+    Mt = twist_mass_matrix(g, PARAMS, kin, variant)
     v, omega = twist(g, kin, XD, 'q')
-    m = momenta(g, PARAMS, kin, v, omega, axisymmetric, 'q')
+    m = momenta(g, PARAMS, kin, v, omega, variant, 'q')
     rhs = jacobian_rows(kin).T * sp.Matrix(TAU) - momentum_rate_force(g, PARAMS, kin, m, True, 'q')
-    return KernelSpec(f'forward_dynamics_{_variant(axisymmetric)}',
+    return _variant_spec(variant, 'forward_dynamics',
                       forward_dynamics_kernel.__doc__, g,
                       [('x', X), ('xd', XD), ('tau', TAU)],
                       [('Mt', [Mt[j, k] for j in range(6) for k in range(j, 6)]), ('rhs', list(rhs)),
                        ('JAinv', list(euler_rates_inverse(kin))), ('ctheta', [kin.c_theta])]
-                      + _leg_checks(kin, axisymmetric))
+                      + _leg_checks(kin))
 
 
 @dataclass(frozen=True)
 class Kernels:
-    """A step running a kernel (the axisymmetric or the general one, by the leg inertias)
+    """A step running a kernel (one of its variants, by the parameters: `VARIANTS`, `MODELS`)
     on the given arrays: the function's inputs or arrays computed by earlier steps."""
-    builders: tuple   # builders of the kernel: one, or the axisymmetric and the general one
+    builders: tuple   # builders of the kernel: one, or one per variant
     inputs: tuple     # the C arrays passed as its inputs
 
 
@@ -725,9 +816,9 @@ class Kernels:
 class Function:
     """A public C function `stewart_<name>(p, <inputs>, <scalars>, <outputs>)`.
 
-    It checks that the parameters and inputs are finite, runs its kernel (the axisymmetric
-    or the general one, by the leg inertias), checks the legs the kernel reports (`L2`,
-    `h2`), then runs `steps` while the status is STEWART_OK, and returns the status with
+    It checks that the parameters and inputs are finite, runs its kernel (the first variant
+    whose test holds: `VARIANTS`, `MODELS`), checks the legs the kernel reports (`L2`,
+    `h2`, `n2`), then runs `steps` while the status is STEWART_OK, and returns the status with
     every output NaN unless it is STEWART_OK and all outputs are finite.  A step is a C
     function returning a status (the solvers of `linsolve`, or codegen/templates/runtime.c),
     called with kernel outputs, `scratch` arrays, outputs or constants, or a further kernel
@@ -738,30 +829,50 @@ class Function:
     doc: str
     inputs: tuple     # its input arrays, 6 doubles each
     outputs: tuple    # (array, number of doubles) of its outputs
-    kernels: tuple    # builders of its kernel: one, or the axisymmetric and the general one
+    kernels: tuple    # builders of its kernel: one, or one per variant
     steps: tuple = ()    # (C function, argument arrays) or `Kernels`
     scratch: tuple = ()  # (array, size) of the steps' intermediate arrays
     scalars: tuple = ()  # its scalar (double) inputs
     template: str = ''   # the template file of a function written in C
 
 
-def _variants(build):
-    return tuple(partial(build, axisymmetric) for axisymmetric in (True, False))
+#: The kernel variants, in the order a public function tries them, with the C test under
+#: which each runs (the last runs otherwise): the paper's model with axisymmetric legs, the
+#: paper's model with legs in the frames of eqs. 43-48 (I_yy != I_zz), the general model.
+VARIANTS = {'axisym': 'stewart_is_paper_model(p) && stewart_is_axisymmetric(p)',
+            'frames': 'stewart_is_paper_model(p)', 'general': None}
+#: The variants of kernels that do not involve the legs' inertia.
+MODELS = {'paper': 'stewart_is_paper_model(p)', 'general': None}
+
+
+def _named(name, variant):
+    """A kernel's C name: the paper model's keeps the name of a kernel with no variants."""
+    return name if variant == 'paper' else f'{name}_{variant}'
+
+
+def _variant_spec(variant, name, *args, **kwargs):
+    """The `KernelSpec` of a kernel `variant` (of `VARIANTS` or `MODELS`), named by `_named`."""
+    return KernelSpec(_named(name, variant), *args, when={**VARIANTS, **MODELS}[variant], **kwargs)
+
+
+def _variants(build, *args, variants=VARIANTS):
+    return tuple(partial(build, *args, variant) for variant in variants)
 
 
 INVERSE_DYNAMICS = _variants(inverse_dynamics_kernel)
 FORWARD_DYNAMICS = _variants(forward_dynamics_kernel)
 LEG_DERIVATIVES = _variants(leg_derivatives_kernel)
+LEG_POINTS = _variants(leg_points_kernel, variants=MODELS)
 
 
 
 def _residual_steps(forward):
     """The residual's partials Z at (x, xd, xdd, tau): P_i's motion, the legs, the chain rule
     per leg, the sum with the platform's terms."""
-    return (Kernels((leg_points_kernel,), ('x', 'xd', 'xdd')),
+    return (Kernels(LEG_POINTS, ('x', 'xd', 'xdd')),
             Kernels(LEG_DERIVATIVES, ('lwa', 'tau')),
             Kernels((partial(leg_chain_kernel, forward),), ('x', 'xd', 'xdd', 'lwa', 'legs')),
-            Kernels((partial(residual_derivatives_kernel, forward),),
+            Kernels(_variants(residual_derivatives_kernel, forward, variants=MODELS),
                     ('x', 'xd', 'xdd', 'chain') + (('lwa', 'legs') if forward else ())))
 
 #: Scratch arrays of the solves: the factors of J_C^T and of M_t (`linsolve`).
@@ -783,7 +894,7 @@ FUNCTIONS = (
     Function('coriolis_matrix', 'V(x, xd).', ('x', 'xd'), (('V', 36),), _variants(coriolis_matrix_kernel)),
     Function('coriolis_vector', 'V xd without forming V.', ('x', 'xd'), (('Vxd', 6),),
              _variants(coriolis_vector_kernel)),
-    Function('gravity_vector', 'G(x).', ('x',), (('G', 6),), (gravity_kernel,)),
+    Function('gravity_vector', 'G(x).', ('x',), (('G', 6),), _variants(gravity_kernel, variants=MODELS)),
     Function('all_terms', 'M, V xd, G and J_C in one pass: terms = [M (36); Vxd (6); G (6); JC (36)].',
              ('x', 'xd'), (('terms', 84),), _variants(all_terms_kernel)),
     Function('inverse_dynamics', 'tau = J_C^-T (M xdd + V xd + G).', ('x', 'xd', 'xdd'), (('tau', 6),),

@@ -16,6 +16,7 @@ cdef extern from "stewart_model.h" nogil:
 @STATUS@
     const char *stewart_status_message(int status)
     int stewart_is_axisymmetric(const stewart_params *p)
+    int stewart_is_paper_model(const stewart_params *p)
 @FUNCTIONS@
     int stewart_batch_lanes()
 @BATCH@
@@ -38,6 +39,20 @@ cdef inline tuple stewart_params_fields():
     )
 
 
+cdef inline dict stewart_params_sources():
+    """{member: the stewart.PlatformParams attribute (field or property) it is copied from}."""
+    return {
+@SOURCES@
+    }
+
+
+cdef inline tuple stewart_params_inputs():
+    """The fields of a stewart.PlatformParams the members of stewart_params are copied from."""
+    return (
+@INPUTS@
+    )
+
+
 cdef inline dict stewart_params_left_out():
     """The fields of a stewart.PlatformParams with no member in stewart_params, and why."""
     return {
@@ -50,7 +65,7 @@ cdef inline int stewart_params_fill(stewart_params *p, object params) except -1:
     fields are exactly the members of stewart_params and the fields left out."""
     cdef Py_ssize_t i0, i1
     fields = frozenset(params.__dataclass_fields__)
-    expected = frozenset([name for name, _ in stewart_params_fields()]) | stewart_params_left_out().keys()
+    expected = frozenset(stewart_params_inputs()) | stewart_params_left_out().keys()
     if fields != expected:
         raise TypeError(
             f"parameters do not match the C model's: {sorted(fields - expected)} not in it, "
@@ -64,7 +79,7 @@ def _copy(field):
     """Cython lines setting member `field` of p from params."""
     if not field.shape:
         return [f'    p.{field.name} = params.{field.name}']
-    lines = [f'    value = params.{field.name}']
+    lines = [f'    value = params.{field.source or field.name}']
     loops = [f'i{k}' for k in range(len(field.shape))]
     for depth, (index, n) in enumerate(zip(loops, field.shape)):
         lines.append(f'    {"    " * depth}for {index} in range({n}):')
@@ -84,6 +99,8 @@ def pxd(fields, left_out, functions):
         'FUNCTIONS': [f'    {prototype(f, sizes=False)}' for f in functions],
         'BATCH': [f'    {batch_prototype(f)}' for f in functions if batched(f)],
         'FIELDS': [f'        ({f.name!r}, {f.shape!r}),' for f in fields],
+        'SOURCES': [f'        {f.name!r}: {f.source or f.name!r},' for f in fields],
+        'INPUTS': [f'        {name!r},' for name in dict.fromkeys(f.field or f.name for f in fields)],
         'LEFT_OUT': [f'        {name!r}: {why!r},' for name, why in left_out.items()],
         'COPY': [line for f in fields for line in _copy(f)],
         # Cython writes a function of no arguments as f(), C as f(void).

@@ -20,6 +20,8 @@ class ParamField:
     shape: tuple     # () for a scalar, (n,) or (n, m) for an array
     doc: str = ''    # its C comment
     symbol: str = None   # prefix of its symbol names in the C (default: `attr`)
+    source: str = None   # the `PlatformParams` attribute (field or property) it is copied from
+    field: str = None    # the `PlatformParams` field it stands for (default: `name`)
 
     @property
     def size(self):
@@ -46,20 +48,27 @@ PARAM_FIELDS = (
     ParamField('base_points', 'base', (6, 3), 'b_i in {B}', symbol='b'),
     ParamField('platform_points', 'plat', (6, 3), 'p_i in {P}', symbol='pp'),
     ParamField('platform_mass', 'm_P', ()),
-    ParamField('platform_inertia', 'I_P', (3,), "Ixx, Iyy, Izz in {P} about the COM at {P}'s origin"),
+    ParamField('platform_inertia', 'I_P', (3,), 'Ixx, Iyy, Izz in {P} about the centre of mass',
+               source='platform_inertia_diagonal'),
+    ParamField('platform_inertia_products', 'I_Pp', (3,), 'Ixy, Ixz, Iyz (tensor entries) in {P}',
+               source='platform_inertia_products', field='platform_inertia'),
+    ParamField('platform_com', 'c_P', (3,), 'the centre of mass in {P}', symbol='cP',
+               source='platform_com_in_model'),
     ParamField('cylinder_mass', 'm_C', ()),
-    ParamField('cylinder_inertia', 'I_C', (3,), 'axial, Iyy, Izz in {C_i}'),
+    ParamField('cylinder_inertia', 'I_C', (3,), 'axial, Iyy, Izz in {C_i}', source='cylinder_inertia_in_model'),
     ParamField('cylinder_com_distance', 'b_C', (), 'b_C from B_i along the leg'),
     ParamField('piston_mass', 'm_S', ()),
-    ParamField('piston_inertia', 'I_S', (3,), 'axial, Iyy, Izz in {S_i}'),
+    ParamField('piston_inertia', 'I_S', (3,), 'axial, Iyy, Izz in {S_i}', source='piston_inertia_in_model'),
     ParamField('piston_com_distance', 'b_S', (), 'b_S from P_i back along the leg'),
     ParamField('gravity', 'g', (), 'm/s^2 along -z'),
+    ParamField('universal_joint_axes', 'axes', (6, 3),
+               'a_i in {B}, the first axis of each universal joint; all zero (and platform_com zero, '
+               'the products zero): the paper\'s model, whose legs do not spin (eq. 29)',
+               symbol='a', source='universal_joint_axes_in_model'),
 )
 
 #: `PlatformParams` fields with no member in `stewart_params`, and why.
 LEFT_OUT = {
     'leg_length_limits': 'the C model has no stroke limits (compare stewart_leg_lengths() with them)',
     'name': 'a label, not a model input',
-    'universal_joint_axes': 'the general model (issue 15); the paper model has legs that do not spin',
-    'platform_com': 'the general model (issue 15); the paper model has the centre of mass at the origin',
 }

@@ -15,6 +15,7 @@ typedef struct {
     const char *compiler;  /* the compiler's version string */
     const char *(*status_message)(int status);
     int (*is_axisymmetric)(const stewart_params *p);
+    int (*is_paper_model)(const stewart_params *p);
     int (*batch_lanes)(void);
     int (*leg_lengths)(const stewart_params *p, const double *x, double *L);
     int (*jacobian)(const stewart_params *p, const double *x, double *JC);

@@ -19,11 +19,19 @@
  *        M(x) xdd + V(x, xd) xd + G(x) = J_C(x)^T tau
  *    with M = M_t T (NOT symmetric; M_t, the twist-space mass matrix, is
  *    symmetric positive definite).
- *  - Leg bodies (cylinder, piston) do not spin about the leg axis, so their
- *    axial inertia (first entry of cylinder_inertia / piston_inertia) has no
- *    effect.  Legs with cylinder and piston Iyy == Izz (exactly) use the
- *    axisymmetric kernels, which work for vertical legs; otherwise the frame
- *    {C_i} (y_C horizontal) is used, undefined for vertical legs.
+ *  - The paper's model (stewart_is_paper_model): leg bodies (cylinder, piston)
+ *    do not spin about the leg axis, so their axial inertia (first entry of
+ *    cylinder_inertia / piston_inertia) has no effect.  Legs with cylinder and
+ *    piston Iyy == Izz (exactly) use the axisymmetric kernels, which work for
+ *    vertical legs; otherwise the frame {C_i} (y_C horizontal) is used,
+ *    undefined for vertical legs.
+ *  - The general model (any of universal_joint_axes, platform_com,
+ *    platform_inertia_products nonzero): each leg turns with its universal
+ *    joint, in the frame x = u_i, y = a_i x u_i / |a_i x u_i|, z = x x y with
+ *    unit first axes a_i, and its principal inertias (axial, Iyy, Izz) are in
+ *    that frame; the platform's centre of mass is platform_com and its inertia
+ *    tensor has the products platform_inertia_products.  A leg along its
+ *    joint's first axis is the joint's gimbal lock.
  *
  * Arrays: x, xd, xdd, tau, L, G, Vxd, xn, xdn: 6 doubles; LLd: 12 doubles ([L; Ldot]);
  * JC, M, Mt, V: 36 doubles, row-major; terms: 84 doubles ([M; Vxd; G; JC]).
@@ -43,17 +51,20 @@ extern "C" {
 #endif
 
 typedef struct {
-    double base_points[6][3];      /* b_i in {B} */
-    double platform_points[6][3];  /* p_i in {P} */
+    double base_points[6][3];             /* b_i in {B} */
+    double platform_points[6][3];         /* p_i in {P} */
     double platform_mass;
-    double platform_inertia[3];    /* Ixx, Iyy, Izz in {P} about the COM at {P}'s origin */
+    double platform_inertia[3];           /* Ixx, Iyy, Izz in {P} about the centre of mass */
+    double platform_inertia_products[3];  /* Ixy, Ixz, Iyz (tensor entries) in {P} */
+    double platform_com[3];               /* the centre of mass in {P} */
     double cylinder_mass;
-    double cylinder_inertia[3];    /* axial, Iyy, Izz in {C_i} */
-    double cylinder_com_distance;  /* b_C from B_i along the leg */
+    double cylinder_inertia[3];           /* axial, Iyy, Izz in {C_i} */
+    double cylinder_com_distance;         /* b_C from B_i along the leg */
     double piston_mass;
-    double piston_inertia[3];      /* axial, Iyy, Izz in {S_i} */
-    double piston_com_distance;    /* b_S from P_i back along the leg */
-    double gravity;                /* m/s^2 along -z */
+    double piston_inertia[3];             /* axial, Iyy, Izz in {S_i} */
+    double piston_com_distance;           /* b_S from P_i back along the leg */
+    double gravity;                       /* m/s^2 along -z */
+    double universal_joint_axes[6][3];    /* a_i in {B}, the first axis of each universal joint; all zero (and platform_com zero, the products zero): the paper's model, whose legs do not spin (eq. 29) */
 } stewart_params;
 
 enum {
@@ -94,6 +105,10 @@ const char *stewart_status_message(int status);
 
 /* 1 if cylinder and piston inertias have Iyy == Izz exactly, else 0. */
 int stewart_is_axisymmetric(const stewart_params *p);
+
+/* 1 for the paper's model: universal_joint_axes, platform_com and
+ * platform_inertia_products all zero; else 0 (the general model). */
+int stewart_is_paper_model(const stewart_params *p);
 
 /* Leg lengths L_i (a zero length is not an error here). */
 int stewart_leg_lengths(const stewart_params *p, const double x[6], double L[6]);
@@ -163,31 +178,43 @@ int stewart_batch_forward_dynamics(const stewart_params *p, size_t n, const doub
 int stewart_batch_rk4_step(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status);
 
 /* Operation counts of the generated kernels (sympy count_ops after cse):
- *   leg_lengths                      192
- *   jacobian                         276
- *   leg_rates                        350
- *   mass_matrix_axisym              1774
- *   mass_matrix_general             2045
- *   twist_mass_matrix_axisym        1726
- *   twist_mass_matrix_general       1997
- *   coriolis_matrix_axisym          5028
- *   coriolis_matrix_general         6703
- *   coriolis_vector_axisym          1688
- *   coriolis_vector_general         2187
- *   gravity_vector                   414
- *   all_terms_axisym                3435
- *   all_terms_general               4126
- *   inverse_dynamics_axisym         1781
- *   inverse_dynamics_general        2280
- *   forward_dynamics_axisym         3299
- *   forward_dynamics_general        3990
- *   leg_points                       594
- *   leg_derivatives_axisym          1347
- *   leg_derivatives_general         1995
- *   leg_chain_inverse                809
- *   residual_derivatives_inverse    1571
- *   leg_chain_forward                752
- *   residual_derivatives_forward    1388
+ *   leg_lengths                              192
+ *   jacobian                                 276
+ *   leg_rates                                350
+ *   mass_matrix_axisym                      1774
+ *   mass_matrix_frames                      2045
+ *   mass_matrix_general                     2492
+ *   twist_mass_matrix_axisym                1726
+ *   twist_mass_matrix_frames                1997
+ *   twist_mass_matrix_general               2444
+ *   coriolis_matrix_axisym                  5028
+ *   coriolis_matrix_frames                  6703
+ *   coriolis_matrix_general                 8030
+ *   coriolis_vector_axisym                  1688
+ *   coriolis_vector_frames                  2187
+ *   coriolis_vector_general                 2565
+ *   gravity_vector                           414
+ *   gravity_vector_general                   512
+ *   all_terms_axisym                        3435
+ *   all_terms_frames                        4126
+ *   all_terms_general                       4889
+ *   inverse_dynamics_axisym                 1781
+ *   inverse_dynamics_frames                 2280
+ *   inverse_dynamics_general                2655
+ *   forward_dynamics_axisym                 3299
+ *   forward_dynamics_frames                 3990
+ *   forward_dynamics_general                4749
+ *   leg_points                               594
+ *   leg_points_general                       594
+ *   leg_derivatives_axisym                  1347
+ *   leg_derivatives_frames                  1995
+ *   leg_derivatives_general                 2226
+ *   leg_chain_inverse                        809
+ *   residual_derivatives_inverse            1571
+ *   residual_derivatives_inverse_general    2253
+ *   leg_chain_forward                        752
+ *   residual_derivatives_forward            1388
+ *   residual_derivatives_forward_general    1997
  */
 
 #ifdef __cplusplus

@@ -8,6 +8,8 @@ cdef extern from "stewart_model.h" nogil:
         double platform_points[6][3]
         double platform_mass
         double platform_inertia[3]
+        double platform_inertia_products[3]
+        double platform_com[3]
         double cylinder_mass
         double cylinder_inertia[3]
         double cylinder_com_distance
@@ -15,6 +17,7 @@ cdef extern from "stewart_model.h" nogil:
         double piston_inertia[3]
         double piston_com_distance
         double gravity
+        double universal_joint_axes[6][3]
     enum:
         STEWART_OK
         STEWART_ERR_NONFINITE
@@ -32,6 +35,7 @@ cdef extern from "stewart_model.h" nogil:
     const double STEWART_GIMBAL_TOL
     const char *stewart_status_message(int status)
     int stewart_is_axisymmetric(const stewart_params *p)
+    int stewart_is_paper_model(const stewart_params *p)
     int stewart_leg_lengths(const stewart_params *p, const double *x, double *L)
     int stewart_jacobian(const stewart_params *p, const double *x, double *JC)
     int stewart_leg_rates(const stewart_params *p, const double *x, const double *xd, double *LLd)
@@ -69,6 +73,7 @@ cdef extern from "stewart_dispatch.h" nogil:
         const char *compiler
         const char *(*status_message)(int status) noexcept nogil
         int (*is_axisymmetric)(const stewart_params *p) noexcept nogil
+        int (*is_paper_model)(const stewart_params *p) noexcept nogil
         int (*batch_lanes)() noexcept nogil
         int (*leg_lengths)(const stewart_params *p, const double *x, double *L) noexcept nogil
         int (*jacobian)(const stewart_params *p, const double *x, double *JC) noexcept nogil
@@ -121,6 +126,8 @@ cdef inline tuple stewart_params_fields():
         ('platform_points', (6, 3)),
         ('platform_mass', ()),
         ('platform_inertia', (3,)),
+        ('platform_inertia_products', (3,)),
+        ('platform_com', (3,)),
         ('cylinder_mass', ()),
         ('cylinder_inertia', (3,)),
         ('cylinder_com_distance', ()),
@@ -128,6 +135,46 @@ cdef inline tuple stewart_params_fields():
         ('piston_inertia', (3,)),
         ('piston_com_distance', ()),
         ('gravity', ()),
+        ('universal_joint_axes', (6, 3)),
+    )
+
+
+cdef inline dict stewart_params_sources():
+    """{member: the stewart.PlatformParams attribute (field or property) it is copied from}."""
+    return {
+        'base_points': 'base_points',
+        'platform_points': 'platform_points',
+        'platform_mass': 'platform_mass',
+        'platform_inertia': 'platform_inertia_diagonal',
+        'platform_inertia_products': 'platform_inertia_products',
+        'platform_com': 'platform_com_in_model',
+        'cylinder_mass': 'cylinder_mass',
+        'cylinder_inertia': 'cylinder_inertia_in_model',
+        'cylinder_com_distance': 'cylinder_com_distance',
+        'piston_mass': 'piston_mass',
+        'piston_inertia': 'piston_inertia_in_model',
+        'piston_com_distance': 'piston_com_distance',
+        'gravity': 'gravity',
+        'universal_joint_axes': 'universal_joint_axes_in_model',
+    }
+
+
+cdef inline tuple stewart_params_inputs():
+    """The fields of a stewart.PlatformParams the members of stewart_params are copied from."""
+    return (
+        'base_points',
+        'platform_points',
+        'platform_mass',
+        'platform_inertia',
+        'platform_com',
+        'cylinder_mass',
+        'cylinder_inertia',
+        'cylinder_com_distance',
+        'piston_mass',
+        'piston_inertia',
+        'piston_com_distance',
+        'gravity',
+        'universal_joint_axes',
     )
 
 
@@ -136,8 +183,6 @@ cdef inline dict stewart_params_left_out():
     return {
         'leg_length_limits': 'the C model has no stroke limits (compare stewart_leg_lengths() with them)',
         'name': 'a label, not a model input',
-        'universal_joint_axes': 'the general model (issue 15); the paper model has legs that do not spin',
-        'platform_com': 'the general model (issue 15); the paper model has the centre of mass at the origin',
     }
 
 
@@ -146,7 +191,7 @@ cdef inline int stewart_params_fill(stewart_params *p, object params) except -1:
     fields are exactly the members of stewart_params and the fields left out."""
     cdef Py_ssize_t i0, i1
     fields = frozenset(params.__dataclass_fields__)
-    expected = frozenset([name for name, _ in stewart_params_fields()]) | stewart_params_left_out().keys()
+    expected = frozenset(stewart_params_inputs()) | stewart_params_left_out().keys()
     if fields != expected:
         raise TypeError(
             f"parameters do not match the C model's: {sorted(fields - expected)} not in it, "
@@ -160,18 +205,28 @@ cdef inline int stewart_params_fill(stewart_params *p, object params) except -1:
         for i1 in range(3):
             p.platform_points[i0][i1] = value[i0, i1]
     p.platform_mass = params.platform_mass
-    value = params.platform_inertia
+    value = params.platform_inertia_diagonal
     for i0 in range(3):
         p.platform_inertia[i0] = value[i0]
+    value = params.platform_inertia_products
+    for i0 in range(3):
+        p.platform_inertia_products[i0] = value[i0]
+    value = params.platform_com_in_model
+    for i0 in range(3):
+        p.platform_com[i0] = value[i0]
     p.cylinder_mass = params.cylinder_mass
-    value = params.cylinder_inertia
+    value = params.cylinder_inertia_in_model
     for i0 in range(3):
         p.cylinder_inertia[i0] = value[i0]
     p.cylinder_com_distance = params.cylinder_com_distance
     p.piston_mass = params.piston_mass
-    value = params.piston_inertia
+    value = params.piston_inertia_in_model
     for i0 in range(3):
         p.piston_inertia[i0] = value[i0]
     p.piston_com_distance = params.piston_com_distance
     p.gravity = params.gravity
+    value = params.universal_joint_axes_in_model
+    for i0 in range(6):
+        for i1 in range(3):
+            p.universal_joint_axes[i0][i1] = value[i0, i1]
     return 0

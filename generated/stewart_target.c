@@ -23,6 +23,7 @@
 #ifdef STEWART_PREFIX
 #define stewart_status_message STEWART_JOIN(STEWART_PREFIX, status_message)
 #define stewart_is_axisymmetric STEWART_JOIN(STEWART_PREFIX, is_axisymmetric)
+#define stewart_is_paper_model STEWART_JOIN(STEWART_PREFIX, is_paper_model)
 #define stewart_batch_lanes STEWART_JOIN(STEWART_PREFIX, batch_lanes)
 #define stewart_leg_lengths STEWART_JOIN(STEWART_PREFIX, leg_lengths)
 #define stewart_jacobian STEWART_JOIN(STEWART_PREFIX, jacobian)
@@ -60,6 +61,7 @@ const stewart_table STEWART_JOIN(stewart_table, STEWART_TARGET) = {
     STEWART_STRING(STEWART_TARGET), STEWART_TARGET_LEVEL, STEWART_TARGET_FLAGS, STEWART_COMPILER,
     stewart_status_message,
     stewart_is_axisymmetric,
+    stewart_is_paper_model,
     stewart_batch_lanes,
     stewart_leg_lengths,
     stewart_jacobian,

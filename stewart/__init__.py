@@ -12,7 +12,8 @@ the compiled model was built and which of its instruction-set paths runs
 (:func:`build_info`).
 """
 
-from . import capi, casadi_functions, conditions, kinematics, mjcf, newton_euler, optimize, reference, workspace
+from . import (capi, casadi_functions, conditions, exactness, kinematics, mjcf, newton_euler, optimize, reference,
+               workspace)
 from .capi import c_include_dir, c_sources
 from ._kernel import build_info
 from .errors import ConvergenceError, SingularityError
@@ -60,6 +61,7 @@ __all__ = [
     "kinematics",
     "reference",
     "newton_euler",
+    "exactness",
     "SingularityError",
     "conditions",
     "casadi_functions",

@@ -95,6 +95,10 @@ def build_info():
 #: (member, shape) of every member of the C struct stewart_params, in order: the fields of a
 #: PlatformParams that reach the C model (the generator's parameter schema).
 PARAM_FIELDS = stewart_params_fields()
+#: {member: the PlatformParams attribute (a field or a property) it is copied from}.
+PARAM_SOURCES = stewart_params_sources()
+#: The fields of a PlatformParams the members are copied from.
+PARAM_INPUTS = stewart_params_inputs()
 #: The fields of a PlatformParams with no member in stewart_params, and why.
 PARAMS_LEFT_OUT = stewart_params_left_out()
 

@@ -9,11 +9,11 @@ from typing import NamedTuple
 import numpy as np
 
 import stewart
-from stewart import reference
+from stewart import kinematics, reference
 from stewart.checks import relative_error
 
 __all__ = ["TARGETS", "Target", "median_time", "states", "thread_speedup", "kernel_figures", "simulation_figures",
-           "derivative_figures", "forward_differences", "kernel_rows", "measure_row", "format_table"]
+           "derivative_figures", "general_model_figures", "general_model_params", "forward_differences", "kernel_rows", "measure_row", "format_table"]
 
 
 def median_time(fn, number: int, repeat: int = 7) -> float:
@@ -71,6 +71,36 @@ def kernel_figures(preset: str, batch: int) -> dict:
     out["reference_single_inverse_dynamics_us"] = ref_single * 1e6
     out["speedup_batch_vs_reference"] = out["reference_batch_inverse_dynamics_us"] / out["batch_inverse_dynamics_us"]
     out["speedup_single_vs_reference"] = out["reference_single_inverse_dynamics_us"] / out["single_inverse_dynamics_us"]
+    return out
+
+
+def general_model_params(params):
+    """``params`` made a general-model platform: universal joints with horizontal tangential
+    first axes (:meth:`~stewart.PlatformParams.with_universal_joints`) carrying an off-centre
+    payload of a fifth of the platform's mass with a full tensor (its principal axes turned
+    from {P}'s)."""
+    size = float(np.max(np.abs(params.platform_points)))
+    mass = 0.2 * params.platform_mass
+    turn = kinematics.rotation(np.array([0, 0, 0, 0.3, 0.2, 0.1]))
+    tensor = turn @ np.diag([0.05, 0.07, 0.09]) @ turn.T * mass * size**2
+    return params.with_universal_joints().with_payload(mass, (0.1 * size, -0.05 * size, 0.08 * size), tensor)
+
+
+def general_model_figures(preset: str, batch: int) -> dict:
+    """Batch inverse and forward dynamics of the general model (:func:`general_model_params`)
+    against the paper's model of the same preset, timed in alternation in one run, and their
+    ratios."""
+    paper = stewart.Platform.preset(preset)
+    general = stewart.Platform(general_model_params(paper.params))
+    x, xd, xdd = states(paper.params, batch)
+    tau = paper.inverse_dynamics(x, xd, xdd)
+    out = {}
+    for name, run in (("inverse_dynamics", lambda p: p.inverse_dynamics(x, xd, xdd)),
+                      ("forward_dynamics", lambda p: p.forward_dynamics(x, xd, tau))):
+        times = np.array([[median_time(lambda: run(p), 3, 1) for p in (paper, general)] for _ in range(7)])
+        paper_us, general_us = np.median(times, axis=0) / batch * 1e6
+        out[f"general_batch_{name}_us"] = float(general_us)
+        out[f"general_over_paper_{name}"] = float(general_us / paper_us)
     return out
 
 
@@ -167,6 +197,8 @@ TARGETS: dict[str, Target] = {
     "threads2_speedup_inverse_dynamics_small": Target(1.8, False),
     "speedup_single_vs_reference": Target(1000.0, False),
     "rk4_pid_5s_at_1kHz_ms": Target(50.0, True),
+    "general_over_paper_inverse_dynamics": Target(1.15, True),
+    "general_over_paper_forward_dynamics": Target(1.15, True),
     # With the derivative kernels the generator writes about three times the C: the
     # derivatives issue set these two at 15 s and 45 s.
     "generation_s": Target(15.0, True),
@@ -197,6 +229,10 @@ KERNEL_MEASURES = [
     ("kernel speed-up over reference, one state", "speedup_single_vs_reference", 1.0, "x", ".0f"),
     ("kernel speed-up over reference, batches", "speedup_batch_vs_reference", 1.0, "x", ".0f"),
     ("5 s move, RK4 at 1 kHz with PID", "rk4_pid_5s_at_1kHz_ms", 1.0, "ms wall", ".1f"),
+    ("general model: inverse dynamics, C batch loop", "general_batch_inverse_dynamics_us", 1.0, "us/state", ".3f"),
+    ("general model: forward dynamics, C batch loop", "general_batch_forward_dynamics_us", 1.0, "us/state", ".3f"),
+    ("general model over the paper's: inverse dynamics", "general_over_paper_inverse_dynamics", 1.0, "x", ".2f"),
+    ("general model over the paper's: forward dynamics", "general_over_paper_forward_dynamics", 1.0, "x", ".2f"),
 ]
 
 

@@ -20,7 +20,7 @@ from typing import Any
 
 import numpy as np
 
-from ._kernel import PARAM_FIELDS, PARAMS_LEFT_OUT
+from ._kernel import PARAM_FIELDS, PARAM_INPUTS, PARAM_SOURCES, PARAMS_LEFT_OUT
 from .params import PlatformParams
 
 __all__ = ["c_include_dir", "c_sources", "export", "params_header", "params_initializer", "HEADER", "SOURCE",
@@ -101,10 +101,10 @@ def params_initializer(params: PlatformParams) -> str:
     schema leaves out (``TypeError`` otherwise).
     """
     for field in dataclasses.fields(params):
-        if field.name not in PARAMS_LEFT_OUT and field.name not in dict(PARAM_FIELDS):
+        if field.name not in PARAMS_LEFT_OUT and field.name not in PARAM_INPUTS:
             raise TypeError(f"params: field {field.name!r} is neither a member of stewart_params "
                             "nor left out of it")
-    members = [f"    .{name} = {_c_initializer(getattr(params, name))},\n" for name, _ in PARAM_FIELDS]
+    members = [f"    .{name} = {_c_initializer(getattr(params, PARAM_SOURCES[name]))},\n" for name, _ in PARAM_FIELDS]
     return "{\n" + "".join(members) + "}"
 
 

@@ -55,7 +55,7 @@ def energy(params: PlatformParams, x, xd) -> np.ndarray:
     mass at ``b_i + b_C u_i``, piston centre of mass at ``p + R p_i - b_S u_i``, potential
     ``g`` times the mass-weighted heights (eq. 72). Legs: without ``universal_joint_axes``,
     angular velocity ``u x udot`` (eq. 29) with inertia ``I_t (E - u u^T) + I_a u u^T``
-    (axisymmetric legs); with them, the leg frame ``e = (u, y, z)``,
+    (axisymmetric legs) or the principal moments in the frames of eqs. 44-47; with them, the leg frame ``e = (u, y, z)``,
     ``y = a x u / |a x u|``, turns at ``omega = (e_k x edot_k) / 2`` (summed over k) and the
     energy is ``sum_k I_k (omega . e_k)^2 / 2``. Analytic operations only, so complex-step
     derivatives apply.
@@ -83,7 +83,13 @@ def energy(params: PlatformParams, x, xd) -> np.ndarray:
     kinetic = kinetic + 0.5 * params.cylinder_mass * np.sum(cyl_vel * cyl_vel, axis=(-1, -2))
     kinetic = kinetic + 0.5 * params.piston_mass * np.sum(pis_vel * pis_vel, axis=(-1, -2))
     moments = params.cylinder_inertia + params.piston_inertia
-    if params.universal_joint_axes is None:
+    if params.universal_joint_axes is None and not params.is_axisymmetric:
+        # The paper's legs (eq. 29) in its frames of eqs. 44-47 (first axis z).
+        frame, _ = _leg_frames(np.array([0.0, 0.0, 1.0]), units, unit_dot)
+        leg_omega = np.cross(units, unit_dot)
+        kinetic = kinetic + 0.5 * sum(m * np.sum(np.sum(leg_omega * e, axis=-1) ** 2, axis=-1)
+                                      for m, e in zip(moments, frame))
+    elif params.universal_joint_axes is None:
         leg_omega = np.cross(units, unit_dot)
         along = np.sum(leg_omega * units, axis=-1)
         kinetic = kinetic + 0.5 * np.sum(

@@ -307,6 +307,49 @@ class PlatformParams:
     def _com(self) -> np.ndarray:
         return np.zeros(3) if self.platform_com is None else self.platform_com
 
+    @property
+    def platform_inertia_diagonal(self) -> np.ndarray:
+        """(I_xx, I_yy, I_zz), the diagonal of :attr:`platform_inertia_tensor` (the C model's
+        ``platform_inertia``)."""
+        return _readonly(np.diag(self.platform_inertia_tensor).copy())
+
+    @property
+    def platform_inertia_products(self) -> np.ndarray:
+        """(I_xy, I_xz, I_yz), the entries of :attr:`platform_inertia_tensor` off its diagonal
+        (the C model's ``platform_inertia_products``)."""
+        return _readonly(self.platform_inertia_tensor[[0, 0, 1], [1, 2, 2]].copy())
+
+    @property
+    def platform_com_in_model(self) -> np.ndarray:
+        """The centre of mass in {P} as the C model takes it: the origin for ``None``."""
+        return _readonly(np.zeros(3) if self.platform_com is None else self.platform_com.copy())
+
+    @property
+    def universal_joint_axes_in_model(self) -> np.ndarray:
+        """The joints' first axes as the C model takes them: zeros for the paper's model;
+        without ``universal_joint_axes`` in a general model (off-centre or full-tensor
+        payload), the z axis of {B}, whose frames are those of eqs. 44-47, with the legs'
+        axial inertia left out (:attr:`cylinder_inertia_in_model`) so that they do not spin."""
+        if self.universal_joint_axes is not None:
+            return self.universal_joint_axes
+        return _readonly(np.zeros((6, 3)) if self.is_paper_model else np.tile([0.0, 0.0, 1.0], (6, 1)))
+
+    @property
+    def cylinder_inertia_in_model(self) -> np.ndarray:
+        """cylinder_inertia as the C model takes it: without ``universal_joint_axes`` the legs
+        do not spin (eq. 29), so the axial moment is left out (it has no effect there)."""
+        return self._leg_inertia_in_model(self.cylinder_inertia)
+
+    @property
+    def piston_inertia_in_model(self) -> np.ndarray:
+        """piston_inertia as the C model takes it (see :attr:`cylinder_inertia_in_model`)."""
+        return self._leg_inertia_in_model(self.piston_inertia)
+
+    def _leg_inertia_in_model(self, inertia: np.ndarray) -> np.ndarray:
+        if self.universal_joint_axes is not None:
+            return inertia
+        return _readonly(np.array([0.0, inertia[1], inertia[2]]))
+
     def replace(self, **changes: Any) -> "PlatformParams":
         """A copy with some fields changed (validated again)."""
         return dataclasses.replace(self, **changes)

@@ -90,10 +90,6 @@ class Platform:
         self._home = kinematics.home_pose(params)
         self._home.flags.writeable = False
         kinematics.check_universal_joint_axes(params, self._home)
-        if not params.is_paper_model or params.platform_inertia.shape != (3,):
-            raise ValueError("params: the compiled model takes the paper's parameters (no universal_joint_axes, "
-                             "no platform_com, 3 principal moments); evaluate the general model with "
-                             "stewart.reference")
         self._kernel = Kernel(params, threads)
 
     @classmethod

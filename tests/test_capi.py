@@ -11,7 +11,7 @@ import stewart
 from c_example import CFLAGS, EXAMPLE, check_example, run_command
 from conftest import random_params
 from stewart import capi
-from stewart._kernel import PARAM_FIELDS, PARAMS_LEFT_OUT
+from stewart._kernel import PARAM_FIELDS, PARAM_INPUTS, PARAM_SOURCES, PARAMS_LEFT_OUT
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 
@@ -67,12 +67,11 @@ def test_params_header_sets_every_member_by_name(tmp_path):
     run_command([os.environ.get("CC", "cc"), *CFLAGS, f"-I{tmp_path}", f"-I{ROOT / 'generated'}",
                  tmp_path / "dump.c", "-o", exe])
     printed = [float.fromhex(v) for v in run_command([exe]).split()]
-    expected = [float(v) for name in members for v in np.ravel(getattr(params, name))]
+    expected = [float(v) for name in members for v in np.ravel(getattr(params, PARAM_SOURCES[name]))]
     assert printed == expected
     # Every field reaches the struct except those the header names as left out.
     fields = {f.name for f in dataclasses.fields(stewart.PlatformParams)}
-    assert fields - set(members) == set(PARAMS_LEFT_OUT) == {"leg_length_limits", "name", "universal_joint_axes",
-                                                          "platform_com"}
+    assert fields - set(PARAM_INPUTS) == set(PARAMS_LEFT_OUT) == {"leg_length_limits", "name"}
     header = capi.params_header(params)
     assert "leg_length_limits = (0.1, 3.0)" in header and "'test * / platform\\n\\xe9'" in header
 

@@ -10,6 +10,7 @@ from hypothesis import HealthCheck, event, given, settings, strategies as st
 
 import stewart
 from interrupt import press_ctrl_c_after
+from stewart import exactness
 from stewart.cli import main
 
 
@@ -293,6 +294,11 @@ def test_json_summaries(capsys):
     summary = json.loads(out)
     assert code == 0 and summary["passed"] and len(summary["checks"]) == 18
     assert all(c["worst"] <= c["bound"] for c in summary["checks"])
+    code, out, _ = _run(["exactness", "--preset", "motion_simulator", "--states", "20", "--seed", "2", "--json"], capsys)
+    summary = json.loads(out)
+    effect = exactness.leg_spin_effect(stewart.PlatformParams.preset("motion_simulator"), 20, 2)
+    assert code == 0 and summary["assumed_axes"] and summary["states"] == 20
+    assert summary["dynamic"] == effect.dynamic._asdict() and summary["velocity"] == effect.velocity._asdict()
 
 
 # ---------------------------------------------------------------- fuzzing the command line

@@ -147,7 +147,28 @@ def test_gimbal_lock_is_a_singularity():
     assert np.all(np.isfinite(ref.inverse_dynamics(params, states, zero, zero)))
 
 
-def test_the_compiled_model_refuses_the_general_parameters():
-    params = stewart.PlatformParams.preset("narayan2017").with_universal_joints()
-    with pytest.raises(ValueError, match="^params: the compiled model takes the paper's parameters"):
-        stewart.Platform(params)
+def test_leg_spin_effect_against_newton_euler():
+    """stewart.exactness measures with the reference; Newton-Euler, an independent
+    formulation, gives the same changes of the actuator forces."""
+    from stewart import exactness
+    from stewart.checks import random_states as states
+
+    params = stewart.PlatformParams.preset("narayan2017")
+    effect = exactness.leg_spin_effect(params, n_states=40, seed=3)
+    exact = params.with_universal_joints()
+    x, xd, xdd = states(params, 40, np.random.default_rng(3))
+    zero = np.zeros_like(x)
+
+    def changes(xd_, xdd_):
+        parts = [ne.inverse_dynamics(p, x, xd_, xdd_) - ne.inverse_dynamics(p, x, zero, zero) for p in (exact, params)]
+        ratio = np.linalg.norm(parts[0] - parts[1], axis=-1) / np.linalg.norm(parts[1], axis=-1)
+        return np.median(ratio), np.max(ratio)
+
+    np.testing.assert_allclose(effect.dynamic, changes(xd, xdd), rtol=1e-6)
+    np.testing.assert_allclose(effect.velocity, changes(xd, zero), rtol=1e-6)
+    assert effect.assumed_axes and effect.states == 40 and 0.0 < effect.dynamic.max < effect.velocity.max
+    no_axial = params.replace(cylinder_inertia=(0.0, *params.cylinder_inertia[1:]),
+                              piston_inertia=(0.0, *params.piston_inertia[1:]))
+    assert exactness.leg_spin_effect(no_axial, n_states=10).velocity.max < 1e-12
+    with pytest.raises(ValueError, match="^n_states: must be from 1"):
+        exactness.leg_spin_effect(params, n_states=0)

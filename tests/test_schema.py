@@ -12,7 +12,7 @@ import pytest
 
 import stewart
 from stewart import capi
-from stewart._kernel import PARAM_FIELDS, PARAMS_LEFT_OUT, Kernel
+from stewart._kernel import PARAM_FIELDS, PARAM_INPUTS, PARAM_SOURCES, PARAMS_LEFT_OUT, Kernel
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 if str(ROOT) not in sys.path:
@@ -27,7 +27,8 @@ def test_the_compiled_kernel_carries_the_generators_schema():
     assert PARAM_FIELDS == tuple((f.name, f.shape) for f in schema.PARAM_FIELDS)
     assert PARAMS_LEFT_OUT == schema.LEFT_OUT
     fields = {f.name for f in dataclasses.fields(stewart.PlatformParams)}
-    assert fields == {name for name, _ in PARAM_FIELDS} | set(PARAMS_LEFT_OUT)
+    assert fields == set(PARAM_INPUTS) | set(PARAMS_LEFT_OUT)
+    assert PARAM_SOURCES == {f.name: f.source or f.name for f in schema.PARAM_FIELDS}
 
 
 def test_a_new_field_reaches_every_generated_artifact(tmp_path):
@@ -56,10 +57,13 @@ def test_a_new_field_reaches_every_generated_artifact(tmp_path):
 
 def _params_with(extra=(), without=()):
     """The narayan2017 parameters as an instance of a dataclass with the PlatformParams
-    fields, plus the fields ``extra`` and less those named in ``without``."""
+    fields (and the properties the struct's members are copied from), plus the fields
+    ``extra`` and less those named in ``without``."""
     params = stewart.PlatformParams.preset("narayan2017")
     names = [f.name for f in dataclasses.fields(params) if f.name not in without]
-    cls = dataclasses.make_dataclass("Params", names + [name for name, _ in extra])
+    derived = {source: property(lambda self, source=source: getattr(params, source))
+               for source in PARAM_SOURCES.values() if source not in names}
+    cls = dataclasses.make_dataclass("Params", names + [name for name, _ in extra], namespace=derived)
     return cls(**{name: getattr(params, name) for name in names}, **dict(extra))
 
 

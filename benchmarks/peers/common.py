@@ -26,7 +26,8 @@ CFLAGS = ["-O3", f"-march={os.environ.get('STEWART_MARCH', 'native')}"]
 
 def param_vector(params) -> np.ndarray:
     """``params`` as the flat vector of :data:`PARAM_COUNT` doubles (``stewart_params`` order)."""
-    return np.concatenate([np.ravel(np.asarray(getattr(params, name), float)) for name, _ in PARAM_FIELDS])
+    return np.concatenate([np.ravel(np.asarray(getattr(params, _kernel.PARAM_SOURCES[name]), float))
+                           for name, _ in PARAM_FIELDS])
 
 
 def unpack(p) -> dict:

@@ -17,6 +17,20 @@ int stewart_is_axisymmetric(const stewart_params *p)
         && p->piston_inertia[1] == p->piston_inertia[2];
 }
 
+int stewart_is_paper_model(const stewart_params *p)
+{
+    int i, k, zero = 1;
+    for (i = 0; i < 6; ++i) {
+        for (k = 0; k < 3; ++k) {
+            zero &= p->universal_joint_axes[i][k] == 0.0;
+        }
+    }
+    for (k = 0; k < 3; ++k) {
+        zero &= p->platform_com[k] == 0.0 && p->platform_inertia_products[k] == 0.0;
+    }
+    return zero;
+}
+
 static int all_finite(const double *v, int n)
 {
     int k, ok = 1;
@@ -28,9 +42,11 @@ static int all_finite(const double *v, int n)
 
 /* The legs' tests, in order (codegen/conditions.py): STEWART_ERR_LEG_DEGENERATE if a
  * leg has L2[i] < STEWART_DEGENERATE_TOL (or NaN), STEWART_ERR_NONFINITE if a leg's L2[i]
- * overflows, and (h2 != NULL: the general kernels) STEWART_ERR_LEG_VERTICAL if a leg has
- * h2[i] = l_x^2 + l_y^2 < STEWART_VERTICAL_TOL * L2[i]; else STEWART_OK. */
-static int check_legs(const double L2[6], const double h2[6])
+ * overflows, (h2 != NULL: the kernels in the frames {C_i}) STEWART_ERR_LEG_VERTICAL if a leg
+ * has h2[i] = l_x^2 + l_y^2 < STEWART_VERTICAL_TOL * L2[i], and (n2 != NULL: the general
+ * model) STEWART_ERR_GIMBAL_LOCK if a leg has n2[i] = |a_i x l_i|^2 < STEWART_GIMBAL_TOL *
+ * L2[i]; else STEWART_OK. */
+static int check_legs(const double L2[6], const double h2[6], const double n2[6])
 {
     int i;
     for (i = 0; i < 6; ++i) {
@@ -46,6 +62,11 @@ static int check_legs(const double L2[6], const double h2[6])
     for (i = 0; h2 != NULL && i < 6; ++i) {
         if (!(h2[i] >= STEWART_VERTICAL_TOL * L2[i])) {
             return STEWART_ERR_LEG_VERTICAL;
+        }
+    }
+    for (i = 0; n2 != NULL && i < 6; ++i) {
+        if (!(n2[i] >= STEWART_GIMBAL_TOL * L2[i])) {
+            return STEWART_ERR_GIMBAL_LOCK;
         }
     }
     return STEWART_OK;

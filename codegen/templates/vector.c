@@ -141,9 +141,9 @@ static stewart_vl vfinite(const stewart_vd *v, int n)
 }
 
 /* check_legs of runtime.c, lane by lane. */
-static stewart_vl vcheck_legs(const stewart_vd L2[6], const stewart_vd *h2)
+static stewart_vl vcheck_legs(const stewart_vd L2[6], const stewart_vd *h2, const stewart_vd *n2)
 {
-    stewart_vl degenerate = vnone(), overflow = vnone(), vertical = vnone();
+    stewart_vl degenerate = vnone(), overflow = vnone(), vertical = vnone(), gimbal = vnone();
     int i;
     for (i = 0; i < 6; ++i) {
         degenerate |= ~(L2[i] >= STEWART_DEGENERATE_TOL);
@@ -151,9 +151,12 @@ static stewart_vl vcheck_legs(const stewart_vd L2[6], const stewart_vd *h2)
         if (h2 != NULL) {
             vertical |= ~(h2[i] >= STEWART_VERTICAL_TOL * L2[i]);
         }
+        if (n2 != NULL) {
+            gimbal |= ~(n2[i] >= STEWART_GIMBAL_TOL * L2[i]);
+        }
     }
-    return vmerge(vmerge(degenerate & STEWART_ERR_LEG_DEGENERATE, overflow & STEWART_ERR_NONFINITE),
-                  vertical & STEWART_ERR_LEG_VERTICAL);
+    return vmerge(vmerge(vmerge(degenerate & STEWART_ERR_LEG_DEGENERATE, overflow & STEWART_ERR_NONFINITE),
+                         vertical & STEWART_ERR_LEG_VERTICAL), gimbal & STEWART_ERR_GIMBAL_LOCK);
 }
 
 /* check_euler of runtime.c, lane by lane. */

@@ -394,6 +394,32 @@ int main(void) {
     st = stewart_mass_matrix(&axisymmetric, upright, out36);
     check(st == STEWART_OK, "status: vertical leg, axisymmetric inertia", gc->name, st);
 
+    /* The general model: a leg along its joint's first axis is the joint's gimbal lock,
+     * flagged per row in a batch; the paper's model has no joint axes. */
+    stewart_params jointed = *g;
+    for (int i = 0; i < 6; ++i) {
+        for (int k = 0; k < 3; ++k) jointed.universal_joint_axes[i][k] = k == 0 ? 1.0 : 0.0;
+    }
+    jointed.universal_joint_axes[2][0] = 0.0;
+    jointed.universal_joint_axes[2][2] = 1.0;
+    check(stewart_is_paper_model(p) && !stewart_is_paper_model(&jointed), "paper model: no joint axes", gc->name, 0);
+    st = stewart_mass_matrix(&jointed, upright, out36);
+    check(st == STEWART_ERR_GIMBAL_LOCK && isnan(out36[0]), "status: gimbal lock", gc->name, st);
+    st = stewart_forward_dynamics(&jointed, upright, zero, zero, out);
+    check(st == STEWART_ERR_GIMBAL_LOCK, "status: gimbal lock (forward dynamics)", gc->name, st);
+    st = stewart_mass_matrix(&jointed, gc->x, out36);
+    check(st == STEWART_OK, "status: the general model away from gimbal lock", gc->name, st);
+    {
+        double rows[4][6], taus[4][6];
+        int statuses[4];
+        for (int r = 0; r < 4; ++r) memcpy(rows[r], r == 2 ? upright : gc->x, sizeof rows[r]);
+        double rates[4][6] = {{0}};
+        stewart_batch_inverse_dynamics(&jointed, 4, rows[0], rates[0], rates[0], taus[0], statuses);
+        check(statuses[0] == STEWART_OK && statuses[1] == STEWART_OK && statuses[2] == STEWART_ERR_GIMBAL_LOCK
+              && statuses[3] == STEWART_OK && isnan(taus[2][0]) && !isnan(taus[3][0]),
+              "status: gimbal lock flagged per row (batch)", gc->name, statuses[2]);
+    }
+
     /* A massless platform with massless legs: M_t = 0. */
     stewart_params massless = *p;
     massless.platform_mass = massless.cylinder_mass = massless.piston_mass = 0.0;
