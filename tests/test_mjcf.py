@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import stewart
-from stewart import bench, reference
+from stewart import bench
 from stewart.checks import relative_error
 from stewart.cli import EXIT_USAGE, main
 from stewart.kinematics import leg_unit_vectors, rotation
@@ -173,8 +173,8 @@ def test_joint_velocities_keep_the_ball_joints_closed():
 def test_accelerations_match(general, figures):
     """MuJoCo's accelerations at random states under our inverse-dynamics forces against the
     states' accelerations: the paper's model (axisymmetric legs, zero axial inertia in MuJoCo,
-    random joint axes) by the kernel; the general model (exact legs, non-axisymmetric legs,
-    off-centre payload with a full tensor) by the numeric reference. The rigid-body
+    random joint axes) and the general model (exact legs, non-axisymmetric legs, off-centre
+    payload with a full tensor), each by its kernel. The rigid-body
     accelerations of MuJoCo's model agree to round-off; MuJoCo's own, under its tight soft
     constraints, within the constraints' regularisation (measured 1e-4 to 3e-3)."""
     pytest.importorskip("mujoco")
@@ -182,55 +182,55 @@ def test_accelerations_match(general, figures):
 
     if general:
         ours = params = _general_params()
-        inverse = lambda *state: reference.inverse_dynamics(params, *state)  # noqa: E731
+        inverse = stewart.Platform(params).inverse_dynamics
     else:  # the paper's model, and MuJoCo's legs on random joint axes
         ours = stewart.PlatformParams.preset(PRESET)
         params = mujoco_model.on_random_axes(ours, seed=5)
         inverse = stewart.Platform(ours).inverse_dynamics
     worst = mujoco_model.acceleration_differences(ours, params, inverse, states=4, seed=11)
-    label = "general model (reference)" if general else "paper model (kernel)"
+    label = "general model" if general else "paper model"
     figures(f"MuJoCo export, rigid-body xdd vs {label}", worst["rigid"], 1e-12)
     figures(f"MuJoCo export, tight soft constraints, xdd vs {label}", worst["soft"], 1e-2)
 
 
-def test_replay_matches_at_tight_settings(figures):
+@pytest.mark.parametrize("general", [False, True], ids=["paper", "general"])
+def test_replay_matches_at_tight_settings(general, figures):
     """MuJoCo driven open loop for 1 s by the forces of our computed-torque run of the demo's
-    move (narayan2017). Bounds: against our own open-loop replay of the same forces, 1e-8 m
-    and 1e-8 rad (measured ~1e-10); against our closed-loop run, 1e-6 m (measured ~5e-8, the
-    open-loop plant's own drift); the ball joints stay closed within 1e-7 m (measured ~1e-10)."""
+    move (narayan2017, or its general variant), against our own forward dynamics driven by the
+    same forces. Bounds: against our open-loop replay, 1e-8 m and 1e-8 rad (measured ~1e-10);
+    against our closed-loop run, 1e-6 m (measured ~5e-8, the open-loop plant's own drift);
+    the ball joints stay closed within 1e-7 m (measured ~1e-10)."""
     pytest.importorskip("mujoco")
     from benchmarks.peers import mujoco_model
 
-    plat, run = mujoco_model.our_run()
+    plat, run = mujoco_model.our_run(params=_general_params() if general else None)
     ours_ol = mujoco_model.our_open_loop(plat, run)
     fig = mujoco_model.replay(plat.params, run, "tight", duration=1.0, window=1.0, repeats=1, open_loop=ours_ol)
     ol, cl = fig["vs_our_open_loop_replay"], fig["vs_our_closed_loop_run"]
-    figures("MuJoCo export (tight) vs our open-loop replay, 1 s, position [m]", ol["max_position_difference_first_1s_m"],
-            1e-8)
-    figures("MuJoCo export (tight) vs our open-loop replay, 1 s, angle [rad]", ol["max_angle_difference_first_1s_rad"],
-            1e-8)
-    figures("MuJoCo export (tight) vs our closed-loop run, 1 s, position [m]", cl["max_position_difference_first_1s_m"],
-            1e-6)
-    figures("MuJoCo export (tight) ball-joint gap [m]", fig["max_constraint_gap_m"], 1e-7)
+    label = f"MuJoCo export (tight), {'general' if general else 'paper'} model, 1 s"
+    figures(f"{label}, vs our open-loop replay, position [m]", ol["max_position_difference_first_1s_m"], 1e-8)
+    figures(f"{label}, vs our open-loop replay, angle [rad]", ol["max_angle_difference_first_1s_rad"], 1e-8)
+    figures(f"{label}, vs our closed-loop run, position [m]", cl["max_position_difference_first_1s_m"], 1e-6)
+    figures(f"{label}, ball-joint gap [m]", fig["max_constraint_gap_m"], 1e-7)
 
 
 @pytest.mark.parametrize("general", [False, True], ids=["paper", "general"])
 def test_trajectory_replay(general, figures):
     """MuJoCo driven open loop for 1 s by our inverse dynamics of the demo's move, against the
-    move: the paper's model (kernel; MuJoCo's legs on random axes, without axial inertia) and
-    the general model (reference). Bounds 1e-8 m and rad (measured ~3e-10 m, ~5e-11 rad);
+    move: the paper's model (MuJoCo's legs on random axes, without axial inertia) and the
+    general model, each by its kernel. Bounds 1e-8 m and rad (measured ~3e-10 m, ~5e-11 rad);
     the ball joints stay closed within 1e-7 m (measured ~7e-11 m)."""
     pytest.importorskip("mujoco")
     from benchmarks.peers import mujoco_model
 
     if general:
         params = _general_params()
-        inverse = lambda *state: reference.inverse_dynamics(params, *state)  # noqa: E731
+        inverse = stewart.Platform(params).inverse_dynamics
     else:
         ours = stewart.PlatformParams.preset(PRESET)
         params, inverse = mujoco_model.on_random_axes(ours, seed=5), stewart.Platform(ours).inverse_dynamics
     fig = mujoco_model.trajectory_replay(params, inverse, duration=1.0)
-    label = "general model (reference)" if general else "paper model (kernel)"
+    label = "general model" if general else "paper model"
     figures(f"MuJoCo export (tight) replaying our ID of the move, {label}, 1 s, position [m]", fig["position_m"], 1e-8)
     figures(f"MuJoCo export (tight) replaying our ID of the move, {label}, 1 s, angle [rad]", fig["angle_rad"], 1e-8)
     figures(f"MuJoCo export (tight) replaying our ID of the move, {label}, ball-joint gap [m]", fig["gap_m"], 1e-7)

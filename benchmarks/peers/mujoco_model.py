@@ -297,15 +297,13 @@ def export_figures(states: int = 20, seed: int = 0, duration: float = 1.0) -> di
     largest relative difference of MuJoCo's ``xdd`` (rigid-body and tight soft constraints)
     at ``states`` random states (:func:`acceleration_differences`) and the tight
     :func:`trajectory_replay` over ``duration`` seconds; for narayan2017 on random joint
-    axes (the paper's model, by the kernel) and for its :func:`general_variant` (by the
-    numeric reference)."""
-    from stewart import reference
-
+    axes (the paper's model) and for its :func:`general_variant` (the general model), each
+    by its kernel."""
     paper = stewart.PlatformParams.preset("narayan2017")
     general = general_variant(paper)
     cases = {  # our parameters, MuJoCo's, our inverse dynamics
-        "paper model (kernel), random joint axes": (paper, on_random_axes(paper), stewart.Platform(paper).inverse_dynamics),
-        "general model (reference)": (general, general, lambda *state: reference.inverse_dynamics(general, *state)),
+        "paper model, random joint axes": (paper, on_random_axes(paper), stewart.Platform(paper).inverse_dynamics),
+        "general model": (general, general, stewart.Platform(general).inverse_dynamics),
     }
     return {label: {**acceleration_differences(ours, theirs, inverse, states=states, seed=seed),
                     **trajectory_replay(theirs, inverse, duration)}
