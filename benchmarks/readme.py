@@ -10,6 +10,9 @@ in ``README.md`` and starts with the date, the machine and the command that prod
 ``checks``
     the table of figures that ``make test`` prints at the end of its pytest run
     (``tests/conftest.py``), verbatim;
+``mujoco``
+    how closely the MuJoCo export reproduces the model
+    (:func:`benchmarks.peers.mujoco_model.export_figures`; needs MuJoCo);
 ``performance``
     our own rows of the last ``make bench`` run, read from its JSON figures
     (``out/benchmarks.json``), each target marked met or missed;
@@ -33,7 +36,7 @@ import sys
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 README = ROOT / "README.md"
 BENCH_JSON = ROOT / "out" / "benchmarks.json"
-SECTIONS = ("validate", "checks", "performance", "exactness")
+SECTIONS = ("validate", "checks", "mujoco", "performance", "exactness")
 #: The presets ``make validate`` reports on, in its order.
 VALIDATE_PRESETS = ("narayan2017", "motion_simulator")
 #: The preset whose kernel rows the README's performance table shows (all presets count
@@ -80,6 +83,24 @@ def validate_block() -> str:
         verdict = "ok" if all(c.passed for c in checks) else "FAIL"
         lines.append(f"| {_cell(name)} | " + " | ".join(f"{c.worst:.1e}" for c in checks)
                      + f" | {checks[0].bound:.0e} | {verdict} |")
+    return "\n".join(lines)
+
+
+def mujoco_block() -> str:
+    """The MuJoCo export's agreement with the model as one Markdown table."""
+    import mujoco
+
+    from .peers.mujoco_model import export_figures
+
+    states = 20
+    fig = export_figures(states=states)
+    duration = next(iter(fig.values()))["duration_s"]
+    lines = [f"`python -m benchmarks.readme mujoco` ({states} random states, seed 0; MuJoCo {mujoco.__version__}), "
+             f"{where()}:", "",
+             f"| MuJoCo against | ẍ rigid | ẍ soft (tight) | replay {duration:g} s: position | angle | ball-joint gap |",
+             "|---|---|---|---|---|---|"]
+    lines += [f"| {_cell(label)} | {f['rigid']:.1e} | {f['soft']:.1e} | {f['position_m']:.1e} m | "
+              f"{f['angle_rad']:.1e} rad | {f['gap_m']:.1e} m |" for label, f in fig.items()]
     return "\n".join(lines)
 
 
@@ -181,7 +202,8 @@ def main(argv=None) -> None:
         parser.error(f"--bench-json: {args.bench_json} does not exist; run make bench first")
     for name in sections:  # in order, each written at once: the test run reads the validate block
         print(f"[readme] {name} ...", flush=True)
-        body = {"validate": validate_block, "checks": checks_block, "exactness": exactness_block,
+        body = {"validate": validate_block, "checks": checks_block, "mujoco": mujoco_block,
+                "exactness": exactness_block,
                 "performance": lambda: performance_block(args.bench_json)}[name]()
         README.write_text(replace_block(README.read_text(), name, body))
     print(f"rewrote {', '.join(sections)} in {README}")

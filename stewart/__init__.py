@@ -6,12 +6,14 @@ simulation under control (:func:`simulate`, trajectories, controllers), the exac
 derivatives and the model as CasADi functions for optimal control
 (:mod:`stewart.casadi_functions`, :mod:`stewart.optimize`), the errors raised for inputs
 where the model is undefined (:mod:`stewart.conditions`), the generated C model's files
-for C programs (:func:`c_include_dir`, :func:`c_sources`, :mod:`stewart.capi`), and how
+for C programs (:func:`c_include_dir`, :func:`c_sources`, :mod:`stewart.capi`), the
+platform as a standalone MuJoCo model (:func:`to_mjcf`, :mod:`stewart.mjcf`), and how
 the compiled model was built and which of its instruction-set paths runs
 (:func:`build_info`).
 """
 
-from . import capi, casadi_functions, conditions, exactness, kinematics, newton_euler, optimize, reference, workspace
+from . import (capi, casadi_functions, conditions, exactness, kinematics, mjcf, newton_euler, optimize, reference,
+               workspace)
 from .capi import c_include_dir, c_sources
 from ._kernel import build_info
 from .errors import ConvergenceError, SimdPathError, SingularityError
@@ -28,6 +30,7 @@ from .kinematics import (
     rotation,
     twist_transform,
 )
+from .mjcf import to_mjcf
 from .params import NonAxisymmetricLegWarning, PlatformParams
 from .platform import AllTerms, ForwardDynamicsDerivatives, InverseDynamicsDerivatives, Platform, Step, StepDerivatives
 from .control import PID, Actuators, ComputedTorque, OpenLoop
@@ -80,6 +83,8 @@ __all__ = [
     "home_pose",
     "forward_kinematics",
     "capi",
+    "mjcf",
+    "to_mjcf",
     "c_include_dir",
     "c_sources",
     "build_info",

@@ -59,25 +59,6 @@ def test_casadi_general_legs_match_reference(figures):
     figures("CasADi tau vs reference, non-axisymmetric legs", relative_error(tau_c, tau_ref), 1e-9)
 
 
-def test_mujoco_replay_matches_at_tight_settings(figures):
-    """MuJoCo driven open loop for 1 s by the forces of our computed-torque run.
-
-    Bounds: against our own open-loop replay of the same forces, 1e-8 m and 1e-8 rad
-    (measured ~1e-10); against our closed-loop run, 1e-6 m (measured ~5e-8, the open-loop
-    plant's own drift); the connect anchors stay within 1e-7 m (measured ~2e-9)."""
-    pytest.importorskip("mujoco")
-    from benchmarks.peers import mujoco_model
-
-    plat, run = mujoco_model.our_run()
-    ours_ol = mujoco_model.our_open_loop(plat, run)
-    fig = mujoco_model.replay(plat.params, run, "tight", duration=1.0, window=1.0, repeats=1, open_loop=ours_ol)
-    ol, cl = fig["vs_our_open_loop_replay"], fig["vs_our_closed_loop_run"]
-    figures("MuJoCo (tight) vs our open-loop replay, 1 s, position [m]", ol["max_position_difference_first_1s_m"], 1e-8)
-    figures("MuJoCo (tight) vs our open-loop replay, 1 s, angle [rad]", ol["max_angle_difference_first_1s_rad"], 1e-8)
-    figures("MuJoCo (tight) vs our closed-loop run, 1 s, position [m]", cl["max_position_difference_first_1s_m"], 1e-6)
-    figures("MuJoCo (tight) connect-anchor gap [m]", fig["max_constraint_gap_m"], 1e-7)
-
-
 def test_mujoco_model_is_the_same_platform():
     """The MJCF's total mass and the static forces: our gravity-balancing forces hold
     MuJoCo's platform at home to within the soft constraint's regularisation."""
@@ -86,7 +67,7 @@ def test_mujoco_model_is_the_same_platform():
 
     plat = stewart.Platform.preset("narayan2017")
     p = plat.params
-    model = mujoco.MjModel.from_xml_string(mujoco_model.mjcf(p, **mujoco_model.SETTINGS["tight"]))
+    model = mujoco_model.model(mujoco_model.comparable(p), setting="tight")
     assert model.body_mass.sum() == pytest.approx(p.platform_mass + 6 * (p.cylinder_mass + p.piston_mass))
     data = mujoco.MjData(model)
     data.ctrl[:] = plat.inverse_dynamics(plat.home_pose, np.zeros(6), np.zeros(6))
