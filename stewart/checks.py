@@ -268,7 +268,7 @@ def statics_residuals(params: PlatformParams, x) -> dict[str, float]:
     """Relative residuals of the static balance of the Newton-Euler joint forces at rest.
 
     Platform: the legs' forces carry its weight, ``sum f_P = m_P g e_z``, with no moment
-    about its centre of mass. Each leg: ``f_B - f_P - (m_C + m_S) g e_z = 0``, and the
+    about its centre of mass (``platform_com``). Each leg: ``f_B - f_P - (m_C + m_S) g e_z = 0``, and the
     moments about B_i of ``-f_P`` at P_i and of the weights vanish. Scaled by the total
     weight (and the home height for moments)."""
     rest = np.zeros_like(x)
@@ -281,7 +281,7 @@ def statics_residuals(params: PlatformParams, x) -> dict[str, float]:
     length = kinematics.home_pose(params)[2]
     e_z = np.array([0.0, 0.0, 1.0])
     rot = kinematics.rotation(x)
-    arms = np.einsum("...jk,ik->...ij", rot, params.platform_points)
+    arms = np.einsum("...jk,ik->...ij", rot, params.platform_points - params.platform_com_in_model)
     legs = kinematics.leg_vectors(params, x)
     units = legs / np.linalg.norm(legs, axis=-1, keepdims=True)
     net = forces.platform.sum(axis=-2) - params.platform_mass * g * e_z

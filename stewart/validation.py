@@ -15,8 +15,10 @@ disagreement of the compiled kernel (:class:`stewart.Platform`) with
   twist-space mass matrix ``M_t`` with ``M = M_t T``, and the static balance of the
   Newton-Euler joint forces.
 
-The physics checks and the Newton-Euler comparison need axisymmetric legs (I_yy == I_zz);
-for other parameters they are replaced by one failing check that says so.
+The physics checks and the Newton-Euler comparison need a conservative model: legs that
+turn with their universal joints (``universal_joint_axes``) or axisymmetric legs
+(I_yy == I_zz); for the paper's non-spinning legs with other inertias they are replaced by
+one failing check that says so.
 :func:`format_report` renders the checks as a table.
 """
 
@@ -114,7 +116,7 @@ def run(params: PlatformParams, n_states: int = 200, seed: int = 0) -> list[Chec
     checks.append(_check("twist mass matrix M_t: M_t T vs M", mismatch, 1e-12))
     checks.append(_check("twist mass matrix M_t: positive definite (condition)", cond, 1e12))
 
-    if not params.is_axisymmetric:
+    if params.universal_joint_axes is None and not params.is_axisymmetric:
         spread = np.concatenate([params.cylinder_inertia[1:], params.piston_inertia[1:]])
         mismatch = max(
             abs(params.cylinder_inertia[1] - params.cylinder_inertia[2]),

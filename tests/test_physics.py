@@ -122,6 +122,17 @@ def test_validation_passes_on_presets(name, figures):
         assert check.name in report
 
 
+def test_validation_runs_every_check_on_the_general_model(general_params):
+    """Legs that turn with their joints, non-axisymmetric legs and an off-centre payload with a
+    full tensor: the physics checks run (the statics take moments about the payload's centre of
+    mass) and all pass."""
+    checks = validation.run(general_params, n_states=40)
+    assert any(c.name.startswith("statics: platform moment") for c in checks)
+    assert any(c.name.startswith("power balance") for c in checks)
+    failed = [c for c in checks if not c.passed]
+    assert not failed, validation.format_report(general_params, checks)
+
+
 def test_validation_flags_non_axisymmetric_legs():
     with warnings.catch_warnings():
         warnings.simplefilter("ignore", stewart.NonAxisymmetricLegWarning)
