@@ -132,7 +132,7 @@ def forward_differences(function, *args, step: float = DIFFERENCE_STEP) -> np.nd
 
 
 def derivative_figures(preset: str, batch: int) -> dict:
-    """The exact derivatives (issue 11): the C batch loop per state and one call from
+    """The exact derivatives: the C batch loop per state and one call from
     Python for ``tau`` with its three Jacobians, ``xddot`` with its three, and an RK4 step
     with ``A`` and ``B``; side by side, forward differences of the kernel's own primal
     functions over the same inputs (19 evaluations a state), and their error against the

@@ -1,4 +1,4 @@
-"""The general model (issue 15): legs that turn with their universal joints, an off-centre
+"""The general model: legs that turn with their universal joints, an off-centre
 payload with a full inertia tensor.
 
 The kernel is checked against Lagrange's equations of the energy written out from the
