@@ -71,10 +71,10 @@ def main(argv=None):
     args.out.mkdir(parents=True, exist_ok=True)
     ops = [(k.name, k.ops) for k in emitted]
     files = {
-        'stewart_model.h': csource.header(schema.PARAM_FIELDS, model.FUNCTIONS, ops),
+        'stewart_model.h': csource.header(schema.PARAM_FIELDS, model.FUNCTIONS, ops, schema.INERTIAL_PARAMETERS),
         'stewart_model.c': csource.source(schema.PARAM_FIELDS, [k.source for k in emitted], public, templates,
                                           [k.vector for k in emitted if k.name in vector], batch),
-        'stewart_model.pxd': pxd.pxd(schema.PARAM_FIELDS, schema.LEFT_OUT, model.FUNCTIONS),
+        'stewart_model.pxd': pxd.pxd(schema.PARAM_FIELDS, schema.LEFT_OUT, model.FUNCTIONS, schema.INERTIAL_PARAMETERS),
         'stewart_dispatch.h': csource.dispatch_header(model.FUNCTIONS),
         'stewart_target.c': csource.target_source(model.FUNCTIONS),
     }

@@ -89,6 +89,9 @@ int stewart_is_axisymmetric(const stewart_params *p);
 int stewart_is_paper_model(const stewart_params *p);
 
 @FUNCTIONS@
+/* The columns of stewart_regressor, the inertial parameters pi (tau + friction = Y pi):
+@INERTIAL@ */
+
 /* ---- batches ----
  * stewart_batch_<name>(p, n, <inputs>, <scalars>, <outputs>, status) is stewart_<name> on n states at
  * once: each input and output an n-row, row-major array (row r of x at x + 6 * r), row r's
@@ -211,12 +214,14 @@ def target_source(functions):
             .replace('@ENTRIES@', entries))
 
 
-def header(fields, functions, ops):
+def header(fields, functions, ops, inertial):
     """stewart_model.h for the parameter schema `fields` (`schema.ParamField`s), the public
-    `functions` (`model.Function`s) and `ops`, (kernel name, operation count) pairs."""
+    `functions` (`model.Function`s), `ops`, (kernel name, operation count) pairs, and the
+    regressor's columns `inertial`, (name, meaning) pairs."""
     width = max(len(name) for name, _ in ops)
     table = ''.join(f' *   {name:<{width}}  {n:6d}\n' for name, n in ops)
-    text = (HEADER.replace('@OPS@', table)
+    columns = ''.join(f' *   {k:2d}  {name}: {doc}\n' for k, (name, doc) in enumerate(inertial))
+    text = (HEADER.replace('@OPS@', table).replace('@INERTIAL@', columns)
             .replace('@STRUCT@', _table([(f.declaration(), f.doc) for f in fields]))
             .replace('@STATUS@', _table([(f'{c.enum} = {k},', c.doc) for k, c in enumerate(conditions.CONDITIONS)]))
             .replace('@TOLERANCES@', conditions.tolerances())

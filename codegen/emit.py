@@ -35,8 +35,8 @@ def ccode(expr):
 
 class _VectorPrinter(_Printer):
     """The printer of the vector kernels: an expression over the `varying` symbols (one value
-    per lane) is a `stewart_vd`, with sqrt, sin and cos of it as the lane-wise `vsqrt`, `vsin`,
-    `vcos` (codegen/templates/vector.c); the parameters stay scalars, broadcast by the
+    per lane) is a `stewart_vd`, with sqrt, sin, cos and tanh of it as the lane-wise `vsqrt`,
+    `vsin`, `vcos`, `vtanh` (codegen/templates/vector.c); the parameters stay scalars, broadcast by the
     arithmetic operators."""
 
     def __init__(self, varying):
@@ -53,11 +53,11 @@ class _VectorPrinter(_Printer):
         return super()._print_Pow(expr)
 
     def _print_Function(self, expr):
-        if isinstance(expr, (sp.sin, sp.cos)) and self._varies(expr):
+        if isinstance(expr, (sp.sin, sp.cos, sp.tanh)) and self._varies(expr):
             return f'v{type(expr).__name__}({self._print(expr.args[0])})'
         return super()._print_Function(expr)
 
-    _print_sin = _print_cos = _print_Function
+    _print_sin = _print_cos = _print_tanh = _print_Function
 
 
 @dataclass

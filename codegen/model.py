@@ -33,7 +33,7 @@ from functools import partial, reduce
 import sympy as sp
 
 from . import linsolve
-from .schema import PARAM_FIELDS
+from .schema import FRICTION_PARAMETERS, PARAM_FIELDS, RIGID_BODY_PARAMETERS
 
 NUM_LEGS = 6
 AXES = 'xyz'
@@ -338,19 +338,23 @@ def leg_momenta(g, P, leg, w, variant, tag):
     wl = g.vector(f'{tag}wl', _cross(leg.lbar, w))
     v_C = g.vector(f'{tag}vC', P.b_C * _cross(wl, leg.u))
     v_S = g.vector(f'{tag}vS', w + P.b_S * _cross(leg.u, wl))
-    I_L = [P.I_C[k] + P.I_S[k] for k in range(3)]
+    h_L = leg_angular_momentum(g, leg, w, wl, [P.I_C[k] + P.I_S[k] for k in range(3)], variant, tag)
+    return v_C, v_S, h_L
+
+
+def leg_angular_momentum(g, leg, w, wl, I_L, variant, tag):
+    """The angular momentum h_L of leg `tag` with inertia I_L = (axial, I_yy, I_zz) in its frame
+    about the leg's centres of mass (`leg_momenta`), or about its joints in the parallel-axis
+    form (`regressor_kernel`), for the velocity w of P_i and omega_l = wl (see `leg_momenta`)."""
     if variant == 'axisym':
-        h_L = g.vector(f'{tag}hL', (P.I_C[1] + P.I_S[1]) * wl)
-    elif variant == 'general':
+        return g.vector(f'{tag}hL', I_L[1] * wl)
+    if variant == 'general':
         q = g.define(f'{tag}q', leg.al * _dot(leg.n, w) * leg.in2)
         ny = g.define(f'{tag}ny', _dot(leg.n, wl) * leg.in2)
-        h_L = g.vector(f'{tag}hL', I_L[2] * wl + I_L[0] * q * leg.lbar + (I_L[1] - I_L[2]) * ny * leg.n)
-    else:
-        a_y = g.define(f'{tag}ay', _dot(leg.y_C, wl))
-        a_z = g.define(f'{tag}az', _dot(leg.z_C, wl))
-        h_L = g.vector(f'{tag}hL', (P.I_C[1] + P.I_S[1]) * a_y * leg.y_C
-                       + (P.I_C[2] + P.I_S[2]) * a_z * leg.z_C)
-    return v_C, v_S, h_L
+        return g.vector(f'{tag}hL', I_L[2] * wl + I_L[0] * q * leg.lbar + (I_L[1] - I_L[2]) * ny * leg.n)
+    a_y = g.define(f'{tag}ay', _dot(leg.y_C, wl))
+    a_z = g.define(f'{tag}az', _dot(leg.z_C, wl))
+    return g.vector(f'{tag}hL', I_L[1] * a_y * leg.y_C + I_L[2] * a_z * leg.z_C)
 
 
 def platform_angular_momentum(g, P, kin, omega, tag):
@@ -416,12 +420,18 @@ def leg_force(g, P, leg, y_C, y_S, y_L, tag):
     z = (y_L + b_C u x y_C + b_S y_S x u) x lbar (see `generalized_force`); for a leg that
     spins with its joint (`leg_momenta`), the spin's partial velocity q = (a_i . l) n^T w / (n . n)
     along lbar adds (a_i . l)(lbar . y_L) / (n . n) n."""
-    z = g.vector(f'{tag}z', _cross(y_L + P.b_C * _cross(leg.u, y_C)
-                                   + P.b_S * _cross(y_S, leg.u), leg.lbar))
+    return point_force(g, leg, y_S, y_L + P.b_C * _cross(leg.u, y_C) + P.b_S * _cross(y_S, leg.u), y_L, tag)
+
+
+def point_force(g, leg, force, moment, y_L, tag):
+    """Force f at P_i equivalent to a force on the leg at P_i and a moment about its joints
+    (see `leg_force`): f = force + moment x lbar, plus (a_i . l)(lbar . y_L) / (n . n) n for a
+    leg that spins with its joint (y_L the rate of its angular momentum, `leg_momenta`)."""
+    z = g.vector(f'{tag}z', _cross(moment, leg.lbar))
     if leg.n is not None:
         s = g.define(f'{tag}sL', leg.al * _dot(leg.lbar, y_L) * leg.in2)
-        return g.vector(f'{tag}f', y_S + z + s * leg.n)
-    return g.vector(f'{tag}f', y_S + z)
+        return g.vector(f'{tag}f', force + z + s * leg.n)
+    return g.vector(f'{tag}f', force + z)
 
 
 def _gravity_forces(P, gravity):
@@ -804,6 +814,70 @@ def forward_dynamics_kernel(variant):
                       + _leg_checks(kin))
 
 
+#: The rigid-body inertial parameters of the regressor (`schema.RIGID_BODY_PARAMETERS`).
+RIGID_BODY = _symbols('pi', len(RIGID_BODY_PARAMETERS))
+
+
+def inertial_force(g, kin, v, omega, pi, variant):
+    """W = M xdd + V xd + G (eqs. 19, 39, 51, 61, 69, 72-76) written linear in the inertial
+    parameters `pi` (`schema.RIGID_BODY_PARAMETERS`): each body's Newton-Euler equations about
+    a point fixed in it, with its first moments and its second moments about that point.
+
+    Platform, about the origin of {P} (first moment h = R (m c), tensor I_O in {P}):
+    F = m (a + g e_z) + d/dt(omega x h), N = d/dt(R I_O R^T omega) + h x (a + g e_z).
+    Leg i, with w and a_P the velocity and acceleration of P_i and u' = omega_l x u: the
+    piston's force y_S = m_S (a_P + g e_z) - (m_S b_S) u''; the moment about the joints
+    M = d/dt h_L + (m_C b_C) u x g e_z + (m_S b_S)(a_P + g e_z) x u, h_L (`leg_angular_momentum`)
+    with the cylinder's moments about B_i and the piston's about P_i: the parallel-axis terms
+    m b^2 u x u'' = m b^2 d/dt omega_l of `leg_force` move into them.  The leg acts on the
+    platform through `point_force`."""
+    P = PARAMS
+    rate = lambda vec: vec.applyfunc(g.rate)
+    ez = sp.Matrix([0, 0, P.g])
+    m, first, (xx, xy, xz, yy, yz, zz) = pi[0], sp.Matrix(pi[1:4]), pi[4:10]
+    h = g.vector('yh', kin.R * first)
+    wb = g.vector('ywP', kin.R.T * omega)
+    h_P = g.vector('yhP', kin.R * (sp.Matrix([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]]) * wb))
+    a = rate(v) + ez
+    W = sp.Matrix.vstack(m * a + rate(_cross(omega, h)), rate(h_P) + _cross(h, a))
+    cylinder, piston = pi[10:15], pi[15:20]
+    I_L = [cylinder[k] + piston[k] for k in range(2, 5)]
+    for i, leg in enumerate(kin.legs):
+        tag = f'y{i}'
+        w = g.vector(f'{tag}vP', v + _cross(omega, leg.r))
+        wl = g.vector(f'{tag}wl', _cross(leg.lbar, w))
+        ud = g.vector(f'{tag}ud', _cross(wl, leg.u))
+        y_L = rate(leg_angular_momentum(g, leg, w, wl, I_L, variant, tag))
+        a_P = rate(w) + ez
+        force = piston[0] * a_P - piston[1] * rate(ud)
+        moment = y_L + cylinder[1] * _cross(leg.u, ez) + piston[1] * _cross(a_P, leg.u)
+        f = point_force(g, leg, force, moment, y_L, tag)
+        W += sp.Matrix.vstack(f, _cross(leg.r, f))
+    return W
+
+
+#: The regressor's kernel variants: the paper's legs that do not spin (eq. 29; the frames of
+#: eqs. 43-48, which split I_yy from I_zz), or legs that turn with their joints (`leg_momenta`).
+REGRESSOR_VARIANTS = {'frames': '!legs_spin(p)', 'general': None}
+
+
+def regressor_kernel(variant):
+    """The regressor's terms: WY = dW/dpi (6 x 20, row-major) of `inertial_force`, which is
+    linear in pi, by forward mode along each parameter; J_C (eq. 5) to solve J_C^T Y = WY; and
+    per leg the rate Ld_i = u_i . w_i and its smooth sign tanh(Ld_i / v_c), F = [Ld; sign]."""
+    g = _accelerated_graph()
+    kin = kinematics_of(g, variant)
+    v, omega = twist(g, kin, XD, 'q')
+    WY = g.partials(list(inertial_force(g, kin, v, omega, RIGID_BODY, variant)), RIGID_BODY, 'Y')
+    rates = [g.define(f'Ld_{i}', _dot(leg.u, g.vector(f'y{i}vP', v + _cross(omega, leg.r))))
+             for i, leg in enumerate(kin.legs)]
+    signs = [sp.tanh(rate / PARAMS.v_c) for rate in rates]
+    return KernelSpec(_named('regressor', 'paper' if variant == 'frames' else variant),
+                      regressor_kernel.__doc__, g, [('x', X), ('xd', XD), ('xdd', XDD)],
+                      [('WY', [e for row in WY for e in row]), ('JC', list(jacobian_rows(kin))),
+                       ('F', rates + signs)] + _leg_checks(kin), when=REGRESSOR_VARIANTS[variant])
+
+
 @dataclass(frozen=True)
 class Kernels:
     """A step running a kernel (one of its variants, by the parameters: `VARIANTS`, `MODELS`)
@@ -863,6 +937,7 @@ INVERSE_DYNAMICS = _variants(inverse_dynamics_kernel)
 FORWARD_DYNAMICS = _variants(forward_dynamics_kernel)
 LEG_DERIVATIVES = _variants(leg_derivatives_kernel)
 LEG_POINTS = _variants(leg_points_kernel, variants=MODELS)
+REGRESSOR = _variants(regressor_kernel, variants=REGRESSOR_VARIANTS)
 
 
 
@@ -924,6 +999,16 @@ FUNCTIONS = (
                                      ('pose_accelerations', ('JAinv', '18', 'Y', 'D')),
                                      ('split_jacobians', ('D', 'dxdd_dx', 'dxdd_dxd', 'dxdd_dtau'))),
              scratch=(_LDL_FACTORS, ('y', 6), ('Y', 108), ('D', 108))),
+    Function('regressor',
+             'The regressor Y (6 x 32, row-major) of the actuator forces, tau + friction = Y pi, with pi the'
+             ' inertial parameters (the columns listed below): J_C^T Y = dW/dpi for the 20 rigid-body'
+             ' parameters (W = M xdd + V xd + G), then per leg i Ld_i (column 20 + i) and'
+             ' tanh(Ld_i / coulomb_velocity) (column 26 + i), Ld = J_C T xd.',
+             ('x', 'xd', 'xdd'), (('Y', 6 * (len(RIGID_BODY) + len(FRICTION_PARAMETERS))),), REGRESSOR,
+             steps=(('bareiss_factor', ('JC', 'FJ')),
+                    ('bareiss_solve', ('FJ', str(len(RIGID_BODY)), str(len(RIGID_BODY)), 'WY', 'YR')),
+                    ('friction_columns', ('YR', 'F', 'Y'))),
+             scratch=(_BAREISS_FACTORS, ('YR', 6 * len(RIGID_BODY)))),
     Function('rk4_step', 'One classic RK4 step of s = [x; xd], ds/dt = [xd; xdd(x, xd, tau)], tau constant:'
              ' [xn; xdn] after dt.', ('x', 'xd', 'tau'), (('xn', 6), ('xdn', 6)), (), scalars=('dt',),
              template='rk4.c'),

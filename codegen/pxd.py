@@ -60,6 +60,13 @@ cdef inline dict stewart_params_left_out():
     }
 
 
+cdef inline tuple stewart_inertial_names():
+    """The inertial parameters pi of stewart_regressor, in the order of its columns."""
+    return (
+@INERTIAL@
+    )
+
+
 cdef inline int stewart_params_fill(stewart_params *p, object params) except -1:
     """Copy params, a stewart.PlatformParams, into p member by member; TypeError unless its
     fields are exactly the members of stewart_params and the fields left out."""
@@ -88,9 +95,10 @@ def _copy(field):
     return lines
 
 
-def pxd(fields, left_out, functions):
+def pxd(fields, left_out, functions, inertial):
     """The text of stewart_model.pxd for the schema `fields` (`schema.ParamField`s), the
-    PlatformParams fields `left_out` (name -> why) and the public `functions`."""
+    PlatformParams fields `left_out` (name -> why), the public `functions` and the regressor's
+    columns `inertial`, (name, meaning) pairs."""
     if max(len(f.shape) for f in fields) > 2:
         raise ValueError('stewart_params members have at most two dimensions')
     parts = {
@@ -107,6 +115,7 @@ def pxd(fields, left_out, functions):
         'TABLE': [f'        {declaration.replace("(void)", "()")} noexcept nogil'
                   for _, declaration in table_entries(functions)],
         'CONDITIONS': [conditions.pxd_table()],
+        'INERTIAL': [f'        {name!r},' for name, _ in inertial],
     }
     text = PXD
     for key, lines in parts.items():

@@ -65,6 +65,8 @@ PARAM_FIELDS = (
                'a_i in {B}, the first axis of each universal joint; all zero (and platform_com zero, '
                'the products zero): the paper\'s model, whose legs do not spin (eq. 29)',
                symbol='a', source='universal_joint_axes_in_model'),
+    ParamField('coulomb_velocity', 'v_c', (), 'v_c > 0, m/s: the smooth sign tanh(Ld / v_c) of the Coulomb '
+               'friction of a leg moving at Ld (the regressor)'),
 )
 
 #: `PlatformParams` fields with no member in `stewart_params`, and why.
@@ -74,4 +76,37 @@ LEFT_OUT = {
     'spherical_joint_max_angle': 'a workspace bound, checked in Python (stewart.workspace)',
     'leg_diameter': 'a workspace bound, checked in Python (stewart.workspace)',
     'name': 'a label, not a model input',
+    'viscous_friction': 'actuator friction: a column of the regressor (stewart_regressor), not in the rigid-body model',
+    'coulomb_friction': 'actuator friction: a column of the regressor (stewart_regressor), not in the rigid-body model',
 }
+
+#: The inertial parameters pi of the regressor (tau = Y pi, `model.regressor_kernel`), in its
+#: column order: per body the mass, the first moments and the second moments about a
+#: point of the body fixed in it (parallel-axis form), then the legs' actuator friction.
+#: (name, meaning).
+RIGID_BODY_PARAMETERS = (
+    ('platform.m', 'm_P'),
+    ('platform.mx', 'm_P c_x, c the centre of mass in {P}'),
+    ('platform.my', 'm_P c_y'),
+    ('platform.mz', 'm_P c_z'),
+    ('platform.Ixx', 'the inertia tensor in {P} about the origin of {P}, I_G + m_P (|c|^2 E - c c^T): xx'),
+    ('platform.Ixy', 'its xy entry'),
+    ('platform.Ixz', 'its xz entry'),
+    ('platform.Iyy', 'its yy entry'),
+    ('platform.Iyz', 'its yz entry'),
+    ('platform.Izz', 'its zz entry'),
+    ('cylinder.m', 'm_C (never acts: the cylinder turns about the fixed B_i)'),
+    ('cylinder.mb', 'm_C b_C'),
+    ('cylinder.Ixx', 'the axial moment (acts only when the legs spin with their joints)'),
+    ('cylinder.Iyy', 'I_yy + m_C b_C^2, about B_i'),
+    ('cylinder.Izz', 'I_zz + m_C b_C^2, about B_i'),
+    ('piston.m', 'm_S'),
+    ('piston.mb', 'm_S b_S'),
+    ('piston.Ixx', 'the axial moment (acts only when the legs spin with their joints)'),
+    ('piston.Iyy', 'I_yy + m_S b_S^2, about P_i'),
+    ('piston.Izz', 'I_zz + m_S b_S^2, about P_i'),
+)
+FRICTION_PARAMETERS = (tuple((f'friction.viscous_{i}', f'F_v of leg {i}: F_v Ld_i, N s/m') for i in range(6))
+                       + tuple((f'friction.coulomb_{i}', f'F_c of leg {i}: F_c tanh(Ld_i / v_c), N')
+                               for i in range(6)))
+INERTIAL_PARAMETERS = RIGID_BODY_PARAMETERS + FRICTION_PARAMETERS

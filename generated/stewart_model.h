@@ -65,6 +65,7 @@ typedef struct {
     double piston_com_distance;           /* b_S from P_i back along the leg */
     double gravity;                       /* m/s^2 along -z */
     double universal_joint_axes[6][3];    /* a_i in {B}, the first axis of each universal joint; all zero (and platform_com zero, the products zero): the paper's model, whose legs do not spin (eq. 29) */
+    double coulomb_velocity;              /* v_c > 0, m/s: the smooth sign tanh(Ld / v_c) of the Coulomb friction of a leg moving at Ld (the regressor) */
 } stewart_params;
 
 enum {
@@ -136,10 +137,47 @@ int stewart_forward_dynamics(const stewart_params *p, const double x[6], const d
 int stewart_inverse_dynamics_derivatives(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6], double dtau_dx[36], double dtau_dxd[36], double dtau_dxdd[36]);
 /* xdd and its Jacobians (row = output, column = input): dxdd/dx = -M^-1 R_x, dxdd/dxd = -M^-1 R_xd, dxdd/dtau = M^-1 J_C^T, R = partials of M xdd + V xd + G - J_C^T tau; needs cos(theta) != 0. */
 int stewart_forward_dynamics_derivatives(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double xdd[6], double dxdd_dx[36], double dxdd_dxd[36], double dxdd_dtau[36]);
+/* The regressor Y (6 x 32, row-major) of the actuator forces, tau + friction = Y pi, with pi the inertial parameters (the columns listed below): J_C^T Y = dW/dpi for the 20 rigid-body parameters (W = M xdd + V xd + G), then per leg i Ld_i (column 20 + i) and tanh(Ld_i / coulomb_velocity) (column 26 + i), Ld = J_C T xd. */
+int stewart_regressor(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double Y[192]);
 /* One classic RK4 step of s = [x; xd], ds/dt = [xd; xdd(x, xd, tau)], tau constant: [xn; xdn] after dt. */
 int stewart_rk4_step(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double dt, double xn[6], double xdn[6]);
 /* The RK4 step and its Jacobians A = d[xn; xdn]/d[x; xd] (12 x 12) and B = d[xn; xdn]/dtau (12 x 6), row-major, by the chain rule through the stages. */
 int stewart_rk4_step_derivatives(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double dt, double xn[6], double xdn[6], double A[144], double B[72]);
+
+/* The columns of stewart_regressor, the inertial parameters pi (tau + friction = Y pi):
+ *    0  platform.m: m_P
+ *    1  platform.mx: m_P c_x, c the centre of mass in {P}
+ *    2  platform.my: m_P c_y
+ *    3  platform.mz: m_P c_z
+ *    4  platform.Ixx: the inertia tensor in {P} about the origin of {P}, I_G + m_P (|c|^2 E - c c^T): xx
+ *    5  platform.Ixy: its xy entry
+ *    6  platform.Ixz: its xz entry
+ *    7  platform.Iyy: its yy entry
+ *    8  platform.Iyz: its yz entry
+ *    9  platform.Izz: its zz entry
+ *   10  cylinder.m: m_C (never acts: the cylinder turns about the fixed B_i)
+ *   11  cylinder.mb: m_C b_C
+ *   12  cylinder.Ixx: the axial moment (acts only when the legs spin with their joints)
+ *   13  cylinder.Iyy: I_yy + m_C b_C^2, about B_i
+ *   14  cylinder.Izz: I_zz + m_C b_C^2, about B_i
+ *   15  piston.m: m_S
+ *   16  piston.mb: m_S b_S
+ *   17  piston.Ixx: the axial moment (acts only when the legs spin with their joints)
+ *   18  piston.Iyy: I_yy + m_S b_S^2, about P_i
+ *   19  piston.Izz: I_zz + m_S b_S^2, about P_i
+ *   20  friction.viscous_0: F_v of leg 0: F_v Ld_i, N s/m
+ *   21  friction.viscous_1: F_v of leg 1: F_v Ld_i, N s/m
+ *   22  friction.viscous_2: F_v of leg 2: F_v Ld_i, N s/m
+ *   23  friction.viscous_3: F_v of leg 3: F_v Ld_i, N s/m
+ *   24  friction.viscous_4: F_v of leg 4: F_v Ld_i, N s/m
+ *   25  friction.viscous_5: F_v of leg 5: F_v Ld_i, N s/m
+ *   26  friction.coulomb_0: F_c of leg 0: F_c tanh(Ld_i / v_c), N
+ *   27  friction.coulomb_1: F_c of leg 1: F_c tanh(Ld_i / v_c), N
+ *   28  friction.coulomb_2: F_c of leg 2: F_c tanh(Ld_i / v_c), N
+ *   29  friction.coulomb_3: F_c of leg 3: F_c tanh(Ld_i / v_c), N
+ *   30  friction.coulomb_4: F_c of leg 4: F_c tanh(Ld_i / v_c), N
+ *   31  friction.coulomb_5: F_c of leg 5: F_c tanh(Ld_i / v_c), N
+ */
 
 /* ---- batches ----
  * stewart_batch_<name>(p, n, <inputs>, <scalars>, <outputs>, status) is stewart_<name> on n states at
@@ -177,6 +215,7 @@ int stewart_batch_inverse_dynamics(const stewart_params *p, size_t n, const doub
 int stewart_batch_forward_dynamics(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, int *status);
 int stewart_batch_inverse_dynamics_derivatives(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd, int *status);
 int stewart_batch_forward_dynamics_derivatives(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, double *dxdd_dx, double *dxdd_dxd, double *dxdd_dtau, int *status);
+int stewart_batch_regressor(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Y, int *status);
 int stewart_batch_rk4_step(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status);
 int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B, int *status);
 
@@ -218,6 +257,8 @@ int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const 
  *   leg_chain_forward                        752
  *   residual_derivatives_forward            1388
  *   residual_derivatives_forward_general    1997
+ *   regressor                               2666
+ *   regressor_general                       3224
  */
 
 #ifdef __cplusplus

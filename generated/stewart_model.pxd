@@ -18,6 +18,7 @@ cdef extern from "stewart_model.h" nogil:
         double piston_com_distance
         double gravity
         double universal_joint_axes[6][3]
+        double coulomb_velocity
     enum:
         STEWART_OK
         STEWART_ERR_NONFINITE
@@ -49,6 +50,7 @@ cdef extern from "stewart_model.h" nogil:
     int stewart_forward_dynamics(const stewart_params *p, const double *x, const double *xd, const double *tau, double *xdd)
     int stewart_inverse_dynamics_derivatives(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd)
     int stewart_forward_dynamics_derivatives(const stewart_params *p, const double *x, const double *xd, const double *tau, double *xdd, double *dxdd_dx, double *dxdd_dxd, double *dxdd_dtau)
+    int stewart_regressor(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *Y)
     int stewart_rk4_step(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn)
     int stewart_rk4_step_derivatives(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B)
     int stewart_batch_lanes()
@@ -65,6 +67,7 @@ cdef extern from "stewart_model.h" nogil:
     int stewart_batch_forward_dynamics(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, int *status)
     int stewart_batch_inverse_dynamics_derivatives(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd, int *status)
     int stewart_batch_forward_dynamics_derivatives(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, double *dxdd_dx, double *dxdd_dxd, double *dxdd_dtau, int *status)
+    int stewart_batch_regressor(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Y, int *status)
     int stewart_batch_rk4_step(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status)
     int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B, int *status)
 
@@ -91,6 +94,7 @@ cdef extern from "stewart_dispatch.h" nogil:
         int (*forward_dynamics)(const stewart_params *p, const double *x, const double *xd, const double *tau, double *xdd) noexcept nogil
         int (*inverse_dynamics_derivatives)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd) noexcept nogil
         int (*forward_dynamics_derivatives)(const stewart_params *p, const double *x, const double *xd, const double *tau, double *xdd, double *dxdd_dx, double *dxdd_dxd, double *dxdd_dtau) noexcept nogil
+        int (*regressor)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *Y) noexcept nogil
         int (*rk4_step)(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn) noexcept nogil
         int (*rk4_step_derivatives)(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B) noexcept nogil
         int (*batch_leg_lengths)(const stewart_params *p, size_t n, const double *x, double *L, int *status) noexcept nogil
@@ -106,6 +110,7 @@ cdef extern from "stewart_dispatch.h" nogil:
         int (*batch_forward_dynamics)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, int *status) noexcept nogil
         int (*batch_inverse_dynamics_derivatives)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd, int *status) noexcept nogil
         int (*batch_forward_dynamics_derivatives)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, double *dxdd_dx, double *dxdd_dxd, double *dxdd_dtau, int *status) noexcept nogil
+        int (*batch_regressor)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Y, int *status) noexcept nogil
         int (*batch_rk4_step)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status) noexcept nogil
         int (*batch_rk4_step_derivatives)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B, int *status) noexcept nogil
 
@@ -142,6 +147,7 @@ cdef inline tuple stewart_params_fields():
         ('piston_com_distance', ()),
         ('gravity', ()),
         ('universal_joint_axes', (6, 3)),
+        ('coulomb_velocity', ()),
     )
 
 
@@ -162,6 +168,7 @@ cdef inline dict stewart_params_sources():
         'piston_com_distance': 'piston_com_distance',
         'gravity': 'gravity',
         'universal_joint_axes': 'universal_joint_axes_in_model',
+        'coulomb_velocity': 'coulomb_velocity',
     }
 
 
@@ -181,6 +188,7 @@ cdef inline tuple stewart_params_inputs():
         'piston_com_distance',
         'gravity',
         'universal_joint_axes',
+        'coulomb_velocity',
     )
 
 
@@ -192,7 +200,47 @@ cdef inline dict stewart_params_left_out():
         'spherical_joint_max_angle': 'a workspace bound, checked in Python (stewart.workspace)',
         'leg_diameter': 'a workspace bound, checked in Python (stewart.workspace)',
         'name': 'a label, not a model input',
+        'viscous_friction': 'actuator friction: a column of the regressor (stewart_regressor), not in the rigid-body model',
+        'coulomb_friction': 'actuator friction: a column of the regressor (stewart_regressor), not in the rigid-body model',
     }
+
+
+cdef inline tuple stewart_inertial_names():
+    """The inertial parameters pi of stewart_regressor, in the order of its columns."""
+    return (
+        'platform.m',
+        'platform.mx',
+        'platform.my',
+        'platform.mz',
+        'platform.Ixx',
+        'platform.Ixy',
+        'platform.Ixz',
+        'platform.Iyy',
+        'platform.Iyz',
+        'platform.Izz',
+        'cylinder.m',
+        'cylinder.mb',
+        'cylinder.Ixx',
+        'cylinder.Iyy',
+        'cylinder.Izz',
+        'piston.m',
+        'piston.mb',
+        'piston.Ixx',
+        'piston.Iyy',
+        'piston.Izz',
+        'friction.viscous_0',
+        'friction.viscous_1',
+        'friction.viscous_2',
+        'friction.viscous_3',
+        'friction.viscous_4',
+        'friction.viscous_5',
+        'friction.coulomb_0',
+        'friction.coulomb_1',
+        'friction.coulomb_2',
+        'friction.coulomb_3',
+        'friction.coulomb_4',
+        'friction.coulomb_5',
+    )
 
 
 cdef inline int stewart_params_fill(stewart_params *p, object params) except -1:
@@ -238,4 +286,5 @@ cdef inline int stewart_params_fill(stewart_params *p, object params) except -1:
     for i0 in range(6):
         for i1 in range(3):
             p.universal_joint_axes[i0][i1] = value[i0, i1]
+    p.coulomb_velocity = params.coulomb_velocity
     return 0

@@ -38,6 +38,7 @@
 #define stewart_forward_dynamics STEWART_JOIN(STEWART_PREFIX, forward_dynamics)
 #define stewart_inverse_dynamics_derivatives STEWART_JOIN(STEWART_PREFIX, inverse_dynamics_derivatives)
 #define stewart_forward_dynamics_derivatives STEWART_JOIN(STEWART_PREFIX, forward_dynamics_derivatives)
+#define stewart_regressor STEWART_JOIN(STEWART_PREFIX, regressor)
 #define stewart_rk4_step STEWART_JOIN(STEWART_PREFIX, rk4_step)
 #define stewart_rk4_step_derivatives STEWART_JOIN(STEWART_PREFIX, rk4_step_derivatives)
 #define stewart_batch_leg_lengths STEWART_JOIN(STEWART_PREFIX, batch_leg_lengths)
@@ -53,6 +54,7 @@
 #define stewart_batch_forward_dynamics STEWART_JOIN(STEWART_PREFIX, batch_forward_dynamics)
 #define stewart_batch_inverse_dynamics_derivatives STEWART_JOIN(STEWART_PREFIX, batch_inverse_dynamics_derivatives)
 #define stewart_batch_forward_dynamics_derivatives STEWART_JOIN(STEWART_PREFIX, batch_forward_dynamics_derivatives)
+#define stewart_batch_regressor STEWART_JOIN(STEWART_PREFIX, batch_regressor)
 #define stewart_batch_rk4_step STEWART_JOIN(STEWART_PREFIX, batch_rk4_step)
 #define stewart_batch_rk4_step_derivatives STEWART_JOIN(STEWART_PREFIX, batch_rk4_step_derivatives)
 #endif
@@ -79,6 +81,7 @@ const stewart_table STEWART_JOIN(stewart_table, STEWART_TARGET) = {
     stewart_forward_dynamics,
     stewart_inverse_dynamics_derivatives,
     stewart_forward_dynamics_derivatives,
+    stewart_regressor,
     stewart_rk4_step,
     stewart_rk4_step_derivatives,
     stewart_batch_leg_lengths,
@@ -94,6 +97,7 @@ const stewart_table STEWART_JOIN(stewart_table, STEWART_TARGET) = {
     stewart_batch_forward_dynamics,
     stewart_batch_inverse_dynamics_derivatives,
     stewart_batch_forward_dynamics_derivatives,
+    stewart_batch_regressor,
     stewart_batch_rk4_step,
     stewart_batch_rk4_step_derivatives,
 };

@@ -111,6 +111,8 @@ PARAMS_LEFT_OUT = stewart_params_left_out()
 #: conditions under which it is undefined and the tolerances of their tests (read by
 #: stewart.conditions).
 CONDITIONS = stewart_conditions()
+#: The inertial parameters pi of the regressor, in the order of its columns.
+INERTIAL_NAMES = stewart_inertial_names()
 
 
 def status_message(int status):
@@ -497,6 +499,11 @@ cdef class Kernel:
         return self._run("forward_dynamics_derivatives", DERIVATIVES, <void *>T.forward_dynamics_derivatives,
                          ("x", "xd", "tau"), (x, xd, tau), _DERIVATIVES, return_mask,
                          0.0, <void *>T.batch_forward_dynamics_derivatives)
+
+    def regressor(self, x, xd, xdd, *, return_mask=False):
+        """Y, ``(6, len(INERTIAL_NAMES))`` per row."""
+        return self._run("regressor", 3, <void *>T.regressor, ("x", "xd", "xdd"), (x, xd, xdd),
+                         ((6, len(INERTIAL_NAMES)),), return_mask, 0.0, <void *>T.batch_regressor)
 
     def rk4_step(self, x, xd, tau, double dt, *, bint jacobians=False, return_mask=False):
         """``(x, xd)`` after one RK4 step of ``dt`` (a positive finite number, checked by the

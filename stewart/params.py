@@ -17,6 +17,7 @@ from typing import Any
 import numpy as np
 
 from . import _checks, paramfile
+from ._kernel import INERTIAL_NAMES as _inertial_names_of_the_model
 from .presets import fields as _preset_fields
 
 __all__ = ["PlatformParams", "NonAxisymmetricLegWarning", "checked_params"]
@@ -148,6 +149,25 @@ def _joint_axes(name: str, value: Any) -> np.ndarray | None:
     return arr
 
 
+def _friction(name: str, value: Any) -> np.ndarray | None:
+    """Six coefficients >= 0, one per leg, or None."""
+    if value is None:
+        return None
+    arr = _checks.reals(name, value)
+    if arr.shape != (6,):
+        raise ValueError(f"{name}: expected 6 values (one per leg), got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)) or np.any(arr < 0.0):
+        raise ValueError(f"{name}: values must be finite and >= 0, got {arr.tolist()}")
+    return arr
+
+
+def _positive(name: str, value: Any) -> float:
+    val = _checks.real(name, value)
+    if not 0.0 < val < np.inf:
+        raise ValueError(f"{name}: must be a positive finite number, got {val}")
+    return val
+
+
 def _readonly(arr: np.ndarray) -> np.ndarray:
     arr.flags.writeable = False
     return arr
@@ -185,6 +205,14 @@ class PlatformParams:
         joints: leg frame x = u_i, y = a_i x u_i / |a_i x u_i|, z = x x y (a_i = z gives the
         frame of eqs. 44-47). ``None``: the paper's legs that do not spin (eq. 29).
     platform_com : optional centre of mass in {P}; ``None`` is the origin of {P} (eq. 10).
+    viscous_friction, coulomb_friction : optional (6,) actuator friction of each leg,
+        ``F_v,i`` >= 0 in N s/m and ``F_c,i`` >= 0 in N; ``None`` is none. A leg moving at
+        ``Ldot_i`` loses ``F_v,i Ldot_i + F_c,i tanh(Ldot_i / coulomb_velocity)`` of its actuator
+        force (:meth:`stewart.Platform.friction_forces`). The rigid-body model (inverse and
+        forward dynamics, simulation) does not include it; the regressor and the actuator
+        forces (:meth:`stewart.Platform.regressor`, :meth:`stewart.Platform.actuator_forces`) do.
+    coulomb_velocity : v_c > 0 in m/s, the speed scale of the smooth sign of the Coulomb
+        friction (as :class:`stewart.control.Actuators`).
 
     Arrays are stored read-only. Construction validates every field and raises
     ``ValueError`` naming the field; without ``universal_joint_axes``, leg inertias with
@@ -211,6 +239,9 @@ class PlatformParams:
     name: str | None = None
     universal_joint_axes: np.ndarray | None = None
     platform_com: np.ndarray | None = None
+    viscous_friction: np.ndarray | None = None
+    coulomb_friction: np.ndarray | None = None
+    coulomb_velocity: float = 1e-3
 
     def __post_init__(self) -> None:
         fields = {
@@ -230,6 +261,9 @@ class PlatformParams:
             "name": self._checked_name(self.name),
             "universal_joint_axes": _joint_axes("universal_joint_axes", self.universal_joint_axes),
             "platform_com": None if self.platform_com is None else _vector3("platform_com", self.platform_com),
+            "viscous_friction": _friction("viscous_friction", self.viscous_friction),
+            "coulomb_friction": _friction("coulomb_friction", self.coulomb_friction),
+            "coulomb_velocity": _positive("coulomb_velocity", self.coulomb_velocity),
         }
         for key, val in fields.items():
             if isinstance(val, np.ndarray):
@@ -375,6 +409,89 @@ class PlatformParams:
             return inertia
         return _readonly(np.array([0.0, inertia[1], inertia[2]]))
 
+    @classmethod
+    def inertial_names(cls) -> tuple[str, ...]:
+        """The names of the inertial parameters pi of :meth:`inertial_vector`, in the order of
+        the columns of :meth:`stewart.Platform.regressor`."""
+        return INERTIAL_NAMES
+
+    def inertial_vector(self) -> np.ndarray:
+        """The inertial parameters pi, with ``Platform.regressor(x, xd, xdd) @ pi`` the actuator
+        forces (:meth:`stewart.Platform.actuator_forces`). Per body the mass, the first moments
+        (mass times the centre of mass) and the second moments about a point fixed in the body
+        (the parallel-axis form): the platform's about the origin of {P}, in {P}; a cylinder's
+        about its universal joint B_i and a piston's about its spherical joint P_i, in the leg
+        frame (axial, I_yy, I_zz); then the legs' viscous and Coulomb friction
+        (:meth:`inertial_names`)."""
+        com = self._com()
+        m = self.platform_mass
+        tensor = self.platform_inertia_tensor + m * (np.dot(com, com) * np.eye(3) - np.outer(com, com))
+        values = {"platform.m": m, **dict(zip(("platform.mx", "platform.my", "platform.mz"), m * com)),
+                  **{f"platform.I{a}{b}": tensor[i, j] for (a, i), (b, j) in _TENSOR_ENTRIES}}
+        for body, mass, distance, inertia in self._legs():
+            values.update({f"{body}.m": mass, f"{body}.mb": mass * distance, f"{body}.Ixx": inertia[0],
+                           f"{body}.Iyy": inertia[1] + mass * distance ** 2,
+                           f"{body}.Izz": inertia[2] + mass * distance ** 2})
+        for kind in ("viscous", "coulomb"):
+            coefficients = getattr(self, f"{kind}_friction")
+            values.update({f"friction.{kind}_{i}": 0.0 if coefficients is None else coefficients[i]
+                           for i in range(6)})
+        return np.array([values[name] for name in INERTIAL_NAMES], dtype=float)
+
+    def with_inertial_vector(self, pi: Any) -> "PlatformParams":
+        """A copy whose masses, centres of mass, inertias and friction are those of the inertial
+        parameters ``pi`` (the inverse of :meth:`inertial_vector`); the geometry, gravity and
+        the other fields stay. ``ValueError`` naming the entry when ``pi`` describes no
+        physical body: a negative mass, a first moment without mass, an inertia that is not
+        positive semidefinite about the centre of mass or breaks the triangle inequality, or
+        negative friction."""
+        arr = _checks.reals("pi", pi)
+        if arr.shape != (len(INERTIAL_NAMES),):
+            raise ValueError(f"pi: expected {len(INERTIAL_NAMES)} inertial parameters, got shape {arr.shape}")
+        if not np.all(np.isfinite(arr)):
+            raise ValueError("pi: values must be finite")
+        value = dict(zip(INERTIAL_NAMES, arr.tolist()))
+
+        def mass_and_offset(body, first):
+            mass = value[f"{body}.m"]
+            if mass < 0.0:
+                raise ValueError(f"pi: {body}.m is negative ({mass:g})")
+            if mass == 0.0:
+                if np.any(first):
+                    raise ValueError(f"pi: {body} has a first moment but no mass")
+                return mass, np.zeros_like(first)
+            return mass, first / mass
+
+        m, com = mass_and_offset("platform", np.array([value[f"platform.m{a}"] for a in "xyz"]))
+        tensor = np.array([[value[f"platform.I{min(a, b)}{max(a, b)}"] for b in "xyz"] for a in "xyz"])
+        tensor = tensor - m * (np.dot(com, com) * np.eye(3) - np.outer(com, com))
+        changes = {"platform_mass": m, "platform_com": com if np.any(com) or self.platform_com is not None else None,
+                   "platform_inertia": _inertia_of(tensor)}
+        for body in ("cylinder", "piston"):
+            mass, distance = mass_and_offset(body, np.array([value[f"{body}.mb"]]))
+            if distance[0] < 0.0:
+                raise ValueError(f"pi: {body}.mb is negative ({value[f'{body}.mb']:g}); the centre of mass "
+                                 "lies on the leg between its joints")
+            moments = np.array([value[f"{body}.Ixx"], value[f"{body}.Iyy"] - mass * distance[0] ** 2,
+                                value[f"{body}.Izz"] - mass * distance[0] ** 2])
+            changes.update({f"{body}_mass": mass, f"{body}_com_distance": float(distance[0]),
+                            f"{body}_inertia": _inertia_of(moments)})
+        for kind in ("viscous", "coulomb"):
+            coefficients = np.array([value[f"friction.{kind}_{i}"] for i in range(6)])
+            if np.any(coefficients < 0.0):
+                raise ValueError(f"pi: friction.{kind}_{int(np.argmax(coefficients < 0.0))} is negative")
+            changes[f"{kind}_friction"] = (coefficients if np.any(coefficients)
+                                           or getattr(self, f"{kind}_friction") is not None else None)
+        try:
+            return self.replace(**changes)
+        except ValueError as exc:
+            raise ValueError(f"pi: no physical body: {exc}") from None
+
+    def _legs(self):
+        """(body, mass, centre-of-mass distance from its joint, inertia) of the leg bodies."""
+        return (("cylinder", self.cylinder_mass, self.cylinder_com_distance, self.cylinder_inertia),
+                ("piston", self.piston_mass, self.piston_com_distance, self.piston_inertia))
+
     def replace(self, **changes: Any) -> "PlatformParams":
         """A copy with some fields changed (validated again)."""
         return dataclasses.replace(self, **changes)
@@ -449,6 +566,26 @@ class PlatformParams:
             f"cylinder_mass={self.cylinder_mass:g}, piston_mass={self.piston_mass:g}, "
             f"gravity={self.gravity:g})"
         )
+
+
+#: The inertial parameters pi of the regressor, in its column order (codegen/schema.py).
+INERTIAL_NAMES: tuple[str, ...] = tuple(_inertial_names_of_the_model)
+#: The number of inertial parameters, and of those of the rigid bodies (the friction follows).
+NUM_INERTIAL = len(INERTIAL_NAMES)
+NUM_RIGID_BODY = sum(not name.startswith("friction.") for name in INERTIAL_NAMES)
+_TENSOR_ENTRIES = [((a, i), (b, j)) for i, a in enumerate("xyz") for j, b in enumerate("xyz") if j >= i]
+
+
+def _inertia_of(moments: np.ndarray) -> np.ndarray:
+    """Moments (3,) or a tensor (3, 3) computed from pi, with entries within round-off of
+    zero (1e-14 of the largest) set to zero, so that a diagonal tensor stays diagonal (3
+    moments); the constructor checks them."""
+    scale = np.max(np.abs(moments))
+    if scale > 0.0:
+        moments = np.where(np.abs(moments) <= 1e-14 * scale, 0.0, moments)
+    if moments.shape == (3, 3) and not np.any(moments - np.diag(np.diag(moments))):
+        return np.diag(moments).copy()
+    return moments
 
 
 def checked_params(value: Any, name: str = "params") -> PlatformParams:

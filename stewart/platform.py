@@ -8,7 +8,7 @@ import numpy as np
 
 from . import _checks, kinematics, newton_euler
 from ._kernel import Kernel
-from .params import PlatformParams, checked_params
+from .params import INERTIAL_NAMES, PlatformParams, checked_params
 
 __all__ = ["Platform", "AllTerms", "InverseDynamicsDerivatives", "ForwardDynamicsDerivatives",
            "Step", "StepDerivatives"]
@@ -62,6 +62,10 @@ class StepDerivatives(NamedTuple):
     B: np.ndarray
 
 
+#: The regressor's columns of the legs' axial moments.
+_AXIAL = [INERTIAL_NAMES.index("cylinder.Ixx"), INERTIAL_NAMES.index("piston.Ixx")]
+
+
 def _named(kind, result, return_mask):
     """``result`` of a kernel method (a tuple, or ``(tuple, ok)``) as the named tuple ``kind``."""
     return (kind(*result[0]), result[1]) if return_mask else kind(*result)
@@ -101,6 +105,9 @@ class Platform:
     def load(cls, path, **options) -> "Platform":
         """The compiled model of a TOML or JSON parameter file."""
         return cls(PlatformParams.load(path), **options)
+
+    #: The same as :meth:`load`.
+    from_file = load
 
     def with_payload(self, mass, com, inertia) -> "Platform":
         """The compiled model of this platform carrying a rigid payload
@@ -171,6 +178,45 @@ class Platform:
     def forward_dynamics(self, x, xd, tau, *, return_mask=False):
         """Euler accelerations ``xddot = M^-1 (J_C^T tau - V xdot - G)``."""
         return self._kernel.forward_dynamics(x, xd, tau, return_mask=return_mask)
+
+    def regressor(self, x, xd, xdd, *, return_mask=False):
+        """The regressor ``Y`` of the actuator forces, linear in the inertial parameters:
+        ``Y @ params.inertial_vector() == actuator_forces(x, xd, xdd)``, shape ``(..., 6, 32)``,
+        columns in the order of :meth:`PlatformParams.inertial_names`. ``J_C^T Y`` holds the
+        partials of ``M xddot + V xdot + G`` (eqs. 19, 39, 51, 61, 69, 72-76) with respect to
+        each body's mass, first moments and second moments about its joint (the parallel-axis
+        form), then ``Ldot_i`` and ``tanh(Ldot_i / coulomb_velocity)`` of each leg for its
+        friction. The columns of parameters that never act are zero: ``cylinder.m`` (the
+        cylinder turns about the fixed B_i) and, for legs that do not spin (no
+        ``universal_joint_axes``), the axial moments. Legs that do not spin are described in
+        the frames of eqs. 43-48, so a vertical leg is singular here (``leg_vertical``)."""
+        result = self._kernel.regressor(x, xd, xdd, return_mask=return_mask)
+        if self._params.universal_joint_axes is None:
+            (result[0] if return_mask else result)[..., _AXIAL] *= 0.0  # failed rows stay NaN
+        return result
+
+    def friction_forces(self, x, xd, *, return_mask=False):
+        """The actuator force each leg loses to friction at ``(x, xdot)`` [N]:
+        ``F_v,i Ldot_i + F_c,i tanh(Ldot_i / coulomb_velocity)`` (:class:`PlatformParams`),
+        zero without friction parameters; shape ``(..., 6)``."""
+        p = self._params
+        result = self._kernel.leg_rates(x, xd, return_mask=return_mask)
+        rates = (result[0] if return_mask else result)[1]
+        friction = np.zeros_like(rates)
+        if p.viscous_friction is not None:
+            friction += p.viscous_friction * rates
+        if p.coulomb_friction is not None:
+            friction += p.coulomb_friction * np.tanh(rates / p.coulomb_velocity)
+        return (friction, result[1]) if return_mask else friction
+
+    def actuator_forces(self, x, xd, xdd, *, return_mask=False):
+        """The forces the actuators deliver [N]: the rigid-body forces of
+        :meth:`inverse_dynamics` plus :meth:`friction_forces`, ``Y @ pi`` of :meth:`regressor`."""
+        tau = self._kernel.inverse_dynamics(x, xd, xdd, return_mask=return_mask)
+        friction = self.friction_forces(x, xd, return_mask=return_mask)
+        if return_mask:
+            return tau[0] + friction[0], tau[1] & friction[1]
+        return tau + friction
 
     def joint_reactions(self, x, xd, xdd) -> newton_euler.JointReactions:
         """Actuator forces and the forces at each leg's universal joint (on the leg, from the

@@ -33,11 +33,11 @@ def test_the_compiled_kernel_carries_the_generators_schema():
 
 def test_a_new_field_reaches_every_generated_artifact(tmp_path):
     fields = schema.PARAM_FIELDS + (DUMMY,)
-    header = csource.header(fields, model.FUNCTIONS, [("kernel", 1)])
+    header = csource.header(fields, model.FUNCTIONS, [("kernel", 1)], schema.INERTIAL_PARAMETERS)
     assert "    double dummy_offsets[2][4];" in header
     check = csource.params_finite(fields)
     assert "all_finite(&p->dummy_offsets[0][0], 8)" in check
-    text = pxd.pxd(fields, schema.LEFT_OUT, model.FUNCTIONS)
+    text = pxd.pxd(fields, schema.LEFT_OUT, model.FUNCTIONS, schema.INERTIAL_PARAMETERS)
     assert "        double dummy_offsets[2][4]\n" in text
     assert "        ('dummy_offsets', (2, 4)),\n" in text
     assert "p.dummy_offsets[i0][i1] = value[i0, i1]" in text

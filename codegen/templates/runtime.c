@@ -31,6 +31,18 @@ int stewart_is_paper_model(const stewart_params *p)
     return zero;
 }
 
+/* 1 if a universal joint has a first axis (the legs turn with their joints), else 0. */
+static int legs_spin(const stewart_params *p)
+{
+    int i, k, spin = 0;
+    for (i = 0; i < 6; ++i) {
+        for (k = 0; k < 3; ++k) {
+            spin |= p->universal_joint_axes[i][k] != 0.0;
+        }
+    }
+    return spin;
+}
+
 static int all_finite(const double *v, int n)
 {
     int k, ok = 1;
@@ -94,6 +106,23 @@ static int pose_accelerations(const double JAinv[9], int n, const double *y, dou
 }
 
 /* The three 6 x 6 blocks of columns of Y (6 x 18, row-major). */
+/* The regressor Y (6 x 32) from its 20 rigid-body columns YR (6 x 20) and the friction terms
+ * F = [Ld; sign] of the legs: Y[i][20 + i] = Ld_i, Y[i][26 + i] = sign_i, zero elsewhere. */
+static int friction_columns(const double YR[120], const double F[12], double Y[192])
+{
+    int i, j;
+    for (i = 0; i < 6; ++i) {
+        for (j = 0; j < 20; ++j) {
+            Y[32 * i + j] = YR[20 * i + j];
+        }
+        for (j = 0; j < 6; ++j) {
+            Y[32 * i + 20 + j] = i == j ? F[i] : 0.0;
+            Y[32 * i + 26 + j] = i == j ? F[6 + i] : 0.0;
+        }
+    }
+    return STEWART_OK;
+}
+
 static int split_jacobians(const double Y[108], double a[36], double b[36], double c[36])
 {
     int i, j;

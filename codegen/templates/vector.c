@@ -123,6 +123,16 @@ static stewart_vd vcos(stewart_vd a)
     return vsincos(a, 1);
 }
 
+/* tanh lane by lane (the C library's, as the scalar path). */
+static stewart_vd vtanh(stewart_vd a)
+{
+    int lane;
+    for (lane = 0; lane < STEWART_LANES; ++lane) {
+        a[lane] = tanh(a[lane]);
+    }
+    return a;
+}
+
 /* The statuses `status`, with `next` in the lanes still STEWART_OK (a lane keeps its first error). */
 static stewart_vl vmerge(stewart_vl status, stewart_vl next)
 {
@@ -186,6 +196,22 @@ typedef stewart_vl (*vblock_fn)(const stewart_params *p, double scalar, const st
                                 stewart_vd *const out[]);
 
 /* split_jacobians of runtime.c over a block. */
+/* friction_columns of runtime.c over a block. */
+static stewart_vl vfriction_columns(const stewart_vd YR[120], const stewart_vd F[12], stewart_vd Y[192])
+{
+    int i, j;
+    for (i = 0; i < 6; ++i) {
+        for (j = 0; j < 20; ++j) {
+            Y[32 * i + j] = YR[20 * i + j];
+        }
+        for (j = 0; j < 6; ++j) {
+            Y[32 * i + 20 + j] = i == j ? F[i] : vsplat(0.0);
+            Y[32 * i + 26 + j] = i == j ? F[6 + i] : vsplat(0.0);
+        }
+    }
+    return vnone();
+}
+
 static stewart_vl vsplit_jacobians(const stewart_vd Y[108], stewart_vd a[36], stewart_vd b[36], stewart_vd c[36])
 {
     int i, j;

@@ -141,8 +141,10 @@ BATCHED_1(gravity_vector)
 BATCHED_2(all_terms)
 BATCHED_3(inverse_dynamics)
 BATCHED_3(forward_dynamics)
+BATCHED_3(regressor)
 
 #define MAX_ROWS 1003
+#define MAX_SIZE 192 /* doubles of the largest output row (the regressor) */
 #define RK4_DT 1e-3
 
 /* The RK4 step of RK4_DT, [xn; xdn] a row. */
@@ -177,6 +179,7 @@ static const struct {
     {"all_terms", row_all_terms, batch_all_terms, 84},
     {"inverse_dynamics", row_inverse_dynamics, batch_inverse_dynamics, 6},
     {"forward_dynamics", row_forward_dynamics, batch_forward_dynamics, 6},
+    {"regressor", row_regressor, batch_regressor, 192},
     {"rk4_step", row_rk4_step, batch_rk4_step, 12},
 };
 
@@ -221,7 +224,7 @@ static void batch_states(const reference_case *rc, size_t n, double in[3][MAX_RO
  * status and outputs as the scalar function gives them for the row alone (1e-14 of the row's
  * largest output), the first failing row's status as the return value. */
 static void check_batches(const reference_case *rc, size_t n, double *worst, unsigned *seen) {
-    static double in[3][MAX_ROWS][6], got[MAX_ROWS * 84], want[84];
+    static double in[3][MAX_ROWS][6], got[MAX_ROWS * MAX_SIZE], want[MAX_SIZE];
     static int status[MAX_ROWS];
     batch_states(rc, n, in);
     const double *const rows[3] = {in[0][0], in[1][0], in[2][0]};
