@@ -260,10 +260,10 @@ def leg_geometry(g, l, r, tag, leg_frames, lengths=None, axis=None):
     return leg
 
 
-def kinematics(g, P, leg_frames=False, general=False):
+def kinematics(g, P, leg_frames=False, general=False, axes=None):
     """Pose-dependent geometry: R, J_A (eq. 8), legs (eqs. 26, 32, 43-48); for the `general`
-    model also the joints' axes (`leg_geometry`), the platform's centre of mass R c and its
-    full inertia tensor."""
+    model also the joints' axes (`leg_geometry`: the parameters' a_i, or `axes`), the
+    platform's centre of mass R c and its full inertia tensor."""
     psi, theta, phi = X[3:]
     cps, sps = g.define('c_psi', sp.cos(psi)), g.define('s_psi', sp.sin(psi))
     cth, sth = g.define('c_theta', sp.cos(theta)), g.define('s_theta', sp.sin(theta))
@@ -279,7 +279,7 @@ def kinematics(g, P, leg_frames=False, general=False):
     for i in range(NUM_LEGS):
         r = g.vector(f'r{i}', R * P.plat[i])
         legs.append(leg_geometry(g, g.vector(f'l{i}', p + r - P.base[i]), r, i, leg_frames,
-                                 axis=P.axes[i] if general else None))
+                                 axis=(axes or P.axes)[i] if general else None))
     kin = Kinematics(R=R, J_A=J_A, c_theta=cth, legs=legs)
     if general:
         kin.rho = g.vector('rho', R * P.c_P)
@@ -423,12 +423,13 @@ def leg_force(g, P, leg, y_C, y_S, y_L, tag):
     return point_force(g, leg, y_S, y_L + P.b_C * _cross(leg.u, y_C) + P.b_S * _cross(y_S, leg.u), y_L, tag)
 
 
-def point_force(g, leg, force, moment, y_L, tag):
+def point_force(g, leg, force, moment, y_L, tag, spin=True):
     """Force f at P_i equivalent to a force on the leg at P_i and a moment about its joints
     (see `leg_force`): f = force + moment x lbar, plus (a_i . l)(lbar . y_L) / (n . n) n for a
-    leg that spins with its joint (y_L the rate of its angular momentum, `leg_momenta`)."""
+    leg that spins with its joint (y_L the rate of its angular momentum, `leg_momenta`; not
+    with `spin` False)."""
     z = g.vector(f'{tag}z', _cross(moment, leg.lbar))
-    if leg.n is not None:
+    if leg.n is not None and spin:
         s = g.define(f'{tag}sL', leg.al * _dot(leg.lbar, y_L) * leg.in2)
         return g.vector(f'{tag}f', force + z + s * leg.n)
     return g.vector(f'{tag}f', force + z)
@@ -818,9 +819,10 @@ def forward_dynamics_kernel(variant):
 RIGID_BODY = _symbols('pi', len(RIGID_BODY_PARAMETERS))
 
 
-def inertial_force(g, kin, v, omega, pi, variant):
+def inertial_force(g, kin, v, omega, pi, spin=True):
     """W = M xdd + V xd + G (eqs. 19, 39, 51, 61, 69, 72-76) written linear in the inertial
-    parameters `pi` (`schema.RIGID_BODY_PARAMETERS`): each body's Newton-Euler equations about
+    parameters `pi` (`schema.RIGID_BODY_PARAMETERS`), for the general model's legs (`kin` with
+    joint axes): each body's Newton-Euler equations about
     a point fixed in it, with its first moments and its second moments about that point.
 
     Platform, about the origin of {P} (first moment h = R (m c), tensor I_O in {P}):
@@ -830,7 +832,7 @@ def inertial_force(g, kin, v, omega, pi, variant):
     M = d/dt h_L + (m_C b_C) u x g e_z + (m_S b_S)(a_P + g e_z) x u, h_L (`leg_angular_momentum`)
     with the cylinder's moments about B_i and the piston's about P_i: the parallel-axis terms
     m b^2 u x u'' = m b^2 d/dt omega_l of `leg_force` move into them.  The leg acts on the
-    platform through `point_force`."""
+    platform through `point_force` (with the spin's term unless `spin` is False)."""
     P = PARAMS
     rate = lambda vec: vec.applyfunc(g.rate)
     ez = sp.Matrix([0, 0, P.g])
@@ -847,35 +849,41 @@ def inertial_force(g, kin, v, omega, pi, variant):
         w = g.vector(f'{tag}vP', v + _cross(omega, leg.r))
         wl = g.vector(f'{tag}wl', _cross(leg.lbar, w))
         ud = g.vector(f'{tag}ud', _cross(wl, leg.u))
-        y_L = rate(leg_angular_momentum(g, leg, w, wl, I_L, variant, tag))
+        y_L = rate(leg_angular_momentum(g, leg, w, wl, I_L, 'general', tag))
         a_P = rate(w) + ez
         force = piston[0] * a_P - piston[1] * rate(ud)
         moment = y_L + cylinder[1] * _cross(leg.u, ez) + piston[1] * _cross(a_P, leg.u)
-        f = point_force(g, leg, force, moment, y_L, tag)
+        f = point_force(g, leg, force, moment, y_L, tag, spin)
         W += sp.Matrix.vstack(f, _cross(leg.r, f))
     return W
 
 
-#: The regressor's kernel variants: the paper's legs that do not spin (eq. 29; the frames of
-#: eqs. 43-48, which split I_yy from I_zz), or legs that turn with their joints (`leg_momenta`).
-REGRESSOR_VARIANTS = {'frames': '!legs_spin(p)', 'general': None}
+#: The regressor's kernel variants: the paper's legs that do not spin (eq. 29), or legs that
+#: turn with their joints (`leg_momenta`).
+REGRESSOR_VARIANTS = {'paper': '!legs_spin(p)', 'general': None}
 
 
 def regressor_kernel(variant):
     """The regressor's terms: WY = dW/dpi (6 x 20, row-major) of `inertial_force`, which is
     linear in pi, by forward mode along each parameter; J_C (eq. 5) to solve J_C^T Y = WY; and
-    per leg the rate Ld_i = u_i . w_i and its smooth sign tanh(Ld_i / v_c), F = [Ld; sign]."""
+    per leg the rate Ld_i = u_i . w_i and its smooth sign tanh(Ld_i / v_c), F = [Ld; sign].
+    The paper's legs, which do not spin, are the general model's with a_i = z, no axial
+    moment and no spin: the leg frame y = z x l / |z x l| is that of eqs. 44-47, and
+    |z x l|^2 = l_x^2 + l_y^2 is checked as the frame's h2."""
+    paper = variant == 'paper'
     g = _accelerated_graph()
-    kin = kinematics_of(g, variant)
+    kin = kinematics(g, PARAMS, general=True, axes=[sp.Matrix([0, 0, 1])] * NUM_LEGS if paper else None)
     v, omega = twist(g, kin, XD, 'q')
-    WY = g.partials(list(inertial_force(g, kin, v, omega, RIGID_BODY, variant)), RIGID_BODY, 'Y')
+    pi = [sp.S.Zero if paper and name in ('cylinder.Ixx', 'piston.Ixx') else symbol  # they never act
+          for symbol, (name, _) in zip(RIGID_BODY, RIGID_BODY_PARAMETERS)]
+    WY = g.partials(list(inertial_force(g, kin, v, omega, pi, spin=not paper)), RIGID_BODY, 'Y')
     rates = [g.define(f'Ld_{i}', _dot(leg.u, g.vector(f'y{i}vP', v + _cross(omega, leg.r))))
              for i, leg in enumerate(kin.legs)]
     signs = [sp.tanh(rate / PARAMS.v_c) for rate in rates]
-    return KernelSpec(_named('regressor', 'paper' if variant == 'frames' else variant),
-                      regressor_kernel.__doc__, g, [('x', X), ('xd', XD), ('xdd', XDD)],
+    checks = [('L2', [leg.L2 for leg in kin.legs]), ('h2' if paper else 'n2', [leg.n2 for leg in kin.legs])]
+    return KernelSpec(_named('regressor', variant), regressor_kernel.__doc__, g, [('x', X), ('xd', XD), ('xdd', XDD)],
                       [('WY', [e for row in WY for e in row]), ('JC', list(jacobian_rows(kin))),
-                       ('F', rates + signs)] + _leg_checks(kin), when=REGRESSOR_VARIANTS[variant])
+                       ('F', rates + signs)] + checks, when=REGRESSOR_VARIANTS[variant])
 
 
 @dataclass(frozen=True)

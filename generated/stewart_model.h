@@ -257,7 +257,7 @@ int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const 
  *   leg_chain_forward                        752
  *   residual_derivatives_forward            1388
  *   residual_derivatives_forward_general    1997
- *   regressor                               2666
+ *   regressor                               2384
  *   regressor_general                       3224
  */
 

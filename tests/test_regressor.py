@@ -123,7 +123,7 @@ def test_friction_columns():
     coulomb = Y[..., NUM_RIGID_BODY + 6:]
     assert np.allclose(viscous, rates[:, :, None] * np.eye(6), rtol=1e-14, atol=1e-15)
     assert np.allclose(coulomb, np.tanh(rates / params.coulomb_velocity)[:, :, None] * np.eye(6),
-                       rtol=1e-14, atol=1e-12)
+                       rtol=0, atol=1e-14)  # Ldot / v_c (up to ~40) carries its round-off
     assert not np.any(viscous * (1.0 - np.eye(6))) and not np.any(coulomb * (1.0 - np.eye(6)))
     want = params.viscous_friction * rates + params.coulomb_friction * np.tanh(rates / params.coulomb_velocity)
     assert np.array_equal(plat.friction_forces(x, xd), want)
