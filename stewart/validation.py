@@ -4,7 +4,7 @@
 disagreement of the compiled kernel (:class:`stewart.Platform`) with
 
 * the numeric reference model (:mod:`stewart.reference`): inverse and forward dynamics,
-  ``M``, ``V xdot`` and ``G``;
+  ``M``, ``V xdot``, ``G`` and the regressor (``Y pi``, the inverse dynamics plus friction);
 * the independent Newton-Euler formulation (:mod:`stewart.newton_euler`);
 * the derivative oracle (:func:`stewart.checks.complex_step_jacobians` of the reference):
   the exact Jacobians of inverse dynamics, forward dynamics and the RK4 step;
@@ -69,6 +69,9 @@ def _kernel_vs_reference(params, plat, x, xd, xdd) -> list[Check]:
             bound,
         ),
         _check("kernel vs reference: gravity G", relative_error(plat.gravity_vector(x), reference.gravity_vector(params, x)), bound),
+        _check("kernel vs reference: regressor Y pi (with friction)",
+               relative_error(plat.regressor(x, xd, xdd) @ params.inertial_vector(), tau + plat.friction_forces(x, xd)),
+               bound),
     ]
 
 

@@ -77,7 +77,7 @@ def test_simulate_refuses_a_target_below_the_stroke(capsys):
 
 def test_validate_passes_for_presets(capsys):
     main(["validate", "--preset", "motion_simulator", "--states", "50"])
-    assert "all 18 checks passed" in capsys.readouterr().out
+    assert "all 19 checks passed" in capsys.readouterr().out
 
 
 def test_bad_input_is_an_error_naming_the_argument(capsys):
