@@ -292,7 +292,7 @@ def test_json_summaries(capsys):
     assert summary["problems"][0] in err and 3.9 < summary["times"][0] < 4.0
     code, out, _ = _run(["validate", "--preset", "motion_simulator", "--states", "20", "--json"], capsys)
     summary = json.loads(out)
-    assert code == 0 and summary["passed"] and len(summary["checks"]) == 18
+    assert code == 0 and summary["passed"] and len(summary["checks"]) == 19
     assert all(c["worst"] <= c["bound"] for c in summary["checks"])
     code, out, _ = _run(["exactness", "--preset", "motion_simulator", "--states", "20", "--seed", "2", "--json"], capsys)
     summary = json.loads(out)
