@@ -9,8 +9,8 @@
  * Prints the lanes, then per function a line: name, the median over REPEATS passes of the
  * time per state of the scalar loop and of the batch function (s), the worst difference of
  * their outputs relative to each row's largest output, and the rows either reports failed.
- * The derivative functions run on the first ND states (forward dynamics and the RK4 step
- * with the forces inverse dynamics gives).
+ * The derivative functions and the regressor run on the first ND states (forward dynamics and
+ * the RK4 step with the forces inverse dynamics gives).
  */
 #define _POSIX_C_SOURCE 199309L
 #include <math.h>
@@ -24,14 +24,14 @@
 
 #include "timing.h"
 
-enum { ID, FD, M, VXD, G, IDD, FDD, RK4D, NFUNCTIONS };
+enum { ID, FD, M, VXD, G, IDD, FDD, RK4D, REG, NFUNCTIONS };
 static const char *const NAMES[NFUNCTIONS] = {"inverse_dynamics", "forward_dynamics", "mass_matrix",
                                               "coriolis_vector", "gravity_vector", "inverse_dynamics_derivatives",
-                                              "forward_dynamics_derivatives", "rk4_step_derivatives"};
+                                              "forward_dynamics_derivatives", "rk4_step_derivatives", "regressor"};
 /* The sizes of each function's outputs (a row's), at most four. */
 static const int WIDTH[NFUNCTIONS][4] = {{6}, {6}, {36}, {6}, {6}, {6, 36, 36, 36}, {6, 36, 36, 36},
-                                         {6, 6, 144, 72}};
-/* The derivative functions (the last three) run on the first ND states. */
+                                         {6, 6, 144, 72}, {192}};
+/* The derivative functions and the regressor (the last four) run on the first ND states. */
 enum { ND = 10000 };
 /* Time step of the RK4 step. */
 static const double DT = 1e-3;
@@ -57,7 +57,8 @@ static int run(int f, int batch, const stewart_params *p, size_t n, const double
         case G: stewart_batch_gravity_vector(p, n, x, o[0], status); break;
         case IDD: stewart_batch_inverse_dynamics_derivatives(p, n, x, xd, third, o[0], o[1], o[2], o[3], status); break;
         case FDD: stewart_batch_forward_dynamics_derivatives(p, n, x, xd, third, o[0], o[1], o[2], o[3], status); break;
-        default: stewart_batch_rk4_step_derivatives(p, n, x, xd, third, DT, o[0], o[1], o[2], o[3], status); break;
+        case RK4D: stewart_batch_rk4_step_derivatives(p, n, x, xd, third, DT, o[0], o[1], o[2], o[3], status); break;
+        default: stewart_batch_regressor(p, n, x, xd, third, o[0], status); break;
         }
         for (size_t i = 0; i < n; ++i) failures += status[i] != STEWART_OK;
         return failures;
@@ -75,7 +76,8 @@ static int run(int f, int batch, const stewart_params *p, size_t n, const double
         case G: st = stewart_gravity_vector(p, a, r[0]); break;
         case IDD: st = stewart_inverse_dynamics_derivatives(p, a, b, c, r[0], r[1], r[2], r[3]); break;
         case FDD: st = stewart_forward_dynamics_derivatives(p, a, b, c, r[0], r[1], r[2], r[3]); break;
-        default: st = stewart_rk4_step_derivatives(p, a, b, c, DT, r[0], r[1], r[2], r[3]); break;
+        case RK4D: st = stewart_rk4_step_derivatives(p, a, b, c, DT, r[0], r[1], r[2], r[3]); break;
+        default: st = stewart_regressor(p, a, b, c, r[0]); break;
         }
         failures += st != STEWART_OK;
     }

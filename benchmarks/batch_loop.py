@@ -27,7 +27,7 @@ ROOT = HERE.parent
 
 #: Functions timed, in batch_loop.c's order (the derivative functions on its first ND states).
 FUNCTIONS = ("inverse_dynamics", "forward_dynamics", "mass_matrix", "coriolis_vector", "gravity_vector",
-             "inverse_dynamics_derivatives", "forward_dynamics_derivatives", "rk4_step_derivatives")
+             "inverse_dynamics_derivatives", "forward_dynamics_derivatives", "rk4_step_derivatives", "regressor")
 #: Most microseconds per state (one core) of each batch function.
 US_PER_STATE = {"inverse_dynamics": 0.10, "forward_dynamics": 0.15, "mass_matrix": 0.08, "coriolis_vector": 0.08,
                 "gravity_vector": 0.08}
@@ -41,6 +41,8 @@ THREAD_SPEEDUP = 1.8
 PYTHON_OVERHEAD = 1.10
 #: Most the portable build's dispatched path may take over a -march=native build.
 NATIVE_RATIO = 1.05
+#: Most the regressor (6 x 32) may take over inverse dynamics, a state each, batch functions.
+REGRESSOR_RATIO = 4.0
 #: The -march=native build's column.
 NATIVE = "native"
 
@@ -150,6 +152,9 @@ def rows(fig: dict) -> list[tuple[str, ...]]:
         out.append((f"{name}, C loop, 1 core (max diff {worst:.0e}, {failures} failed rows)",
                     f"{scalar * 1e6:.3f} us", *cells, target, mark))
     blank = [""] * len(names)
+    ratio = loop["regressor"][1] / loop["inverse_dynamics"][1]
+    out.append(("regressor over inverse_dynamics, batch, 1 core", "", *blank[:-1], f"{ratio:.2f}x",
+                f"<= {REGRESSOR_RATIO:.0f}x", _mark(ratio <= REGRESSOR_RATIO)))
     if NATIVE in fig["paths"] and fig["dispatched"] != NATIVE:
         native = fig["paths"][NATIVE]["inverse_dynamics"][1]
         ratio = loop["inverse_dynamics"][1] / native

@@ -20,8 +20,9 @@ the six rows and loop over the right-hand sides:
   and no square root is needed.
 
 A solve takes b as 6 rows of n columns with row stride ld (ld >= n) and writes y as 6
-rows of n columns (row stride n); every column is solved with exactly the operations of
-a single right-hand side.
+rows of n columns with the same row stride; every column is solved with exactly the
+operations of a single right-hand side, all of its entries read before any is written, so
+y may be b (a solve in place).
 
 Each function also has a vector variant (`vector=True`: `vbareiss_factor`, ...) over a
 block of states, one per lane of a `stewart_vd` (codegen/templates/vector.c): the same
@@ -200,8 +201,8 @@ def bareiss_solve(vector=False):
             e = f'F[{L.pivot[k]}] * b{i} - F[{L.lower[i, k]}] * b{k}'
             add(f'        b{i} = ' + (e if k == 0 else f'({e}) * F[{L.inv[k - 1]}]') + ';')
     for i in range(N - 1, -1, -1):
-        terms = ''.join(f' - F[{L.upper[i, j]}] * y[{j} * n + c]' for j in range(i + 1, N))
-        add(f'        y[{i} * n + c] = (b{i}{terms}) * F[{L.inv[i]}];')
+        terms = ''.join(f' - F[{L.upper[i, j]}] * y[{j} * ld + c]' for j in range(i + 1, N))
+        add(f'        y[{i} * ld + c] = (b{i}{terms}) * F[{L.inv[i]}];')
     lines += _solved(vector)
     return '\n'.join(lines) + '\n'
 
@@ -270,8 +271,8 @@ def ldl_solve(vector=False):
         for i in range(k + 1, N):
             add(f'        b{i} -= F[{_ldl_index(i, k)}] * b{k};')
     for i in range(N - 1, -1, -1):
-        terms = ''.join(f' - F[{_ldl_index(j, i)}] * y[{j} * n + c]' for j in range(i + 1, N))
-        add(f'        y[{i} * n + c] = b{i} * F[{inv_at + i}]{terms};')
+        terms = ''.join(f' - F[{_ldl_index(j, i)}] * y[{j} * ld + c]' for j in range(i + 1, N))
+        add(f'        y[{i} * ld + c] = b{i} * F[{inv_at + i}]{terms};')
     lines += _solved(vector)
     return '\n'.join(lines) + '\n'
 

@@ -864,9 +864,11 @@ REGRESSOR_VARIANTS = {'paper': '!legs_spin(p)', 'general': None}
 
 
 def regressor_kernel(variant):
-    """The regressor's terms: WY = dW/dpi (6 x 20, row-major) of `inertial_force`, which is
-    linear in pi, by forward mode along each parameter; J_C (eq. 5) to solve J_C^T Y = WY; and
-    per leg the rate Ld_i = u_i . w_i and its smooth sign tanh(Ld_i / v_c), F = [Ld; sign].
+    """The regressor before its solve: Y (6 x 32, row-major) holds in its first 20 columns
+    dW/dpi of `inertial_force`, which is linear in pi, by forward mode along each parameter
+    (J_C^T times the regressor's columns: solved in place with J_C, eq. 5), then per leg i the
+    friction columns, the rate Ld_i = u_i . w_i at 20 + i and its smooth sign tanh(Ld_i / v_c)
+    at 26 + i.
     The paper's legs, which do not spin, are the general model's with a_i = z, no axial
     moment and no spin: the leg frame y = z x l / |z x l| is that of eqs. 44-47, and
     |z x l|^2 = l_x^2 + l_y^2 is checked as the frame's h2."""
@@ -880,10 +882,12 @@ def regressor_kernel(variant):
     rates = [g.define(f'Ld_{i}', _dot(leg.u, g.vector(f'y{i}vP', v + _cross(omega, leg.r))))
              for i, leg in enumerate(kin.legs)]
     signs = [sp.tanh(rate / PARAMS.v_c) for rate in rates]
+    Y = [row + [rates[i] if j == i else 0 for j in range(NUM_LEGS)] + [signs[i] if j == i else 0 for j in range(NUM_LEGS)]
+         for i, row in enumerate(WY)]
     checks = [('L2', [leg.L2 for leg in kin.legs]), ('h2' if paper else 'n2', [leg.n2 for leg in kin.legs])]
     return KernelSpec(_named('regressor', variant), regressor_kernel.__doc__, g, [('x', X), ('xd', XD), ('xdd', XDD)],
-                      [('WY', [e for row in WY for e in row]), ('JC', list(jacobian_rows(kin))),
-                       ('F', rates + signs)] + checks, when=REGRESSOR_VARIANTS[variant])
+                      [('Y', [e for row in Y for e in row]), ('JC', list(jacobian_rows(kin)))] + checks,
+                      when=REGRESSOR_VARIANTS[variant])
 
 
 @dataclass(frozen=True)
@@ -1014,9 +1018,9 @@ FUNCTIONS = (
              ' tanh(Ld_i / coulomb_velocity) (column 26 + i), Ld = J_C T xd.',
              ('x', 'xd', 'xdd'), (('Y', 6 * (len(RIGID_BODY) + len(FRICTION_PARAMETERS))),), REGRESSOR,
              steps=(('bareiss_factor', ('JC', 'FJ')),
-                    ('bareiss_solve', ('FJ', str(len(RIGID_BODY)), str(len(RIGID_BODY)), 'WY', 'YR')),
-                    ('friction_columns', ('YR', 'F', 'Y'))),
-             scratch=(_BAREISS_FACTORS, ('YR', 6 * len(RIGID_BODY)))),
+                    ('bareiss_solve', ('FJ', str(len(RIGID_BODY)), str(len(RIGID_BODY) + len(FRICTION_PARAMETERS)),
+                                       'Y', 'Y'))),
+             scratch=(_BAREISS_FACTORS,)),
     Function('rk4_step', 'One classic RK4 step of s = [x; xd], ds/dt = [xd; xdd(x, xd, tau)], tau constant:'
              ' [xn; xdn] after dt.', ('x', 'xd', 'tau'), (('xn', 6), ('xdn', 6)), (), scalars=('dt',),
              template='rk4.c'),

@@ -106,23 +106,6 @@ static int pose_accelerations(const double JAinv[9], int n, const double *y, dou
 }
 
 /* The three 6 x 6 blocks of columns of Y (6 x 18, row-major). */
-/* The regressor Y (6 x 32) from its 20 rigid-body columns YR (6 x 20) and the friction terms
- * F = [Ld; sign] of the legs: Y[i][20 + i] = Ld_i, Y[i][26 + i] = sign_i, zero elsewhere. */
-static int friction_columns(const double YR[120], const double F[12], double Y[192])
-{
-    int i, j;
-    for (i = 0; i < 6; ++i) {
-        for (j = 0; j < 20; ++j) {
-            Y[32 * i + j] = YR[20 * i + j];
-        }
-        for (j = 0; j < 6; ++j) {
-            Y[32 * i + 20 + j] = i == j ? F[i] : 0.0;
-            Y[32 * i + 26 + j] = i == j ? F[6 + i] : 0.0;
-        }
-    }
-    return STEWART_OK;
-}
-
 static int split_jacobians(const double Y[108], double a[36], double b[36], double c[36])
 {
     int i, j;

@@ -213,22 +213,6 @@ typedef stewart_vl (*vblock_fn)(const stewart_params *p, double scalar, const st
                                 stewart_vd *const out[]);
 
 /* split_jacobians of runtime.c over a block. */
-/* friction_columns of runtime.c over a block. */
-static stewart_vl vfriction_columns(const stewart_vd YR[120], const stewart_vd F[12], stewart_vd Y[192])
-{
-    int i, j;
-    for (i = 0; i < 6; ++i) {
-        for (j = 0; j < 20; ++j) {
-            Y[32 * i + j] = YR[20 * i + j];
-        }
-        for (j = 0; j < 6; ++j) {
-            Y[32 * i + 20 + j] = i == j ? F[i] : vsplat(0.0);
-            Y[32 * i + 26 + j] = i == j ? F[6 + i] : vsplat(0.0);
-        }
-    }
-    return vnone();
-}
-
 static stewart_vl vsplit_jacobians(const stewart_vd Y[108], stewart_vd a[36], stewart_vd b[36], stewart_vd c[36])
 {
     int i, j;
@@ -380,7 +364,7 @@ static int batch_rows(int params_ok, const stewart_params *p, vblock_fn block, d
     size_t base;
     for (base = 0; base < n; base += STEWART_LANES) {
         stewart_vl ok = vsplat(params_ok ? 0.0 : 1.0) == 0.0, lanes;
-        int i, k, lane;
+        int i, k, lane, failed;
         for (i = 0; i < nin; ++i) {
             for (lane = 0; lane < STEWART_LANES; ++lane) {
                 const double *row = rows[i] + 6 * (base + lane < n ? base + lane : n - 1);
@@ -396,7 +380,11 @@ static int batch_rows(int params_ok, const stewart_params *p, vblock_fn block, d
             ok &= vfinite(out[i], size[i]);
         }
         lanes = vmerge(lanes, ~ok & STEWART_ERR_NONFINITE);
-        for (i = 0; i < nout; ++i) {
+        failed = 0;
+        for (lane = 0; lane < STEWART_LANES; ++lane) {
+            failed |= lanes[lane] != 0;
+        }
+        for (i = 0; failed && i < nout; ++i) {
             for (k = 0; k < size[i]; ++k) {
                 out[i][k] = vselect(lanes == 0, out[i][k], vsplat(NAN));
             }
