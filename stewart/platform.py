@@ -95,6 +95,9 @@ class Platform:
         self._home.flags.writeable = False
         kinematics.check_universal_joint_axes(params, self._home)
         self._kernel = Kernel(params, threads)
+        # Legs that do not spin in a general model (a payload off-centre, no joint axes): the C
+        # model takes a_i = z with no axial moment, so the regressor's axial columns are set to zero.
+        self._axial_idle = params.universal_joint_axes is None and not params.is_paper_model
 
     @classmethod
     def preset(cls, name: str, **options) -> "Platform":
@@ -191,7 +194,7 @@ class Platform:
         ``universal_joint_axes``), the axial moments. Legs that do not spin are described in
         the frames of eqs. 43-48, so a vertical leg is singular here (``leg_vertical``)."""
         result = self._kernel.regressor(x, xd, xdd, return_mask=return_mask)
-        if self._params.universal_joint_axes is None:
+        if self._axial_idle:
             (result[0] if return_mask else result)[..., _AXIAL] *= 0.0  # failed rows stay NaN
         return result
 
