@@ -46,12 +46,15 @@ class BaseParameters:
     matrix : ``(r, p)`` ``K``, with ``Y pi == Y[..., indices] @ (K pi)`` for every state.
     columns : the ``p`` names of ``pi`` it was computed over (:meth:`PlatformParams.inertial_names`,
         without the friction for ``friction=False``).
+    scale : ``(r,)`` the RMS of each independent column over the random states: a column's size
+        when every coordinate moves, against which a trajectory's excitation is measured.
     """
 
     names: tuple[str, ...]
     indices: np.ndarray
     matrix: np.ndarray
     columns: tuple[str, ...]
+    scale: np.ndarray
 
     @property
     def rank(self) -> int:
@@ -129,4 +132,5 @@ def base_parameters(platform, *, samples: int = 200, seed: int = 0, friction: bo
         matrix[:, dependent] = _rounded(coefficients, 1.0)
     columns = INERTIAL_NAMES[:p]
     names = tuple(_combination(columns, row) for row in matrix)
-    return BaseParameters(names=names, indices=independent, matrix=matrix, columns=columns)
+    scale = np.sqrt(np.mean(stack[:, independent] ** 2, axis=0))
+    return BaseParameters(names=names, indices=independent, matrix=matrix, columns=columns, scale=scale)

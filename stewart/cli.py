@@ -11,13 +11,14 @@ import json
 import math
 import os
 import sys
+import warnings
 
 import numpy as np
 
 from . import __version__, build_info, csvfile, kinematics
 from .control import PID, Actuators, ComputedTorque
 from .mjcf import SOLVERS, to_mjcf
-from .params import PlatformParams
+from .params import NonAxisymmetricLegWarning, PlatformParams
 from .platform import Platform
 from .presets import presets as list_presets
 from .simulation import DEFAULT_TOLERANCE, MAX_ADAPTIVE_STEPS, MAX_STEPS, OUTCOMES, SimulationInterrupted, simulate
@@ -649,6 +650,58 @@ def cmd_export_mjcf(args) -> int:
     return 0
 
 
+def cmd_identify(args) -> int:
+    from . import identify
+
+    for flag in ("--output", "--report", "--plot"):
+        _check_output(flag, getattr(args, flag[2:]))
+    if args.plot:
+        _check_plotting("--plot")
+        if not args.validate:
+            raise UserError("--plot: draws the prediction of a held-out run; give --validate FILE too")
+    prior, label = _params(args)
+    plat = Platform(prior)
+
+    def measurements(flag, path):
+        try:
+            return identify.Measurements.from_csv(path)
+        except ValueError as exc:
+            raise UserError(f"{flag}{exc}") from None
+
+    data = measurements("", args.data)
+    result = identify.identify(plat, data, filter=args.filter, cutoff=args.cutoff, friction=args.friction)
+    print(f"# platform {label}: identified from {args.data} ({len(data.t)} samples at {data.rate:.6g} Hz, "
+          f"{args.filter} filter, cut-off {args.cutoff:g} Hz)")
+    print(result.table())
+    summary = result.summary()
+    if args.validate:
+        held = measurements("--validate ", args.validate)
+        t, predicted, measured, rms = identify.validation(result, plat, held, filter=args.filter, cutoff=args.cutoff)
+        spread = np.sqrt(np.mean((measured - measured.mean(axis=0)) ** 2, axis=0))
+        print(f"held-out run {args.validate}: RMS error per leg [N] {', '.join(f'{v:.3g}' for v in rms)} "
+              f"(force spread {', '.join(f'{v:.3g}' for v in spread)})")
+        summary["validation"] = {"file": args.validate, "rms": rms.tolist(), "spread": spread.tolist()}
+        if args.plot:
+            from .plots import plot_force_prediction
+
+            print(f"wrote {plot_force_prediction(t, predicted, measured, args.plot)}")
+    if args.report:
+        with open(args.report, "w", encoding="utf-8") as handle:
+            json.dump(summary, handle, indent=2)
+        print(f"wrote {args.report}")
+    if args.output:
+        try:
+            params = result.params()
+        except ValueError as exc:
+            print(f"stewart identify: error: --output {args.output}: not written: {exc}", file=sys.stderr)
+            return EXIT_CHECK_FAILED
+        with warnings.catch_warnings():  # the legs' I_yy and I_zz are identified apart (Identification.params)
+            warnings.simplefilter("ignore", NonAxisymmetricLegWarning)
+            params.replace(name=f"{prior.name or 'platform'} (identified)").save(args.output)
+        print(f"wrote {args.output}: the prior's parameters with the identified inertial and friction values")
+    return 0
+
+
 # ---------------------------------------------------------------------------- parser
 
 def _add_execution(parser) -> None:
@@ -902,6 +955,22 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--csv", metavar="FILE", help="write every design's parameters and metrics as CSV")
     p.add_argument("--json", metavar="FILE", help="write them as JSON")
     p.add_argument("--plot", metavar="FILE", help="write the Pareto-front figure (PNG)")
+
+    p = _subcommand(sub, "identify", "estimate a built platform's base inertial and friction parameters from a "
+                    "log of leg lengths and actuator forces (CSV: t, L0..L5 [m], F0..F5 [N]); the parameters given "
+                    "are the prior (geometry, and the values the log cannot determine)", cmd_identify)
+    p.add_argument("data", metavar="DATA.csv", help="the log to identify from")
+    _add_params(p)
+    p.add_argument("--filter", choices=["savgol", "butterworth"], default="savgol",
+                   help="zero-phase differentiation of the poses")
+    p.add_argument("--cutoff", type=_positive, default=10.0, help="the filter's cut-off [Hz]")
+    p.add_argument("--friction", action=argparse.BooleanOptionalAction, default=True,
+                   help="identify each leg's viscous and Coulomb friction too")
+    p.add_argument("--validate", metavar="FILE", help="a held-out log: print the prediction's RMS error per leg")
+    p.add_argument("--output", metavar="FILE", help="write the identified parameters (.toml or .json), loadable "
+                   "with --params and Platform.from_file")
+    p.add_argument("--report", metavar="FILE", help="write the base parameters with their standard errors (JSON)")
+    p.add_argument("--plot", metavar="FILE", help="write predicted against measured forces of --validate (PNG)")
 
     p = _subcommand(sub, "validate", "check the model against independent physics for a platform", cmd_validate)
     _add_params(p)

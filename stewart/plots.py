@@ -8,7 +8,7 @@ import os
 
 import numpy as np
 
-__all__ = ["plot_run", "plot_move", "plot_bars", "run_title", "plot_workspace_slices"]
+__all__ = ["plot_run", "plot_move", "plot_bars", "run_title", "plot_workspace_slices", "plot_force_prediction"]
 
 _POSE = [("x", "m"), ("y", "m"), ("z", "m"), ("psi", "rad"), ("theta", "rad"), ("phi", "rad")]
 
@@ -168,5 +168,25 @@ def plot_workspace_slices(slices, path: str, title: str = "") -> str:
     axes[0][0].legend(handles=[Patch(color="0.85", label="unreachable")], loc="upper right", fontsize=8)
     fig.suptitle(title or f"{slices[0].platform}: workspace slices")
     fig.savefig(path, dpi=90)
+    plt.close(fig)
+    return path
+
+
+def plot_force_prediction(t, predicted, measured, path: str, title: str = "") -> str:
+    """Predicted against measured actuator forces of the six legs over time (an identified
+    model on a held-out run, :func:`stewart.identify.validation`), with the residual RMS per leg."""
+    plt = _pyplot()
+    fig, axes = _figure(plt, title or "identified model: predicted and measured actuator forces")
+    for leg, ax in enumerate(axes):
+        rms = float(np.sqrt(np.mean((predicted[:, leg] - measured[:, leg]) ** 2)))
+        ax.plot(t, measured[:, leg], color="0.6", lw=1.0, label="measured")
+        ax.plot(t, predicted[:, leg], color="C0", lw=1.0, label="predicted")
+        ax.set_title(f"leg {leg}: RMS error {rms:.3g} N")
+        ax.set_ylabel("force [N]")
+        ax.grid(True, alpha=0.3)
+    for ax in axes[3:]:
+        ax.set_xlabel("time [s]")
+    axes[0].legend(loc="best")
+    fig.savefig(path, dpi=120)
     plt.close(fig)
     return path

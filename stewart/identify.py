@@ -1,0 +1,288 @@
+"""Identification: a built platform's base inertial and friction parameters from measured
+leg lengths and actuator forces.
+
+The forces are linear in the inertial parameters (:meth:`stewart.Platform.regressor`), and
+measurements determine the base parameters ``beta`` (:mod:`stewart.base_parameters`). From a
+log of leg lengths and forces sampled at a known rate, :func:`identify`
+
+1. finds the poses by forward kinematics (Newton-Raphson from the home pose);
+2. differentiates them with a zero-phase filter: a Savitzky-Golay filter whose window spans
+   about one period of the cut-off (``filter="savgol"``, polynomial order 4), or a 4th-order
+   Butterworth low-pass run forwards and backwards (``filtfilt``) followed by central
+   differences (``filter="butterworth"``). The poses are differentiated rather than the leg
+   lengths because the regressor takes pose rates. The forces are not filtered: they enter
+   the least squares linearly, so their noise averages out without bias, while smoothing them
+   would blur the Coulomb friction's turn at each reversal of a leg into a bias. The samples
+   within one filter window of either end are dropped;
+3. stacks the base regressor of the remaining samples and solves weighted least squares
+   (:func:`estimate`): a first ordinary solve gives each leg's residual variance, and each
+   leg's equations are then weighted by its inverse standard deviation (legs with noisier
+   load cells count less). The covariance of the estimates is ``s^2 (A^T A)^-1`` of the
+   weighted system, ``s^2`` its residual variance; the relative standard deviation of an
+   estimate is its standard error over its magnitude, in %.
+
+Noise in the leg lengths, differentiated twice, reaches the regressor and biases the
+estimates (errors in variables) in proportion to the cut-off's square and more: a cut-off a
+few times the trajectory's highest frequency keeps that bias below the standard errors.
+
+A trajectory that does not excite every base parameter gives a stacked regressor whose
+condition number (:func:`excitation_condition`: each column in units of its size over random
+motion of the workspace) exceeds :data:`MAX_CONDITION`: that is an error, never a silent fit.
+
+:func:`synthetic_measurements` simulates a logged run: a platform following a trajectory
+(the forces its actuators deliver, :meth:`stewart.Platform.actuator_forces`, with friction)
+with leg lengths from inverse kinematics, plus seeded Gaussian noise.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import os
+import warnings
+
+import numpy as np
+import scipy.signal
+
+from . import _checks, csvfile
+from .base_parameters import BaseParameters, base_parameters
+from .params import NonAxisymmetricLegWarning, PlatformParams
+
+__all__ = ["Measurements", "Identification", "identify", "estimate", "synthetic_measurements",
+           "MAX_CONDITION", "FILTERS", "COLUMNS", "excitation_condition", "differentiate", "validation"]
+
+#: The columns of a measurement file: time [s], six leg lengths [m], six actuator forces [N].
+COLUMNS = ["t"] + [f"L{i}" for i in range(6)] + [f"F{i}" for i in range(6)]
+#: Most condition number of the stacked base regressor (`excitation_condition`) of an
+#: identification; above it the trajectory does not excite every base parameter.
+MAX_CONDITION = 1e4
+#: The differentiating filters.
+FILTERS = ("savgol", "butterworth")
+#: Fewest samples an identification uses after the filter's ends are dropped, per base parameter.
+SAMPLES_PER_PARAMETER = 10
+
+
+@dataclasses.dataclass(frozen=True)
+class Measurements:
+    """A log of a platform's legs: times ``t`` ``(n,)`` [s], leg lengths ``(n, 6)`` [m] and
+    actuator forces ``(n, 6)`` [N]; checked (finite, time strictly increasing at a constant rate)."""
+
+    t: np.ndarray
+    lengths: np.ndarray
+    forces: np.ndarray
+
+    def __post_init__(self):
+        t = _checks.reals("t", self.t)
+        lengths, forces = _checks.reals("lengths", self.lengths), _checks.reals("forces", self.forces)
+        if t.ndim != 1 or lengths.shape != (len(t), 6) or forces.shape != (len(t), 6):
+            raise ValueError(f"measurements: need t (n,), lengths (n, 6) and forces (n, 6), got {t.shape}, "
+                             f"{lengths.shape} and {forces.shape}")
+        bad = np.flatnonzero(~(np.isfinite(t) & np.all(np.isfinite(lengths), axis=1) & np.all(np.isfinite(forces), axis=1)))
+        if bad.size:
+            raise ValueError(f"measurements: sample(s) {bad[:5].tolist()} hold NaN or inf")
+        if len(t) < 3:
+            raise ValueError(f"measurements: too few samples ({len(t)})")
+        steps = np.diff(t)
+        if np.any(steps <= 0.0):
+            k = int(np.argmax(steps <= 0.0))
+            raise ValueError(f"measurements: the time column is not increasing at sample {k + 1} "
+                             f"(t = {t[k]:g} then {t[k + 1]:g})")
+        if np.max(np.abs(steps - steps.mean())) > 1e-6 * steps.mean():
+            raise ValueError("measurements: the samples are not evenly spaced in time (the filters need a constant rate)")
+        for name, value in (("t", t), ("lengths", lengths), ("forces", forces)):
+            object.__setattr__(self, name, value)
+
+    @property
+    def rate(self) -> float:
+        """Samples per second."""
+        return (len(self.t) - 1) / (self.t[-1] - self.t[0])
+
+    @classmethod
+    def from_csv(cls, path) -> "Measurements":
+        """Read a CSV file with the :data:`COLUMNS` (a header picks them by name)."""
+        data = csvfile.read(path, COLUMNS)
+        try:
+            return cls(data[:, 0], data[:, 1:7], data[:, 7:13])
+        except ValueError as exc:
+            raise ValueError(f"{os.fspath(path)}: {exc}") from None
+
+    def to_csv(self, path, comment: str | None = None) -> None:
+        csvfile.write(path, COLUMNS, np.column_stack([self.t, self.lengths, self.forces]),
+                      comment or "time [s], leg lengths [m], actuator forces [N]", fmt="%.17g")
+
+
+@dataclasses.dataclass(frozen=True)
+class Identification:
+    """The result of :func:`identify` (or :func:`estimate`)."""
+
+    base: BaseParameters
+    estimates: np.ndarray         # beta, (r,)
+    standard_errors: np.ndarray   # (r,)
+    residual_rms: np.ndarray      # per leg [N], of the unweighted residual
+    condition_number: float       # of the stacked base regressor (`excitation_condition`)
+    samples: int                  # samples used
+    prior: PlatformParams         # the parameters the geometry and the unidentifiable values come from
+
+    @property
+    def relative_std(self) -> np.ndarray:
+        """Standard error over |estimate|, in % (inf for an estimate of zero)."""
+        with np.errstate(divide="ignore"):
+            return 100.0 * self.standard_errors / np.abs(self.estimates)
+
+    def params(self) -> PlatformParams:
+        """Physical parameters consistent with the estimates: the prior's inertial vector pi0
+        corrected by the least change that reproduces them, pi0 + K^+ (beta - K pi0); what the
+        measurements cannot determine stays as in the prior. ``ValueError`` when no physical
+        body has these values. Without joint axes the legs' I_yy and I_zz are identified apart
+        and may differ (no :class:`stewart.NonAxisymmetricLegWarning` is given for that)."""
+        K = self.base.matrix
+        pi0 = self.prior.inertial_vector()
+        p = K.shape[1]
+        pi = pi0.copy()
+        pi[:p] = pi0[:p] + np.linalg.pinv(K) @ (self.estimates - K @ pi0[:p])
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", NonAxisymmetricLegWarning)
+                return self.prior.with_inertial_vector(pi)
+        except ValueError as exc:
+            raise ValueError(f"the identified values are not physical ({exc}); excite the platform better, "
+                             "or start from a prior closer to the machine") from None
+
+    def predict(self, x, xd, xdd) -> np.ndarray:
+        """Forces ``Y_b beta`` at states, from the platform the identification was for."""
+        from .platform import Platform
+
+        return self.base.reduce(Platform(self.prior).regressor(x, xd, xdd)[..., :len(self.base.columns)]) @ self.estimates
+
+    def table(self) -> str:
+        """The estimates as a text table."""
+        width = max(len(n) for n in self.base.names)
+        lines = [f"{'base parameter':<{width}}  {'estimate':>12}  {'std error':>10}  {'rel. std':>8}"]
+        for name, value, error, rel in zip(self.base.names, self.estimates, self.standard_errors, self.relative_std):
+            lines.append(f"{name:<{width}}  {value:12.6g}  {error:10.3g}  {rel:7.2f}%")
+        lines.append(f"condition number {self.condition_number:.3g}, {self.samples} samples, residual RMS per leg "
+                     f"[N]: {', '.join(f'{v:.3g}' for v in self.residual_rms)}")
+        return "\n".join(lines)
+
+    def summary(self) -> dict:
+        """The result as plain Python (the report file)."""
+        return {"base_parameters": [{"name": n, "estimate": float(v), "standard_error": float(e),
+                                     "relative_std_percent": float(r)}
+                                    for n, v, e, r in zip(self.base.names, self.estimates, self.standard_errors,
+                                                          self.relative_std)],
+                "condition_number": float(self.condition_number), "samples": self.samples,
+                "residual_rms": self.residual_rms.tolist(), "never_act": [
+                    name for name, used in zip(self.base.columns, np.any(self.base.matrix, axis=0)) if not used]}
+
+
+def excitation_condition(base: BaseParameters, A: np.ndarray) -> float:
+    """The condition number of a stacked base regressor ``A`` ``(m, r)`` with each column in
+    units of its size over random motion (:attr:`BaseParameters.scale`): large when the
+    trajectory leaves a combination of base parameters unexcited."""
+    return float(np.linalg.cond(A / (base.scale * np.sqrt(len(A) / 6))))
+
+
+def estimate(platform, x, xd, xdd, forces, *, friction: bool = True, base: BaseParameters | None = None,
+             samples: int = 200) -> Identification:
+    """Weighted least squares for the base parameters from states ``x, xd, xdd`` ``(n, 6)`` and
+    the measured forces ``(n, 6)`` (see the module's text); ``base`` from :func:`base_parameters`
+    (``samples`` states) unless given."""
+    x, xd, xdd = (_checks.states(n, v) for n, v in (("x", x), ("xd", xd), ("xdd", xdd)))
+    forces = _checks.states("forces", forces)
+    base = base or base_parameters(platform, samples=samples, friction=friction)
+    n = len(forces)
+    if n * 6 < SAMPLES_PER_PARAMETER * base.rank:
+        raise ValueError(f"measurements: too few samples ({n}) for {base.rank} base parameters; "
+                         f"need at least {int(np.ceil(SAMPLES_PER_PARAMETER * base.rank / 6))}")
+    Y, ok = platform.regressor(x, xd, xdd, return_mask=True)
+    if not np.all(ok):
+        bad = np.flatnonzero(~ok)
+        raise ValueError(f"measurements: the model is undefined at sample(s) {bad[:5].tolist()} (a singular pose)")
+    A = base.reduce(Y[..., :len(base.columns)])  # (n, 6, r)
+    condition = excitation_condition(base, A.reshape(-1, base.rank))
+    if not condition <= MAX_CONDITION:
+        raise ValueError(f"measurements: the trajectory does not excite every base parameter (condition number "
+                         f"{condition:.3g} > {MAX_CONDITION:.0e}); move every axis, at several speeds")
+    beta, *_ = np.linalg.lstsq(A.reshape(-1, base.rank), forces.reshape(-1), rcond=None)
+    sigma = np.sqrt(np.mean((forces - A @ beta) ** 2, axis=0))
+    weights = 1.0 / np.maximum(sigma, 1e-12 * max(np.max(sigma), np.finfo(float).tiny))
+    Aw = (A * weights[None, :, None]).reshape(-1, base.rank)
+    bw = (forces * weights).reshape(-1)
+    beta, *_ = np.linalg.lstsq(Aw, bw, rcond=None)
+    residual = bw - Aw @ beta
+    dof = max(len(bw) - base.rank, 1)
+    covariance = np.linalg.inv(Aw.T @ Aw) * (residual @ residual / dof)
+    return Identification(base=base, estimates=beta, standard_errors=np.sqrt(np.diag(covariance)),
+                          residual_rms=np.sqrt(np.mean((forces - A @ beta) ** 2, axis=0)),
+                          condition_number=condition, samples=n, prior=platform.params)
+
+
+def differentiate(measurements: Measurements, poses: np.ndarray, *, filter: str = "savgol", cutoff: float = 10.0):
+    """Zero-phase filtered poses, rates and accelerations, and the measured forces, at the
+    samples farther than one filter window from either end."""
+    if filter not in FILTERS:
+        raise ValueError(f"filter: expected one of {', '.join(FILTERS)}, got {filter!r}")
+    cutoff = _checks.real("cutoff", cutoff)
+    rate = measurements.rate
+    if not 0.0 < cutoff < rate / 2.0:
+        raise ValueError(f"cutoff: need 0 < cutoff < {rate / 2:g} Hz (half the sampling rate), got {cutoff:g}")
+    dt = 1.0 / rate
+    window = max(7, int(round(rate / cutoff)) | 1)
+    n = len(poses)
+    if n < 3 * window:
+        raise ValueError(f"measurements: too few samples ({n}) for the filter window of {window} samples; "
+                         f"log longer or raise the cut-off")
+    if filter == "savgol":
+        smooth = lambda v, d=0: scipy.signal.savgol_filter(v, window, 4, deriv=d, delta=dt, axis=0)
+        x, xd, xdd = smooth(poses), smooth(poses, 1), smooth(poses, 2)
+    else:
+        b, a = scipy.signal.butter(4, cutoff / (rate / 2.0))
+        low = lambda v: scipy.signal.filtfilt(b, a, v, axis=0)
+        x = low(poses)
+        xd = np.gradient(x, dt, axis=0)
+        xdd = np.gradient(xd, dt, axis=0)
+    keep = slice(window, n - window)
+    return x[keep], xd[keep], xdd[keep], measurements.forces[keep]
+
+
+def identify(platform, measurements: Measurements, *, filter: str = "savgol", cutoff: float = 10.0,
+             friction: bool = True, base: BaseParameters | None = None) -> Identification:
+    """The base parameters of ``platform`` (its geometry; its inertial values are the prior)
+    from ``measurements`` (see the module's text)."""
+    if not isinstance(measurements, Measurements):
+        raise ValueError(f"measurements: expected stewart.identify.Measurements, got {type(measurements).__name__}")
+    poses = platform.forward_kinematics(measurements.lengths, platform.home_pose)
+    x, xd, xdd, forces = differentiate(measurements, poses, filter=filter, cutoff=cutoff)
+    return estimate(platform, x, xd, xdd, forces, friction=friction, base=base)
+
+
+def validation(result: Identification, platform, measurements: Measurements, *, filter: str = "savgol",
+               cutoff: float = 10.0):
+    """Predicted against measured forces on a held-out log: ``(t, predicted, measured, rms per leg)``,
+    the measured forces filtered as for the identification."""
+    poses = platform.forward_kinematics(measurements.lengths, platform.home_pose)
+    x, xd, xdd, forces = differentiate(measurements, poses, filter=filter, cutoff=cutoff)
+    window = (len(measurements.t) - len(x)) // 2
+    predicted = result.predict(x, xd, xdd)
+    return (measurements.t[window:window + len(x)], predicted, forces,
+            np.sqrt(np.mean((predicted - forces) ** 2, axis=0)))
+
+
+def synthetic_measurements(platform, trajectory, *, rate: float = 500.0, noise_length: float = 0.0,
+                           noise_force: float = 0.0, seed: int = 0) -> Measurements:
+    """A simulated log of ``platform`` following ``trajectory`` (anything with ``duration``
+    and ``sample(t) -> (x, xd, xdd)``) for its duration at ``rate`` samples per second: leg
+    lengths by inverse kinematics and the forces its actuators deliver (rigid body plus
+    friction), with Gaussian noise of standard deviation ``noise_length`` [m] and
+    ``noise_force`` [N] (seeded)."""
+    rate = _checks.real("rate", rate)
+    if not rate > 0.0:
+        raise ValueError(f"rate: must be positive, got {rate:g}")
+    for name, value in (("noise_length", noise_length), ("noise_force", noise_force)):
+        if not _checks.real(name, value) >= 0.0:
+            raise ValueError(f"{name}: must be >= 0, got {value}")
+    t = np.arange(int(np.floor(trajectory.duration * rate)) + 1) / rate
+    x, xd, xdd = trajectory.sample(t)
+    rng = np.random.default_rng(seed)
+    lengths = platform.leg_lengths(x) + noise_length * rng.standard_normal((len(t), 6))
+    forces = platform.actuator_forces(x, xd, xdd) + noise_force * rng.standard_normal((len(t), 6))
+    return Measurements(t, lengths, forces)

@@ -1,0 +1,140 @@
+"""Identification: exact recovery of the base parameters from exact states, standard errors
+that cover the true values over repeated noisy runs, predictions on a held-out run at the
+noise level, a parameter file that reproduces the estimates, and bad data refused."""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+
+import numpy as np
+import pytest
+
+from stewart import Platform, PlatformParams
+from stewart.cli import main
+from stewart.identify import Measurements, estimate, identify, synthetic_measurements, validation
+
+NOISE_LENGTH = 1e-6   # m, a linear encoder's
+NOISE_FORCE = 0.2     # N, a load cell's
+RATE = 500.0          # samples per second
+CUTOFF = 8.0          # Hz: a few times the trajectories' highest frequency (1.9 Hz)
+
+
+class Sines:
+    """A sum of sines about the home pose in each pose coordinate, exact derivatives."""
+
+    def __init__(self, home, seed, duration=10.0, scale=1.0, axes=range(6)):
+        rng = np.random.default_rng(seed)
+        mask = np.zeros((6, 1))
+        mask[list(axes)] = 1.0
+        self.amp = scale * mask * np.array([0.01, 0.01, 0.01, 0.05, 0.05, 0.05])[:, None] * rng.uniform(0.3, 1, (6, 4))
+        self.w = 2 * np.pi * np.array([0.3, 0.7, 1.1, 1.7]) * rng.uniform(0.9, 1.1, 4)
+        self.phase = rng.uniform(0, 2 * np.pi, (6, 4))
+        self.home, self.duration = home, duration
+
+    def sample(self, t):
+        ph = np.asarray(t)[:, None, None] * self.w + self.phase
+        return (self.home + (self.amp * np.sin(ph)).sum(-1), (self.amp * self.w * np.cos(ph)).sum(-1),
+                (-self.amp * self.w ** 2 * np.sin(ph)).sum(-1))
+
+
+def machine(seed=0):
+    """The seed paper's platform with a payload the prior does not know, and friction."""
+    rng = np.random.default_rng(seed)
+    params = PlatformParams.preset("narayan2017").with_payload(0.5, [0.01, -0.005, 0.02], [0.01, 0.015, 0.012])
+    return Platform(params.replace(viscous_friction=rng.uniform(5, 20, 6), coulomb_friction=rng.uniform(1, 3, 6)))
+
+
+PRIOR = Platform.preset("narayan2017")
+
+
+def test_exact_states_recover_the_base_parameters(figures):
+    true = machine()
+    traj = Sines(PRIOR.home_pose, 1)
+    t = np.arange(0, traj.duration, 1 / 250)
+    x, xd, xdd = traj.sample(t)
+    result = estimate(PRIOR, x, xd, xdd, true.actuator_forces(x, xd, xdd))
+    beta = result.base.values(true.params.inertial_vector())
+    err = np.max(np.abs(result.estimates - beta) / (np.abs(beta) + 1e-6 * np.max(np.abs(beta))))
+    figures("identification from exact states: base parameters, relative", err, 1e-8)
+
+
+def test_standard_errors_cover_the_true_values_over_repeated_runs(figures):
+    true = machine()
+    traj = Sines(PRIOR.home_pose, 2)
+    inside, total = 0, 0
+    for seed in range(12):
+        data = synthetic_measurements(true, traj, rate=RATE, noise_length=NOISE_LENGTH, noise_force=NOISE_FORCE,
+                                      seed=seed)
+        result = identify(PRIOR, data, cutoff=CUTOFF)
+        z = (result.estimates - result.base.values(true.params.inertial_vector())) / result.standard_errors
+        inside += int(np.sum(np.abs(z) <= 2.0))
+        total += len(z)
+    # ~95.4 % for Gaussian errors; over 312 estimates the fraction is within 0.91 ... 0.99 (4 sigma)
+    fraction = inside / total
+    figures("identification: estimates within 2 standard errors over 12 noisy runs (shortfall from 0.91)",
+            max(0.0, 0.91 - fraction), 0.0)
+    assert fraction <= 0.995, f"standard errors too large: {fraction:.3f} of the estimates within 2 of them"
+
+
+def test_prediction_on_a_held_out_run_and_the_parameter_file(tmp_path, figures):
+    true = machine()
+    data = synthetic_measurements(true, Sines(PRIOR.home_pose, 3, duration=30.0, scale=1.5), rate=RATE, noise_length=NOISE_LENGTH,
+                                  noise_force=NOISE_FORCE, seed=1)
+    held = synthetic_measurements(true, Sines(PRIOR.home_pose, 4), rate=RATE, noise_length=NOISE_LENGTH,
+                                  noise_force=NOISE_FORCE, seed=2)
+    result = identify(PRIOR, data, cutoff=CUTOFF)
+    _, predicted, measured, rms = validation(result, PRIOR, held, cutoff=CUTOFF)
+    # the noise level: the true parameters' prediction through the same measurement pipeline
+    exact = dataclasses.replace(result, estimates=result.base.values(true.params.inertial_vector()))
+    _, _, _, floor = validation(exact, PRIOR, held, cutoff=CUTOFF)
+    figures("identification: held-out RMS error over the true model's (same pipeline)", np.max(rms / floor), 1.05)
+    assert np.max(floor) < 1.5 * NOISE_FORCE  # the force noise, and the differentiated length noise
+    params = result.params()
+    params.save(tmp_path / "identified.toml")
+    loaded = Platform.from_file(tmp_path / "identified.toml")
+    err = np.max(np.abs(result.base.values(loaded.params.inertial_vector()) - result.estimates)
+                 / np.maximum(np.abs(result.estimates), 1e-9))
+    figures("identification: parameter file's base values vs the estimates", err, 1e-9)
+
+
+def test_bad_data_is_refused():
+    true = machine()
+    t = np.arange(0, 2, 1 / 250)
+    good = synthetic_measurements(true, Sines(PRIOR.home_pose, 5, duration=2.0), rate=250)
+    lengths = good.lengths.copy()
+    lengths[7, 2] = np.nan
+    with pytest.raises(ValueError, match=r"sample\(s\) \[7\] hold NaN"):
+        Measurements(good.t, lengths, good.forces)
+    backwards = good.t.copy()
+    backwards[10] = backwards[8]
+    with pytest.raises(ValueError, match="not increasing at sample 10"):
+        Measurements(backwards, good.lengths, good.forces)
+    with pytest.raises(ValueError, match="too few samples"):
+        identify(PRIOR, Measurements(t[:20], good.lengths[:20], good.forces[:20]))
+    still = synthetic_measurements(true, Sines(PRIOR.home_pose, 6, axes=[2]), rate=250)
+    with pytest.raises(ValueError, match="does not excite every base parameter"):
+        identify(PRIOR, still)
+    with pytest.raises(ValueError, match="cutoff"):
+        identify(PRIOR, good, cutoff=200.0)
+
+
+def test_command_line(tmp_path, capsys):
+    true = machine()
+    for name, seed in (("run.csv", 3), ("held.csv", 4)):
+        synthetic_measurements(true, Sines(PRIOR.home_pose, seed, duration=30.0, scale=1.5), rate=RATE, noise_length=NOISE_LENGTH,
+                               noise_force=NOISE_FORCE, seed=seed).to_csv(tmp_path / name)
+    main(["identify", str(tmp_path / "run.csv"), "--validate", str(tmp_path / "held.csv"),
+          "--output", str(tmp_path / "id.toml"), "--report", str(tmp_path / "report.json"), "--cutoff", str(CUTOFF)])
+    out = capsys.readouterr().out
+    assert "platform.m + 6 piston.m" in out and "held-out run" in out
+    report = json.loads((tmp_path / "report.json").read_text())
+    assert report["never_act"] == ["cylinder.m", "cylinder.Ixx", "piston.Ixx"]
+    assert max(report["validation"]["rms"]) < 1.5 * NOISE_FORCE
+    Platform.from_file(tmp_path / "id.toml")
+    (tmp_path / "bad.csv").write_text("t,L0\n0,1\n")
+    with pytest.raises(SystemExit) as exit_info:
+        main(["identify", str(tmp_path / "bad.csv")])
+    assert exit_info.value.code == 2
+    err = capsys.readouterr().err
+    assert err.startswith("stewart identify: error: ") and len(err.strip().splitlines()) == 1
