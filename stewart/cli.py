@@ -16,13 +16,15 @@ import warnings
 import numpy as np
 
 from . import __version__, build_info, csvfile, kinematics
+from . import excitation
 from .control import PID, Actuators, ComputedTorque
 from .mjcf import SOLVERS, to_mjcf
 from .params import NonAxisymmetricLegWarning, PlatformParams
 from .platform import Platform
 from .presets import presets as list_presets
 from .simulation import DEFAULT_TOLERANCE, MAX_ADAPTIVE_STEPS, MAX_STEPS, OUTCOMES, SimulationInterrupted, simulate
-from .trajectory import PROFILES, PointToPoint, SampledTrajectory
+from .trajectory import PROFILES, PointToPoint
+from .trajectory import load as load_trajectory
 from .workspace import WorkspaceError, reachability
 
 POSE = ["x", "y", "z", "psi", "theta", "phi"]
@@ -110,7 +112,7 @@ class _Formatter(argparse.ArgumentDefaultsHelpFormatter, argparse.RawDescription
 
 
 _METAVARS = {
-    "--pose": tuple(POSE), "--target": tuple(POSE),
+    "--pose": tuple(POSE), "--target": tuple(POSE), "--centre": tuple(POSE),
     "--vel": tuple(f"{p}'" for p in POSE), "--acc": tuple(f"{p}''" for p in POSE),
     "--force": tuple(f"tau{i}" for i in range(6)),
     "--lower": tuple(POSE), "--upper": tuple(POSE),
@@ -287,7 +289,7 @@ def cmd_state(args) -> int:
 def _trajectory(args, plat):
     if args.trajectory:
         try:
-            return SampledTrajectory.from_csv(args.trajectory), f"--trajectory {args.trajectory}"
+            return load_trajectory(args.trajectory), f"--trajectory {args.trajectory}"
         except ValueError as exc:
             message = str(exc)
             prefix = "" if message.startswith(args.trajectory) else f"{args.trajectory}: "
@@ -702,6 +704,76 @@ def cmd_identify(args) -> int:
     return 0
 
 
+def cmd_excitation(args) -> int:
+    for flag in ("--csv", "--output", "--plot"):
+        _check_output(flag, getattr(args, flag[2:]))
+    if args.output and not args.output.lower().endswith((".toml", ".json")):
+        raise UserError(f"--output {args.output}: give a .toml or .json file name")
+    if args.plot:
+        _check_plotting("--plot")
+    params, label = _params(args)
+    plat = Platform(params)
+    try:
+        design = excitation.design_excitation(
+            plat, period=args.period, harmonics=args.harmonics, centre=args.centre, periods=args.periods,
+            samples=args.samples, starts=args.starts, seed=args.seed, max_leg_velocity=args.max_leg_velocity,
+            max_leg_acceleration=args.max_leg_acceleration,
+            force_limit=None if math.isinf(args.force_limit) else args.force_limit, min_margin=args.min_margin,
+            stroke_margin=args.stroke_margin, friction=args.friction, max_iterations=args.max_iterations,
+            progress=_progress(args))
+        if args.csv:
+            design.to_csv(args.csv, plat, args.rate)
+    except WorkspaceError as exc:
+        raise UserError(_flags(str(exc), _EXCITATION_FLAGS), EXIT_WORKSPACE) from None
+    except ValueError as exc:
+        raise UserError(_flags(str(exc), _EXCITATION_FLAGS)) from None
+    files = [args.csv] if args.csv else []
+    if args.output:
+        design.save(args.output)
+        files.append(args.output)
+    if args.plot:
+        from .plots import plot_excitation
+
+        files.append(plot_excitation(design, plat, args.plot))
+    code = 0 if design.feasible else OUTCOMES["failed"]
+    if args.json:
+        print(json.dumps({"command": "excitation", "platform_source": label, **design.summary(), "files": files,
+                          "exit_code": code}))
+    else:
+        _excitation_report(design, label, files)
+    for problem in design.problems:
+        print(f"stewart excitation: error: {problem}", file=sys.stderr)
+    return code
+
+
+#: The user's flags for the arguments of :func:`stewart.excitation.design_excitation`.
+_EXCITATION_FLAGS = {"period": "--period", "harmonics": "--harmonics", "centre": "--centre", "periods": "--periods",
+                     "samples": "--samples", "starts": "--starts", "seed": "--seed", "rate": "--rate",
+                     "max_leg_velocity": "--max-leg-velocity", "max_leg_acceleration": "--max-leg-acceleration",
+                     "force_limit": "--force-limit", "min_margin": "--min-margin", "stroke_margin": "--stroke-margin",
+                     "max_iterations": "--max-iterations"}
+
+
+def _excitation_report(design, label: str, files: list[str]) -> None:
+    traj, peaks, lim = design.trajectory, design.peaks, design.limits
+    print(f"platform {label}: Fourier excitation, {traj.harmonics} harmonics, period {traj.period:g} s, "
+          f"{traj.periods} period(s), {len(design.base_names)} base parameters")
+    print(f"condition number {design.condition:.4g} (random start {design.initial_condition:.4g}; best of "
+          f"{design.starts} start(s), {design.iterations} SLSQP iterations"
+          + (f"; amplitudes scaled by {design.scaled:.4g} to hold on the check grid)" if design.scaled < 1 else ")"))
+    force = "none" if math.isinf(lim.force) else f"{lim.force:.4g}"
+    print(f"{'':<26}{'reached':>12}{'limit':>12}")
+    for name, reached, limit in (("leg length min [m]", peaks["leg_length_min"], f"{lim.lengths[0]:.4g}"),
+                                 ("leg length max [m]", peaks["leg_length_max"], f"{lim.lengths[1]:.4g}"),
+                                 ("leg velocity [m/s]", peaks["leg_velocity"], f"{lim.leg_velocity:.4g}"),
+                                 ("leg acceleration [m/s^2]", peaks["leg_acceleration"], f"{lim.leg_acceleration:.4g}"),
+                                 ("actuator force [N]", peaks["force"], force),
+                                 ("singularity margin (min)", peaks["margin_min"], f"{lim.margin:.4g}")):
+        print(f"{name:<26}{reached:>12.4g}{limit:>12}")
+    for path in files:
+        print(f"written: {path}")
+
+
 # ---------------------------------------------------------------------------- parser
 
 def _add_execution(parser) -> None:
@@ -733,7 +805,7 @@ def _envelope_spec(args, params):
         motions = []
         for path in args.trajectory:
             try:
-                motions.append(SampledTrajectory.from_csv(path))
+                motions.append(load_trajectory(path))
             except ValueError as exc:
                 message = str(exc)
                 raise UserError(f"--trajectory {message if message.startswith(path) else path + ': ' + message}") \
@@ -858,8 +930,9 @@ def build_parser() -> argparse.ArgumentParser:
     _add_params(p)
     goal = p.add_mutually_exclusive_group()
     _six(goal, "--target", "pose to move to from home: x y z psi theta phi [m, rad]")
-    goal.add_argument("--trajectory", metavar="CSV", help="follow t,x,y,z,psi,theta,phi rows instead (a header "
-                      "naming these columns picks them from a wider file, e.g. a simulation's --csv)")
+    goal.add_argument("--trajectory", metavar="FILE", help="follow t,x,y,z,psi,theta,phi rows of a CSV file instead "
+                      "(a header naming these columns picks them from a wider file, e.g. a simulation's --csv), or "
+                      "the Fourier series of a .toml/.json file written by stewart excitation --output")
     p.add_argument("--move-time", type=_positive, default=5.0, help="duration of the move to --target [s]")
     p.add_argument("--profile", choices=sorted(PROFILES), default="sinusoidal", help="velocity profile of the move")
     p.add_argument("--duration", type=_positive, help="simulated time [s] (default: the move's)")
@@ -894,6 +967,40 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--plot", metavar="DIR", help="write PNG figures of forces and leg strokes into DIR")
     p.add_argument("--json", action="store_true", help="print only a JSON summary on stdout")
 
+    p = _subcommand(sub, "excitation", "design a periodic Fourier-series trajectory for identification that "
+                    "minimizes the condition number of the base regressor within the stroke, leg velocity, "
+                    "acceleration and force limits, away from singularities", cmd_excitation)
+    _add_params(p)
+    p.add_argument("--period", type=_positive, default=excitation.DEFAULT_PERIOD, help="period of the series [s]")
+    p.add_argument("--harmonics", type=_count, default=excitation.DEFAULT_HARMONICS, help="harmonics of the series (at least 2)")
+    p.add_argument("--periods", type=_count, default=1, help="periods the exported trajectory repeats")
+    _six(p, "--centre", "pose the series moves about, at rest at its start and end (default: home) [m, rad]")
+    p.add_argument("--samples", type=_count, help=f"design samples per period (default: {excitation.SAMPLES_PER_HARMONIC} per harmonic)")
+    p.add_argument("--starts", type=_count, default=excitation.DEFAULT_STARTS, help="random starts of the optimizer")
+    p.add_argument("--seed", type=int, default=0, help="seed of the random starts")
+    p.add_argument("--max-iterations", type=_count, default=excitation.DEFAULT_ITERATIONS,
+                   help="SLSQP iterations per start")
+    p.add_argument("--max-leg-velocity", type=_positive, metavar="M/S", help="largest |leg velocity| "
+                   f"(default: {excitation.VELOCITY_PER_STROKE:g} stroke(s) per second)")
+    p.add_argument("--max-leg-acceleration", type=_positive, metavar="M/S2", help="largest |leg acceleration| "
+                   f"(default: {excitation.ACCELERATION_PER_STROKE:g} strokes per second squared)")
+    p.add_argument("--force-limit", type=_limit, default=math.inf, help="largest |actuator force| [N]")
+    p.add_argument("--min-margin", type=_positive, help="smallest singularity margin 1/cond(J_C) "
+                   f"(default: {excitation.MARGIN_FRACTION:g} times the centre pose's)")
+    p.add_argument("--stroke-margin", type=_non_negative, default=excitation.STROKE_MARGIN, help="fraction of the stroke kept free "
+                   "at either end")
+    p.add_argument("--friction", action=argparse.BooleanOptionalAction, default=True,
+                   help="excite the per-leg viscous and Coulomb friction parameters too")
+    p.add_argument("--rate", type=_positive, default=excitation.DEFAULT_RATE, help="sample rate of the --csv rows [Hz]")
+    p.add_argument("--csv", metavar="FILE", help="write t, pose, leg lengths and leg velocities for a machine "
+                   "controller (stewart simulate --trajectory reads it)")
+    p.add_argument("--output", metavar="FILE", help="write the series (.toml or .json; stewart simulate "
+                   "--trajectory reads it)")
+    p.add_argument("--plot", metavar="FILE", help="write a PNG figure of the poses and leg strokes")
+    p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
+                   help="progress bar on stderr (default: when stderr is a terminal)")
+    p.add_argument("--json", action="store_true", help="print only a JSON summary on stdout")
+
     p = _subcommand(sub, "envelope", "peak actuator force, velocity and power and joint forces per leg over a "
                     "box of poses with velocity and acceleration bounds, a move or trajectory files", cmd_envelope)
     _add_params(p)
@@ -906,8 +1013,8 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--profile", choices=sorted(PROFILES), default="sinusoidal", help="velocity profile of the move")
     p.add_argument("--margin", type=_non_negative, help="with --target: the box around the move, each pose range "
                    "widened by this fraction on either side and the rate bounds by 1 + this fraction")
-    p.add_argument("--trajectory", action="append", metavar="CSV", help="instead of a box: t,x,y,z,psi,theta,phi "
-                   "rows of a trajectory (repeatable)")
+    p.add_argument("--trajectory", action="append", metavar="FILE", help="instead of a box: t,x,y,z,psi,theta,phi "
+                   "rows of a trajectory, or a .toml/.json Fourier series of stewart excitation (repeatable)")
     p.add_argument("--dt", type=_positive, default=1e-3, help="sampling interval of moves and trajectories [s]")
     p.add_argument("--samples", type=_count, help="states drawn from the box (default 1000000)")
     _add_execution(p)

@@ -178,7 +178,17 @@ def excitation_condition(base: BaseParameters, A: np.ndarray) -> float:
     """The condition number of a stacked base regressor ``A`` ``(m, r)`` with each column in
     units of its size over random motion (:attr:`BaseParameters.scale`): large when the
     trajectory leaves a combination of base parameters unexcited."""
-    return float(np.linalg.cond(A / (base.scale * np.sqrt(len(A) / 6))))
+    return _condition(_gram(A / base.scale) / (len(A) / 6))
+
+
+def _gram(A: np.ndarray) -> np.ndarray:
+    return A.T @ A
+
+
+def _condition(gram: np.ndarray) -> float:
+    """cond(A) from A^T A: the square root of its eigenvalues' ratio (inf when singular)."""
+    eig = np.linalg.eigvalsh(gram)
+    return float(np.sqrt(eig[-1] / eig[0])) if eig[0] > 0.0 else np.inf
 
 
 def estimate(platform, x, xd, xdd, forces, *, friction: bool = True, base: BaseParameters | None = None,
@@ -197,21 +207,24 @@ def estimate(platform, x, xd, xdd, forces, *, friction: bool = True, base: BaseP
     if not np.all(ok):
         bad = np.flatnonzero(~ok)
         raise ValueError(f"measurements: the model is undefined at sample(s) {bad[:5].tolist()} (a singular pose)")
-    A = base.reduce(Y[..., :len(base.columns)])  # (n, 6, r)
-    condition = excitation_condition(base, A.reshape(-1, base.rank))
+    A = base.reduce(Y[..., :len(base.columns)]) / base.scale  # (n, 6, r), columns in units of their size
+    grams = np.stack([_gram(A[:, leg]) for leg in range(6)])  # per leg A_i^T A_i
+    moments = np.einsum("nlr,nl->lr", A, forces)               # per leg A_i^T f_i
+    condition = _condition(grams.sum(axis=0) / n)
     if not condition <= MAX_CONDITION:
         raise ValueError(f"measurements: the trajectory does not excite every base parameter (condition number "
                          f"{condition:.3g} > {MAX_CONDITION:.0e}); move every axis, at several speeds")
-    beta, *_ = np.linalg.lstsq(A.reshape(-1, base.rank), forces.reshape(-1), rcond=None)
+    # normal equations of the scaled columns (their condition is at most MAX_CONDITION)
+    beta = np.linalg.solve(grams.sum(axis=0), moments.sum(axis=0))
     sigma = np.sqrt(np.mean((forces - A @ beta) ** 2, axis=0))
     weights = 1.0 / np.maximum(sigma, 1e-12 * max(np.max(sigma), np.finfo(float).tiny))
-    Aw = (A * weights[None, :, None]).reshape(-1, base.rank)
-    bw = (forces * weights).reshape(-1)
-    beta, *_ = np.linalg.lstsq(Aw, bw, rcond=None)
-    residual = bw - Aw @ beta
-    dof = max(len(bw) - base.rank, 1)
-    covariance = np.linalg.inv(Aw.T @ Aw) * (residual @ residual / dof)
-    return Identification(base=base, estimates=beta, standard_errors=np.sqrt(np.diag(covariance)),
+    normal = np.einsum("l,lrs->rs", weights ** 2, grams)
+    beta = np.linalg.solve(normal, np.einsum("l,lr->r", weights ** 2, moments))
+    residual = (forces - A @ beta) * weights
+    dof = max(residual.size - base.rank, 1)
+    covariance = np.linalg.inv(normal) * (np.sum(residual ** 2) / dof)
+    return Identification(base=base, estimates=beta / base.scale,
+                          standard_errors=np.sqrt(np.diag(covariance)) / base.scale,
                           residual_rms=np.sqrt(np.mean((forces - A @ beta) ** 2, axis=0)),
                           condition_number=condition, samples=n, prior=platform.params)
 

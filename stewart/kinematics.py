@@ -26,6 +26,7 @@ __all__ = [
     "jacobian",
     "euler_jacobian",
     "leg_velocities",
+    "leg_accelerations",
     "home_pose",
     "check_universal_joint_axes",
     "forward_kinematics",
@@ -134,6 +135,49 @@ def leg_velocities(params: PlatformParams, x, xd) -> np.ndarray:
     with np.errstate(over="ignore", invalid="ignore"):
         rates = np.einsum("...ij,...j->...i", euler_jacobian(params, x), xd)
     return _checks.finite_result("leg_velocities", rates, x)
+
+
+def _angular_rates(x, xd, xdd) -> tuple[np.ndarray, np.ndarray]:
+    """The angular velocity ``omega = J_A e'`` and acceleration ``alpha = J_A e'' + J_A' e'``
+    in {B} (eq. 8, with ``e = [psi, theta, phi]``), each ``(..., 3)``."""
+    sps, cps = np.sin(x[..., 3]), np.cos(x[..., 3])
+    sth, cth = np.sin(x[..., 4]), np.cos(x[..., 4])
+    dps, dth, dph = xd[..., 3], xd[..., 4], xd[..., 5]
+    j_a = euler_rate_jacobian(x)
+    omega = np.einsum("...ij,...j->...i", j_a, xd[..., 3:])
+    j_a_dot_rates = np.stack([
+        -cps * dps * dth - sps * cth * dps * dph - cps * sth * dth * dph,
+        -sps * dps * dth + cps * cth * dps * dph - sps * sth * dth * dph,
+        -cth * dth * dph,
+    ], axis=-1)
+    return omega, np.einsum("...ij,...j->...i", j_a, xdd[..., 3:]) + j_a_dot_rates
+
+
+def leg_accelerations(params: PlatformParams, x, xd, xdd) -> np.ndarray:
+    """Leg extension accelerations ``Lddot``, shape ``(..., 6)``: the second time
+    derivative of ``L_i = |l_i|`` (eq. 26),
+    ``Lddot_i = u_i . a_i + (|v_i|^2 - Ldot_i^2) / L_i`` with the velocity
+    ``v_i = p' + omega x r_i`` and acceleration ``a_i = p'' + alpha x r_i + omega x (omega x r_i)``
+    of the spherical joint ``P_i`` and ``Ldot_i = u_i . v_i`` (eq. 4)."""
+    params = checked_params(params)
+    x = _checks.states("x", x)
+    xd = _checks.states("xd", xd)
+    xdd = _checks.states("xdd", xdd)
+    _checks.same_batch(x=x, xd=xd, xdd=xdd)
+    arms, legs, length_sq = _legs(params, x)
+    conditions.check("leg_accelerations", x, conditions.leg_codes(length_sq))
+    omega, alpha = _angular_rates(x, xd, xdd)
+    with np.errstate(over="ignore", invalid="ignore"):
+        lengths = np.sqrt(length_sq)
+        units = legs / lengths[..., None]
+        turn = np.cross(omega[..., None, :], arms)
+        velocity = xd[..., None, :3] + turn
+        acceleration = (xdd[..., None, :3] + np.cross(alpha[..., None, :], arms)
+                        + np.cross(omega[..., None, :], turn))
+        rates = np.sum(units * velocity, axis=-1)
+        result = (np.sum(units * acceleration, axis=-1)
+                  + (np.sum(velocity * velocity, axis=-1) - rates * rates) / lengths)
+    return _checks.finite_result("leg_accelerations", result, x)
 
 
 def home_pose(params: PlatformParams, leg_length: float | None = None) -> np.ndarray:

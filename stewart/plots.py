@@ -1,6 +1,7 @@
 """PNG figures of a simulation run, after Narayan Rao et al. (2017), figs. 15-18:
 reference and actual pose, tracking error, leg (input) forces and leg velocities; and of
-an optimized move: forces and leg strokes against their limits. Needs matplotlib (``pip install stewart[plot]``)."""
+an optimized move: forces and leg strokes against their limits; and of an excitation
+trajectory against its limits. Needs matplotlib (``pip install stewart[plot]``)."""
 
 from __future__ import annotations
 
@@ -8,7 +9,8 @@ import os
 
 import numpy as np
 
-__all__ = ["plot_run", "plot_move", "plot_bars", "run_title", "plot_workspace_slices", "plot_force_prediction"]
+__all__ = ["plot_run", "plot_move", "plot_excitation", "plot_bars", "run_title", "plot_workspace_slices",
+           "plot_force_prediction"]
 
 _POSE = [("x", "m"), ("y", "m"), ("z", "m"), ("psi", "rad"), ("theta", "rad"), ("phi", "rad")]
 
@@ -107,6 +109,51 @@ def plot_move(move, directory, limits=None, prefix: str = "optimize") -> list[st
         ax.set_ylabel(f"leg {k} length [m]")
     paths.append(_save(plt, fig, directory, prefix, "legs", axes[3:]))
     return paths
+
+
+def plot_excitation(design, platform, path: str, samples: int = 2000) -> str:
+    """One figure of a :class:`stewart.excitation.Excitation` over one period: the
+    translations and rotations, and per leg the length, velocity, acceleration and actuator
+    force with their limits dashed. Returns ``path``."""
+    from .kinematics import leg_accelerations, leg_velocities
+
+    plt = _pyplot()
+    traj, lim = design.trajectory, design.limits
+    t = np.linspace(0.0, traj.period, samples)
+    x, xd, xdd = traj.series(t)
+    params = platform.params
+    legs = [
+        ("leg length [m]", platform.leg_lengths(x), lim.lengths),
+        ("leg velocity [m/s]", leg_velocities(params, x, xd), (-lim.leg_velocity, lim.leg_velocity)),
+        ("leg acceleration [m/s^2]", leg_accelerations(params, x, xd, xdd),
+         (-lim.leg_acceleration, lim.leg_acceleration)),
+        ("actuator force [N]", platform.actuator_forces(x, xd, xdd),
+         (-lim.force, lim.force) if np.isfinite(lim.force) else ()),
+    ]
+    fig, axes = plt.subplots(2, 3, figsize=(14, 7), sharex=True, constrained_layout=True)
+    fig.suptitle(f"{design.platform}: excitation, {traj.harmonics} harmonics, condition number "
+                 f"{design.condition:.3g} (limits dashed)")
+    names = [name for name, _ in _POSE]
+    panels = [("translation [mm]", 1e3 * (x[:, :3] - traj.centre[:3]), names[:3], ()),
+              ("rotation [deg]", np.degrees(x[:, 3:] - traj.centre[3:]), names[3:], ())]
+    panels += [(label, values, [f"leg {k}" for k in range(6)], bounds) for label, values, bounds in legs]
+    for ax, (label, values, names, bounds) in zip(axes.ravel(), panels):
+        for k, name in enumerate(names):
+            ax.plot(t, values[:, k], lw=1.1, label=name)
+        for value in bounds:
+            ax.axhline(value, color="0.4", ls="--", lw=1)
+        ax.set_ylabel(label)
+        ax.grid(True, alpha=0.3)
+    axes[0, 0].set_title("offset from the centre pose", fontsize=9)
+    axes[0, 1].set_title("offset from the centre pose", fontsize=9)
+    for ax in axes[0, :2]:
+        ax.legend(fontsize=8, ncols=3)
+    axes[0, 2].legend(fontsize=7, ncols=3)
+    for ax in axes[1]:
+        ax.set_xlabel("time [s]")
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+    return path
 
 
 def _save(plt, fig, directory, prefix, name, bottom_axes) -> str:

@@ -1,0 +1,243 @@
+"""Excitation trajectories: the Fourier series and its derivatives, the leg accelerations,
+and the designed excitation checked on grids the optimizer never saw."""
+
+import json
+
+import numpy as np
+import pytest
+
+import stewart
+from stewart import csvfile, kinematics
+from stewart.cli import main
+from stewart.excitation import condition_number, design_excitation
+from stewart.trajectory import FourierTrajectory, SampledTrajectory
+from stewart.trajectory import load as load_trajectory
+from stewart.workspace import reachability
+
+#: A short design: few harmonics, samples, starts and iterations (seconds, not minutes).
+SMALL = dict(period=4.0, harmonics=3, samples=40, starts=2, max_iterations=25, seed=1)
+#: Limits of the small design: the force limit binds (the platform's weight alone needs
+#: about 20 N a leg).
+FORCE_LIMIT = 26.0
+#: Central-difference step [s] and the dense check grid (times the optimizer never used).
+STEP = 1e-5
+DENSE = 4001
+
+
+@pytest.fixture(scope="module")
+def plat():
+    params = stewart.PlatformParams.preset("narayan2017").replace(
+        viscous_friction=[20.0, 25.0, 30.0, 20.0, 25.0, 30.0], coulomb_friction=[1.0, 0.5, 1.5, 1.0, 0.5, 1.5])
+    return stewart.Platform(params)
+
+
+@pytest.fixture(scope="module")
+def design(plat):
+    return design_excitation(plat, force_limit=FORCE_LIMIT, **SMALL)
+
+
+def _random_series(plat, seed=3, harmonics=4, period=2.5):
+    rng = np.random.default_rng(seed)
+    scale = np.array([0.01, 0.01, 0.01, 0.03, 0.03, 0.03])[:, None]
+    return FourierTrajectory(plat.home_pose, period, scale * rng.normal(size=(6, harmonics)),
+                             scale * rng.normal(size=(6, harmonics)))
+
+
+def _central(function, t, h=STEP):
+    return (function(t + h) - function(t - h)) / (2 * h)
+
+
+def test_fourier_series_rates_are_its_derivatives(plat):
+    traj = _random_series(plat)
+    t = np.linspace(0.05, 2.45, 41)
+    x, xd, xdd = traj.sample(t)
+    np.testing.assert_allclose(_central(lambda s: traj.sample(s)[0], t), xd, atol=1e-9)
+    np.testing.assert_allclose(_central(lambda s: traj.sample(s)[1], t), xdd, atol=1e-8)
+    # The series' mean velocity is zero: the pose returns after a period.
+    np.testing.assert_allclose(traj.sample(0.0)[0], traj.sample(traj.period)[0], atol=1e-15)
+
+
+def test_leg_accelerations_are_derivatives_of_the_leg_velocities(plat):
+    traj = _random_series(plat)
+    t = np.linspace(0.05, 2.45, 41)
+    x, xd, xdd = traj.sample(t)
+    expected = _central(lambda s: kinematics.leg_velocities(plat.params, *traj.sample(s)[:2]), t)
+    got = kinematics.leg_accelerations(plat.params, x, xd, xdd)
+    np.testing.assert_allclose(got, expected, atol=1e-8 * np.max(np.abs(expected)))
+    assert got.shape == (41, 6) and kinematics.leg_accelerations(plat.params, x[0], xd[0], xdd[0]).shape == (6,)
+
+
+def test_fourier_trajectory_holds_its_start_at_rest_outside_its_duration(plat):
+    traj = _random_series(plat)
+    x, xd, xdd = traj.sample(np.array([-1.0, traj.duration + 1.0]))
+    np.testing.assert_allclose(x, np.vstack([traj.series(0.0)[0]] * 2), rtol=1e-15, atol=0)  # batch vs one row
+    assert not xd.any() and not xdd.any()
+
+
+def test_condition_number_is_invariant_to_column_scaling():
+    rng = np.random.default_rng(0)
+    matrix = rng.normal(size=(50, 4))
+    scaled = matrix * np.array([1e-6, 1.0, 1e4, 3.0])
+    assert condition_number(scaled) == pytest.approx(condition_number(matrix), rel=1e-12)
+    # Orthogonal columns of any lengths: 1. A zero column: not identifiable, inf.
+    q = np.linalg.qr(matrix)[0] * np.array([2.0, 5.0, 0.1, 7.0])
+    assert condition_number(q) == pytest.approx(1.0, rel=1e-12)
+    assert condition_number(np.column_stack([matrix, np.zeros(50)])) == np.inf
+
+
+def test_design_lowers_the_condition_number(design):
+    assert design.feasible and not design.problems
+    assert np.isfinite(design.condition) and design.condition < design.initial_condition
+    assert design.starts == SMALL["starts"]
+
+
+def test_design_condition_number_is_that_of_the_stacked_base_regressor(plat, design):
+    from stewart.base_parameters import base_parameters
+
+    base = base_parameters(plat)
+    assert design.base_names == tuple(base.names)
+    t = np.arange(SMALL["samples"]) * SMALL["period"] / SMALL["samples"]
+    x, xd, xdd = design.trajectory.sample(t)
+    stacked = base.reduce(plat.regressor(x, xd, xdd)).reshape(-1, len(base.names))
+    normalized = stacked / np.linalg.norm(stacked, axis=0)
+    assert design.condition == pytest.approx(np.linalg.cond(normalized), rel=1e-9)
+
+
+def test_design_is_periodic_and_starts_at_rest(design):
+    traj = design.trajectory
+    start, end = traj.series(0.0), traj.series(traj.period)
+    for a, b in zip(start, end):
+        np.testing.assert_allclose(a, b, atol=1e-12)
+    np.testing.assert_allclose(start[0], traj.centre, atol=1e-12)
+    np.testing.assert_allclose(start[1], 0.0, atol=1e-12)
+    np.testing.assert_allclose(start[2], 0.0, atol=1e-11)
+    assert traj.starts_at_rest
+
+
+def test_design_keeps_every_limit_on_a_dense_grid(plat, design):
+    """The limits at 4001 times (the optimizer saw 40), with the leg rates taken by central
+    differences of the leg lengths, not by the package's kinematics."""
+    traj, lim = design.trajectory, design.limits
+    t = np.linspace(0.0, traj.period, DENSE)
+    x, xd, xdd = traj.sample(t)
+    lengths = plat.leg_lengths(x)
+    rates = _central(lambda s: plat.leg_lengths(traj.series(s)[0]), t)
+    accelerations = (plat.leg_lengths(traj.series(t + 1e-4)[0]) - 2 * lengths
+                     + plat.leg_lengths(traj.series(t - 1e-4)[0])) / 1e-8
+    low, high = plat.params.leg_length_limits
+    stroke = high - low
+    assert np.all(lengths >= low + 0.05 * stroke) and np.all(lengths <= high - 0.05 * stroke)
+    assert lim.leg_velocity == pytest.approx(stroke) and lim.leg_acceleration == pytest.approx(10 * stroke)
+    assert np.max(np.abs(rates)) <= lim.leg_velocity
+    assert np.max(np.abs(accelerations)) <= lim.leg_acceleration * (1 + 1e-6)
+    forces = plat.actuator_forces(x, xd, xdd)
+    assert np.max(np.abs(forces)) <= FORCE_LIMIT
+    check = reachability(plat, x)
+    assert check.ok.all()
+    centre_margin = reachability(plat, traj.centre).margin[0]
+    assert np.min(check.margin) >= 0.5 * centre_margin
+    # The motion is substantial: some limit is close to binding.
+    assert max(np.max(np.abs(forces)) / FORCE_LIMIT, np.max(np.abs(rates)) / lim.leg_velocity,
+               (np.max(lengths) - low) / stroke) > 0.5
+
+
+def test_machine_csv_round_trips(plat, design, tmp_path):
+    path = tmp_path / "excitation.csv"
+    design.to_csv(path, plat, rate=200.0)
+    columns = ["t", "x", "y", "z", "psi", "theta", "phi"] + [f"L{i}" for i in range(6)] \
+        + [f"L{i}_dot" for i in range(6)]
+    table = csvfile.read(path, columns)
+    t = table[:, 0]
+    np.testing.assert_allclose(np.diff(t), 1 / 200.0, rtol=1e-9)
+    assert t[-1] == pytest.approx(design.trajectory.duration)
+    x, xd, _ = design.trajectory.sample(t)
+    np.testing.assert_allclose(table[:, 1:7], x, rtol=1e-11, atol=1e-13)
+    np.testing.assert_allclose(table[:, 7:13], plat.leg_lengths(x), rtol=1e-11)
+    np.testing.assert_allclose(table[:, 13:], _central(lambda s: plat.leg_lengths(design.trajectory.series(s)[0]), t),
+                               atol=1e-8)
+    # Read back as a trajectory: the spline through the rows follows the series.
+    again = SampledTrajectory.from_csv(path)
+    inner = np.linspace(0.0, design.trajectory.duration, 777)
+    np.testing.assert_allclose(again.sample(inner)[0], design.trajectory.sample(inner)[0], atol=1e-7)
+
+
+@pytest.mark.parametrize("suffix", ["toml", "json"])
+def test_trajectory_file_round_trips_exactly(design, tmp_path, suffix):
+    path = tmp_path / f"excitation.{suffix}"
+    design.save(path)
+    again = load_trajectory(path)
+    assert isinstance(again, FourierTrajectory)
+    t = np.linspace(-1, 5, 101)
+    for a, b in zip(again.sample(t), design.trajectory.sample(t)):
+        np.testing.assert_array_equal(a, b)
+
+
+def test_simulator_follows_the_excitation(plat, design):
+    run = stewart.simulate(plat, design.trajectory, stewart.ComputedTorque.tuned(5.0))
+    assert run.ok, run.problems
+    assert run.summary()["rms_position_error"] < 1e-3
+
+
+@pytest.mark.parametrize("change, message", [
+    (dict(period=0.0), "period: must be a positive"),
+    (dict(period="10"), "period:"),
+    (dict(harmonics=1), "harmonics: a series that starts at rest needs at least 2"),
+    (dict(harmonics=2.5), "harmonics: expected an integer"),
+    (dict(samples=0), "samples: must be from 1"),
+    (dict(samples=2), "samples: 2 samples give 12 equations"),
+    (dict(starts=True), "starts: expected an integer"),
+    (dict(seed=0.5), "seed: expected an integer"),
+    (dict(max_leg_velocity=-1.0), "max_leg_velocity: must be a positive"),
+    (dict(max_leg_acceleration=np.nan), "max_leg_acceleration: must be a positive"),
+    (dict(force_limit=0.0), "force_limit: must be a positive"),
+    (dict(min_margin=1.5), "min_margin: must be below 1"),
+    (dict(stroke_margin=0.6), "stroke_margin: must be from 0 to below 0.5"),
+    (dict(centre=[0, 0, 0.25]), r"centre: expected shape \(6,\)"),
+    (dict(centre=[0, 0, 0.5, 0, 0, 0]), "centre: "),
+    (dict(force_limit=5.0), r"centre: the centre pose at rest is outside the limits \(actuator force\)"),
+])
+def test_bad_arguments_are_named(plat, change, message):
+    with pytest.raises(ValueError, match=message) as info:
+        design_excitation(plat, **{**SMALL, **change})
+    assert "\n" not in str(info.value)
+
+
+def test_bad_trajectory_files_are_named(tmp_path):
+    path = tmp_path / "bad.toml"
+    path.write_text('kind = "fourier"\nperiod = -1.0\ncentre = [0, 0, 0.3, 0, 0, 0]\nsine = [[0.0]]\ncosine = [[0.0]]\n')
+    with pytest.raises(ValueError, match="bad.toml: period: must be a positive"):
+        load_trajectory(path)
+    path.write_text('kind = "spline"\n')
+    with pytest.raises(ValueError, match="bad.toml: kind: expected 'fourier'"):
+        load_trajectory(path)
+
+
+def test_excitation_command_writes_files_the_simulator_reads(tmp_path, capsys):
+    csv, toml = tmp_path / "exc.csv", tmp_path / "exc.toml"
+    main(["excitation", "--period", "4", "--harmonics", "3", "--samples", "40", "--starts", "1",
+          "--max-iterations", "15", "--rate", "100", "--csv", str(csv), "--output", str(toml), "--json",
+          "--no-progress"])
+    summary = json.loads(capsys.readouterr().out)
+    assert summary["feasible"] and summary["exit_code"] == 0
+    assert summary["condition"] < summary["initial_condition"]
+    assert summary["files"] == [str(csv), str(toml)]
+    traj = FourierTrajectory.load(toml)
+    assert summary["peaks"]["leg_velocity"] <= summary["limits"]["leg_velocity"]
+    table = csvfile.read(csv, ["t", "x", "y", "z", "psi", "theta", "phi"])
+    np.testing.assert_allclose(table[:, 1:], traj.sample(table[:, 0])[0], rtol=1e-11, atol=1e-13)
+    main(["simulate", "--trajectory", str(toml), "--controller", "ct", "--no-progress"])
+    assert "outcome: completed" in capsys.readouterr().out
+
+
+@pytest.mark.parametrize("flags, message", [
+    (["--harmonics", "1"], "--harmonics: a series that starts at rest needs at least 2"),
+    (["--output", "exc.csv"], "--output exc.csv: give a .toml or .json file name"),
+    (["--stroke-margin", "0.7"], "--stroke-margin: must be from 0 to below 0.5"),
+    (["--min-margin", "2"], "--min-margin: must be below 1"),
+])
+def test_excitation_command_errors_name_the_flag(flags, message, capsys):
+    with pytest.raises(SystemExit) as info:
+        main(["excitation", *flags, "--starts", "1", "--max-iterations", "1"])
+    assert info.value.code == 2
+    err = capsys.readouterr().err.strip()
+    assert message in err and "\n" not in err
