@@ -4,14 +4,18 @@ Narayan Rao et al. (2017) move their platform from an initial pose to a target p
 5 s along a sinusoidal velocity profile with joint-space PID. This demo makes that move
 from the home pose on the ``narayan2017`` preset with the compiled model, then the same
 move with computed torque; prints peak forces and tracking errors; writes the paper's
-figures as PNG; repeats the paper's leg-inertia study; and ends with a sizing run: workspace
+figures as PNG; repeats the paper's leg-inertia study; runs a sizing study: workspace
 slices, the force and joint-load envelope of the move and of a box around it with a 20 %
-margin, and a small sweep of the joint radii.
+margin, and a small sweep of the joint radii; and ends with an identification study
+(:func:`identification_run`): the platform carrying a payload the identifier does not know,
+with friction in its legs, follows a designed excitation trajectory; its logged leg lengths
+and forces, with noise, give back the base parameters.
 """
 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import os
 
 import numpy as np
@@ -24,6 +28,14 @@ MOVE_DURATION = 5.0
 #: Widening of the box around the move for the sizing envelope (each range and rate bound).
 SIZING_MARGIN = 0.2
 SIZING_SAMPLES = 500_000
+#: The machine the identification study logs: a payload unknown to the identifier (mass [kg],
+#: centre of mass in {P} [m], principal moments [kg m^2]) and friction in each leg.
+PAYLOAD = (2.0, (0.02, -0.01, 0.03), (0.02, 0.03, 0.025))
+VISCOUS_FRICTION = (12.0, 15.0, 10.0, 14.0, 11.0, 13.0)   # N s/m
+COULOMB_FRICTION = (1.5, 2.0, 1.2, 1.8, 1.6, 1.4)         # N
+#: Measurement noise of the log: a linear encoder's [m] and a load cell's [N] standard deviation.
+NOISE_LENGTH = 1e-6
+NOISE_FORCE = 0.2
 SWEEP_FILE = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "examples", "sweep.toml")
 
 
@@ -109,6 +121,7 @@ def main(argv=None) -> None:
         print(f"  {name:<42}" + "".join(f"{v:>10.3f}" for v in peaks) + f"{np.max(peaks):>10.3f}{change}")
 
     sizing = sizing_run(params, move)
+    ident = identification_run(params, move, short=True)
 
     if not args.no_plots:
         from stewart.plots import plot_bars, plot_run, plot_workspace_slices
@@ -128,6 +141,7 @@ def main(argv=None) -> None:
         paths.append(sizing["box"].plot(os.path.join(args.out, "envelope_margin_box.png")))
         if sizing["sweep"] is not None:
             paths.append(sizing["sweep"].plot(os.path.join(args.out, "sweep_pareto.png")))
+        paths.append(plot_identification(ident, os.path.join(args.out, "identification_held_out.png")))
         print(f"\nFigures written to {os.path.abspath(args.out)}:")
         for path in paths:
             print(f"  {os.path.basename(path)}")
@@ -169,6 +183,61 @@ def sizing_run(params: stewart.PlatformParams, move) -> dict:
             print(f"{'*' if front[k] else ' ':>2}{design['base_radius']:>16.3f}{design['platform_radius']:>21.3f}"
                   f"{result.metrics['workspace_volume'][k] * 1e6:>15.0f}{result.metrics['peak_force'][k]:>16.2f}")
     return {"workspace": work, "slices": slices, **peaks, "sweep": result}
+
+
+def identification_run(params: stewart.PlatformParams, held_out, *, short: bool = False, seed: int = 0) -> dict:
+    """Identify the platform ``params`` carrying :data:`PAYLOAD` with friction in its legs
+    (unknown to the identifier, whose prior is ``params``): design an excitation trajectory
+    for the prior (:func:`stewart.excitation.design_excitation`), log the machine following it
+    at 500 Hz with :data:`NOISE_LENGTH` and :data:`NOISE_FORCE` of noise, identify, and predict
+    the forces of the trajectory ``held_out``. Prints the estimates against the true base
+    parameters, in standard errors, and the prediction's RMS error against the true model's
+    through the same measurement pipeline (the noise level); returns the results."""
+    from stewart.excitation import design_excitation
+    from stewart.identify import identify, synthetic_measurements, validation
+
+    prior = stewart.Platform(params)
+    machine = stewart.Platform(params.with_payload(*PAYLOAD).replace(
+        viscous_friction=VISCOUS_FRICTION, coulomb_friction=COULOMB_FRICTION))
+    design = design_excitation(prior, period=5.0, harmonics=4, starts=1 if short else 4,
+                               max_iterations=20 if short else 100, periods=2 if short else 6, seed=seed)
+    traj = design.trajectory
+    cutoff = 10.0 * traj.harmonics / traj.period  # ten times the highest harmonic
+    print(f"\nIdentification: {params.name} with a {PAYLOAD[0]:g} kg payload off-centre and friction, "
+          f"following an excitation of {traj.harmonics} harmonics over {traj.period:g} s, {traj.periods} periods "
+          f"(condition number {design.initial_condition:.0f} at the random start, {design.condition:.0f} designed)")
+    log = synthetic_measurements(machine, traj, rate=500.0, noise_length=NOISE_LENGTH, noise_force=NOISE_FORCE,
+                                 seed=seed)
+    result = identify(prior, log, cutoff=cutoff)
+    truth = result.base.values(machine.params.inertial_vector())
+    z = (result.estimates - truth) / result.standard_errors
+    print(f"  {len(log.t)} samples at 500 Hz, noise {NOISE_LENGTH:g} m and {NOISE_FORCE:g} N; cut-off {cutoff:g} Hz; "
+          f"condition number {result.condition_number:.0f}")
+    width = max(len(n) for n in result.base.names)
+    print(f"  {'base parameter':<{width}}{'true':>13}{'estimate':>13}{'std error':>11}{'error/std':>10}")
+    for name, true, value, error, score in zip(result.base.names, truth, result.estimates,
+                                              result.standard_errors, z):
+        print(f"  {name:<{width}}{true:>13.5g}{value:>13.5g}{error:>11.2g}{score:>10.2f}")
+    inside = np.abs(z) <= 2.0
+    print(f"  {int(inside.sum())} of {len(z)} estimates within 2 standard errors of the truth "
+          f"(about 95 % expected for Gaussian errors)")
+    held = synthetic_measurements(machine, held_out, rate=500.0, noise_length=NOISE_LENGTH, noise_force=NOISE_FORCE,
+                                  seed=seed + 1)
+    t, predicted, measured, rms = validation(result, prior, held, cutoff=cutoff)
+    exact = dataclasses.replace(result, estimates=truth)
+    _, _, _, floor = validation(exact, prior, held, cutoff=cutoff)
+    print(_row("held-out RMS error, identified [N]", rms, "{:>10.3f}"))
+    print(_row("held-out RMS error, true model [N]", floor, "{:>10.3f}"))
+    return {"design": design, "result": result, "z": z, "t": t, "predicted": predicted, "measured": measured,
+            "rms": rms, "floor": floor}
+
+
+def plot_identification(run: dict, path: str) -> str:
+    """The held-out prediction of :func:`identification_run` as a figure."""
+    from stewart.plots import plot_force_prediction
+
+    return plot_force_prediction(run["t"], run["predicted"], run["measured"], path,
+                                 "identified model on a held-out move: predicted and measured actuator forces")
 
 
 if __name__ == "__main__":
