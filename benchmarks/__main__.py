@@ -23,7 +23,7 @@ import time
 import stewart
 from stewart import bench
 
-from . import batch_loop, report, studies
+from . import batch_loop, identification, report, studies
 from .peers.common import peer_available
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
@@ -147,6 +147,8 @@ def main(argv=None) -> None:
         results["studies"] = studies.figures("narayan2017")
     else:
         print("[bench] studies: skipped, dask.distributed not installed (pip install '.[cluster]')", flush=True)
+    print("[bench] identification from a long log ...", flush=True)
+    results["identification"] = identification.figures("narayan2017")
     if not args.skip_build:
         print("[bench] generation and clean build ...", flush=True)
         results["generation"] = generation_figures()
@@ -161,6 +163,8 @@ def main(argv=None) -> None:
     if "studies" in results:
         print()
         print(studies.format_rows(results["studies"]))
+    print()
+    print(identification.format_rows(results["identification"]))
     if results["peers"]:
         ops = results["code"]["operation_counts"]
         ours = {"ops": {"inverse_dynamics": ops.get("inverse_dynamics_axisym"),

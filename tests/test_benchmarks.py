@@ -240,3 +240,12 @@ def test_cluster_estimate_by_hand():
     assert est["total_s"] == est["scheduler_s"] and np.isclose(est["efficiency"], 0.125)
     whole = studies.estimate(fig, chunk_size=1e6)
     assert whole["tasks"] == 1e4 and np.isclose(whole["scheduler_s"], 40.0) and whole["efficiency"] == 1.0
+
+
+def test_identification_rows_mark_the_target():
+    from benchmarks import identification
+
+    fast = identification.rows({"samples": 100_000, "identify_s": 2.5, "base_parameters_s": 0.16})
+    slow = identification.rows({"samples": 100_000, "identify_s": 3.5, "base_parameters_s": 0.16})
+    assert fast[0][1:] == ("2.50 s", "<= 3 s", "met") and slow[0][-1] == "MISSED"
+    assert "100,000 samples" in fast[0][0] and fast[1][1] == "160 ms"
