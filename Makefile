@@ -6,7 +6,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 INSTALLED := $(VENV)/.installed
 KERNEL := build/.kernel-built
-KERNEL_SOURCES := stewart/_kernel.pyx stewart/_kernel.pxd stewart/_simulate.pyx generated/stewart_model.c \
+KERNEL_SOURCES := stewart/_kernel.pyx stewart/_kernel.pxd stewart/_simulate.pyx stewart/_envelope.pyx generated/stewart_model.c \
 	generated/stewart_model.h generated/stewart_model.pxd generated/stewart_dispatch.h generated/stewart_target.c setup.py
 C_TEST := tests/c/test_model
 

@@ -56,6 +56,7 @@ HEADER = r'''/* stewart_model.h -- dynamic model of a 6-DOF Stewart platform.
  *
  * Arrays: x, xd, xdd, tau, L, G, Vxd, xn, xdn: 6 doubles; LLd: 12 doubles ([L; Ldot]);
  * JC, M, Mt, V: 36 doubles, row-major; terms: 84 doubles ([M; Vxd; G; JC]).
+ * f_base, f_platform, n_base: 18 doubles, the 3 components (in {B}) of each leg in turn.
  * Jacobians (dtau_dx, ..., dxdd_dtau: 6 x 6; A: 12 x 12; B: 12 x 6) are row-major with
  * row = output, column = input: J[i * ncols + j] = d out_i / d in_j.  Every function
  * returns a status (STEWART_OK or an error); on error all outputs are NaN.  Outputs may

@@ -637,6 +637,69 @@ def all_terms_kernel(variant):
                       + _leg_checks(kin))
 
 
+
+#: Per leg, the inputs of `joint_forces_kernel` that do not depend on tau: the force f at P_i
+#: equivalent to the leg's motion and weight (`leg_force`), and y = y_C + y_S, the rates of the
+#: linear momenta of cylinder and piston plus their weights.
+JOINT_LEG = _symbols('jl', 6 * NUM_LEGS)
+
+
+def joint_reactions_kernel(variant):
+    """The inverse dynamics' W and J_C (`inverse_dynamics_kernel`), and per leg the terms of its
+    joint reactions that do not depend on tau: `JOINT_LEG` [f_i (3) for the six legs, then y_i
+    (3) for the six], and the moment n_B (3 per leg) its universal joint exerts on it.
+
+    The leg's moment balance about the fixed B_i, n_B = y_L + b_C u x y_C + (L - b_S) u x y_S
+    + l x f_P with f_P = tau u - f (`joint_forces_kernel`) and f from `point_force`, reduces to
+    n_B = (u . y_L) u - s l x n, s the spin's term of `point_force`: for the general model's
+    legs, with n . n = L^2 - (a_i . l)^2, n_B = (u . y_L) L (l - (a_i . l) a_i) / (n . n), along
+    a_i x y, the direction neither joint axis turns about; for the paper's legs (eq. 29: no
+    spin) n_B = (u . y_L) u, the axial moment that keeps the leg from spinning, zero for
+    axisymmetric legs (their y_L = I_t d/dt omega_l is normal to u)."""
+    P = PARAMS
+    g = _accelerated_graph()
+    kin = kinematics_of(g, variant)
+    v, omega = twist(g, kin, XD, 'q')
+    m = momenta(g, P, kin, v, omega, variant, 'q')
+    W = momentum_rate_force(g, P, kin, m, True, 'q')
+    rate = lambda vec: vec.applyfunc(g.rate)
+    _, w_C, w_S = _gravity_forces(P, True)
+    forces, momenta_rates, moments = [], [], []
+    for i, (leg, (v_C, v_S, h_L)) in enumerate(zip(kin.legs, m.legs)):
+        y_C, y_S, y_L = P.m_C * rate(v_C) + w_C, P.m_S * rate(v_S) + w_S, rate(h_L)
+        forces += list(leg_force(g, P, leg, y_C, y_S, y_L, f'q{i}'))  # the terms of W, defined once
+        momenta_rates += list(y_C + y_S)
+        axial = g.define(f'q{i}uyL', _dot(leg.u, y_L))
+        if variant == 'axisym':
+            moments += [0, 0, 0]
+        elif variant == 'frames':
+            moments += list(axial * leg.u)
+        else:
+            a = P.axes[i]
+            moments += list(axial * leg.L * leg.in2 * (leg.l - leg.al * a))
+    return _variant_spec(variant, 'joint_reactions', joint_reactions_kernel.__doc__, g,
+                         [('x', X), ('xd', XD), ('xdd', XDD)],
+                         [('W', list(W)), ('JC', list(jacobian_rows(kin))), ('legf', forces + momenta_rates),
+                          ('n_base', moments)] + _leg_checks(kin))
+
+
+def joint_forces_kernel():
+    """The forces at the joints of each leg from its actuator force tau_i: on the platform at
+    P_i, f_P = tau_i u_i - f_i (the leg's virtual work: f_i . dw = (tau_i u_i - f_P) . dw for
+    every motion dw of P_i, as the joints at B_i do no work and the actuator does tau_i dL =
+    tau_i u_i . dw), and on the leg at B_i, from the leg's Newton equation, f_B = f_P + y_i
+    (`JOINT_LEG`); u_i is row i of J_C (eq. 5)."""
+    JC = _symbols('JC', 36)
+    f_P, f_B = [], []
+    for i in range(NUM_LEGS):
+        for k in range(3):
+            f = TAU[i] * JC[6 * i + k] - JOINT_LEG[3 * i + k]
+            f_P.append(f)
+            f_B.append(f + JOINT_LEG[3 * NUM_LEGS + 3 * i + k])
+    return KernelSpec('joint_forces', joint_forces_kernel.__doc__, Graph({}),
+                      [('tau', TAU), ('JC', JC), ('legf', JOINT_LEG)], [('f_base', f_B), ('f_platform', f_P)])
+
+
 #: Inputs of the per-leg kernel: the leg vector l, the velocity w and the acceleration a of
 #: P_i (l' = w, w' = a, as b_i is fixed), |l| and sqrt(l_x^2 + l_y^2), and the actuator force.
 LEG_POINT = _symbols('P', 11)
@@ -950,6 +1013,7 @@ FORWARD_DYNAMICS = _variants(forward_dynamics_kernel)
 LEG_DERIVATIVES = _variants(leg_derivatives_kernel)
 LEG_POINTS = _variants(leg_points_kernel, variants=MODELS)
 REGRESSOR = _variants(regressor_kernel, variants=REGRESSOR_VARIANTS)
+JOINT_REACTIONS = _variants(joint_reactions_kernel)
 
 
 
@@ -1011,6 +1075,16 @@ FUNCTIONS = (
                                      ('pose_accelerations', ('JAinv', '18', 'Y', 'D')),
                                      ('split_jacobians', ('D', 'dxdd_dx', 'dxdd_dxd', 'dxdd_dtau'))),
              scratch=(_LDL_FACTORS, ('y', 6), ('Y', 108), ('D', 108))),
+    Function('joint_reactions',
+             'tau and the joint reactions of each leg i (3 doubles per leg, leg-major, in {B}): f_base, the'
+             ' force the base exerts on the leg at its universal joint B_i; f_platform, the force the leg'
+             ' exerts on the platform at its spherical joint P_i; n_base, the moment the base exerts on'
+             ' the leg through its universal joint.',
+             ('x', 'xd', 'xdd'), (('tau', 6), ('f_base', 18), ('f_platform', 18), ('n_base', 18)),
+             JOINT_REACTIONS,
+             steps=(('bareiss_factor', ('JC', 'FJ')), ('bareiss_solve', ('FJ', '1', '1', 'W', 'tau')),
+                    Kernels((joint_forces_kernel,), ('tau', 'JC', 'legf'))),
+             scratch=(_BAREISS_FACTORS,)),
     Function('regressor',
              'The regressor Y (6 x 32, row-major) of the actuator forces, tau + friction = Y pi, with pi the'
              ' inertial parameters (the columns listed below): J_C^T Y = dW/dpi for the 20 rigid-body'

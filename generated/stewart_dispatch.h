@@ -30,6 +30,7 @@ typedef struct {
     int (*forward_dynamics)(const stewart_params *p, const double *x, const double *xd, const double *tau, double *xdd);
     int (*inverse_dynamics_derivatives)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd);
     int (*forward_dynamics_derivatives)(const stewart_params *p, const double *x, const double *xd, const double *tau, double *xdd, double *dxdd_dx, double *dxdd_dxd, double *dxdd_dtau);
+    int (*joint_reactions)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *tau, double *f_base, double *f_platform, double *n_base);
     int (*regressor)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *Y);
     int (*rk4_step)(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn);
     int (*rk4_step_derivatives)(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B);
@@ -46,6 +47,7 @@ typedef struct {
     int (*batch_forward_dynamics)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, int *status);
     int (*batch_inverse_dynamics_derivatives)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd, int *status);
     int (*batch_forward_dynamics_derivatives)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, double *dxdd_dx, double *dxdd_dxd, double *dxdd_dtau, int *status);
+    int (*batch_joint_reactions)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, double *f_base, double *f_platform, double *n_base, int *status);
     int (*batch_regressor)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Y, int *status);
     int (*batch_rk4_step)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status);
     int (*batch_rk4_step_derivatives)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B, int *status);

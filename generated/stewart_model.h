@@ -35,6 +35,7 @@
  *
  * Arrays: x, xd, xdd, tau, L, G, Vxd, xn, xdn: 6 doubles; LLd: 12 doubles ([L; Ldot]);
  * JC, M, Mt, V: 36 doubles, row-major; terms: 84 doubles ([M; Vxd; G; JC]).
+ * f_base, f_platform, n_base: 18 doubles, the 3 components (in {B}) of each leg in turn.
  * Jacobians (dtau_dx, ..., dxdd_dtau: 6 x 6; A: 12 x 12; B: 12 x 6) are row-major with
  * row = output, column = input: J[i * ncols + j] = d out_i / d in_j.  Every function
  * returns a status (STEWART_OK or an error); on error all outputs are NaN.  Outputs may
@@ -137,6 +138,8 @@ int stewart_forward_dynamics(const stewart_params *p, const double x[6], const d
 int stewart_inverse_dynamics_derivatives(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6], double dtau_dx[36], double dtau_dxd[36], double dtau_dxdd[36]);
 /* xdd and its Jacobians (row = output, column = input): dxdd/dx = -M^-1 R_x, dxdd/dxd = -M^-1 R_xd, dxdd/dtau = M^-1 J_C^T, R = partials of M xdd + V xd + G - J_C^T tau; needs cos(theta) != 0. */
 int stewart_forward_dynamics_derivatives(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double xdd[6], double dxdd_dx[36], double dxdd_dxd[36], double dxdd_dtau[36]);
+/* tau and the joint reactions of each leg i (3 doubles per leg, leg-major, in {B}): f_base, the force the base exerts on the leg at its universal joint B_i; f_platform, the force the leg exerts on the platform at its spherical joint P_i; n_base, the moment the base exerts on the leg through its universal joint. */
+int stewart_joint_reactions(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6], double f_base[18], double f_platform[18], double n_base[18]);
 /* The regressor Y (6 x 32, row-major) of the actuator forces, tau + friction = Y pi, with pi the inertial parameters (the columns listed below): J_C^T Y = dW/dpi for the 20 rigid-body parameters (W = M xdd + V xd + G), then per leg i Ld_i (column 20 + i) and tanh(Ld_i / coulomb_velocity) (column 26 + i), Ld = J_C T xd. */
 int stewart_regressor(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double Y[192]);
 /* One classic RK4 step of s = [x; xd], ds/dt = [xd; xdd(x, xd, tau)], tau constant: [xn; xdn] after dt. */
@@ -215,6 +218,7 @@ int stewart_batch_inverse_dynamics(const stewart_params *p, size_t n, const doub
 int stewart_batch_forward_dynamics(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, int *status);
 int stewart_batch_inverse_dynamics_derivatives(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd, int *status);
 int stewart_batch_forward_dynamics_derivatives(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, double *dxdd_dx, double *dxdd_dxd, double *dxdd_dtau, int *status);
+int stewart_batch_joint_reactions(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, double *f_base, double *f_platform, double *n_base, int *status);
 int stewart_batch_regressor(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Y, int *status);
 int stewart_batch_rk4_step(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status);
 int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B, int *status);
@@ -257,6 +261,10 @@ int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const 
  *   leg_chain_forward                        752
  *   residual_derivatives_forward            1388
  *   residual_derivatives_forward_general    1997
+ *   joint_reactions_axisym                  1799
+ *   joint_reactions_frames                  2346
+ *   joint_reactions_general                 2769
+ *   joint_forces                              54
  *   regressor                               2384
  *   regressor_general                       3224
  */

@@ -38,6 +38,7 @@
 #define stewart_forward_dynamics STEWART_JOIN(STEWART_PREFIX, forward_dynamics)
 #define stewart_inverse_dynamics_derivatives STEWART_JOIN(STEWART_PREFIX, inverse_dynamics_derivatives)
 #define stewart_forward_dynamics_derivatives STEWART_JOIN(STEWART_PREFIX, forward_dynamics_derivatives)
+#define stewart_joint_reactions STEWART_JOIN(STEWART_PREFIX, joint_reactions)
 #define stewart_regressor STEWART_JOIN(STEWART_PREFIX, regressor)
 #define stewart_rk4_step STEWART_JOIN(STEWART_PREFIX, rk4_step)
 #define stewart_rk4_step_derivatives STEWART_JOIN(STEWART_PREFIX, rk4_step_derivatives)
@@ -54,6 +55,7 @@
 #define stewart_batch_forward_dynamics STEWART_JOIN(STEWART_PREFIX, batch_forward_dynamics)
 #define stewart_batch_inverse_dynamics_derivatives STEWART_JOIN(STEWART_PREFIX, batch_inverse_dynamics_derivatives)
 #define stewart_batch_forward_dynamics_derivatives STEWART_JOIN(STEWART_PREFIX, batch_forward_dynamics_derivatives)
+#define stewart_batch_joint_reactions STEWART_JOIN(STEWART_PREFIX, batch_joint_reactions)
 #define stewart_batch_regressor STEWART_JOIN(STEWART_PREFIX, batch_regressor)
 #define stewart_batch_rk4_step STEWART_JOIN(STEWART_PREFIX, batch_rk4_step)
 #define stewart_batch_rk4_step_derivatives STEWART_JOIN(STEWART_PREFIX, batch_rk4_step_derivatives)
@@ -81,6 +83,7 @@ const stewart_table STEWART_JOIN(stewart_table, STEWART_TARGET) = {
     stewart_forward_dynamics,
     stewart_inverse_dynamics_derivatives,
     stewart_forward_dynamics_derivatives,
+    stewart_joint_reactions,
     stewart_regressor,
     stewart_rk4_step,
     stewart_rk4_step_derivatives,
@@ -97,6 +100,7 @@ const stewart_table STEWART_JOIN(stewart_table, STEWART_TARGET) = {
     stewart_batch_forward_dynamics,
     stewart_batch_inverse_dynamics_derivatives,
     stewart_batch_forward_dynamics_derivatives,
+    stewart_batch_joint_reactions,
     stewart_batch_regressor,
     stewart_batch_rk4_step,
     stewart_batch_rk4_step_derivatives,

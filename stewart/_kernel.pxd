@@ -1,4 +1,4 @@
-# Declarations shared with the other Cython modules (stewart._simulate).
+# Declarations shared with the other Cython modules (stewart._simulate, stewart._envelope).
 cimport cython
 cimport numpy as cnp
 
@@ -31,3 +31,9 @@ cdef class Kernel:
                                 double *out) noexcept nogil
     cdef int forward_dynamics_c(self, const double *x, const double *xd, const double *tau,
                                 double *out) noexcept nogil
+    # The batch functions on n rows (row-major arrays, a status per row).
+    cdef void batch_leg_rates_c(self, size_t n, const double *x, const double *xd, double *LLd,
+                                int *status) noexcept nogil
+    cdef void batch_joint_reactions_c(self, size_t n, const double *x, const double *xd, const double *xdd,
+                                      double *tau, double *f_base, double *f_platform, double *n_base,
+                                      int *status) noexcept nogil

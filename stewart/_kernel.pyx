@@ -124,7 +124,7 @@ ctypedef int (*state_fn)(const stewart_params *, const double *, double *) noexc
 ctypedef int (*rate_fn)(const stewart_params *, const double *, const double *, double *) noexcept nogil
 ctypedef int (*dynamics_fn)(const stewart_params *, const double *, const double *, const double *,
                             double *) noexcept nogil
-ctypedef int (*derivatives_fn)(const stewart_params *, const double *, const double *, const double *,
+ctypedef int (*four_outputs_fn)(const stewart_params *, const double *, const double *, const double *,
                                double *, double *, double *, double *) noexcept nogil
 ctypedef int (*step_fn)(const stewart_params *, const double *, const double *, const double *, double,
                         double *, double *) noexcept nogil
@@ -136,7 +136,7 @@ ctypedef int (*batch_rate_fn)(const stewart_params *, size_t, const double *, co
                               int *) noexcept nogil
 ctypedef int (*batch_dynamics_fn)(const stewart_params *, size_t, const double *, const double *,
                                   const double *, double *, int *) noexcept nogil
-ctypedef int (*batch_derivatives_fn)(const stewart_params *, size_t, const double *, const double *,
+ctypedef int (*batch_four_outputs_fn)(const stewart_params *, size_t, const double *, const double *,
                                      const double *, double *, double *, double *, double *, int *) noexcept nogil
 ctypedef int (*batch_step_fn)(const stewart_params *, size_t, const double *, const double *, const double *,
                               double, double *, double *, int *) noexcept nogil
@@ -161,7 +161,7 @@ cdef enum:
 
 cdef enum Signature:
     # The C signatures _run calls: 1-3 input arrays and one output, or as named.
-    DERIVATIVES = 4       # (p, x0, x1, x2, out0, out1, out2, out3)
+    FOUR_OUTPUTS = 4      # (p, x0, x1, x2, out0, out1, out2, out3)
     STEP = 5              # (p, x0, x1, x2, scalar, out0, out1)
     STEP_DERIVATIVES = 6  # (p, x0, x1, x2, scalar, out0, out1, out2, out3)
 
@@ -208,6 +208,7 @@ _VECTOR = ((6,),)
 _MATRIX = ((6, 6),)
 _DERIVATIVES = ((6,), (6, 6), (6, 6), (6, 6))
 _STEP = ((6,), (6,))
+_JOINT_REACTIONS = ((6,), (6, 3), (6, 3), (6, 3))
 _STEP_DERIVATIVES = ((6,), (6,), (12, 12), (12, 6))
 
 
@@ -229,8 +230,8 @@ cdef inline void _batch_call(const stewart_params *p, int kind, void *fn, Py_ssi
         (<batch_rate_fn>fn)(p, count, x0, x1, o[0], status + start)
     elif kind == 3:
         (<batch_dynamics_fn>fn)(p, count, x0, x1, x2, o[0], status + start)
-    elif kind == DERIVATIVES:
-        (<batch_derivatives_fn>fn)(p, count, x0, x1, x2, o[0], o[1], o[2], o[3], status + start)
+    elif kind == FOUR_OUTPUTS:
+        (<batch_four_outputs_fn>fn)(p, count, x0, x1, x2, o[0], o[1], o[2], o[3], status + start)
     elif kind == STEP:
         (<batch_step_fn>fn)(p, count, x0, x1, x2, scalar, o[0], o[1], status + start)
     else:
@@ -395,8 +396,8 @@ cdef class Kernel:
             status[0] = (<rate_fn>fn)(&self.p, x0, x1, o[0])
         elif kind == 3:
             status[0] = (<dynamics_fn>fn)(&self.p, x0, x1, x2, o[0])
-        elif kind == DERIVATIVES:
-            status[0] = (<derivatives_fn>fn)(&self.p, x0, x1, x2, o[0], o[1], o[2], o[3])
+        elif kind == FOUR_OUTPUTS:
+            status[0] = (<four_outputs_fn>fn)(&self.p, x0, x1, x2, o[0], o[1], o[2], o[3])
         elif kind == STEP:
             status[0] = (<step_fn>fn)(&self.p, x0, x1, x2, scalar, o[0], o[1])
         else:
@@ -434,6 +435,15 @@ cdef class Kernel:
     cdef int forward_dynamics_c(self, const double *x, const double *xd, const double *tau,
                                 double *out) noexcept nogil:
         return T.forward_dynamics(&self.p, x, xd, tau, out)
+
+    cdef void batch_leg_rates_c(self, size_t n, const double *x, const double *xd, double *LLd,
+                                int *status) noexcept nogil:
+        T.batch_leg_rates(&self.p, n, x, xd, LLd, status)
+
+    cdef void batch_joint_reactions_c(self, size_t n, const double *x, const double *xd, const double *xdd,
+                                      double *tau, double *f_base, double *f_platform, double *n_base,
+                                      int *status) noexcept nogil:
+        T.batch_joint_reactions(&self.p, n, x, xd, xdd, tau, f_base, f_platform, n_base, status)
 
     def leg_lengths(self, x, *, return_mask=False):
         return self._run("leg_lengths", 1, <void *>T.leg_lengths, ("x",), (x,), _VECTOR, return_mask,
@@ -490,15 +500,20 @@ cdef class Kernel:
 
     def inverse_dynamics_derivatives(self, x, xd, xdd, *, return_mask=False):
         """``(tau, dtau_dx, dtau_dxd, dtau_dxdd)``."""
-        return self._run("inverse_dynamics_derivatives", DERIVATIVES, <void *>T.inverse_dynamics_derivatives,
+        return self._run("inverse_dynamics_derivatives", FOUR_OUTPUTS, <void *>T.inverse_dynamics_derivatives,
                          ("x", "xd", "xdd"), (x, xd, xdd), _DERIVATIVES, return_mask,
                          0.0, <void *>T.batch_inverse_dynamics_derivatives)
 
     def forward_dynamics_derivatives(self, x, xd, tau, *, return_mask=False):
         """``(xdd, dxdd_dx, dxdd_dxd, dxdd_dtau)``."""
-        return self._run("forward_dynamics_derivatives", DERIVATIVES, <void *>T.forward_dynamics_derivatives,
+        return self._run("forward_dynamics_derivatives", FOUR_OUTPUTS, <void *>T.forward_dynamics_derivatives,
                          ("x", "xd", "tau"), (x, xd, tau), _DERIVATIVES, return_mask,
                          0.0, <void *>T.batch_forward_dynamics_derivatives)
+
+    def joint_reactions(self, x, xd, xdd, *, return_mask=False):
+        """``(tau, f_base, f_platform, n_base)``, the last three ``(6, 3)`` per row."""
+        return self._run("joint_reactions", FOUR_OUTPUTS, <void *>T.joint_reactions, ("x", "xd", "xdd"),
+                         (x, xd, xdd), _JOINT_REACTIONS, return_mask, 0.0, <void *>T.batch_joint_reactions)
 
     def regressor(self, x, xd, xdd, *, return_mask=False):
         """Y, ``(6, len(INERTIAL_NAMES))`` per row."""

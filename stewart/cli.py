@@ -497,8 +497,8 @@ def cmd_workspace(args) -> int:
         study = workspace.translational_workspace if args.kind == "translational" else workspace.orientation_workspace
         with _scheduler(args.scheduler) as client:
             result = study(params, **fixed, region=region, samples=None if args.grid else args.samples,
-                           grid=args.grid, seed=args.seed, chunk_size=args.chunk_size, client=client,
-                           progress=progress)
+                           grid=args.grid, seed=args.seed, client=client, progress=progress,
+                           **_chunking(args))
         slices = [workspace.workspace_slice(params, axes, **fixed, region=_zoom(result, axes),
                                             resolution=args.resolution)
                   for axes in _SLICES[args.kind]] if args.slices else []
@@ -779,8 +779,17 @@ def _excitation_report(design, label: str, files: list[str]) -> None:
 def _add_execution(parser) -> None:
     """The flags of a chunked study (:mod:`stewart.execution`)."""
     parser.add_argument("--seed", type=int, default=0, help="seed of the random samples")
-    parser.add_argument("--chunk-size", type=_count, default=50_000, help="states per chunk (per task on a cluster)")
+    from . import execution, workspace
+
+    parser.add_argument("--chunk-size", type=_count, help="states per chunk (per task on a cluster; default: "
+                        f"{workspace.CHUNK_SIZE} poses for a workspace, {execution.DEFAULT_CHUNK_SIZE} states "
+                        "for an envelope)")
     _add_cluster(parser)
+
+
+def _chunking(args) -> dict:
+    """``chunk_size`` for a study if ``--chunk-size`` was given (else the study's default)."""
+    return {} if args.chunk_size is None else {"chunk_size": args.chunk_size}
 
 
 def _add_cluster(parser) -> None:
@@ -844,7 +853,7 @@ def cmd_envelope(args) -> int:
             raise UserError("--samples: trajectories are sampled every --dt seconds")
     with _scheduler(args.scheduler) as client:
         result = envelope(params, spec, samples=args.samples, seed=args.seed, client=client,
-                          chunk_size=args.chunk_size, progress=_progress(args))
+                          progress=_progress(args), **_chunking(args))
     print(f"# platform {label}: envelope over {what}, {result.states:,} states "
           f"({result.outside_stroke:,} outside the stroke, {result.singular:,} singular, left out)")
     print(f"{'leg':>4}" + "".join(f"{f'{q} [{u}]':>22}" for q, u in QUANTITIES))

@@ -8,8 +8,9 @@ leg ``i``,
 * the leg velocity ``Ldot_i`` (``Ldot = J_C T xdot``, eqs. 5, 8, 18) and the actuator power
   ``tau_i Ldot_i``,
 * the magnitudes of the universal-joint force (base on leg, at ``B_i``) and of the
-  spherical-joint force (leg on platform, at ``P_i``) from the Newton-Euler joint reactions
-  (:func:`stewart.newton_euler.joint_reactions`, axisymmetric legs),
+  spherical-joint force (leg on platform, at ``P_i``), the joint reactions of the compiled
+  kernel (:meth:`stewart.Platform.joint_reactions`, equal to the Newton-Euler solution
+  :func:`stewart.newton_euler.joint_reactions`),
 
 and keeps the peak of each magnitude with the state where it occurs (:class:`Envelope`).
 States whose legs leave the stroke limits (``params.leg_length_limits``) or where the model
@@ -32,19 +33,23 @@ A motion specification is
   from CSV files), sampled every ``dt`` seconds from 0 to their duration.
 
 The states are generated and reduced chunk by chunk (:mod:`stewart.execution`), locally or
-on a Dask cluster (``client=``), with the same result for the same seed.
+on a Dask cluster (``client=``), with the same result for the same seed. Within a chunk the
+compiled model evaluates them and keeps the running peaks in C (:mod:`stewart._envelope`),
+a box's states generated there too, so that no array is allocated per state.
 """
 
 from __future__ import annotations
 
 import csv
+import functools
 import json
 import os
+import threading
 from dataclasses import dataclass
 
 import numpy as np
 
-from . import _checks, execution, newton_euler
+from . import _checks, _envelope, execution
 from .execution import Peak
 from .params import PlatformParams, checked_params
 
@@ -53,9 +58,9 @@ __all__ = ["Box", "Trajectories", "Envelope", "envelope", "QUANTITIES", "AXES"]
 #: The pose coordinates, in the order of a state, with their units.
 AXES = (("x", "m"), ("y", "m"), ("z", "m"), ("psi", "rad"), ("theta", "rad"), ("phi", "rad"))
 
-#: The enveloped quantities (each one column per leg), with their units.
-QUANTITIES = (("force", "N"), ("velocity", "m/s"), ("power", "W"), ("universal_joint", "N"),
-              ("spherical_joint", "N"))
+#: The enveloped quantities (each one column per leg, in the order stewart._envelope computes
+#: them), with their units.
+QUANTITIES = tuple(zip(_envelope.QUANTITIES, ("N", "m/s", "W", "N", "N"), strict=True))
 
 _LABELS = {"force": "actuator force |tau|", "velocity": "leg velocity |Ldot|", "power": "actuator power |tau Ldot|",
            "universal_joint": "universal-joint force", "spherical_joint": "spherical-joint force"}
@@ -118,12 +123,47 @@ class Box:
             raise ValueError(f"samples: expected a whole number >= 1, got {samples!r}")
         return int(samples)
 
-    def states(self, chunk: execution.Chunk):
-        """The chunk's samples: uniform poses, velocities and accelerations at random vertices."""
+    def draws(self, chunk: execution.Chunk):
+        """The chunk's random numbers from its generator: ``(n, 6)`` uniform numbers for the
+        poses and ``(n,)`` 12 random bits each for the rates' signs."""
         rng = chunk.rng()
-        x = self.lower + rng.random((chunk.size, 6)) * (self.upper - self.lower)
-        signs = rng.integers(0, 2, (chunk.size, 12), dtype=np.int8) * 2.0 - 1.0
-        return x, signs[:, :6] * self.velocity, signs[:, 6:] * self.acceleration
+        return rng.random((chunk.size, 6)), rng.integers(0, 1 << 12, chunk.size, dtype=np.uint16)
+
+    def states(self, chunk: execution.Chunk):
+        """The chunk's samples ``(x, xd, xdd)``: uniform poses, velocities and accelerations at
+        random vertices (:func:`stewart._envelope.box_states` of :meth:`draws`)."""
+        return _envelope.box_states(*self.draws(chunk), self)
+
+    def add_to(self, peaks, chunk: execution.Chunk) -> None:
+        """Evaluate the chunk's samples into ``peaks`` (:class:`stewart._envelope.Peaks`),
+        generating them as it goes from the draws of :meth:`draws` (the uniform numbers into
+        this thread's buffer, :func:`_uniforms`)."""
+        rng = chunk.rng()
+        uniform = _uniforms(rng, chunk.size)
+        peaks.add_box(uniform, rng.integers(0, 1 << 12, chunk.size, dtype=np.uint16), self, chunk.start)
+
+
+@functools.lru_cache(maxsize=8)
+def _platform(params: PlatformParams):
+    """The compiled model of ``params``, built once per process (the chunks of a study, on
+    threads here or one task after another on a worker, share it)."""
+    from .platform import Platform
+
+    return Platform(params)
+
+
+#: Each thread's buffer of a box's uniform numbers, reused from chunk to chunk: a new array of
+#: megabytes per chunk would be mapped and faulted in afresh where the allocator returns
+#: memory to the system early (Dask's workers, with their MALLOC_TRIM_THRESHOLD_).
+_UNIFORMS = threading.local()
+
+
+def _uniforms(rng: np.random.Generator, n: int) -> np.ndarray:
+    """``rng.random((n, 6))`` into this thread's buffer (the same numbers)."""
+    buffer = getattr(_UNIFORMS, "buffer", None)
+    if buffer is None or len(buffer) < n:
+        buffer = _UNIFORMS.buffer = np.empty((n, 6))
+    return rng.random(out=buffer[:n])
 
 
 def _sample_times(motion, dt: float) -> np.ndarray:
@@ -162,6 +202,7 @@ class Trajectories:
         return int(self.offsets[-1])
 
     def states(self, chunk: execution.Chunk):
+        """The chunk's samples ``(x, xd, xdd)``."""
         offsets = self.offsets
         parts = []
         for k, motion in enumerate(self.motions):
@@ -169,6 +210,10 @@ class Trajectories:
             if lo < hi:
                 parts.append(motion.sample((np.arange(lo, hi) - offsets[k]) * self.dt))
         return tuple(np.concatenate(arrays) for arrays in zip(*parts))
+
+    def add_to(self, peaks, chunk: execution.Chunk) -> None:
+        """Evaluate the chunk's samples into ``peaks`` (:class:`stewart._envelope.Peaks`)."""
+        peaks.add(*(np.ascontiguousarray(a, dtype=float) for a in self.states(chunk)), chunk.start)
 
 
 @dataclass(frozen=True)
@@ -179,43 +224,10 @@ class _EnvelopeJob:
     spec: Box | Trajectories
 
     def __call__(self, chunk: execution.Chunk):
-        from .platform import Platform
-
-        x, xd, xdd = self.spec.states(chunk)
-        plat = Platform(self.params)
-        total = None
-        for lo in range(0, chunk.size, _BLOCK):
-            hi = min(lo + _BLOCK, chunk.size)
-            values, outside, singular = _magnitudes(plat, x[lo:hi], xd[lo:hi], xdd[lo:hi])
-            part = {"peak": Peak.of(values, np.hstack([x[lo:hi], xd[lo:hi], xdd[lo:hi]]), chunk.start + lo),
-                    "states": hi - lo, "outside_stroke": outside, "singular": singular}
-            total = execution.combine(total, part)
-        return total
-
-
-#: States evaluated at a time within a chunk: the temporaries (64 kB a column) stay in the
-#: cache and below glibc's mmap threshold (Dask's worker processes set MALLOC_TRIM_THRESHOLD_,
-#: which pins it at 128 kB, so larger arrays would be mapped and unmapped at every operation).
-_BLOCK = 8192
-
-
-def _magnitudes(plat, x, xd, xdd):
-    """The per-leg magnitudes of :data:`QUANTITIES` side by side, ``(n, 30)``, NaN on the rows
-    left out, with the counts of rows outside the stroke and of singular rows."""
-    params = plat.params
-    (length, rate), ok = plat.leg_rates(x, xd, return_mask=True)
-    limits = params.leg_length_limits
-    inside = ok if limits is None else ok & np.all((length >= limits[0]) & (length <= limits[1]), axis=1)
-    tau, ok_tau = plat.inverse_dynamics(x, xd, xdd, return_mask=True)
-    good = inside & ok_tau
-    values = np.full((len(x), 6 * len(QUANTITIES)), np.nan)
-    rows = np.flatnonzero(good)
-    if rows.size:
-        t, r = tau[rows], rate[rows]
-        universal, spherical = newton_euler.joint_force_magnitudes(params, x[rows], xd[rows], xdd[rows], t)
-        values[rows] = np.hstack([np.abs(t), np.abs(r), np.abs(t * r), universal, spherical])
-    outside = int(np.count_nonzero(ok & ~inside))
-    return values, outside, int(len(x) - rows.size - outside)
+        peaks = _envelope.Peaks(_platform(self.params)._kernel, self.params.leg_length_limits)
+        self.spec.add_to(peaks, chunk)
+        return {"peak": Peak(peaks.value, peaks.state, peaks.index), "states": chunk.size,
+                "outside_stroke": peaks.outside, "singular": peaks.singular}
 
 
 @dataclass(frozen=True)

@@ -36,7 +36,7 @@ __all__ = ["Chunk", "Peak", "chunks", "combine", "run", "DEFAULT_CHUNK_SIZE"]
 
 #: States per chunk unless told otherwise: large enough that a task's overhead (Dask's is of
 #: the order of a millisecond) is small against its work, small enough to bound the memory.
-DEFAULT_CHUNK_SIZE = 50_000
+DEFAULT_CHUNK_SIZE = 100_000
 
 
 @dataclass(frozen=True)
@@ -182,9 +182,11 @@ def run(job, n_states: int, *, seed: int | None = None, chunk_size: int = DEFAUL
             order = {future.key: chunk for future, chunk in zip(futures, parts)}
             try:
                 for future in as_completed(futures):
-                    chunk = order[future.key]
-                    results[chunk.index] = future.result()
-                    bar.update(chunk.size)
+                    if future.status != "finished":
+                        future.result()  # raises the chunk's error
+                    bar.update(order[future.key].size)
+                # The partials stay on the workers until all are done, then come in one batch.
+                results = client.gather(futures)
             except BaseException:
                 client.cancel(futures)
                 raise

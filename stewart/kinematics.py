@@ -203,7 +203,7 @@ def home_pose(params: PlatformParams, leg_length: float | None = None) -> np.nda
 
     def mean_length(z: float) -> float:
         with np.errstate(over="ignore"):  # inf for lengths near the float limit: bisection still works
-            return float(np.mean(np.hypot(reach, z + dz0)))
+            return float(np.add.reduce(np.hypot(reach, z + dz0))) / len(reach)
 
     # Above the highest base joint, mean_length increases with z: bisect on it.
     lo = float(np.max(-dz0))
@@ -215,6 +215,8 @@ def home_pose(params: PlatformParams, leg_length: float | None = None) -> np.nda
     hi = lo + leg_length
     for _ in range(200):
         mid = 0.5 * (lo + hi)
+        if not lo < mid < hi:  # converged to adjacent floats: further steps change nothing
+            break
         if mean_length(mid) < leg_length:
             lo = mid
         else:

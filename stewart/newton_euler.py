@@ -83,7 +83,7 @@ from . import _checks, conditions
 from .kinematics import euler_rate_jacobian, rotation
 from .params import PlatformParams, checked_params
 
-__all__ = ["JointReactions", "inverse_dynamics", "joint_reactions", "joint_force_magnitudes"]
+__all__ = ["JointReactions", "inverse_dynamics", "joint_reactions"]
 
 
 class JointReactions(NamedTuple):
@@ -265,64 +265,3 @@ def inverse_dynamics(params: PlatformParams, x, xd, xdd) -> np.ndarray:
     ``J_C^-T (M xddot + V xdot + G)`` for axisymmetric legs, and for any legs with
     ``universal_joint_axes``."""
     return _solve(params, x, xd, xdd).tau
-
-
-def _vec_cross(a, b):
-    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
-
-
-def _vec_dot(a, b):
-    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
-
-
-def joint_force_magnitudes(params: PlatformParams, x, xd, xdd, tau):
-    """The magnitudes ``(|f_B|, |f_P|)``, each ``(N, 6)``, of the universal- and spherical-joint
-    forces of :func:`joint_reactions` for a batch ``(N, 6)`` of states whose actuator forces
-    ``tau`` ``(N, 6)`` are known (from the compiled model): the same equations, leg by leg on
-    arrays of one component each, for envelopes over millions of states.
-
-    With ``alpha_l = u x uddot`` and ``omega_l = u x udot`` perpendicular to ``u``, the leg's
-    moment balance about ``B_i`` (module docstring) reads ``l x (-f_P) = u x w`` with
-    ``w = I_t uddot + b_C m_C a_C + (L - b_S) m_S a_S - (b_C m_C + (L - b_S) m_S) g_vec``
-    (``I_t`` the transverse inertia of cylinder and piston), so
-    ``f_P = (tau - m_S u.(a_S - g_vec)) u - (w - (u.w) u) / L`` and
-    ``f_B = m_C a_C + m_S a_S - (m_C + m_S) g_vec + f_P``. No checks: the states must be
-    ones where the model is defined (rows of ``return_mask=True`` results that are ok).
-    """
-    m_c, m_s = params.cylinder_mass, params.piston_mass
-    b_c, b_s = params.cylinder_com_distance, params.piston_com_distance
-    i_t = params.cylinder_inertia[1] + params.piston_inertia[1]
-    g = params.gravity
-    rot = np.ascontiguousarray(rotation(x).transpose(1, 2, 0))
-    j_a = euler_rate_jacobian(x)
-    omega = _matvec(j_a, xd[:, 3:]).T.copy()
-    alpha = (_matvec(j_a, xdd[:, 3:]) + _matvec(_euler_rate_jacobian_dot(x, xd), xd[:, 3:])).T.copy()
-    pos, vel, acc = x[:, :3].T.copy(), xd[:, :3].T.copy(), xdd[:, :3].T.copy()
-    universal = np.empty((6, len(x)))
-    spherical = np.empty((6, len(x)))
-    for i in range(6):
-        p_i, b_i = params.platform_points[i], params.base_points[i]
-        arm = tuple(rot[k, 0] * p_i[0] + rot[k, 1] * p_i[1] + rot[k, 2] * p_i[2] for k in range(3))
-        leg = tuple(pos[k] + arm[k] - b_i[k] for k in range(3))
-        length = np.sqrt(_vec_dot(leg, leg))
-        u = tuple(c / length for c in leg)
-        om_r = _vec_cross(omega, arm)
-        v_p = tuple(vel[k] + om_r[k] for k in range(3))
-        al_r, om_om_r = _vec_cross(alpha, arm), _vec_cross(omega, om_r)
-        a_p = tuple(acc[k] + al_r[k] + om_om_r[k] for k in range(3))
-        l_dot = _vec_dot(u, v_p)
-        u_dot = tuple((v_p[k] - l_dot * u[k]) / length for k in range(3))
-        l_ddot = _vec_dot(u_dot, v_p) + _vec_dot(u, a_p)
-        u_ddot = tuple((a_p[k] - l_ddot * u[k] - 2.0 * l_dot * u_dot[k]) / length for k in range(3))
-        a_pis = tuple(a_p[k] - b_s * u_ddot[k] for k in range(3))
-        lever = (length - b_s) * m_s
-        w = [(i_t + b_c * b_c * m_c) * u_ddot[k] + lever * a_pis[k] for k in range(3)]
-        w[2] = w[2] + (b_c * m_c + lever) * g
-        u_w = _vec_dot(u, w)
-        axial = tau[:, i] - m_s * (_vec_dot(u, a_pis) + g * u[2])
-        f_p = tuple(axial * u[k] - (w[k] - u_w * u[k]) / length for k in range(3))
-        spherical[i] = np.sqrt(_vec_dot(f_p, f_p))
-        f_b = [m_c * b_c * u_ddot[k] + m_s * a_pis[k] + f_p[k] for k in range(3)]
-        f_b[2] = f_b[2] + (m_c + m_s) * g
-        universal[i] = np.sqrt(_vec_dot(f_b, f_b))
-    return universal.T, spherical.T

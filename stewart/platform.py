@@ -221,11 +221,20 @@ class Platform:
             return tau[0] + friction[0], tau[1] & friction[1]
         return tau + friction
 
-    def joint_reactions(self, x, xd, xdd) -> newton_euler.JointReactions:
-        """Actuator forces and the forces at each leg's universal joint (on the leg, from the
-        base) and spherical joint (on the platform, from the leg), by Newton-Euler
-        (:func:`stewart.newton_euler.joint_reactions`; axisymmetric legs only)."""
-        return newton_euler.joint_reactions(self._params, x, xd, xdd)
+    def joint_reactions(self, x, xd, xdd, *, return_mask=False):
+        """Actuator forces and the reactions at each leg's joints, a
+        :class:`~stewart.newton_euler.JointReactions` ``(tau, base, platform, base_moment)`` in
+        {B}: ``base`` the force the base exerts on leg i at its universal joint B_i, ``platform``
+        the force leg i exerts on the platform at its spherical joint P_i, ``base_moment`` the
+        moment the base exerts on leg i through its universal joint, each of shape ``(..., 6, 3)``.
+        From the model's own leg terms: ``platform = tau_i u_i - f_i`` with ``f_i`` the force at
+        P_i equivalent to the leg's momentum rates and weight, ``base`` from the leg's Newton
+        equation, ``base_moment`` from its moment balance about B_i (along ``a_i x y_i`` with
+        joint axes, along the leg in the paper's model, where it keeps a leg with
+        ``I_yy != I_zz`` from spinning, zero for axisymmetric legs). Equal to the Newton-Euler
+        solution :func:`stewart.newton_euler.joint_reactions` wherever that is defined."""
+        return _named(newton_euler.JointReactions,
+                      self._kernel.joint_reactions(x, xd, xdd, return_mask=return_mask), return_mask)
 
     def forward_kinematics(self, lengths, guess=None, **options):
         """Pose(s) from leg lengths by Newton-Raphson (:func:`stewart.forward_kinematics`),

@@ -242,6 +242,20 @@ def test_cluster_estimate_by_hand():
     assert whole["tasks"] == 1e4 and np.isclose(whole["scheduler_s"], 40.0) and whole["efficiency"] == 1.0
 
 
+def test_studies_rows_mark_the_targets():
+    from benchmarks import studies
+
+    fig = {"local_states_per_s": 7.0e6, "cluster_states_per_s": 6.0e6, "ratio": 6.0 / 7.0, "large_states": 10**7,
+           "large_s": 1.5, "chunk_size": 100_000, "chunk_s": 0.028, "task_overhead_s": 0.0018}
+    rows = {row[0]: row[1:] for row in studies.rows(fig)}
+    assert rows["envelope, 2-worker LocalCluster (Dask's defaults)"] == ("6.000 M states/s (86% of in process)",
+                                                                         ">= 85%", "met")
+    assert rows["envelope of 1e+07 states, in process"] == ("1.5 s", "<= 5 s", "met")
+    slow = {row[0]: row[-1] for row in studies.rows({**fig, "ratio": 0.8, "large_s": 5.5})}
+    assert slow["envelope, 2-worker LocalCluster (Dask's defaults)"] == slow["envelope of 1e+07 states, in process"] \
+        == "MISSED"
+
+
 def test_identification_rows_mark_the_target():
     from benchmarks import identification
 

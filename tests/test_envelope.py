@@ -1,6 +1,6 @@
-"""Force and joint-load envelopes (stewart.envelope): the fast joint forces against the
-Newton-Euler solution, the peaks against brute-force dense evaluation, the stroke count, and
-one-line errors for bad specifications."""
+"""Force and joint-load envelopes (stewart.envelope): the peaks against brute-force dense
+evaluation of the Newton-Euler solution, the stroke count, and one-line errors for bad
+specifications."""
 
 from __future__ import annotations
 
@@ -12,8 +12,9 @@ import pytest
 import stewart
 from stewart import envelope as env
 from stewart import execution, newton_euler
-from stewart.checks import random_states
 from stewart.presets import narayan2017_target_pose
+
+from conftest import make_general
 
 PARAMS = stewart.PlatformParams.preset("narayan2017")
 
@@ -26,41 +27,36 @@ def _brute_force(params, x, xd, xdd):
                       np.linalg.norm(joints.base, axis=-1), np.linalg.norm(joints.platform, axis=-1)])
 
 
-@pytest.mark.parametrize("preset", sorted(stewart.presets()))
-def test_joint_force_magnitudes_match_newton_euler(preset, figures):
-    params = stewart.PlatformParams.preset(preset)
-    x, xd, xdd = random_states(params, 500, np.random.default_rng(11))
-    joints = newton_euler.joint_reactions(params, x, xd, xdd)
-    tau = stewart.Platform(params).inverse_dynamics(x, xd, xdd)
-    universal, spherical = newton_euler.joint_force_magnitudes(params, x, xd, xdd, tau)
-    for fast, exact in ((universal, joints.base), (spherical, joints.platform)):
-        exact = np.linalg.norm(exact, axis=-1)
-        figures(f"joint force magnitudes vs Newton-Euler ({preset})", np.max(np.abs(fast - exact) / exact), 1e-12)
-
-
 def _vertices(bounds):
     """Every vertex of the box |v_k| <= bounds_k (a zero bound gives one value)."""
     axes = [(-b, b) if b > 0 else (0.0,) for b in bounds]
     return np.array(list(itertools.product(*axes)))
 
 
-def test_fixed_pose_peaks_equal_the_vertex_enumeration_and_bound_the_interior():
-    pose = stewart.home_pose(PARAMS) + np.array([0.01, -0.005, 0.02, 0.05, -0.04, 0.03])
+#: The seed paper's platform, and the same with universal joints, legs with I_yy != I_zz and
+#: an off-centre payload (the general model).
+PLATFORMS = {"paper": PARAMS, "general": make_general(PARAMS, np.random.default_rng(12))}
+
+
+@pytest.mark.parametrize("model", sorted(PLATFORMS))
+def test_fixed_pose_peaks_equal_the_vertex_enumeration_and_bound_the_interior(model):
+    params = PLATFORMS[model]
+    pose = stewart.home_pose(params) + np.array([0.01, -0.005, 0.02, 0.05, -0.04, 0.03])
     velocity = np.array([0.2, 0.0, 0.1, 0.0, 0.5, 0.0])
     acceleration = np.array([2.0, 0.0, 3.0, 1.0, 0.0, 4.0])
     box = env.Box(pose, pose, velocity, acceleration)
-    result = env.envelope(PARAMS, box, samples=20_000, chunk_size=3000, progress=False)
+    result = env.envelope(params, box, samples=20_000, chunk_size=3000, progress=False)
     vel, acc = _vertices(velocity), _vertices(acceleration)
     xd = np.repeat(vel, len(acc), axis=0)
     xdd = np.tile(acc, (len(vel), 1))
-    values = _brute_force(PARAMS, np.tile(pose, (len(xd), 1)), xd, xdd)
+    values = _brute_force(params, np.tile(pose, (len(xd), 1)), xd, xdd)
     np.testing.assert_allclose(result.peak.value, values.max(axis=0), rtol=1e-12)
     # Forces are affine in the acceleration: no point inside the acceleration box exceeds its vertices.
     inner = np.random.default_rng(3).uniform(-1, 1, (len(xd), 6)) * acceleration
-    assert np.all(_brute_force(PARAMS, np.tile(pose, (len(xd), 1)), xd, inner) <= result.peak.value * (1 + 1e-12))
+    assert np.all(_brute_force(params, np.tile(pose, (len(xd), 1)), xd, inner) <= result.peak.value * (1 + 1e-12))
     # The state reported with each peak gives that peak.
     state = result.peak.state
-    np.testing.assert_allclose(np.diag(_brute_force(PARAMS, state[:, :6], state[:, 6:12], state[:, 12:])),
+    np.testing.assert_allclose(np.diag(_brute_force(params, state[:, :6], state[:, 6:12], state[:, 12:])),
                                result.peak.value, rtol=1e-12)
 
 

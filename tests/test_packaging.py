@@ -30,11 +30,11 @@ ROOT = Path(__file__).resolve().parent.parent
 UV = find_uv_bin()
 #: What a build needs, as paths inside the sdist (after its ``stewart-<version>/`` prefix).
 SDIST_NEEDS = {"setup.py", "pyproject.toml", "MANIFEST.in", "README.md", "LICENSE",
-               "stewart/_kernel.pyx", "stewart/_kernel.pxd", "stewart/_simulate.pyx",
+               "stewart/_kernel.pyx", "stewart/_kernel.pxd", "stewart/_simulate.pyx", "stewart/_envelope.pyx",
                "generated/stewart_model.h", "generated/stewart_model.c", "generated/stewart_model.pxd",
                "generated/stewart_dispatch.h", "generated/stewart_target.c"}
 #: Cython's C translation of the .pyx: written at build time, shipped in neither.
-CYTHON_OUTPUT = {"stewart/_kernel.c", "stewart/_simulate.c"}
+CYTHON_OUTPUT = {"stewart/_kernel.c", "stewart/_simulate.c", "stewart/_envelope.c"}
 
 
 #: Files setuptools adds to an sdist: its metadata.
@@ -101,7 +101,7 @@ def test_wheel_holds_the_c_model_and_no_cython_output(dists):
     assert {"stewart/generated/stewart_model.h", "stewart/generated/stewart_model.c"} <= names
     assert not names & CYTHON_OUTPUT
     assert not [n for n in names if n.endswith((".pyx", ".pxd", ".html"))]
-    for module in ("_kernel", "_simulate"):
+    for module in ("_kernel", "_simulate", "_envelope"):
         assert [n for n in names if n.startswith(f"stewart/{module}.") and n.endswith(".so")], module
     assert [n for n in names if n.endswith(".dist-info/licenses/LICENSE")]
 
