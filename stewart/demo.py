@@ -4,12 +4,12 @@ Narayan Rao et al. (2017) move their platform from an initial pose to a target p
 5 s along a sinusoidal velocity profile with joint-space PID. This demo makes that move
 from the home pose on the ``narayan2017`` preset with the compiled model, then the same
 move with computed torque; prints peak forces and tracking errors; writes the paper's
-figures as PNG; repeats the paper's leg-inertia study; runs a sizing study: workspace
-slices, the force and joint-load envelope of the move and of a box around it with a 20 %
-margin, and a small sweep of the joint radii; and ends with an identification study
+figures as PNG; repeats the paper's leg-inertia study; runs an identification study
 (:func:`identification_run`): the platform carrying a payload the identifier does not know,
 with friction in its legs, follows a designed excitation trajectory; its logged leg lengths
-and forces, with noise, give back the base parameters.
+and forces, with noise, give back the base parameters; and ends with a sizing study
+(:func:`sizing_run`): workspace slices, the force and joint-load envelope of the move and of
+a box around it with a 20 % margin, and a small sweep of the joint radii.
 """
 
 from __future__ import annotations
@@ -120,8 +120,8 @@ def main(argv=None) -> None:
         change = "" if name == "full model" else f"   ({100 * (np.max(peaks) / np.max(full) - 1):+.1f}% of max)"
         print(f"  {name:<42}" + "".join(f"{v:>10.3f}" for v in peaks) + f"{np.max(peaks):>10.3f}{change}")
 
-    sizing = sizing_run(params, move)
     ident = identification_run(params, move, short=True)
+    sizing = sizing_run(params, move)
 
     if not args.no_plots:
         from stewart.plots import plot_bars, plot_run, plot_workspace_slices
@@ -136,12 +136,12 @@ def main(argv=None) -> None:
             caption=f"largest |force| of each leg over the seed paper's {MOVE_DURATION:g} s move (home to target, "
                     "sinusoidal profile), by inverse dynamics along the reference path",
             value_format="{:.2f}"))
+        paths.append(plot_identification(ident, os.path.join(args.out, "identification_held_out.png")))
         paths.append(plot_workspace_slices(sizing["slices"], os.path.join(args.out, "workspace_slices.png")))
         paths.append(sizing["move"].plot(os.path.join(args.out, "envelope_move.png")))
         paths.append(sizing["box"].plot(os.path.join(args.out, "envelope_margin_box.png")))
         if sizing["sweep"] is not None:
             paths.append(sizing["sweep"].plot(os.path.join(args.out, "sweep_pareto.png")))
-        paths.append(plot_identification(ident, os.path.join(args.out, "identification_held_out.png")))
         print(f"\nFigures written to {os.path.abspath(args.out)}:")
         for path in paths:
             print(f"  {os.path.basename(path)}")

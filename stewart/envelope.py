@@ -154,15 +154,19 @@ def _platform(params: PlatformParams):
 
 #: Each thread's buffer of a box's uniform numbers, reused from chunk to chunk: a new array of
 #: megabytes per chunk would be mapped and faulted in afresh where the allocator returns
-#: memory to the system early (Dask's workers, with their MALLOC_TRIM_THRESHOLD_).
+#: memory to the system early (Dask's workers, with their MALLOC_TRIM_THRESHOLD_). It holds
+#: at most _UNIFORMS_ROWS states (6 MB); larger chunks draw into an array of their own.
 _UNIFORMS = threading.local()
+_UNIFORMS_ROWS = 1 << 17
 
 
 def _uniforms(rng: np.random.Generator, n: int) -> np.ndarray:
-    """``rng.random((n, 6))`` into this thread's buffer (the same numbers)."""
+    """``rng.random((n, 6))``, into this thread's buffer when it fits (the same numbers)."""
+    if n > _UNIFORMS_ROWS:
+        return rng.random((n, 6))
     buffer = getattr(_UNIFORMS, "buffer", None)
-    if buffer is None or len(buffer) < n:
-        buffer = _UNIFORMS.buffer = np.empty((n, 6))
+    if buffer is None:
+        buffer = _UNIFORMS.buffer = np.empty((_UNIFORMS_ROWS, 6))
     return rng.random(out=buffer[:n])
 
 

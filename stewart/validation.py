@@ -5,7 +5,8 @@ disagreement of the compiled kernel (:class:`stewart.Platform`) with
 
 * the numeric reference model (:mod:`stewart.reference`): inverse and forward dynamics,
   ``M``, ``V xdot``, ``G`` and the regressor (``Y pi``, the inverse dynamics plus friction);
-* the independent Newton-Euler formulation (:mod:`stewart.newton_euler`);
+* the independent Newton-Euler formulation (:mod:`stewart.newton_euler`): the actuator
+  forces and the joint forces of :meth:`Platform.joint_reactions`;
 * the derivative oracle (:func:`stewart.checks.complex_step_jacobians` of the reference):
   the exact Jacobians of inverse dynamics, forward dynamics and the RK4 step;
 * itself: forward dynamics of the inverse dynamics gives back ``xddot``;
@@ -130,9 +131,11 @@ def run(params: PlatformParams, n_states: int = 200, seed: int = 0) -> list[Chec
         )
         return checks
 
-    checks.append(
-        _check("kernel vs Newton-Euler: inverse dynamics", relative_error(tau, newton_euler.inverse_dynamics(params, x, xd, xdd)), 1e-9)
-    )
+    joints, exact = plat.joint_reactions(x, xd, xdd), newton_euler.joint_reactions(params, x, xd, xdd)
+    checks.append(_check("kernel vs Newton-Euler: inverse dynamics", relative_error(tau, exact.tau), 1e-9))
+    checks.append(_check("kernel vs Newton-Euler: universal- and spherical-joint forces",
+                         max(relative_error(joints.base, exact.base), relative_error(joints.platform, exact.platform)),
+                         1e-9))
     checks.append(_check("power balance |dE/dt - tau.Ldot| / sum|tau_i Ldot_i|", power_balance(params, x, xd, xdd, tau), 1e-9))
     try:
         drift = energy_drift(params, 1.0, seed)

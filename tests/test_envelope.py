@@ -176,3 +176,15 @@ def test_cli_bad_specifications_give_one_line(argv, message, capsys):
         main(["envelope", *argv, "--no-progress"])
     err = capsys.readouterr().err
     assert exit_info.value.code == 2 and message in err and err.count("\n") == 1
+
+
+def test_chunks_beyond_the_threads_buffer_draw_the_same_states(monkeypatch):
+    """A chunk larger than the per-thread buffer of uniform numbers draws into its own array:
+    the same states, the same peaks."""
+    home = stewart.home_pose(PARAMS)
+    box = env.Box(home - 0.01, home + 0.01, np.full(6, 0.1), np.full(6, 1.0))
+    buffered = env.envelope(PARAMS, box, samples=3000, chunk_size=1500, progress=False)
+    monkeypatch.setattr(env, "_UNIFORMS_ROWS", 1000)
+    own = env.envelope(PARAMS, box, samples=3000, chunk_size=1500, progress=False)
+    assert np.array_equal(buffered.peak.value, own.peak.value) and np.array_equal(buffered.peak.index, own.peak.index)
+    assert np.array_equal(buffered.peak.state, own.peak.state)

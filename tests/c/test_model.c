@@ -162,6 +162,24 @@ static int batch_rk4_step(const stewart_params *p, size_t n, const double *const
     return first;
 }
 
+/* The joint reactions, [tau; f_base; f_platform; n_base] (60 doubles) a row. */
+static int row_joint_reactions(const stewart_params *p, const double *const *in, double *out) {
+    return stewart_joint_reactions(p, in[0], in[1], in[2], out, out + 6, out + 24, out + 42);
+}
+
+static int batch_joint_reactions(const stewart_params *p, size_t n, const double *const *in, double *out,
+                                 int *status) {
+    static double tau[MAX_ROWS * 6], fb[MAX_ROWS * 18], fp[MAX_ROWS * 18], nb[MAX_ROWS * 18];
+    int first = stewart_batch_joint_reactions(p, n, in[0], in[1], in[2], tau, fb, fp, nb, status);
+    for (size_t r = 0; r < n; ++r) {
+        memcpy(out + 60 * r, tau + 6 * r, sizeof(double[6]));
+        memcpy(out + 60 * r + 6, fb + 18 * r, sizeof(double[18]));
+        memcpy(out + 60 * r + 24, fp + 18 * r, sizeof(double[18]));
+        memcpy(out + 60 * r + 42, nb + 18 * r, sizeof(double[18]));
+    }
+    return first;
+}
+
 static const struct {
     const char *name;
     row_fn row;
@@ -181,6 +199,7 @@ static const struct {
     {"forward_dynamics", row_forward_dynamics, batch_forward_dynamics, 6},
     {"regressor", row_regressor, batch_regressor, 192},
     {"rk4_step", row_rk4_step, batch_rk4_step, 12},
+    {"joint_reactions", row_joint_reactions, batch_joint_reactions, 60},
 };
 
 /* A number in [-1, 1) from the state of a linear congruential generator. */
@@ -287,6 +306,16 @@ int main(void) {
         check_values("inverse_dynamics", rc->name, st, out, rc->tau, 6, &worst);
         st = stewart_forward_dynamics(p, rc->x, rc->xd, rc->tau, out);
         check_values("forward_dynamics", rc->name, st, out, rc->xdd, 6, &worst);
+
+        /* The joint reactions: tau as the reference's, and the legs' forces on the platform
+         * balance its Newton equation, m_P (a + g e_z) = sum f_P (centre of mass at the origin). */
+        double joints[60], push[3] = {0.0, 0.0, 0.0}, weight[3];
+        st = stewart_joint_reactions(p, rc->x, rc->xd, rc->xdd, joints, joints + 6, joints + 24, joints + 42);
+        check_values("joint_reactions: tau", rc->name, st, joints, rc->tau, 6, &worst);
+        for (int i = 0; i < 6; ++i)
+            for (int k = 0; k < 3; ++k) push[k] += joints[24 + 3 * i + k];
+        for (int k = 0; k < 3; ++k) weight[k] = p->platform_mass * (rc->xdd[k] + (k == 2 ? p->gravity : 0.0));
+        check_values("joint_reactions: platform's Newton equation", rc->name, st, push, weight, 3, &worst);
 
         /* The derivative functions: their primal outputs equal the primal functions' to the
          * last bit, their Jacobians agree with central differences of the primal functions,
