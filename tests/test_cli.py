@@ -77,7 +77,7 @@ def test_simulate_refuses_a_target_below_the_stroke(capsys):
 
 def test_validate_passes_for_presets(capsys):
     main(["validate", "--preset", "motion_simulator", "--states", "50"])
-    assert "all 19 checks passed" in capsys.readouterr().out
+    assert "all 20 checks passed" in capsys.readouterr().out
 
 
 def test_bad_input_is_an_error_naming_the_argument(capsys):
@@ -292,7 +292,7 @@ def test_json_summaries(capsys):
     assert summary["problems"][0] in err and 3.9 < summary["times"][0] < 4.0
     code, out, _ = _run(["validate", "--preset", "motion_simulator", "--states", "20", "--json"], capsys)
     summary = json.loads(out)
-    assert code == 0 and summary["passed"] and len(summary["checks"]) == 19
+    assert code == 0 and summary["passed"] and len(summary["checks"]) == 20
     assert all(c["worst"] <= c["bound"] for c in summary["checks"])
     code, out, _ = _run(["exactness", "--preset", "motion_simulator", "--states", "20", "--seed", "2", "--json"], capsys)
     summary = json.loads(out)
