@@ -93,19 +93,16 @@ cdef class Peaks:
         generated here a few dozen at a time."""
         cdef const double[:, ::1] cu = u
         cdef const unsigned short[::1] cbits = bits
-        cdef double lower[6]
-        cdef double width[6]
-        cdef double velocity[6]
-        cdef double acceleration[6]
+        cdef _Bounds bounds
         cdef double x[ROWS * 6]
         cdef double xd[ROWS * 6]
         cdef double xdd[ROWS * 6]
-        cdef Py_ssize_t n = _box_arguments(cu, cbits, box, lower, width, velocity, acceleration)
+        cdef Py_ssize_t n = _box_arguments(cu, cbits, box, &bounds)
         cdef Py_ssize_t first = 0, count
         with nogil:
             while first < n:
                 count = min(<Py_ssize_t>ROWS, n - first)
-                _box_rows(&cu[first, 0], &cbits[first], count, lower, width, velocity, acceleration, x, xd, xdd)
+                _box_rows(&cu[first, 0], &cbits[first], count, &bounds, x, xd, xdd)
                 self._add(x, xd, xdd, count, start + first)
                 first += count
 
@@ -175,45 +172,49 @@ def box_states(u, bits, box):
     same states without storing them."""
     cdef const double[:, ::1] cu = u
     cdef const unsigned short[::1] cbits = bits
-    cdef double lower[6]
-    cdef double width[6]
-    cdef double velocity[6]
-    cdef double acceleration[6]
-    cdef Py_ssize_t n = _box_arguments(cu, cbits, box, lower, width, velocity, acceleration)
+    cdef _Bounds bounds
+    cdef Py_ssize_t n = _box_arguments(cu, cbits, box, &bounds)
     x, xd, xdd = np.empty((n, 6)), np.empty((n, 6)), np.empty((n, 6))
     cdef double[:, ::1] cx = x
     cdef double[:, ::1] cxd = xd
     cdef double[:, ::1] cxdd = xdd
     if n:
-        _box_rows(&cu[0, 0], &cbits[0], n, lower, width, velocity, acceleration, &cx[0, 0], &cxd[0, 0], &cxdd[0, 0])
+        _box_rows(&cu[0, 0], &cbits[0], n, &bounds, &cx[0, 0], &cxd[0, 0], &cxdd[0, 0])
     return x, xd, xdd
 
 
-cdef Py_ssize_t _box_arguments(const double[:, ::1] u, const unsigned short[::1] bits, box, double *lower,
-                               double *width, double *velocity, double *acceleration) except -1:
-    """The bounds of ``box`` into the arrays; the number of draws, checked."""
+cdef struct _Bounds:
+    # A box's bounds, per axis: the poses lower + u width, the rates +-velocity, +-acceleration.
+    double lower[6]
+    double width[6]
+    double velocity[6]
+    double acceleration[6]
+
+
+cdef Py_ssize_t _box_arguments(const double[:, ::1] u, const unsigned short[::1] bits, box,
+                               _Bounds *bounds) except -1:
+    """The bounds of ``box``; the number of draws, checked."""
     cdef int k
     if u.shape[1] != 6 or bits.shape[0] != u.shape[0]:
         raise ValueError(f"u, bits: need (n, 6) and (n,) arrays, got {(u.shape[0], u.shape[1])} and {bits.shape[0]}")
     for k in range(6):
-        lower[k] = box.lower[k]
-        width[k] = box.upper[k] - box.lower[k]
-        velocity[k] = box.velocity[k]
-        acceleration[k] = box.acceleration[k]
+        bounds.lower[k] = box.lower[k]
+        bounds.width[k] = box.upper[k] - box.lower[k]
+        bounds.velocity[k] = box.velocity[k]
+        bounds.acceleration[k] = box.acceleration[k]
     return u.shape[0]
 
 
-cdef inline void _box_rows(const double *u, const unsigned short *bits, Py_ssize_t n, const double *lower,
-                           const double *width, const double *velocity, const double *acceleration, double *x,
+cdef inline void _box_rows(const double *u, const unsigned short *bits, Py_ssize_t n, const _Bounds *b, double *x,
                            double *xd, double *xdd) noexcept nogil:
     """Rows of :func:`box_states`."""
     cdef Py_ssize_t r
     cdef int k
     for r in range(n):
         for k in range(6):
-            x[6 * r + k] = lower[k] + u[6 * r + k] * width[k]
-            xd[6 * r + k] = velocity[k] if (bits[r] >> k) & 1 else -velocity[k]
-            xdd[6 * r + k] = acceleration[k] if (bits[r] >> (6 + k)) & 1 else -acceleration[k]
+            x[6 * r + k] = b.lower[k] + u[6 * r + k] * b.width[k]
+            xd[6 * r + k] = b.velocity[k] if (bits[r] >> k) & 1 else -b.velocity[k]
+            xdd[6 * r + k] = b.acceleration[k] if (bits[r] >> (6 + k)) & 1 else -b.acceleration[k]
 
 
 cdef inline double _norm(const double *v) noexcept nogil:
