@@ -96,7 +96,11 @@ class BuildKernel(build_ext):
         super().build_extensions()
 
     def build_extension(self, ext):
-        if ext.name == "stewart._kernel":
+        # The copies of the model only when build_ext would link the kernel anew: an
+        # extension newer than its sources and depends is left alone (e.g. the one the
+        # editable install just built), and so are its objects.
+        stale = self.force or newer_group(ext.sources + ext.depends, self.get_ext_fullpath(ext.name), "newer")
+        if ext.name == "stewart._kernel" and stale:
             ext.extra_objects = self._model_objects(ext)
         super().build_extension(ext)
 
