@@ -36,10 +36,12 @@ cdef class ClosedLoop:
     cdef double ki[6]
     cdef double kd[6]
     cdef double force_limit[6]
-    cdef double viscous, coulomb, coulomb_velocity
+    cdef double viscous[6]
+    cdef double coulomb[6]
+    cdef double coulomb_velocity
 
-    def __cinit__(self, Kernel kernel, int mode, kp, ki, kd, force_limit,
-                  double viscous, double coulomb, double coulomb_velocity):
+    def __cinit__(self, Kernel kernel, int mode, kp, ki, kd, force_limit, viscous, coulomb,
+                  double coulomb_velocity):
         cdef int k
         self.kernel = kernel
         self.mode = mode
@@ -48,8 +50,8 @@ cdef class ClosedLoop:
             self.ki[k] = ki[k]
             self.kd[k] = kd[k]
             self.force_limit[k] = force_limit[k]
-        self.viscous = viscous
-        self.coulomb = coulomb
+            self.viscous[k] = viscous[k]
+            self.coulomb[k] = coulomb[k]
         self.coulomb_velocity = coulomb_velocity
 
     cdef int rhs(self, const double *y, const double *ref, const double *feedforward,
@@ -91,9 +93,9 @@ cdef class ClosedLoop:
                 applied[k] = self.force_limit[k]
             elif applied[k] < -self.force_limit[k]:
                 applied[k] = -self.force_limit[k]
-            applied[k] -= self.viscous * Ld[k]
-            if self.coulomb != 0.0:
-                applied[k] -= self.coulomb * tanh(Ld[k] / self.coulomb_velocity)
+            applied[k] -= self.viscous[k] * Ld[k]
+            if self.coulomb[k] != 0.0:
+                applied[k] -= self.coulomb[k] * tanh(Ld[k] / self.coulomb_velocity)
         for k in range(6):
             ydot[k] = y[6 + k]
         return self.kernel.forward_dynamics_c(y, y + 6, applied, ydot + 6)

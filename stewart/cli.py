@@ -955,8 +955,10 @@ def build_parser() -> argparse.ArgumentParser:
                    default=list(DEFAULT_TOLERANCE),
                    help="largest final tracking error accepted: position and Euler-angle norms")
     p.add_argument("--force-limit", type=_limit, default=math.inf, help="actuator force saturation [N]")
-    p.add_argument("--viscous", type=_non_negative, default=0.0, help="viscous friction per leg [N s/m]")
-    p.add_argument("--coulomb", type=_non_negative, default=0.0, help="Coulomb friction per leg [N]")
+    p.add_argument("--viscous", type=_non_negative, help="viscous friction of every leg [N s/m] (default: the "
+                   "platform's viscous_friction, none without it)")
+    p.add_argument("--coulomb", type=_non_negative, help="Coulomb friction of every leg [N] (default: the "
+                   "platform's coulomb_friction, none without it)")
     p.add_argument("--progress", action=argparse.BooleanOptionalAction, default=None,
                    help="progress bar on stderr (default: when stderr is a terminal)")
     p.add_argument("--csv", metavar="FILE", help="write the time series as CSV")

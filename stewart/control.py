@@ -45,7 +45,7 @@ def _per_leg(name: str, value) -> np.ndarray:
 def _six(name: str, value) -> np.ndarray:
     arr = _per_leg(name, value)
     if not np.all(np.isfinite(arr)) or np.any(arr < 0):
-        raise ValueError(f"{name}: gains must be finite and >= 0, got {arr.tolist()}")
+        raise ValueError(f"{name}: must be finite and >= 0, got {arr.tolist()}")
     return arr
 
 
@@ -185,14 +185,21 @@ class Actuators:
     """Actuator limits and losses per leg.
 
     ``force_limit`` (N) saturates the commanded force; the leg then receives
-    ``tau - viscous Ldot - coulomb tanh(Ldot / coulomb_velocity)`` (a smooth Coulomb law,
-    so the closed loop stays a smooth ODE).
+    ``tau - F_v Ldot - F_c tanh(Ldot / v_c)``: the friction law of
+    :meth:`stewart.Platform.friction_forces` (a smooth Coulomb law, so the closed loop
+    stays a smooth ODE).
+
+    ``viscous`` (``F_v`` in N s/m), ``coulomb`` (``F_c`` in N; one value, or one per leg)
+    and ``coulomb_velocity`` (``v_c`` in m/s) default to the platform's own parameters
+    (:class:`~stewart.PlatformParams` ``viscous_friction``, ``coulomb_friction`` and
+    ``coulomb_velocity``; no friction when it has none), so that a simulation of an
+    identified machine loses what its legs lose. A value given replaces the platform's.
     """
 
     force_limit: float | np.ndarray = np.inf
-    viscous: float = 0.0
-    coulomb: float = 0.0
-    coulomb_velocity: float = 1e-3
+    viscous: float | np.ndarray | None = None
+    coulomb: float | np.ndarray | None = None
+    coulomb_velocity: float | None = None
 
     def __post_init__(self):
         limit = _per_leg("force_limit", self.force_limit)
@@ -200,11 +207,20 @@ class Actuators:
             raise ValueError(f"force_limit: must be > 0, got {limit.tolist()}")
         object.__setattr__(self, "force_limit", limit)
         for name in ("viscous", "coulomb"):
-            value = _checks.real(name, getattr(self, name))
-            if not value >= 0:
-                raise ValueError(f"{name}: must be finite and >= 0, got {value}")
-            object.__setattr__(self, name, value)
-        velocity = _checks.real("coulomb_velocity", self.coulomb_velocity)
-        if not velocity > 0:
-            raise ValueError(f"coulomb_velocity: must be > 0, got {velocity}")
-        object.__setattr__(self, "coulomb_velocity", velocity)
+            if getattr(self, name) is not None:
+                object.__setattr__(self, name, _six(name, getattr(self, name)))
+        if self.coulomb_velocity is not None:
+            velocity = _checks.real("coulomb_velocity", self.coulomb_velocity)
+            if not velocity > 0:
+                raise ValueError(f"coulomb_velocity: must be > 0, got {velocity}")
+            object.__setattr__(self, "coulomb_velocity", velocity)
+
+    def friction(self, params: PlatformParams) -> tuple[np.ndarray, np.ndarray, float]:
+        """``(F_v (6,), F_c (6,), v_c)`` on a platform with parameters ``params``: the values
+        given here, else the platform's (zeros where it has none)."""
+        def per_leg(given, own):
+            return given if given is not None else np.zeros(6) if own is None else np.array(own)
+
+        velocity = params.coulomb_velocity if self.coulomb_velocity is None else self.coulomb_velocity
+        return (per_leg(self.viscous, params.viscous_friction), per_leg(self.coulomb, params.coulomb_friction),
+                velocity)

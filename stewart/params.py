@@ -209,10 +209,11 @@ class PlatformParams:
         ``F_v,i`` >= 0 in N s/m and ``F_c,i`` >= 0 in N; ``None`` is none. A leg moving at
         ``Ldot_i`` loses ``F_v,i Ldot_i + F_c,i tanh(Ldot_i / coulomb_velocity)`` of its actuator
         force (:meth:`stewart.Platform.friction_forces`). The rigid-body model (inverse and
-        forward dynamics, simulation) does not include it; the regressor and the actuator
-        forces (:meth:`stewart.Platform.regressor`, :meth:`stewart.Platform.actuator_forces`) do.
+        forward dynamics) does not include it; the regressor, the actuator forces
+        (:meth:`stewart.Platform.regressor`, :meth:`stewart.Platform.actuator_forces`) and
+        :func:`stewart.simulate` (whose :class:`stewart.control.Actuators` default to them) do.
     coulomb_velocity : v_c > 0 in m/s, the speed scale of the smooth sign of the Coulomb
-        friction (as :class:`stewart.control.Actuators`).
+        friction.
 
     Arrays are stored read-only. Construction validates every field and raises
     ``ValueError`` naming the field; without ``universal_joint_axes``, leg inertias with

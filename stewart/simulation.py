@@ -291,6 +291,10 @@ def simulate(
     the controller's output. The run starts at ``x0``/``xd0`` (default: the trajectory's
     start, at its velocity) and lasts ``duration`` (default: the trajectory's).
 
+    ``actuators`` (:class:`~stewart.control.Actuators`, default ``Actuators()``) saturate
+    the commanded forces and take the legs' friction from them, by default the platform's
+    own friction parameters.
+
     The PID starts bumpless: its integral holds the static leg forces of the start pose
     (inverse dynamics at rest, less the feed-forward), so the legs carry the platform's
     weight from ``t = 0``.
@@ -454,7 +458,7 @@ def _set_up(run: _Run, check_workspace: bool) -> tuple[ClosedLoop, _Series, np.n
         _check_workspace(run.platform, run.x0, refs[::every, :6], times)
     actuators = run.actuators
     loop = ClosedLoop(run.platform._kernel, *run.controller.loop_settings(), actuators.force_limit,
-                      actuators.viscous, actuators.coulomb, actuators.coulomb_velocity)
+                      *actuators.friction(run.platform.params))
     n = steps + 1
     series = _Series(times, refs, ff, np.zeros((n, 18)), *(np.zeros((n, 6)) for _ in range(3)))
     y = np.concatenate([run.x0, run.xd0, run.controller.initial_integral(run.platform, run.x0, ff[0])])

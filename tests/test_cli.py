@@ -12,6 +12,7 @@ import stewart
 from interrupt import press_ctrl_c_after
 from stewart import exactness
 from stewart.cli import main
+from stewart.presets import narayan2017_target_pose
 
 
 def _numbers(text):
@@ -65,6 +66,28 @@ def test_simulate_writes_series_and_plots(tmp_path, capsys):
     np.testing.assert_allclose(peak, [np.max(np.abs(table[f"force{i}"])) for i in range(6)], rtol=1e-3)
     for name in ("pose", "error", "forces", "leg_velocities"):
         assert (tmp_path / "figs" / f"simulation_{name}.png").stat().st_size > 10_000
+
+
+def test_simulate_takes_the_friction_of_the_parameter_file(tmp_path, capsys):
+    """The actuators lose the file's per-leg friction unless --viscous/--coulomb replace it:
+    the run's forces are those of stewart.simulate with the same actuators."""
+    params = stewart.PlatformParams.preset("narayan2017").replace(
+        viscous_friction=[20.0, 30.0, 40.0, 50.0, 60.0, 70.0], coulomb_friction=[0.5, 1.0, 1.5, 2.0, 2.5, 3.0])
+    params.save(tmp_path / "machine.toml")
+    goal = narayan2017_target_pose()
+    runs = {}
+    for name, flags in (("own", []), ("none", ["--viscous", "0", "--coulomb", "0"])):
+        main(["simulate", "--params", str(tmp_path / "machine.toml"), "--target", *(repr(float(v)) for v in goal),
+              "--duration", "1", "--no-progress", "--csv", str(tmp_path / f"{name}.csv")] + flags)
+        assert "outcome: completed" in capsys.readouterr().out
+        table = np.genfromtxt(tmp_path / f"{name}.csv", delimiter=",", names=True)
+        runs[name] = np.column_stack([table[f"force{i}"] for i in range(6)])
+    plat = stewart.Platform(params)
+    move = stewart.PointToPoint(plat.home_pose, goal, 5.0)
+    for name, actuators in (("own", None), ("none", stewart.Actuators(viscous=0.0, coulomb=0.0))):
+        want = stewart.simulate(plat, move, duration=1.0, actuators=actuators).forces
+        np.testing.assert_allclose(runs[name], want, rtol=1e-9, atol=1e-9 * np.max(np.abs(want)))
+    assert np.max(np.abs(runs["own"] - runs["none"])) > 1.0
 
 
 def test_simulate_refuses_a_target_below_the_stroke(capsys):

@@ -165,6 +165,31 @@ def test_saturation_and_friction(plat, move):
     assert np.all(np.abs(damped.forces[moving] - free.forces[moving]) > 0)
 
 
+def test_the_loop_loses_the_platforms_own_friction(plat, move, figures):
+    """Open loop, fed the forces Platform.actuator_forces gives for a move (inverse dynamics
+    plus each leg's own friction), a machine with per-leg friction follows the move: the
+    loop loses what the legs lose, by default. The same forces without friction do not."""
+    machine = stewart.Platform(plat.params.replace(viscous_friction=[20.0, 30.0, 40.0, 50.0, 60.0, 70.0],
+                                                   coulomb_friction=[0.5, 1.0, 1.5, 2.0, 2.5, 3.0],
+                                                   coulomb_velocity=0.01))
+
+    def forces(t):
+        return machine.actuator_forces(*move.sample(t))
+
+    run = stewart.simulate(machine, move, stewart.OpenLoop(), feedforward=forces, duration=1.0)
+    error = np.max(np.abs(run.x - run.reference))
+    assert run.ok and np.max(np.abs(machine.friction_forces(run.x, run.xd))) > 1.0
+    figures("simulate: open loop on actuator_forces with per-leg friction, pose error", error, 1e-9)
+    free = stewart.simulate(machine, move, stewart.OpenLoop(), feedforward=forces, duration=1.0,
+                            actuators=stewart.Actuators(viscous=0.0, coulomb=0.0))
+    assert np.max(np.abs(free.x - free.reference)) > 1e6 * error
+    # The same friction given to the actuators of the platform without it: the same run.
+    given = stewart.Actuators(viscous=machine.params.viscous_friction, coulomb=machine.params.coulomb_friction,
+                              coulomb_velocity=0.01)
+    assert np.array_equal(stewart.simulate(plat, move, stewart.OpenLoop(), feedforward=forces, duration=1.0,
+                                           actuators=given).x, run.x)
+
+
 def test_results_export(tmp_path, plat, move):
     run = stewart.simulate(plat, move, duration=0.5)
     run.to_csv(tmp_path / "run.csv")
@@ -202,7 +227,7 @@ def test_bad_simulation_arguments(plat, move):
         stewart.simulate(plat, move, "pid")
     with pytest.raises(ValueError, match="method: expected"):
         stewart.simulate(plat, move, method="euler")
-    with pytest.raises(ValueError, match="kp: gains must be finite"):
+    with pytest.raises(ValueError, match="kp: must be finite and >= 0"):
         stewart.PID(kp=-1.0, ki=0.0, kd=0.0)
     with pytest.raises(ValueError, match="force_limit: must be > 0"):
         stewart.Actuators(force_limit=0.0)
@@ -475,7 +500,8 @@ def test_condition_check_agrees_with_the_svd(plat):
 def test_compiled_loop_refuses_buffers_too_small(plat):
     from stewart._simulate import ClosedLoop
 
-    loop = ClosedLoop(plat._kernel, 1, np.ones(6), np.zeros(6), np.ones(6), np.full(6, np.inf), 0.0, 0.0, 1e-3)
+    loop = ClosedLoop(plat._kernel, 1, np.ones(6), np.zeros(6), np.ones(6), np.full(6, np.inf), np.zeros(6), np.zeros(6),
+                      1e-3)
     y = np.concatenate([plat.home_pose, np.zeros(12)])
     out = [np.zeros((6, 18))] + [np.zeros((6, 6)) for _ in range(3)]
     refs = np.tile(np.concatenate([plat.home_pose, np.zeros(12)]), (11, 1))
