@@ -2,8 +2,8 @@
 """The closed-loop equations of motion and a fixed-step RK4 loop, with no Python per step.
 
 State ``y = [x (6), xdot (6), integral of the leg-length error (6)]``. The controller
-(joint-space PID or task-space computed torque), force saturation and actuator friction
-are evaluated at every RK4 stage, so the closed loop is one smooth ODE. All model
+(joint-space PID or task-space computed torque, which also cancels the model's friction),
+force saturation and actuator friction are evaluated at every RK4 stage, so the closed loop is one smooth ODE. All model
 evaluations go to the compiled kernel (:class:`stewart._kernel.Kernel`).
 """
 
@@ -18,6 +18,32 @@ cpdef enum Mode:
     PID = 1
     COMPUTED_TORQUE = 2
 
+cdef struct Friction:
+    # Each leg's friction law, F_v Ldot + F_c tanh(Ldot / v_c) (stewart.Platform.friction_forces).
+    double viscous[6]
+    double coulomb[6]
+    double velocity
+
+
+cdef inline double friction_force(const Friction *f, int k, double rate) noexcept nogil:
+    """The force leg ``k`` loses to friction at leg rate ``rate``."""
+    if f.coulomb[k] == 0.0:
+        return f.viscous[k] * rate
+    return f.viscous[k] * rate + f.coulomb[k] * tanh(rate / f.velocity)
+
+
+cdef Friction as_friction(law):
+    """``(F_v (6,), F_c (6,), v_c)`` as a :c:type:`Friction`."""
+    cdef Friction f
+    cdef int k
+    viscous, coulomb, velocity = law
+    for k in range(6):
+        f.viscous[k] = viscous[k]
+        f.coulomb[k] = coulomb[k]
+    f.velocity = velocity
+    return f
+
+
 cpdef enum Outcome:
     # How a run of steps ended (the kernel's own status codes, > 0, are passed on as they are).
     STOP_FINISHED = 0
@@ -28,7 +54,11 @@ cpdef enum Outcome:
 
 @cython.final
 cdef class ClosedLoop:
-    """Platform, controller and actuators as the right-hand side of one ODE."""
+    """Platform, controller and actuators as the right-hand side of one ODE.
+
+    ``friction`` is what the legs lose and ``model_friction`` what the computed-torque law
+    adds back at the measured leg rates (its model's, as in
+    :meth:`stewart.Platform.actuator_forces`); each is ``(F_v (6,), F_c (6,), v_c)``."""
 
     cdef Kernel kernel
     cdef int mode
@@ -36,12 +66,10 @@ cdef class ClosedLoop:
     cdef double ki[6]
     cdef double kd[6]
     cdef double force_limit[6]
-    cdef double viscous[6]
-    cdef double coulomb[6]
-    cdef double coulomb_velocity
+    cdef Friction friction
+    cdef Friction model_friction
 
-    def __cinit__(self, Kernel kernel, int mode, kp, ki, kd, force_limit, viscous, coulomb,
-                  double coulomb_velocity):
+    def __cinit__(self, Kernel kernel, int mode, kp, ki, kd, force_limit, friction, model_friction):
         cdef int k
         self.kernel = kernel
         self.mode = mode
@@ -50,9 +78,8 @@ cdef class ClosedLoop:
             self.ki[k] = ki[k]
             self.kd[k] = kd[k]
             self.force_limit[k] = force_limit[k]
-            self.viscous[k] = viscous[k]
-            self.coulomb[k] = coulomb[k]
-        self.coulomb_velocity = coulomb_velocity
+        self.friction = as_friction(friction)
+        self.model_friction = as_friction(model_friction)
 
     cdef int rhs(self, const double *y, const double *ref, const double *feedforward,
                  double *ydot, double *force, double *L, double *Ld) noexcept nogil:
@@ -82,7 +109,7 @@ cdef class ClosedLoop:
             if status != STEWART_OK:
                 return status
             for k in range(6):
-                force[k] += feedforward[k]
+                force[k] += friction_force(&self.model_friction, k, Ld[k]) + feedforward[k]
         else:
             for k in range(6):
                 ydot[12 + k] = 0.0
@@ -93,9 +120,7 @@ cdef class ClosedLoop:
                 applied[k] = self.force_limit[k]
             elif applied[k] < -self.force_limit[k]:
                 applied[k] = -self.force_limit[k]
-            applied[k] -= self.viscous[k] * Ld[k]
-            if self.coulomb[k] != 0.0:
-                applied[k] -= self.coulomb[k] * tanh(Ld[k] / self.coulomb_velocity)
+            applied[k] -= friction_force(&self.friction, k, Ld[k])
         for k in range(6):
             ydot[k] = y[6 + k]
         return self.kernel.forward_dynamics_c(y, y + 6, applied, ydot + 6)

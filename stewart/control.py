@@ -8,7 +8,9 @@ classes hold and document their gains, and each tells the loop which law it is
   Narayan Rao et al. (2017), section VII: ``tau = Kp e + Ki int(e) + Kd edot`` with
   ``e = L_ref - L``.
 * :class:`ComputedTorque` — task-space computed torque with the compiled inverse
-  dynamics: ``tau = ID(x, xdot, xddot_ref + Kd (xdot_ref - xdot) + Kp (x_ref - x))``.
+  dynamics: ``tau = ID(x, xdot, xddot_ref + Kd (xdot_ref - xdot) + Kp (x_ref - x)) + f(Ldot)``,
+  where ``f`` is the platform's own leg friction (:meth:`stewart.Platform.friction_forces`)
+  at the measured leg rates, as :meth:`stewart.Platform.actuator_forces` adds it.
 * :class:`OpenLoop` — no feedback: the forces come from the feed-forward schedule only.
 * :class:`Actuators` — force saturation and viscous and Coulomb friction in each leg.
 """
@@ -148,7 +150,11 @@ class PID(Controller):
 
 @dataclass(frozen=True)
 class ComputedTorque(Controller):
-    """Task-space gains (1/s^2 and 1/s) on ``[x, y, z, psi, theta, phi]``."""
+    """Task-space gains (1/s^2 and 1/s) on ``[x, y, z, psi, theta, phi]``.
+
+    The law adds back the friction of the platform's parameters at the measured leg rates;
+    legs that lose more or less (:class:`Actuators` values other than the platform's) leave
+    the difference to the feedback."""
 
     label: ClassVar[str] = "computed torque"
     kp: np.ndarray

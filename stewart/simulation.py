@@ -457,8 +457,9 @@ def _set_up(run: _Run, check_workspace: bool) -> tuple[ClosedLoop, _Series, np.n
         every = 2 if run.method == "rk4" else 1  # the poses at the output samples
         _check_workspace(run.platform, run.x0, refs[::every, :6], times)
     actuators = run.actuators
+    params = run.platform.params
     loop = ClosedLoop(run.platform._kernel, *run.controller.loop_settings(), actuators.force_limit,
-                      *actuators.friction(run.platform.params))
+                      actuators.friction(params), Actuators().friction(params))
     n = steps + 1
     series = _Series(times, refs, ff, np.zeros((n, 18)), *(np.zeros((n, 6)) for _ in range(3)))
     y = np.concatenate([run.x0, run.xd0, run.controller.initial_integral(run.platform, run.x0, ff[0])])

@@ -165,13 +165,18 @@ def test_saturation_and_friction(plat, move):
     assert np.all(np.abs(damped.forces[moving] - free.forces[moving]) > 0)
 
 
+def _with_friction(plat):
+    """``plat`` with its own viscous and Coulomb friction, different in each leg."""
+    return stewart.Platform(plat.params.replace(viscous_friction=[20.0, 30.0, 40.0, 50.0, 60.0, 70.0],
+                                                coulomb_friction=[0.5, 1.0, 1.5, 2.0, 2.5, 3.0],
+                                                coulomb_velocity=0.01))
+
+
 def test_the_loop_loses_the_platforms_own_friction(plat, move, figures):
     """Open loop, fed the forces Platform.actuator_forces gives for a move (inverse dynamics
     plus each leg's own friction), a machine with per-leg friction follows the move: the
     loop loses what the legs lose, by default. The same forces without friction do not."""
-    machine = stewart.Platform(plat.params.replace(viscous_friction=[20.0, 30.0, 40.0, 50.0, 60.0, 70.0],
-                                                   coulomb_friction=[0.5, 1.0, 1.5, 2.0, 2.5, 3.0],
-                                                   coulomb_velocity=0.01))
+    machine = _with_friction(plat)
 
     def forces(t):
         return machine.actuator_forces(*move.sample(t))
@@ -188,6 +193,24 @@ def test_the_loop_loses_the_platforms_own_friction(plat, move, figures):
                               coulomb_velocity=0.01)
     assert np.array_equal(stewart.simulate(plat, move, stewart.OpenLoop(), feedforward=forces, duration=1.0,
                                            actuators=given).x, run.x)
+
+
+def test_computed_torque_adds_back_the_platforms_own_friction(plat, move, figures):
+    """On a machine with per-leg friction, computed torque adds its model's friction back
+    at the measured leg rates: it tracks as exactly as without friction, and commands what
+    Platform.actuator_forces gives along the move. Legs that lose twice the model's
+    friction leave the difference to the feedback, which then lags."""
+    machine = _with_friction(plat)
+    run = stewart.simulate(machine, move, stewart.ComputedTorque.tuned(), duration=1.0)
+    error = np.max(np.abs(run.tracking_error[:, :3]))
+    assert run.ok and np.max(np.abs(machine.friction_forces(run.x, run.xd))) > 1.0
+    figures("computed torque with per-leg friction: max tracking error [m]", error, 1e-9)
+    expected = machine.actuator_forces(*move.sample(run.t))
+    np.testing.assert_allclose(run.commanded_forces, expected, rtol=0, atol=1e-6 * np.max(np.abs(expected)))
+    doubled = stewart.Actuators(viscous=2 * np.array(machine.params.viscous_friction),
+                                coulomb=2 * np.array(machine.params.coulomb_friction))
+    lagging = stewart.simulate(machine, move, stewart.ComputedTorque.tuned(), duration=1.0, actuators=doubled)
+    assert np.max(np.abs(lagging.tracking_error[:, :3])) > 1e3 * error
 
 
 def test_results_export(tmp_path, plat, move):
@@ -500,8 +523,8 @@ def test_condition_check_agrees_with_the_svd(plat):
 def test_compiled_loop_refuses_buffers_too_small(plat):
     from stewart._simulate import ClosedLoop
 
-    loop = ClosedLoop(plat._kernel, 1, np.ones(6), np.zeros(6), np.ones(6), np.full(6, np.inf), np.zeros(6), np.zeros(6),
-                      1e-3)
+    no_friction = (np.zeros(6), np.zeros(6), 1e-3)
+    loop = ClosedLoop(plat._kernel, 1, np.ones(6), np.zeros(6), np.ones(6), np.full(6, np.inf), no_friction, no_friction)
     y = np.concatenate([plat.home_pose, np.zeros(12)])
     out = [np.zeros((6, 18))] + [np.zeros((6, 6)) for _ in range(3)]
     refs = np.tile(np.concatenate([plat.home_pose, np.zeros(12)]), (11, 1))
