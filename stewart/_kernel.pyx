@@ -270,6 +270,7 @@ cdef class Kernel:
         cdef double *po[MAX_OUTPUTS]
         cdef int widths[MAX_OUTPUTS]
         cdef int *ps
+        cdef int status1 = 0
         cdef cnp.npy_intp n = 1
         cdef Py_ssize_t i, s0 = 0, s1 = 0, s2 = 0
         cdef bint batch = False
@@ -284,13 +285,14 @@ cdef class Kernel:
         a0 = _states(names[0], values[0])
         a1 = _states(names[1], values[1]) if arity > 1 else a0
         a2 = _states(names[2], values[2]) if arity > 2 else a0
-        for arr in (a0, a1, a2):
-            if arr.ndim == 2:
-                if batch and arr.shape[0] != n:
-                    raise ValueError(
-                        "arguments must have matching batch shapes: "
-                        + ", ".join(f"{nm} {np.shape(v)}" for nm, v in zip(names, values)))
-                batch, n = True, arr.shape[0]
+        if a0.ndim == 2 or a1.ndim == 2 or a2.ndim == 2:
+            for arr in (a0, a1, a2):
+                if arr.ndim == 2:
+                    if batch and arr.shape[0] != n:
+                        raise ValueError(
+                            "arguments must have matching batch shapes: "
+                            + ", ".join(f"{nm} {np.shape(v)}" for nm, v in zip(names, values)))
+                    batch, n = True, arr.shape[0]
         if a0.ndim == 2: s0 = 6
         if a1.ndim == 2: s1 = 6
         if a2.ndim == 2: s2 = 6
@@ -310,11 +312,15 @@ cdef class Kernel:
             out = cnp.PyArray_EMPTY(nd, dims, cnp.NPY_DOUBLE, 0)
             po[k] = <double *>cnp.PyArray_DATA(out)
             outs.append(out)
-        status = cnp.PyArray_ZEROS(1, &n, cnp.NPY_INT, 0)
+        if n == 1:  # one row's status needs no array unless it fails
+            status = None
+            ps = &status1
+        else:
+            status = cnp.PyArray_ZEROS(1, &n, cnp.NPY_INT, 0)
+            ps = <int *>cnp.PyArray_DATA(status)
         p0 = <const double *>cnp.PyArray_DATA(a0)
         p1 = <const double *>cnp.PyArray_DATA(a1)
         p2 = <const double *>cnp.PyArray_DATA(a2)
-        ps = <int *>cnp.PyArray_DATA(status)
 
         if batch and batch_fn != NULL and n >= LANES:
             # The batch function takes whole arrays: a row broadcast against the batch is copied.
@@ -330,7 +336,7 @@ cdef class Kernel:
             else:
                 with nogil:
                     self._batch(kind, batch_fn, n, block, p0, p1, p2, scalar, nout, po, widths, ps)
-            failures = np.count_nonzero(status)
+            failures = np.count_nonzero(status) if status is not None else status1 != STEWART_OK
         elif n == 1:
             failures = self._row(kind, fn, p0, p1, p2, scalar, po, widths, nout, 0, ps)
         elif nthreads > 1 and STEWART_OPENMP:
@@ -348,6 +354,8 @@ cdef class Kernel:
         result = outs[0] if nout == 1 else tuple(outs)
         if failures == 0:
             return (result, np.ones(n, dtype=bool) if batch else True) if return_mask else result
+        if status is None:
+            status = np.array([status1], dtype=np.intc)
         return self._failed(fname, names, (a0, a1, a2)[:arity], result, status, batch, return_mask)
 
     cdef void _batch(self, int kind, void *fn, Py_ssize_t n, Py_ssize_t block, const double *x0,
@@ -445,82 +453,82 @@ cdef class Kernel:
                                       int *status) noexcept nogil:
         T.batch_joint_reactions(&self.p, n, x, xd, xdd, tau, f_base, f_platform, n_base, status)
 
-    def leg_lengths(self, x, *, return_mask=False):
+    def leg_lengths(self, x, return_mask=False):
         return self._run("leg_lengths", 1, <void *>T.leg_lengths, ("x",), (x,), _VECTOR, return_mask,
                          0.0, <void *>T.batch_leg_lengths)
 
-    def jacobian(self, x, *, return_mask=False):
+    def jacobian(self, x, return_mask=False):
         return self._run("jacobian", 1, <void *>T.jacobian, ("x",), (x,), _MATRIX, return_mask,
                          0.0, <void *>T.batch_jacobian)
 
-    def leg_rates(self, x, xd, *, return_mask=False):
+    def leg_rates(self, x, xd, return_mask=False):
         """``(L, Ldot)`` from the C function's one array ``[L; Ldot]`` per row."""
         return _parts(self._run("leg_rates", 2, <void *>T.leg_rates, ("x", "xd"), (x, xd), ((12,),), return_mask,
                                 0.0, <void *>T.batch_leg_rates),
                       return_mask, ((6,), (6,)))
 
-    def all_terms(self, x, xd, *, return_mask=False):
+    def all_terms(self, x, xd, return_mask=False):
         """``(M, V xd, G, J_C)`` from the C function's one array ``[M; Vxd; G; JC]`` per row."""
         return _parts(self._run("all_terms", 2, <void *>T.all_terms, ("x", "xd"), (x, xd), ((84,),), return_mask,
                                 0.0, <void *>T.batch_all_terms),
                       return_mask, ((6, 6), (6,), (6,), (6, 6)))
 
-    def mass_matrix(self, x, *, return_mask=False):
+    def mass_matrix(self, x, return_mask=False):
         return self._run("mass_matrix", 1, <void *>T.mass_matrix, ("x",), (x,), _MATRIX, return_mask,
                          0.0, <void *>T.batch_mass_matrix)
 
-    def twist_mass_matrix(self, x, *, return_mask=False):
+    def twist_mass_matrix(self, x, return_mask=False):
         return self._run("twist_mass_matrix", 1, <void *>T.twist_mass_matrix, ("x",), (x,), _MATRIX,
                          return_mask,
                          0.0, <void *>T.batch_twist_mass_matrix)
 
-    def gravity_vector(self, x, *, return_mask=False):
+    def gravity_vector(self, x, return_mask=False):
         return self._run("gravity_vector", 1, <void *>T.gravity_vector, ("x",), (x,), _VECTOR, return_mask,
                          0.0, <void *>T.batch_gravity_vector)
 
-    def coriolis_matrix(self, x, xd, *, return_mask=False):
+    def coriolis_matrix(self, x, xd, return_mask=False):
         return self._run("coriolis_matrix", 2, <void *>T.coriolis_matrix, ("x", "xd"), (x, xd), _MATRIX,
                          return_mask,
                          0.0, <void *>T.batch_coriolis_matrix)
 
-    def coriolis_vector(self, x, xd, *, return_mask=False):
+    def coriolis_vector(self, x, xd, return_mask=False):
         return self._run("coriolis_vector", 2, <void *>T.coriolis_vector, ("x", "xd"), (x, xd), _VECTOR,
                          return_mask,
                          0.0, <void *>T.batch_coriolis_vector)
 
-    def inverse_dynamics(self, x, xd, xdd, *, return_mask=False):
+    def inverse_dynamics(self, x, xd, xdd, return_mask=False):
         return self._run("inverse_dynamics", 3, <void *>T.inverse_dynamics, ("x", "xd", "xdd"),
                          (x, xd, xdd), _VECTOR, return_mask,
                          0.0, <void *>T.batch_inverse_dynamics)
 
-    def forward_dynamics(self, x, xd, tau, *, return_mask=False):
+    def forward_dynamics(self, x, xd, tau, return_mask=False):
         return self._run("forward_dynamics", 3, <void *>T.forward_dynamics, ("x", "xd", "tau"),
                          (x, xd, tau), _VECTOR, return_mask,
                          0.0, <void *>T.batch_forward_dynamics)
 
-    def inverse_dynamics_derivatives(self, x, xd, xdd, *, return_mask=False):
+    def inverse_dynamics_derivatives(self, x, xd, xdd, return_mask=False):
         """``(tau, dtau_dx, dtau_dxd, dtau_dxdd)``."""
         return self._run("inverse_dynamics_derivatives", FOUR_OUTPUTS, <void *>T.inverse_dynamics_derivatives,
                          ("x", "xd", "xdd"), (x, xd, xdd), _DERIVATIVES, return_mask,
                          0.0, <void *>T.batch_inverse_dynamics_derivatives)
 
-    def forward_dynamics_derivatives(self, x, xd, tau, *, return_mask=False):
+    def forward_dynamics_derivatives(self, x, xd, tau, return_mask=False):
         """``(xdd, dxdd_dx, dxdd_dxd, dxdd_dtau)``."""
         return self._run("forward_dynamics_derivatives", FOUR_OUTPUTS, <void *>T.forward_dynamics_derivatives,
                          ("x", "xd", "tau"), (x, xd, tau), _DERIVATIVES, return_mask,
                          0.0, <void *>T.batch_forward_dynamics_derivatives)
 
-    def joint_reactions(self, x, xd, xdd, *, return_mask=False):
+    def joint_reactions(self, x, xd, xdd, return_mask=False):
         """``(tau, f_base, f_platform, n_base)``, the last three ``(6, 3)`` per row."""
         return self._run("joint_reactions", FOUR_OUTPUTS, <void *>T.joint_reactions, ("x", "xd", "xdd"),
                          (x, xd, xdd), _JOINT_REACTIONS, return_mask, 0.0, <void *>T.batch_joint_reactions)
 
-    def regressor(self, x, xd, xdd, *, return_mask=False):
+    def regressor(self, x, xd, xdd, return_mask=False):
         """Y, ``(6, len(INERTIAL_NAMES))`` per row."""
         return self._run("regressor", 3, <void *>T.regressor, ("x", "xd", "xdd"), (x, xd, xdd),
                          ((6, len(INERTIAL_NAMES)),), return_mask, 0.0, <void *>T.batch_regressor)
 
-    def rk4_step(self, x, xd, tau, double dt, *, bint jacobians=False, return_mask=False):
+    def rk4_step(self, x, xd, tau, double dt, bint jacobians=False, return_mask=False):
         """``(x, xd)`` after one RK4 step of ``dt`` (a positive finite number, checked by the
         caller), with ``(A, B)`` after them when ``jacobians``."""
         if jacobians:
