@@ -10,10 +10,12 @@ import numpy as np
 
 import stewart
 from stewart import kinematics, reference
+from stewart._kernel import LANES
 from stewart.checks import relative_error
 
 __all__ = ["TARGETS", "Target", "median_time", "states", "thread_speedup", "kernel_figures", "simulation_figures",
-           "derivative_figures", "general_model_figures", "general_model_params", "forward_differences", "kernel_rows", "measure_row", "format_table"]
+           "derivative_figures", "scalar_time", "general_model_figures", "general_model_params",
+           "forward_differences", "kernel_rows", "measure_row", "format_table"]
 
 
 def median_time(fn, number: int, repeat: int = 7) -> float:
@@ -131,12 +133,27 @@ def forward_differences(function, *args, step: float = DIFFERENCE_STEP) -> np.nd
     return np.moveaxis((out[1:] - out[0]) / shifts.T[..., None], 0, -1)
 
 
+def scalar_time(function, args) -> float:
+    """Seconds per state of the C function that one call of ``function`` runs (the scalar
+    one, a state at a time), without the call's own work: a batch of fewer rows than the
+    vector path takes (``LANES``) goes row by row through it, so the time of a batch of
+    ``LANES - 1`` rows less that of one row, over the rows added. On a build of 2 lanes
+    every batch of two takes the vector path, whose speed per state then stands in."""
+    rows = LANES - 1
+    if rows < 2:
+        many = tuple(a[:2 * LANES] for a in args)
+        return median_time(lambda: function(*many), 200) / len(many[0])
+    few, first = tuple(a[:rows] for a in args), tuple(a[:1] for a in args)
+    return (median_time(lambda: function(*few), 300) - median_time(lambda: function(*first), 2000)) / (rows - 1)
+
+
 def derivative_figures(preset: str, batch: int) -> dict:
-    """The exact derivatives: the C batch loop per state and one call from
-    Python for ``tau`` with its three Jacobians, ``xddot`` with its three, and an RK4 step
-    with ``A`` and ``B``; side by side, forward differences of the kernel's own primal
-    functions over the same inputs (19 evaluations a state), and their error against the
-    exact Jacobians (:func:`stewart.checks.relative_error`)."""
+    """The exact derivatives: the C batch loop per state, one call from Python and the C
+    function that call runs (:func:`scalar_time`), for ``tau`` with its three Jacobians,
+    ``xddot`` with its three, and an RK4 step with ``A`` and ``B``; side by side, forward
+    differences of the kernel's own primal functions over the same inputs (19 evaluations
+    a state), and their error against the exact Jacobians
+    (:func:`stewart.checks.relative_error`)."""
     plat = stewart.Platform.preset(preset)
     x, xd, xdd = states(plat.params, batch)
     tau = plat.inverse_dynamics(x, xd, xdd)
@@ -156,7 +173,8 @@ def derivative_figures(preset: str, batch: int) -> dict:
         one = tuple(a[0] for a in args)
         out[f"batch_{name}_us"] = median_time(lambda: exact(*args), 1, 5) / batch * 1e6
         out[f"single_{name}_us"] = median_time(lambda: exact(*one), 2000) * 1e6
-        out[f"python_overhead_{name}_us"] = out[f"single_{name}_us"] - out[f"batch_{name}_us"]
+        out[f"scalar_{name}_us"] = scalar_time(exact, args) * 1e6
+        out[f"python_overhead_{name}_us"] = out[f"single_{name}_us"] - out[f"scalar_{name}_us"]
         differences = median_time(lambda: forward_differences(primal, *args), 1, 5)
         out[f"finite_differences_{name}_us"] = differences / batch * 1e6
         result = exact(*args)
@@ -250,7 +268,8 @@ DERIVATIVE_MEASURES = [("RK4 step, C batch loop", "batch_rk4_step_us", 1.0, "us/
     for row in (
         (f"{what}, C batch loop", f"batch_{name}_us", 1.0, "us/state", ".2f"),
         (f"{what}, one call from Python", f"single_{name}_us", 1.0, "us", ".2f"),
-        (f"{what}, one call minus C batch loop", f"python_overhead_{name}_us", 1.0, "us", ".2f"),
+        (f"{what}, the C function one call runs", f"scalar_{name}_us", 1.0, "us", ".2f"),
+        (f"{what}, one call minus its C function", f"python_overhead_{name}_us", 1.0, "us", ".2f"),
         (f"{what} by forward differences of our kernel (19 calls)", f"finite_differences_{name}_us", 1.0,
          "us/state", ".2f"),
         (f"{what} by forward differences: worst error (relative)", f"finite_differences_{name}_rel_error", 1.0,
