@@ -3,8 +3,9 @@
 
 State ``y = [x (6), xdot (6), integral of the leg-length error (6)]``. The controller
 (joint-space PID or task-space computed torque, which also cancels the model's friction),
-force saturation and actuator friction are evaluated at every RK4 stage, so the closed loop is one smooth ODE. All model
-evaluations go to the compiled kernel (:class:`stewart._kernel.Kernel`).
+force saturation and actuator friction are evaluated at every RK4 stage, so the closed
+loop is one smooth ODE. All model evaluations go to the compiled kernel
+(:class:`stewart._kernel.Kernel`).
 """
 
 cimport cython

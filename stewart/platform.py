@@ -68,7 +68,7 @@ _AXIAL = [INERTIAL_NAMES.index("cylinder.Ixx"), INERTIAL_NAMES.index("piston.Ixx
 
 def _named(kind, result, return_mask):
     """``result`` of a kernel method (a tuple, or ``(tuple, ok)``) as the named tuple ``kind``
-    (``tuple.__new__``: a third of the cost of ``kind(*result)``)."""
+    (built by ``tuple.__new__``, which skips the named tuple's own ``__new__``)."""
     return (tuple.__new__(kind, result[0]), result[1]) if return_mask else tuple.__new__(kind, result)
 
 

@@ -457,6 +457,8 @@ def _set_up(run: _Run, check_workspace: bool) -> tuple[ClosedLoop, _Series, np.n
         every = 2 if run.method == "rk4" else 1  # the poses at the output samples
         _check_workspace(run.platform, run.x0, refs[::every, :6], times)
     actuators = run.actuators
+    # The legs lose the actuators' friction; computed torque adds back the model's own
+    # (the platform's parameters, Actuators' defaults).
     params = run.platform.params
     loop = ClosedLoop(run.platform._kernel, *run.controller.loop_settings(), actuators.force_limit,
                       actuators.friction(params), Actuators().friction(params))
