@@ -9,6 +9,8 @@ KERNEL := build/.kernel-built
 KERNEL_SOURCES := stewart/_kernel.pyx stewart/_kernel.pxd stewart/_simulate.pyx stewart/_envelope.pyx generated/stewart_model.c \
 	generated/stewart_model.h generated/stewart_model.pxd generated/stewart_dispatch.h generated/stewart_target.c setup.py
 C_TEST := tests/c/test_model
+# The model's rounding flags (STEWART_ROUNDING_FLAGS of the generated header).
+ROUNDING = $(shell sed -n 's/^\#define STEWART_ROUNDING_FLAGS "\(.*\)"/\1/p' generated/stewart_model.h)
 
 .PHONY: all test test-peers demo generate build bench validate readme clean
 
@@ -35,7 +37,7 @@ $(KERNEL): $(INSTALLED) $(KERNEL_SOURCES)
 build: $(KERNEL)
 
 $(C_TEST): tests/c/test_model.c tests/c/reference_values.h generated/stewart_model.c generated/stewart_model.h
-	$(CC) -std=c99 -O2 -Wall -Wextra -pedantic -Igenerated -Itests/c tests/c/test_model.c generated/stewart_model.c -lm -o $@
+	$(CC) -std=c99 -O2 $(ROUNDING) -Wall -Wextra -pedantic -Igenerated -Itests/c tests/c/test_model.c generated/stewart_model.c -lm -o $@
 
 # Every test but the comparisons with the peer models (make test-peers), with coverage.
 test: build $(C_TEST)

@@ -2,8 +2,9 @@
 
 Portable by default: on x86-64 the model (generated/stewart_target.c, a copy of
 stewart_model.c and its table of functions) is compiled once per target into the one
-extension -- ``baseline`` (x86-64), ``avx2`` (x86-64-v3: AVX2, FMA) and ``avx512``
-(x86-64-v4) -- and the kernel runs the best copy the CPU supports, chosen at import
+extension -- ``baseline`` (x86-64) whole, ``avx2`` (x86-64-v3: AVX2, FMA) and ``avx512``
+(x86-64-v4) with their batch functions only, since the scalar functions round the same on
+every target -- and the kernel runs the best copy the CPU supports, chosen at import
 (``STEWART_SIMD`` forces one; ``stewart.build_info()`` tells which). A target the compiler
 cannot build (its flags, or its level in ``__builtin_cpu_supports``) is left out. On any
 other CPU (aarch64: NEON is its baseline) one baseline copy is compiled, with the
@@ -35,6 +36,11 @@ from setuptools.modified import newer_group
 #: that runs everywhere first.
 X86_TARGETS = (("baseline", "x86-64", ""), ("avx2", "x86-64-v3", "x86-64-v3"), ("avx512", "x86-64-v4", "x86-64-v4"))
 OPTIMIZE = ["-O3"]
+#: The model's rounding (STEWART_ROUNDING_FLAGS of the generated header): its operations as
+#: written, so that a state gives the same bits in the scalar and the vector functions, on
+#: every instruction set. Every extension is compiled with them.
+with open("generated/stewart_model.h", encoding="ascii") as header:
+    EXACT = re.search(r'#define STEWART_ROUNDING_FLAGS "(.*)"', header.read()).group(1).split()
 #: The model, compiled once per target; what its copies depend on.
 TARGET_SOURCE = "generated/stewart_target.c"
 MODEL = [TARGET_SOURCE, "generated/stewart_model.c", "generated/stewart_model.h", "generated/stewart_dispatch.h"]
@@ -68,10 +74,10 @@ class BuildKernel(build_ext):
         """(name, flags, level) of every copy of the model to compile."""
         march = os.environ.get("STEWART_MARCH")
         if march:
-            return [(re.sub(r"\W", "_", march), OPTIMIZE + [f"-march={march}"], "")]
+            return [(re.sub(r"\W", "_", march), OPTIMIZE + EXACT + [f"-march={march}"], "")]
         if platform.machine().lower() not in ("x86_64", "amd64"):
-            return [("baseline", OPTIMIZE, "")]
-        targets = [(name, OPTIMIZE + [f"-march={arch}"], level) for name, arch, level in X86_TARGETS]
+            return [("baseline", OPTIMIZE + EXACT, "")]
+        targets = [(name, OPTIMIZE + EXACT + [f"-march={arch}"], level) for name, arch, level in X86_TARGETS]
         return [targets[0]] + [t for t in targets[1:] if self._builds(LEVEL_PROBE % t[2], t[1], link=True)]
 
     def finalize_options(self):
@@ -105,20 +111,23 @@ class BuildKernel(build_ext):
         super().build_extension(ext)
 
     def _model_objects(self, ext):
-        """Compile the model once per target (side by side), each copy into its own directory;
-        the object files."""
+        """Compile the model once per target (side by side), each copy into its own directory:
+        the first whole, the others with their batch functions only (the scalar functions
+        round the same on every target); the object files."""
         def compile_target(index):
             name, flags, level = self.targets[index]
             macros = [("STEWART_TARGET", name), ("STEWART_TARGET_LEVEL", f'"{level}"'),
                       ("STEWART_TARGET_FLAGS", '"' + " ".join(flags) + '"')]
-            if index > 0:  # the first copy keeps the public names
+            quiet = []
+            if index > 0:  # the first copy keeps the public names; the others hold batch functions only
                 macros.append(("STEWART_PREFIX", f"stewart_{name}"))
+                quiet = ["-Wno-unused-function"]  # the helpers of the scalar functions
             output_dir = os.path.join(self.build_temp, name)
             objects = self.compiler.object_filenames([TARGET_SOURCE], output_dir=output_dir)
             if not self.force and not newer_group(MODEL + ["setup.py"], objects[0]):
                 return objects  # compiled already, from the same sources
             return self.compiler.compile([TARGET_SOURCE], output_dir=output_dir, macros=macros,
-                                         include_dirs=["generated"], extra_postargs=flags, depends=MODEL)
+                                         include_dirs=["generated"], extra_postargs=flags + quiet, depends=MODEL)
         with ThreadPoolExecutor(min(len(self.targets), os.cpu_count() or 1)) as pool:
             return [obj for objects in pool.map(compile_target, range(len(self.targets))) for obj in objects]
 

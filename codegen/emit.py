@@ -14,7 +14,20 @@ from sympy.printing.precedence import PRECEDENCE
 
 
 class _Printer(C99CodePrinter):
-    """C99 printer writing b**n (|n| <= 4) as products instead of pow(), parenthesized."""
+    """C99 printer writing b**n (|n| <= 4) as products instead of pow(), parenthesized, and
+    sin, cos, tanh as `ssin`, `scos`, `stanh`: lane 0 of the vector path's (codegen/templates/lanes.c),
+    so that a state gives the same bits alone as in a batch."""
+
+    #: The scalar path's functions of codegen/templates/lanes.c, by sympy function.
+    functions = {sp.sin: 'ssin', sp.cos: 'scos', sp.tanh: 'stanh'}
+
+    def _print_Function(self, expr):
+        name = self.functions.get(type(expr))
+        if name:
+            return f'{name}({self._print(expr.args[0])})'
+        return super()._print_Function(expr)
+
+    _print_sin = _print_cos = _print_tanh = _print_Function
 
     def _print_Pow(self, expr):
         base, exp = expr.as_base_exp()
@@ -36,7 +49,7 @@ def ccode(expr):
 class _VectorPrinter(_Printer):
     """The printer of the vector kernels: an expression over the `varying` symbols (one value
     per lane) is a `stewart_vd`, with sqrt, sin, cos and tanh of it as the lane-wise `vsqrt`,
-    `vsin`, `vcos`, `vtanh` (codegen/templates/vector.c); the parameters stay scalars, broadcast by the
+    `vsin`, `vcos`, `vtanh` (codegen/templates/lanes.c); the parameters stay scalars, broadcast by the
     arithmetic operators."""
 
     def __init__(self, varying):

@@ -40,9 +40,18 @@
  * row = output, column = input: J[i * ncols + j] = d out_i / d in_j.  Every function
  * returns a status (STEWART_OK or an error); on error all outputs are NaN.  Outputs may
  * not alias inputs.
+ *
+ * Rounding: compile the model with STEWART_ROUNDING_FLAGS (GCC and Clang), which keep its
+ * floating-point operations as written.  Then a state gives the same result bit for bit
+ * from a scalar function and from its batch function, in any lane of any block, and on
+ * every instruction set.
  */
 #ifndef STEWART_MODEL_H
 #define STEWART_MODEL_H
+
+/* The compiler flags of the model's rounding: no contraction into fused multiply-adds, no
+ * SLP vectorization of the scalar code (GCC 12's changes the last bit of some results). */
+#define STEWART_ROUNDING_FLAGS "-ffp-contract=off -fno-tree-slp-vectorize"
 
 #include <float.h>
 #include <stddef.h>

@@ -5,8 +5,11 @@
  *   -DSTEWART_TARGET=<name>              the table's name: stewart_table_<name>
  *   -DSTEWART_TARGET_LEVEL="<level>"     the x86-64 level the CPU must have ("" for none)
  *   -DSTEWART_TARGET_FLAGS="<flags>"     the flags, for build_info
- *   -DSTEWART_PREFIX=<prefix>            (all copies but one) the public functions are
- *                                        renamed <prefix>_<name>, so the copies link together.
+ *   -DSTEWART_PREFIX=<prefix>            (all copies but one) the copy holds the batch
+ *                                        functions only (STEWART_BATCH_ONLY), renamed
+ *                                        <prefix>_<name> so the copies link together; its
+ *                                        table's scalar functions are the first copy's, which
+ *                                        round as the batch functions of every copy do.
  */
 #define STEWART_JOIN_(a, b) a##_##b
 #define STEWART_JOIN(a, b) STEWART_JOIN_(a, b)
@@ -21,27 +24,11 @@
 #endif
 
 #ifdef STEWART_PREFIX
+#define STEWART_BATCH_ONLY
 #define stewart_status_message STEWART_JOIN(STEWART_PREFIX, status_message)
 #define stewart_is_axisymmetric STEWART_JOIN(STEWART_PREFIX, is_axisymmetric)
 #define stewart_is_paper_model STEWART_JOIN(STEWART_PREFIX, is_paper_model)
 #define stewart_batch_lanes STEWART_JOIN(STEWART_PREFIX, batch_lanes)
-#define stewart_leg_lengths STEWART_JOIN(STEWART_PREFIX, leg_lengths)
-#define stewart_jacobian STEWART_JOIN(STEWART_PREFIX, jacobian)
-#define stewart_leg_rates STEWART_JOIN(STEWART_PREFIX, leg_rates)
-#define stewart_mass_matrix STEWART_JOIN(STEWART_PREFIX, mass_matrix)
-#define stewart_twist_mass_matrix STEWART_JOIN(STEWART_PREFIX, twist_mass_matrix)
-#define stewart_coriolis_matrix STEWART_JOIN(STEWART_PREFIX, coriolis_matrix)
-#define stewart_coriolis_vector STEWART_JOIN(STEWART_PREFIX, coriolis_vector)
-#define stewart_gravity_vector STEWART_JOIN(STEWART_PREFIX, gravity_vector)
-#define stewart_all_terms STEWART_JOIN(STEWART_PREFIX, all_terms)
-#define stewart_inverse_dynamics STEWART_JOIN(STEWART_PREFIX, inverse_dynamics)
-#define stewart_forward_dynamics STEWART_JOIN(STEWART_PREFIX, forward_dynamics)
-#define stewart_inverse_dynamics_derivatives STEWART_JOIN(STEWART_PREFIX, inverse_dynamics_derivatives)
-#define stewart_forward_dynamics_derivatives STEWART_JOIN(STEWART_PREFIX, forward_dynamics_derivatives)
-#define stewart_joint_reactions STEWART_JOIN(STEWART_PREFIX, joint_reactions)
-#define stewart_regressor STEWART_JOIN(STEWART_PREFIX, regressor)
-#define stewart_rk4_step STEWART_JOIN(STEWART_PREFIX, rk4_step)
-#define stewart_rk4_step_derivatives STEWART_JOIN(STEWART_PREFIX, rk4_step_derivatives)
 #define stewart_batch_leg_lengths STEWART_JOIN(STEWART_PREFIX, batch_leg_lengths)
 #define stewart_batch_jacobian STEWART_JOIN(STEWART_PREFIX, batch_jacobian)
 #define stewart_batch_leg_rates STEWART_JOIN(STEWART_PREFIX, batch_leg_rates)

@@ -15,7 +15,7 @@ the compiled model was built and which of its instruction-set paths runs
 from . import (capi, casadi_functions, conditions, exactness, kinematics, mjcf, newton_euler, optimize, reference,
                workspace)
 from .capi import c_include_dir, c_sources
-from ._kernel import build_info
+from ._kernel import build_info, set_simd
 from .errors import ConvergenceError, SimdPathError, SingularityError
 from .kinematics import (
     euler_jacobian,
@@ -88,6 +88,7 @@ __all__ = [
     "c_include_dir",
     "c_sources",
     "build_info",
+    "set_simd",
 ]
 
 __version__ = "0.1.0"

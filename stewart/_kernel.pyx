@@ -56,28 +56,50 @@ cdef list _compiled():
     return out
 
 
-cdef const stewart_table *_choose() except NULL:
-    """The table of the copy the kernel runs: the one named by STEWART_SIMD, else the last
-    (most capable) one this CPU runs. A STEWART_SIMD that names no path this CPU runs is a
-    SimdPathError: one line naming the variable and its valid values, exit code 2."""
+cdef int _path_index(str name, str source) except -1:
+    """The index in stewart_tables of the compiled copy ``name``, or of the last (most capable)
+    copy this CPU runs if ``name`` is empty. A name of no path this CPU runs is a ValueError
+    naming ``source`` (where the name came from) and the valid values."""
     compiled = _compiled()
-    forced = os.environ.get(SIMD_VARIABLE, "")
     names = [c[0] for c in compiled]
     supported = [c[0] for c in compiled if c[4]]
-    if not forced:
-        return stewart_tables[max(i for i, c in enumerate(compiled) if c[4])]
+    if not name:
+        return max(i for i, c in enumerate(compiled) if c[4])
     valid = f"valid values: {', '.join(supported)} (or unset: the best this CPU runs)"
-    if forced not in names:
-        raise SimdPathError.report(f"{SIMD_VARIABLE}={forced!r} names no path of this build; {valid}")
-    i = names.index(forced)
+    if name not in names:
+        raise ValueError(f"{source}={name!r} names no path of this build; {valid}")
+    i = names.index(name)
     if not compiled[i][4]:
-        raise SimdPathError.report(
-            f"{SIMD_VARIABLE}={forced!r}: this CPU lacks its instruction set ({compiled[i][1]}); {valid}")
-    return stewart_tables[i]
+        raise ValueError(f"{source}={name!r}: this CPU lacks its instruction set ({compiled[i][1]}); {valid}")
+    return i
+
+
+cdef const stewart_table *_choose() except NULL:
+    """The table of the copy the kernel runs at import: the one named by STEWART_SIMD, else the
+    best this CPU runs. A STEWART_SIMD that names no path this CPU runs is a SimdPathError:
+    one line naming the variable and its valid values, exit code 2."""
+    try:
+        return stewart_tables[_path_index(os.environ.get(SIMD_VARIABLE, ""), SIMD_VARIABLE)]
+    except ValueError as exc:
+        raise SimdPathError.report(str(exc)) from None
 
 
 #: The table of functions of the copy of the model in use.
 cdef const stewart_table *T = _choose()
+
+
+def set_simd(path=None):
+    """Run the model on the compiled path ``path`` from now on, in this process (a name of
+    ``build_info()["supported"]``; ``None``: the best this CPU runs, whatever STEWART_SIMD
+    says); returns the name of the path that ran before. The paths give the same results bit
+    for bit and differ in speed. Not to be called while another thread runs the model."""
+    global T, LANES, C_LANES
+    if path is not None and not isinstance(path, str):
+        raise TypeError(f"path must be a str or None, not {type(path).__name__}")
+    previous = T.name.decode()
+    T = stewart_tables[_path_index(path or "", "path")]
+    LANES = C_LANES = T.batch_lanes()
+    return previous
 
 
 def build_info():

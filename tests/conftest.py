@@ -200,3 +200,12 @@ LAYOUTS = {
     "read-only": _read_only,
     "nested lists": lambda a: a.tolist(),
 }
+
+
+@pytest.fixture(params=stewart.build_info()["supported"])
+def simd_path(request):
+    """Every instruction-set path this CPU runs, in turn: the kernel runs on it during the test
+    (:func:`stewart.set_simd`)."""
+    previous = stewart.set_simd(request.param)
+    yield request.param
+    stewart.set_simd(previous)

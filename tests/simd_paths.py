@@ -54,6 +54,8 @@ def calls(plat, x, xd, xdd, tau):
         "forward_dynamics_derivatives": lambda m: plat.forward_dynamics_derivatives(x, xd, tau, return_mask=m),
         "rk4_step": lambda m: plat.rk4_step(x, xd, tau, 1e-3, return_mask=m),
         "rk4_step_jacobians": lambda m: plat.rk4_step(x, xd, tau, 1e-3, jacobians=True, return_mask=m),
+        "joint_reactions": lambda m: plat.joint_reactions(x, xd, xdd, return_mask=m),
+        "regressor": lambda m: plat.regressor(x, xd, xdd, return_mask=m),
     }
 
 

@@ -4,6 +4,7 @@ baseline flags only and without OpenMP (its batches on plain threads)."""
 
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -19,13 +20,9 @@ from stewart._kernel import SIMD_VARIABLE
 ROOT = Path(__file__).resolve().parent.parent
 SCRIPT = ROOT / "tests" / "simd_paths.py"
 INFO = stewart.build_info()
-#: Relative agreement of the paths, row by row: |a - b|_max / |b|_max over each output row.
-AGREEMENT = 1e-14
-#: Outputs that are accelerations: forward dynamics balances forces of the order of the
-#: weight, so its rounding is relative to the larger of |xdd| and g (the acceleration the
-#: weight alone gives), not to |xdd|, which can be much smaller.
-ACCELERATIONS = {"forward_dynamics.0", "forward_dynamics_derivatives.0"}
-GRAVITY = stewart.PlatformParams.preset("narayan2017").gravity
+#: The model's rounding flags (STEWART_ROUNDING_FLAGS of the generated header), in every path's flags.
+ROUNDING = re.search(r'#define STEWART_ROUNDING_FLAGS "(.*)"',
+                     (ROOT / "generated" / "stewart_model.h").read_text()).group(1)
 
 
 def run_python(args, env, cwd=None) -> str:
@@ -48,22 +45,13 @@ def run_paths(out, path=None, threads=1, cwd=None, env=None):
 
 
 def assert_same_results(result, expected):
-    """Same masks, same errors, same NaN rows, values within AGREEMENT row by row."""
+    """Same masks, same errors, the same outputs bit for bit (NaN rows included)."""
     assert result.keys() == expected.keys()
     for name in expected:
         if name == "build_info":
             continue
         got, want = result[name], expected[name]
-        if name.endswith((".mask", ".error")):
-            assert np.array_equal(got, want), name
-            continue
-        got, want = got.reshape(len(want), -1), want.reshape(len(want), -1)
-        assert np.array_equal(np.isnan(got), np.isnan(want)), name
-        rows = ~np.isnan(want).any(axis=1)
-        scale = np.abs(want[rows]).max(axis=1)
-        if name in ACCELERATIONS:
-            scale = np.maximum(scale, GRAVITY)
-        assert np.all(np.abs(got[rows] - want[rows]).max(axis=1) <= AGREEMENT * scale), name
+        assert got.shape == want.shape and got.tobytes() == want.tobytes(), name
 
 
 @pytest.fixture(scope="module")
@@ -160,7 +148,7 @@ def test_baseline_build_without_openmp(baseline_tree):
     info = json.loads(run_python(["-c", "import json, stewart; print(json.dumps(stewart.build_info()))"],
                                  _tree_env(baseline_tree), baseline_tree))
     assert info["compiled"] == ["x86_64"] and info["simd"] == "x86_64"
-    assert info["flags"] == {"x86_64": "-O3 -march=x86-64"}
+    assert info["flags"] == {"x86_64": f"-O3 {ROUNDING} -march=x86-64"}
     assert info["openmp"] is False
 
 

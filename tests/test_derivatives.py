@@ -268,7 +268,7 @@ def test_rk4_step_is_what_simulate_integrates(figures):
     figures("kernel RK4 step vs simulate (open loop)", relative_error(np.array(stepped), np.hstack([run.x, run.xd])), 1e-14)
 
 
-def test_batch_matches_single_calls():
+def test_batch_matches_single_calls(simd_path):
     c = case("motion_simulator")
     plat = platform("motion_simulator")
     rows = range(5)

@@ -89,7 +89,7 @@ def test_identities_between_the_jacobians(platform):
         _close(got, want, 1e-9)
 
 
-def test_batch_matches_single_calls(platform):
+def test_batch_matches_single_calls(platform, simd_path):
     rng = np.random.default_rng(14)
     x, xd, xdd = _states(platform, rng, 5)
     tau = platform.inverse_dynamics(x, xd, xdd)

@@ -178,7 +178,7 @@ def test_cli_bad_specifications_give_one_line(argv, message, capsys):
     assert exit_info.value.code == 2 and message in err and err.count("\n") == 1
 
 
-def test_chunks_beyond_the_threads_buffer_draw_the_same_states(monkeypatch):
+def test_chunks_beyond_the_threads_buffer_draw_the_same_states(monkeypatch, simd_path):
     """A chunk larger than the per-thread buffer of uniform numbers draws into its own array:
     the same states, the same peaks."""
     home = stewart.home_pose(PARAMS)

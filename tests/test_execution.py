@@ -105,7 +105,7 @@ def test_result_does_not_depend_on_the_thread_count(job):
     assert np.array_equal(one["sum"], two["sum"])
 
 
-def test_dask_cluster_matches_the_local_run(job):
+def test_dask_cluster_matches_the_local_run(job, simd_path):
     distributed = pytest.importorskip("distributed")
     local = execution.run(job, 3000, seed=5, chunk_size=500, progress=False)
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False,

@@ -54,7 +54,7 @@ def test_rk4_step_function_is_the_platforms_step(plat):
         casadi_functions.rk4_step(plat, 0.0)
 
 
-def test_a_batch_function_is_the_mapped_one_with_block_diagonal_jacobians(plat):
+def test_a_batch_function_is_the_mapped_one_with_block_diagonal_jacobians(plat, simd_path):
     x, xd, xdd = random_states(plat.params, 5, np.random.default_rng(8))
     tau = plat.inverse_dynamics(x, xd, xdd)
     single, batch = casadi_functions.rk4_step(plat, 0.01), casadi_functions.rk4_step(plat, 0.01, 5)

@@ -169,7 +169,7 @@ def test_volume_converges_as_the_samples_grow(figures):
         assert worst.ok[0] and worst.margin[0] == result.margin_min
 
 
-def test_chunks_and_seeds_give_reproducible_results():
+def test_chunks_and_seeds_give_reproducible_results(simd_path):
     params = stewart.PlatformParams.preset("narayan2017")
     one = workspace.orientation_workspace(params, samples=3000, seed=4, chunk_size=1000)
     again = workspace.orientation_workspace(params, samples=3000, seed=4, chunk_size=1000)

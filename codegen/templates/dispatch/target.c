@@ -4,8 +4,11 @@
  *   -DSTEWART_TARGET=<name>              the table's name: stewart_table_<name>
  *   -DSTEWART_TARGET_LEVEL="<level>"     the x86-64 level the CPU must have ("" for none)
  *   -DSTEWART_TARGET_FLAGS="<flags>"     the flags, for build_info
- *   -DSTEWART_PREFIX=<prefix>            (all copies but one) the public functions are
- *                                        renamed <prefix>_<name>, so the copies link together.
+ *   -DSTEWART_PREFIX=<prefix>            (all copies but one) the copy holds the batch
+ *                                        functions only (STEWART_BATCH_ONLY), renamed
+ *                                        <prefix>_<name> so the copies link together; its
+ *                                        table's scalar functions are the first copy's, which
+ *                                        round as the batch functions of every copy do.
  */
 #define STEWART_JOIN_(a, b) a##_##b
 #define STEWART_JOIN(a, b) STEWART_JOIN_(a, b)
@@ -20,6 +23,7 @@
 #endif
 
 #ifdef STEWART_PREFIX
+#define STEWART_BATCH_ONLY
 @RENAME@
 #endif
 
