@@ -4,7 +4,8 @@ The package carries ``stewart_model.h`` and ``stewart_model.c`` (dependency-free
 only; written by the sympy generator in ``codegen/``), so a C program can use the model
 without the source repository, in the manner of ``numpy.get_include()``::
 
-    cc -std=c99 -O2 -I"$(python -c 'import stewart; print(stewart.c_include_dir())')" \\
+    cc -std=c99 -O2 $(python -c 'import stewart; print(*stewart.capi.c_flags())') \\
+        -I"$(python -c 'import stewart; print(stewart.c_include_dir())')" \\
         my_program.c "$(python -c 'import stewart; print(*stewart.c_sources())')" -lm
 
 :func:`export` copies them into a directory together with a header holding the
@@ -15,6 +16,7 @@ from __future__ import annotations
 
 import dataclasses
 import os
+import re
 from pathlib import Path
 from typing import Any
 
@@ -23,7 +25,7 @@ import numpy as np
 from ._kernel import PARAM_FIELDS, PARAM_INPUTS, PARAM_SOURCES, PARAMS_LEFT_OUT
 from .params import PlatformParams
 
-__all__ = ["c_include_dir", "c_sources", "export", "params_header", "params_initializer", "HEADER", "SOURCE",
+__all__ = ["c_include_dir", "c_flags", "c_sources", "export", "params_header", "params_initializer", "HEADER", "SOURCE",
            "PARAMS_HEADER"]
 
 #: The model's header and its one source file.
@@ -47,6 +49,14 @@ def c_include_dir() -> str:
         f"{HEADER} and {SOURCE} are not in this installation of stewart "
         f"(looked in {', '.join(map(str, _LOCATIONS))}); reinstall the package"
     )
+
+
+def c_flags() -> list[str]:
+    """The compiler flags of the model's rounding (``STEWART_ROUNDING_FLAGS`` of the header):
+    compiled with them, a state's results are the same bit for bit from the one-state and the
+    batch functions, on every instruction set."""
+    header = (Path(c_include_dir()) / HEADER).read_text(encoding="ascii")
+    return re.search(r'#define STEWART_ROUNDING_FLAGS "(.*)"', header).group(1).split()
 
 
 def c_sources() -> list[str]:

@@ -4,7 +4,6 @@ baseline flags only and without OpenMP (its batches on plain threads)."""
 
 import json
 import os
-import re
 import shutil
 import subprocess
 import sys
@@ -21,8 +20,7 @@ ROOT = Path(__file__).resolve().parent.parent
 SCRIPT = ROOT / "tests" / "simd_paths.py"
 INFO = stewart.build_info()
 #: The model's rounding flags (STEWART_ROUNDING_FLAGS of the generated header), in every path's flags.
-ROUNDING = re.search(r'#define STEWART_ROUNDING_FLAGS "(.*)"',
-                     (ROOT / "generated" / "stewart_model.h").read_text()).group(1)
+ROUNDING = " ".join(stewart.capi.c_flags())
 
 
 def run_python(args, env, cwd=None) -> str:
