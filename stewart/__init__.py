@@ -16,7 +16,7 @@ from . import (capi, casadi_functions, conditions, exactness, kinematics, mjcf, 
                workspace)
 from .capi import c_include_dir, c_sources
 from ._kernel import build_info, set_simd
-from .errors import ConvergenceError, SimdPathError, SingularityError
+from .errors import ConvergenceError, SimdPathError, SingularityError, WrongTypeError
 from .kinematics import (
     euler_jacobian,
     euler_rate_jacobian,
@@ -64,6 +64,7 @@ __all__ = [
     "exactness",
     "SingularityError",
     "SimdPathError",
+    "WrongTypeError",
     "conditions",
     "casadi_functions",
     "optimize",

@@ -25,7 +25,7 @@ import numpy as np
 from . import _checks, conditions
 from ._simulate import Mode
 from .params import PlatformParams
-from .platform import Platform
+from .platform import Platform, checked_platform
 
 __all__ = ["Controller", "PID", "ComputedTorque", "OpenLoop", "Actuators", "PID_BANDWIDTH_HZ", "leg_masses"]
 
@@ -51,13 +51,6 @@ def _six(name: str, value) -> np.ndarray:
     return arr
 
 
-def _platform(value) -> Platform:
-    if not isinstance(value, Platform):
-        hint = " (build one with stewart.Platform(params))" if isinstance(value, PlatformParams) else ""
-        raise ValueError(f"platform: expected a stewart.Platform, got {type(value).__name__}{hint}")
-    return value
-
-
 def _bandwidth(value) -> float:
     bandwidth = _checks.real("bandwidth_hz", value)
     if not bandwidth > 0:
@@ -76,7 +69,7 @@ def _tuned_gains(bandwidth_hz: float, **gains: np.ndarray) -> dict[str, np.ndarr
 def leg_masses(platform, x=None) -> np.ndarray:
     """Effective mass each actuator moves at pose ``x`` (default home): the diagonal of the
     leg-space mass matrix ``J_C^-T M_t J_C^-1``, with ``M_t`` the twist-space mass matrix."""
-    platform = _platform(platform)
+    platform = checked_platform(platform)
     x = platform.home_pose if x is None else _checks.states("x", x)
     if x.shape != (6,):
         raise ValueError(f"x: expected one pose, shape (6,), got {x.shape}")
@@ -138,7 +131,7 @@ class PID(Controller):
 
         ``f`` defaults to :data:`PID_BANDWIDTH_HZ` for a preset, else 5 Hz.
         """
-        platform = _platform(platform)
+        platform = checked_platform(platform)
         if bandwidth_hz is None:
             bandwidth_hz = PID_BANDWIDTH_HZ.get(platform.params.name, DEFAULT_BANDWIDTH_HZ)
         bandwidth_hz = _bandwidth(bandwidth_hz)

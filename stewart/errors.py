@@ -1,11 +1,11 @@
-"""Exceptions raised for inputs where the model is undefined, and for an environment that
-names no instruction-set path of the build."""
+"""Exceptions raised for inputs where the model is undefined, for an argument of the wrong
+type, and for an environment that names no instruction-set path of the build."""
 
 from __future__ import annotations
 
 import sys
 
-__all__ = ["SingularityError", "ConvergenceError", "SimdPathError"]
+__all__ = ["SingularityError", "ConvergenceError", "WrongTypeError", "SimdPathError"]
 
 
 def row_list(rows) -> str:
@@ -45,6 +45,14 @@ class ConvergenceError(ValueError):
     def __init__(self, message: str, rows=None):
         super().__init__(message)
         self.rows = [] if rows is None else list(rows)
+
+
+class WrongTypeError(TypeError, ValueError):
+    """An argument that is not the kind of object the function takes (a
+    :class:`~stewart.PlatformParams` where a :class:`~stewart.Platform` belongs, ``None``
+    ...), named in the message with what to pass instead. It is a ``TypeError``, and a
+    ``ValueError`` as every other check of an argument raises, so that ``except ValueError``
+    catches any bad input."""
 
 
 class SimdPathError(SystemExit):

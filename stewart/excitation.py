@@ -45,7 +45,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from . import _checks, csvfile, kinematics
-from .platform import Platform
+from .platform import Platform, checked_platform
 from .trajectory import FourierTrajectory
 from .workspace import reachability
 
@@ -402,8 +402,7 @@ def design_excitation(platform: Platform, *, period: float = DEFAULT_PERIOD, har
 
     from .base_parameters import base_parameters
 
-    if not isinstance(platform, Platform):
-        raise ValueError(f"platform: expected a stewart.Platform, got {type(platform).__name__}")
+    checked_platform(platform)
     period = _positive("period", period, DEFAULT_PERIOD)
     harmonics = _checks.count("harmonics", harmonics, 100)
     if rest and harmonics < 2:

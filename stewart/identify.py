@@ -44,8 +44,10 @@ import numpy as np
 import scipy.signal
 
 from . import _checks, csvfile
+from .errors import WrongTypeError
 from .base_parameters import BaseParameters, base_parameters
 from .params import NonAxisymmetricLegWarning, PlatformParams
+from .platform import checked_platform
 
 __all__ = ["Measurements", "Identification", "identify", "estimate", "synthetic_measurements",
            "MAX_CONDITION", "FILTERS", "COLUMNS", "excitation_condition", "differentiate", "validation"]
@@ -196,6 +198,7 @@ def estimate(platform, x, xd, xdd, forces, *, friction: bool = True, base: BaseP
     """Weighted least squares for the base parameters from states ``x, xd, xdd`` ``(n, 6)`` and
     the measured forces ``(n, 6)`` (see the module's text); ``base`` from :func:`base_parameters`
     (``samples`` states) unless given."""
+    checked_platform(platform)
     x, xd, xdd = (_checks.states(n, v) for n, v in (("x", x), ("xd", xd), ("xdd", xdd)))
     forces = _checks.states("forces", forces)
     base = base or base_parameters(platform, samples=samples, friction=friction)
@@ -257,12 +260,18 @@ def differentiate(measurements: Measurements, poses: np.ndarray, *, filter: str 
     return x[keep], xd[keep], xdd[keep], measurements.forces[keep]
 
 
+def _checked_measurements(value) -> Measurements:
+    if not isinstance(value, Measurements):
+        raise WrongTypeError(f"measurements: expected stewart.identify.Measurements, got {type(value).__name__}")
+    return value
+
+
 def identify(platform, measurements: Measurements, *, filter: str = "savgol", cutoff: float = 10.0,
              friction: bool = True, base: BaseParameters | None = None) -> Identification:
     """The base parameters of ``platform`` (its geometry; its inertial values are the prior)
     from ``measurements`` (see the module's text)."""
-    if not isinstance(measurements, Measurements):
-        raise ValueError(f"measurements: expected stewart.identify.Measurements, got {type(measurements).__name__}")
+    checked_platform(platform)
+    _checked_measurements(measurements)
     poses = platform.forward_kinematics(measurements.lengths, platform.home_pose)
     x, xd, xdd, forces = differentiate(measurements, poses, filter=filter, cutoff=cutoff)
     return estimate(platform, x, xd, xdd, forces, friction=friction, base=base)
@@ -272,6 +281,10 @@ def validation(result: Identification, platform, measurements: Measurements, *, 
                cutoff: float = 10.0):
     """Predicted against measured forces on a held-out log: ``(t, predicted, measured, rms per leg)``,
     the measured forces filtered as for the identification."""
+    if not isinstance(result, Identification):
+        raise WrongTypeError(f"result: expected a stewart.identify.Identification, got {type(result).__name__}")
+    checked_platform(platform)
+    _checked_measurements(measurements)
     poses = platform.forward_kinematics(measurements.lengths, platform.home_pose)
     x, xd, xdd, forces = differentiate(measurements, poses, filter=filter, cutoff=cutoff)
     window = (len(measurements.t) - len(x)) // 2
@@ -287,6 +300,7 @@ def synthetic_measurements(platform, trajectory, *, rate: float = 500.0, noise_l
     lengths by inverse kinematics and the forces its actuators deliver (rigid body plus
     friction), with Gaussian noise of standard deviation ``noise_length`` [m] and
     ``noise_force`` [N] (seeded)."""
+    checked_platform(platform)
     rate = _checks.real("rate", rate)
     if not rate > 0.0:
         raise ValueError(f"rate: must be positive, got {rate:g}")

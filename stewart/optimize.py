@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _checks, casadi_functions, csvfile
-from .platform import Platform
+from .platform import Platform, checked_platform
 from .trajectory import PointToPoint
 from .workspace import WorkspaceError, reachability
 
@@ -154,8 +154,7 @@ def minimum_effort_move(platform: Platform, target, duration: float, intervals: 
     ``start`` or ``target`` is outside the workspace; an unsolved problem is returned with
     ``ok = False``. Under gravity the least effort may lift the platform on the way, to
     where its legs stand steeper and carry its weight with less force."""
-    if not isinstance(platform, Platform):
-        raise ValueError(f"platform: expected a stewart.Platform, got {type(platform).__name__}")
+    checked_platform(platform)
     start = platform.home_pose if start is None else _checks.states("start", start)
     target = _checks.states("target", target)
     for name, pose in (("start", start), ("target", target)):

@@ -18,6 +18,7 @@ import numpy as np
 
 from . import _checks, paramfile
 from ._kernel import INERTIAL_NAMES as _inertial_names_of_the_model
+from .errors import WrongTypeError
 from .presets import fields as _preset_fields
 
 __all__ = ["PlatformParams", "NonAxisymmetricLegWarning", "checked_params"]
@@ -590,8 +591,9 @@ def _inertia_of(moments: np.ndarray) -> np.ndarray:
 
 
 def checked_params(value: Any, name: str = "params") -> PlatformParams:
-    """``value`` if it is a :class:`PlatformParams`; ``ValueError`` naming ``name`` otherwise."""
+    """``value`` if it is a :class:`PlatformParams`; :class:`~stewart.WrongTypeError` (a
+    ``ValueError``) naming ``name`` otherwise."""
     if not isinstance(value, PlatformParams):
         hint = " (a Platform's parameters are platform.params)" if hasattr(value, "params") else ""
-        raise ValueError(f"{name}: expected a stewart.PlatformParams, got {type(value).__name__}{hint}")
+        raise WrongTypeError(f"{name}: expected a stewart.PlatformParams, got {type(value).__name__}{hint}")
     return value

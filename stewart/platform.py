@@ -8,10 +8,11 @@ import numpy as np
 
 from . import _checks, kinematics, newton_euler
 from ._kernel import Kernel
+from .errors import WrongTypeError
 from .params import INERTIAL_NAMES, PlatformParams, checked_params
 
 __all__ = ["Platform", "AllTerms", "InverseDynamicsDerivatives", "ForwardDynamicsDerivatives",
-           "Step", "StepDerivatives"]
+           "Step", "StepDerivatives", "checked_platform"]
 
 
 class AllTerms(NamedTuple):
@@ -276,3 +277,12 @@ class Platform:
         return _named(StepDerivatives if jacobians else Step,
                       self._kernel.rk4_step(x, xd, tau, dt, bool(jacobians), return_mask),
                       return_mask)
+
+
+def checked_platform(value, name: str = "platform") -> Platform:
+    """``value`` if it is a :class:`Platform`; :class:`~stewart.WrongTypeError` (a ``TypeError``
+    and a ``ValueError``) naming ``name`` and what to pass otherwise."""
+    if not isinstance(value, Platform):
+        hint = " (build one with stewart.Platform(params))" if isinstance(value, PlatformParams) else ""
+        raise WrongTypeError(f"{name}: expected a stewart.Platform, got {type(value).__name__}{hint}")
+    return value
