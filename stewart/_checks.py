@@ -17,7 +17,7 @@ from typing import Any
 
 import numpy as np
 
-from .errors import SingularityError, row_list
+from .errors import SingularityError, WrongTypeError, row_list
 
 #: Most threads a :class:`stewart.Platform` may use.
 MAX_THREADS = 256
@@ -102,6 +102,33 @@ def states(name: str, value: Any, width: int = 6, *, allow_complex: bool = False
     first offending row of a batch).
     """
     return finite_states(name, state_array(name, value, width, allow_complex=allow_complex))
+
+
+def trajectory(name: str, value: Any) -> Any:
+    """``value`` if it is a trajectory, with ``sample(t)`` and ``duration``
+    (:mod:`stewart.trajectory`); :class:`~stewart.WrongTypeError` naming ``name`` otherwise."""
+    if not (callable(getattr(value, "sample", None)) and hasattr(value, "duration")):
+        raise WrongTypeError(f"{name}: expected an object with sample(t) and duration (stewart.PointToPoint, "
+                             f"SampledTrajectory ...), got {type(value).__name__}")
+    return value
+
+
+def sampled(name: str, trajectory: Any, times: Any) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``trajectory.sample(times)`` of the trajectory named ``name``, checked at the boundary:
+    three finite float arrays of shape ``(len(times), 6)`` (or ``(6,)`` for a scalar time);
+    ``ValueError`` naming ``name`` otherwise."""
+    shape = (6,) if np.ndim(times) == 0 else (len(times), 6)
+    out = trajectory.sample(times)
+    if not isinstance(out, tuple) or len(out) != 3:
+        raise ValueError(f"{name}: sample(t) must return (x, xdot, xddot), got {type(out).__name__}")
+    checked = []
+    for part, arr in zip(("x", "xdot", "xddot"), out):
+        arr = states(f"{name}: sample(t)'s {part}", arr)
+        if np.iscomplexobj(arr) or arr.shape != shape:
+            raise ValueError(f"{name}: sample(t)'s {part} must be real with shape {shape} for "
+                             f"{shape[0] if len(shape) == 2 else 'one'} time(s), got {arr.dtype} {arr.shape}")
+        checked.append(np.ascontiguousarray(arr, dtype=float))
+    return tuple(checked)
 
 
 def same_batch(**arrays: np.ndarray) -> None:

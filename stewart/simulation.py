@@ -21,11 +21,11 @@ from . import _checks, csvfile
 from ._kernel import status_message
 from ._simulate import ClosedLoop, Outcome
 from .control import PID, Actuators, Controller
-from .platform import Platform
+from .platform import Platform, checked_platform
 from .workspace import WorkspaceError, assembly_mode, reachability
 
 __all__ = ["simulate", "SimulationResult", "SimulationInterrupted", "WorkspaceError", "MAX_STEPS",
-           "MAX_ADAPTIVE_STEPS", "MIN_DT", "DEFAULT_TOLERANCE", "OUTCOMES"]
+           "MAX_ADAPTIVE_STEPS", "MIN_DT", "MAX_SHORT_EVALUATIONS", "DEFAULT_TOLERANCE", "OUTCOMES"]
 
 #: Most RK4 steps a run may take unless ``max_steps`` allows more (1000 s at 1 kHz; the
 #: buffers of a run take about 600 bytes per step).
@@ -34,15 +34,20 @@ MAX_STEPS = 1_000_000
 #: four per report time ``dt`` if that is more (a smooth 5 s move under PID takes about
 #: 5500; a stiff loop would otherwise run for hours).
 MAX_ADAPTIVE_STEPS = 20_000
-#: Smallest step ``dt`` accepted [s].
+#: Smallest step ``dt`` accepted [s]; the adaptive solver gives up on steps shorter than this
+#: (:data:`MAX_SHORT_EVALUATIONS`): no machine's closed loop has time constants below it.
 MIN_DT = 1e-9
+#: Most evaluations of the closed loop the adaptive solver may spend on steps shorter than
+#: :data:`MIN_DT` (the run's last step to its end, or to a report time before an undefined
+#: state, may be that short; ten steps' worth is not).
+MAX_SHORT_EVALUATIONS = 120
 #: Default final tracking tolerance: (position error [m], Euler-angle error [rad]).
 DEFAULT_TOLERANCE = (1e-3, 1e-2)
 
 #: Every outcome of a run and its exit code in ``stewart simulate`` (0 is success).
 OUTCOMES = {
     "completed": 0,
-    "failed": 4,  # stroke limit, singular or non-finite state, assembly mode left, step budget
+    "failed": 4,  # stroke limit, singular or non-finite state, assembly mode left, step budget, steps < MIN_DT
     "inaccurate": 5,  # final tracking error above the tolerance
     "saturated": 6,  # commanded force above the actuator limit
     "interrupted": 130,
@@ -235,23 +240,6 @@ def _seconds(name: str, value) -> float:
     return out
 
 
-def _sampled(trajectory, times) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``trajectory.sample(times)`` checked at the boundary: three finite float arrays of
-    shape ``(len(times), 6)`` (or ``(6,)`` for a scalar time)."""
-    shape = (6,) if np.ndim(times) == 0 else (len(times), 6)
-    out = trajectory.sample(times)
-    if not isinstance(out, tuple) or len(out) != 3:
-        raise ValueError(f"trajectory: sample(t) must return (x, xdot, xddot), got {type(out).__name__}")
-    checked = []
-    for name, arr in zip(("x", "xdot", "xddot"), out):
-        arr = _checks.states(f"trajectory: sample(t)'s {name}", arr)
-        if np.iscomplexobj(arr) or arr.shape != shape:
-            raise ValueError(f"trajectory: sample(t)'s {name} must be real with shape {shape} for "
-                             f"{shape[0] if len(shape) == 2 else 'one'} time(s), got {arr.dtype} {arr.shape}")
-        checked.append(np.ascontiguousarray(arr, dtype=float))
-    return tuple(checked)
-
-
 def _tolerance(tolerance) -> tuple[float, float]:
     try:
         pos, ang = (float(v) for v in np.broadcast_to(np.asarray(tolerance, dtype=float), (2,)))
@@ -304,7 +292,9 @@ def simulate(
     and ``atol``) and reports at every ``dt``. A run longer than
     ``max_steps`` steps (default :data:`MAX_STEPS` for RK4) is refused before it starts;
     the adaptive solver stops with outcome ``"failed"`` after ``max_steps`` steps (default
-    :data:`MAX_ADAPTIVE_STEPS` or four per report time, whichever is more).
+    :data:`MAX_ADAPTIVE_STEPS` or four per report time, whichever is more), or once its steps
+    stay shorter than :data:`MIN_DT` (a closed loop too stiff for any machine: gains of
+    ``1e300``), within a fraction of a second.
 
     With ``check_workspace`` (the default) the start pose and the reference at every
     sample of the run are checked with :func:`stewart.workspace.reachability` (in the
@@ -367,7 +357,7 @@ class _Run:
     def references(self, times) -> tuple[np.ndarray, np.ndarray]:
         """``([x_r, xdot_r, xddot_r] (N, 18), feed-forward forces (N, 6))`` at ``times``,
         checked."""
-        x_r, xd_r, xdd_r = _sampled(self.trajectory, times)
+        x_r, xd_r, xdd_r = _checks.sampled("trajectory", self.trajectory, times)
         if self.feedforward is None:
             ff = np.zeros((len(times), 6))
         else:
@@ -386,10 +376,8 @@ def _checked_run(platform, trajectory, controller, *, duration, dt, method, actu
                  rtol, atol, tolerance, max_steps) -> _Run:
     """The arguments of :func:`simulate` checked, with their defaults filled in; each
     problem raises ``ValueError`` naming its argument."""
-    if not isinstance(platform, Platform):
-        raise ValueError(f"platform: expected a stewart.Platform, got {type(platform).__name__}")
-    if not (callable(getattr(trajectory, "sample", None)) and hasattr(trajectory, "duration")):
-        raise ValueError(f"trajectory: expected an object with sample(t) and duration, got {type(trajectory).__name__}")
+    checked_platform(platform)
+    _checks.trajectory("trajectory", trajectory)
     if controller is None:
         controller = PID.tuned(platform)
     if not isinstance(controller, Controller):
@@ -421,7 +409,7 @@ def _checked_run(platform, trajectory, controller, *, duration, dt, method, actu
                          f"budget of {budget} (pass max_steps= to allow it)")
     if method == "adaptive" and steps > MAX_STEPS:
         raise ValueError(f"dt, duration: {steps:.3g} report times, more than {MAX_STEPS}; use a larger dt")
-    start_ref = _sampled(trajectory, 0.0)
+    start_ref = _checks.sampled("trajectory", trajectory, 0.0)
     x0 = start_ref[0] if x0 is None else _checks.states("x0", x0)
     xd0 = start_ref[1] if xd0 is None else _checks.states("xd0", xd0)
     if x0.shape != (6,) or xd0.shape != (6,) or np.iscomplexobj(x0) or np.iscomplexobj(xd0):
@@ -470,14 +458,14 @@ def _set_up(run: _Run, check_workspace: bool) -> tuple[ClosedLoop, _Series, np.n
 
 class _End(NamedTuple):
     """How an integration ended: its last output row, the outcome (``STOP_*`` or a kernel
-    status), the leg at a stroke limit (else -1), the state there, and whether the
-    adaptive solver used up its step budget."""
+    status), the leg at a stroke limit (else -1), the state there, and the limit of the
+    adaptive solver that stopped it, if one did (:data:`_BUDGET` or :data:`_SHORT_STEPS`)."""
 
     last: int
     outcome: int
     leg: int
     y: np.ndarray
-    budget_used: bool = False
+    limit: str | None = None
 
 
 def _run_rk4(loop: ClosedLoop, run: _Run, series: _Series, y: np.ndarray, bar, interrupt) -> _End:
@@ -508,22 +496,25 @@ def _result(run: _Run, series: _Series, end: _End, wall: float, interrupted: boo
     """The run's series up to its last row, with why it ended (not yet judged)."""
     rows = slice(0, end.last + 1)
     times, limit = series.times, run.actuators.force_limit
-    ref_x, ref_xd, _ = _sampled(run.trajectory, times[rows])
+    ref_x, ref_xd, _ = _checks.sampled("trajectory", run.trajectory, times[rows])
     params = run.platform.params
     result = SimulationResult(
         t=times[rows], x=series.states[rows, :6], xd=series.states[rows, 6:12], reference=ref_x,
         reference_velocity=ref_xd, lengths=series.lengths[rows], leg_velocities=series.rates[rows],
         forces=np.clip(series.commanded[rows], -limit, limit), commanded_forces=series.commanded[rows].copy(),
-        completed=end.outcome == Outcome.STOP_FINISHED and not end.budget_used and not interrupted,
+        completed=end.outcome == Outcome.STOP_FINISHED and end.limit is None and not interrupted,
         reason=_reason(end.outcome, times[end.last], end.leg, params),
         wall_time=wall, method=run.method, stopped_leg=None if end.leg < 0 else int(end.leg),
         metadata={"dt": run.dt, "platform": params.name or "unnamed", "controller": run.controller.label,
                   "tolerance": run.tolerance, "force_limit": limit.tolist()},
     )
-    if end.budget_used:
+    if end.limit == _BUDGET:
         result.reason = (f"the adaptive solver used its budget of {run.budget} steps before t = {reached:.4g} s "
                          f"(results up to t = {times[end.last]:.4f} s kept; the closed loop is too stiff: check the "
                          "gains, or raise the step budget)")
+    elif end.limit == _SHORT_STEPS:
+        result.reason = (f"the adaptive solver's steps fell below {MIN_DT:g} s after t = {times[end.last]:.4f} s "
+                         "(the closed loop is too stiff for any machine: check the gains)")
     if interrupted:
         result.reason = f"interrupted at t = {times[end.last]:.4f} s"
     return result
@@ -580,9 +571,15 @@ def _judge(result: SimulationResult, platform, actuators, tolerance, interrupted
 _EVENT_TOLERANCE = 4 * np.finfo(float).eps  # relative and absolute, in time, of a stroke limit
 
 
+#: The limits of the adaptive solver's work (:class:`_Stop`): its step budget, and its
+#: evaluations on steps shorter than MIN_DT.
+_BUDGET, _SHORT_STEPS = "budget", "short steps"
+
+
 class _Stop(Exception):
     """The adaptive solver asked for a state where the model is undefined (``status`` > 0,
-    at time ``t``) or used up its step budget (``status`` None)."""
+    at time ``t``) or reached a limit of its work (``status`` :data:`_BUDGET` or
+    :data:`_SHORT_STEPS`)."""
 
     def __init__(self, status, t: float):
         super().__init__(status, t)
@@ -593,7 +590,10 @@ def _run_adaptive(loop: ClosedLoop, run: _Run, series: _Series, y: np.ndarray, b
     """Integrate with DOP853 (``rtol``, ``atol``) one accepted step at a time, filling the
     output rows at the report times each step passes from its dense output.
 
-    Ctrl-C and the step budget stop the run after the last accepted step. Where the model
+    Ctrl-C, the step budget and steps shorter than :data:`MIN_DT` (more than
+    :data:`MAX_SHORT_EVALUATIONS` evaluations less than ``MIN_DT`` after the last accepted
+    time: scipy's own smallest step is relative to ``t``, about 1e-323 s at ``t = 0``) stop
+    the run after the last accepted step. Where the model
     is undefined (a kernel error at a state a step tried), the solver keeps what it has
     reached and steps on only up to the last report time before the first such time, so the
     run ends there. A stroke limit is found in the step that crosses it by root-finding on
@@ -603,7 +603,7 @@ def _run_adaptive(loop: ClosedLoop, run: _Run, series: _Series, y: np.ndarray, b
     from scipy.optimize import brentq
 
     times = series.times
-    evaluations = [0]
+    evaluations, short = [0], [0]
     max_evaluations = 12 * run.budget  # DOP853 evaluates the right-hand side 12 times a step
     lo, hi = run.limits
 
@@ -614,7 +614,11 @@ def _run_adaptive(loop: ClosedLoop, run: _Run, series: _Series, y: np.ndarray, b
     def rhs(t, state):
         evaluations[0] += 1
         if evaluations[0] > max_evaluations:
-            raise _Stop(None, t)
+            raise _Stop(_BUDGET, t)
+        if solver is not None and 0.0 <= t - solver.t < MIN_DT:  # a stage of a step shorter than about MIN_DT
+            short[0] += 1
+            if short[0] > MAX_SHORT_EVALUATIONS:
+                raise _Stop(_SHORT_STEPS, t)
         ydot, _, _, _, status = evaluate(t, state)
         if status != 0:
             raise _Stop(status, t)
@@ -629,8 +633,8 @@ def _run_adaptive(loop: ClosedLoop, run: _Run, series: _Series, y: np.ndarray, b
         series.states[k] = state
         _, series.commanded[k], series.lengths[k], series.rates[k], _ = evaluate(times[k], state)
 
-    def stopped(outcome, budget_used=False):
-        return _End(done, outcome, -1, np.ascontiguousarray(series.states[done]), budget_used)
+    def stopped(outcome, limit=None):
+        return _End(done, outcome, -1, np.ascontiguousarray(series.states[done]), limit)
 
     record(0, y)
     done, last = 0, len(times) - 1
@@ -645,8 +649,8 @@ def _run_adaptive(loop: ClosedLoop, run: _Run, series: _Series, y: np.ndarray, b
                     continue
                 solver.step()
             except _Stop as exc:
-                if exc.status is None:
-                    return stopped(Outcome.STOP_FINISHED, budget_used=True)
+                if exc.status in (_BUDGET, _SHORT_STEPS):
+                    return stopped(Outcome.STOP_FINISHED, limit=exc.status)
                 # Step on only to the last report time before the model's first undefined state.
                 undefined_from = min(undefined_from, exc.t)
                 row = int(np.searchsorted(times, undefined_from)) - 1
@@ -663,7 +667,8 @@ def _run_adaptive(loop: ClosedLoop, run: _Run, series: _Series, y: np.ndarray, b
             try:  # DOP853's interpolant evaluates three more stages in the step
                 dense = solver.dense_output()
             except _Stop as exc:
-                return stopped(Outcome.STOP_FINISHED if exc.status is None else exc.status, exc.status is None)
+                limit = exc.status in (_BUDGET, _SHORT_STEPS)
+                return stopped(Outcome.STOP_FINISHED if limit else exc.status, exc.status if limit else None)
             after = margins(solver.t, solver.y)
             crossed = np.flatnonzero((before >= 0) & (after <= 0))
             t_end = solver.t
