@@ -172,6 +172,14 @@ def _arrays(result: Any):
         yield np.asarray(result)
 
 
+def _nonfinite_rows(result: Any, n: int) -> np.ndarray:
+    """Which of the ``n`` rows of ``result`` (an array, or a tuple or dict of them) hold NaN or inf."""
+    bad = np.zeros(n, dtype=bool)
+    for arr in _arrays(result):
+        bad |= ~np.isfinite(arr.reshape(n, -1)).all(axis=1)
+    return bad
+
+
 def finite_result(function: str, result: Any, x: np.ndarray) -> Any:
     """``result`` (an array, or a tuple or dict of them) of ``function`` at the state(s)
     ``x``, unless it holds NaN or inf: then :class:`SingularityError` naming the rows, with
@@ -179,9 +187,7 @@ def finite_result(function: str, result: Any, x: np.ndarray) -> Any:
     n = x.shape[0] if x.ndim == 2 else 1
     if n == 0:
         return result
-    bad = np.zeros(n, dtype=bool)
-    for arr in _arrays(result):
-        bad |= ~np.isfinite(arr.reshape(n, -1)).all(axis=1)
+    bad = _nonfinite_rows(result, n)
     if bad.any():
         rows, text = _rows(bad)
         raise SingularityError(
@@ -190,3 +196,18 @@ def finite_result(function: str, result: Any, x: np.ndarray) -> Any:
             condition="nonfinite",
         )
     return result
+
+
+def finite_rows(function: str, values: np.ndarray, ok: Any, return_mask: bool) -> Any:
+    """The result of a method with ``return_mask`` (as the compiled kernel's methods give it)
+    computed from the kernel's ``values`` ``(..., 6)`` and mask ``ok``, where a row of
+    ``values`` may overflow: with ``return_mask``, ``(values, ok)`` with the non-finite rows
+    set to NaN and marked failed in ``ok``; without, ``values`` unless a row is not finite
+    (:func:`finite_result`)."""
+    if not return_mask:
+        return finite_result(function, values, values)
+    bad = _nonfinite_rows(values, values.shape[0] if values.ndim == 2 else 1)
+    if not bad.any():
+        return values, ok
+    values[bad.reshape(values.shape[:-1])] = np.nan
+    return values, (ok & ~bad) if values.ndim == 2 else bool(ok and not bad[0])

@@ -203,25 +203,33 @@ class Platform:
     def friction_forces(self, x, xd, *, return_mask=False):
         """The actuator force each leg loses to friction at ``(x, xdot)`` [N]:
         ``F_v,i Ldot_i + F_c,i tanh(Ldot_i / coulomb_velocity)`` (:class:`PlatformParams`),
-        zero without friction parameters; shape ``(..., 6)``."""
+        zero without friction parameters; shape ``(..., 6)``. A force that overflows double
+        precision is a failed row (``nonfinite``), as in the kernel's methods."""
+        friction, ok = self._friction(x, xd, return_mask)
+        return _checks.finite_rows("friction_forces", friction, ok, return_mask)
+
+    def _friction(self, x, xd, return_mask):
+        """The friction forces, overflows and all, and the kernel's mask (True without ``return_mask``)."""
         p = self._params
         result = self._kernel.leg_rates(x, xd, return_mask)
         rates = (result[0] if return_mask else result)[1]
         friction = np.zeros_like(rates)
-        if p.viscous_friction is not None:
-            friction += p.viscous_friction * rates
-        if p.coulomb_friction is not None:
-            friction += p.coulomb_friction * np.tanh(rates / p.coulomb_velocity)
-        return (friction, result[1]) if return_mask else friction
+        with np.errstate(over="ignore", invalid="ignore"):
+            if p.viscous_friction is not None:
+                friction += p.viscous_friction * rates
+            if p.coulomb_friction is not None:
+                friction += p.coulomb_friction * np.tanh(rates / p.coulomb_velocity)
+        return friction, result[1] if return_mask else True
 
     def actuator_forces(self, x, xd, xdd, *, return_mask=False):
         """The forces the actuators deliver [N]: the rigid-body forces of
-        :meth:`inverse_dynamics` plus :meth:`friction_forces`, ``Y @ pi`` of :meth:`regressor`."""
+        :meth:`inverse_dynamics` plus :meth:`friction_forces`, ``Y @ pi`` of :meth:`regressor`
+        (a sum that overflows is a failed row, as in :meth:`friction_forces`)."""
         tau = self._kernel.inverse_dynamics(x, xd, xdd, return_mask)
-        friction = self.friction_forces(x, xd, return_mask=return_mask)
-        if return_mask:
-            return tau[0] + friction[0], tau[1] & friction[1]
-        return tau + friction
+        friction, ok = self._friction(x, xd, return_mask)
+        with np.errstate(over="ignore", invalid="ignore"):
+            forces = (tau[0] if return_mask else tau) + friction
+        return _checks.finite_rows("actuator_forces", forces, tau[1] & ok if return_mask else True, return_mask)
 
     def joint_reactions(self, x, xd, xdd, *, return_mask=False):
         """Actuator forces and the reactions at each leg's joints, a
