@@ -82,7 +82,8 @@ def _inertia(name: str, value: Any) -> np.ndarray:
 def _moments(name: str, arr: np.ndarray) -> np.ndarray:
     if np.any(arr < 0.0):
         raise ValueError(f"{name}: principal moments must be >= 0, got {arr.tolist()}")
-    total = arr.sum()
+    with np.errstate(over="ignore"):  # moments near the largest double: their sum is inf, the test holds
+        total = arr.sum()
     for k in range(3):
         if arr[k] > total - arr[k] + 1e-12 * total:
             raise ValueError(
@@ -123,8 +124,11 @@ def _inertia_tensor(name: str, value: Any) -> np.ndarray:
         raise ValueError(f"{name}: values must be finite, got {arr.tolist()}")
     if np.max(np.abs(arr - arr.T)) > TOLERANCE * np.max(np.abs(arr)):
         raise ValueError(f"{name}: the inertia tensor must be symmetric, got {arr.tolist()}")
-    moments = np.linalg.eigvalsh(0.5 * (arr + arr.T))
-    slack = 1e-12 * max(float(np.sum(np.abs(moments))), np.finfo(float).tiny)
+    with np.errstate(over="ignore"):  # entries near the largest double
+        moments = np.linalg.eigvalsh(0.5 * arr + 0.5 * arr.T)
+        slack = 1e-12 * max(float(np.sum(np.abs(moments))), np.finfo(float).tiny)
+    if not np.all(np.isfinite(moments)):
+        raise ValueError(f"{name}: too large for double precision, got {arr.tolist()}")
     if np.any(moments < -slack):
         raise ValueError(f"{name}: the inertia tensor must be positive-semidefinite, "
                          f"got eigenvalues {moments.tolist()}")
@@ -271,6 +275,7 @@ class PlatformParams:
             if isinstance(val, np.ndarray):
                 val = _readonly(val)
             object.__setattr__(self, key, val)
+        self._check_inertial_vector()
         if not self.is_axisymmetric and self.universal_joint_axes is None:
             warnings.warn(
                 f"PlatformParams{'' if self.name is None else ' ' + repr(self.name)}: "
@@ -280,6 +285,20 @@ class PlatformParams:
                 NonAxisymmetricLegWarning,
                 stacklevel=3,
             )
+
+    def _check_inertial_vector(self) -> None:
+        """``ValueError`` naming a body's fields when its inertial parameters (:meth:`inertial_vector`:
+        mass times centre of mass, moments about the joint) overflow double precision."""
+        with np.errstate(over="ignore", invalid="ignore"):
+            pi = self.inertial_vector()
+        bad = np.flatnonzero(~np.isfinite(pi))
+        if bad.size:
+            name = INERTIAL_NAMES[bad[0]]
+            body = name.split(".")[0]
+            fields = {"platform": "platform_mass, platform_inertia, platform_com"}.get(
+                body, f"{body}_mass, {body}_inertia, {body}_com_distance")
+            raise ValueError(f"{fields}: too large for double precision: the inertial parameter {name} "
+                             "(inertial_vector) overflows")
 
     @staticmethod
     def _checked_limits(limits: Any) -> tuple[float, float] | None:
