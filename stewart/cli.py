@@ -671,14 +671,22 @@ def cmd_identify(args) -> int:
             raise UserError(f"{flag}{exc}") from None
 
     data = measurements("", args.data)
-    result = identify.identify(plat, data, filter=args.filter, cutoff=args.cutoff, friction=args.friction)
+    try:
+        result = identify.identify(plat, data, filter=args.filter, cutoff=args.cutoff, friction=args.friction)
+    except ValueError as exc:
+        raise UserError(_flags(str(exc), {"cutoff": "--cutoff", "measurements": args.data})) from None
     print(f"# platform {label}: identified from {args.data} ({len(data.t)} samples at {data.rate:.6g} Hz, "
           f"{args.filter} filter, cut-off {args.cutoff:g} Hz)")
     print(result.table())
     summary = result.summary()
     if args.validate:
         held = measurements("--validate ", args.validate)
-        t, predicted, measured, rms = identify.validation(result, plat, held, filter=args.filter, cutoff=args.cutoff)
+        try:
+            t, predicted, measured, rms = identify.validation(result, plat, held, filter=args.filter,
+                                                              cutoff=args.cutoff)
+        except ValueError as exc:
+            raise UserError(_flags(str(exc), {"cutoff": "--cutoff", "measurements": f"--validate {args.validate}"})) \
+                from None
         spread = np.sqrt(np.mean((measured - measured.mean(axis=0)) ** 2, axis=0))
         print(f"held-out run {args.validate}: RMS error per leg [N] {', '.join(f'{v:.3g}' for v in rms)} "
               f"(force spread {', '.join(f'{v:.3g}' for v in spread)})")

@@ -83,20 +83,26 @@ class Measurements:
             raise ValueError(f"measurements: sample(s) {bad[:5].tolist()} hold NaN or inf")
         if len(t) < 3:
             raise ValueError(f"measurements: too few samples ({len(t)})")
-        steps = np.diff(t)
+        with np.errstate(over="ignore", invalid="ignore"):
+            steps = np.diff(t)
+            rate = (len(t) - 1) / (t[-1] - t[0])
         if np.any(steps <= 0.0):
             k = int(np.argmax(steps <= 0.0))
             raise ValueError(f"measurements: the time column is not increasing at sample {k + 1} "
                              f"(t = {t[k]:g} then {t[k + 1]:g})")
+        if not (np.all(np.isfinite(steps)) and 0.0 < rate < np.inf):
+            raise ValueError(f"t: the time steps ({steps[0]:g} s first) give no finite sampling rate (rate "
+                             f"{rate:g} Hz); give the times in seconds")
         if np.max(np.abs(steps - steps.mean())) > 1e-6 * steps.mean():
             raise ValueError("measurements: the samples are not evenly spaced in time (the filters need a constant rate)")
         for name, value in (("t", t), ("lengths", lengths), ("forces", forces)):
             object.__setattr__(self, name, value)
+        object.__setattr__(self, "_rate", float(rate))
 
     @property
     def rate(self) -> float:
-        """Samples per second."""
-        return (len(self.t) - 1) / (self.t[-1] - self.t[0])
+        """Samples per second (finite and positive: checked)."""
+        return self._rate
 
     @classmethod
     def from_csv(cls, path) -> "Measurements":
@@ -242,7 +248,12 @@ def differentiate(measurements: Measurements, poses: np.ndarray, *, filter: str 
     if not 0.0 < cutoff < rate / 2.0:
         raise ValueError(f"cutoff: need 0 < cutoff < {rate / 2:g} Hz (half the sampling rate), got {cutoff:g}")
     dt = 1.0 / rate
-    window = max(7, int(round(rate / cutoff)) | 1)
+    with np.errstate(over="ignore"):
+        period = rate / cutoff  # samples in one period of the cut-off, the window's span
+    if not np.isfinite(period):
+        raise ValueError(f"cutoff: {cutoff:g} Hz is too low for the sampling rate {rate:g} Hz: the filter window "
+                         "overflows; raise the cut-off")
+    window = max(7, int(round(period)) | 1)
     n = len(poses)
     if n < 3 * window:
         raise ValueError(f"measurements: too few samples ({n}) for the filter window of {window} samples; "
