@@ -813,6 +813,18 @@ def _progress(args) -> bool:
 
 
 def _envelope_spec(args, params):
+    """The specification of ``stewart envelope``, a description of it and the flags that set it."""
+    try:
+        return _envelope_arguments(args, params)
+    except ValueError as exc:
+        raise UserError(_flags(str(exc), _ENVELOPE_FLAGS)) from None
+
+
+#: The user's flags for the arguments of the envelope's specification.
+_ENVELOPE_FLAGS = {"dt": "--dt", "margin": "--margin", "motion": "--target", "motions": "--trajectory"}
+
+
+def _envelope_arguments(args, params):
     from . import envelope
 
     box = [args.lower, args.upper, args.velocity, args.acceleration]
@@ -827,7 +839,7 @@ def _envelope_spec(args, params):
                 message = str(exc)
                 raise UserError(f"--trajectory {message if message.startswith(path) else path + ': ' + message}") \
                     from None
-        return envelope.Trajectories(motions, args.dt), f"{len(motions)} trajectory file(s)"
+        return envelope.Trajectories(motions, args.dt), f"{len(motions)} trajectory file(s)", "--trajectory, --dt"
     if args.target is not None:
         if any(v is not None for v in box):
             raise UserError("--target cannot be combined with the box flags (--lower, --upper, ...)")
@@ -836,13 +848,14 @@ def _envelope_spec(args, params):
         except ValueError as exc:
             raise UserError(f"--target, --move-time: {exc}") from None
         if args.margin is None:
-            return envelope.Trajectories([move], args.dt), "the move to --target"
-        return envelope.Box.around(move, args.margin, args.dt), f"the box around the move, margin {args.margin:g}"
+            return envelope.Trajectories([move], args.dt), "the move to --target", "--target, --move-time"
+        return (envelope.Box.around(move, args.margin, args.dt), f"the box around the move, margin {args.margin:g}",
+                "--target, --move-time, --margin")
     missing = [f for f, v in zip(("--lower", "--upper", "--velocity", "--acceleration"), box) if v is None]
     if missing:
         raise UserError(f"give the box ({' '.join(missing)} missing), --target or --trajectory")
     try:
-        return envelope.Box(*box), "the box"
+        return envelope.Box(*box), "the box", "--velocity, --acceleration"
     except ValueError as exc:
         raise UserError("--" + str(exc)) from None
 
@@ -855,13 +868,17 @@ def cmd_envelope(args) -> int:
     if args.plot:
         _check_plotting("--plot")
     params, label = _params(args)
-    spec, what = _envelope_spec(args, params)
+    spec, what, flags = _envelope_spec(args, params)
     if args.trajectory or (args.target is not None and args.margin is None):
         if args.samples is not None:
             raise UserError("--samples: trajectories are sampled every --dt seconds")
-    with _scheduler(args.scheduler) as client:
-        result = envelope(params, spec, samples=args.samples, seed=args.seed, client=client,
-                          progress=_progress(args), **_chunking(args))
+    try:
+        with _scheduler(args.scheduler) as client:
+            result = envelope(params, spec, samples=args.samples, seed=args.seed, client=client,
+                              progress=_progress(args), **_chunking(args))
+    except ValueError as exc:
+        raise UserError(_flags(str(exc), {"spec": flags, "samples": "--samples", "seed": "--seed",
+                                          "chunk_size": "--chunk-size"})) from None
     print(f"# platform {label}: envelope over {what}, {result.states:,} states "
           f"({result.outside_stroke:,} outside the stroke, {result.singular:,} singular, left out)")
     print(f"{'leg':>4}" + "".join(f"{f'{q} [{u}]':>22}" for q, u in QUANTITIES))

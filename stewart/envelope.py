@@ -50,6 +50,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import _checks, _envelope, execution
+from .errors import WrongTypeError
 from .execution import Peak
 from .params import PlatformParams, checked_params
 
@@ -67,6 +68,8 @@ _LABELS = {"force": "actuator force |tau|", "velocity": "leg velocity |Ldot|", "
 
 #: Samples of a box unless told otherwise.
 DEFAULT_SAMPLES = 1_000_000
+#: Most states a study may draw (a box's ``samples``, or a trajectory's duration over ``dt``).
+MAX_STATES = 10**12
 
 
 def _bounds(name: str, value) -> np.ndarray:
@@ -95,6 +98,11 @@ class Box:
             axis = AXES[inverted[0]][0]
             raise ValueError(f"upper: below lower on axis {axis} ({fields['upper'][inverted[0]]:g} < "
                              f"{fields['lower'][inverted[0]]:g}): the box is empty")
+        with np.errstate(over="ignore"):
+            wide = np.flatnonzero(~np.isfinite(fields["upper"] - fields["lower"]))
+        if wide.size:
+            raise ValueError(f"upper: the box's width on axis {AXES[wide[0]][0]} overflows double precision "
+                             f"({fields['lower'][wide[0]]:g} to {fields['upper'][wide[0]]:g})")
         for name in ("velocity", "acceleration"):
             if np.any(fields[name] < 0):
                 raise ValueError(f"{name}: bounds must be >= 0, got {fields[name].tolist()}")
@@ -107,20 +115,28 @@ class Box:
         """The box around a trajectory's states (sampled every ``dt`` s) widened by
         ``margin``: each pose range by ``margin`` times its width on either side, the peak
         speed and acceleration of each axis times ``1 + margin``."""
+        duration = _duration("motion", motion)
         margin = _checks.real("margin", margin)
         if margin < 0:
             raise ValueError(f"margin: must be >= 0, got {margin}")
-        x, xd, xdd = motion.sample(_sample_times(motion, Trajectories((motion,), dt).dt))
+        dt = _step(dt)
+        x, xd, xdd = _checks.sampled("motion", motion, _sample_times(_sample_count("the motion", duration, dt), dt))
         low, high = x.min(axis=0), x.max(axis=0)
-        pad = margin * (high - low)
-        return cls(low - pad, high + pad, (1 + margin) * np.abs(xd).max(axis=0),
-                   (1 + margin) * np.abs(xdd).max(axis=0))
+        with np.errstate(over="ignore", invalid="ignore"):  # the Box refuses what overflows, naming the bound
+            pad = margin * (high - low)
+            bounds = (low - pad, high + pad, (1 + margin) * np.abs(xd).max(axis=0), (1 + margin) * np.abs(xdd).max(axis=0))
+        try:
+            return cls(*bounds)
+        except ValueError as exc:
+            raise ValueError(f"margin: the box around the motion is too large: {exc}") from None
 
     def count(self, samples: int | None) -> int:
         if samples is None:
             return DEFAULT_SAMPLES
         if isinstance(samples, (bool, np.bool_)) or not isinstance(samples, (int, np.integer)) or samples < 1:
             raise ValueError(f"samples: expected a whole number >= 1, got {samples!r}")
+        if samples > MAX_STATES:
+            raise ValueError(f"samples: at most {MAX_STATES:.0e} states, got {samples!r}")
         return int(samples)
 
     def draws(self, chunk: execution.Chunk):
@@ -170,8 +186,34 @@ def _uniforms(rng: np.random.Generator, n: int) -> np.ndarray:
     return rng.random(out=buffer[:n])
 
 
-def _sample_times(motion, dt: float) -> np.ndarray:
-    return np.arange(int(np.floor(motion.duration / dt)) + 1) * dt
+def _duration(name: str, motion) -> float:
+    """The duration of ``motion`` (named ``name``), a trajectory: an object with ``sample(t)``
+    and a finite ``duration`` >= 0 [s]."""
+    duration = _checks.real(f"{name}: its duration", _checks.trajectory(name, motion).duration)
+    if duration < 0:
+        raise ValueError(f"{name}: its duration must be >= 0, got {duration}")
+    return duration
+
+
+def _step(dt) -> float:
+    dt = _checks.real("dt", dt)
+    if not dt > 0:
+        raise ValueError(f"dt: must be a positive number of seconds, got {dt}")
+    return dt
+
+
+def _sample_count(name: str, duration: float, dt: float) -> int:
+    """How many samples every ``dt`` seconds from 0 to ``duration`` (of the trajectory ``name``);
+    ``ValueError`` naming ``dt`` for more than :data:`MAX_STATES`."""
+    with np.errstate(over="ignore"):
+        count = np.floor(duration / dt) + 1
+    if not count <= MAX_STATES:
+        raise ValueError(f"dt: {dt:g} s samples {name} ({duration:g} s) {count:.3g} times, more than {MAX_STATES:.0e}")
+    return int(count)
+
+
+def _sample_times(count: int, dt: float) -> np.ndarray:
+    return np.arange(count) * dt
 
 
 @dataclass(frozen=True)
@@ -183,22 +225,26 @@ class Trajectories:
     dt: float = 0.001
 
     def __post_init__(self):
-        motions = tuple(self.motions)
+        try:
+            motions = tuple(self.motions)
+        except TypeError:
+            raise WrongTypeError(f"motions: expected a sequence of trajectories, got {type(self.motions).__name__}") \
+                from None
         if not motions:
             raise ValueError("motions: need at least one trajectory")
-        for k, motion in enumerate(motions):
-            if not (hasattr(motion, "sample") and hasattr(motion, "duration")):
-                raise ValueError(f"motions: item {k} is a {type(motion).__name__}, not a trajectory")
+        durations = [_duration(f"motions: item {k}", motion) for k, motion in enumerate(motions)]
+        dt = _step(self.dt)
+        counts = [_sample_count(f"trajectory {k}", duration, dt) for k, duration in enumerate(durations)]
+        if sum(counts) > MAX_STATES:
+            raise ValueError(f"dt: {dt:g} s samples the trajectories {sum(counts):.3g} times, more than {MAX_STATES:.0e}")
         object.__setattr__(self, "motions", motions)
-        dt = _checks.real("dt", self.dt)
-        if not dt > 0:
-            raise ValueError(f"dt: must be a positive number of seconds, got {dt}")
         object.__setattr__(self, "dt", dt)
+        object.__setattr__(self, "_counts", tuple(counts))
 
     @property
     def offsets(self) -> np.ndarray:
         """Index of each trajectory's first sample in the study, and the total count at the end."""
-        return np.concatenate([[0], np.cumsum([len(_sample_times(m, self.dt)) for m in self.motions])])
+        return np.concatenate([[0], np.cumsum(self._counts)])
 
     def count(self, samples: int | None) -> int:
         if samples is not None:
@@ -212,7 +258,7 @@ class Trajectories:
         for k, motion in enumerate(self.motions):
             lo, hi = max(chunk.start, offsets[k]), min(chunk.stop, offsets[k + 1])
             if lo < hi:
-                parts.append(motion.sample((np.arange(lo, hi) - offsets[k]) * self.dt))
+                parts.append(_checks.sampled(f"motions: item {k}", motion, (np.arange(lo, hi) - offsets[k]) * self.dt))
         return tuple(np.concatenate(arrays) for arrays in zip(*parts))
 
     def add_to(self, peaks, chunk: execution.Chunk) -> None:
@@ -316,4 +362,10 @@ def envelope(platform, spec, *, samples: int | None = None, seed: int = 0, clien
     n = spec.count(samples)
     total = execution.run(_EnvelopeJob(params, spec), n, seed=seed, chunk_size=chunk_size, client=client,
                           progress=progress, desc="envelope")
-    return Envelope(total["peak"], total["states"], total["outside_stroke"], total["singular"], params.name or "")
+    peak = total["peak"]
+    overflow = np.flatnonzero(~(np.isfinite(peak.value) | np.isneginf(peak.value)))  # -inf: no state counted
+    if overflow.size:
+        column = overflow[0]
+        raise ValueError(f"spec: the {QUANTITIES[column // 6][0]} of leg {column % 6} overflows double precision at "
+                         f"state {peak.index[column]} of the study (rates too large for the platform)")
+    return Envelope(peak, total["states"], total["outside_stroke"], total["singular"], params.name or "")
