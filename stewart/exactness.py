@@ -67,7 +67,13 @@ def leg_spin_effect(params: PlatformParams, n_states: int = 200, seed: int = 0) 
     paper = exact.replace(universal_joint_axes=None)
     x, xd, xdd = random_states(paper, n_states, np.random.default_rng(seed))
     changes = []
-    for ours, theirs in zip(_force_parts(exact, x, xd, xdd), _force_parts(paper, x, xd, xdd)):
-        ratio = np.linalg.norm(ours - theirs, axis=-1) / np.linalg.norm(theirs, axis=-1)
+    for part, ours, theirs in zip(("dynamic", "velocity-dependent"), _force_parts(exact, x, xd, xdd),
+                                  _force_parts(paper, x, xd, xdd)):
+        with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+            ratio = np.linalg.norm(ours - theirs, axis=-1) / np.linalg.norm(theirs, axis=-1)
+        if not np.all(np.isfinite(ratio)):
+            k = int(np.argmax(~np.isfinite(ratio)))
+            raise ValueError(f"params: the paper's {part} forces are zero (a body without mass or inertia?) or "
+                             f"overflow at state {k} of {n_states}: their relative change is undefined")
         changes.append(Change(float(np.median(ratio)), float(np.max(ratio))))
     return LegSpinEffect(*changes, states=n_states, assumed_axes=assumed)

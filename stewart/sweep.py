@@ -151,6 +151,13 @@ def _whole(field: str, value, least: int = 1) -> int:
     return value
 
 
+def _table(field: str, value, example: str) -> dict:
+    """``value`` if it is a table (a dict); ``ValueError`` naming ``field`` otherwise."""
+    if not isinstance(value, dict):
+        raise ValueError(f"{field}: expected a table ({example}), got {type(value).__name__} {value!r:.60}")
+    return value
+
+
 def _unknown(field: str, table: dict, known) -> None:
     extra = sorted(set(table) - set(known))
     if extra:
@@ -196,6 +203,7 @@ def _offsets(table: dict) -> envelope_module.Box:
 
 def parse(data: dict, where: str = "") -> SweepSpec:
     """A :class:`SweepSpec` from the table of a sweep file (see the module docstring)."""
+    _table("data", data, "the sweep file's fields")
     _unknown("", data, _TOP)
     if "preset" in data and "params" in data:
         raise ValueError("params: give preset or params, not both")
@@ -216,8 +224,8 @@ def parse(data: dict, where: str = "") -> SweepSpec:
     count = _whole("designs", data["designs"]) if method == "random" else 1
     if method == "grid" and "designs" in data:
         raise ValueError("designs: a grid has one design per combination; use method = \"random\" for a count")
-    params = data.get("parameters", {})
-    if not isinstance(params, dict) or not params:
+    params = _table("parameters", data.get("parameters", {}), "[parameters] with base_radius = ... and the like")
+    if not params:
         raise ValueError("parameters: name at least one design parameter")
     _unknown("parameters", params, PARAMETERS)
     rng = np.random.default_rng(np.random.SeedSequence(seed, spawn_key=(2**31,)))
@@ -232,15 +240,16 @@ def parse(data: dict, where: str = "") -> SweepSpec:
         except ValueError as exc:
             raise ValueError(f"parameters: design {k} ({design}) is not a valid platform: {exc}") from None
     env = data.get("envelope")
-    if not isinstance(env, dict):
+    if env is None:
         raise ValueError("envelope: missing (lower, upper, velocity, acceleration around the home pose)")
-    work = data.get("workspace", {})
+    _table("envelope", env, "[envelope] with lower, upper, velocity, acceleration around the home pose")
+    work = _table("workspace", data.get("workspace", {}), "[workspace] with samples = N")
     _unknown("workspace", work, {"samples"})
-    pareto = data.get("pareto", {})
+    pareto = _table("pareto", data.get("pareto", {}), "[pareto] with x and y, two metrics")
     _unknown("pareto", pareto, {"x", "y"})
     axes = (pareto.get("x", "workspace_volume"), pareto.get("y", "peak_force"))
     for key, name in zip(("x", "y"), axes):
-        if name not in METRICS:
+        if not isinstance(name, str) or name not in METRICS:
             raise ValueError(f"pareto.{key}: unknown metric {name!r}; known: {', '.join(METRICS)}")
     return SweepSpec(base, designs, _offsets(env), _whole("envelope.samples", env.get("samples", 100_000)),
                      _whole("workspace.samples", work.get("samples", 20_000)), seed, axes)

@@ -468,6 +468,8 @@ def _three(name: str, value) -> np.ndarray:
 
 
 def _region(name: str, value) -> np.ndarray:
+    """A box ``(3, 2)`` of finite, ordered bounds whose volume (and so each width) is a finite
+    double; ``ValueError`` naming ``name`` otherwise."""
     arr = _checks.reals(name, value)
     if arr.shape != (3, 2) or not np.all(np.isfinite(arr)):
         raise ValueError(f"{name}: expected 3 finite (low, high) pairs, got {np.asarray(value).tolist()}")
@@ -475,6 +477,10 @@ def _region(name: str, value) -> np.ndarray:
     if empty.size:
         raise ValueError(f"{name}: empty or inverted bounds on axis {int(empty[0])} (low {arr[empty[0], 0]:g} "
                          f">= high {arr[empty[0], 1]:g})")
+    with np.errstate(over="ignore"):
+        volume = np.prod(arr[:, 1] - arr[:, 0])
+    if not np.isfinite(volume):
+        raise ValueError(f"{name}: the box's volume overflows double precision, got {arr.tolist()}")
     return arr
 
 
@@ -632,6 +638,9 @@ def workspace_slice(platform, axes="xy", at=None, *, orientation=(0.0, 0.0, 0.0)
     if region is None:
         region = full[[first, second]]
     else:
+        region = _checks.reals("region", region)
+        if region.shape != (2, 2):
+            raise ValueError(f"region: expected 2 (low, high) pairs for the axes {axes!r}, got shape {region.shape}")
         region = _region("region", np.vstack([region, [0.0, 1.0]]))[:2]
     at = float(base[third]) if at is None else _checks.real("at", at)
     n = _checks.count("resolution", resolution, 2000)
