@@ -8,12 +8,13 @@ import json
 import subprocess
 import sys
 import textwrap
+import warnings
 
 import numpy as np
 import pytest
 
 import stewart
-from stewart import reference
+from stewart import envelope, exactness, identify, reference, sweep, workspace
 from stewart._checks import MAX_THREADS
 from stewart.control import leg_masses
 from conftest import LAYOUTS, PLATFORM_METHODS, valid_arguments
@@ -328,3 +329,149 @@ def test_massless_platform_is_a_singularity_in_reference_and_kernel():
         with pytest.raises(stewart.SingularityError, match="mass matrix") as info:
             call()
         assert info.value.condition == "mass_singular"
+
+
+# ---- bad input to the studies, identification, simulation and the command line -----------------
+
+_HOME = PLAT.home_pose
+_MOVE = stewart.PointToPoint(_HOME, _HOME + [0.01, 0, 0, 0, 0.02, 0], 1.0)
+_MASSLESS = PARAMS.replace(platform_mass=0.0, platform_inertia=(0, 0, 0), cylinder_mass=0.0,
+                           cylinder_inertia=(0, 0, 0), piston_mass=0.0, piston_inertia=(0, 0, 0))
+#: A reachable target pose for the command line.
+TARGET = ["0.01", "0", "0.27", "0", "0", "0"]
+_SWEEP = {"preset": "narayan2017", "parameters": {"base_radius": 0.1},
+          "envelope": {"lower": [-0.01] * 6, "upper": [0.01] * 6, "velocity": [0.1] * 6, "acceleration": [1.0] * 6}}
+
+
+def _log(t=None):
+    """A short logged run of the preset (201 samples at 200 Hz), its times replaced by ``t``."""
+    log = identify.synthetic_measurements(PLAT, _MOVE, rate=200)
+    return log if t is None else identify.Measurements(t, log.lengths, log.forces)
+
+
+@pytest.mark.parametrize("controller", [stewart.PID(1e300, 1e300, 1e300), stewart.ComputedTorque(1e300, 1e300)],
+                         ids=["PID", "computed torque"])
+def test_gains_no_machine_realises_end_the_adaptive_run_at_once(controller):
+    """Gains of 1e300 once shrank DOP853's step to 1e-298 s at t = 0 (scipy's smallest step
+    there is 5e-323 s), and the run went on for the 240000 evaluations of its budget."""
+    import time
+
+    import scipy.integrate  # noqa: F401  (imported before the clock starts)
+
+    start = time.perf_counter()
+    run = stewart.simulate(PLAT, _MOVE, controller, method="adaptive", duration=0.01)
+    assert time.perf_counter() - start < 2.0
+    assert run.outcome == "failed" and not run.completed and run.exit_code == 4
+    assert run.reason.startswith("the adaptive solver's steps fell below 1e-09 s after t = 0.0000 s")
+    assert run.problems == [run.reason] and np.all(np.isfinite(run.x))
+
+
+@pytest.mark.parametrize("call, error, message", [
+    # OverflowError once
+    (lambda: _log(np.arange(201) * 5e-324), ValueError, r"^t: the time steps \(4.94066e-324 s first\) give no "
+                                                         r"finite sampling rate \(rate inf Hz\)"),
+    (lambda: identify.identify(PLAT, _log(), cutoff=1e-310), ValueError,
+     "^cutoff: 1e-310 Hz is too low for the sampling rate 200 Hz: the filter window overflows"),
+    (lambda: envelope.envelope(PLAT, envelope.Trajectories([_MOVE], 5e-324)), ValueError,
+     r"^dt: 4.94066e-324 s samples trajectory 0 \(1 s\) inf times, more than 1e\+12"),
+    (lambda: envelope.Box.around(_MOVE, 0.2, 5e-324), ValueError,
+     r"^dt: 4.94066e-324 s samples the motion \(1 s\) inf times"),
+    # AttributeError once
+    (lambda: sweep.parse(dict(_SWEEP, workspace=[])), ValueError,
+     r"^workspace: expected a table \(\[workspace\] with samples = N\), got list \[\]"),
+    (lambda: sweep.parse(dict(_SWEEP, pareto=[])), ValueError, r"^pareto: expected a table"),
+    (lambda: sweep.parse(dict(_SWEEP, pareto={"x": ["peak_force"]})), ValueError, "^pareto.x: unknown metric"),
+    (lambda: identify.identify(None, _log()), TypeError, "^platform: expected a stewart.Platform, got NoneType$"),
+    (lambda: identify.identify(PARAMS, _log()), TypeError,
+     r"^platform: expected a stewart.Platform, got PlatformParams \(build one with stewart.Platform\(params\)\)$"),
+    (lambda: envelope.Box.around(_HOME), TypeError,
+     "^motion: expected an object with sample.t. and duration .* got ndarray$"),
+    # inf or NaN once
+    (lambda: envelope.envelope(PLAT, envelope.Box(_HOME - 0.01, _HOME + 0.01, [1e150] * 6,
+                                                                  [1e150] * 6), samples=100, progress=False),
+     ValueError, r"^spec: the power of leg 0 overflows double precision at state 0 of the study"),
+    (lambda: exactness.leg_spin_effect(_MASSLESS, 20), ValueError,
+     "^params: the paper's dynamic forces are zero .* at state 0 of 20: their relative change is undefined$"),
+    (lambda: workspace.translational_workspace(PLAT, region=[[0, 1e150]] * 3, samples=100), ValueError,
+     r"^region: the box's volume overflows double precision"),
+    (lambda: PARAMS.replace(platform_com=[1e200, 0, 0]), ValueError,
+     r"^platform_mass, platform_inertia, platform_com: too large for double precision: the inertial parameter "
+     r"platform.Ixx \(inertial_vector\) overflows$"),
+    (lambda: PARAMS.replace(platform_inertia=np.full((3, 3), 1e308)), ValueError,
+     "^platform_inertia: too large for double precision"),
+])
+def test_bad_input_to_the_studies_is_a_named_error(call, error, message):
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        with pytest.raises(error, match=message):
+            call()
+
+
+def test_wrong_types_are_type_errors_and_value_errors():
+    """A wrong kind of object raises stewart.WrongTypeError, a TypeError as the call is
+    wrong and a ValueError as every other bad argument (one except clause catches all)."""
+    for call in (lambda: identify.identify(PARAMS, _log()), lambda: stewart.PID.tuned(PARAMS),
+                 lambda: stewart.simulate(PARAMS, _MOVE), lambda: stewart.leg_lengths(PLAT, _HOME)):
+        with pytest.raises(stewart.WrongTypeError) as info:
+            call()
+        assert isinstance(info.value, TypeError) and isinstance(info.value, ValueError)
+
+
+def _friction_platform(viscous):
+    return stewart.Platform(PARAMS.replace(viscous_friction=[viscous] * 6, coulomb_friction=[1.0] * 6))
+
+
+@pytest.mark.parametrize("method, viscous, xd", [("friction_forces", 1000.0, 1e306), ("actuator_forces", 1e300, 1e10)])
+def test_friction_that_overflows_is_a_failed_row(method, viscous, xd):
+    """friction_forces(x, 1e306) with viscous friction once returned inf with the mask True,
+    as actuator_forces did with viscous_friction 1e300."""
+    plat = _friction_platform(viscous)
+    call = getattr(plat, method)
+    args = (_HOME, np.full(6, xd)) + ((np.zeros(6),) if method == "actuator_forces" else ())
+    values, ok = call(*args, return_mask=True)
+    assert ok is False and np.all(np.isnan(values))
+    with pytest.raises(stewart.SingularityError, match=f"^{method}: non-finite result at row.s. \\[0\\]") as info:
+        call(*args)
+    assert info.value.condition == "nonfinite" and info.value.rows == [0]
+    batch = (np.stack([_HOME] * 3), np.array([np.zeros(6), np.full(6, xd), np.ones(6)])) + args[2:]
+    values, ok = call(*batch, return_mask=True)
+    assert ok.tolist() == [True, False, True]
+    assert np.all(np.isnan(values[1])) and np.all(np.isfinite(values[[0, 2]]))
+    np.testing.assert_array_equal(values[[0, 2]], call(*(a[[0, 2]] if a.ndim == 2 else a for a in batch)))
+
+
+def test_measurements_rate_is_finite():
+    """Measurements.rate was inf for subnormal time steps."""
+    log = _log()
+    assert log.rate == pytest.approx(200.0) and np.isfinite(log.rate)
+    with pytest.raises(ValueError, match="^t: the time steps"):
+        _log(np.linspace(-1.0, 1.0, 201) * 1e308)
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["identify", "{log}", "--cutoff", "1e-310"], "stewart identify: error: --cutoff: 1e-310 Hz is too low"),
+    (["envelope", "--target", *TARGET, "--dt", "1e-310"], "stewart envelope: error: --dt: 1e-310 s samples"),
+    (["envelope", "--target", *TARGET, "--dt", "1e-310", "--margin", "0.1"], "stewart envelope: error: --dt: "),
+    (["envelope", "--lower", *"000000", "--upper", "0", "0", "0.3", "0", "0", "0", "--velocity", *["1e150"] * 6,
+      "--acceleration", *["1e150"] * 6, "--samples", "100"],
+     "stewart envelope: error: --velocity, --acceleration: the power of leg 0 overflows double precision"),
+    (["sweep", "{sweep}"], "stewart sweep: error: {sweep}: workspace: expected a table"),
+    (["exactness", "--params", "{massless}", "--states", "10"], "stewart exactness: error: params: the paper's"),
+])
+def test_commands_refuse_bad_input_in_one_line(argv, message, tmp_path, capsys):
+    """These printed tracebacks once."""
+    from stewart.cli import main
+
+    files = {"log": tmp_path / "log.csv", "sweep": tmp_path / "sweep.toml", "massless": tmp_path / "massless.toml"}
+    _log().to_csv(files["log"])
+    files["sweep"].write_text('preset = "narayan2017"\nworkspace = ["samples"]\n[parameters]\nbase_radius = [0.09]\n'
+                              "[envelope]\nlower = [0, 0, 0, 0, 0, 0]\nupper = [0, 0, 0, 0, 0, 0]\n"
+                              "velocity = [0.1, 0, 0, 0, 0, 0]\nacceleration = [1, 0, 0, 0, 0, 0]\n")
+    _MASSLESS.save(files["massless"])
+    argv = [a.format(**files) for a in argv] + (["--no-progress"] if argv[0] in ("envelope", "sweep") else [])
+    with pytest.raises(SystemExit) as info:
+        main(argv)
+    out, err = capsys.readouterr()
+    assert info.value.code == 2 and "Traceback" not in out + err
+    assert len(err.strip().splitlines()) == 1 and err.startswith(message.format(**files)), err
+
