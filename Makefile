@@ -6,13 +6,15 @@ VENV := .venv
 PY := $(VENV)/bin/python
 INSTALLED := $(VENV)/.installed
 KERNEL := build/.kernel-built
-KERNEL_SOURCES := stewart/_kernel.pyx stewart/_kernel.pxd stewart/_simulate.pyx stewart/_envelope.pyx generated/stewart_model.c \
-	generated/stewart_model.h generated/stewart_model.pxd generated/stewart_dispatch.h generated/stewart_target.c setup.py
+KERNEL_SOURCES := stewart/_kernel.pyx stewart/_kernel.pxd stewart/_simulate.pyx stewart/_envelope.pyx \
+	$(wildcard generated/*) setup.py
+# The build's first copy of the model (setup.py's MODEL_LIBRARY), which the C test links.
+MODEL_LIBRARY := build/libstewart_model.a
 C_TEST := tests/c/test_model
 # The model's rounding flags (STEWART_ROUNDING_FLAGS of the generated header).
 ROUNDING = $(shell sed -n 's/^\#define STEWART_ROUNDING_FLAGS "\(.*\)"/\1/p' generated/stewart_model.h)
 
-.PHONY: all test test-peers demo generate build bench validate readme clean
+.PHONY: all test test-peers test-ports test-wheels demo generate build bench validate readme clean
 
 all: build
 
@@ -36,8 +38,10 @@ $(KERNEL): $(INSTALLED) $(KERNEL_SOURCES)
 
 build: $(KERNEL)
 
-$(C_TEST): tests/c/test_model.c tests/c/reference_values.h generated/stewart_model.c generated/stewart_model.h
-	$(CC) -std=c99 -O2 $(ROUNDING) -Wall -Wextra -pedantic -Igenerated -Itests/c tests/c/test_model.c generated/stewart_model.c -lm -o $@
+# The C test, linked with the model as the build compiled it (make test-ports compiles it anew
+# with other compilers and for other CPUs).
+$(C_TEST): tests/c/test_model.c tests/c/reference_values.h $(KERNEL)
+	$(CC) -std=c99 -O2 $(ROUNDING) -Wall -Wextra -pedantic -Igenerated -Itests/c tests/c/test_model.c $(MODEL_LIBRARY) -lm -o $@
 
 # Every test but the comparisons with the peer models (make test-peers), with coverage.
 test: build $(C_TEST)
@@ -49,6 +53,19 @@ test: build $(C_TEST)
 # extra (.venv/bin/pip install --no-build-isolation -e ".[dev,peers]"), skipped without it.
 test-peers: build
 	$(PY) -m pytest -q -m peers
+
+# The generated C and its C test under other compilers and for other CPUs (tests/c/ports.py:
+# clang, and gcc and clang for aarch64 run under qemu-user; a missing tool is installed with
+# apt-get when run as root, else its port prints SKIPPED), then make test-wheels.
+test-ports: $(INSTALLED)
+	$(PY) tests/c/ports.py
+	$(MAKE) test-wheels
+
+# The packaging check on each other supported Python found (python3.X on the PATH, or pyenv's;
+# make test's covers the running one): the wheel built from the sdist by that Python, installed
+# into its fresh environment and smoke-tested; a Python not found is SKIPPED.
+test-wheels: build
+	STEWART_WHEEL_PYTHONS=others $(PY) -m pytest -n 0 -v -rs --durations=0 --durations-min=1 -m packaging tests/test_packaging.py
 
 demo: build
 	$(PY) -m stewart.demo

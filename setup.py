@@ -1,10 +1,11 @@
 """Build script: the pure-Python package plus the Cython kernel over the generated C.
 
-Portable by default: on x86-64 the model (generated/stewart_target.c, a copy of
-stewart_model.c and its table of functions) is compiled once per target into the one
+Portable by default: on x86-64 the model (its units, generated/stewart_model*.c, and its
+table of functions, generated/stewart_target.c) is compiled once per target into the one
 extension -- ``baseline`` (x86-64) whole, ``avx2`` (x86-64-v3: AVX2, FMA) and ``avx512``
 (x86-64-v4) with their batch functions only, since the scalar functions round the same on
-every target -- and the kernel runs the best copy the CPU supports, chosen at import
+every target; all units of all targets side by side -- and the kernel runs the best copy the
+CPU supports, chosen at import
 (``STEWART_SIMD`` forces one; ``stewart.build_info()`` tells which). A target the compiler
 cannot build (its flags, or its level in ``__builtin_cpu_supports``) is left out. On any
 other CPU (aarch64: NEON is its baseline) one baseline copy is compiled, with the
@@ -19,6 +20,7 @@ here is tagged for the plain platform (``linux_x86_64``), not ``manylinux``: it 
 run on this platform's C library, on any CPU of its architecture.
 """
 
+import glob
 import os
 import platform
 import re
@@ -41,9 +43,12 @@ OPTIMIZE = ["-O3"]
 #: every instruction set. Every extension is compiled with them.
 with open("generated/stewart_model.h", encoding="ascii") as header:
     EXACT = re.search(r'#define STEWART_ROUNDING_FLAGS "(.*)"', header.read()).group(1).split()
-#: The model, compiled once per target; what its copies depend on.
-TARGET_SOURCE = "generated/stewart_target.c"
-MODEL = [TARGET_SOURCE, "generated/stewart_model.c", "generated/stewart_model.h", "generated/stewart_dispatch.h"]
+#: The model, compiled once per target: its units and its table; what its copies depend on.
+MODEL_SOURCES = sorted(glob.glob("generated/stewart_model*.c")) + ["generated/stewart_target.c"]
+MODEL = MODEL_SOURCES + ["generated/stewart_model.h", "generated/stewart_internal.h", "generated/stewart_dispatch.h"]
+#: The first copy of the model (the one that runs everywhere, with the public names), as a
+#: static library for the C test (tests/c), which links it instead of compiling the model again.
+MODEL_LIBRARY = ("stewart_model", "build")
 
 OPENMP_PROBE = """#include <omp.h>
 int main(void) { return omp_get_max_threads() > 0 ? 0 : 1; }
@@ -106,30 +111,45 @@ class BuildKernel(build_ext):
         # extension newer than its sources and depends is left alone (e.g. the one the
         # editable install just built), and so are its objects.
         stale = self.force or newer_group(ext.sources + ext.depends, self.get_ext_fullpath(ext.name), "newer")
+        if ext.name == "stewart._kernel" and not os.path.exists(self._library()):
+            stale = True
         if ext.name == "stewart._kernel" and stale:
             ext.extra_objects = self._model_objects(ext)
         super().build_extension(ext)
 
     def _model_objects(self, ext):
-        """Compile the model once per target (side by side), each copy into its own directory:
-        the first whole, the others with their batch functions only (the scalar functions
-        round the same on every target); the object files."""
-        def compile_target(index):
+        """Compile the model once per target, every unit of every copy side by side, each copy
+        into its own directory: the first whole, the others with their batch functions only (the
+        scalar functions round the same on every target); the object files. The first copy is
+        also archived (MODEL_LIBRARY)."""
+        def compile_unit(job):
+            index, source = job
             name, flags, level = self.targets[index]
             macros = [("STEWART_TARGET", name), ("STEWART_TARGET_LEVEL", f'"{level}"'),
                       ("STEWART_TARGET_FLAGS", '"' + " ".join(flags) + '"')]
-            quiet = []
             if index > 0:  # the first copy keeps the public names; the others hold batch functions only
                 macros.append(("STEWART_PREFIX", f"stewart_{name}"))
-                quiet = ["-Wno-unused-function"]  # the helpers of the scalar functions
             output_dir = os.path.join(self.build_temp, name)
-            objects = self.compiler.object_filenames([TARGET_SOURCE], output_dir=output_dir)
+            objects = self.compiler.object_filenames([source], output_dir=output_dir)
             if not self.force and not newer_group(MODEL + ["setup.py"], objects[0]):
                 return objects  # compiled already, from the same sources
-            return self.compiler.compile([TARGET_SOURCE], output_dir=output_dir, macros=macros,
-                                         include_dirs=["generated"], extra_postargs=flags + quiet, depends=MODEL)
-        with ThreadPoolExecutor(min(len(self.targets), os.cpu_count() or 1)) as pool:
-            return [obj for objects in pool.map(compile_target, range(len(self.targets))) for obj in objects]
+            return self.compiler.compile([source], output_dir=output_dir, macros=macros,
+                                         include_dirs=["generated"], extra_postargs=flags, depends=MODEL)
+        # The largest units first, so that the last ones to finish are short.
+        jobs = sorted(((index, source) for index in range(len(self.targets)) for source in MODEL_SOURCES),
+                      key=lambda job: -os.path.getsize(job[1]))
+        with ThreadPoolExecutor(os.cpu_count() or 1) as pool:
+            compiled = dict(zip(jobs, pool.map(compile_unit, jobs)))
+        copies = [[obj for source in MODEL_SOURCES for obj in compiled[index, source]]
+                  for index in range(len(self.targets))]
+        library, directory = MODEL_LIBRARY
+        self.compiler.create_static_lib(copies[0], library, output_dir=directory)
+        return [obj for objects in copies for obj in objects]
+
+    def _library(self):
+        """The path of MODEL_LIBRARY."""
+        library, directory = MODEL_LIBRARY
+        return self.compiler.library_filename(library, output_dir=directory)
 
 
 FLAGS = dict(

@@ -80,7 +80,7 @@ def c_loops(params, n: int, flags: dict, repeats: int = 7) -> dict:
                          + np.ascontiguousarray(np.hstack([x, xd, xdd]), dtype=np.float64).tobytes())
         exes = {name: pathlib.Path(tmp) / f"batch_loop_{name}" for name in flags}
         with ThreadPoolExecutor(2) as pool:
-            list(pool.map(lambda name: compile_c([HERE / "batch_loop.c", ROOT / "generated" / "stewart_model.c"],
+            list(pool.map(lambda name: compile_c([HERE / "batch_loop.c", *stewart.c_sources()],
                                                  exes[name], include=[ROOT / "generated"], extra=flags[name]),
                           flags))
         return {name: c_loop(exe, data, repeats) for name, exe in exes.items()}

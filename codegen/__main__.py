@@ -1,5 +1,8 @@
-"""CLI: regenerate generated/stewart_model.h, stewart_model.c, stewart_model.pxd and the
-dispatch between compiled copies of the model, stewart_dispatch.h and stewart_target.c."""
+"""CLI: regenerate generated/: the model's header stewart_model.h, its units (stewart_model.c, the
+public functions, and stewart_model_<family>.c, the kernels of one family each) with what they
+share (stewart_internal.h), its Cython declarations stewart_model.pxd, and the dispatch between
+compiled copies of the model, stewart_dispatch.h and stewart_target.c.  Files of an earlier
+generation that it no longer writes (stewart_model_*.c) are removed."""
 
 import argparse
 import dataclasses
@@ -52,12 +55,13 @@ def main(argv=None):
         build for function in generated
         for build in list(function.kernels) + [b for step in function.steps if isinstance(step, model.Kernels)
                                                for b in step.builders]))
-    emitted, kernels = [], {}
+    emitted, kernels, families = [], {}, {}
     # The kernels are independent: derive them side by side, collect them in their order.
     with ProcessPoolExecutor(max(1, args.jobs)) as pool:
         for build, (result, kernel, t_derive, t_emit) in zip(builders, pool.map(_kernel, builders)):
             kernels[build] = kernel
             emitted.append(result)
+            families.setdefault(csource.kernel_family(build), []).append(result)
             print(f'[codegen] {kernel.name:<32} derive {t_derive:5.2f} s, cse+C {t_emit:5.2f} s,'
                   f' {result.ops:5d} ops', flush=True)
     public = [csource.public_function(function, kernels) for function in generated]
@@ -72,13 +76,17 @@ def main(argv=None):
     ops = [(k.name, k.ops) for k in emitted]
     files = {
         'stewart_model.h': csource.header(schema.PARAM_FIELDS, model.FUNCTIONS, ops, schema.INERTIAL_PARAMETERS),
-        'stewart_model.c': csource.source(schema.PARAM_FIELDS, [k.source for k in emitted], public, templates,
-                                          [k.vector for k in emitted if k.name in vector], batch),
+        'stewart_internal.h': csource.internal_header(schema.PARAM_FIELDS, model.FUNCTIONS, emitted, vector),
+        'stewart_model.c': csource.source(public, templates, batch),
+        **{f'stewart_model_{family}.c': csource.kernel_unit(family, units, vector) for family, units in families.items()},
         'stewart_model.pxd': pxd.pxd(schema.PARAM_FIELDS, schema.LEFT_OUT, model.FUNCTIONS, schema.INERTIAL_PARAMETERS),
         'stewart_dispatch.h': csource.dispatch_header(model.FUNCTIONS),
         'stewart_target.c': csource.target_source(model.FUNCTIONS),
     }
     written = [name for name, text in files.items() if _write_if_changed(args.out / name, text)]
+    for stale in sorted(set(p.name for p in args.out.glob('stewart_model_*.c')) - files.keys()):
+        (args.out / stale).unlink()
+        written.append(f'{stale} removed')
     print(f'[codegen] write {args.out} ({", ".join(written) or "unchanged"}) ...'
           f' {time.perf_counter() - start:.2f} s')
     print(f'[codegen] total ... {time.perf_counter() - total:.2f} s')

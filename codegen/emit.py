@@ -79,6 +79,7 @@ class EmittedKernel:
     source: str
     ops: int          # sympy count_ops of the cse output
     vector: str = ''  # C source of its vector variant
+    declarations: tuple = ()  # the prototypes of the two, `void kernel_<name>(...)` and `void vkernel_<name>(...)`
 
 
 def _prune(defs, outputs):
@@ -124,7 +125,8 @@ def _statements(defs, outputs):
 
 
 def emit_kernel(kernel, param_members):
-    """C source of `static void kernel_<name>(...)` for a `model.KernelSpec`.
+    """C source of `void kernel_<name>(...)` for a `model.KernelSpec` (and of its vector variant,
+    `vector_kernel`), with their prototypes: kernels are shared between the model's units.
 
     `param_members` maps parameter symbols to C expressions reading them from
     `const stewart_params *p`.  A kernel with `lanes` > 1 is a loop over its lanes with
@@ -141,7 +143,8 @@ def emit_kernel(kernel, param_members):
     args = ['const stewart_params *p'] + [f'const double *{"" if name in kernel.shared else qualifier}{name}'
                                           for name, _ in kernel.inputs]
     args += [f'double *{qualifier}{name}' for name, _ in kernel.outputs]
-    lines = [f'/* {kernel.doc} */', f'static void kernel_{kernel.name}({", ".join(args)})', '{']
+    signature = f'void kernel_{kernel.name}({", ".join(args)})'
+    lines = [f'/* {kernel.doc} */', signature, '{']
     lines += [f'    const double {s.name} = p->{member};' for s, member in param_members if s in used]
     if not any(s in used for s, _ in param_members):
         lines.append('    (void)p;')
@@ -162,12 +165,12 @@ def emit_kernel(kernel, param_members):
     if lanes > 1:
         lines.append('    }')
     lines.append('}')
-    return EmittedKernel(kernel.name, '\n'.join(lines) + '\n', ops,
-                         vector_kernel(kernel, statements, reduced, used, param_members))
+    vector, vector_signature = vector_kernel(kernel, statements, reduced, used, param_members)
+    return EmittedKernel(kernel.name, '\n'.join(lines) + '\n', ops, vector, (signature, vector_signature))
 
 
 def vector_kernel(kernel, statements, reduced, used, param_members):
-    """C source of `static void vkernel_<name>(...)`, the kernel over a block of STEWART_LANES
+    """C source of `void vkernel_<name>(...)` and its signature: the kernel over a block of STEWART_LANES
     states: the same statements with every quantity that depends on the state a `stewart_vd`
     (one state per lane; inputs and outputs are arrays of them, entry k of the states in
     element k), the parameters and what depends on them alone computed once, as doubles.  A
@@ -179,8 +182,8 @@ def vector_kernel(kernel, statements, reduced, used, param_members):
     at = (lambda k: f'[{k}]') if lanes == 1 else (lambda k: f'[{k} * {lanes} + lane]')
     args = (['const stewart_params *p'] + [f'const stewart_vd *{name}' for name, _ in kernel.inputs]
             + [f'stewart_vd *{name}' for name, _ in kernel.outputs])
-    lines = [f'/* {kernel.name} over a block of states. */', f'static void vkernel_{kernel.name}({", ".join(args)})',
-             '{']
+    signature = f'void vkernel_{kernel.name}({", ".join(args)})'
+    lines = [f'/* {kernel.name} over a block of states. */', signature, '{']
     lines += [f'    const double {s.name} = p->{member};' for s, member in param_members if s in used]
     if not any(s in used for s, _ in param_members):
         lines.append('    (void)p;')
@@ -206,4 +209,4 @@ def vector_kernel(kernel, statements, reduced, used, param_members):
     if lanes > 1:
         lines.append('    }')
     lines.append('}')
-    return '\n'.join(lines) + '\n'
+    return '\n'.join(lines) + '\n', signature

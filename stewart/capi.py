@@ -1,12 +1,14 @@
 """The generated C model for use from C: where its files are, and a copy with a platform's parameters.
 
-The package carries ``stewart_model.h`` and ``stewart_model.c`` (dependency-free C99, libm
-only; written by the sympy generator in ``codegen/``), so a C program can use the model
-without the source repository, in the manner of ``numpy.get_include()``::
+The package carries ``stewart_model.h`` and the model's source files (dependency-free C99,
+libm only; written by the sympy generator in ``codegen/``): ``stewart_model.c``, the public
+functions, the ``stewart_model_<family>.c`` of the kernels they run, and the header they
+share, ``stewart_internal.h``. So a C program can use the model without the source repository,
+in the manner of ``numpy.get_include()``::
 
     cc -std=c99 -O2 $(python -c 'import stewart; print(*stewart.capi.c_flags())') \\
         -I"$(python -c 'import stewart; print(stewart.c_include_dir())')" \\
-        my_program.c "$(python -c 'import stewart; print(*stewart.c_sources())')" -lm
+        my_program.c $(python -c 'import stewart; print(*stewart.c_sources())') -lm
 
 :func:`export` copies them into a directory together with a header holding the
 ``stewart_params`` of a :class:`~stewart.PlatformParams`.
@@ -25,12 +27,15 @@ import numpy as np
 from ._kernel import PARAM_FIELDS, PARAM_INPUTS, PARAM_SOURCES, PARAMS_LEFT_OUT
 from .params import PlatformParams
 
-__all__ = ["c_include_dir", "c_flags", "c_sources", "export", "params_header", "params_initializer", "HEADER", "SOURCE",
-           "PARAMS_HEADER"]
+__all__ = ["c_include_dir", "c_flags", "c_sources", "export", "params_header", "params_initializer", "HEADER",
+           "INTERNAL_HEADER", "SOURCE", "SOURCES", "PARAMS_HEADER"]
 
-#: The model's header and its one source file.
+#: The model's header, the header its source files share, and its source files: the public
+#: functions (SOURCE) and the kernels of each family (stewart_model_<family>.c).
 HEADER = "stewart_model.h"
+INTERNAL_HEADER = "stewart_internal.h"
 SOURCE = "stewart_model.c"
+SOURCES = "stewart_model*.c"
 #: The header :func:`export` writes for a parameter set; it defines ``stewart_platform_params``.
 PARAMS_HEADER = "stewart_platform_params.h"
 
@@ -41,7 +46,7 @@ _HERE = Path(__file__).resolve().parent
 _LOCATIONS = (_HERE / "generated", _HERE.parent / "generated")
 
 def c_include_dir() -> str:
-    """The directory holding ``stewart_model.h`` and ``stewart_model.c`` (pass it to ``-I``)."""
+    """The directory holding ``stewart_model.h`` and the model's source files (pass it to ``-I``)."""
     for directory in _LOCATIONS:
         if (directory / HEADER).is_file() and (directory / SOURCE).is_file():
             return str(directory)
@@ -60,12 +65,15 @@ def c_flags() -> list[str]:
 
 
 def c_sources() -> list[str]:
-    """The C source files to compile with a program that uses ``stewart_model.h``."""
-    return [os.path.join(c_include_dir(), SOURCE)]
+    """The C source files to compile with a program that uses ``stewart_model.h`` (each on its
+    own, side by side if you like): ``stewart_model.c`` first, then the kernels' files."""
+    directory = Path(c_include_dir())
+    return [str(path) for path in sorted(directory.glob(SOURCES), key=lambda path: (path.name != SOURCE, path.name))]
 
 
 def export(directory: Any, params: PlatformParams | None = None) -> list[str]:
-    """Copy ``stewart_model.h`` and ``stewart_model.c`` into ``directory`` (created if needed).
+    """Copy ``stewart_model.h``, ``stewart_internal.h`` and the model's source files
+    (:func:`c_sources`) into ``directory`` (created if needed).
 
     With ``params``, also write ``stewart_platform_params.h``, which defines
     ``static const stewart_params stewart_platform_params`` with those parameters. Returns
@@ -77,7 +85,7 @@ def export(directory: Any, params: PlatformParams | None = None) -> list[str]:
     target.mkdir(parents=True, exist_ok=True)
     source = Path(c_include_dir())
     written = []
-    for name in (HEADER, SOURCE):
+    for name in [HEADER, INTERNAL_HEADER] + [Path(path).name for path in c_sources()]:
         (target / name).write_bytes((source / name).read_bytes())
         written.append(str(target / name))
     if params is not None:

@@ -19,16 +19,25 @@ ROOT = pathlib.Path(__file__).resolve().parent.parent
 def test_c_files_are_the_generators_output():
     # Run from the checkout (an editable install), the package points at generated/ itself.
     assert pathlib.Path(stewart.c_include_dir()) == ROOT / "generated"
-    assert stewart.c_sources() == [os.path.join(stewart.c_include_dir(), "stewart_model.c")]
+    units = sorted(p.name for p in (ROOT / "generated").glob("*.c") if p.name != "stewart_target.c")
+    assert stewart.c_sources() == [os.path.join(stewart.c_include_dir(), name)
+                                   for name in ["stewart_model.c"] + [u for u in units if u != "stewart_model.c"]]
+    assert len(units) > 10  # the public functions, and the kernels family by family
+
+
+def _model_files():
+    """The model's files an export copies: the header, the shared header, the sources."""
+    return [capi.HEADER, capi.INTERNAL_HEADER] + [pathlib.Path(path).name for path in stewart.c_sources()]
 
 
 def test_c_example_matches_the_package(tmp_path, figures):
     params = stewart.PlatformParams.preset("narayan2017")
     written = capi.export(tmp_path / "c", params)
-    assert written == [str(tmp_path / "c" / name) for name in (capi.HEADER, capi.SOURCE, capi.PARAMS_HEADER)]
-    for name in (capi.HEADER, capi.SOURCE):
+    assert written == [str(tmp_path / "c" / name) for name in _model_files() + [capi.PARAMS_HEADER]]
+    for name in _model_files():
         assert (tmp_path / "c" / name).read_bytes() == (ROOT / "generated" / name).read_bytes()
-    error = check_example(params, [tmp_path / "c"], [tmp_path / "c" / capi.SOURCE], tmp_path)
+    sources = [tmp_path / "c" / pathlib.Path(path).name for path in stewart.c_sources()]
+    error = check_example(params, [tmp_path / "c"], sources, tmp_path)
     figures("C example (examples/c) against the compiled kernel, relative", error, 1e-12)
 
 
@@ -38,8 +47,8 @@ def test_readme_shows_the_example_as_shipped():
 
 
 def test_export_without_params_writes_the_model_only(tmp_path):
-    assert capi.export(tmp_path) == [str(tmp_path / capi.HEADER), str(tmp_path / capi.SOURCE)]
-    assert sorted(p.name for p in tmp_path.iterdir()) == [capi.SOURCE, capi.HEADER]
+    assert capi.export(tmp_path) == [str(tmp_path / name) for name in _model_files()]
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(_model_files())
 
 
 def test_export_refuses_other_params(tmp_path):

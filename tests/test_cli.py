@@ -445,8 +445,9 @@ def test_c_export_writes_the_model_and_the_platform_header(tmp_path, capsys):
     params.save(tmp_path / "p.toml")
     code, out, _ = _run(["c-export", str(tmp_path / "c"), "--params", str(tmp_path / "p.toml")], capsys)
     assert code == 0 and "exported" in out
-    for name in ("stewart_model.h", "stewart_model.c"):
-        assert (tmp_path / "c" / name).read_bytes() == (pathlib.Path(stewart.c_include_dir()) / name).read_bytes()
+    sources = [pathlib.Path(path) for path in stewart.c_sources()]
+    for source in [pathlib.Path(stewart.c_include_dir()) / "stewart_model.h"] + sources:
+        assert (tmp_path / "c" / source.name).read_bytes() == source.read_bytes()
     assert (tmp_path / "c" / "stewart_platform_params.h").read_text() == stewart.capi.params_header(params)
     (tmp_path / "file").write_text("")
     code, _, err = _run(["c-export", str(tmp_path / "file")], capsys)

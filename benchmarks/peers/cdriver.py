@@ -14,9 +14,10 @@ ROOT = HERE.parent.parent
 
 
 def build_ours(workdir) -> pathlib.Path:
-    """The driver linked with our generated C (generated/stewart_model.c)."""
+    """The driver linked with our generated C (generated/stewart_model*.c)."""
     exe = pathlib.Path(workdir) / "driver_ours"
-    compile_c([HERE / "driver.c", ROOT / "generated" / "stewart_model.c"], exe, include=[ROOT / "generated"])
+    compile_c([HERE / "driver.c", *sorted((ROOT / "generated").glob("stewart_model*.c"))], exe,
+              include=[ROOT / "generated"])
     return exe
 
 

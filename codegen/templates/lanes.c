@@ -21,11 +21,6 @@
 typedef double stewart_vd __attribute__((vector_size(8 * STEWART_LANES)));
 typedef __typeof__((stewart_vd){0} < (stewart_vd){0}) stewart_vl;
 
-int stewart_batch_lanes(void)
-{
-    return STEWART_LANES;
-}
-
 static stewart_vd vsplat(double a)
 {
     stewart_vd v;

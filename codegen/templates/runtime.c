@@ -11,26 +11,6 @@
 
 /* ---- fixed helpers ---- */
 
-int stewart_is_axisymmetric(const stewart_params *p)
-{
-    return p->cylinder_inertia[1] == p->cylinder_inertia[2]
-        && p->piston_inertia[1] == p->piston_inertia[2];
-}
-
-int stewart_is_paper_model(const stewart_params *p)
-{
-    int i, k, zero = 1;
-    for (i = 0; i < 6; ++i) {
-        for (k = 0; k < 3; ++k) {
-            zero &= p->universal_joint_axes[i][k] == 0.0;
-        }
-    }
-    for (k = 0; k < 3; ++k) {
-        zero &= p->platform_com[k] == 0.0 && p->platform_inertia_products[k] == 0.0;
-    }
-    return zero;
-}
-
 /* 1 if a universal joint has a first axis (the legs turn with their joints), else 0. */
 static int legs_spin(const stewart_params *p)
 {

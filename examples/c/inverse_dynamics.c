@@ -1,10 +1,10 @@
 /* inverse_dynamics.c -- the actuator forces of a Stewart platform in motion, from plain C.
  *
- * Uses the generated model (stewart_model.h, stewart_model.c) and the parameters of a
+ * Uses the generated model (stewart_model.h and its source files) and the parameters of a
  * platform written by the Python package (stewart_platform_params.h). Build and run:
  *
  *   stewart c-export cdir --preset narayan2017
- *   cc -std=c99 -O2 -Icdir examples/c/inverse_dynamics.c cdir/stewart_model.c -lm -o inverse_dynamics
+ *   cc -std=c99 -O2 -Icdir examples/c/inverse_dynamics.c cdir/stewart_model*.c -lm -o inverse_dynamics
  *   ./inverse_dynamics
  *
  * (from Python: stewart.capi.export("cdir", stewart.PlatformParams.preset("narayan2017"))).

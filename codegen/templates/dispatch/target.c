@@ -1,6 +1,7 @@
-/* One compiled copy of stewart_model.c and its table, for one instruction set.
+/* The table of one compiled copy of the model, for one instruction set.
  *
- * The build compiles this file once per target, with that target's flags and
+ * The build compiles the model's units (stewart_model*.c) and this file once per target,
+ * with that target's flags and
  *   -DSTEWART_TARGET=<name>              the table's name: stewart_table_<name>
  *   -DSTEWART_TARGET_LEVEL="<level>"     the x86-64 level the CPU must have ("" for none)
  *   -DSTEWART_TARGET_FLAGS="<flags>"     the flags, for build_info
@@ -10,8 +11,6 @@
  *                                        table's scalar functions are the first copy's, which
  *                                        round as the batch functions of every copy do.
  */
-#define STEWART_JOIN_(a, b) a##_##b
-#define STEWART_JOIN(a, b) STEWART_JOIN_(a, b)
 #define STEWART_STRING_(a) #a
 #define STEWART_STRING(a) STEWART_STRING_(a)
 #if defined(__clang__)
@@ -22,12 +21,7 @@
 #define STEWART_COMPILER "unknown compiler"
 #endif
 
-#ifdef STEWART_PREFIX
-#define STEWART_BATCH_ONLY
-@RENAME@
-#endif
-
-#include "stewart_model.c"
+#include "stewart_internal.h"
 #include "stewart_dispatch.h"
 
 const stewart_table STEWART_JOIN(stewart_table, STEWART_TARGET) = {
