@@ -152,6 +152,13 @@ def count(name: str, value: Any, maximum: int) -> int:
     return number
 
 
+def seed(value: Any, name: str = "seed") -> int:
+    """A seed of random numbers: an int (not a bool) >= 0; ``ValueError`` naming ``name`` otherwise."""
+    if isinstance(value, _NOT_NUMBERS) or not isinstance(value, (int, np.integer)) or value < 0:
+        raise ValueError(f"{name}: expected a whole number >= 0, got {_describe(value)}")
+    return int(value)
+
+
 def thread_count(value: Any) -> int:
     """A thread count: an int (not a bool) from 1 to :data:`MAX_THREADS`."""
     return count("threads", value, MAX_THREADS)

@@ -110,7 +110,7 @@ def base_parameters(platform, *, samples: int = 200, seed: int = 0, friction: bo
     samples = _checks.count("samples", samples, 10**6)
     if samples < 10:
         raise ValueError(f"samples: need at least 10 states, got {samples}")
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(_checks.seed(seed))
     x, xd, xdd = random_states(platform.params, samples, rng)
     Y, ok = platform.regressor(x, xd, xdd, return_mask=True)
     if ok.sum() < 10:

@@ -588,7 +588,11 @@ def cmd_exactness(args) -> int:
     from . import exactness
 
     params, label = _params(args)
-    effect = exactness.leg_spin_effect(params, n_states=args.states, seed=args.seed)
+    try:
+        effect = exactness.leg_spin_effect(params, n_states=args.states, seed=args.seed)
+    except ValueError as exc:
+        source = f"--params {args.params}" if args.params else f"--preset {args.preset}"
+        raise UserError(_flags(str(exc), {"params": source, "seed": "--seed", "n_states": "--states"})) from None
     if args.json:
         print(json.dumps({"command": "exactness", "platform": params.name or "unnamed", "platform_source": label,
                           "states": args.states, "seed": args.seed, "assumed_axes": effect.assumed_axes,

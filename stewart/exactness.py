@@ -62,6 +62,7 @@ def leg_spin_effect(params: PlatformParams, n_states: int = 200, seed: int = 0) 
     True). ``n_states`` random states from ``seed``."""
     params = checked_params(params)
     n_states = _checks.count("n_states", n_states, 10**7)
+    seed = _checks.seed(seed)
     assumed = params.universal_joint_axes is None
     exact = params.with_universal_joints() if assumed else params
     paper = exact.replace(universal_joint_axes=None)

@@ -411,8 +411,7 @@ def design_excitation(platform: Platform, *, period: float = DEFAULT_PERIOD, har
     samples = SAMPLES_PER_HARMONIC * harmonics if samples is None else _checks.count("samples", samples, 100_000)
     starts = _checks.count("starts", starts, 1000)
     max_iterations = _checks.count("max_iterations", max_iterations, 100_000)
-    if isinstance(seed, bool) or not isinstance(seed, (int, np.integer)):
-        raise ValueError(f"seed: expected an integer, got {seed!r}")
+    seed = _checks.seed(seed)
     centre = _centre(platform, centre)
     bounds = limits(platform, centre, stroke_margin=stroke_margin, max_leg_velocity=max_leg_velocity,
                     max_leg_acceleration=max_leg_acceleration, force_limit=force_limit, min_margin=min_margin)

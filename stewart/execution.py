@@ -32,6 +32,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from . import _checks
+
 __all__ = ["Chunk", "Peak", "chunks", "combine", "run", "DEFAULT_CHUNK_SIZE"]
 
 #: States per chunk unless told otherwise: large enough that a task's overhead (Dask's is of
@@ -65,7 +67,7 @@ def chunks(n_states: int, chunk_size: int = DEFAULT_CHUNK_SIZE, seed: int | None
     n_states = _count("n_states", n_states, 0)
     chunk_size = _count("chunk_size", chunk_size, 1)
     if seed is not None:
-        seed = _count("seed", seed, 0)
+        seed = _checks.seed(seed)
     return [Chunk(i, start, min(start + chunk_size, n_states), seed)
             for i, start in enumerate(range(0, n_states, chunk_size))]
 

@@ -320,7 +320,7 @@ def synthetic_measurements(platform, trajectory, *, rate: float = 500.0, noise_l
             raise ValueError(f"{name}: must be >= 0, got {value}")
     t = np.arange(int(np.floor(trajectory.duration * rate)) + 1) / rate
     x, xd, xdd = trajectory.sample(t)
-    rng = np.random.default_rng(seed)
+    rng = np.random.default_rng(_checks.seed(seed))
     lengths = platform.leg_lengths(x) + noise_length * rng.standard_normal((len(t), 6))
     forces = platform.actuator_forces(x, xd, xdd) + noise_force * rng.standard_normal((len(t), 6))
     return Measurements(t, lengths, forces)
