@@ -763,7 +763,7 @@ _EXCITATION_FLAGS = {"period": "--period", "harmonics": "--harmonics", "centre":
                      "samples": "--samples", "starts": "--starts", "seed": "--seed", "rate": "--rate",
                      "max_leg_velocity": "--max-leg-velocity", "max_leg_acceleration": "--max-leg-acceleration",
                      "force_limit": "--force-limit", "min_margin": "--min-margin", "stroke_margin": "--stroke-margin",
-                     "max_iterations": "--max-iterations"}
+                     "max_iterations": "--max-iterations", "centre": "--centre"}
 
 
 def _excitation_report(design, label: str, files: list[str]) -> None:

@@ -99,14 +99,15 @@ class Limits:
         stroke, velocity, acceleration, force and margin; a limit holds where it is >= 0."""
         low, high = self.lengths
         half = 0.5 * (high - low)
-        stroke = np.min(np.minimum(lengths - low, high - lengths), axis=-1) / half
-        return np.stack([
-            stroke,
-            1.0 - np.max(np.abs(rates), axis=-1) / self.leg_velocity,
-            1.0 - np.max(np.abs(accelerations), axis=-1) / self.leg_acceleration,
-            1.0 - np.max(np.abs(forces), axis=-1) / self.force,
-            margins / self.margin - 1.0,
-        ], axis=-1)
+        with np.errstate(over="ignore"):  # a limit of 5e-324: a slack of -inf (broken) or +inf (ample)
+            stroke = np.min(np.minimum(lengths - low, high - lengths), axis=-1) / half
+            return np.stack([
+                stroke,
+                1.0 - np.max(np.abs(rates), axis=-1) / self.leg_velocity,
+                1.0 - np.max(np.abs(accelerations), axis=-1) / self.leg_acceleration,
+                1.0 - np.max(np.abs(forces), axis=-1) / self.force,
+                margins / self.margin - 1.0,
+            ], axis=-1)
 
     #: The names of the constraint kinds, in the order of :meth:`slack`.
     KINDS = ("stroke", "leg velocity", "leg acceleration", "actuator force", "singularity margin")
@@ -315,7 +316,10 @@ class _Problem:
             slack = self.limits.slack(lengths, rates, accelerations, forces, check.margin).reshape(m, k, 5)
         stacked = np.nan_to_num(self.base.reduce(regressor).reshape(m, k * 6, -1), nan=0.0)
         cond = _log_condition(stacked)
-        slack = np.where(np.isfinite(slack), slack, -1.0)
+        # A ratio to a limit near the smallest double overflows, to -inf where the limit is
+        # broken and to +inf where it holds; NaN is undefined, a broken limit. SLSQP needs
+        # finite values.
+        slack = np.nan_to_num(slack, nan=-1.0, posinf=1.0, neginf=-1.0)
         return cond, slack, check.ok.reshape(m, k).all(axis=1)
 
     def _gradient(self, z: np.ndarray):
@@ -438,8 +442,8 @@ def design_excitation(platform: Platform, *, period: float = DEFAULT_PERIOD, har
     from tqdm.auto import tqdm
 
     for _ in tqdm(range(starts), desc="excitation starts", disable=not progress):
-        guess = rng.normal(size=6 * series.width)
-        guess *= 0.5 * _largest_feasible(problem, guess, 0.0)
+        direction = rng.normal(size=6 * series.width)
+        guess = direction * 0.5 * _largest_feasible(problem, direction, 0.0)
         initial = guess
         solution = minimize(problem.objective, guess, jac=problem.objective_gradient, method="SLSQP",
                             constraints=[{"type": "ineq", "fun": problem.constraints,
@@ -450,19 +454,34 @@ def design_excitation(platform: Platform, *, period: float = DEFAULT_PERIOD, har
             z = z * _largest_feasible(problem, z, 0.0)
         value = problem.objective(z)
         if best is None or value < best[0]:
-            best = (value, initial, z, int(solution.nit))
+            best = (value, initial, z, int(solution.nit), direction)
 
-    _, start, z, iterations = best
+    _, start, z, iterations, direction = best
     check = _Problem(platform, base, bounds, series, centre,
                      np.arange(CHECK_DENSITY * harmonics) * (period / (CHECK_DENSITY * harmonics)),
                      platform.params.inertial_vector())
     factor = _largest_feasible(check, z, CHECK_SLACK)
     z = factor * z
     condition, initial = (problem.condition(v) for v in (z, start))
+    if not np.isfinite(condition):
+        raise ValueError(_no_motion(problem, direction))
     trajectory = series.trajectory(centre, z, periods)
     peaks, problems = _peaks(platform, trajectory, check.times, bounds)
     return Excitation(trajectory, condition, initial, tuple(base.names), bounds, peaks, not problems, factor,
                       iterations, starts, platform.params.name or "unnamed", problems)
+
+
+#: The argument of :func:`design_excitation` that sets each kind of limit (:attr:`Limits.KINDS`).
+_LIMIT_ARGUMENTS = ("stroke_margin", "max_leg_velocity", "max_leg_acceleration", "force_limit", "min_margin")
+
+
+def _no_motion(problem: _Problem, direction: np.ndarray) -> str:
+    """Why the design does not move (its condition number is inf): the arguments of the limits
+    that a motion 2^-30 times the random start ``direction`` already breaks."""
+    _, slack, _ = problem.evaluate(2.0**-30 * direction[None])
+    names = ", ".join(_LIMIT_ARGUMENTS[k] for k in range(len(_LIMIT_ARGUMENTS)) if np.min(slack[0, :, k]) < 0)
+    return (f"{names or 'centre'}: the limits leave no motion about the centre, so the design excites nothing "
+            "(condition number inf); widen them")
 
 
 def _peaks(platform: Platform, trajectory: FourierTrajectory, times: np.ndarray, bounds: Limits):
