@@ -84,8 +84,9 @@ def _moments(name: str, arr: np.ndarray) -> np.ndarray:
         raise ValueError(f"{name}: principal moments must be >= 0, got {arr.tolist()}")
     with np.errstate(over="ignore"):  # moments near the largest double: their sum is inf, the test holds
         total = arr.sum()
+        holds = [arr[k] <= total - arr[k] + 1e-12 * total for k in range(3)]
     for k in range(3):
-        if arr[k] > total - arr[k] + 1e-12 * total:
+        if not holds[k]:
             raise ValueError(
                 f"{name}: principal moments {arr.tolist()} violate the triangle inequality "
                 f"(moment {k} exceeds the sum of the other two)"
@@ -450,9 +451,9 @@ class PlatformParams:
         values = {"platform.m": m, **dict(zip(("platform.mx", "platform.my", "platform.mz"), m * com)),
                   **{f"platform.I{a}{b}": tensor[i, j] for (a, i), (b, j) in _TENSOR_ENTRIES}}
         for body, mass, distance, inertia in self._legs():
+            moment = mass * np.square(distance)  # a double: inf (refused by the constructor), not an OverflowError
             values.update({f"{body}.m": mass, f"{body}.mb": mass * distance, f"{body}.Ixx": inertia[0],
-                           f"{body}.Iyy": inertia[1] + mass * distance ** 2,
-                           f"{body}.Izz": inertia[2] + mass * distance ** 2})
+                           f"{body}.Iyy": inertia[1] + moment, f"{body}.Izz": inertia[2] + moment})
         for kind in ("viscous", "coulomb"):
             coefficients = getattr(self, f"{kind}_friction")
             values.update({f"friction.{kind}_{i}": 0.0 if coefficients is None else coefficients[i]
@@ -483,26 +484,30 @@ class PlatformParams:
                 return mass, np.zeros_like(first)
             return mass, first / mass
 
-        m, com = mass_and_offset("platform", np.array([value[f"platform.m{a}"] for a in "xyz"]))
-        tensor = np.array([[value[f"platform.I{min(a, b)}{max(a, b)}"] for b in "xyz"] for a in "xyz"])
-        tensor = tensor - m * (np.dot(com, com) * np.eye(3) - np.outer(com, com))
-        changes = {"platform_mass": m, "platform_com": com if np.any(com) or self.platform_com is not None else None,
-                   "platform_inertia": _inertia_of(tensor)}
-        for body in ("cylinder", "piston"):
-            mass, distance = mass_and_offset(body, np.array([value[f"{body}.mb"]]))
-            if distance[0] < 0.0:
-                raise ValueError(f"pi: {body}.mb is negative ({value[f'{body}.mb']:g}); the centre of mass "
-                                 "lies on the leg between its joints")
-            moments = np.array([value[f"{body}.Ixx"], value[f"{body}.Iyy"] - mass * distance[0] ** 2,
-                                value[f"{body}.Izz"] - mass * distance[0] ** 2])
-            changes.update({f"{body}_mass": mass, f"{body}_com_distance": float(distance[0]),
-                            f"{body}_inertia": _inertia_of(moments)})
-        for kind in ("viscous", "coulomb"):
-            coefficients = np.array([value[f"friction.{kind}_{i}"] for i in range(6)])
-            if np.any(coefficients < 0.0):
-                raise ValueError(f"pi: friction.{kind}_{int(np.argmax(coefficients < 0.0))} is negative")
-            changes[f"{kind}_friction"] = (coefficients if np.any(coefficients)
-                                           or getattr(self, f"{kind}_friction") is not None else None)
+        # Values that overflow (a first moment over a tiny mass ...) are refused by the
+        # constructor, naming the field.
+        with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+            m, com = mass_and_offset("platform", np.array([value[f"platform.m{a}"] for a in "xyz"]))
+            tensor = np.array([[value[f"platform.I{min(a, b)}{max(a, b)}"] for b in "xyz"] for a in "xyz"])
+            tensor = tensor - m * (np.dot(com, com) * np.eye(3) - np.outer(com, com))
+            changes = {"platform_mass": m,
+                       "platform_com": com if np.any(com) or self.platform_com is not None else None,
+                       "platform_inertia": _inertia_of(tensor)}
+            for body in ("cylinder", "piston"):
+                mass, distance = mass_and_offset(body, np.array([value[f"{body}.mb"]]))
+                if distance[0] < 0.0:
+                    raise ValueError(f"pi: {body}.mb is negative ({value[f'{body}.mb']:g}); the centre of mass "
+                                     "lies on the leg between its joints")
+                moments = np.array([value[f"{body}.Ixx"], value[f"{body}.Iyy"] - mass * distance[0] ** 2,
+                                    value[f"{body}.Izz"] - mass * distance[0] ** 2])
+                changes.update({f"{body}_mass": mass, f"{body}_com_distance": float(distance[0]),
+                                f"{body}_inertia": _inertia_of(moments)})
+            for kind in ("viscous", "coulomb"):
+                coefficients = np.array([value[f"friction.{kind}_{i}"] for i in range(6)])
+                if np.any(coefficients < 0.0):
+                    raise ValueError(f"pi: friction.{kind}_{int(np.argmax(coefficients < 0.0))} is negative")
+                changes[f"{kind}_friction"] = (coefficients if np.any(coefficients)
+                                               or getattr(self, f"{kind}_friction") is not None else None)
         try:
             return self.replace(**changes)
         except ValueError as exc:
