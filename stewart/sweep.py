@@ -236,7 +236,7 @@ def parse(data: dict, where: str = "") -> SweepSpec:
         designs = tuple({name: values[name][k] for name in values} for k in range(count))
     for k, design in enumerate(designs):
         try:
-            design_params(base, design)
+            kinematics.home_pose(design_params(base, design))  # every design stands at a home pose
         except ValueError as exc:
             raise ValueError(f"parameters: design {k} ({design}) is not a valid platform: {exc}") from None
     env = data.get("envelope")

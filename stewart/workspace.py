@@ -199,7 +199,8 @@ def reachability(platform, poses, *, mode: float | None = None, name: str = "pos
     if mode is None:
         mode = assembly_mode(plat, plat.home_pose)
     neutral = _neutral_axes(plat)
-    blocks = [_block(plat, x[i:i + _BLOCK], mode, neutral) for i in range(0, len(x), _BLOCK)]
+    # (no pose: one empty block)
+    blocks = [_block(plat, x[i:i + _BLOCK], mode, neutral) for i in range(0, max(len(x), 1), _BLOCK)]
     parts = {key: np.concatenate([b[key] for b in blocks]) if blocks[0][key] is not None else None
              for key in blocks[0]}
     return Reachability(**parts, limits=plat.params.leg_length_limits, params=plat.params)
@@ -605,7 +606,7 @@ def _axes(value) -> tuple[str, tuple[int, int, int]]:
     """The kind of a pair of axis names and the indices of the pair and the third axis."""
     if isinstance(value, str):  # "xy", "x,z" or "psi,theta"
         value = value.replace(",", " ").split() if ("," in value or " " in value) else list(value)
-    names = tuple(value)
+    names = tuple(value) if isinstance(value, (list, tuple)) else ()
     for kind, (all_names, _) in KINDS.items():
         if len(names) == 2 and names[0] != names[1] and set(names) <= set(all_names):
             first, second = all_names.index(names[0]), all_names.index(names[1])
