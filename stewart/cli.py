@@ -434,6 +434,8 @@ def cmd_optimize(args) -> int:
 
         files += plot_move(move, args.plot, (force_limit, params.leg_length_limits))
     code = 0 if move.ok else OUTCOMES["failed"]
+    if not move.ok:  # on stderr, with --json too: stdout holds only the summary
+        print(f"stewart optimize: error: IPOPT did not solve the problem ({move.status})", file=sys.stderr)
     if args.json:
         print(json.dumps({"command": "optimize", "platform": params.name or "unnamed", "platform_source": label,
                           "ok": move.ok, "status": move.status, "exit_code": code, "effort": move.effort,
@@ -447,8 +449,6 @@ def cmd_optimize(args) -> int:
     print("leg length range [m]: " + f"{np.min(move.lengths):.4g} .. {np.max(move.lengths):.4g}")
     for path in files:
         print(f"written: {path}")
-    if not move.ok:
-        print(f"stewart optimize: error: IPOPT did not solve the problem ({move.status})", file=sys.stderr)
     return code
 
 
@@ -674,6 +674,8 @@ def cmd_identify(args) -> int:
         except ValueError as exc:
             raise UserError(f"{flag}{exc}") from None
 
+    if not args.data:
+        raise UserError("DATA.csv: the file name is empty; give the log to identify from")
     data = measurements("", args.data)
     try:
         result = identify.identify(plat, data, filter=args.filter, cutoff=args.cutoff, friction=args.friction)
@@ -905,6 +907,8 @@ def cmd_sweep(args) -> int:
         _check_output(flag, getattr(args, flag[2:]))
     if args.plot:
         _check_plotting("--plot")
+    if not args.design:
+        raise UserError("DESIGN.toml: the file name is empty; give the sweep file")
     if not os.path.isfile(args.design):
         raise UserError(f"{args.design}: no such file")
     try:
