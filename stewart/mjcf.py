@@ -57,6 +57,7 @@ from xml.sax.saxutils import quoteattr
 
 import numpy as np
 
+from . import _checks
 from .kinematics import euler_rate_jacobian, home_pose, rotation
 from .params import PlatformParams, checked_params
 
@@ -92,7 +93,7 @@ def _jointed(platform_or_params) -> PlatformParams:
 
 
 def _pose(name: str, value) -> np.ndarray:
-    pose = np.asarray(value, dtype=float)
+    pose = _checks.state_array(name, value)
     if pose.shape != (6,) or not np.all(np.isfinite(pose)):
         raise ValueError(f"{name}: expected 6 finite numbers [x, y, z, psi, theta, phi], got {value!r}")
     return pose
@@ -103,8 +104,11 @@ def _legs(params: PlatformParams, x: np.ndarray, name: str = "x"):
     ``z = x x y``), lengths and ``|a_i x u_i|`` at the pose ``x``; a leg of zero length or
     parallel to its axis (the joint's gimbal lock) is a ``ValueError`` naming ``name``."""
     arms = params.platform_points @ rotation(x).T
-    legs = x[:3] + arms - params.base_points
-    lengths = np.linalg.norm(legs, axis=1)
+    with np.errstate(over="ignore", invalid="ignore"):
+        legs = x[:3] + arms - params.base_points
+        lengths = np.linalg.norm(legs, axis=1)
+    if not np.all(np.isfinite(lengths)):
+        raise ValueError(f"{name}: out of numeric range (its leg lengths overflow double precision)")
     with np.errstate(invalid="ignore", divide="ignore"):
         units = legs / lengths[:, None]
         axes = params.universal_joint_axes

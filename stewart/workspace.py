@@ -416,7 +416,7 @@ class WorkspaceJob:
         lo, hi = self.region[:, 0], self.region[:, 1]
         if self.resolution:
             cells = np.unravel_index(np.arange(chunk.start, chunk.stop), (self.resolution,) * 3)
-            coords = lo + (hi - lo) * (np.column_stack(cells) + 0.5) / self.resolution
+            coords = lo + (hi - lo) * ((np.column_stack(cells) + 0.5) / self.resolution)  # within the region
         else:
             coords = lo + (hi - lo) * chunk.rng().random((chunk.size, 3))
         fixed = np.broadcast_to(self.fixed, (chunk.size, 3))
@@ -645,7 +645,7 @@ def workspace_slice(platform, axes="xy", at=None, *, orientation=(0.0, 0.0, 0.0)
         region = _region("region", np.vstack([region, [0.0, 1.0]]))[:2]
     at = float(base[third]) if at is None else _checks.real("at", at)
     n = _checks.count("resolution", resolution, 2000)
-    u, v = ((lo + (hi - lo) * (np.arange(n) + 0.5) / n) for lo, hi in region)
+    u, v = ((lo + (hi - lo) * ((np.arange(n) + 0.5) / n)) for lo, hi in region)
     coords = np.empty((n * n, 3))
     vv, uu = np.meshgrid(v, u, indexing="ij")
     coords[:, first], coords[:, second], coords[:, third] = uu.ravel(), vv.ravel(), at
