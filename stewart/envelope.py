@@ -124,7 +124,8 @@ class Box:
         low, high = x.min(axis=0), x.max(axis=0)
         with np.errstate(over="ignore", invalid="ignore"):  # the Box refuses what overflows, naming the bound
             pad = margin * (high - low)
-            bounds = (low - pad, high + pad, (1 + margin) * np.abs(xd).max(axis=0), (1 + margin) * np.abs(xdd).max(axis=0))
+            bounds = (low - pad, high + pad, (1 + margin) * np.abs(xd).max(axis=0),
+                      (1 + margin) * np.abs(xdd).max(axis=0))
         try:
             return cls(*bounds)
         except ValueError as exc:
@@ -236,7 +237,8 @@ class Trajectories:
         dt = _step(self.dt)
         counts = [_sample_count(f"trajectory {k}", duration, dt) for k, duration in enumerate(durations)]
         if sum(counts) > MAX_STATES:
-            raise ValueError(f"dt: {dt:g} s samples the trajectories {sum(counts):.3g} times, more than {MAX_STATES:.0e}")
+            raise ValueError(f"dt: {dt:g} s samples the trajectories {sum(counts):.3g} times, more than "
+                             f"{MAX_STATES:.0e}")
         object.__setattr__(self, "motions", motions)
         object.__setattr__(self, "dt", dt)
         object.__setattr__(self, "_counts", tuple(counts))
