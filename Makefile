@@ -46,7 +46,7 @@ $(C_TEST): tests/c/test_model.c tests/c/reference_values.h $(KERNEL)
 # Every test but the comparisons with the peer models (make test-peers), with coverage.
 test: build $(C_TEST)
 	./$(C_TEST)
-	$(PY) -m pytest -q -m "not peers" --cov=stewart --cov-report=term
+	$(PY) -m pytest -q -m "not peers and not ports" --cov=stewart --cov-report=term
 
 # The agreement of the benchmarks' peer models with the kernel: the sympy route runs with
 # the dev extra (a minute and a half of compiling); CasADi, PyDy and MuJoCo with the peers
@@ -57,8 +57,9 @@ test-peers: build
 # The generated C and its C test under other compilers and for other CPUs (tests/c/ports.py:
 # clang, and gcc and clang for aarch64 run under qemu-user; a missing tool is installed with
 # apt-get when run as root, else its port prints SKIPPED), then make test-wheels.
-test-ports: $(INSTALLED)
+test-ports: build
 	$(PY) tests/c/ports.py
+	$(PY) -m pytest -q -m ports tests/test_build.py
 	$(MAKE) test-wheels
 
 # The packaging check on each other supported Python found (python3.X on the PATH, or pyenv's;

@@ -1,6 +1,7 @@
 """The portable build: the copies of the model compiled for each instruction set, the choice
-between them at import (``STEWART_SIMD``), ``stewart.build_info()``, and a build with the
-baseline flags only and without OpenMP (its batches on plain threads)."""
+between them at import (``STEWART_SIMD``), ``stewart.build_info()``, and (``ports``: make
+test-ports, as it compiles the package again) a build with the baseline flags only and without
+OpenMP (its batches on plain threads)."""
 
 import json
 import os
@@ -141,7 +142,7 @@ def _tree_env(tree):
     return env
 
 
-@pytest.mark.slow
+@pytest.mark.ports
 def test_baseline_build_without_openmp(baseline_tree):
     info = json.loads(run_python(["-c", "import json, stewart; print(json.dumps(stewart.build_info()))"],
                                  _tree_env(baseline_tree), baseline_tree))
@@ -150,7 +151,7 @@ def test_baseline_build_without_openmp(baseline_tree):
     assert info["openmp"] is False
 
 
-@pytest.mark.slow
+@pytest.mark.ports
 def test_baseline_build_plain_threads_agree_with_the_portable_build(baseline_tree, baseline, tmp_path):
     """Batches split over two plain threads give the portable baseline's results."""
     result = run_paths(tmp_path / "threads.npz", threads=2, cwd=baseline_tree, env=_tree_env(baseline_tree))
@@ -158,7 +159,7 @@ def test_baseline_build_plain_threads_agree_with_the_portable_build(baseline_tre
     assert_same_results(result, baseline)
 
 
-@pytest.mark.slow
+@pytest.mark.ports
 def test_baseline_build_runs_the_suite_subset(baseline_tree):
     out = run_python(["-m", "pytest", "-q", "-n", "0", "-p", "no:cacheprovider", "-m", "not slow", *SUBSET],
                      _tree_env(baseline_tree), baseline_tree)
