@@ -176,6 +176,12 @@ def _check_output(flag: str, path: str | None, directory: bool = False) -> None:
         raise UserError(f"{flag} {path}: the directory {parent} is not writable")
 
 
+def _check_parameter_file_name(flag: str, path: str | None) -> None:
+    """A file to write parameters or a series to: its format is in its name (.toml or .json)."""
+    if path and not path.lower().endswith((".toml", ".json")):
+        raise UserError(f"{flag} {path}: give a .toml or .json file name")
+
+
 def _check_plotting(flag: str) -> None:
     try:
         import matplotlib  # noqa: F401
@@ -661,6 +667,7 @@ def cmd_identify(args) -> int:
 
     for flag in ("--output", "--report", "--plot"):
         _check_output(flag, getattr(args, flag[2:]))
+    _check_parameter_file_name("--output", args.output)
     if args.plot:
         _check_plotting("--plot")
         if not args.validate:
@@ -680,7 +687,8 @@ def cmd_identify(args) -> int:
     try:
         result = identify.identify(plat, data, filter=args.filter, cutoff=args.cutoff, friction=args.friction)
     except ValueError as exc:
-        raise UserError(_flags(str(exc), {"cutoff": "--cutoff", "measurements": args.data})) from None
+        raise UserError(_flags(str(exc), {"cutoff": "--cutoff", "measurements": args.data, "forces": args.data})) \
+            from None
     print(f"# platform {label}: identified from {args.data} ({len(data.t)} samples at {data.rate:.6g} Hz, "
           f"{args.filter} filter, cut-off {args.cutoff:g} Hz)")
     print(result.table())
@@ -691,8 +699,8 @@ def cmd_identify(args) -> int:
             t, predicted, measured, rms = identify.validation(result, plat, held, filter=args.filter,
                                                               cutoff=args.cutoff)
         except ValueError as exc:
-            raise UserError(_flags(str(exc), {"cutoff": "--cutoff", "measurements": f"--validate {args.validate}"})) \
-                from None
+            raise UserError(_flags(str(exc), {"cutoff": "--cutoff", "measurements": f"--validate {args.validate}",
+                                              "forces": f"--validate {args.validate}"})) from None
         spread = np.sqrt(np.mean((measured - measured.mean(axis=0)) ** 2, axis=0))
         print(f"held-out run {args.validate}: RMS error per leg [N] {', '.join(f'{v:.3g}' for v in rms)} "
               f"(force spread {', '.join(f'{v:.3g}' for v in spread)})")
@@ -721,8 +729,7 @@ def cmd_identify(args) -> int:
 def cmd_excitation(args) -> int:
     for flag in ("--csv", "--output", "--plot"):
         _check_output(flag, getattr(args, flag[2:]))
-    if args.output and not args.output.lower().endswith((".toml", ".json")):
-        raise UserError(f"--output {args.output}: give a .toml or .json file name")
+    _check_parameter_file_name("--output", args.output)
     if args.plot:
         _check_plotting("--plot")
     params, label = _params(args)

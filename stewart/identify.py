@@ -44,7 +44,7 @@ import numpy as np
 import scipy.signal
 
 from . import _checks, csvfile
-from .errors import WrongTypeError
+from .errors import ConvergenceError, WrongTypeError
 from .base_parameters import BaseParameters, base_parameters
 from .params import NonAxisymmetricLegWarning, PlatformParams
 from .platform import checked_platform
@@ -218,24 +218,31 @@ def estimate(platform, x, xd, xdd, forces, *, friction: bool = True, base: BaseP
         raise ValueError(f"measurements: the model is undefined at sample(s) {bad[:5].tolist()} (a singular pose)")
     A = base.reduce(Y[..., :len(base.columns)]) / base.scale  # (n, 6, r), columns in units of their size
     grams = np.stack([_gram(A[:, leg]) for leg in range(6)])  # per leg A_i^T A_i
-    moments = np.einsum("nlr,nl->lr", A, forces)               # per leg A_i^T f_i
+    with np.errstate(over="ignore", invalid="ignore"):
+        moments = np.einsum("nlr,nl->lr", A, forces)           # per leg A_i^T f_i
+    if not np.all(np.isfinite(moments)):
+        raise ValueError("forces: too large for double precision (the least squares overflow)")
     condition = _condition(grams.sum(axis=0) / n)
     if not condition <= MAX_CONDITION:
         raise ValueError(f"measurements: the trajectory does not excite every base parameter (condition number "
                          f"{condition:.3g} > {MAX_CONDITION:.0e}); move every axis, at several speeds")
     # normal equations of the scaled columns (their condition is at most MAX_CONDITION)
-    beta = np.linalg.solve(grams.sum(axis=0), moments.sum(axis=0))
-    sigma = np.sqrt(np.mean((forces - A @ beta) ** 2, axis=0))
-    weights = 1.0 / np.maximum(sigma, 1e-12 * max(np.max(sigma), np.finfo(float).tiny))
-    normal = np.einsum("l,lrs->rs", weights ** 2, grams)
-    beta = np.linalg.solve(normal, np.einsum("l,lr->r", weights ** 2, moments))
-    residual = (forces - A @ beta) * weights
-    dof = max(residual.size - base.rank, 1)
-    covariance = np.linalg.inv(normal) * (np.sum(residual ** 2) / dof)
-    return Identification(base=base, estimates=beta / base.scale,
-                          standard_errors=np.sqrt(np.diag(covariance)) / base.scale,
-                          residual_rms=np.sqrt(np.mean((forces - A @ beta) ** 2, axis=0)),
-                          condition_number=condition, samples=n, prior=platform.params)
+    with np.errstate(over="ignore", invalid="ignore"):  # forces near the largest double: refused below
+        beta = np.linalg.solve(grams.sum(axis=0), moments.sum(axis=0))
+        sigma = np.sqrt(np.mean((forces - A @ beta) ** 2, axis=0))
+        weights = 1.0 / np.maximum(sigma, 1e-12 * max(np.max(sigma), np.finfo(float).tiny))
+        normal = np.einsum("l,lrs->rs", weights ** 2, grams)
+        beta = np.linalg.solve(normal, np.einsum("l,lr->r", weights ** 2, moments))
+        residual = (forces - A @ beta) * weights
+        dof = max(residual.size - base.rank, 1)
+        covariance = np.linalg.inv(normal) * (np.sum(residual ** 2) / dof)
+        result = Identification(base=base, estimates=beta / base.scale,
+                                standard_errors=np.sqrt(np.diag(covariance)) / base.scale,
+                                residual_rms=np.sqrt(np.mean((forces - A @ beta) ** 2, axis=0)),
+                                condition_number=condition, samples=n, prior=platform.params)
+    if not all(np.all(np.isfinite(v)) for v in (result.estimates, result.standard_errors, result.residual_rms)):
+        raise ValueError("forces: too large for double precision (the estimates or their errors overflow)")
+    return result
 
 
 def differentiate(measurements: Measurements, poses: np.ndarray, *, filter: str = "savgol", cutoff: float = 10.0):
@@ -271,6 +278,15 @@ def differentiate(measurements: Measurements, poses: np.ndarray, *, filter: str 
     return x[keep], xd[keep], xdd[keep], measurements.forces[keep]
 
 
+def _poses(platform, measurements: Measurements) -> np.ndarray:
+    """The poses of the logged leg lengths (forward kinematics from home); a
+    :class:`~stewart.ConvergenceError` naming ``measurements`` where none is found."""
+    try:
+        return platform.forward_kinematics(measurements.lengths, platform.home_pose)
+    except ConvergenceError as exc:
+        raise ConvergenceError(f"measurements: the leg lengths are not this platform's ({exc})", exc.rows) from None
+
+
 def _checked_measurements(value) -> Measurements:
     if not isinstance(value, Measurements):
         raise WrongTypeError(f"measurements: expected stewart.identify.Measurements, got {type(value).__name__}")
@@ -283,7 +299,7 @@ def identify(platform, measurements: Measurements, *, filter: str = "savgol", cu
     from ``measurements`` (see the module's text)."""
     checked_platform(platform)
     _checked_measurements(measurements)
-    poses = platform.forward_kinematics(measurements.lengths, platform.home_pose)
+    poses = _poses(platform, measurements)
     x, xd, xdd, forces = differentiate(measurements, poses, filter=filter, cutoff=cutoff)
     return estimate(platform, x, xd, xdd, forces, friction=friction, base=base)
 
@@ -296,7 +312,7 @@ def validation(result: Identification, platform, measurements: Measurements, *, 
         raise WrongTypeError(f"result: expected a stewart.identify.Identification, got {type(result).__name__}")
     checked_platform(platform)
     _checked_measurements(measurements)
-    poses = platform.forward_kinematics(measurements.lengths, platform.home_pose)
+    poses = _poses(platform, measurements)
     x, xd, xdd, forces = differentiate(measurements, poses, filter=filter, cutoff=cutoff)
     window = (len(measurements.t) - len(x)) // 2
     predicted = result.predict(x, xd, xdd)
