@@ -21,13 +21,14 @@ def build_ours(workdir) -> pathlib.Path:
     return exe
 
 
-def build_casadi(workdir, c_source, *, function=None, width: int = 6, timeout=None) -> tuple[pathlib.Path, float]:
+def build_casadi(workdir, c_source, *, function=None, width: int = 6, timeout=None,
+                 extra=()) -> tuple[pathlib.Path, float]:
     """The driver linked with CasADi's generated C: its ``stewart_casadi_id`` and
     ``stewart_casadi_fd``, or the one ``function`` for both modes, returning ``width``
-    doubles a state. Returns the executable and the compile time (``timeout``: see
-    :func:`compile_c`)."""
+    doubles a state, compiled with the ``extra`` flags after the peers' own (a path's flags).
+    Returns the executable and the compile time (``timeout``: see :func:`compile_c`)."""
     exe = pathlib.Path(workdir) / f"driver_{function or 'casadi'}"
-    extra = ["-DPEER_CASADI", f"-DOUT_WIDTH={width}"]
+    extra = ["-DPEER_CASADI", f"-DOUT_WIDTH={width}", *extra]
     if function:
         extra += [f"-DPEER_ID={function}", f"-DPEER_FD={function}"]
     seconds = compile_c([HERE / "driver.c", c_source], exe, include=[pathlib.Path(c_source).parent], extra=extra,
