@@ -1,10 +1,11 @@
-"""Property-based fuzzing of the Python API: random malformed and edge inputs at every
-public function.
+"""Property-based fuzzing of the Python API and the command line: random malformed and edge
+inputs at every public function and the studies' commands.
 
 The contract every call must keep, whatever it is given:
 
-* it returns within a few seconds (no hang) and does not crash the interpreter — the
-  compiled kernel is fuzzed in a separate interpreter, so a crash fails the test;
+* it returns within a few seconds (no hang) and does not crash the interpreter — what
+  hands arrays to the compiled kernel as given (the Platform methods, the parameters'
+  compiled model) is fuzzed in a separate interpreter, so a crash fails the test;
 * it returns finite values only, except rows a ``return_mask`` marks as failed;
 * otherwise it raises ``ValueError`` or ``TypeError`` (the package's ``SingularityError``
   and ``ConvergenceError`` are ``ValueError``\\ s) whose message names the argument, or
@@ -12,7 +13,9 @@ The contract every call must keep, whatever it is given:
   ``RuntimeWarning``;
 * valid values in an unusual layout or dtype (big-endian, unaligned, strided, reversed,
   Fortran-ordered, read-only, float32, integers, nested lists) give the same result as
-  the same values as a plain C-contiguous float64 array, the independent oracle.
+  the same values as a plain C-contiguous float64 array, the independent oracle;
+* a ``stewart`` command, run in this process, succeeds or exits with one of its codes and
+  no traceback, an input error as one line naming the flag or file the user typed.
 
 The examples are derandomized, so a run is reproducible; ``STEWART_FUZZ_EXAMPLES=N``
 raises the number of examples (and draws them at random) for a longer search.
@@ -20,10 +23,14 @@ raises the number of examples (and draws them at random) for a longer search.
 
 from __future__ import annotations
 
+import atexit
 import contextlib
 import dataclasses
+import functools
+import io
 import json
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -39,7 +46,9 @@ from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
 import stewart
-from stewart import ConvergenceError, PlatformParams, SingularityError, reference
+import stewart.trajectory
+from stewart import (ConvergenceError, PlatformParams, SingularityError, envelope, excitation, reference, sweep,
+                     workspace)
 from stewart.control import leg_masses
 from stewart.paramfile import dumps_toml
 from conftest import LAYOUTS, PLATFORM_METHODS, random_states, valid_arguments
@@ -277,9 +286,62 @@ def fuzz_one_definition_of_a_state(x):
         np.testing.assert_allclose(kernel[1], numpy[1], rtol=1e-9, atol=1e-12)
 
 
+#: A general model (a payload off-centre) with friction in every leg, and its valid arguments.
+GENERAL = stewart.Platform(PARAMS.with_payload(0.5, [0.01, -0.02, 0.03], [1e-3, 2e-3, 3e-3]).replace(
+    viscous_friction=np.full(6, 20.0), coulomb_friction=np.full(6, 1.5)))
+GENERAL_SINGLE, GENERAL_BATCH = valid_arguments(GENERAL), valid_arguments(GENERAL, 3, seed=2)
+#: Platform methods beyond :data:`conftest.PLATFORM_METHODS`'s kernel functions: the regressor,
+#: the friction the Python layer adds, RK4 steps (with their Jacobians) and the derivatives,
+#: fuzzed on the preset and on :data:`GENERAL`.
+EXTRA_METHODS = {
+    "regressor": ("x", "xd", "xdd"),
+    "friction_forces": ("x", "xd"),
+    "actuator_forces": ("x", "xd", "xdd"),
+    "rk4_step": ("x", "xd", "tau", "dt"),
+    "inverse_dynamics_derivatives": ("x", "xd", "xdd"),
+    "forward_dynamics_derivatives": ("x", "xd", "tau"),
+}
+
+
+@fuzz_settings(80)
+@given(st.sampled_from(sorted(EXTRA_METHODS)), st.booleans(), st.booleans(), st.booleans(), st.data())
+def fuzz_platform_extras(method, general, return_mask, jacobians, data):
+    """The regressor, friction and actuator forces, RK4 steps and the derivatives, with and
+    without ``return_mask``: the contract, and the oracle for valid values in other layouts."""
+    _example()
+    plat = GENERAL if general else PLAT
+    valid = data.draw(st.sampled_from([GENERAL_SINGLE, GENERAL_BATCH] if general else [SINGLE, BATCH]))
+    names = EXTRA_METHODS[method]
+    args, plain, fuzzed = [], [], False
+    for name in names:
+        kind = data.draw(st.sampled_from(["valid", "layout", "junk"]))
+        if name == "dt":
+            value = 1e-3 if kind != "junk" else data.draw(scalars())
+            args.append(value)
+            plain.append(value)
+            fuzzed |= kind == "junk"
+        elif kind == "valid":
+            args.append(valid[name])
+            plain.append(valid[name])
+        elif kind == "layout":
+            value, oracle = data.draw(layouts(valid[name]))
+            args.append(value)
+            plain.append(oracle)
+        else:
+            args.append(data.draw(junk(valid[name])))
+            fuzzed = True
+    options = {"return_mask": True} if return_mask else {}
+    if method == "rk4_step":
+        options["jacobians"] = jacobians
+    got = kept_contract(lambda: getattr(plat, method)(*args, **options), names, mask=return_mask)
+    if not fuzzed:
+        same_outcome(got, kept_contract(lambda: getattr(plat, method)(*plain, **options), names, mask=return_mask))
+
+
 #: Fuzz functions that reach the compiled kernel; ``test_isolated`` runs each in a fresh
 #: interpreter, so that a crash (the kernel once segfaulted on 0-d arrays) fails the test.
-ISOLATED = ["fuzz_platform", "fuzz_one_definition_of_a_state", "fuzz_controllers", "fuzz_parameter_fields"]
+ISOLATED = ["fuzz_platform", "fuzz_one_definition_of_a_state", "fuzz_controllers", "fuzz_parameter_fields",
+            "fuzz_platform_extras"]
 
 
 @pytest.mark.slow
@@ -437,6 +499,32 @@ def test_parameter_files_keep_the_contract(fmt, content):
         kept_contract(lambda: PlatformParams.load(path), (str(path),))
 
 
+PI = PARAMS.inertial_vector()
+GENERAL_PI = GENERAL.params.inertial_vector()
+
+
+def _scaled(vector: np.ndarray, factor: float) -> np.ndarray:
+    with np.errstate(over="ignore", invalid="ignore"):
+        return vector * factor
+
+
+@fuzz_settings(120)
+@given(st.dictionaries(st.sampled_from(FIELDS), scalars(), max_size=2),
+       st.one_of(st.sampled_from([PI, GENERAL_PI]), perturbed(PI), perturbed(GENERAL_PI), junk(PI),
+                 st.builds(_scaled, st.sampled_from([PI, GENERAL_PI]), st.sampled_from(EDGE_FLOATS))))
+def test_inertial_vectors_keep_the_contract(changes, pi):
+    """inertial_vector of any parameter set that is accepted is finite, and
+    with_inertial_vector takes a vector back to parameters with that vector (the oracle) or
+    refuses it naming ``pi``."""
+    outcome = kept_contract(lambda: PARAMS.replace(**changes), FIELDS)
+    params = outcome[1] if outcome[0] == "ok" else PARAMS
+    own = kept_contract(params.inertial_vector, ())
+    assert own[0] == "ok" and own[1].shape == PI.shape
+    back = kept_contract(lambda: params.with_inertial_vector(pi), ("pi",))
+    if back[0] == "ok":
+        np.testing.assert_allclose(back[1].inertial_vector(), pi, rtol=1e-9, atol=1e-9 * np.max(np.abs(pi)))
+
+
 # ---- controllers and trajectories --------------------------------------------------
 
 CONTROLLERS = {
@@ -468,6 +556,8 @@ def fuzz_controllers(name, data):
     outcome = kept_contract(lambda: build(*args), names)
     if outcome[0] == "ok" and name != "leg_masses":
         for field, value in dataclasses.asdict(outcome[1]).items():
+            if value is None:  # an Actuators value left to the platform's parameters
+                continue
             value = np.asarray(value)
             if field == "force_limit":  # +inf: no limit
                 value = value[~np.isposinf(value)]
@@ -497,3 +587,467 @@ def test_trajectories_keep_the_contract(data):
     if outcome[0] == "ok":
         t = data.draw(st.one_of(st.sampled_from(EDGE_FLOATS), scalars(), hnp.arrays(np.float64, (5,))))
         kept_contract(lambda: outcome[1].sample(t), ("t",))
+
+
+# ---- identification, envelopes, workspaces, sweeps, excitation, the instruction-set path ----
+
+HOME = PLAT.home_pose
+_AMPLITUDES = np.array([0.003] * 3 + [0.02] * 3)[:, None]
+_RNG = np.random.default_rng(0)
+#: A periodic motion that excites every base parameter.
+EXCITING = stewart.trajectory.FourierTrajectory(HOME, 2.0, _RNG.normal(size=(6, 3)) * _AMPLITUDES,
+                                                _RNG.normal(size=(6, 3)) * _AMPLITUDES)
+
+
+@functools.cache
+def _identify():
+    """stewart.identify, imported when first needed (scipy.signal takes a second to import,
+    which each interpreter of ``test_isolated`` would pay)."""
+    from stewart import identify
+
+    return identify
+
+
+@functools.cache
+def _log():
+    """A 2 s log of :data:`GENERAL` (the preset with a payload and friction) following
+    :data:`EXCITING` at 100 Hz."""
+    return _identify().synthetic_measurements(GENERAL, EXCITING, rate=100.0)
+
+
+NOT_PLATFORMS = [PARAMS, None, "narayan2017", {}, 1.0]
+#: Sample counts and seeds: small ones that run in milliseconds, and ones refused.
+SMALL_COUNTS = st.one_of(st.integers(1, 300),
+                         st.sampled_from([0, -1, 10**13, 2**70, 1.5, "10", True, None, np.int64(40), np.float64(3.0)]))
+SEEDS = st.one_of(st.integers(0, 3), st.sampled_from([-1, 2**70, 1.5, "1", None, True, np.uint8(2)]))
+#: Steps of time: ordinary ones, and edge values and junk (no positive step below 1e-5 s but the
+#: edge values, so that a step that is accepted samples a short move in milliseconds).
+STEPS = st.one_of(st.sampled_from([0.01, 0.002]), st.sampled_from(EDGE_FLOATS), st.sampled_from(OBJECTS), arrays(),
+                  st.floats(max_value=0.0), st.floats(min_value=1e-5, max_value=1e6))
+
+
+def _mostly(draw) -> bool:
+    """True three times in four (Hypothesis draws small integers most)."""
+    return draw(st.integers(0, 3)) < 3
+
+
+def _platform(draw, valid=PLAT, *others):
+    """``valid`` mostly, else one of ``others`` or what is not a platform."""
+    return valid if _mostly(draw) else draw(st.sampled_from(list(others) + NOT_PLATFORMS))
+
+
+def _pick(draw, valid, *more):
+    """``valid`` mostly, else junk for it (or one of ``more``)."""
+    if _mostly(draw):
+        return valid
+    options = [junk(valid)] if isinstance(valid, np.ndarray) else [scalars()]
+    if isinstance(valid, np.ndarray) and valid.dtype.kind == "f":
+        options += [perturbed(valid), st.builds(_scaled, st.just(valid), st.sampled_from(EDGE_FLOATS))]
+    if more:
+        options.append(st.sampled_from(more))
+    return draw(st.one_of(*options))
+
+
+@settings(fuzz_settings(25), deadline=10_000)  # an identification that runs takes about half a second
+@given(st.data())
+def test_identification_keeps_the_contract(data):
+    """Measurements from any columns, then identify from any platform, filter and cut-off:
+    finite estimates, or a ValueError naming the argument."""
+    draw, identify, good = data.draw, _identify(), _log()
+    columns = (_pick(draw, good.t), _pick(draw, good.lengths), _pick(draw, good.forces))
+    made = kept_contract(lambda: identify.Measurements(*columns), ("t", "lengths", "forces", "measurements"))
+    if made[0] == "ok":
+        assert 0 < made[1].rate < np.inf
+    log = made[1] if made[0] == "ok" else draw(st.sampled_from([good, None, good.t, "log.csv"]))
+    platform = _platform(draw)
+    options = {"filter": draw(st.sampled_from(["savgol", "butterworth"])) if _mostly(draw) else
+               draw(st.sampled_from(["median", None, 3, ["savgol"]])),
+               "cutoff": _pick(draw, 10.0, 5.0, 49.0, 50.0, 1e-310)}
+    outcome = kept_contract(lambda: identify.identify(platform, log, **options),
+                            ("platform", "measurements", "filter", "cutoff", "t"))
+    if outcome[0] == "ok":
+        result = outcome[1]
+        assert _finite((result.estimates, result.standard_errors, result.residual_rms, result.condition_number))
+
+
+MOVE = stewart.PointToPoint(HOME, HOME + [0.01, 0, 0, 0, 0.02, 0], 0.002)
+BOX = {"lower": HOME - 0.01, "upper": HOME + 0.01, "velocity": np.full(6, 0.1), "acceleration": np.full(6, 1.0)}
+
+
+@fuzz_settings(40)
+@given(st.sampled_from(["box", "trajectories", "around"]), st.data())
+def test_envelopes_keep_the_contract(kind, data):
+    """A box, trajectories or the box around a move from any values, then its envelope for any
+    platform, sample count and seed: finite peaks (or -inf where no state counted), or a
+    ValueError naming the argument."""
+    draw = data.draw
+    if kind == "box":
+        fields = {name: _pick(draw, valid) for name, valid in BOX.items()}
+        spec = kept_contract(lambda: envelope.Box(**fields), tuple(fields))
+    elif kind == "trajectories":
+        motions = draw(st.sampled_from([[MOVE], [MOVE, EXCITING], (), [HOME], MOVE, None, [MOVE, 3]]))
+        spec = kept_contract(lambda: envelope.Trajectories(motions, draw(STEPS)), ("motions", "dt"))
+    else:
+        motion, margin = draw(st.sampled_from([MOVE] * 3 + [HOME, None])), _pick(draw, 0.2)
+        spec = kept_contract(lambda: envelope.Box.around(motion, margin, draw(STEPS)), ("motion", "margin", "dt"))
+    if spec[0] != "ok":
+        return
+    samples = draw(SMALL_COUNTS.filter(lambda n: n is not None)) if kind != "trajectories" else \
+        draw(st.sampled_from([None] * 4 + [10, 0]))
+    platform = _platform(draw, PLAT, GENERAL, GENERAL.params)
+    options = {"samples": samples, "seed": draw(SEEDS), "chunk_size": draw(st.sampled_from([64, 1000, 0, 1.5, None])),
+               "progress": False}
+    outcome = kept_contract(lambda: envelope.envelope(platform, spec[1], **options),
+                            ("platform", "spec", "samples", "seed", "chunk_size"))
+    if outcome[0] == "ok":
+        result = outcome[1]
+        counted = result.states - result.outside_stroke - result.singular
+        peaks = result.peak.value
+        assert np.all(np.isfinite(peaks)) if counted else np.all(np.isneginf(peaks)), (counted, peaks)
+
+
+REGIONS = {"translational": np.array([[-0.05, 0.05], [-0.05, 0.05], [0.2, 0.35]]),
+           "orientation": np.array([[-0.3, 0.3], [-0.3, 0.3], [-0.3, 0.3]])}
+GRIDS = st.one_of(st.integers(-1, 10), st.sampled_from([1001, 10**6, 2.0, "5", None, True]))
+
+
+@fuzz_settings(50)
+@given(st.sampled_from(["translational", "orientation", "slice", "reachability", "position_bounds"]), st.data())
+def test_workspaces_keep_the_contract(kind, data):
+    """The workspaces, slices, reachability and position bounds for any platform, region,
+    sample count or grid: finite volumes and margins (NaN margins only when nothing is
+    reachable), or a ValueError naming the argument."""
+    draw = data.draw
+    platform = _platform(draw, PLAT, PARAMS, GENERAL.params)
+    if kind in ("translational", "orientation"):
+        fixed = {"orientation": _pick(draw, np.zeros(3))} if kind == "translational" else \
+            {"position": draw(st.one_of(st.none(), st.just(HOME[:3]), junk(HOME[:3])))}
+        region = draw(st.sampled_from([None, REGIONS[kind]]))
+        region = region if region is None or draw(st.integers(0, 2)) else _pick(draw, region)
+        counts = {"samples": draw(SMALL_COUNTS)} if draw(st.booleans()) else {"grid": draw(GRIDS)}
+        if draw(st.integers(0, 5)) == 0:
+            counts = {"samples": draw(SMALL_COUNTS), "grid": draw(GRIDS)}
+        study = workspace.translational_workspace if kind == "translational" else workspace.orientation_workspace
+        options = {**fixed, **counts, "region": region, "seed": draw(SEEDS),
+                   "chunk_size": draw(st.sampled_from([20_000, 50, 0, -1, 2.5])), "progress": False}
+        outcome = kept_contract(lambda: study(platform, **options), ("platform", *options))
+        if outcome[0] == "ok":
+            result = outcome[1]
+            assert _finite((result.volume, result.volume_error)) and 0 <= result.volume
+            margins = (result.margin_min, result.margin_mean, result.margin_max)
+            assert _finite(margins) if result.reachable else np.all(np.isnan(margins))
+    elif kind == "slice":
+        options = {"axes": draw(st.sampled_from(["xy", "x,z", ("psi", "theta"), "xx", "ab", None, 5, ["y", "z"]])),
+                   "at": draw(st.one_of(st.none(), scalars())),
+                   "region": draw(st.one_of(st.none(), st.just(REGIONS["translational"][:2]),
+                                                junk(REGIONS["translational"][:2]),
+                                                perturbed(REGIONS["translational"][:2]))),
+                   "resolution": draw(st.one_of(st.integers(-1, 12), st.sampled_from([2001, 10**6, 1.5, "3"])))}
+        outcome = kept_contract(lambda: workspace.workspace_slice(platform, **options), ("platform", *options))
+        if outcome[0] == "ok":
+            result = outcome[1]
+            assert np.all(np.isfinite(result.margin) | (result.flags != 0)) and _finite((result.u, result.v))
+    elif kind == "reachability":
+        poses = draw(st.one_of(st.just(BATCH["x"]), junk(BATCH["x"]), perturbed(BATCH["x"])))
+        outcome = kept_contract(lambda: workspace.reachability(platform, poses), ("platform", "poses"))
+        if outcome[0] == "ok":
+            assert np.all((outcome[1].flags == 0) <= np.isfinite(outcome[1].margin))
+    else:
+        orientation = _pick(draw, np.zeros(3))
+        kept_contract(lambda: workspace.position_bounds(platform, orientation), ("platform", "params", "orientation",
+                                                                              "region"))
+
+
+SWEEP = {"preset": "narayan2017", "parameters": {"base_radius": [0.09, 0.11]},
+         "envelope": {"lower": [0] * 6, "upper": [0.0, 0.0, 0.01, 0.0, 0.0, 0.0], "velocity": [0.1] + [0] * 5,
+                      "acceleration": [1] + [0] * 5, "samples": 20},
+         "workspace": {"samples": 50}, "pareto": {"x": "workspace_volume", "y": "peak_force"}}
+#: Values a TOML file can hold, small enough for a sweep to run in milliseconds.
+TOML_VALUES = st.recursive(
+    st.one_of(st.integers(-3, 4), st.floats(), st.sampled_from(EDGE_FLOATS), st.text(max_size=6), st.booleans(),
+              st.sampled_from(["random", "grid", "narayan2017", "peak_force", "base_radius", "stroke"])),
+    lambda inner: st.one_of(st.lists(inner, max_size=3), st.dictionaries(
+        st.sampled_from(["low", "high", "count", "samples", "x", "y", "lower", "upper", "base_radius", "payload_mass"]),
+        inner, max_size=3)),
+    max_leaves=6)
+
+
+@fuzz_settings(40)
+@given(st.lists(st.tuples(st.sampled_from([("preset",), ("method",), ("designs",), ("seed",), ("params",), ("bogus",),
+                                           ("parameters",), ("parameters", "base_radius"), ("parameters", "stroke"),
+                                           ("parameters", "payload_mass"), ("envelope",), ("envelope", "upper"),
+                                           ("envelope", "velocity"), ("envelope", "samples"), ("workspace",),
+                                           ("workspace", "samples"), ("pareto",), ("pareto", "x")]),
+                          st.one_of(TOML_VALUES, st.just(None))), max_size=3))
+def test_sweeps_keep_the_contract(changes):
+    """A sweep file's fields set to any TOML values (or left out), then the sweep: finite
+    metrics (a NaN margin only with no reachable pose, a -inf peak only with no state
+    counted), or a ValueError naming the field."""
+    spec = json.loads(json.dumps(SWEEP))
+    for path, value in changes:
+        table = spec
+        for key in path[:-1]:  # a field within a table: the table, made anew if it is not one
+            if not isinstance(table.get(key), dict):
+                table[key] = {}
+            table = table[key]
+        if value is None:
+            table.pop(path[-1], None)
+        else:
+            table[path[-1]] = value
+    fields = ("data", "preset", "params", "method", "designs", "seed", "parameters", "envelope", "workspace", "pareto")
+    parsed = kept_contract(lambda: sweep.parse(spec), fields)
+    if parsed[0] == "ok" and len(parsed[1].designs) <= 4:
+        run = kept_contract(lambda: sweep.sweep(parsed[1], progress=False), ("spec",))
+        assert run[0] == "ok", run
+        metrics = run[1].metrics
+        for name, values in metrics.items():
+            if name == "margin_mean":
+                allowed = np.isnan(values) & (metrics["workspace_volume"] == 0)
+            else:
+                allowed = np.isneginf(values) if name.startswith("peak_") else np.zeros(values.shape, bool)
+            assert np.all(np.isfinite(values) | allowed), (name, values)
+
+
+@functools.cache
+def _excitation_base():
+    """The preset's base parameters (computed once, not by each design)."""
+    from stewart.base_parameters import base_parameters
+
+    return base_parameters(PLAT)
+
+
+@settings(fuzz_settings(10), deadline=10_000)  # a design that runs takes about half a second
+@given(st.data())
+def test_excitation_keeps_the_contract(data):
+    """design_excitation from any arguments (a few SLSQP iterations): a finite design, or a
+    ValueError naming the argument."""
+    draw = data.draw
+
+    def choose(valid, odd):
+        return valid if _mostly(draw) else draw(odd)
+
+    options = {"period": _pick(draw, 2.0), "harmonics": choose(2, GRIDS),
+               "centre": choose(None, st.one_of(st.just(HOME), junk(HOME), perturbed(HOME))),
+               "periods": choose(1, GRIDS), "samples": choose(None, st.sampled_from([12, 0, 1, 1.5])),
+               "starts": choose(1, st.sampled_from([0, 1001, "1"])), "seed": draw(SEEDS),
+               "max_iterations": choose(1, st.sampled_from([2, 0, 10**6, None])),
+               **{name: draw(scalars()) for name in
+                  ("max_leg_velocity", "max_leg_acceleration", "force_limit", "min_margin", "stroke_margin")
+                  if not _mostly(draw)}}
+    platform = _platform(draw)
+    outcome = kept_contract(lambda: excitation.design_excitation(platform, base=_excitation_base(), **options),
+                            ("platform", *options, "centre"))
+    if outcome[0] == "ok":
+        design = outcome[1]
+        assert _finite((design.condition, design.initial_condition, design.scaled))
+        assert _finite(design.trajectory.sample(np.linspace(0, design.trajectory.duration, 7)))
+
+
+SIMD = stewart.build_info()
+
+
+@fuzz_settings(30)
+@given(st.one_of(st.sampled_from(SIMD["compiled"] + SIMD["supported"] + ["", "avx1024", "AVX2", "scalar "]),
+                 st.text(max_size=8), st.sampled_from(OBJECTS)))
+def test_set_simd_keeps_the_contract(path):
+    """Any path name: the path it names runs (the same results, bit for bit), or a
+    TypeError or ValueError naming ``path``; the path in use stays otherwise."""
+    before = stewart.build_info()["simd"]
+    expected = PLAT.inverse_dynamics(BATCH["x"], BATCH["xd"], BATCH["xdd"])
+    try:
+        outcome = kept_contract(lambda: stewart.set_simd(path), ("path",))
+        now = stewart.build_info()["simd"]
+        if outcome[0] == "ok":
+            assert outcome[1] == before and now == (path or SIMD["supported"][-1])
+        else:
+            assert now == before
+        assert np.array_equal(PLAT.inverse_dynamics(BATCH["x"], BATCH["xd"], BATCH["xdd"]), expected)
+    finally:
+        stewart.set_simd(before)
+
+
+# ---- the command line: the studies' commands -------------------------------------------------
+
+#: Where the command-line fuzz tests read and write their files (one directory a process,
+#: removed at its exit).
+CLI_DIR = Path(tempfile.mkdtemp(prefix="stewart-fuzz-"))
+atexit.register(shutil.rmtree, CLI_DIR, ignore_errors=True)
+#: Exit codes of the ``stewart`` command (``stewart --help``; not 130, Ctrl-C).
+CLI_EXIT_CODES = {0, 1, 2, 3, 4, 5, 6}
+#: Values a corrupted flag gets: small numbers, edge values, junk (no count large enough to run long).
+CLI_VALUES = ["0", "-1", "1", "2", "3", "0.5", "nan", "inf", "-inf", "1e308", "5e-324", "1e-310", "abc", "", "--",
+              "1e400", "0x10", "savgol", "motion_simulator"]
+TARGET = ["0.01", "0", "0.27", "0", "0.02", "0"]
+
+
+#: The input files of the command-line fuzz tests (:func:`_write_cli_files`).
+FILES = {name: str(CLI_DIR / name) for name in ("log.csv", "bad.csv", "general.toml", "massless.toml", "broken.toml",
+                                                "sweep.toml", "sweep_list.toml", "sweep_bad.toml")}
+
+
+@functools.cache
+def _write_cli_files() -> None:
+    """Write :data:`FILES`, once, when a command-line test first runs."""
+    files = FILES
+    _log().to_csv(files["log.csv"])
+    Path(files["bad.csv"]).write_text("t,L0\n0,1\n")
+    GENERAL.params.save(files["general.toml"])
+    PARAMS.replace(platform_mass=0.0, platform_inertia=(0, 0, 0), cylinder_mass=0.0, cylinder_inertia=(0, 0, 0),
+                   piston_mass=0.0, piston_inertia=(0, 0, 0)).save(files["massless.toml"])
+    Path(files["broken.toml"]).write_text("platform_mass = [\n")
+    good = ('preset = "narayan2017"\n[parameters]\nbase_radius = [0.09, 0.11]\n[envelope]\nlower = [0, 0, 0, 0, 0, 0]\n'
+            'upper = [0, 0, 0.01, 0, 0, 0]\nvelocity = [0.1, 0, 0, 0, 0, 0]\nacceleration = [1, 0, 0, 0, 0, 0]\n'
+            'samples = 20\n[workspace]\nsamples = 50\n')
+    Path(files["sweep.toml"]).write_text(good)
+    Path(files["sweep_list.toml"]).write_text('workspace = ["samples"]\n'
+                                              + good.replace("[workspace]\nsamples = 50\n", ""))
+    Path(files["sweep_bad.toml"]).write_text(good.replace("base_radius = [0.09, 0.11]", "base_radius = [1.0]"))
+
+
+OUT = {name: str(CLI_DIR / "out" / name) for name in ("a.csv", "a.json", "a.toml", "a.xml", "report.json", "c")}
+(CLI_DIR / "out").mkdir()
+(CLI_DIR / "cwd").mkdir()
+#: Paths a positional argument or a file flag may get instead of a good one.
+BAD_PATHS = [str(CLI_DIR / "missing.csv"), str(CLI_DIR), FILES["bad.csv"], FILES["broken.toml"], "", "-",
+             str(CLI_DIR / "nowhere" / "x")]
+PARAMS_FLAGS = [["--params", FILES["general.toml"]], ["--params", FILES["massless.toml"]],
+                ["--params", FILES["broken.toml"]], ["--params", BAD_PATHS[0]], ["--preset", "motion_simulator"],
+                ["--preset", "bogus"]]
+
+
+@dataclasses.dataclass
+class Command:
+    """A command's good arguments: ``positional`` ones, ``flags`` with their values (those in
+    ``required`` always given, the others sometimes left out; each value sometimes corrupted)."""
+
+    positional: list
+    flags: dict
+    required: tuple = ()
+    examples: int = 10
+    deadline: int = 10_000  # ms an example (a hang ends at 20 s, time_limit)
+
+
+COMMANDS = {
+    "identify": Command([FILES["log.csv"]], {"--cutoff": ["10"], "--filter": ["butterworth"], "--no-friction": [],
+                                             "--validate": [FILES["log.csv"]], "--report": [OUT["report.json"]],
+                                             "--output": [OUT["a.toml"]]}, examples=6, deadline=10_000),
+    "excitation": Command([], {"--period": ["2"], "--harmonics": ["2"], "--starts": ["1"], "--max-iterations": ["1"],
+                               "--samples": ["12"], "--periods": ["1"], "--rate": ["20"], "--seed": ["0"],
+                               "--centre": ["0", "0", "0.28", "0", "0", "0"], "--max-leg-velocity": ["0.5"],
+                               "--force-limit": ["1000"], "--stroke-margin": ["0.1"], "--min-margin": ["0.01"],
+                               "--csv": [OUT["a.csv"]], "--output": [OUT["a.toml"]], "--json": []},
+                          required=("--harmonics", "--starts", "--max-iterations"), examples=4, deadline=10_000),
+    "envelope": Command([], {"--target": TARGET, "--move-time": ["0.05"], "--dt": ["0.01"], "--margin": ["0.1"],
+                             "--samples": ["50"], "--seed": ["1"], "--chunk-size": ["64"], "--csv": [OUT["a.csv"]],
+                             "--json": [OUT["a.json"]], "--no-progress": []},
+                        required=("--samples", "--no-progress"), examples=15),
+    "envelope (box)": Command([], {"--lower": ["0", "0", "0.25", "0", "0", "0"],
+                                   "--upper": ["0.01", "0", "0.3", "0", "0", "0.1"], "--velocity": ["0.1"] * 6,
+                                   "--acceleration": ["1"] * 6, "--samples": ["50"], "--no-progress": []},
+                              required=("--samples", "--no-progress"), examples=15),
+    "workspace": Command([], {"--samples": ["200"], "--seed": ["1"], "--orientation": ["0", "0", "0.1"],
+                              "--region": ["-0.05", "0.05", "-0.05", "0.05", "0.2", "0.35"], "--chunk-size": ["100"],
+                              "--universal-max-angle": ["40"], "--leg-diameter": ["0.01"], "--csv": [OUT["a.csv"]],
+                              "--json": [], "--no-progress": []}, required=("--samples",), examples=15),
+    "workspace (orientation)": Command([], {"--kind": ["orientation"], "--grid": ["5"],
+                                            "--position": ["0", "0", "0.28"],
+                                            "--region": ["-0.3", "0.3", "-0.3", "0.3", "-0.3", "0.3"], "--json": []},
+                                       required=("--kind", "--grid"), examples=10),
+    "sweep": Command([FILES["sweep.toml"]], {"--json": [OUT["a.json"]], "--csv": [OUT["a.csv"]], "--no-progress": []},
+                     examples=8),
+    "export-mjcf": Command([], {"--output": [OUT["a.xml"]], "--pose": ["0", "0", "0.28", "0", "0.02", "0"],
+                                "--solver": ["default"]}, examples=15),
+    "c-export": Command([OUT["c"]], {}, examples=6),
+    "optimize": Command([], {"--target": TARGET, "--move-time": ["1"], "--intervals": ["3"], "--max-iterations": ["40"],
+                             "--force-limit": ["1000"], "--json": [], "--csv": [OUT["a.csv"]]},
+                        required=("--intervals", "--max-iterations"), examples=6),
+    "exactness": Command([], {"--states": ["10"], "--seed": ["0"], "--json": []}, required=("--states",), examples=8),
+}
+#: Other files a positional argument may name.
+POSITIONAL_FILES = {"sweep": [FILES["sweep_list.toml"], FILES["sweep_bad.toml"], FILES["log.csv"]],
+                    "identify": [FILES["general.toml"]]}
+
+
+@st.composite
+def command_lines(draw, name):
+    """The arguments of a ``stewart`` command: its good ones, some left out or corrupted, and
+    a few more flags of its own with random values."""
+    command = COMMANDS[name]
+    argv = [name.split()[0]]
+    for value in command.positional:
+        argv.append(value if _mostly(draw) else draw(st.sampled_from(BAD_PATHS + POSITIONAL_FILES.get(name, []))))
+    for flag, values in command.flags.items():
+        if flag not in command.required and not _mostly(draw):
+            continue
+        argv.append(flag)
+        argv += [value if _mostly(draw) else draw(st.sampled_from(CLI_VALUES + BAD_PATHS[:2])) for value in values]
+    if not _mostly(draw):
+        argv += draw(st.sampled_from(PARAMS_FLAGS))
+    extra = st.one_of(st.sampled_from(sorted(command.flags) + ["--bogus", "--params", "--preset"]),
+                      st.sampled_from(CLI_VALUES))
+    return argv + draw(st.lists(extra, max_size=draw(st.sampled_from([0, 0, 0, 3]))))
+
+
+def run_command(argv: list[str]) -> tuple[int, str, str]:
+    """Exit code, stdout and stderr of ``stewart argv`` run in this process, as in test_cli, in
+    a directory of its own (a corrupted file name is relative: the command writes there)."""
+    from stewart.cli import main
+
+    _write_cli_files()
+    out, err = io.StringIO(), io.StringIO()
+    with warnings.catch_warnings(), contextlib.chdir(CLI_DIR / "cwd"), contextlib.redirect_stdout(out), \
+            contextlib.redirect_stderr(err), time_limit(20):
+        warnings.simplefilter("error", RuntimeWarning)
+        warnings.simplefilter("ignore", stewart.NonAxisymmetricLegWarning)
+        try:
+            main(argv)
+            code = 0
+        except SystemExit as exc:
+            code = exc.code
+    return code, out.getvalue(), err.getvalue()
+
+
+def kept_command_contract(argv: list[str]) -> int:
+    """Run a command; check it succeeded, or failed with an exit code of its own, no
+    traceback and an error naming the flag (or file) the user typed: argparse's usage and one
+    line, or lines of its own (one for an input error)."""
+    code, out, err = run_command(argv)
+    command = argv[0]
+    assert "Traceback" not in out + err, (argv, err)
+    assert code in CLI_EXIT_CODES, (argv, code, err)
+    if code:
+        lines = err.strip().splitlines()
+        assert lines, (argv, code, "no message")
+        if lines[0].startswith("usage: "):  # argparse's: the usage, then one line naming the argument
+            assert code == 2 and lines[-1].startswith(("stewart: error: ", f"stewart {command}: error: ")), (argv, err)
+        else:
+            assert all(line.startswith(f"stewart {command}: ") for line in lines), (argv, err)
+            if code == 2:  # an input error: one line, naming the flag or the file
+                message = lines[0].split(": error: ", 1)[1]
+                named = ("--", "give ", "DIR ", "DATA.csv: ", "DESIGN.toml: ",
+                         *(a for a in argv[1:] if a and not a.startswith("--")))
+                assert len(lines) == 1 and message.startswith(named), (argv, err)
+    return code
+
+
+def _command_test(name: str):
+    @settings(fuzz_settings(COMMANDS[name].examples), deadline=COMMANDS[name].deadline)
+    @given(command_lines(name))
+    def test(argv):
+        kept_command_contract(argv)
+
+    test.__doc__ = f"``stewart {name}`` with good, missing and corrupted arguments keeps the command-line contract."
+    return test
+
+
+test_cli_identify_keeps_the_contract = _command_test("identify")
+test_cli_excitation_keeps_the_contract = _command_test("excitation")
+test_cli_envelope_keeps_the_contract = _command_test("envelope")
+test_cli_envelope_box_keeps_the_contract = _command_test("envelope (box)")
+test_cli_workspace_keeps_the_contract = _command_test("workspace")
+test_cli_orientation_workspace_keeps_the_contract = _command_test("workspace (orientation)")
+test_cli_sweep_keeps_the_contract = _command_test("sweep")
+test_cli_export_mjcf_keeps_the_contract = _command_test("export-mjcf")
+test_cli_c_export_keeps_the_contract = _command_test("c-export")
+test_cli_optimize_keeps_the_contract = _command_test("optimize")
+test_cli_exactness_keeps_the_contract = _command_test("exactness")

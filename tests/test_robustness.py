@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 
 import stewart
-from stewart import envelope, exactness, identify, reference, sweep, workspace
+from stewart import envelope, exactness, excitation, identify, reference, sweep, workspace
 from stewart._checks import MAX_THREADS
 from stewart.control import leg_masses
 from conftest import LAYOUTS, PLATFORM_METHODS, valid_arguments
@@ -456,7 +456,12 @@ def test_measurements_rate_is_finite():
       "--acceleration", *["1e150"] * 6, "--samples", "100"],
      "stewart envelope: error: --velocity, --acceleration: the power of leg 0 overflows double precision"),
     (["sweep", "{sweep}"], "stewart sweep: error: {sweep}: workspace: expected a table"),
-    (["exactness", "--params", "{massless}", "--states", "10"], "stewart exactness: error: params: the paper's"),
+    (["exactness", "--params", "{massless}", "--states", "10"],
+     "stewart exactness: error: --params {massless}: the paper's dynamic forces are zero"),
+    (["exactness", "--seed", "-1"], "stewart exactness: error: --seed: expected a whole number >= 0, got -1"),
+    (["identify", "{log}", "--output", "0"], "stewart identify: error: --output 0: give a .toml or .json file name"),
+    (["identify", "{log}", "--preset", "motion_simulator"],
+     "stewart identify: error: {log}: the leg lengths are not this platform's"),
 ])
 def test_commands_refuse_bad_input_in_one_line(argv, message, tmp_path, capsys):
     """These printed tracebacks once."""
@@ -475,3 +480,63 @@ def test_commands_refuse_bad_input_in_one_line(argv, message, tmp_path, capsys):
     assert info.value.code == 2 and "Traceback" not in out + err
     assert len(err.strip().splitlines()) == 1 and err.startswith(message.format(**files)), err
 
+
+
+@pytest.mark.parametrize("call, message", [
+    (lambda: workspace.workspace_slice(PLAT, None), "^axes: expected two of x, y, z or two of psi, theta, phi, got None"),
+    (lambda: exactness.leg_spin_effect(PARAMS, 10, seed=-1), r"^seed: expected a whole number >= 0, got -1$"),
+    (lambda: excitation.design_excitation(PLAT, harmonics=2, starts=1, max_iterations=1, seed=True),
+     "^seed: expected a whole number >= 0, got True$"),
+    (lambda: sweep.parse(dict(_SWEEP, parameters={"base_radius": 1.0})),
+     r"^parameters: design 0 \({'base_radius': 1.0}\) is not a valid platform: leg_length: "),
+    (lambda: identify.identify(PLAT, identify.Measurements(_log().t, _log().lengths, _log().forces * 1e306)),
+     r"^forces: too large for double precision"),
+    (lambda: identify.identify(stewart.Platform.preset("motion_simulator"), _log()),
+     "^measurements: the leg lengths are not this platform's .forward_kinematics: no pose found"),
+    (lambda: PARAMS.replace(piston_com_distance=1e200), "^piston_mass, piston_inertia, piston_com_distance: too large "
+                                                        "for double precision"),
+    (lambda: PARAMS.with_inertial_vector(np.where(np.arange(32) == 15, 2.2e-308, PARAMS.inertial_vector())),
+     "^pi: no physical body: piston_mass, piston_inertia, piston_com_distance: too large"),
+])
+def test_bad_input_found_by_the_fuzz_tests_is_a_named_error(call, message):
+    """Each once raised TypeError, IndexError, OverflowError or numpy's own ValueError, or
+    failed later, in the sweep's run."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        with pytest.raises(ValueError, match=message):
+            call()
+
+
+def test_no_poses_have_no_reachability():
+    """An empty batch of poses once raised IndexError."""
+    for params in (PARAMS, PARAMS.replace(leg_diameter=0.01)):
+        check = stewart.reachability(params, np.zeros((0, 6)))
+        assert check.flags.shape == check.margin.shape == (0,) and check.lengths.shape == (0, 6)
+
+
+def test_limits_that_leave_no_motion_are_named():
+    """A leg-velocity limit of 5e-324 m/s once gave a design that does not move, reported as
+    feasible with a condition number of inf; a tiny smallest margin (ample at every pose)
+    once made the centre pose break its limit."""
+    from stewart.base_parameters import base_parameters
+
+    base = base_parameters(PLAT)
+    options = dict(period=2.0, harmonics=2, starts=1, max_iterations=1, base=base)
+    with pytest.raises(ValueError, match="^max_leg_velocity: the limits leave no motion about the centre, so the "
+                                         r"design excites nothing \(condition number inf\)"):
+        excitation.design_excitation(PLAT, max_leg_velocity=5e-324, **options)
+    design = excitation.design_excitation(PLAT, min_margin=5e-324, **options)
+    assert np.isfinite(design.condition) and design.feasible
+
+
+def test_an_unsolved_move_says_so_on_stderr_with_json(capsys):
+    """stewart optimize --json once exited 4 with nothing on stderr."""
+    pytest.importorskip("casadi")
+    from stewart.cli import main
+
+    with pytest.raises(SystemExit) as info:
+        main(["optimize", "--target", *TARGET, "--move-time", "1", "--intervals", "3", "--max-iterations", "1",
+              "--json"])
+    out, err = capsys.readouterr()
+    assert info.value.code == 4 and json.loads(out)["ok"] is False
+    assert err.startswith("stewart optimize: error: IPOPT did not solve the problem") and err.count("\n") == 1
