@@ -60,8 +60,8 @@ def expressions() -> dict:
     inputs being four lists of symbols (x, xd, xdd or tau, p). Axisymmetric legs."""
     model = _model()
     p = _param_symbols(model)
-    kid = _expand_outputs(model.inverse_dynamics_kernel(True))
-    kfd = _expand_outputs(model.forward_dynamics_kernel(True))
+    kid = _expand_outputs(model.inverse_dynamics_kernel("axisym"))
+    kfd = _expand_outputs(model.forward_dynamics_kernel("axisym"))
     return {
         "id": ([list(model.X), list(model.XD), list(model.XDD), p], [kid["W"], kid["JC"]]),
         "fd": ([list(model.X), list(model.XD), list(model.TAU), p], [kfd["Mt"], kfd["rhs"], kfd["JAinv"]]),
