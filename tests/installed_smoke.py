@@ -1,7 +1,8 @@
 """Smoke test of an installed stewart, outside the source tree.
 
 The packaging check (``test_packaging.py``) runs it with the Python of a fresh virtual
-environment holding the built sdist or wheel, from a directory outside the checkout::
+environment holding the wheel built from the sdist (one for each Python under test), from
+a directory outside the checkout::
 
     python tests/installed_smoke.py
 
@@ -51,7 +52,7 @@ def main() -> None:
         "ik", "--preset", PRESET, "--pose", *map(str, pose)))]
     lengths = stewart.leg_lengths(params, np.array(pose))
     assert all(np.isclose(printed, length, rtol=1e-6, atol=0).any() for length in lengths), (printed, lengths)
-    print(f"stewart {stewart.__version__} from {installed.parent}: smoke test passed")
+    print(f"stewart {stewart.__version__} on Python {sys.version.split()[0]} from {installed.parent}: smoke test passed")
 
 
 if __name__ == "__main__":

@@ -1,23 +1,33 @@
-"""The sdist and the wheel install, and work, outside the checkout.
+"""The sdist and the wheel install, and work, outside the checkout, on each supported Python.
 
 From a copy of the source files — a git checkout's tracked files, or an unpacked sdist's
 own file list — and nothing else (no ``.venv``, build products or outputs), ``python -m
-build`` builds the sdist and then the wheel from that sdist, with build isolation, as
-``pip install stewart-*.tar.gz`` does: so the sdist is proven to build on its own, and the
-source is compiled once. The isolated build environments and the fresh environment are
-set up by uv (the dev extra's ``build[uv]``), which installs the same wheels as pip in a
-fraction of the time. The sdist is the complete source, so ``make test`` also runs from
-it. The wheel goes into a fresh virtual environment, where ``installed_smoke.py`` runs from
-a directory outside the checkout. Marked ``packaging``: ``pytest -m "not packaging"``
-leaves it out.
+build`` builds the sdist once, and then a wheel from that sdist for each Python under test,
+with build isolation, as ``pip install stewart-*.tar.gz`` does: so the sdist is proven to
+build on its own, and the source is compiled once per Python. The isolated build
+environments and the fresh environments are set up by uv (the dev extra's ``build[uv]``),
+which installs the same wheels as pip in a fraction of the time. The sdist is the complete
+source, so ``make test`` also runs from it. Each wheel goes into a fresh virtual
+environment of its Python, where ``installed_smoke.py`` runs from a directory outside the
+checkout. Marked ``packaging``: ``pytest -m "not packaging"`` leaves it out.
+
+The Pythons under test (``STEWART_WHEEL_PYTHONS``): unset, the one running pytest (``make
+test``: one packaging build); ``others``, each other supported version (``make
+test-wheels``); or versions such as ``3.12 3.13``. A version is found as ``python3.X`` on
+the PATH or among pyenv's versions; one not found is skipped (``python3.X not found``). The
+wheel of a Python other than the running one is built by ``python -m build`` of that Python,
+from a fresh environment with the same ``build[uv]``.
 """
 
 import json
+import os
+import re
 import shutil
 import sys
 import sysconfig
 import tarfile
 import zipfile
+from importlib.metadata import version as installed_version
 from pathlib import Path
 
 import pytest
@@ -28,6 +38,9 @@ pytestmark = pytest.mark.packaging
 
 ROOT = Path(__file__).resolve().parent.parent
 UV = find_uv_bin()
+#: The Python versions the package supports (pyproject.toml's requires-python and the wheels tested).
+SUPPORTED = ("3.11", "3.12", "3.13")
+RUNNING = "%d.%d" % sys.version_info[:2]
 #: What a build needs, as paths inside the sdist (after its ``stewart-<version>/`` prefix).
 SDIST_NEEDS = {"setup.py", "pyproject.toml", "MANIFEST.in", "README.md", "LICENSE",
                "stewart/_kernel.pyx", "stewart/_kernel.pxd", "stewart/_simulate.pyx", "stewart/_envelope.pyx",
@@ -67,22 +80,78 @@ def tree(tmp_path_factory):
     return copy
 
 
+def wheel_pythons() -> list[str]:
+    """The Python versions under test (STEWART_WHEEL_PYTHONS: unset, the running one; ``others``,
+    the other supported versions; or a list of versions)."""
+    chosen = os.environ.get("STEWART_WHEEL_PYTHONS", "").split()
+    if not chosen:
+        return [RUNNING]
+    if chosen == ["others"]:
+        return [v for v in SUPPORTED if v != RUNNING]
+    return chosen
+
+
+def find_python(version: str) -> str | None:
+    """The interpreter (its ``sys.executable``) of Python ``version``: ``python<version>`` on the
+    PATH if it runs (a pyenv shim of a version not selected does not), else pyenv's newest
+    ``<version>.*``; None if neither is here."""
+    pyenv = Path(os.environ.get("PYENV_ROOT", Path.home() / ".pyenv")) / "versions"
+    found = sorted(pyenv.glob(f"{version}.*/bin/python{version}"),
+                   key=lambda p: [int(n) for n in re.findall(r"\d+", p.parent.parent.name)], reverse=True)
+    for candidate in [shutil.which(f"python{version}"), *found]:
+        if not candidate:
+            continue
+        try:
+            executable, got = run_command(
+                [candidate, "-c", "import sys; print(sys.executable); print('%d.%d' % sys.version_info[:2])"]).split()
+        except (OSError, AssertionError, ValueError):
+            continue
+        if got == version:
+            return executable
+    return None
+
+
 @pytest.fixture(scope="module")
-def dists(tree, tmp_path_factory):
-    """``(sdist, wheel, python)``: the distributions, the wheel built from the sdist, and the
-    Python of a fresh virtual environment holding the wheel."""
-    out, env = tmp_path_factory.mktemp("dist"), tmp_path_factory.mktemp("env")
-    run_command([sys.executable, "-m", "build", "--installer=uv", "--outdir", out, tree])
-    (sdist,), (wheel,) = out.glob("*.tar.gz"), out.glob("*.whl")
-    run_command([UV, "venv", "-q", "--python", sys.executable, env])
+def sdist(tree, tmp_path_factory):
+    """The sdist, built from the copy of the source files."""
+    out = tmp_path_factory.mktemp("sdist")
+    run_command([sys.executable, "-m", "build", "--sdist", "--installer=uv", "--outdir", out, tree])
+    (built,) = out.glob("*.tar.gz")
+    return built
+
+
+def build_frontend(python: str, where: Path) -> str:
+    """The Python that runs ``python -m build`` for ``python``: this one, or a fresh environment
+    of ``python`` with the same build[uv] as this one's."""
+    if python == sys.executable:
+        return python
+    run_command([UV, "venv", "-q", "--python", python, where])
+    frontend = where / "bin" / "python"
+    run_command([UV, "pip", "install", "-q", "--python", frontend, f"build[uv]=={installed_version('build')}"])
+    return str(frontend)
+
+
+@pytest.fixture(scope="module", params=wheel_pythons(), ids=lambda version: f"python{version}")
+def dists(request, sdist, tmp_path_factory):
+    """``(wheel, python, version)`` for one Python version: the wheel built from the sdist by that
+    Python, and the Python of a fresh virtual environment holding the wheel."""
+    version = request.param
+    interpreter = sys.executable if version == RUNNING else find_python(version)
+    if interpreter is None:
+        pytest.skip(f"python{version} not found")
+    out, env = tmp_path_factory.mktemp("wheel"), tmp_path_factory.mktemp("env")
+    frontend = build_frontend(interpreter, tmp_path_factory.mktemp("frontend"))
+    run_command([frontend, "-m", "build", "--wheel", "--installer=uv", "--outdir", out, sdist])
+    (wheel,) = out.glob("*.whl")
+    run_command([UV, "venv", "-q", "--python", interpreter, env])
     python = env / "bin" / "python"
     run_command([UV, "pip", "install", "-q", "--python", python, wheel])
-    return sdist, wheel, python
+    return wheel, python, version
 
 
-def test_sdist_is_the_complete_source_and_nothing_else(dists):
-    with tarfile.open(dists[0]) as sdist:
-        names = {member.name.split("/", 1)[1] for member in sdist.getmembers()
+def test_sdist_is_the_complete_source_and_nothing_else(sdist):
+    with tarfile.open(sdist) as archive:
+        names = {member.name.split("/", 1)[1] for member in archive.getmembers()
                  if "/" in member.name and not member.isdir()}
     assert SDIST_NEEDS <= names, sorted(SDIST_NEEDS - names)
     assert not names & CYTHON_OUTPUT
@@ -94,9 +163,10 @@ def test_sdist_is_the_complete_source_and_nothing_else(dists):
 
 
 def test_wheel_holds_the_c_model_and_no_cython_output(dists):
-    # Tagged for the plain platform it was built on (not manylinux: not audited for it).
-    assert dists[1].name.endswith(f"-{sysconfig.get_platform().replace('-', '_').replace('.', '_')}.whl")
-    with zipfile.ZipFile(dists[1]) as wheel:
+    # For its Python, tagged for the plain platform it was built on (not manylinux: not audited for it).
+    tag = "cp" + dists[2].replace(".", "")
+    assert dists[0].name.endswith(f"-{tag}-{tag}-{sysconfig.get_platform().replace('-', '_').replace('.', '_')}.whl")
+    with zipfile.ZipFile(dists[0]) as wheel:
         names = set(wheel.namelist())
     assert {"stewart/generated/stewart_model.h", "stewart/generated/stewart_model.c"} <= names
     assert not names & CYTHON_OUTPUT
@@ -107,8 +177,9 @@ def test_wheel_holds_the_c_model_and_no_cython_output(dists):
 
 
 def test_installs_and_runs_outside_the_checkout(dists, tree, tmp_path):
-    python = dists[2]
-    assert "smoke test passed" in run_command([python, tree / "tests" / "installed_smoke.py"], cwd=tmp_path)
+    python, version = dists[1:]
+    printed = run_command([python, tree / "tests" / "installed_smoke.py"], cwd=tmp_path)
+    assert "smoke test passed" in printed and f" on Python {version}." in printed, printed
 
 
 def test_wheel_is_portable(dists, tmp_path):
@@ -116,7 +187,7 @@ def test_wheel_is_portable(dists, tmp_path):
     does (STEWART_MARCH unset), and runs the best one this CPU supports."""
     import stewart
 
-    info = json.loads(run_command([dists[2], "-c", "import json, stewart; print(json.dumps(stewart.build_info()))"],
+    info = json.loads(run_command([dists[1], "-c", "import json, stewart; print(json.dumps(stewart.build_info()))"],
                                   cwd=tmp_path))
     assert info["compiled"] == stewart.build_info()["compiled"]
     assert info["simd"] == info["supported"][-1]
