@@ -1,5 +1,7 @@
-"""The C text around the generated kernels: header, public functions (the status codes and
-their tolerances come from `conditions`).
+"""The C text around the generated kernels: the header, the units of the model (the public
+functions in stewart_model.c, the kernels of each family in stewart_model_<family>.c) and the
+header they share, stewart_internal.h (the status codes and their tolerances come from
+`conditions`).
 
 The public functions are written from their specs (`model.FUNCTIONS`): they check their
 inputs, dispatch between the kernel variants (`model.VARIANTS`), check the

@@ -138,8 +138,8 @@
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wunused-function"
 #endif
-/* The lane-wise arithmetic of stewart_model.c (codegen/templates/lanes.c, copied verbatim by
- * the generator before everything that computes): the vector of STEWART_LANES doubles of the
+/* The lane-wise arithmetic of the model (codegen/templates/lanes.c, copied verbatim by the
+ * generator first into stewart_internal.h, which the model's units share): the vector of STEWART_LANES doubles of the
  * vector path and its sqrt, sin, cos and tanh, and the scalar path's sin, cos and tanh, which
  * are lane 0 of the vector ones.  Every operation is IEEE arithmetic on each lane alone (the
  * model is compiled without contraction into fused multiply-adds: -ffp-contract=off), so a
@@ -299,8 +299,8 @@ static double stanh(double a)
     return vtanh(vsplat(a))[0];
 }
 
-/* The fixed C of stewart_model.c: the helpers of the public functions (codegen/templates/runtime.c,
- * copied verbatim by the generator after the file's first comment).  Every public function
+/* The helpers of the public functions (codegen/templates/runtime.c, copied verbatim by the
+ * generator into stewart_internal.h, which the model's units share).  Every public function
  * checks its inputs are finite (all_finite, params_finite), runs its kernel, checks the legs
  * (check_legs), runs its steps (each returns a status: the solvers, check_euler,
  * pose_accelerations, split_jacobians) and finishes (finish, finish_all).  Compiles on its own against stewart_model.h. */
@@ -874,10 +874,10 @@ static int ldl_solve(const double F[21], int n, int ld, const double *b, double 
 
 #endif /* STEWART_BATCH_ONLY */
 
-/* The vector path of stewart_model.c (codegen/templates/vector.c, copied verbatim by the
- * generator before the vector kernels): STEWART_LANES states evaluated at once, one per
- * lane of a GCC/Clang vector of doubles (its arithmetic: codegen/templates/lanes.c).  The
- * generated vector kernels (vkernel_*), the
+/* The vector path of the model (codegen/templates/vector.c, copied verbatim by the generator
+ * into stewart_internal.h, which the model's units share): STEWART_LANES states evaluated at
+ * once, one per lane of a GCC/Clang vector of doubles (its arithmetic:
+ * codegen/templates/lanes.c).  The generated vector kernels (vkernel_*), the
  * vector solvers (vbareiss_*, vldl_*) and the block functions of the batch functions
  * (vblock_*) work on structure-of-arrays blocks: entry k of the block's states is one vector.
  * Every status test becomes a lane mask (all bits set: true), and every step returns the

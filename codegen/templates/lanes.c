@@ -1,5 +1,5 @@
-/* The lane-wise arithmetic of stewart_model.c (codegen/templates/lanes.c, copied verbatim by
- * the generator before everything that computes): the vector of STEWART_LANES doubles of the
+/* The lane-wise arithmetic of the model (codegen/templates/lanes.c, copied verbatim by the
+ * generator first into stewart_internal.h, which the model's units share): the vector of STEWART_LANES doubles of the
  * vector path and its sqrt, sin, cos and tanh, and the scalar path's sin, cos and tanh, which
  * are lane 0 of the vector ones.  Every operation is IEEE arithmetic on each lane alone (the
  * model is compiled without contraction into fused multiply-adds: -ffp-contract=off), so a

@@ -1,5 +1,5 @@
-/* The fixed C of stewart_model.c: the helpers of the public functions (codegen/templates/runtime.c,
- * copied verbatim by the generator after the file's first comment).  Every public function
+/* The helpers of the public functions (codegen/templates/runtime.c, copied verbatim by the
+ * generator into stewart_internal.h, which the model's units share).  Every public function
  * checks its inputs are finite (all_finite, params_finite), runs its kernel, checks the legs
  * (check_legs), runs its steps (each returns a status: the solvers, check_euler,
  * pose_accelerations, split_jacobians) and finishes (finish, finish_all).  Compiles on its own against stewart_model.h. */

@@ -1,7 +1,7 @@
-/* The vector path of stewart_model.c (codegen/templates/vector.c, copied verbatim by the
- * generator before the vector kernels): STEWART_LANES states evaluated at once, one per
- * lane of a GCC/Clang vector of doubles (its arithmetic: codegen/templates/lanes.c).  The
- * generated vector kernels (vkernel_*), the
+/* The vector path of the model (codegen/templates/vector.c, copied verbatim by the generator
+ * into stewart_internal.h, which the model's units share): STEWART_LANES states evaluated at
+ * once, one per lane of a GCC/Clang vector of doubles (its arithmetic:
+ * codegen/templates/lanes.c).  The generated vector kernels (vkernel_*), the
  * vector solvers (vbareiss_*, vldl_*) and the block functions of the batch functions
  * (vblock_*) work on structure-of-arrays blocks: entry k of the block's states is one vector.
  * Every status test becomes a lane mask (all bits set: true), and every step returns the
