@@ -2,9 +2,8 @@
 
 Portable by default: on x86-64 the model (its units, generated/stewart_model*.c, and its
 table of functions, generated/stewart_target.c) is compiled once per target into the one
-extension -- ``baseline`` (x86-64) whole, ``avx2`` (x86-64-v3: AVX2, FMA) and ``avx512``
-(x86-64-v4) with their batch functions only, since the scalar functions round the same on
-every target; all units of all targets side by side -- and the kernel runs the best copy the
+extension -- ``baseline`` (x86-64), ``avx2`` (x86-64-v3: AVX2, FMA) and ``avx512``
+(x86-64-v4), all units of all targets side by side -- and the kernel runs the best copy the
 CPU supports, chosen at import
 (``STEWART_SIMD`` forces one; ``stewart.build_info()`` tells which). A target the compiler
 cannot build (its flags, or its level in ``__builtin_cpu_supports``) is left out. On any
@@ -119,15 +118,14 @@ class BuildKernel(build_ext):
 
     def _model_objects(self, ext):
         """Compile the model once per target, every unit of every copy side by side, each copy
-        into its own directory: the first whole, the others with their batch functions only (the
-        scalar functions round the same on every target); the object files. The first copy is
-        also archived (MODEL_LIBRARY)."""
+        into its own directory; the object files. The first copy is also archived
+        (MODEL_LIBRARY)."""
         def compile_unit(job):
             index, source = job
             name, flags, level = self.targets[index]
             macros = [("STEWART_TARGET", name), ("STEWART_TARGET_LEVEL", f'"{level}"'),
                       ("STEWART_TARGET_FLAGS", '"' + " ".join(flags) + '"')]
-            if index > 0:  # the first copy keeps the public names; the others hold batch functions only
+            if index > 0:  # the first copy keeps the public names; the others are renamed
                 macros.append(("STEWART_PREFIX", f"stewart_{name}"))
             output_dir = os.path.join(self.build_temp, name)
             objects = self.compiler.object_filenames([source], output_dir=output_dir)

@@ -64,21 +64,17 @@ def main(argv=None):
             families.setdefault(csource.kernel_family(build), []).append(result)
             print(f'[codegen] {kernel.name:<32} derive {t_derive:5.2f} s, cse+C {t_emit:5.2f} s,'
                   f' {result.ops:5d} ops', flush=True)
-    public = [csource.public_function(function, kernels) for function in generated]
-    batches = [f for f in model.FUNCTIONS if csource.batched(f)]
-    batch = [csource.batch_function(function, kernels) for function in batches]
-    # The vector kernels the batch functions run.
-    vector = {k.name for f in batches if not f.template for specs in csource.kernel_runs(f, kernels) for k in specs}
-    templates = list(dict.fromkeys(f.template for f in model.FUNCTIONS if f.template))
+    public = [csource.public_function(function) for function in model.FUNCTIONS]
+    batch = [csource.batch_function(function, kernels) for function in model.FUNCTIONS]
 
     start = time.perf_counter()
     args.out.mkdir(parents=True, exist_ok=True)
     ops = [(k.name, k.ops) for k in emitted]
     files = {
         'stewart_model.h': csource.header(schema.PARAM_FIELDS, model.FUNCTIONS, ops, schema.INERTIAL_PARAMETERS),
-        'stewart_internal.h': csource.internal_header(schema.PARAM_FIELDS, model.FUNCTIONS, emitted, vector),
-        'stewart_model.c': csource.source(public, templates, batch),
-        **{f'stewart_model_{family}.c': csource.kernel_unit(family, units, vector) for family, units in families.items()},
+        'stewart_internal.h': csource.internal_header(schema.PARAM_FIELDS, model.FUNCTIONS, emitted),
+        'stewart_model.c': csource.source(public, batch),
+        **{f'stewart_model_{family}.c': csource.kernel_unit(family, units) for family, units in families.items()},
         'stewart_model.pxd': pxd.pxd(schema.PARAM_FIELDS, schema.LEFT_OUT, model.FUNCTIONS, schema.INERTIAL_PARAMETERS),
         'stewart_dispatch.h': csource.dispatch_header(model.FUNCTIONS),
         'stewart_target.c': csource.target_source(model.FUNCTIONS),

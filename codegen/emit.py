@@ -1,9 +1,13 @@
-"""Symbol definitions and output expressions -> straight-line C99 functions.
+"""Symbol definitions and output expressions -> straight-line C99 functions over a block of
+states.
 
 Pure code generation, no physics: prune the definitions the outputs do not
 need, run `sympy.cse` (order='none') over the remaining definitions and the
-outputs together, and print one `const double` per definition or common
-subexpression with a C99 printer that writes small integer powers as products.
+outputs together, and print one constant per definition or common subexpression -- a
+`stewart_vd` (one state per lane) where it depends on the state, a `double` where it
+depends on the parameters alone -- with a C99 printer that writes small integer powers as
+products.  The model's single-state functions run the same code on one state, so a state
+gives the same bits alone as in any lane of any block.
 """
 
 from dataclasses import dataclass
@@ -14,43 +18,11 @@ from sympy.printing.precedence import PRECEDENCE
 
 
 class _Printer(C99CodePrinter):
-    """C99 printer writing b**n (|n| <= 4) as products instead of pow(), parenthesized, and
-    sin, cos, tanh as `ssin`, `scos`, `stanh`: lane 0 of the vector path's (codegen/templates/lanes.c),
-    so that a state gives the same bits alone as in a batch."""
-
-    #: The scalar path's functions of codegen/templates/lanes.c, by sympy function.
-    functions = {sp.sin: 'ssin', sp.cos: 'scos', sp.tanh: 'stanh'}
-
-    def _print_Function(self, expr):
-        name = self.functions.get(type(expr))
-        if name:
-            return f'{name}({self._print(expr.args[0])})'
-        return super()._print_Function(expr)
-
-    _print_sin = _print_cos = _print_tanh = _print_Function
-
-    def _print_Pow(self, expr):
-        base, exp = expr.as_base_exp()
-        if exp.is_Integer and 1 <= abs(int(exp)) <= 4:
-            factor = self.parenthesize(base, PRECEDENCE['Mul'], strict=True)
-            product = '*'.join([factor] * abs(int(exp)))
-            # parenthesized: the Mul printer writes a denominator b**n as '/' + _print_Pow
-            return f'({product})' if exp > 0 else f'1.0/({product})'
-        return super()._print_Pow(expr)
-
-
-_PRINTER = _Printer()
-
-
-def ccode(expr):
-    return _PRINTER.doprint(expr)
-
-
-class _VectorPrinter(_Printer):
-    """The printer of the vector kernels: an expression over the `varying` symbols (one value
-    per lane) is a `stewart_vd`, with sqrt, sin, cos and tanh of it as the lane-wise `vsqrt`,
-    `vsin`, `vcos`, `vtanh` (codegen/templates/lanes.c); the parameters stay scalars, broadcast by the
-    arithmetic operators."""
+    """C99 printer writing b**n (|n| <= 4) as products instead of pow(), parenthesized; an
+    expression over the `varying` symbols (one value per lane) is a `stewart_vd`, with sqrt,
+    sin, cos and tanh of it as the lane-wise `vsqrt`, `vsin`, `vcos`, `vtanh`
+    (codegen/templates/lanes.c); the parameters stay scalars, broadcast by the arithmetic
+    operators."""
 
     def __init__(self, varying):
         super().__init__()
@@ -63,6 +35,12 @@ class _VectorPrinter(_Printer):
         if expr.exp in (sp.S.Half, -sp.S.Half) and self._varies(expr.base):
             root = f'vsqrt({self._print(expr.base)})'
             return root if expr.exp > 0 else f'1.0/{root}'
+        base, exp = expr.as_base_exp()
+        if exp.is_Integer and 1 <= abs(int(exp)) <= 4:
+            factor = self.parenthesize(base, PRECEDENCE['Mul'], strict=True)
+            product = '*'.join([factor] * abs(int(exp)))
+            # parenthesized: the Mul printer writes a denominator b**n as '/' + _print_Pow
+            return f'({product})' if exp > 0 else f'1.0/({product})'
         return super()._print_Pow(expr)
 
     def _print_Function(self, expr):
@@ -76,10 +54,9 @@ class _VectorPrinter(_Printer):
 @dataclass
 class EmittedKernel:
     name: str
-    source: str
+    source: str       # C source of `void vkernel_<name>(...)`
     ops: int          # sympy count_ops of the cse output
-    vector: str = ''  # C source of its vector variant
-    declarations: tuple = ()  # the prototypes of the two, `void kernel_<name>(...)` and `void vkernel_<name>(...)`
+    declaration: str  # its prototype
 
 
 def _prune(defs, outputs):
@@ -125,65 +102,27 @@ def _statements(defs, outputs):
 
 
 def emit_kernel(kernel, param_members):
-    """C source of `void kernel_<name>(...)` for a `model.KernelSpec` (and of its vector variant,
-    `vector_kernel`), with their prototypes: kernels are shared between the model's units.
+    """C source of `void vkernel_<name>(...)` for a `model.KernelSpec`, and its prototype
+    (kernels are shared between the model's units): the kernel over a block of STEWART_LANES
+    states, every quantity that depends on the state a `stewart_vd` (one state per lane;
+    inputs and outputs are arrays of them, entry k of the states in element k), the
+    parameters and what depends on them alone computed once, as doubles.
 
     `param_members` maps parameter symbols to C expressions reading them from
     `const stewart_params *p`.  A kernel with `lanes` > 1 is a loop over its lanes with
-    interleaved arrays (entry k of lane i at k * lanes + i; its `shared` inputs whole),
-    vectorized under OpenMP.
+    interleaved arrays (entry k of lane i at k * lanes + i; its `shared` inputs whole).
     """
     outputs = [sp.sympify(e) for _, exprs in kernel.outputs for e in exprs]
     statements, reduced, ops = _statements(_prune(kernel.graph.defs, outputs), outputs)
     used = set().union(*[e.free_symbols for _, e in statements], *[e.free_symbols for e in reduced])
-    lanes = kernel.lanes
-    at = (lambda k: f'[{k}]') if lanes == 1 else (lambda k: f'[{k} * {lanes} + lane]')
-    qualifier = '' if lanes == 1 else 'restrict '
-
-    args = ['const stewart_params *p'] + [f'const double *{"" if name in kernel.shared else qualifier}{name}'
-                                          for name, _ in kernel.inputs]
-    args += [f'double *{qualifier}{name}' for name, _ in kernel.outputs]
-    signature = f'void kernel_{kernel.name}({", ".join(args)})'
-    lines = [f'/* {kernel.doc} */', signature, '{']
-    lines += [f'    const double {s.name} = p->{member};' for s, member in param_members if s in used]
-    if not any(s in used for s, _ in param_members):
-        lines.append('    (void)p;')
-    indent = '    '
-    if lanes > 1:
-        lines += ['    int lane;', '#ifdef _OPENMP', '#pragma omp simd', '#endif',
-                  f'    for (lane = 0; lane < {lanes}; ++lane) {{']
-        indent = '        '
-    for name, syms in kernel.inputs:
-        index = (lambda k: f'[{k}]') if name in kernel.shared else at
-        lines += [f'{indent}const double {s.name} = {name}{index(k)};' for k, s in enumerate(syms) if s in used]
-    lines += [f'{indent}const double {s.name} = {ccode(e)};' for s, e in statements]
-    k = 0
-    for name, exprs in kernel.outputs:
-        for j in range(len(exprs)):
-            lines.append(f'{indent}{name}{at(j)} = {ccode(reduced[k])};')
-            k += 1
-    if lanes > 1:
-        lines.append('    }')
-    lines.append('}')
-    vector, vector_signature = vector_kernel(kernel, statements, reduced, used, param_members)
-    return EmittedKernel(kernel.name, '\n'.join(lines) + '\n', ops, vector, (signature, vector_signature))
-
-
-def vector_kernel(kernel, statements, reduced, used, param_members):
-    """C source of `void vkernel_<name>(...)` and its signature: the kernel over a block of STEWART_LANES
-    states: the same statements with every quantity that depends on the state a `stewart_vd`
-    (one state per lane; inputs and outputs are arrays of them, entry k of the states in
-    element k), the parameters and what depends on them alone computed once, as doubles.  A
-    kernel with `lanes` > 1 loops over its lanes as the scalar one does, its arrays
-    interleaved the same way (entry k of lane i at k * lanes + i; its `shared` inputs whole)."""
     varying = {s for _, syms in kernel.inputs for s in syms}
-    printer = _VectorPrinter(varying)
+    printer = _Printer(varying)
     lanes = kernel.lanes
     at = (lambda k: f'[{k}]') if lanes == 1 else (lambda k: f'[{k} * {lanes} + lane]')
     args = (['const stewart_params *p'] + [f'const stewart_vd *{name}' for name, _ in kernel.inputs]
             + [f'stewart_vd *{name}' for name, _ in kernel.outputs])
     signature = f'void vkernel_{kernel.name}({", ".join(args)})'
-    lines = [f'/* {kernel.name} over a block of states. */', signature, '{']
+    lines = [f'/* {kernel.doc} */', signature, '{']
     lines += [f'    const double {s.name} = p->{member};' for s, member in param_members if s in used]
     if not any(s in used for s, _ in param_members):
         lines.append('    (void)p;')
@@ -209,4 +148,4 @@ def vector_kernel(kernel, statements, reduced, used, param_members):
     if lanes > 1:
         lines.append('    }')
     lines.append('}')
-    return '\n'.join(lines) + '\n', signature
+    return EmittedKernel(kernel.name, '\n'.join(lines) + '\n', ops, signature)

@@ -2,9 +2,11 @@
 a factorization and a solve for any number of right-hand sides, so the derivative
 functions reuse the factorization of the primal solve.
 
-Both factorizations are fully unrolled into scalar code (no loops), which lets the
-compiler keep the matrix in registers and overlap the eliminations; the solves unroll
-the six rows and loop over the right-hand sides:
+Each works on a block of states, one per lane of a `stewart_vd` (codegen/templates/vector.c):
+the same operations on every lane, the conditional row swaps as lane-wise selects, and the
+status of each lane returned as a `stewart_vl` (0: STEWART_OK).  Both factorizations are
+fully unrolled (no loops), which lets the compiler keep the matrix in registers and overlap
+the eliminations; the solves unroll the six rows and loop over the right-hand sides:
 
 * `bareiss_factor` / `bareiss_solve`: J^T y = b for the leg Jacobian J (inverse
   dynamics), by fraction-free (Bareiss) Gaussian elimination with partial pivoting.
@@ -23,34 +25,9 @@ A solve takes b as 6 rows of n columns with row stride ld (ld >= n) and writes y
 rows of n columns with the same row stride; every column is solved with exactly the
 operations of a single right-hand side, all of its entries read before any is written, so
 y may be b (a solve in place).
-
-Each function also has a vector variant (`vector=True`: `vbareiss_factor`, ...) over a
-block of states, one per lane of a `stewart_vd` (codegen/templates/vector.c): the same
-operations lane-wise, the conditional row swaps as lane-wise selects, and the status of
-each lane returned as a `stewart_vl` (0: STEWART_OK).
 """
 
-from dataclasses import dataclass
-
 N = 6
-
-
-@dataclass(frozen=True)
-class _Types:
-    """The C types and names of the scalar or the vector variant of the solvers."""
-    real: str     # a number
-    flag: str     # a comparison's result
-    status: str   # the return type
-    prefix: str   # of the function names
-    abs: str      # |a|
-
-
-SCALAR = _Types('double', 'int', 'int', '', 'fabs')
-VECTOR = _Types('stewart_vd', 'stewart_vl', 'stewart_vl', 'v', 'vabs')
-
-
-def _types(vector):
-    return VECTOR if vector else SCALAR
 
 
 def _tournament(rows):
@@ -95,39 +72,39 @@ class _BareissLayout:
 BAREISS = _BareissLayout()
 
 
-def bareiss_factor(vector=False):
-    """C text of `static int bareiss_factor(J, F)` (or its vector variant)."""
-    L, T = BAREISS, _types(vector)
-    lines = ['/* bareiss_factor over a block of states: the swaps lane-wise, F[swap] a lane mask. */',
-             f'static stewart_vl vbareiss_factor(const stewart_vd J[36], stewart_vd F[{L.size}])', '{'] if vector else [
+def bareiss_factor():
+    """C text of `static stewart_vl vbareiss_factor(J, F)`."""
+    L = BAREISS
+    lines = [
         '/* Factor J^T (J 6x6 row-major) by fraction-free (Bareiss) Gaussian elimination',
         ' * with partial pivoting, unrolled; a_rc = (J^T)_rc.  At step k the row of largest',
         ' * |a_ik| (i >= k) is swapped into row k and a_ij <- (a_kk a_ij - a_ik a_kj) /',
         ' * (previous pivot), which keeps every entry a minor of J^T and makes the last pivot',
-        ' * a_55 = +-det J.  F receives what bareiss_solve replays (see codegen/linsolve.py).',
-        ' * Returns STEWART_ERR_JACOBIAN_SINGULAR when the Hadamard ratio',
+        ' * a_55 = +-det J.  F receives what vbareiss_solve replays (see codegen/linsolve.py);',
+        ' * the swaps are lane-wise, F[swap] a lane mask.  A lane\'s status is',
+        ' * STEWART_ERR_JACOBIAN_SINGULAR when the Hadamard ratio',
         ' * |det J| / prod_i |row_i(J)| < STEWART_JACOBIAN_TOL, else STEWART_OK. */',
-        f'static int bareiss_factor(const double J[36], double F[{L.size}])',
+        f'static stewart_vl vbareiss_factor(const stewart_vd J[36], stewart_vd F[{L.size}])',
         '{',
     ]
     add = lines.append
     for r in range(N):
-        add(f'    {T.real} ' + ', '.join(f'a{r}{c} = J[{N * c + r}]' for c in range(N)) + ';')
+        add('    stewart_vd ' + ', '.join(f'a{r}{c} = J[{N * c + r}]' for c in range(N)) + ';')
     for i in range(N):
-        add(f'    const {T.real} n{i} = '
+        add(f'    const stewart_vd n{i} = '
             + ' + '.join(f'J[{N * i + j}] * J[{N * i + j}]' for j in range(N)) + ';')
-    add(f'    {T.real} t;')
-    add(f'    {T.flag} s;')
+    add('    stewart_vd t;')
+    add('    stewart_vl s;')
     swap = 0
     for k in range(N):
         add(f'    /* step {k} */')
         for i, j in _tournament(range(k, N)):
-            add(f'    s = {T.abs}(a{j}{k}) > {T.abs}(a{i}{k});')
-            add(f'    F[{swap}] = {"(stewart_vd)" if vector else ""}s;')
+            add(f'    s = vabs(a{j}{k}) > vabs(a{i}{k});')
+            add(f'    F[{swap}] = (stewart_vd)s;')
             swap += 1
             for c in range(k, N):
-                add(f'    t = a{i}{c}; ' + _swap(vector, 's', f'a{i}{c}', f'a{j}{c}'))
-        add(f'    const {T.real} inv{k} = 1.0 / a{k}{k};')
+                add(f'    t = a{i}{c}; ' + _swap('s', f'a{i}{c}', f'a{j}{c}'))
+        add(f'    const stewart_vd inv{k} = 1.0 / a{k}{k};')
         add(f'    F[{L.pivot[k]}] = a{k}{k};')
         add(f'    F[{L.inv[k]}] = inv{k};')
         if k == N - 1:
@@ -142,58 +119,44 @@ def bareiss_factor(vector=False):
     norms = ' * '.join(f'n{i}' for i in range(N))
     last = f'a{N - 1}{N - 1}'
     test = f'{last} * {last} >= STEWART_JACOBIAN_TOL * STEWART_JACOBIAN_TOL * ({norms})'
-    if vector:
-        add(f'    return ~({test}) & STEWART_ERR_JACOBIAN_SINGULAR;')
-    else:
-        add(f'    if (!({test})) {{')
-        add('        return STEWART_ERR_JACOBIAN_SINGULAR;')
-        add('    }')
-        add('    return STEWART_OK;')
+    add(f'    return ~({test}) & STEWART_ERR_JACOBIAN_SINGULAR;')
     add('}')
     return '\n'.join(lines) + '\n'
 
 
-def _swap(vector, flag, a, b):
-    """C text exchanging a and b where `flag` holds, t holding a's value."""
-    if vector:
-        return f'{a} = vselect({flag}, {b}, t); {b} = vselect({flag}, t, {b});'
-    return f'{a} = {flag} ? {b} : t; {b} = {flag} ? t : {b};'
+def _swap(flag, a, b):
+    """C text exchanging a and b in the lanes where `flag` holds, t holding a's value."""
+    return f'{a} = vselect({flag}, {b}, t); {b} = vselect({flag}, t, {b});'
 
 
-def _solve_head(comment, name, size, extra, vector):
+def _solve_head(comment, name, size, extra):
     """The C lines of a solve up to its loop over the columns c of b, with b's column c
     loaded into b0 ... b5 (and the declarations `extra`)."""
-    T = _types(vector)
-    if vector:
-        comment = [f'/* {name} over a block of states. */']
     return comment + [
-        f'static {T.status} {T.prefix}{name}(const {T.real} F[{size}], int n, int ld, const {T.real} *b, {T.real} *y)',
+        f'static stewart_vl v{name}(const stewart_vd F[{size}], int n, int ld, const stewart_vd *b, stewart_vd *y)',
         '{',
         '    int c;',
         '    for (c = 0; c < n; ++c) {',
-        f'        {T.real} ' + ', '.join(f'b{r} = b[{r} * ld + c]' for r in range(N)) + extra + ';',
+        '        stewart_vd ' + ', '.join(f'b{r} = b[{r} * ld + c]' for r in range(N)) + extra + ';',
     ]
 
 
-def _solved(vector):
+def _solved():
     """The C lines ending a solve."""
-    return ['    }', '    return vnone();' if vector else '    return STEWART_OK;', '}']
+    return ['    }', '    return vnone();', '}']
 
 
-def bareiss_solve(vector=False):
-    """C text of `static int bareiss_solve(F, n, ld, b, y)` (or its vector variant)."""
+def bareiss_solve():
+    """C text of `static stewart_vl vbareiss_solve(F, n, ld, b, y)`."""
     L = BAREISS
-    lines = _solve_head(['/* Solve J^T y = b for n right-hand sides with the factors F of bareiss_factor: the',
+    lines = _solve_head(['/* Solve J^T y = b for n right-hand sides with the factors F of vbareiss_factor: the',
                          ' * same swaps and eliminations on each column of b, then back substitution. */'],
-                        'bareiss_solve', L.size, ', t', vector)
+                        'bareiss_solve', L.size, ', t')
     add = lines.append
     swap = 0
     for k in range(N):
         for i, j in _tournament(range(k, N)):
-            if vector:
-                add(f'        t = b{i}; ' + _swap(vector, f'(stewart_vl)F[{swap}]', f'b{i}', f'b{j}'))
-            else:
-                add(f'        if (F[{swap}] != 0.0) {{ t = b{i}; b{i} = b{j}; b{j} = t; }}')
+            add(f'        t = b{i}; ' + _swap(f'(stewart_vl)F[{swap}]', f'b{i}', f'b{j}'))
             swap += 1
         if k == N - 1:
             break
@@ -203,7 +166,7 @@ def bareiss_solve(vector=False):
     for i in range(N - 1, -1, -1):
         terms = ''.join(f' - F[{L.upper[i, j]}] * y[{j} * ld + c]' for j in range(i + 1, N))
         add(f'        y[{i} * ld + c] = (b{i}{terms}) * F[{L.inv[i]}];')
-    lines += _solved(vector)
+    lines += _solved()
     return '\n'.join(lines) + '\n'
 
 
@@ -216,19 +179,17 @@ def _ldl_index(i, k):
     return sum(N - 1 - m for m in range(k)) + (i - k - 1)
 
 
-def ldl_factor(vector=False):
-    """C text of `static int ldl_factor(upper, F)` (or its vector variant)."""
-    T = _types(vector)
+def ldl_factor():
+    """C text of `static stewart_vl vldl_factor(upper, F)`."""
     diag = [sum(N - r for r in range(k)) for k in range(N)]  # index of S_kk in upper[]
     inv_at = N * (N - 1) // 2
-    lines = ['/* ldl_factor over a block of states, lane by lane. */',
-             f'static stewart_vl vldl_factor(const stewart_vd upper[21], stewart_vd F[{LDL_SIZE}])', '{'] if vector else [
+    lines = [
         '/* Factor S = L D L^T for symmetric S given by its upper triangle (21 entries,',
         ' * row-major), unrolled (m_ij: the upper triangle being eliminated, l_ik = m_ki / d_k);',
-        ' * F receives l_ik (i > k, by columns) and then 1 / d_k.  Returns STEWART_ERR_MASS_SINGULAR',
-        ' * when a pivot d_k (the square of the Cholesky diagonal) is <= STEWART_MASS_TOL times',
-        ' * its diagonal entry S_kk (or S_kk <= 0), else STEWART_OK. */',
-        f'static int ldl_factor(const double upper[21], double F[{LDL_SIZE}])',
+        ' * F receives l_ik (i > k, by columns) and then 1 / d_k.  A lane\'s status is',
+        ' * STEWART_ERR_MASS_SINGULAR when a pivot d_k (the square of the Cholesky diagonal) is',
+        ' * <= STEWART_MASS_TOL times its diagonal entry S_kk (or S_kk <= 0), else STEWART_OK. */',
+        f'static stewart_vl vldl_factor(const stewart_vd upper[21], stewart_vd F[{LDL_SIZE}])',
         '{',
     ]
     add = lines.append
@@ -238,34 +199,28 @@ def ldl_factor(vector=False):
         for j in range(i, N):
             decl.append(f'm{i}{j} = upper[{n}]')
             n += 1
-        add(f'    {T.real} ' + ', '.join(decl) + ';')
-    add('    stewart_vl ok = ~vnone();' if vector else '    int ok = 1;')
+        add('    stewart_vd ' + ', '.join(decl) + ';')
+    add('    stewart_vl ok = ~vnone();')
     for k in range(N):
         add(f'    ok &= (upper[{diag[k]}] > 0.0) & (m{k}{k} > STEWART_MASS_TOL * upper[{diag[k]}]);')
-        add(f'    const {T.real} inv{k} = 1.0 / m{k}{k};')
+        add(f'    const stewart_vd inv{k} = 1.0 / m{k}{k};')
         add(f'    F[{inv_at + k}] = inv{k};')
         for i in range(k + 1, N):
-            add(f'    const {T.real} l{i}{k} = m{k}{i} * inv{k};')
+            add(f'    const stewart_vd l{i}{k} = m{k}{i} * inv{k};')
             add(f'    F[{_ldl_index(i, k)}] = l{i}{k};')
         for i in range(k + 1, N):
             for j in range(i, N):
                 add(f'    m{i}{j} -= l{i}{k} * m{k}{j};')
-    if vector:
-        add('    return ~ok & STEWART_ERR_MASS_SINGULAR;')
-    else:
-        add('    if (!ok) {')
-        add('        return STEWART_ERR_MASS_SINGULAR;')
-        add('    }')
-        add('    return STEWART_OK;')
+    add('    return ~ok & STEWART_ERR_MASS_SINGULAR;')
     add('}')
     return '\n'.join(lines) + '\n'
 
 
-def ldl_solve(vector=False):
-    """C text of `static int ldl_solve(F, n, ld, b, y)` (or its vector variant)."""
+def ldl_solve():
+    """C text of `static stewart_vl vldl_solve(F, n, ld, b, y)`."""
     inv_at = N * (N - 1) // 2
-    lines = _solve_head(['/* Solve S y = b for n right-hand sides with the factors F of ldl_factor. */'],
-                        'ldl_solve', LDL_SIZE, '', vector)
+    lines = _solve_head(['/* Solve S y = b for n right-hand sides with the factors F of vldl_factor. */'],
+                        'ldl_solve', LDL_SIZE, '')
     add = lines.append
     for k in range(N):
         for i in range(k + 1, N):
@@ -273,10 +228,10 @@ def ldl_solve(vector=False):
     for i in range(N - 1, -1, -1):
         terms = ''.join(f' - F[{_ldl_index(j, i)}] * y[{j} * ld + c]' for j in range(i + 1, N))
         add(f'        y[{i} * ld + c] = b{i} * F[{inv_at + i}]{terms};')
-    lines += _solved(vector)
+    lines += _solved()
     return '\n'.join(lines) + '\n'
 
 
-def source(vector=False):
-    """C text of the four functions (or of their vector variants)."""
-    return '\n'.join([bareiss_factor(vector), bareiss_solve(vector), ldl_factor(vector), ldl_solve(vector)])
+def source():
+    """C text of the four functions."""
+    return '\n'.join([bareiss_factor(), bareiss_solve(), ldl_factor(), ldl_solve()])

@@ -972,7 +972,7 @@ class Function:
     function returning a status (the solvers of `linsolve`, or codegen/templates/runtime.c),
     called with kernel outputs, `scratch` arrays, outputs or constants, or a further kernel
     (`Kernels`).  A function with no kernels is written in C in `template`
-    (codegen/templates), from the public functions before it.
+    (codegen/templates), from the functions before it.
     """
     name: str
     doc: str
@@ -1097,9 +1097,9 @@ FUNCTIONS = (
              scratch=(_BAREISS_FACTORS,)),
     Function('rk4_step', 'One classic RK4 step of s = [x; xd], ds/dt = [xd; xdd(x, xd, tau)], tau constant:'
              ' [xn; xdn] after dt.', ('x', 'xd', 'tau'), (('xn', 6), ('xdn', 6)), (), scalars=('dt',),
-             template='rk4.c'),
+             template='vector.c'),
     Function('rk4_step_derivatives', 'The RK4 step and its Jacobians A = d[xn; xdn]/d[x; xd] (12 x 12) and'
              ' B = d[xn; xdn]/dtau (12 x 6), row-major, by the chain rule through the stages.',
              ('x', 'xd', 'tau'), (('xn', 6), ('xdn', 6), ('A', 144), ('B', 72)), (), scalars=('dt',),
-             template='rk4.c'),
+             template='vector.c'),
 )

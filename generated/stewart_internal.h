@@ -2,15 +2,13 @@
  *
  * What the model's units share (stewart_model.c, the public functions, and
  * stewart_model_<family>.c, the generated kernels of one family, which compile side by side):
- * the lane-wise arithmetic (codegen/templates/lanes.c), the helpers of the public functions
- * (runtime.c), the solvers, the vector path (vector.c) and the kernels' prototypes.  Not part
+ * the lane-wise arithmetic (codegen/templates/lanes.c), the parameter tests (runtime.c), the
+ * solvers, the evaluation over a block of states (vector.c) and the kernels' prototypes.  Not part
  * of the API: the kernels have hidden visibility, and names in stewart_ with a prefix.
  *
  * A copy of the model for one instruction set among several (stewart_target.c) is compiled
- * with -DSTEWART_PREFIX=<prefix> in all copies but the first: it holds the batch functions
- * only (STEWART_BATCH_ONLY; the scalar functions round the same on every instruction set),
- * and its public functions and kernels are named <prefix>_<name>, so that the copies link
- * together.
+ * with -DSTEWART_PREFIX=<prefix> in all copies but the first: its public functions and
+ * kernels are named <prefix>_<name>, so that the copies link together.
  */
 #ifndef STEWART_INTERNAL_H
 #define STEWART_INTERNAL_H
@@ -18,12 +16,28 @@
 #define STEWART_JOIN_(a, b) a##_##b
 #define STEWART_JOIN(a, b) STEWART_JOIN_(a, b)
 #ifdef STEWART_PREFIX
-#define STEWART_BATCH_ONLY
 #define STEWART_LOCAL(name) STEWART_JOIN(STEWART_PREFIX, name)
 #define stewart_status_message STEWART_LOCAL(status_message)
 #define stewart_is_axisymmetric STEWART_LOCAL(is_axisymmetric)
 #define stewart_is_paper_model STEWART_LOCAL(is_paper_model)
 #define stewart_batch_lanes STEWART_LOCAL(batch_lanes)
+#define stewart_leg_lengths STEWART_LOCAL(leg_lengths)
+#define stewart_jacobian STEWART_LOCAL(jacobian)
+#define stewart_leg_rates STEWART_LOCAL(leg_rates)
+#define stewart_mass_matrix STEWART_LOCAL(mass_matrix)
+#define stewart_twist_mass_matrix STEWART_LOCAL(twist_mass_matrix)
+#define stewart_coriolis_matrix STEWART_LOCAL(coriolis_matrix)
+#define stewart_coriolis_vector STEWART_LOCAL(coriolis_vector)
+#define stewart_gravity_vector STEWART_LOCAL(gravity_vector)
+#define stewart_all_terms STEWART_LOCAL(all_terms)
+#define stewart_inverse_dynamics STEWART_LOCAL(inverse_dynamics)
+#define stewart_forward_dynamics STEWART_LOCAL(forward_dynamics)
+#define stewart_inverse_dynamics_derivatives STEWART_LOCAL(inverse_dynamics_derivatives)
+#define stewart_forward_dynamics_derivatives STEWART_LOCAL(forward_dynamics_derivatives)
+#define stewart_joint_reactions STEWART_LOCAL(joint_reactions)
+#define stewart_regressor STEWART_LOCAL(regressor)
+#define stewart_rk4_step STEWART_LOCAL(rk4_step)
+#define stewart_rk4_step_derivatives STEWART_LOCAL(rk4_step_derivatives)
 #define stewart_batch_leg_lengths STEWART_LOCAL(batch_leg_lengths)
 #define stewart_batch_jacobian STEWART_LOCAL(batch_jacobian)
 #define stewart_batch_leg_rates STEWART_LOCAL(batch_leg_rates)
@@ -44,49 +58,6 @@
 #else
 #define STEWART_LOCAL(name) stewart_##name
 #endif
-#define kernel_leg_lengths STEWART_LOCAL(kernel_leg_lengths)
-#define kernel_jacobian STEWART_LOCAL(kernel_jacobian)
-#define kernel_leg_rates STEWART_LOCAL(kernel_leg_rates)
-#define kernel_mass_matrix_axisym STEWART_LOCAL(kernel_mass_matrix_axisym)
-#define kernel_mass_matrix_frames STEWART_LOCAL(kernel_mass_matrix_frames)
-#define kernel_mass_matrix_general STEWART_LOCAL(kernel_mass_matrix_general)
-#define kernel_twist_mass_matrix_axisym STEWART_LOCAL(kernel_twist_mass_matrix_axisym)
-#define kernel_twist_mass_matrix_frames STEWART_LOCAL(kernel_twist_mass_matrix_frames)
-#define kernel_twist_mass_matrix_general STEWART_LOCAL(kernel_twist_mass_matrix_general)
-#define kernel_coriolis_matrix_axisym STEWART_LOCAL(kernel_coriolis_matrix_axisym)
-#define kernel_coriolis_matrix_frames STEWART_LOCAL(kernel_coriolis_matrix_frames)
-#define kernel_coriolis_matrix_general STEWART_LOCAL(kernel_coriolis_matrix_general)
-#define kernel_coriolis_vector_axisym STEWART_LOCAL(kernel_coriolis_vector_axisym)
-#define kernel_coriolis_vector_frames STEWART_LOCAL(kernel_coriolis_vector_frames)
-#define kernel_coriolis_vector_general STEWART_LOCAL(kernel_coriolis_vector_general)
-#define kernel_gravity_vector STEWART_LOCAL(kernel_gravity_vector)
-#define kernel_gravity_vector_general STEWART_LOCAL(kernel_gravity_vector_general)
-#define kernel_all_terms_axisym STEWART_LOCAL(kernel_all_terms_axisym)
-#define kernel_all_terms_frames STEWART_LOCAL(kernel_all_terms_frames)
-#define kernel_all_terms_general STEWART_LOCAL(kernel_all_terms_general)
-#define kernel_inverse_dynamics_axisym STEWART_LOCAL(kernel_inverse_dynamics_axisym)
-#define kernel_inverse_dynamics_frames STEWART_LOCAL(kernel_inverse_dynamics_frames)
-#define kernel_inverse_dynamics_general STEWART_LOCAL(kernel_inverse_dynamics_general)
-#define kernel_forward_dynamics_axisym STEWART_LOCAL(kernel_forward_dynamics_axisym)
-#define kernel_forward_dynamics_frames STEWART_LOCAL(kernel_forward_dynamics_frames)
-#define kernel_forward_dynamics_general STEWART_LOCAL(kernel_forward_dynamics_general)
-#define kernel_leg_points STEWART_LOCAL(kernel_leg_points)
-#define kernel_leg_points_general STEWART_LOCAL(kernel_leg_points_general)
-#define kernel_leg_derivatives_axisym STEWART_LOCAL(kernel_leg_derivatives_axisym)
-#define kernel_leg_derivatives_frames STEWART_LOCAL(kernel_leg_derivatives_frames)
-#define kernel_leg_derivatives_general STEWART_LOCAL(kernel_leg_derivatives_general)
-#define kernel_leg_chain_inverse STEWART_LOCAL(kernel_leg_chain_inverse)
-#define kernel_residual_derivatives_inverse STEWART_LOCAL(kernel_residual_derivatives_inverse)
-#define kernel_residual_derivatives_inverse_general STEWART_LOCAL(kernel_residual_derivatives_inverse_general)
-#define kernel_leg_chain_forward STEWART_LOCAL(kernel_leg_chain_forward)
-#define kernel_residual_derivatives_forward STEWART_LOCAL(kernel_residual_derivatives_forward)
-#define kernel_residual_derivatives_forward_general STEWART_LOCAL(kernel_residual_derivatives_forward_general)
-#define kernel_joint_reactions_axisym STEWART_LOCAL(kernel_joint_reactions_axisym)
-#define kernel_joint_reactions_frames STEWART_LOCAL(kernel_joint_reactions_frames)
-#define kernel_joint_reactions_general STEWART_LOCAL(kernel_joint_reactions_general)
-#define kernel_joint_forces STEWART_LOCAL(kernel_joint_forces)
-#define kernel_regressor STEWART_LOCAL(kernel_regressor)
-#define kernel_regressor_general STEWART_LOCAL(kernel_regressor_general)
 #define vkernel_leg_lengths STEWART_LOCAL(vkernel_leg_lengths)
 #define vkernel_jacobian STEWART_LOCAL(vkernel_jacobian)
 #define vkernel_leg_rates STEWART_LOCAL(vkernel_leg_rates)
@@ -140,11 +111,10 @@
 #endif
 /* The lane-wise arithmetic of the model (codegen/templates/lanes.c, copied verbatim by the
  * generator first into stewart_internal.h, which the model's units share): the vector of STEWART_LANES doubles of the
- * vector path and its sqrt, sin, cos and tanh, and the scalar path's sin, cos and tanh, which
- * are lane 0 of the vector ones.  Every operation is IEEE arithmetic on each lane alone (the
- * model is compiled without contraction into fused multiply-adds: -ffp-contract=off), so a
- * state gives the same bits alone (scalar functions) as in any lane of any block (batch
- * functions), on every instruction set.  Compiles on its own against stewart_model.h. */
+ * model and its sqrt, sin, cos and tanh.  Every operation is IEEE arithmetic on each lane
+ * alone (the model is compiled without contraction into fused multiply-adds:
+ * -ffp-contract=off), so a state gives the same bits in any lane of any block, on every
+ * instruction set.  Compiles on its own against stewart_model.h. */
 #include "stewart_model.h"
 
 #include <float.h>
@@ -282,28 +252,10 @@ static stewart_vd vtanh(stewart_vd a)
     return vnegate(a < 0.0, 1.0 - 2.0 / (e + 1.0));
 }
 
-/* The scalar path's sin, cos and tanh: lane 0 of vsin, vcos, vtanh (sqrt is correctly
- * rounded on both paths). */
-static double ssin(double a)
-{
-    return vsin(vsplat(a))[0];
-}
-
-static double scos(double a)
-{
-    return vcos(vsplat(a))[0];
-}
-
-static double stanh(double a)
-{
-    return vtanh(vsplat(a))[0];
-}
-
-/* The helpers of the public functions (codegen/templates/runtime.c, copied verbatim by the
- * generator into stewart_internal.h, which the model's units share).  Every public function
- * checks its inputs are finite (all_finite, params_finite), runs its kernel, checks the legs
- * (check_legs), runs its steps (each returns a status: the solvers, check_euler,
- * pose_accelerations, split_jacobians) and finishes (finish, finish_all).  Compiles on its own against stewart_model.h. */
+/* The parameter tests of the public functions (codegen/templates/runtime.c, copied verbatim by
+ * the generator into stewart_internal.h, which the model's units share): whether the legs
+ * spin (the regressor's kernel variants) and whether the parameters are finite (all_finite,
+ * for params_finite).  Compiles on its own against stewart_model.h. */
 #include "stewart_model.h"
 
 #include <float.h>
@@ -333,104 +285,6 @@ static int all_finite(const double *v, int n)
     return ok;
 }
 
-/* The legs' tests, in order (codegen/conditions.py): STEWART_ERR_LEG_DEGENERATE if a
- * leg has L2[i] < STEWART_DEGENERATE_TOL (or NaN), STEWART_ERR_NONFINITE if a leg's L2[i]
- * overflows, (h2 != NULL: the kernels in the frames {C_i}) STEWART_ERR_LEG_VERTICAL if a leg
- * has h2[i] = l_x^2 + l_y^2 < STEWART_VERTICAL_TOL * L2[i], and (n2 != NULL: the general
- * model) STEWART_ERR_GIMBAL_LOCK if a leg has n2[i] = |a_i x l_i|^2 < STEWART_GIMBAL_TOL *
- * L2[i]; else STEWART_OK. */
-static int check_legs(const double L2[6], const double h2[6], const double n2[6])
-{
-    int i;
-    for (i = 0; i < 6; ++i) {
-        if (!(L2[i] >= STEWART_DEGENERATE_TOL)) {
-            return STEWART_ERR_LEG_DEGENERATE;
-        }
-    }
-    for (i = 0; i < 6; ++i) {
-        if (!(L2[i] <= DBL_MAX)) {
-            return STEWART_ERR_NONFINITE;
-        }
-    }
-    for (i = 0; h2 != NULL && i < 6; ++i) {
-        if (!(h2[i] >= STEWART_VERTICAL_TOL * L2[i])) {
-            return STEWART_ERR_LEG_VERTICAL;
-        }
-    }
-    for (i = 0; n2 != NULL && i < 6; ++i) {
-        if (!(n2[i] >= STEWART_GIMBAL_TOL * L2[i])) {
-            return STEWART_ERR_GIMBAL_LOCK;
-        }
-    }
-    return STEWART_OK;
-}
-
-/* STEWART_OK unless cos(theta) is too small for the Euler-rate map J_A to be inverted. */
-static int check_euler(const double ctheta[1])
-{
-    return fabs(ctheta[0]) >= STEWART_EULER_TOL ? STEWART_OK : STEWART_ERR_EULER_SINGULAR;
-}
-
-/* xdd = [y_v; J_A^-1 y_w] from the twist acceleration y = T xdd, for n columns (6 rows of
- * n, row-major; y and xdd may not overlap). */
-static int pose_accelerations(const double JAinv[9], int n, const double *y, double *xdd)
-{
-    int i, c;
-    for (c = 0; c < n; ++c) {
-        for (i = 0; i < 3; ++i) {
-            xdd[i * n + c] = y[i * n + c];
-            xdd[(3 + i) * n + c] = JAinv[3 * i] * y[3 * n + c] + JAinv[3 * i + 1] * y[4 * n + c]
-                + JAinv[3 * i + 2] * y[5 * n + c];
-        }
-    }
-    return STEWART_OK;
-}
-
-/* The three 6 x 6 blocks of columns of Y (6 x 18, row-major). */
-static int split_jacobians(const double Y[108], double a[36], double b[36], double c[36])
-{
-    int i, j;
-    for (i = 0; i < 6; ++i) {
-        for (j = 0; j < 6; ++j) {
-            a[6 * i + j] = Y[18 * i + j];
-            b[6 * i + j] = Y[18 * i + 6 + j];
-            c[6 * i + j] = Y[18 * i + 12 + j];
-        }
-    }
-    return STEWART_OK;
-}
-
-/* Final status: an error, or NONFINITE for a non-finite output; fills the
- * output with NaN unless STEWART_OK. */
-static int finish(int status, double *out, int n)
-{
-    int k;
-    if (status == STEWART_OK && !all_finite(out, n)) {
-        status = STEWART_ERR_NONFINITE;
-    }
-    if (status != STEWART_OK) {
-        for (k = 0; k < n; ++k) {
-            out[k] = NAN;
-        }
-    }
-    return status;
-}
-
-/* finish() over the `count` outputs out[k] of n[k] doubles: all NaN unless every one is finite. */
-static int finish_all(int status, int count, double *const out[], const int n[])
-{
-    int k;
-    for (k = 0; k < count && status == STEWART_OK; ++k) {
-        if (!all_finite(out[k], n[k])) {
-            status = STEWART_ERR_NONFINITE;
-        }
-    }
-    for (k = 0; k < count; ++k) {
-        finish(status, out[k], n[k]);
-    }
-    return status;
-}
-
 static int params_finite(const stewart_params *p)
 {
     return all_finite(&p->base_points[0][0], 18)
@@ -450,441 +304,16 @@ static int params_finite(const stewart_params *p)
         && all_finite(&p->coulomb_velocity, 1);
 }
 
-/* The scalar functions: left out of a copy of the model that holds the batch functions only
- * (STEWART_BATCH_ONLY: stewart_internal.h defines it in all copies but the first). */
-#ifndef STEWART_BATCH_ONLY
-/* Factor J^T (J 6x6 row-major) by fraction-free (Bareiss) Gaussian elimination
- * with partial pivoting, unrolled; a_rc = (J^T)_rc.  At step k the row of largest
- * |a_ik| (i >= k) is swapped into row k and a_ij <- (a_kk a_ij - a_ik a_kj) /
- * (previous pivot), which keeps every entry a minor of J^T and makes the last pivot
- * a_55 = +-det J.  F receives what bareiss_solve replays (see codegen/linsolve.py).
- * Returns STEWART_ERR_JACOBIAN_SINGULAR when the Hadamard ratio
- * |det J| / prod_i |row_i(J)| < STEWART_JACOBIAN_TOL, else STEWART_OK. */
-static int bareiss_factor(const double J[36], double F[57])
-{
-    double a00 = J[0], a01 = J[6], a02 = J[12], a03 = J[18], a04 = J[24], a05 = J[30];
-    double a10 = J[1], a11 = J[7], a12 = J[13], a13 = J[19], a14 = J[25], a15 = J[31];
-    double a20 = J[2], a21 = J[8], a22 = J[14], a23 = J[20], a24 = J[26], a25 = J[32];
-    double a30 = J[3], a31 = J[9], a32 = J[15], a33 = J[21], a34 = J[27], a35 = J[33];
-    double a40 = J[4], a41 = J[10], a42 = J[16], a43 = J[22], a44 = J[28], a45 = J[34];
-    double a50 = J[5], a51 = J[11], a52 = J[17], a53 = J[23], a54 = J[29], a55 = J[35];
-    const double n0 = J[0] * J[0] + J[1] * J[1] + J[2] * J[2] + J[3] * J[3] + J[4] * J[4] + J[5] * J[5];
-    const double n1 = J[6] * J[6] + J[7] * J[7] + J[8] * J[8] + J[9] * J[9] + J[10] * J[10] + J[11] * J[11];
-    const double n2 = J[12] * J[12] + J[13] * J[13] + J[14] * J[14] + J[15] * J[15] + J[16] * J[16] + J[17] * J[17];
-    const double n3 = J[18] * J[18] + J[19] * J[19] + J[20] * J[20] + J[21] * J[21] + J[22] * J[22] + J[23] * J[23];
-    const double n4 = J[24] * J[24] + J[25] * J[25] + J[26] * J[26] + J[27] * J[27] + J[28] * J[28] + J[29] * J[29];
-    const double n5 = J[30] * J[30] + J[31] * J[31] + J[32] * J[32] + J[33] * J[33] + J[34] * J[34] + J[35] * J[35];
-    double t;
-    int s;
-    /* step 0 */
-    s = fabs(a10) > fabs(a00);
-    F[0] = s;
-    t = a00; a00 = s ? a10 : t; a10 = s ? t : a10;
-    t = a01; a01 = s ? a11 : t; a11 = s ? t : a11;
-    t = a02; a02 = s ? a12 : t; a12 = s ? t : a12;
-    t = a03; a03 = s ? a13 : t; a13 = s ? t : a13;
-    t = a04; a04 = s ? a14 : t; a14 = s ? t : a14;
-    t = a05; a05 = s ? a15 : t; a15 = s ? t : a15;
-    s = fabs(a30) > fabs(a20);
-    F[1] = s;
-    t = a20; a20 = s ? a30 : t; a30 = s ? t : a30;
-    t = a21; a21 = s ? a31 : t; a31 = s ? t : a31;
-    t = a22; a22 = s ? a32 : t; a32 = s ? t : a32;
-    t = a23; a23 = s ? a33 : t; a33 = s ? t : a33;
-    t = a24; a24 = s ? a34 : t; a34 = s ? t : a34;
-    t = a25; a25 = s ? a35 : t; a35 = s ? t : a35;
-    s = fabs(a50) > fabs(a40);
-    F[2] = s;
-    t = a40; a40 = s ? a50 : t; a50 = s ? t : a50;
-    t = a41; a41 = s ? a51 : t; a51 = s ? t : a51;
-    t = a42; a42 = s ? a52 : t; a52 = s ? t : a52;
-    t = a43; a43 = s ? a53 : t; a53 = s ? t : a53;
-    t = a44; a44 = s ? a54 : t; a54 = s ? t : a54;
-    t = a45; a45 = s ? a55 : t; a55 = s ? t : a55;
-    s = fabs(a20) > fabs(a00);
-    F[3] = s;
-    t = a00; a00 = s ? a20 : t; a20 = s ? t : a20;
-    t = a01; a01 = s ? a21 : t; a21 = s ? t : a21;
-    t = a02; a02 = s ? a22 : t; a22 = s ? t : a22;
-    t = a03; a03 = s ? a23 : t; a23 = s ? t : a23;
-    t = a04; a04 = s ? a24 : t; a24 = s ? t : a24;
-    t = a05; a05 = s ? a25 : t; a25 = s ? t : a25;
-    s = fabs(a40) > fabs(a00);
-    F[4] = s;
-    t = a00; a00 = s ? a40 : t; a40 = s ? t : a40;
-    t = a01; a01 = s ? a41 : t; a41 = s ? t : a41;
-    t = a02; a02 = s ? a42 : t; a42 = s ? t : a42;
-    t = a03; a03 = s ? a43 : t; a43 = s ? t : a43;
-    t = a04; a04 = s ? a44 : t; a44 = s ? t : a44;
-    t = a05; a05 = s ? a45 : t; a45 = s ? t : a45;
-    const double inv0 = 1.0 / a00;
-    F[15] = a00;
-    F[36] = inv0;
-    F[21] = a10;
-    a11 = a00 * a11 - a10 * a01;
-    a12 = a00 * a12 - a10 * a02;
-    a13 = a00 * a13 - a10 * a03;
-    a14 = a00 * a14 - a10 * a04;
-    a15 = a00 * a15 - a10 * a05;
-    F[22] = a20;
-    a21 = a00 * a21 - a20 * a01;
-    a22 = a00 * a22 - a20 * a02;
-    a23 = a00 * a23 - a20 * a03;
-    a24 = a00 * a24 - a20 * a04;
-    a25 = a00 * a25 - a20 * a05;
-    F[23] = a30;
-    a31 = a00 * a31 - a30 * a01;
-    a32 = a00 * a32 - a30 * a02;
-    a33 = a00 * a33 - a30 * a03;
-    a34 = a00 * a34 - a30 * a04;
-    a35 = a00 * a35 - a30 * a05;
-    F[24] = a40;
-    a41 = a00 * a41 - a40 * a01;
-    a42 = a00 * a42 - a40 * a02;
-    a43 = a00 * a43 - a40 * a03;
-    a44 = a00 * a44 - a40 * a04;
-    a45 = a00 * a45 - a40 * a05;
-    F[25] = a50;
-    a51 = a00 * a51 - a50 * a01;
-    a52 = a00 * a52 - a50 * a02;
-    a53 = a00 * a53 - a50 * a03;
-    a54 = a00 * a54 - a50 * a04;
-    a55 = a00 * a55 - a50 * a05;
-    /* step 1 */
-    s = fabs(a21) > fabs(a11);
-    F[5] = s;
-    t = a11; a11 = s ? a21 : t; a21 = s ? t : a21;
-    t = a12; a12 = s ? a22 : t; a22 = s ? t : a22;
-    t = a13; a13 = s ? a23 : t; a23 = s ? t : a23;
-    t = a14; a14 = s ? a24 : t; a24 = s ? t : a24;
-    t = a15; a15 = s ? a25 : t; a25 = s ? t : a25;
-    s = fabs(a41) > fabs(a31);
-    F[6] = s;
-    t = a31; a31 = s ? a41 : t; a41 = s ? t : a41;
-    t = a32; a32 = s ? a42 : t; a42 = s ? t : a42;
-    t = a33; a33 = s ? a43 : t; a43 = s ? t : a43;
-    t = a34; a34 = s ? a44 : t; a44 = s ? t : a44;
-    t = a35; a35 = s ? a45 : t; a45 = s ? t : a45;
-    s = fabs(a31) > fabs(a11);
-    F[7] = s;
-    t = a11; a11 = s ? a31 : t; a31 = s ? t : a31;
-    t = a12; a12 = s ? a32 : t; a32 = s ? t : a32;
-    t = a13; a13 = s ? a33 : t; a33 = s ? t : a33;
-    t = a14; a14 = s ? a34 : t; a34 = s ? t : a34;
-    t = a15; a15 = s ? a35 : t; a35 = s ? t : a35;
-    s = fabs(a51) > fabs(a11);
-    F[8] = s;
-    t = a11; a11 = s ? a51 : t; a51 = s ? t : a51;
-    t = a12; a12 = s ? a52 : t; a52 = s ? t : a52;
-    t = a13; a13 = s ? a53 : t; a53 = s ? t : a53;
-    t = a14; a14 = s ? a54 : t; a54 = s ? t : a54;
-    t = a15; a15 = s ? a55 : t; a55 = s ? t : a55;
-    const double inv1 = 1.0 / a11;
-    F[16] = a11;
-    F[37] = inv1;
-    F[26] = a21;
-    a22 = (a11 * a22 - a21 * a12) * inv0;
-    a23 = (a11 * a23 - a21 * a13) * inv0;
-    a24 = (a11 * a24 - a21 * a14) * inv0;
-    a25 = (a11 * a25 - a21 * a15) * inv0;
-    F[27] = a31;
-    a32 = (a11 * a32 - a31 * a12) * inv0;
-    a33 = (a11 * a33 - a31 * a13) * inv0;
-    a34 = (a11 * a34 - a31 * a14) * inv0;
-    a35 = (a11 * a35 - a31 * a15) * inv0;
-    F[28] = a41;
-    a42 = (a11 * a42 - a41 * a12) * inv0;
-    a43 = (a11 * a43 - a41 * a13) * inv0;
-    a44 = (a11 * a44 - a41 * a14) * inv0;
-    a45 = (a11 * a45 - a41 * a15) * inv0;
-    F[29] = a51;
-    a52 = (a11 * a52 - a51 * a12) * inv0;
-    a53 = (a11 * a53 - a51 * a13) * inv0;
-    a54 = (a11 * a54 - a51 * a14) * inv0;
-    a55 = (a11 * a55 - a51 * a15) * inv0;
-    /* step 2 */
-    s = fabs(a32) > fabs(a22);
-    F[9] = s;
-    t = a22; a22 = s ? a32 : t; a32 = s ? t : a32;
-    t = a23; a23 = s ? a33 : t; a33 = s ? t : a33;
-    t = a24; a24 = s ? a34 : t; a34 = s ? t : a34;
-    t = a25; a25 = s ? a35 : t; a35 = s ? t : a35;
-    s = fabs(a52) > fabs(a42);
-    F[10] = s;
-    t = a42; a42 = s ? a52 : t; a52 = s ? t : a52;
-    t = a43; a43 = s ? a53 : t; a53 = s ? t : a53;
-    t = a44; a44 = s ? a54 : t; a54 = s ? t : a54;
-    t = a45; a45 = s ? a55 : t; a55 = s ? t : a55;
-    s = fabs(a42) > fabs(a22);
-    F[11] = s;
-    t = a22; a22 = s ? a42 : t; a42 = s ? t : a42;
-    t = a23; a23 = s ? a43 : t; a43 = s ? t : a43;
-    t = a24; a24 = s ? a44 : t; a44 = s ? t : a44;
-    t = a25; a25 = s ? a45 : t; a45 = s ? t : a45;
-    const double inv2 = 1.0 / a22;
-    F[17] = a22;
-    F[38] = inv2;
-    F[30] = a32;
-    a33 = (a22 * a33 - a32 * a23) * inv1;
-    a34 = (a22 * a34 - a32 * a24) * inv1;
-    a35 = (a22 * a35 - a32 * a25) * inv1;
-    F[31] = a42;
-    a43 = (a22 * a43 - a42 * a23) * inv1;
-    a44 = (a22 * a44 - a42 * a24) * inv1;
-    a45 = (a22 * a45 - a42 * a25) * inv1;
-    F[32] = a52;
-    a53 = (a22 * a53 - a52 * a23) * inv1;
-    a54 = (a22 * a54 - a52 * a24) * inv1;
-    a55 = (a22 * a55 - a52 * a25) * inv1;
-    /* step 3 */
-    s = fabs(a43) > fabs(a33);
-    F[12] = s;
-    t = a33; a33 = s ? a43 : t; a43 = s ? t : a43;
-    t = a34; a34 = s ? a44 : t; a44 = s ? t : a44;
-    t = a35; a35 = s ? a45 : t; a45 = s ? t : a45;
-    s = fabs(a53) > fabs(a33);
-    F[13] = s;
-    t = a33; a33 = s ? a53 : t; a53 = s ? t : a53;
-    t = a34; a34 = s ? a54 : t; a54 = s ? t : a54;
-    t = a35; a35 = s ? a55 : t; a55 = s ? t : a55;
-    const double inv3 = 1.0 / a33;
-    F[18] = a33;
-    F[39] = inv3;
-    F[33] = a43;
-    a44 = (a33 * a44 - a43 * a34) * inv2;
-    a45 = (a33 * a45 - a43 * a35) * inv2;
-    F[34] = a53;
-    a54 = (a33 * a54 - a53 * a34) * inv2;
-    a55 = (a33 * a55 - a53 * a35) * inv2;
-    /* step 4 */
-    s = fabs(a54) > fabs(a44);
-    F[14] = s;
-    t = a44; a44 = s ? a54 : t; a54 = s ? t : a54;
-    t = a45; a45 = s ? a55 : t; a55 = s ? t : a55;
-    const double inv4 = 1.0 / a44;
-    F[19] = a44;
-    F[40] = inv4;
-    F[35] = a54;
-    a55 = (a44 * a55 - a54 * a45) * inv3;
-    /* step 5 */
-    const double inv5 = 1.0 / a55;
-    F[20] = a55;
-    F[41] = inv5;
-    F[42] = a01;
-    F[43] = a02;
-    F[44] = a03;
-    F[45] = a04;
-    F[46] = a05;
-    F[47] = a12;
-    F[48] = a13;
-    F[49] = a14;
-    F[50] = a15;
-    F[51] = a23;
-    F[52] = a24;
-    F[53] = a25;
-    F[54] = a34;
-    F[55] = a35;
-    F[56] = a45;
-    if (!(a55 * a55 >= STEWART_JACOBIAN_TOL * STEWART_JACOBIAN_TOL * (n0 * n1 * n2 * n3 * n4 * n5))) {
-        return STEWART_ERR_JACOBIAN_SINGULAR;
-    }
-    return STEWART_OK;
-}
-
-/* Solve J^T y = b for n right-hand sides with the factors F of bareiss_factor: the
- * same swaps and eliminations on each column of b, then back substitution. */
-static int bareiss_solve(const double F[57], int n, int ld, const double *b, double *y)
-{
-    int c;
-    for (c = 0; c < n; ++c) {
-        double b0 = b[0 * ld + c], b1 = b[1 * ld + c], b2 = b[2 * ld + c], b3 = b[3 * ld + c], b4 = b[4 * ld + c], b5 = b[5 * ld + c], t;
-        if (F[0] != 0.0) { t = b0; b0 = b1; b1 = t; }
-        if (F[1] != 0.0) { t = b2; b2 = b3; b3 = t; }
-        if (F[2] != 0.0) { t = b4; b4 = b5; b5 = t; }
-        if (F[3] != 0.0) { t = b0; b0 = b2; b2 = t; }
-        if (F[4] != 0.0) { t = b0; b0 = b4; b4 = t; }
-        b1 = F[15] * b1 - F[21] * b0;
-        b2 = F[15] * b2 - F[22] * b0;
-        b3 = F[15] * b3 - F[23] * b0;
-        b4 = F[15] * b4 - F[24] * b0;
-        b5 = F[15] * b5 - F[25] * b0;
-        if (F[5] != 0.0) { t = b1; b1 = b2; b2 = t; }
-        if (F[6] != 0.0) { t = b3; b3 = b4; b4 = t; }
-        if (F[7] != 0.0) { t = b1; b1 = b3; b3 = t; }
-        if (F[8] != 0.0) { t = b1; b1 = b5; b5 = t; }
-        b2 = (F[16] * b2 - F[26] * b1) * F[36];
-        b3 = (F[16] * b3 - F[27] * b1) * F[36];
-        b4 = (F[16] * b4 - F[28] * b1) * F[36];
-        b5 = (F[16] * b5 - F[29] * b1) * F[36];
-        if (F[9] != 0.0) { t = b2; b2 = b3; b3 = t; }
-        if (F[10] != 0.0) { t = b4; b4 = b5; b5 = t; }
-        if (F[11] != 0.0) { t = b2; b2 = b4; b4 = t; }
-        b3 = (F[17] * b3 - F[30] * b2) * F[37];
-        b4 = (F[17] * b4 - F[31] * b2) * F[37];
-        b5 = (F[17] * b5 - F[32] * b2) * F[37];
-        if (F[12] != 0.0) { t = b3; b3 = b4; b4 = t; }
-        if (F[13] != 0.0) { t = b3; b3 = b5; b5 = t; }
-        b4 = (F[18] * b4 - F[33] * b3) * F[38];
-        b5 = (F[18] * b5 - F[34] * b3) * F[38];
-        if (F[14] != 0.0) { t = b4; b4 = b5; b5 = t; }
-        b5 = (F[19] * b5 - F[35] * b4) * F[39];
-        y[5 * ld + c] = (b5) * F[41];
-        y[4 * ld + c] = (b4 - F[56] * y[5 * ld + c]) * F[40];
-        y[3 * ld + c] = (b3 - F[54] * y[4 * ld + c] - F[55] * y[5 * ld + c]) * F[39];
-        y[2 * ld + c] = (b2 - F[51] * y[3 * ld + c] - F[52] * y[4 * ld + c] - F[53] * y[5 * ld + c]) * F[38];
-        y[1 * ld + c] = (b1 - F[47] * y[2 * ld + c] - F[48] * y[3 * ld + c] - F[49] * y[4 * ld + c] - F[50] * y[5 * ld + c]) * F[37];
-        y[0 * ld + c] = (b0 - F[42] * y[1 * ld + c] - F[43] * y[2 * ld + c] - F[44] * y[3 * ld + c] - F[45] * y[4 * ld + c] - F[46] * y[5 * ld + c]) * F[36];
-    }
-    return STEWART_OK;
-}
-
-/* Factor S = L D L^T for symmetric S given by its upper triangle (21 entries,
- * row-major), unrolled (m_ij: the upper triangle being eliminated, l_ik = m_ki / d_k);
- * F receives l_ik (i > k, by columns) and then 1 / d_k.  Returns STEWART_ERR_MASS_SINGULAR
- * when a pivot d_k (the square of the Cholesky diagonal) is <= STEWART_MASS_TOL times
- * its diagonal entry S_kk (or S_kk <= 0), else STEWART_OK. */
-static int ldl_factor(const double upper[21], double F[21])
-{
-    double m00 = upper[0], m01 = upper[1], m02 = upper[2], m03 = upper[3], m04 = upper[4], m05 = upper[5];
-    double m11 = upper[6], m12 = upper[7], m13 = upper[8], m14 = upper[9], m15 = upper[10];
-    double m22 = upper[11], m23 = upper[12], m24 = upper[13], m25 = upper[14];
-    double m33 = upper[15], m34 = upper[16], m35 = upper[17];
-    double m44 = upper[18], m45 = upper[19];
-    double m55 = upper[20];
-    int ok = 1;
-    ok &= (upper[0] > 0.0) & (m00 > STEWART_MASS_TOL * upper[0]);
-    const double inv0 = 1.0 / m00;
-    F[15] = inv0;
-    const double l10 = m01 * inv0;
-    F[0] = l10;
-    const double l20 = m02 * inv0;
-    F[1] = l20;
-    const double l30 = m03 * inv0;
-    F[2] = l30;
-    const double l40 = m04 * inv0;
-    F[3] = l40;
-    const double l50 = m05 * inv0;
-    F[4] = l50;
-    m11 -= l10 * m01;
-    m12 -= l10 * m02;
-    m13 -= l10 * m03;
-    m14 -= l10 * m04;
-    m15 -= l10 * m05;
-    m22 -= l20 * m02;
-    m23 -= l20 * m03;
-    m24 -= l20 * m04;
-    m25 -= l20 * m05;
-    m33 -= l30 * m03;
-    m34 -= l30 * m04;
-    m35 -= l30 * m05;
-    m44 -= l40 * m04;
-    m45 -= l40 * m05;
-    m55 -= l50 * m05;
-    ok &= (upper[6] > 0.0) & (m11 > STEWART_MASS_TOL * upper[6]);
-    const double inv1 = 1.0 / m11;
-    F[16] = inv1;
-    const double l21 = m12 * inv1;
-    F[5] = l21;
-    const double l31 = m13 * inv1;
-    F[6] = l31;
-    const double l41 = m14 * inv1;
-    F[7] = l41;
-    const double l51 = m15 * inv1;
-    F[8] = l51;
-    m22 -= l21 * m12;
-    m23 -= l21 * m13;
-    m24 -= l21 * m14;
-    m25 -= l21 * m15;
-    m33 -= l31 * m13;
-    m34 -= l31 * m14;
-    m35 -= l31 * m15;
-    m44 -= l41 * m14;
-    m45 -= l41 * m15;
-    m55 -= l51 * m15;
-    ok &= (upper[11] > 0.0) & (m22 > STEWART_MASS_TOL * upper[11]);
-    const double inv2 = 1.0 / m22;
-    F[17] = inv2;
-    const double l32 = m23 * inv2;
-    F[9] = l32;
-    const double l42 = m24 * inv2;
-    F[10] = l42;
-    const double l52 = m25 * inv2;
-    F[11] = l52;
-    m33 -= l32 * m23;
-    m34 -= l32 * m24;
-    m35 -= l32 * m25;
-    m44 -= l42 * m24;
-    m45 -= l42 * m25;
-    m55 -= l52 * m25;
-    ok &= (upper[15] > 0.0) & (m33 > STEWART_MASS_TOL * upper[15]);
-    const double inv3 = 1.0 / m33;
-    F[18] = inv3;
-    const double l43 = m34 * inv3;
-    F[12] = l43;
-    const double l53 = m35 * inv3;
-    F[13] = l53;
-    m44 -= l43 * m34;
-    m45 -= l43 * m35;
-    m55 -= l53 * m35;
-    ok &= (upper[18] > 0.0) & (m44 > STEWART_MASS_TOL * upper[18]);
-    const double inv4 = 1.0 / m44;
-    F[19] = inv4;
-    const double l54 = m45 * inv4;
-    F[14] = l54;
-    m55 -= l54 * m45;
-    ok &= (upper[20] > 0.0) & (m55 > STEWART_MASS_TOL * upper[20]);
-    const double inv5 = 1.0 / m55;
-    F[20] = inv5;
-    if (!ok) {
-        return STEWART_ERR_MASS_SINGULAR;
-    }
-    return STEWART_OK;
-}
-
-/* Solve S y = b for n right-hand sides with the factors F of ldl_factor. */
-static int ldl_solve(const double F[21], int n, int ld, const double *b, double *y)
-{
-    int c;
-    for (c = 0; c < n; ++c) {
-        double b0 = b[0 * ld + c], b1 = b[1 * ld + c], b2 = b[2 * ld + c], b3 = b[3 * ld + c], b4 = b[4 * ld + c], b5 = b[5 * ld + c];
-        b1 -= F[0] * b0;
-        b2 -= F[1] * b0;
-        b3 -= F[2] * b0;
-        b4 -= F[3] * b0;
-        b5 -= F[4] * b0;
-        b2 -= F[5] * b1;
-        b3 -= F[6] * b1;
-        b4 -= F[7] * b1;
-        b5 -= F[8] * b1;
-        b3 -= F[9] * b2;
-        b4 -= F[10] * b2;
-        b5 -= F[11] * b2;
-        b4 -= F[12] * b3;
-        b5 -= F[13] * b3;
-        b5 -= F[14] * b4;
-        y[5 * ld + c] = b5 * F[20];
-        y[4 * ld + c] = b4 * F[19] - F[14] * y[5 * ld + c];
-        y[3 * ld + c] = b3 * F[18] - F[12] * y[4 * ld + c] - F[13] * y[5 * ld + c];
-        y[2 * ld + c] = b2 * F[17] - F[9] * y[3 * ld + c] - F[10] * y[4 * ld + c] - F[11] * y[5 * ld + c];
-        y[1 * ld + c] = b1 * F[16] - F[5] * y[2 * ld + c] - F[6] * y[3 * ld + c] - F[7] * y[4 * ld + c] - F[8] * y[5 * ld + c];
-        y[0 * ld + c] = b0 * F[15] - F[0] * y[1 * ld + c] - F[1] * y[2 * ld + c] - F[2] * y[3 * ld + c] - F[3] * y[4 * ld + c] - F[4] * y[5 * ld + c];
-    }
-    return STEWART_OK;
-}
-
-#endif /* STEWART_BATCH_ONLY */
-
-/* The vector path of the model (codegen/templates/vector.c, copied verbatim by the generator
- * into stewart_internal.h, which the model's units share): STEWART_LANES states evaluated at
- * once, one per lane of a GCC/Clang vector of doubles (its arithmetic:
- * codegen/templates/lanes.c).  The generated vector kernels (vkernel_*), the
- * vector solvers (vbareiss_*, vldl_*) and the block functions of the batch functions
- * (vblock_*) work on structure-of-arrays blocks: entry k of the block's states is one vector.
- * Every status test becomes a lane mask (all bits set: true), and every step returns the
- * status of each lane (0: STEWART_OK), merged so that a lane keeps its first error, as the
- * scalar functions stop at theirs.  batch_rows carries a batch of row-major states through
- * a block function, block by block, with the transposes, the finiteness tests and the NaN
- * rows of the scalar functions. */
+/* The model's evaluation (codegen/templates/vector.c, copied verbatim by the generator into
+ * stewart_internal.h, which the model's units share): STEWART_LANES states evaluated at once,
+ * one per lane of a GCC/Clang vector of doubles (its arithmetic: codegen/templates/lanes.c).
+ * The generated kernels (vkernel_*), the solvers (vbareiss_*, vldl_*) and the block functions
+ * of the public functions (vblock_*) work on structure-of-arrays blocks: entry k of the
+ * block's states is one vector.  Every status test becomes a lane mask (all bits set: true),
+ * and every step returns the status of each lane (0: STEWART_OK), merged so that a lane keeps
+ * its first error.  batch_rows carries a batch of row-major states through a block function,
+ * block by block, with the transposes, the finiteness tests and the NaN rows of the failed
+ * states; a single-state function is its batch function on one row. */
 #include "stewart_model.h"
 
 #include <float.h>
@@ -908,7 +337,12 @@ static stewart_vl vfinite(const stewart_vd *v, int n)
     return ok;
 }
 
-/* check_legs of runtime.c, lane by lane. */
+/* The legs' tests, in order (codegen/conditions.py), lane by lane: STEWART_ERR_LEG_DEGENERATE
+ * if a leg has L2[i] < STEWART_DEGENERATE_TOL (or NaN), STEWART_ERR_NONFINITE if a leg's L2[i]
+ * overflows, (h2 != NULL: the kernels in the frames {C_i}) STEWART_ERR_LEG_VERTICAL if a leg
+ * has h2[i] = l_x^2 + l_y^2 < STEWART_VERTICAL_TOL * L2[i], and (n2 != NULL: the general
+ * model) STEWART_ERR_GIMBAL_LOCK if a leg has n2[i] = |a_i x l_i|^2 < STEWART_GIMBAL_TOL *
+ * L2[i]; else STEWART_OK. */
 static stewart_vl vcheck_legs(const stewart_vd L2[6], const stewart_vd *h2, const stewart_vd *n2)
 {
     stewart_vl degenerate = vnone(), overflow = vnone(), vertical = vnone(), gimbal = vnone();
@@ -927,13 +361,15 @@ static stewart_vl vcheck_legs(const stewart_vd L2[6], const stewart_vd *h2, cons
                          vertical & STEWART_ERR_LEG_VERTICAL), gimbal & STEWART_ERR_GIMBAL_LOCK);
 }
 
-/* check_euler of runtime.c, lane by lane. */
+/* STEWART_OK unless cos(theta) is too small for the Euler-rate map J_A to be inverted, lane
+ * by lane. */
 static stewart_vl vcheck_euler(const stewart_vd ctheta[1])
 {
     return ~(vabs(ctheta[0]) >= STEWART_EULER_TOL) & STEWART_ERR_EULER_SINGULAR;
 }
 
-/* pose_accelerations of runtime.c over a block. */
+/* xdd = [y_v; J_A^-1 y_w] from the twist acceleration y = T xdd, for n columns (6 rows of
+ * n, row-major; y and xdd may not overlap), over a block. */
 static stewart_vl vpose_accelerations(const stewart_vd JAinv[9], int n, const stewart_vd *y, stewart_vd *xdd)
 {
     int i, c;
@@ -953,7 +389,7 @@ static stewart_vl vpose_accelerations(const stewart_vd JAinv[9], int n, const st
 typedef stewart_vl (*vblock_fn)(const stewart_params *p, double scalar, const stewart_vd *const in[],
                                 stewart_vd *const out[]);
 
-/* split_jacobians of runtime.c over a block. */
+/* The three 6 x 6 blocks of columns of Y (6 x 18, row-major), over a block. */
 static stewart_vl vsplit_jacobians(const stewart_vd Y[108], stewart_vd a[36], stewart_vd b[36], stewart_vd c[36])
 {
     int i, j;
@@ -967,8 +403,8 @@ static stewart_vl vsplit_jacobians(const stewart_vd Y[108], stewart_vd a[36], st
     return vnone();
 }
 
-/* rk4_stage_state of rk4.c over a block, for the stages after the first: t = s + h k and, when
- * S != NULL, S = E + h K, U = h KB. */
+/* The stage state t = s + h k of a stage after the first and, when S != NULL, its Jacobians
+ * S = dt/ds = E + h K, U = dt/dtau = h KB (K, KB: those of k), over a block. */
 static void vrk4_stage_state(const stewart_vd s[12], double h, const stewart_vd k[12], const stewart_vd *K,
                              const stewart_vd *KB, stewart_vd t[12], stewart_vd *S, stewart_vd *U)
 {
@@ -986,9 +422,11 @@ static void vrk4_stage_state(const stewart_vd s[12], double h, const stewart_vd 
     }
 }
 
-/* The Jacobians K, KB of rk4_stage of rk4.c over a block, from the forward-dynamics
- * Jacobians ax = dxdd/dx, axd = dxdd/dxd, atau = dxdd/dtau at the stage state, whose
- * Jacobians are S, U (S == NULL: the first stage). */
+/* The Jacobians of the stage derivative k = f(t) = [t_xd; xdd(t_x, t_xd, tau)], K = df/dt S
+ * and KB = df/dt U + df/dtau, with df/dt = [[0, E], [dxdd/dx, dxdd/dxd]] and
+ * df/dtau = [0; dxdd/dtau], over a block: from the forward-dynamics Jacobians ax = dxdd/dx,
+ * axd = dxdd/dxd, atau = dxdd/dtau at the stage state, whose Jacobians are S, U (S == NULL:
+ * the first stage, S = E, U = 0). */
 static void vrk4_stage_jacobians(const stewart_vd ax[36], const stewart_vd axd[36], const stewart_vd atau[36],
                                  const stewart_vd *S, const stewart_vd *U, stewart_vd K[144], stewart_vd KB[72])
 {
@@ -1018,7 +456,13 @@ static void vrk4_stage_jacobians(const stewart_vd ax[36], const stewart_vd axd[3
     }
 }
 
-/* rk4 of rk4.c over a block of states: in = {x, xd, tau}, out = {xn, xdn} and, when `jac`,
+/* The discrete-time dynamics, over a block of states: one classic RK4 step of the state
+ * s = [x; xd] under constant tau, ds/dt = f(s) = [xd; xdd(x, xd, tau)], with the operations of
+ * the simulator's RK4 loop (stewart/_simulate.pyx, open loop with constant feed-forward, no
+ * friction, no force limit) -- stages k_1 = f(s), k_2 = f(s + dt/2 k_1), k_3 = f(s + dt/2 k_2),
+ * k_4 = f(s + dt k_3), s+ = s + dt/6 (k_1 + 2 k_2 + 2 k_3 + k_4) -- and, when `jac`, its exact
+ * Jacobians A = ds+/ds, B = ds+/dtau by the chain rule through the four stages with the
+ * forward-dynamics Jacobians.  in = {x, xd, tau}, out = {xn, xdn} and, when `jac`,
  * {A, B}; the stages' accelerations by `forward`, the block function of
  * stewart_forward_dynamics (out = {xdd}), or with `jac` of stewart_forward_dynamics_derivatives
  * (out = {xdd, dxdd/dx, dxdd/dxd, dxdd/dtau}), each stage with the checks that function
@@ -1091,8 +535,7 @@ static stewart_vl vrk4(const stewart_params *p, vblock_fn forward, int jac, doub
 
 /* The n rows of a batch through `block`, STEWART_LANES rows at a time (the last block padded
  * with copies of the last row): rows[i] holds input i (n x 6, row-major), results[j] output j
- * (n x size[j]), in[i] and out[j] the block's buffers.  Row r gets the status of the scalar
- * function in status[r] (status may be NULL): STEWART_ERR_NONFINITE when the parameters
+ * (n x size[j]), in[i] and out[j] the block's buffers.  Row r gets its status in status[r] (status may be NULL): STEWART_ERR_NONFINITE when the parameters
  * (params_ok == 0) or its inputs are not finite, else its lane's status, else
  * STEWART_ERR_NONFINITE if an output is not finite; its outputs are NaN unless STEWART_OK.
  * Returns the status of the first row that is not STEWART_OK, or STEWART_OK. */
@@ -1149,7 +592,14 @@ static int batch_rows(int params_ok, const stewart_params *p, vblock_fn block, d
     return first;
 }
 
-/* bareiss_factor over a block of states: the swaps lane-wise, F[swap] a lane mask. */
+/* Factor J^T (J 6x6 row-major) by fraction-free (Bareiss) Gaussian elimination
+ * with partial pivoting, unrolled; a_rc = (J^T)_rc.  At step k the row of largest
+ * |a_ik| (i >= k) is swapped into row k and a_ij <- (a_kk a_ij - a_ik a_kj) /
+ * (previous pivot), which keeps every entry a minor of J^T and makes the last pivot
+ * a_55 = +-det J.  F receives what vbareiss_solve replays (see codegen/linsolve.py);
+ * the swaps are lane-wise, F[swap] a lane mask.  A lane's status is
+ * STEWART_ERR_JACOBIAN_SINGULAR when the Hadamard ratio
+ * |det J| / prod_i |row_i(J)| < STEWART_JACOBIAN_TOL, else STEWART_OK. */
 static stewart_vl vbareiss_factor(const stewart_vd J[36], stewart_vd F[57])
 {
     stewart_vd a00 = J[0], a01 = J[6], a02 = J[12], a03 = J[18], a04 = J[24], a05 = J[30];
@@ -1378,7 +828,8 @@ static stewart_vl vbareiss_factor(const stewart_vd J[36], stewart_vd F[57])
     return ~(a55 * a55 >= STEWART_JACOBIAN_TOL * STEWART_JACOBIAN_TOL * (n0 * n1 * n2 * n3 * n4 * n5)) & STEWART_ERR_JACOBIAN_SINGULAR;
 }
 
-/* bareiss_solve over a block of states. */
+/* Solve J^T y = b for n right-hand sides with the factors F of vbareiss_factor: the
+ * same swaps and eliminations on each column of b, then back substitution. */
 static stewart_vl vbareiss_solve(const stewart_vd F[57], int n, int ld, const stewart_vd *b, stewart_vd *y)
 {
     int c;
@@ -1424,7 +875,11 @@ static stewart_vl vbareiss_solve(const stewart_vd F[57], int n, int ld, const st
     return vnone();
 }
 
-/* ldl_factor over a block of states, lane by lane. */
+/* Factor S = L D L^T for symmetric S given by its upper triangle (21 entries,
+ * row-major), unrolled (m_ij: the upper triangle being eliminated, l_ik = m_ki / d_k);
+ * F receives l_ik (i > k, by columns) and then 1 / d_k.  A lane's status is
+ * STEWART_ERR_MASS_SINGULAR when a pivot d_k (the square of the Cholesky diagonal) is
+ * <= STEWART_MASS_TOL times its diagonal entry S_kk (or S_kk <= 0), else STEWART_OK. */
 static stewart_vl vldl_factor(const stewart_vd upper[21], stewart_vd F[21])
 {
     stewart_vd m00 = upper[0], m01 = upper[1], m02 = upper[2], m03 = upper[3], m04 = upper[4], m05 = upper[5];
@@ -1520,7 +975,7 @@ static stewart_vl vldl_factor(const stewart_vd upper[21], stewart_vd F[21])
     return ~ok & STEWART_ERR_MASS_SINGULAR;
 }
 
-/* ldl_solve over a block of states. */
+/* Solve S y = b for n right-hand sides with the factors F of vldl_factor. */
 static stewart_vl vldl_solve(const stewart_vd F[21], int n, int ld, const stewart_vd *b, stewart_vd *y)
 {
     int c;
@@ -1562,51 +1017,6 @@ static stewart_vl vldl_solve(const stewart_vd F[21], int n, int ld, const stewar
 #endif
 
 /* ---- the generated kernels (stewart_model_<family>.c) ---- */
-#ifndef STEWART_BATCH_ONLY
-STEWART_HIDDEN void kernel_leg_lengths(const stewart_params *p, const double *x, double *L);
-STEWART_HIDDEN void kernel_jacobian(const stewart_params *p, const double *x, double *JC, double *L2);
-STEWART_HIDDEN void kernel_leg_rates(const stewart_params *p, const double *x, const double *xd, double *LLd, double *L2);
-STEWART_HIDDEN void kernel_mass_matrix_axisym(const stewart_params *p, const double *x, double *M, double *L2);
-STEWART_HIDDEN void kernel_mass_matrix_frames(const stewart_params *p, const double *x, double *M, double *L2, double *h2);
-STEWART_HIDDEN void kernel_mass_matrix_general(const stewart_params *p, const double *x, double *M, double *L2, double *n2);
-STEWART_HIDDEN void kernel_twist_mass_matrix_axisym(const stewart_params *p, const double *x, double *Mt, double *L2);
-STEWART_HIDDEN void kernel_twist_mass_matrix_frames(const stewart_params *p, const double *x, double *Mt, double *L2, double *h2);
-STEWART_HIDDEN void kernel_twist_mass_matrix_general(const stewart_params *p, const double *x, double *Mt, double *L2, double *n2);
-STEWART_HIDDEN void kernel_coriolis_matrix_axisym(const stewart_params *p, const double *x, const double *xd, double *V, double *L2);
-STEWART_HIDDEN void kernel_coriolis_matrix_frames(const stewart_params *p, const double *x, const double *xd, double *V, double *L2, double *h2);
-STEWART_HIDDEN void kernel_coriolis_matrix_general(const stewart_params *p, const double *x, const double *xd, double *V, double *L2, double *n2);
-STEWART_HIDDEN void kernel_coriolis_vector_axisym(const stewart_params *p, const double *x, const double *xd, double *Vxd, double *L2);
-STEWART_HIDDEN void kernel_coriolis_vector_frames(const stewart_params *p, const double *x, const double *xd, double *Vxd, double *L2, double *h2);
-STEWART_HIDDEN void kernel_coriolis_vector_general(const stewart_params *p, const double *x, const double *xd, double *Vxd, double *L2, double *n2);
-STEWART_HIDDEN void kernel_gravity_vector(const stewart_params *p, const double *x, double *G, double *L2);
-STEWART_HIDDEN void kernel_gravity_vector_general(const stewart_params *p, const double *x, double *G, double *L2, double *n2);
-STEWART_HIDDEN void kernel_all_terms_axisym(const stewart_params *p, const double *x, const double *xd, double *terms, double *L2);
-STEWART_HIDDEN void kernel_all_terms_frames(const stewart_params *p, const double *x, const double *xd, double *terms, double *L2, double *h2);
-STEWART_HIDDEN void kernel_all_terms_general(const stewart_params *p, const double *x, const double *xd, double *terms, double *L2, double *n2);
-STEWART_HIDDEN void kernel_inverse_dynamics_axisym(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *W, double *JC, double *L2);
-STEWART_HIDDEN void kernel_inverse_dynamics_frames(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *W, double *JC, double *L2, double *h2);
-STEWART_HIDDEN void kernel_inverse_dynamics_general(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *W, double *JC, double *L2, double *n2);
-STEWART_HIDDEN void kernel_forward_dynamics_axisym(const stewart_params *p, const double *x, const double *xd, const double *tau, double *Mt, double *rhs, double *JAinv, double *ctheta, double *L2);
-STEWART_HIDDEN void kernel_forward_dynamics_frames(const stewart_params *p, const double *x, const double *xd, const double *tau, double *Mt, double *rhs, double *JAinv, double *ctheta, double *L2, double *h2);
-STEWART_HIDDEN void kernel_forward_dynamics_general(const stewart_params *p, const double *x, const double *xd, const double *tau, double *Mt, double *rhs, double *JAinv, double *ctheta, double *L2, double *n2);
-STEWART_HIDDEN void kernel_leg_points(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *lwa);
-STEWART_HIDDEN void kernel_leg_points_general(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *lwa);
-STEWART_HIDDEN void kernel_leg_derivatives_axisym(const stewart_params *p, const double *restrict lwa, const double *restrict tau, double *restrict legs);
-STEWART_HIDDEN void kernel_leg_derivatives_frames(const stewart_params *p, const double *restrict lwa, const double *restrict tau, double *restrict legs);
-STEWART_HIDDEN void kernel_leg_derivatives_general(const stewart_params *p, const double *restrict lwa, const double *restrict tau, double *restrict legs);
-STEWART_HIDDEN void kernel_leg_chain_inverse(const stewart_params *p, const double *x, const double *xd, const double *xdd, const double *restrict lwa, const double *restrict legs, double *restrict chain);
-STEWART_HIDDEN void kernel_residual_derivatives_inverse(const stewart_params *p, const double *x, const double *xd, const double *xdd, const double *chain, double *Z);
-STEWART_HIDDEN void kernel_residual_derivatives_inverse_general(const stewart_params *p, const double *x, const double *xd, const double *xdd, const double *chain, double *Z);
-STEWART_HIDDEN void kernel_leg_chain_forward(const stewart_params *p, const double *x, const double *xd, const double *xdd, const double *restrict lwa, const double *restrict legs, double *restrict chain);
-STEWART_HIDDEN void kernel_residual_derivatives_forward(const stewart_params *p, const double *x, const double *xd, const double *xdd, const double *chain, const double *lwa, const double *legs, double *Z);
-STEWART_HIDDEN void kernel_residual_derivatives_forward_general(const stewart_params *p, const double *x, const double *xd, const double *xdd, const double *chain, const double *lwa, const double *legs, double *Z);
-STEWART_HIDDEN void kernel_joint_reactions_axisym(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *W, double *JC, double *legf, double *n_base, double *L2);
-STEWART_HIDDEN void kernel_joint_reactions_frames(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *W, double *JC, double *legf, double *n_base, double *L2, double *h2);
-STEWART_HIDDEN void kernel_joint_reactions_general(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *W, double *JC, double *legf, double *n_base, double *L2, double *n2);
-STEWART_HIDDEN void kernel_joint_forces(const stewart_params *p, const double *tau, const double *JC, const double *legf, double *f_base, double *f_platform);
-STEWART_HIDDEN void kernel_regressor(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *Y, double *JC, double *L2, double *h2);
-STEWART_HIDDEN void kernel_regressor_general(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *Y, double *JC, double *L2, double *n2);
-#endif
 STEWART_HIDDEN void vkernel_leg_lengths(const stewart_params *p, const stewart_vd *x, stewart_vd *L);
 STEWART_HIDDEN void vkernel_jacobian(const stewart_params *p, const stewart_vd *x, stewart_vd *JC, stewart_vd *L2);
 STEWART_HIDDEN void vkernel_leg_rates(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, stewart_vd *LLd, stewart_vd *L2);

@@ -48,558 +48,6 @@ const char *stewart_status_message(int status)
     }
 }
 
-/* The scalar functions: left out of a copy of the model that holds the batch functions only
- * (STEWART_BATCH_ONLY: stewart_internal.h defines it in all copies but the first). */
-#ifndef STEWART_BATCH_ONLY
-
-/* ---- public API ---- */
-
-int stewart_leg_lengths(const stewart_params *p, const double x[6], double L[6])
-{
-    if (!params_finite(p) || !all_finite(x, 6)) {
-        return finish(STEWART_ERR_NONFINITE, L, 6);
-    }
-    kernel_leg_lengths(p, x, L);
-    return finish(STEWART_OK, L, 6);
-}
-
-int stewart_jacobian(const stewart_params *p, const double x[6], double JC[36])
-{
-    double L2[6];
-    int status = STEWART_OK;
-    if (!params_finite(p) || !all_finite(x, 6)) {
-        return finish(STEWART_ERR_NONFINITE, JC, 36);
-    }
-    kernel_jacobian(p, x, JC, L2);
-    status = check_legs(L2, NULL, NULL);
-    return finish(status, JC, 36);
-}
-
-int stewart_leg_rates(const stewart_params *p, const double x[6], const double xd[6], double LLd[12])
-{
-    double L2[6];
-    int status = STEWART_OK;
-    if (!params_finite(p) || !all_finite(x, 6) || !all_finite(xd, 6)) {
-        return finish(STEWART_ERR_NONFINITE, LLd, 12);
-    }
-    kernel_leg_rates(p, x, xd, LLd, L2);
-    status = check_legs(L2, NULL, NULL);
-    return finish(status, LLd, 12);
-}
-
-int stewart_mass_matrix(const stewart_params *p, const double x[6], double M[36])
-{
-    double L2[6], h2[6], n2[6];
-    int status = STEWART_OK;
-    if (!params_finite(p) || !all_finite(x, 6)) {
-        return finish(STEWART_ERR_NONFINITE, M, 36);
-    }
-    if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
-        kernel_mass_matrix_axisym(p, x, M, L2);
-        status = check_legs(L2, NULL, NULL);
-    } else if (stewart_is_paper_model(p)) {
-        kernel_mass_matrix_frames(p, x, M, L2, h2);
-        status = check_legs(L2, h2, NULL);
-    } else {
-        kernel_mass_matrix_general(p, x, M, L2, n2);
-        status = check_legs(L2, NULL, n2);
-    }
-    return finish(status, M, 36);
-}
-
-int stewart_twist_mass_matrix(const stewart_params *p, const double x[6], double Mt[36])
-{
-    double L2[6], h2[6], n2[6];
-    int status = STEWART_OK;
-    if (!params_finite(p) || !all_finite(x, 6)) {
-        return finish(STEWART_ERR_NONFINITE, Mt, 36);
-    }
-    if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
-        kernel_twist_mass_matrix_axisym(p, x, Mt, L2);
-        status = check_legs(L2, NULL, NULL);
-    } else if (stewart_is_paper_model(p)) {
-        kernel_twist_mass_matrix_frames(p, x, Mt, L2, h2);
-        status = check_legs(L2, h2, NULL);
-    } else {
-        kernel_twist_mass_matrix_general(p, x, Mt, L2, n2);
-        status = check_legs(L2, NULL, n2);
-    }
-    return finish(status, Mt, 36);
-}
-
-int stewart_coriolis_matrix(const stewart_params *p, const double x[6], const double xd[6], double V[36])
-{
-    double L2[6], h2[6], n2[6];
-    int status = STEWART_OK;
-    if (!params_finite(p) || !all_finite(x, 6) || !all_finite(xd, 6)) {
-        return finish(STEWART_ERR_NONFINITE, V, 36);
-    }
-    if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
-        kernel_coriolis_matrix_axisym(p, x, xd, V, L2);
-        status = check_legs(L2, NULL, NULL);
-    } else if (stewart_is_paper_model(p)) {
-        kernel_coriolis_matrix_frames(p, x, xd, V, L2, h2);
-        status = check_legs(L2, h2, NULL);
-    } else {
-        kernel_coriolis_matrix_general(p, x, xd, V, L2, n2);
-        status = check_legs(L2, NULL, n2);
-    }
-    return finish(status, V, 36);
-}
-
-int stewart_coriolis_vector(const stewart_params *p, const double x[6], const double xd[6], double Vxd[6])
-{
-    double L2[6], h2[6], n2[6];
-    int status = STEWART_OK;
-    if (!params_finite(p) || !all_finite(x, 6) || !all_finite(xd, 6)) {
-        return finish(STEWART_ERR_NONFINITE, Vxd, 6);
-    }
-    if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
-        kernel_coriolis_vector_axisym(p, x, xd, Vxd, L2);
-        status = check_legs(L2, NULL, NULL);
-    } else if (stewart_is_paper_model(p)) {
-        kernel_coriolis_vector_frames(p, x, xd, Vxd, L2, h2);
-        status = check_legs(L2, h2, NULL);
-    } else {
-        kernel_coriolis_vector_general(p, x, xd, Vxd, L2, n2);
-        status = check_legs(L2, NULL, n2);
-    }
-    return finish(status, Vxd, 6);
-}
-
-int stewart_gravity_vector(const stewart_params *p, const double x[6], double G[6])
-{
-    double L2[6], n2[6];
-    int status = STEWART_OK;
-    if (!params_finite(p) || !all_finite(x, 6)) {
-        return finish(STEWART_ERR_NONFINITE, G, 6);
-    }
-    if (stewart_is_paper_model(p)) {
-        kernel_gravity_vector(p, x, G, L2);
-        status = check_legs(L2, NULL, NULL);
-    } else {
-        kernel_gravity_vector_general(p, x, G, L2, n2);
-        status = check_legs(L2, NULL, n2);
-    }
-    return finish(status, G, 6);
-}
-
-int stewart_all_terms(const stewart_params *p, const double x[6], const double xd[6], double terms[84])
-{
-    double L2[6], h2[6], n2[6];
-    int status = STEWART_OK;
-    if (!params_finite(p) || !all_finite(x, 6) || !all_finite(xd, 6)) {
-        return finish(STEWART_ERR_NONFINITE, terms, 84);
-    }
-    if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
-        kernel_all_terms_axisym(p, x, xd, terms, L2);
-        status = check_legs(L2, NULL, NULL);
-    } else if (stewart_is_paper_model(p)) {
-        kernel_all_terms_frames(p, x, xd, terms, L2, h2);
-        status = check_legs(L2, h2, NULL);
-    } else {
-        kernel_all_terms_general(p, x, xd, terms, L2, n2);
-        status = check_legs(L2, NULL, n2);
-    }
-    return finish(status, terms, 84);
-}
-
-int stewart_inverse_dynamics(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6])
-{
-    double W[6], JC[36], L2[6], h2[6], n2[6], FJ[57];
-    int status = STEWART_OK;
-    if (!params_finite(p) || !all_finite(x, 6) || !all_finite(xd, 6) || !all_finite(xdd, 6)) {
-        return finish(STEWART_ERR_NONFINITE, tau, 6);
-    }
-    if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
-        kernel_inverse_dynamics_axisym(p, x, xd, xdd, W, JC, L2);
-        status = check_legs(L2, NULL, NULL);
-    } else if (stewart_is_paper_model(p)) {
-        kernel_inverse_dynamics_frames(p, x, xd, xdd, W, JC, L2, h2);
-        status = check_legs(L2, h2, NULL);
-    } else {
-        kernel_inverse_dynamics_general(p, x, xd, xdd, W, JC, L2, n2);
-        status = check_legs(L2, NULL, n2);
-    }
-    if (status == STEWART_OK) {
-        status = bareiss_factor(JC, FJ);
-    }
-    if (status == STEWART_OK) {
-        status = bareiss_solve(FJ, 1, 1, W, tau);
-    }
-    return finish(status, tau, 6);
-}
-
-int stewart_forward_dynamics(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double xdd[6])
-{
-    double Mt[21], rhs[6], JAinv[9], ctheta[1], L2[6], h2[6], n2[6], FM[21], y[6];
-    int status = STEWART_OK;
-    if (!params_finite(p) || !all_finite(x, 6) || !all_finite(xd, 6) || !all_finite(tau, 6)) {
-        return finish(STEWART_ERR_NONFINITE, xdd, 6);
-    }
-    if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
-        kernel_forward_dynamics_axisym(p, x, xd, tau, Mt, rhs, JAinv, ctheta, L2);
-        status = check_legs(L2, NULL, NULL);
-    } else if (stewart_is_paper_model(p)) {
-        kernel_forward_dynamics_frames(p, x, xd, tau, Mt, rhs, JAinv, ctheta, L2, h2);
-        status = check_legs(L2, h2, NULL);
-    } else {
-        kernel_forward_dynamics_general(p, x, xd, tau, Mt, rhs, JAinv, ctheta, L2, n2);
-        status = check_legs(L2, NULL, n2);
-    }
-    if (status == STEWART_OK) {
-        status = check_euler(ctheta);
-    }
-    if (status == STEWART_OK) {
-        status = ldl_factor(Mt, FM);
-    }
-    if (status == STEWART_OK) {
-        status = ldl_solve(FM, 1, 1, rhs, y);
-    }
-    if (status == STEWART_OK) {
-        status = pose_accelerations(JAinv, 1, y, xdd);
-    }
-    return finish(status, xdd, 6);
-}
-
-int stewart_inverse_dynamics_derivatives(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6], double dtau_dx[36], double dtau_dxd[36], double dtau_dxdd[36])
-{
-    double W[6], JC[36], L2[6], h2[6], n2[6], lwa[102], legs[198], chain[648], Z[108], FJ[57], Y[108];
-    int status = STEWART_OK;
-    if (!params_finite(p) || !all_finite(x, 6) || !all_finite(xd, 6) || !all_finite(xdd, 6)) {
-        return finish_all(STEWART_ERR_NONFINITE, 4, (double *[]){tau, dtau_dx, dtau_dxd, dtau_dxdd}, (const int []){6, 36, 36, 36});
-    }
-    if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
-        kernel_inverse_dynamics_axisym(p, x, xd, xdd, W, JC, L2);
-        status = check_legs(L2, NULL, NULL);
-    } else if (stewart_is_paper_model(p)) {
-        kernel_inverse_dynamics_frames(p, x, xd, xdd, W, JC, L2, h2);
-        status = check_legs(L2, h2, NULL);
-    } else {
-        kernel_inverse_dynamics_general(p, x, xd, xdd, W, JC, L2, n2);
-        status = check_legs(L2, NULL, n2);
-    }
-    if (status == STEWART_OK) {
-        status = bareiss_factor(JC, FJ);
-    }
-    if (status == STEWART_OK) {
-        status = bareiss_solve(FJ, 1, 1, W, tau);
-    }
-    if (status == STEWART_OK) {
-        if (stewart_is_paper_model(p)) {
-            kernel_leg_points(p, x, xd, xdd, lwa);
-        } else {
-            kernel_leg_points_general(p, x, xd, xdd, lwa);
-        }
-    }
-    if (status == STEWART_OK) {
-        if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
-            kernel_leg_derivatives_axisym(p, lwa, tau, legs);
-        } else if (stewart_is_paper_model(p)) {
-            kernel_leg_derivatives_frames(p, lwa, tau, legs);
-        } else {
-            kernel_leg_derivatives_general(p, lwa, tau, legs);
-        }
-    }
-    if (status == STEWART_OK) {
-        kernel_leg_chain_inverse(p, x, xd, xdd, lwa, legs, chain);
-    }
-    if (status == STEWART_OK) {
-        if (stewart_is_paper_model(p)) {
-            kernel_residual_derivatives_inverse(p, x, xd, xdd, chain, Z);
-        } else {
-            kernel_residual_derivatives_inverse_general(p, x, xd, xdd, chain, Z);
-        }
-    }
-    if (status == STEWART_OK) {
-        status = bareiss_solve(FJ, 18, 18, Z, Y);
-    }
-    if (status == STEWART_OK) {
-        status = split_jacobians(Y, dtau_dxdd, dtau_dx, dtau_dxd);
-    }
-    return finish_all(status, 4, (double *[]){tau, dtau_dx, dtau_dxd, dtau_dxdd}, (const int []){6, 36, 36, 36});
-}
-
-int stewart_forward_dynamics_derivatives(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double xdd[6], double dxdd_dx[36], double dxdd_dxd[36], double dxdd_dtau[36])
-{
-    double Mt[21], rhs[6], JAinv[9], ctheta[1], L2[6], h2[6], n2[6], lwa[102], legs[198], chain[432], Z[108], FM[21], y[6], Y[108], D[108];
-    int status = STEWART_OK;
-    if (!params_finite(p) || !all_finite(x, 6) || !all_finite(xd, 6) || !all_finite(tau, 6)) {
-        return finish_all(STEWART_ERR_NONFINITE, 4, (double *[]){xdd, dxdd_dx, dxdd_dxd, dxdd_dtau}, (const int []){6, 36, 36, 36});
-    }
-    if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
-        kernel_forward_dynamics_axisym(p, x, xd, tau, Mt, rhs, JAinv, ctheta, L2);
-        status = check_legs(L2, NULL, NULL);
-    } else if (stewart_is_paper_model(p)) {
-        kernel_forward_dynamics_frames(p, x, xd, tau, Mt, rhs, JAinv, ctheta, L2, h2);
-        status = check_legs(L2, h2, NULL);
-    } else {
-        kernel_forward_dynamics_general(p, x, xd, tau, Mt, rhs, JAinv, ctheta, L2, n2);
-        status = check_legs(L2, NULL, n2);
-    }
-    if (status == STEWART_OK) {
-        status = check_euler(ctheta);
-    }
-    if (status == STEWART_OK) {
-        status = ldl_factor(Mt, FM);
-    }
-    if (status == STEWART_OK) {
-        status = ldl_solve(FM, 1, 1, rhs, y);
-    }
-    if (status == STEWART_OK) {
-        status = pose_accelerations(JAinv, 1, y, xdd);
-    }
-    if (status == STEWART_OK) {
-        if (stewart_is_paper_model(p)) {
-            kernel_leg_points(p, x, xd, xdd, lwa);
-        } else {
-            kernel_leg_points_general(p, x, xd, xdd, lwa);
-        }
-    }
-    if (status == STEWART_OK) {
-        if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
-            kernel_leg_derivatives_axisym(p, lwa, tau, legs);
-        } else if (stewart_is_paper_model(p)) {
-            kernel_leg_derivatives_frames(p, lwa, tau, legs);
-        } else {
-            kernel_leg_derivatives_general(p, lwa, tau, legs);
-        }
-    }
-    if (status == STEWART_OK) {
-        kernel_leg_chain_forward(p, x, xd, xdd, lwa, legs, chain);
-    }
-    if (status == STEWART_OK) {
-        if (stewart_is_paper_model(p)) {
-            kernel_residual_derivatives_forward(p, x, xd, xdd, chain, lwa, legs, Z);
-        } else {
-            kernel_residual_derivatives_forward_general(p, x, xd, xdd, chain, lwa, legs, Z);
-        }
-    }
-    if (status == STEWART_OK) {
-        status = ldl_solve(FM, 18, 18, Z, Y);
-    }
-    if (status == STEWART_OK) {
-        status = pose_accelerations(JAinv, 18, Y, D);
-    }
-    if (status == STEWART_OK) {
-        status = split_jacobians(D, dxdd_dx, dxdd_dxd, dxdd_dtau);
-    }
-    return finish_all(status, 4, (double *[]){xdd, dxdd_dx, dxdd_dxd, dxdd_dtau}, (const int []){6, 36, 36, 36});
-}
-
-int stewart_joint_reactions(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6], double f_base[18], double f_platform[18], double n_base[18])
-{
-    double W[6], JC[36], legf[36], L2[6], h2[6], n2[6], FJ[57];
-    int status = STEWART_OK;
-    if (!params_finite(p) || !all_finite(x, 6) || !all_finite(xd, 6) || !all_finite(xdd, 6)) {
-        return finish_all(STEWART_ERR_NONFINITE, 4, (double *[]){tau, f_base, f_platform, n_base}, (const int []){6, 18, 18, 18});
-    }
-    if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
-        kernel_joint_reactions_axisym(p, x, xd, xdd, W, JC, legf, n_base, L2);
-        status = check_legs(L2, NULL, NULL);
-    } else if (stewart_is_paper_model(p)) {
-        kernel_joint_reactions_frames(p, x, xd, xdd, W, JC, legf, n_base, L2, h2);
-        status = check_legs(L2, h2, NULL);
-    } else {
-        kernel_joint_reactions_general(p, x, xd, xdd, W, JC, legf, n_base, L2, n2);
-        status = check_legs(L2, NULL, n2);
-    }
-    if (status == STEWART_OK) {
-        status = bareiss_factor(JC, FJ);
-    }
-    if (status == STEWART_OK) {
-        status = bareiss_solve(FJ, 1, 1, W, tau);
-    }
-    if (status == STEWART_OK) {
-        kernel_joint_forces(p, tau, JC, legf, f_base, f_platform);
-    }
-    return finish_all(status, 4, (double *[]){tau, f_base, f_platform, n_base}, (const int []){6, 18, 18, 18});
-}
-
-int stewart_regressor(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double Y[192])
-{
-    double JC[36], L2[6], h2[6], n2[6], FJ[57];
-    int status = STEWART_OK;
-    if (!params_finite(p) || !all_finite(x, 6) || !all_finite(xd, 6) || !all_finite(xdd, 6)) {
-        return finish(STEWART_ERR_NONFINITE, Y, 192);
-    }
-    if (!legs_spin(p)) {
-        kernel_regressor(p, x, xd, xdd, Y, JC, L2, h2);
-        status = check_legs(L2, h2, NULL);
-    } else {
-        kernel_regressor_general(p, x, xd, xdd, Y, JC, L2, n2);
-        status = check_legs(L2, NULL, n2);
-    }
-    if (status == STEWART_OK) {
-        status = bareiss_factor(JC, FJ);
-    }
-    if (status == STEWART_OK) {
-        status = bareiss_solve(FJ, 20, 32, Y, Y);
-    }
-    return finish(status, Y, 192);
-}
-
-/* The discrete-time dynamics of stewart_model.c (codegen/templates/rk4.c, carried verbatim
- * by the generator after the generated public functions): one classic RK4 step of the state
- * s = [x; xd] under constant tau, ds/dt = f(s) = [xd; xdd(x, xd, tau)], with the operations
- * of the simulator's RK4 loop (stewart/_simulate.pyx, open loop with constant feed-forward,
- * no friction, no force limit), and its exact Jacobians by the chain rule through the four
- * stages with the forward-dynamics Jacobians.  Compiles on its own against stewart_model.h. */
-#include "stewart_model.h"
-
-#include <math.h>
-#include <stddef.h>
-
-/* The stage state t = s + h k (k == NULL: t = s, the first stage) and, when S != NULL, its
- * Jacobians S = dt/ds = E + h K, U = dt/dtau = h KB (K, KB: those of k). */
-static void rk4_stage_state(const double s[12], double h, const double *k, const double *K,
-                            const double *KB, double t[12], double *S, double *U)
-{
-    int i, j;
-    for (i = 0; i < 12; ++i) {
-        t[i] = k == NULL ? s[i] : s[i] + h * k[i];
-    }
-    for (i = 0; S != NULL && i < 12; ++i) {
-        for (j = 0; j < 12; ++j) {
-            S[12 * i + j] = (i == j ? 1.0 : 0.0) + h * K[12 * i + j];
-        }
-        for (j = 0; j < 6; ++j) {
-            U[6 * i + j] = h * KB[6 * i + j];
-        }
-    }
-}
-
-/* The stage derivative k = f(t) = [t_xd; xdd(t_x, t_xd, tau)] and, when jac, its Jacobians
- * K = df/dt S and KB = df/dt U + df/dtau for the stage state's S = dt/ds and U = dt/dtau
- * (S == NULL: S = E, U = 0, the first stage); df/dt = [[0, E], [dxdd/dx, dxdd/dxd]],
- * df/dtau = [0; dxdd/dtau]. */
-static int rk4_stage(const stewart_params *p, const double t[12], const double tau[6], int jac,
-                     const double *S, const double *U, double k[12], double *K, double *KB)
-{
-    double ax[36], axd[36], atau[36];
-    int i, j, m, status;
-    for (i = 0; i < 6; ++i) {
-        k[i] = t[6 + i];
-    }
-    if (!jac) {
-        return stewart_forward_dynamics(p, t, t + 6, tau, k + 6);
-    }
-    status = stewart_forward_dynamics_derivatives(p, t, t + 6, tau, k + 6, ax, axd, atau);
-    for (i = 0; i < 6; ++i) {
-        for (j = 0; j < 12; ++j) {
-            double sum = 0.0;
-            if (S == NULL) {
-                K[12 * i + j] = j == 6 + i ? 1.0 : 0.0;
-                sum = j < 6 ? ax[6 * i + j] : axd[6 * i + j - 6];
-            } else {
-                K[12 * i + j] = S[12 * (6 + i) + j];
-                for (m = 0; m < 6; ++m) {
-                    sum += ax[6 * i + m] * S[12 * m + j] + axd[6 * i + m] * S[12 * (6 + m) + j];
-                }
-            }
-            K[12 * (6 + i) + j] = sum;
-        }
-        for (j = 0; j < 6; ++j) {
-            double sum = atau[6 * i + j];
-            KB[6 * i + j] = U == NULL ? 0.0 : U[6 * (6 + i) + j];
-            for (m = 0; U != NULL && m < 6; ++m) {
-                sum += ax[6 * i + m] * U[6 * m + j] + axd[6 * i + m] * U[6 * (6 + m) + j];
-            }
-            KB[6 * (6 + i) + j] = sum;
-        }
-    }
-    return status;
-}
-
-/* Every output NaN unless the status is STEWART_OK and they are all finite. */
-static int rk4_finish(int status, double xn[6], double xdn[6], double *A, double *B)
-{
-    double *out[4] = {xn, xdn, A, B};
-    const int n[4] = {6, 6, 144, 72};
-    int i, k;
-    for (i = 0; i < 4 && status == STEWART_OK; ++i) {
-        for (k = 0; out[i] != NULL && k < n[i]; ++k) {
-            if (!isfinite(out[i][k])) {
-                status = STEWART_ERR_NONFINITE;
-            }
-        }
-    }
-    for (i = 0; i < 4 && status != STEWART_OK; ++i) {
-        for (k = 0; out[i] != NULL && k < n[i]; ++k) {
-            out[i][k] = NAN;
-        }
-    }
-    return status;
-}
-
-/* The step, and A, B unless A == NULL: stages k_1 = f(s), k_2 = f(s + dt/2 k_1),
- * k_3 = f(s + dt/2 k_2), k_4 = f(s + dt k_3), s+ = s + dt/6 (k_1 + 2 k_2 + 2 k_3 + k_4). */
-static int rk4(const stewart_params *p, const double x[6], const double xd[6], const double tau[6],
-               double dt, double xn[6], double xdn[6], double *A, double *B)
-{
-    static const double fraction[4] = {0.0, 0.5, 0.5, 1.0};
-    static const double weight[4] = {1.0, 2.0, 2.0, 1.0};
-    double s[12], t[12], k[4][12], S[144], U[72], K[2][144], KB[2][72];
-    int i, j, stage, status = isfinite(dt) ? STEWART_OK : STEWART_ERR_NONFINITE;
-    const int jac = A != NULL;
-    for (i = 0; i < 6; ++i) {
-        s[i] = x[i];
-        s[6 + i] = xd[i];
-    }
-    for (i = 0; jac && i < 144; ++i) {
-        A[i] = 0.0;
-    }
-    for (i = 0; jac && i < 72; ++i) {
-        B[i] = 0.0;
-    }
-    for (stage = 0; stage < 4 && status == STEWART_OK; ++stage) {
-        const int prev = (stage + 1) % 2, cur = stage % 2;
-        const double h = fraction[stage] * dt;
-        rk4_stage_state(s, h, stage ? k[stage - 1] : NULL, stage ? K[prev] : NULL, stage ? KB[prev] : NULL,
-                        t, jac && stage ? S : NULL, U);
-        status = rk4_stage(p, t, tau, jac, stage ? S : NULL, stage ? U : NULL, k[stage], K[cur], KB[cur]);
-        for (i = 0; jac && i < 144; ++i) {
-            A[i] += weight[stage] * K[cur][i];
-        }
-        for (i = 0; jac && i < 72; ++i) {
-            B[i] += weight[stage] * KB[cur][i];
-        }
-    }
-    if (status == STEWART_OK) {
-        for (i = 0; i < 12; ++i) {
-            t[i] = s[i] + dt / 6.0 * (k[0][i] + 2.0 * k[1][i] + 2.0 * k[2][i] + k[3][i]);
-        }
-        for (i = 0; i < 6; ++i) {
-            xn[i] = t[i];
-            xdn[i] = t[6 + i];
-        }
-        for (i = 0; jac && i < 12; ++i) {
-            for (j = 0; j < 12; ++j) {
-                A[12 * i + j] = (i == j ? 1.0 : 0.0) + dt / 6.0 * A[12 * i + j];
-            }
-            for (j = 0; j < 6; ++j) {
-                B[6 * i + j] = dt / 6.0 * B[6 * i + j];
-            }
-        }
-    }
-    return rk4_finish(status, xn, xdn, A, B);
-}
-
-int stewart_rk4_step(const stewart_params *p, const double x[6], const double xd[6], const double tau[6],
-                     double dt, double xn[6], double xdn[6])
-{
-    return rk4(p, x, xd, tau, dt, xn, xdn, NULL, NULL);
-}
-
-int stewart_rk4_step_derivatives(const stewart_params *p, const double x[6], const double xd[6],
-                                 const double tau[6], double dt, double xn[6], double xdn[6],
-                                 double A[144], double B[72])
-{
-    return rk4(p, x, xd, tau, dt, xn, xdn, A, B);
-}
-
-#endif /* STEWART_BATCH_ONLY */
-
 /* ---- batches ---- */
 
 /* stewart_leg_lengths over a block of states (batch_rows). */
@@ -1080,4 +528,91 @@ int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const 
 {
     stewart_vd in0[6], in1[6], in2[6], out0[6], out1[6], out2[144], out3[72];
     return batch_rows(params_finite(p), p, vblock_rk4_step_derivatives, dt, n, 3, (const double *const []){x, xd, tau}, (stewart_vd *const []){in0, in1, in2}, 4, (double *const []){xn, xdn, A, B}, (stewart_vd *const []){out0, out1, out2, out3}, (const int []){6, 6, 144, 72}, status);
+}
+
+/* ---- single states ---- */
+
+int stewart_leg_lengths(const stewart_params *p, const double x[6], double L[6])
+{
+    return stewart_batch_leg_lengths(p, 1, x, L, NULL);
+}
+
+int stewart_jacobian(const stewart_params *p, const double x[6], double JC[36])
+{
+    return stewart_batch_jacobian(p, 1, x, JC, NULL);
+}
+
+int stewart_leg_rates(const stewart_params *p, const double x[6], const double xd[6], double LLd[12])
+{
+    return stewart_batch_leg_rates(p, 1, x, xd, LLd, NULL);
+}
+
+int stewart_mass_matrix(const stewart_params *p, const double x[6], double M[36])
+{
+    return stewart_batch_mass_matrix(p, 1, x, M, NULL);
+}
+
+int stewart_twist_mass_matrix(const stewart_params *p, const double x[6], double Mt[36])
+{
+    return stewart_batch_twist_mass_matrix(p, 1, x, Mt, NULL);
+}
+
+int stewart_coriolis_matrix(const stewart_params *p, const double x[6], const double xd[6], double V[36])
+{
+    return stewart_batch_coriolis_matrix(p, 1, x, xd, V, NULL);
+}
+
+int stewart_coriolis_vector(const stewart_params *p, const double x[6], const double xd[6], double Vxd[6])
+{
+    return stewart_batch_coriolis_vector(p, 1, x, xd, Vxd, NULL);
+}
+
+int stewart_gravity_vector(const stewart_params *p, const double x[6], double G[6])
+{
+    return stewart_batch_gravity_vector(p, 1, x, G, NULL);
+}
+
+int stewart_all_terms(const stewart_params *p, const double x[6], const double xd[6], double terms[84])
+{
+    return stewart_batch_all_terms(p, 1, x, xd, terms, NULL);
+}
+
+int stewart_inverse_dynamics(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6])
+{
+    return stewart_batch_inverse_dynamics(p, 1, x, xd, xdd, tau, NULL);
+}
+
+int stewart_forward_dynamics(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double xdd[6])
+{
+    return stewart_batch_forward_dynamics(p, 1, x, xd, tau, xdd, NULL);
+}
+
+int stewart_inverse_dynamics_derivatives(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6], double dtau_dx[36], double dtau_dxd[36], double dtau_dxdd[36])
+{
+    return stewart_batch_inverse_dynamics_derivatives(p, 1, x, xd, xdd, tau, dtau_dx, dtau_dxd, dtau_dxdd, NULL);
+}
+
+int stewart_forward_dynamics_derivatives(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double xdd[6], double dxdd_dx[36], double dxdd_dxd[36], double dxdd_dtau[36])
+{
+    return stewart_batch_forward_dynamics_derivatives(p, 1, x, xd, tau, xdd, dxdd_dx, dxdd_dxd, dxdd_dtau, NULL);
+}
+
+int stewart_joint_reactions(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6], double f_base[18], double f_platform[18], double n_base[18])
+{
+    return stewart_batch_joint_reactions(p, 1, x, xd, xdd, tau, f_base, f_platform, n_base, NULL);
+}
+
+int stewart_regressor(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double Y[192])
+{
+    return stewart_batch_regressor(p, 1, x, xd, xdd, Y, NULL);
+}
+
+int stewart_rk4_step(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double dt, double xn[6], double xdn[6])
+{
+    return stewart_batch_rk4_step(p, 1, x, xd, tau, dt, xn, xdn, NULL);
+}
+
+int stewart_rk4_step_derivatives(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double dt, double xn[6], double xdn[6], double A[144], double B[72])
+{
+    return stewart_batch_rk4_step_derivatives(p, 1, x, xd, tau, dt, xn, xdn, A, B, NULL);
 }

@@ -41,16 +41,16 @@
  * returns a status (STEWART_OK or an error); on error all outputs are NaN.  Outputs may
  * not alias inputs.
  *
- * Rounding: compile the model with STEWART_ROUNDING_FLAGS (GCC and Clang), which keep its
- * floating-point operations as written.  Then a state gives the same result bit for bit
- * from a scalar function and from its batch function, in any lane of any block, and on
- * every instruction set.
+ * Rounding: a single-state function is its batch function on one state, so a state gives
+ * the same result bit for bit alone and in any row of any batch.  Compile the model with
+ * STEWART_ROUNDING_FLAGS (GCC and Clang), which keep its floating-point operations as
+ * written; then it also gives the same result on every instruction set.
  */
 #ifndef STEWART_MODEL_H
 #define STEWART_MODEL_H
 
 /* The compiler flags of the model's rounding: no contraction into fused multiply-adds, no
- * SLP vectorization of the scalar code (GCC 12's changes the last bit of some results). */
+ * SLP vectorization (GCC 12's changes the last bit of some results). */
 #define STEWART_ROUNDING_FLAGS "-ffp-contract=off -fno-tree-slp-vectorize"
 
 #include <float.h>
@@ -194,8 +194,8 @@ int stewart_rk4_step_derivatives(const stewart_params *p, const double x[6], con
 /* ---- batches ----
  * stewart_batch_<name>(p, n, <inputs>, <scalars>, <outputs>, status) is stewart_<name> on n states at
  * once: each input and output an n-row, row-major array (row r of x at x + 6 * r), row r's
- * status in status[r] (status may be NULL) and its outputs NaN unless it is STEWART_OK,
- * exactly as stewart_<name> gives them for the row alone.  Returns the status of the first
+ * status in status[r] (status may be NULL) and its outputs NaN unless it is STEWART_OK;
+ * stewart_<name> is stewart_batch_<name> on one row.  Returns the status of the first
  * row that is not STEWART_OK, or STEWART_OK.  The states are evaluated STEWART_LANES at a
  * time, one per lane of a vector (GCC/Clang vector extensions); STEWART_LANES defaults to the
  * widest vectors the compiler targets (8 with AVX-512, 4 with AVX, else 2) and may be set

@@ -398,8 +398,8 @@ cdef class Kernel:
                       bint batch, const double *p0, const double *p1, const double *p2, Py_ssize_t s0,
                       Py_ssize_t s1, Py_ssize_t s2, double **po, const int *widths, int *ps) except -1:
         """The n rows split over plain threads (a build without OpenMP) in blocks of ``block``
-        rows, through the batch function ``fn`` (``batch``) or the scalar one row by row; the
-        number of rows the scalar function failed at."""
+        rows, through the batch function ``fn`` (``batch``) or the single-state one row by row;
+        the number of rows the single-state function failed at."""
         blocks = _Blocks(self, kind, <Py_ssize_t>fn, scalar, nout, n, block, batch)
         blocks.p0, blocks.p1, blocks.p2, blocks.s0, blocks.s1, blocks.s2 = p0, p1, p2, s0, s1, s2
         blocks.po, blocks.widths, blocks.ps = po, widths, ps
@@ -584,8 +584,8 @@ cdef class _Blocks:
         self.block, self.batch = block, batch
 
     def run(self, Py_ssize_t first, Py_ssize_t step):
-        """Run blocks ``first``, ``first + step``, ...; the number of rows the scalar function
-        failed at."""
+        """Run blocks ``first``, ``first + step``, ...; the number of rows the single-state
+        function failed at."""
         cdef Py_ssize_t start, i
         cdef int failures = 0
         with nogil:

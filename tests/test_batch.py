@@ -1,5 +1,5 @@
-"""The vector batch path (``stewart_batch_<name>``, ``_kernel.LANES`` states at once) against
-the scalar functions, one state at a time: on batches whose sizes are not multiples of the
+"""The batch functions (``stewart_batch_<name>``, ``_kernel.LANES`` states at once) against
+the single-state functions, one state at a time: on batches whose sizes are not multiples of the
 lanes, with singular rows mixed in, every row's values (to 1e-14 of the row's largest), its
 mask, and the error a batch raises are those of the rows evaluated alone."""
 

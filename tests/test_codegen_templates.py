@@ -17,7 +17,7 @@ LANES = ROOT / "codegen" / "templates" / "lanes.c"
 
 
 def test_there_are_templates():
-    assert [t.name for t in TEMPLATES] == ["lanes.c", "public.c", "rk4.c", "runtime.c", "vector.c"]
+    assert [t.name for t in TEMPLATES] == ["lanes.c", "public.c", "runtime.c", "vector.c"]
 
 
 @pytest.mark.parametrize("template", TEMPLATES, ids=lambda t: t.name)

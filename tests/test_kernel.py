@@ -105,7 +105,7 @@ def test_all_terms_equal_the_separate_calls(figures):
                     relative_error(terms.coriolis_vector, plat.coriolis_vector(x, xd)),
                     relative_error(terms.gravity_vector, plat.gravity_vector(x)),
                     relative_error(terms.jacobian, plat.jacobian(x)))
-        single = plat.all_terms(x[0], xd[0])  # the scalar function; the batch runs the vector one
+        single = plat.all_terms(x[0], xd[0])  # the single-state function, the batch on one row
         for got, batch in zip(single, terms):
             assert relative_error(got[None], batch[:1]) <= 1e-14
     figures("kernel all_terms vs the separate kernels (all parameter sets)", worst, 1e-14)
@@ -128,7 +128,7 @@ def test_batch_equals_loop_of_single_calls(preset_params):
     for name, arity in FUNCTIONS + [("forward_dynamics", 3)]:
         batch = getattr(plat, name)(*args[:arity])
         loop = np.array([getattr(plat, name)(*(a[k] for a in args[:arity])) for k in range(len(x))])
-        # the batch runs the vector functions, the single calls the scalar ones (tests/test_batch.py)
+        # each row alone, as the single-state functions give it (tests/test_batch.py)
         assert relative_error(batch, loop) <= 1e-14
         np.testing.assert_array_equal(getattr(threaded, name)(*args[:arity]), batch)
 

@@ -1,10 +1,9 @@
 /* The lane-wise arithmetic of the model (codegen/templates/lanes.c, copied verbatim by the
  * generator first into stewart_internal.h, which the model's units share): the vector of STEWART_LANES doubles of the
- * vector path and its sqrt, sin, cos and tanh, and the scalar path's sin, cos and tanh, which
- * are lane 0 of the vector ones.  Every operation is IEEE arithmetic on each lane alone (the
- * model is compiled without contraction into fused multiply-adds: -ffp-contract=off), so a
- * state gives the same bits alone (scalar functions) as in any lane of any block (batch
- * functions), on every instruction set.  Compiles on its own against stewart_model.h. */
+ * model and its sqrt, sin, cos and tanh.  Every operation is IEEE arithmetic on each lane
+ * alone (the model is compiled without contraction into fused multiply-adds:
+ * -ffp-contract=off), so a state gives the same bits in any lane of any block, on every
+ * instruction set.  Compiles on its own against stewart_model.h. */
 #include "stewart_model.h"
 
 #include <float.h>
@@ -140,21 +139,4 @@ static stewart_vd vtanh(stewart_vd a)
     e = e * r + 1.0;
     e *= (stewart_vd)((((stewart_vl)kf - (stewart_vl)vsplat(shift)) + 1023) << 52);
     return vnegate(a < 0.0, 1.0 - 2.0 / (e + 1.0));
-}
-
-/* The scalar path's sin, cos and tanh: lane 0 of vsin, vcos, vtanh (sqrt is correctly
- * rounded on both paths). */
-static double ssin(double a)
-{
-    return vsin(vsplat(a))[0];
-}
-
-static double scos(double a)
-{
-    return vcos(vsplat(a))[0];
-}
-
-static double stanh(double a)
-{
-    return vtanh(vsplat(a))[0];
 }

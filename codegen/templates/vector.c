@@ -1,14 +1,13 @@
-/* The vector path of the model (codegen/templates/vector.c, copied verbatim by the generator
- * into stewart_internal.h, which the model's units share): STEWART_LANES states evaluated at
- * once, one per lane of a GCC/Clang vector of doubles (its arithmetic:
- * codegen/templates/lanes.c).  The generated vector kernels (vkernel_*), the
- * vector solvers (vbareiss_*, vldl_*) and the block functions of the batch functions
- * (vblock_*) work on structure-of-arrays blocks: entry k of the block's states is one vector.
- * Every status test becomes a lane mask (all bits set: true), and every step returns the
- * status of each lane (0: STEWART_OK), merged so that a lane keeps its first error, as the
- * scalar functions stop at theirs.  batch_rows carries a batch of row-major states through
- * a block function, block by block, with the transposes, the finiteness tests and the NaN
- * rows of the scalar functions. */
+/* The model's evaluation (codegen/templates/vector.c, copied verbatim by the generator into
+ * stewart_internal.h, which the model's units share): STEWART_LANES states evaluated at once,
+ * one per lane of a GCC/Clang vector of doubles (its arithmetic: codegen/templates/lanes.c).
+ * The generated kernels (vkernel_*), the solvers (vbareiss_*, vldl_*) and the block functions
+ * of the public functions (vblock_*) work on structure-of-arrays blocks: entry k of the
+ * block's states is one vector.  Every status test becomes a lane mask (all bits set: true),
+ * and every step returns the status of each lane (0: STEWART_OK), merged so that a lane keeps
+ * its first error.  batch_rows carries a batch of row-major states through a block function,
+ * block by block, with the transposes, the finiteness tests and the NaN rows of the failed
+ * states; a single-state function is its batch function on one row. */
 #include "stewart_model.h"
 
 #include <float.h>
@@ -32,7 +31,12 @@ static stewart_vl vfinite(const stewart_vd *v, int n)
     return ok;
 }
 
-/* check_legs of runtime.c, lane by lane. */
+/* The legs' tests, in order (codegen/conditions.py), lane by lane: STEWART_ERR_LEG_DEGENERATE
+ * if a leg has L2[i] < STEWART_DEGENERATE_TOL (or NaN), STEWART_ERR_NONFINITE if a leg's L2[i]
+ * overflows, (h2 != NULL: the kernels in the frames {C_i}) STEWART_ERR_LEG_VERTICAL if a leg
+ * has h2[i] = l_x^2 + l_y^2 < STEWART_VERTICAL_TOL * L2[i], and (n2 != NULL: the general
+ * model) STEWART_ERR_GIMBAL_LOCK if a leg has n2[i] = |a_i x l_i|^2 < STEWART_GIMBAL_TOL *
+ * L2[i]; else STEWART_OK. */
 static stewart_vl vcheck_legs(const stewart_vd L2[6], const stewart_vd *h2, const stewart_vd *n2)
 {
     stewart_vl degenerate = vnone(), overflow = vnone(), vertical = vnone(), gimbal = vnone();
@@ -51,13 +55,15 @@ static stewart_vl vcheck_legs(const stewart_vd L2[6], const stewart_vd *h2, cons
                          vertical & STEWART_ERR_LEG_VERTICAL), gimbal & STEWART_ERR_GIMBAL_LOCK);
 }
 
-/* check_euler of runtime.c, lane by lane. */
+/* STEWART_OK unless cos(theta) is too small for the Euler-rate map J_A to be inverted, lane
+ * by lane. */
 static stewart_vl vcheck_euler(const stewart_vd ctheta[1])
 {
     return ~(vabs(ctheta[0]) >= STEWART_EULER_TOL) & STEWART_ERR_EULER_SINGULAR;
 }
 
-/* pose_accelerations of runtime.c over a block. */
+/* xdd = [y_v; J_A^-1 y_w] from the twist acceleration y = T xdd, for n columns (6 rows of
+ * n, row-major; y and xdd may not overlap), over a block. */
 static stewart_vl vpose_accelerations(const stewart_vd JAinv[9], int n, const stewart_vd *y, stewart_vd *xdd)
 {
     int i, c;
@@ -77,7 +83,7 @@ static stewart_vl vpose_accelerations(const stewart_vd JAinv[9], int n, const st
 typedef stewart_vl (*vblock_fn)(const stewart_params *p, double scalar, const stewart_vd *const in[],
                                 stewart_vd *const out[]);
 
-/* split_jacobians of runtime.c over a block. */
+/* The three 6 x 6 blocks of columns of Y (6 x 18, row-major), over a block. */
 static stewart_vl vsplit_jacobians(const stewart_vd Y[108], stewart_vd a[36], stewart_vd b[36], stewart_vd c[36])
 {
     int i, j;
@@ -91,8 +97,8 @@ static stewart_vl vsplit_jacobians(const stewart_vd Y[108], stewart_vd a[36], st
     return vnone();
 }
 
-/* rk4_stage_state of rk4.c over a block, for the stages after the first: t = s + h k and, when
- * S != NULL, S = E + h K, U = h KB. */
+/* The stage state t = s + h k of a stage after the first and, when S != NULL, its Jacobians
+ * S = dt/ds = E + h K, U = dt/dtau = h KB (K, KB: those of k), over a block. */
 static void vrk4_stage_state(const stewart_vd s[12], double h, const stewart_vd k[12], const stewart_vd *K,
                              const stewart_vd *KB, stewart_vd t[12], stewart_vd *S, stewart_vd *U)
 {
@@ -110,9 +116,11 @@ static void vrk4_stage_state(const stewart_vd s[12], double h, const stewart_vd 
     }
 }
 
-/* The Jacobians K, KB of rk4_stage of rk4.c over a block, from the forward-dynamics
- * Jacobians ax = dxdd/dx, axd = dxdd/dxd, atau = dxdd/dtau at the stage state, whose
- * Jacobians are S, U (S == NULL: the first stage). */
+/* The Jacobians of the stage derivative k = f(t) = [t_xd; xdd(t_x, t_xd, tau)], K = df/dt S
+ * and KB = df/dt U + df/dtau, with df/dt = [[0, E], [dxdd/dx, dxdd/dxd]] and
+ * df/dtau = [0; dxdd/dtau], over a block: from the forward-dynamics Jacobians ax = dxdd/dx,
+ * axd = dxdd/dxd, atau = dxdd/dtau at the stage state, whose Jacobians are S, U (S == NULL:
+ * the first stage, S = E, U = 0). */
 static void vrk4_stage_jacobians(const stewart_vd ax[36], const stewart_vd axd[36], const stewart_vd atau[36],
                                  const stewart_vd *S, const stewart_vd *U, stewart_vd K[144], stewart_vd KB[72])
 {
@@ -142,7 +150,13 @@ static void vrk4_stage_jacobians(const stewart_vd ax[36], const stewart_vd axd[3
     }
 }
 
-/* rk4 of rk4.c over a block of states: in = {x, xd, tau}, out = {xn, xdn} and, when `jac`,
+/* The discrete-time dynamics, over a block of states: one classic RK4 step of the state
+ * s = [x; xd] under constant tau, ds/dt = f(s) = [xd; xdd(x, xd, tau)], with the operations of
+ * the simulator's RK4 loop (stewart/_simulate.pyx, open loop with constant feed-forward, no
+ * friction, no force limit) -- stages k_1 = f(s), k_2 = f(s + dt/2 k_1), k_3 = f(s + dt/2 k_2),
+ * k_4 = f(s + dt k_3), s+ = s + dt/6 (k_1 + 2 k_2 + 2 k_3 + k_4) -- and, when `jac`, its exact
+ * Jacobians A = ds+/ds, B = ds+/dtau by the chain rule through the four stages with the
+ * forward-dynamics Jacobians.  in = {x, xd, tau}, out = {xn, xdn} and, when `jac`,
  * {A, B}; the stages' accelerations by `forward`, the block function of
  * stewart_forward_dynamics (out = {xdd}), or with `jac` of stewart_forward_dynamics_derivatives
  * (out = {xdd, dxdd/dx, dxdd/dxd, dxdd/dtau}), each stage with the checks that function
@@ -215,8 +229,7 @@ static stewart_vl vrk4(const stewart_params *p, vblock_fn forward, int jac, doub
 
 /* The n rows of a batch through `block`, STEWART_LANES rows at a time (the last block padded
  * with copies of the last row): rows[i] holds input i (n x 6, row-major), results[j] output j
- * (n x size[j]), in[i] and out[j] the block's buffers.  Row r gets the status of the scalar
- * function in status[r] (status may be NULL): STEWART_ERR_NONFINITE when the parameters
+ * (n x size[j]), in[i] and out[j] the block's buffers.  Row r gets its status in status[r] (status may be NULL): STEWART_ERR_NONFINITE when the parameters
  * (params_ok == 0) or its inputs are not finite, else its lane's status, else
  * STEWART_ERR_NONFINITE if an output is not finite; its outputs are NaN unless STEWART_OK.
  * Returns the status of the first row that is not STEWART_OK, or STEWART_OK. */

@@ -206,7 +206,7 @@ def parse(output: str) -> dict[str, str]:
     """The C test's summary lines."""
     found = {}
     for key, pattern in (("counts", r"(\d+) passed, (\d+) failed"),
-                         ("batch", r"batches \((\d+) lanes\) vs the scalar functions: worst relative difference (\S+)"),
+                         ("batch", r"batches \((\d+) lanes\) vs the single-state functions: worst relative difference (\S+)"),
                          ("reference", r"generated C vs numeric reference: worst relative error (\S+)")):
         match = re.search(pattern, output)
         if match:

@@ -101,7 +101,7 @@ static void check_jacobian(const char *what, const char *name, three_input_fn f,
 }
 
 
-/* The batch functions against the scalar ones: every function with a batch variant, as
+/* The batch functions against the single-state ones: every function with a batch variant, as
  * (p, inputs[3], out) and (p, n, inputs[3], out, status). */
 typedef int (*row_fn)(const stewart_params *, const double *const *, double *);
 typedef int (*batch_fn)(const stewart_params *, size_t, const double *const *, double *, int *);
@@ -280,10 +280,10 @@ static void batch_states(const reference_case *rc, size_t n, double in[3][MAX_RO
     }
 }
 
-/* Every batch function against its scalar function on the case's batch of n rows: each row's
- * status and outputs as the scalar function gives them for the row alone, bit for bit (the
- * model's rounding, codegen/templates/lanes.c), the first failing row's status as the return
- * value. */
+/* Every batch function against its single-state function on the case's batch of n rows: each
+ * row's status and outputs as the single-state function gives them for the row alone, bit for
+ * bit (at any position in a block of lanes: codegen/templates/vector.c), the first failing
+ * row's status as the return value. */
 static void check_batches(const reference_case *rc, size_t n, double *worst, unsigned *seen) {
     static double in[3][MAX_ROWS][6], got[MAX_ROWS * MAX_SIZE], want[MAX_SIZE];
     static int status[MAX_ROWS];
@@ -550,7 +550,7 @@ int main(void) {
     }
 
     printf("generated C vs numeric reference: worst relative error %.3e over %d states\n", worst, NCASES);
-    printf("batches (%zu lanes) vs the scalar functions: worst relative difference %.3e\n", lanes, worst_batch);
+    printf("batches (%zu lanes) vs the single-state functions: worst relative difference %.3e\n", lanes, worst_batch);
     printf("derivatives vs central differences of the primal functions: worst relative error %.3e\n", worst_fd);
     printf("%d passed, %d failed\n", passed, failed);
     return failed != 0;

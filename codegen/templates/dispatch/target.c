@@ -5,11 +5,8 @@
  *   -DSTEWART_TARGET=<name>              the table's name: stewart_table_<name>
  *   -DSTEWART_TARGET_LEVEL="<level>"     the x86-64 level the CPU must have ("" for none)
  *   -DSTEWART_TARGET_FLAGS="<flags>"     the flags, for build_info
- *   -DSTEWART_PREFIX=<prefix>            (all copies but one) the copy holds the batch
- *                                        functions only (STEWART_BATCH_ONLY), renamed
- *                                        <prefix>_<name> so the copies link together; its
- *                                        table's scalar functions are the first copy's, which
- *                                        round as the batch functions of every copy do.
+ *   -DSTEWART_PREFIX=<prefix>            (all copies but one) the copy's functions are
+ *                                        named <prefix>_<name>, so the copies link together.
  */
 #define STEWART_STRING_(a) #a
 #define STEWART_STRING(a) STEWART_STRING_(a)
