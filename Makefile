@@ -63,10 +63,11 @@ test-ports: build
 	$(MAKE) test-wheels
 
 # The packaging check on each other supported Python found (python3.X on the PATH, or pyenv's;
-# make test's covers the running one): the wheel built from the sdist by that Python, installed
-# into its fresh environment and smoke-tested; a Python not found is SKIPPED.
+# make test's covers the running one): the wheel for other machines (STEWART_TARGETS=all: every
+# x86-64 copy of the model) built from the sdist by that Python, installed into its fresh
+# environment and smoke-tested; a Python not found is SKIPPED.
 test-wheels: build
-	STEWART_WHEEL_PYTHONS=others $(PY) -m pytest -n 0 -v -rs --durations=0 --durations-min=1 -m packaging tests/test_packaging.py
+	STEWART_TARGETS=all STEWART_WHEEL_PYTHONS=others $(PY) -m pytest -n 0 -v -rs --durations=0 --durations-min=1 -m packaging tests/test_packaging.py
 
 demo: build
 	$(PY) -m stewart.demo

@@ -2,11 +2,13 @@
 
 Portable by default: on x86-64 the model (its units, generated/stewart_model*.c, and its
 table of functions, generated/stewart_target.c) is compiled once per target into the one
-extension -- ``baseline`` (x86-64), ``avx2`` (x86-64-v3: AVX2, FMA) and ``avx512``
-(x86-64-v4), all units of all targets side by side -- and the kernel runs the best copy the
-CPU supports, chosen at import
-(``STEWART_SIMD`` forces one; ``stewart.build_info()`` tells which). A target the compiler
-cannot build (its flags, or its level in ``__builtin_cpu_supports``) is left out. On any
+extension -- ``baseline`` (x86-64), and ``avx2`` (x86-64-v3: AVX2, FMA) and ``avx512``
+(x86-64-v4) where the building CPU runs them, all units of all targets side by side -- and
+the kernel runs the best copy the CPU supports, chosen at import (``STEWART_SIMD`` forces
+one; ``stewart.build_info()`` tells which). ``STEWART_TARGETS=all`` compiles every target
+the compiler can build, whatever the building CPU runs: for a wheel that goes to other
+machines. A target the compiler cannot build (its flags, or its level in
+``__builtin_cpu_supports``) is left out. On any
 other CPU (aarch64: NEON is its baseline) one baseline copy is compiled, with the
 compiler's default target.
 
@@ -23,6 +25,7 @@ import glob
 import os
 import platform
 import re
+import subprocess
 import tempfile
 from concurrent.futures import ThreadPoolExecutor
 
@@ -36,10 +39,12 @@ from setuptools.modified import newer_group
 #: The portable targets on x86-64: (name, -march, the x86-64 level the CPU needs), the one
 #: that runs everywhere first.
 X86_TARGETS = (("baseline", "x86-64", ""), ("avx2", "x86-64-v3", "x86-64-v3"), ("avx512", "x86-64-v4", "x86-64-v4"))
-OPTIMIZE = ["-O3"]
+#: The optimisation of the model's copies and the wrappers; no debug information (Python's
+#: CFLAGS ask for -g), which adds about a fifth to the model's compile time.
+OPTIMIZE = ["-O3", "-g0"]
 #: The model's rounding (STEWART_ROUNDING_FLAGS of the generated header): its operations as
-#: written, so that a state gives the same bits in the scalar and the vector functions, on
-#: every instruction set. Every extension is compiled with them.
+#: written, so that a state gives the same bits on every instruction set. Every extension is
+#: compiled with them.
 with open("generated/stewart_model.h", encoding="ascii") as header:
     EXACT = re.search(r'#define STEWART_ROUNDING_FLAGS "(.*)"', header.read()).group(1).split()
 #: The model, compiled once per target: its units and its table; what its copies depend on.
@@ -54,24 +59,30 @@ int main(void) { return omp_get_max_threads() > 0 ? 0 : 1; }
 """
 LEVEL_PROBE = """int main(void) { __builtin_cpu_init(); return !__builtin_cpu_supports("%s"); }
 """
+#: STEWART_TARGETS: which x86-64 targets to compile, by value.
+TARGET_CHOICES = {"cpu": "the targets the building CPU runs (the default)",
+                  "all": "every target the compiler builds (a wheel for other machines)"}
 
 
 class BuildKernel(build_ext):
     """build_ext that first probes the compiler (OpenMP, the targets), then compiles the model
     once per target and links the copies into stewart._kernel."""
 
-    def _builds(self, code, flags, link=False):
-        """Whether the compiler builds the C program ``code`` with ``flags`` (and links it)."""
+    def _builds(self, code, flags, link=False, run=False):
+        """Whether the compiler builds the C program ``code`` with ``flags`` (and links it, and
+        it exits with 0 when run)."""
         with tempfile.TemporaryDirectory() as tmp:
             source = os.path.join(tmp, "probe.c")
             with open(source, "w", encoding="ascii") as f:
                 f.write(code)
             try:
                 objects = self.compiler.compile([source], output_dir=tmp, extra_postargs=flags)
-                if link:
+                if link or run:
                     self.compiler.link_executable(objects, "probe", output_dir=tmp, extra_postargs=flags)
             except (CCompilerError, CompileError, LinkError):
                 return False
+            if run:
+                return subprocess.run([self.compiler.executable_filename("probe", output_dir=tmp)]).returncode == 0
         return True
 
     def _targets(self):
@@ -81,8 +92,13 @@ class BuildKernel(build_ext):
             return [(re.sub(r"\W", "_", march), OPTIMIZE + EXACT + [f"-march={march}"], "")]
         if platform.machine().lower() not in ("x86_64", "amd64"):
             return [("baseline", OPTIMIZE + EXACT, "")]
+        choice = os.environ.get("STEWART_TARGETS", "cpu")
+        if choice not in TARGET_CHOICES:
+            raise SystemExit(f"STEWART_TARGETS={choice!r}: use " + " or ".join(
+                f"{name} ({meaning})" for name, meaning in TARGET_CHOICES.items()))
         targets = [(name, OPTIMIZE + EXACT + [f"-march={arch}"], level) for name, arch, level in X86_TARGETS]
-        return [targets[0]] + [t for t in targets[1:] if self._builds(LEVEL_PROBE % t[2], t[1], link=True)]
+        return [targets[0]] + [t for t in targets[1:]
+                               if self._builds(LEVEL_PROBE % t[2], t[1], link=True, run=choice == "cpu")]
 
     def finalize_options(self):
         super().finalize_options()
