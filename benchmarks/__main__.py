@@ -143,7 +143,7 @@ def main(argv=None) -> None:
         results["kernel"][preset].update(bench.general_model_figures(preset, args.batch))
         print(f"[bench] exact derivatives and finite differences, {preset} ...", flush=True)
         results["kernel"][preset].update(bench.derivative_figures(preset, min(args.batch, bench.DERIVATIVE_BATCH)))
-    print("[bench] vector batch path against the scalar one, C loop ...", flush=True)
+    print("[bench] batch functions against the single-state ones, C loop ...", flush=True)
     results["batch_loop"] = batch_loop.figures("narayan2017", min(args.batch, 100_000))
     if peer_available("distributed"):
         print("[bench] envelopes in process and on a 2-worker Dask LocalCluster ...", flush=True)

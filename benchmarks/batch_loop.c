@@ -1,4 +1,4 @@
-/* The C batch loop: each batched function over N states, on one core, as the scalar
+/* The C batch loop: each batched function over N states, on one core, as the single-state
  * function called row by row and as the batch function (STEWART_LANES states per vector
  * instruction), side by side in one run.  Built at bench time with the flags of our
  * extension (benchmarks/batch_loop.py).
@@ -7,7 +7,7 @@
  *   INPUT  binary: int64 N, int64 NP, NP doubles of parameters (stewart_params order:
  *          every member, row-major), then N rows of 18 doubles (x, xd, xdd)
  * Prints the lanes, then per function a line: name, the median over REPEATS passes of the
- * time per state of the scalar loop and of the batch function (s), the worst difference of
+ * time per state of the row-by-row loop and of the batch function (s), the worst difference of
  * their outputs relative to each row's largest output, and the rows either reports failed.
  * The derivative functions run on the first ND states (forward dynamics and the RK4 step with
  * the forces inverse dynamics gives).
@@ -43,7 +43,7 @@ static double *part(int f, int k, double *out, size_t n) {
     return out;
 }
 
-/* Function f on n states: row by row with the scalar function, or with the batch function. */
+/* Function f on n states: row by row with the single-state function, or with the batch function. */
 static int run(int f, int batch, const stewart_params *p, size_t n, const double *x, const double *xd,
                const double *third, double *out, int *status) {
     double *o[4];

@@ -1,6 +1,6 @@
-"""The vector batch path against the scalar one (``python -m benchmarks.batch_loop``, and in
+"""The batch functions against the single-state ones (``python -m benchmarks.batch_loop``, and in
 ``make bench``): per-state time on one core of each batched function in the same C loop
-(``batch_loop.c``: the scalar function row by row, then the batch function, one run), built
+(``batch_loop.c``: the single-state function row by row, then the batch function, one run), built
 once per instruction-set path of the portable build this CPU runs (with that path's flags)
 and once with ``-march=native``, side by side; the batch call from Python on one and two
 threads; CasADi's generated C and ``casadi.Function.map(N, "thread", 2)`` for inverse dynamics
@@ -31,7 +31,7 @@ FUNCTIONS = ("inverse_dynamics", "forward_dynamics", "mass_matrix", "coriolis_ve
 #: Most microseconds per state (one core) of each batch function.
 US_PER_STATE = {"inverse_dynamics": 0.10, "forward_dynamics": 0.15, "mass_matrix": 0.08, "coriolis_vector": 0.08,
                 "gravity_vector": 0.08}
-#: Least speed-up of the batch function over the scalar loop.
+#: Least speed-up of the batch function over the row-by-row loop.
 SPEEDUP = {"inverse_dynamics": 3.5}
 #: Least inverse-dynamics states per second from Python on both cores, and the least speed-up
 #: of two threads over one, for a batch of at least 10^4 states.
@@ -143,7 +143,7 @@ def _mark(ok: bool) -> str:
 
 
 def rows(fig: dict) -> list[tuple[str, ...]]:
-    """(measure, scalar, the batch function on each path, target, met) rows of the figures:
+    """(measure, row by row, the batch function on each path, target, met) rows of the figures:
     the targets are those of the dispatched path."""
     loop, names = fig["c_loop"], list(fig["paths"])
     out = []
@@ -198,7 +198,7 @@ def rows(fig: dict) -> list[tuple[str, ...]]:
 
 
 def format_rows(fig: dict) -> str:
-    header = ("measure", "scalar", *(f"{path} ({fig['paths'][path]['lanes']} lanes)" for path in fig["paths"]),
+    header = ("measure", "row by row", *(f"{path} ({fig['paths'][path]['lanes']} lanes)" for path in fig["paths"]),
               "target", "")
     table = [header] + rows(fig)
     widths = [max(len(r[k]) for r in table) for k in range(len(header))]

@@ -134,8 +134,8 @@ def forward_differences(function, *args, step: float = DIFFERENCE_STEP) -> np.nd
 
 
 def scalar_time(function, args) -> float:
-    """Seconds per state of the C function that one call of ``function`` runs (the scalar
-    one, a state at a time), without the call's own work: a batch of fewer rows than the
+    """Seconds per state of the C function that one call of ``function`` runs (the batch
+    function on one row), without the call's own work: a batch of fewer rows than the
     vector path takes (``LANES``) goes row by row through it, so the time of a batch of
     ``LANES - 1`` rows less that of one row, over the rows added. On a build of 2 lanes
     every batch of two takes the vector path, whose speed per state then stands in."""

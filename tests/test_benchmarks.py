@@ -197,7 +197,7 @@ def test_pinocchio_rows_compare_one_call_and_batches():
 
 
 def test_batch_loop_rows_mark_the_batch_targets():
-    """The vector batch table: per-state times in us on each path, the speed-up over the scalar
+    """The vector batch table: per-state times in us on each path, the speed-up over the row-by-row
     loop, and each target met or missed by the dispatched path's figures."""
     from benchmarks import batch_loop
 
