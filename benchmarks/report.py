@@ -100,7 +100,7 @@ def rows(peers: dict, ours: dict) -> list[tuple[str, str, str, str]]:
             out.append((f"CasADi: {what}", _num(cas[k_ours], unit), _num(cas[k_peer], unit),
                         f"{cas[k_peer] / cas[k_ours]:.1f}x"))
         ops = cas["operations"]
-        out.append(("CasADi: size, inverse / forward dynamics (ours: sympy count_ops after cse)",
+        out.append(("CasADi: size, inverse / forward dynamics (ours: operations of the C after cse)",
                     f"{ours['ops'].get('inverse_dynamics', '?')} / {ours['ops'].get('forward_dynamics', '?')} ops",
                     f"{ops['inverse_dynamics']['n_instructions']} / {ops['forward_dynamics']['n_instructions']} instr.",
                     ""))

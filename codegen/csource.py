@@ -131,7 +131,7 @@ int stewart_is_paper_model(const stewart_params *p);
 int stewart_batch_lanes(void);
 
 @BATCH@
-/* Operation counts of the generated kernels (sympy count_ops after cse):
+/* Operation counts of the generated kernels (+, -, *, / and calls of their C, after cse):
 @OPS@ */
 
 #ifdef __cplusplus

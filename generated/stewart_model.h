@@ -232,50 +232,50 @@ int stewart_batch_regressor(const stewart_params *p, size_t n, const double *x, 
 int stewart_batch_rk4_step(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status);
 int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B, int *status);
 
-/* Operation counts of the generated kernels (sympy count_ops after cse):
- *   leg_lengths                              192
- *   jacobian                                 276
- *   leg_rates                                350
- *   mass_matrix_axisym                      1774
- *   mass_matrix_frames                      2045
- *   mass_matrix_general                     2492
- *   twist_mass_matrix_axisym                1726
- *   twist_mass_matrix_frames                1997
- *   twist_mass_matrix_general               2444
- *   coriolis_matrix_axisym                  5028
- *   coriolis_matrix_frames                  6703
- *   coriolis_matrix_general                 8030
- *   coriolis_vector_axisym                  1688
- *   coriolis_vector_frames                  2187
- *   coriolis_vector_general                 2565
- *   gravity_vector                           414
- *   gravity_vector_general                   512
- *   all_terms_axisym                        3435
- *   all_terms_frames                        4126
- *   all_terms_general                       4889
- *   inverse_dynamics_axisym                 1781
- *   inverse_dynamics_frames                 2280
- *   inverse_dynamics_general                2655
- *   forward_dynamics_axisym                 3299
- *   forward_dynamics_frames                 3990
- *   forward_dynamics_general                4749
- *   leg_points                               594
- *   leg_points_general                       594
- *   leg_derivatives_axisym                  1347
- *   leg_derivatives_frames                  1995
- *   leg_derivatives_general                 2226
- *   leg_chain_inverse                        809
- *   residual_derivatives_inverse            1571
- *   residual_derivatives_inverse_general    2253
- *   leg_chain_forward                        752
- *   residual_derivatives_forward            1388
- *   residual_derivatives_forward_general    1997
- *   joint_reactions_axisym                  1799
- *   joint_reactions_frames                  2346
- *   joint_reactions_general                 2769
- *   joint_forces                              54
- *   regressor                               2384
- *   regressor_general                       3224
+/* Operation counts of the generated kernels (+, -, *, / and calls of their C, after cse):
+ *   leg_lengths                              187
+ *   jacobian                                 271
+ *   leg_rates                                345
+ *   mass_matrix_axisym                      1705
+ *   mass_matrix_frames                      1970
+ *   mass_matrix_general                     2420
+ *   twist_mass_matrix_axisym                1651
+ *   twist_mass_matrix_frames                1921
+ *   twist_mass_matrix_general               2377
+ *   coriolis_matrix_axisym                  5097
+ *   coriolis_matrix_frames                  6746
+ *   coriolis_matrix_general                 8123
+ *   coriolis_vector_axisym                  1717
+ *   coriolis_vector_frames                  2211
+ *   coriolis_vector_general                 2598
+ *   gravity_vector                           397
+ *   gravity_vector_general                   495
+ *   all_terms_axisym                        3389
+ *   all_terms_frames                        4076
+ *   all_terms_general                       4846
+ *   inverse_dynamics_axisym                 1835
+ *   inverse_dynamics_frames                 2331
+ *   inverse_dynamics_general                2712
+ *   forward_dynamics_axisym                 3294
+ *   forward_dynamics_frames                 3989
+ *   forward_dynamics_general                4742
+ *   leg_points                               585
+ *   leg_points_general                       585
+ *   leg_derivatives_axisym                  1404
+ *   leg_derivatives_frames                  2038
+ *   leg_derivatives_general                 2269
+ *   leg_chain_inverse                        793
+ *   residual_derivatives_inverse            1567
+ *   residual_derivatives_inverse_general    2260
+ *   leg_chain_forward                        847
+ *   residual_derivatives_forward            1381
+ *   residual_derivatives_forward_general    2003
+ *   joint_reactions_axisym                  1851
+ *   joint_reactions_frames                  2392
+ *   joint_reactions_general                 2824
+ *   joint_forces                              72
+ *   regressor                               2387
+ *   regressor_general                       3235
  */
 
 #ifdef __cplusplus
