@@ -47,7 +47,7 @@ import numpy as np
 from . import _checks, csvfile, kinematics
 from .platform import Platform, checked_platform
 from .trajectory import FourierTrajectory
-from .workspace import reachability
+from .workspace import margins, reachability
 
 __all__ = ["Excitation", "Limits", "limits", "design_excitation", "condition_number", "DEFAULT_PERIOD", "DEFAULT_HARMONICS", "DEFAULT_STARTS", "DEFAULT_ITERATIONS", "DEFAULT_RATE",
            "SAMPLES_PER_HARMONIC",
@@ -300,12 +300,19 @@ class _Problem:
         self.platform, self.base, self.limits, self.series = platform, base, limits, series
         self.centre, self.times, self.inertial = centre, times, inertial
         self._cache: dict = {}
+        self._values: dict = {}
 
-    def evaluate(self, z: np.ndarray):
-        """``(log cond, slacks (m, K, 5), reachable (m,))`` for ``z`` ``(m, 6 w)``."""
+    def evaluate(self, z: np.ndarray, reachable: bool = True):
+        """``(log cond, slacks (m, K, 5), reachable (m,))`` for ``z`` ``(m, 6 w)``; with
+        ``reachable=False`` the third is None and only the singularity margin of the
+        reachability checks is computed (the slacks are the same)."""
         x, xd, xdd = (a.reshape(-1, 6) for a in self.series.states(self.centre, z, self.times))
         m, k = len(z), len(self.times)
-        check = reachability(self.platform, x)
+        if reachable:
+            check = reachability(self.platform, x)
+            margin = check.margin
+        else:
+            margin = margins(self.platform, x)
         regressor, computed = self.platform.regressor(x, xd, xdd, return_mask=True)
         regressor = np.where(np.asarray(computed)[:, None, None], regressor, np.nan)
         forces = regressor @ self.inertial
@@ -313,24 +320,35 @@ class _Problem:
             lengths = kinematics.leg_lengths(self.platform.params, x)
             rates = kinematics.leg_velocities(self.platform.params, x, xd)
             accelerations = kinematics.leg_accelerations(self.platform.params, x, xd, xdd)
-            slack = self.limits.slack(lengths, rates, accelerations, forces, check.margin).reshape(m, k, 5)
+            slack = self.limits.slack(lengths, rates, accelerations, forces, margin).reshape(m, k, 5)
         stacked = np.nan_to_num(self.base.reduce(regressor).reshape(m, k * 6, -1), nan=0.0)
         cond = _log_condition(stacked)
         # A ratio to a limit near the smallest double overflows, to -inf where the limit is
         # broken and to +inf where it holds; NaN is undefined, a broken limit. SLSQP needs
         # finite values.
         slack = np.nan_to_num(slack, nan=-1.0, posinf=1.0, neginf=-1.0)
-        return cond, slack, check.ok.reshape(m, k).all(axis=1)
+        return cond, slack, check.ok.reshape(m, k).all(axis=1) if reachable else None
+
+    def _value(self, z: np.ndarray):
+        """The objective and the flat constraint slacks of ``z`` (the last point asked for
+        is kept: SLSQP asks for both, and for the derivatives at the points it accepts)."""
+        key = z.tobytes()
+        if key not in self._values:
+            cond, slack, _ = self.evaluate(z[None], reachable=False)
+            self._values = {key: (cond[0], slack.reshape(-1))}
+        return self._values[key]
 
     def _gradient(self, z: np.ndarray):
+        """Forward differences of :meth:`_value`, only where SLSQP asks for them: most of
+        the points it tries in its line searches need the values alone (about a quarter
+        need derivatives), and the 6 w shifted points cost 6 w times the values."""
         key = z.tobytes()
         if key not in self._cache:
+            cond0, flat0 = self._value(z)
             steps = _STEP * np.maximum(1.0, np.abs(z))
-            shifted = np.vstack([z, z + np.diag(steps)])
-            cond, slack, _ = self.evaluate(shifted)
-            flat = slack.reshape(len(shifted), -1)
-            self._cache = {key: (cond[0], (cond[1:] - cond[0]) / steps, flat[0],
-                                 ((flat[1:] - flat[0]) / steps[:, None]).T)}
+            cond, slack, _ = self.evaluate(z + np.diag(steps), reachable=False)
+            flat = slack.reshape(len(steps), -1)
+            self._cache = {key: ((cond - cond0) / steps, ((flat - flat0) / steps[:, None]).T)}
         return self._cache[key]
 
     def condition(self, z) -> float:
@@ -340,16 +358,16 @@ class _Problem:
         return float(condition_number(reduced.reshape(-1, reduced.shape[-1])))
 
     def objective(self, z):
-        return self._gradient(z)[0]
+        return self._value(z)[0]
 
     def objective_gradient(self, z):
-        return self._gradient(z)[1]
+        return self._gradient(z)[0]
 
     def constraints(self, z):
-        return self._gradient(z)[2]
+        return self._value(z)[1]
 
     def constraints_jacobian(self, z):
-        return self._gradient(z)[3]
+        return self._gradient(z)[1]
 
 
 def _largest_feasible(problem: _Problem, z: np.ndarray, slack: float, steps: int = 30) -> float:
