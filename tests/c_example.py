@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import os
 import subprocess
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
@@ -34,10 +35,16 @@ def run_command(command, **kwargs) -> str:
 
 
 def run_example(include_dirs, sources, workdir) -> dict[str, np.ndarray]:
-    """Compile and run the example; its printed lines ``name v0 ... v5`` as arrays by name."""
+    """Compile the example and the model's units, one compiler per core as ``make -j`` would,
+    link and run it; its printed lines ``name v0 ... v5`` as arrays by name."""
     exe = Path(workdir) / "inverse_dynamics"
-    run_command([os.environ.get("CC", "cc"), *CFLAGS, *(f"-I{d}" for d in include_dirs), EXAMPLE, *sources,
-                 "-lm", "-o", exe])
+    compiler = os.environ.get("CC", "cc")
+    units = [EXAMPLE, *map(Path, sources)]
+    objects = [Path(workdir) / f"{k}_{unit.stem}.o" for k, unit in enumerate(units)]
+    with ThreadPoolExecutor(os.cpu_count() or 1) as pool:
+        list(pool.map(lambda job: run_command([compiler, *CFLAGS, *(f"-I{d}" for d in include_dirs), "-c", job[0],
+                                               "-o", job[1]]), zip(units, objects)))
+    run_command([compiler, *objects, "-lm", "-o", exe])
     lines = (line.split() for line in run_command([exe]).splitlines())
     return {name: np.array(values, dtype=float) for name, *values in lines}
 
