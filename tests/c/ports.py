@@ -236,7 +236,7 @@ def finish(port: Port, flags: list[str], sources: list[Path], futures: list[Futu
     found = parse(done.stdout)
     summary = f"{found['counts'][0]} passed, {found['counts'][1]} failed" if "counts" in found else "no summary line"
     if "batch" in found:
-        summary += f"; batches ({found['batch'][0]} lanes) vs scalar: worst difference {found['batch'][1]}"
+        summary += f"; batches ({found['batch'][0]} lanes) vs single states: worst difference {found['batch'][1]}"
     if "reference" in found:
         summary += f"; vs reference: worst {found['reference'][0]}"
     summary += (f"; built {built:.0f} s after the start ({len(sources)} units, {sum(t for t, _ in timed):.0f} s "
