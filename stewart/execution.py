@@ -26,6 +26,7 @@ bit) for the same seed.
 from __future__ import annotations
 
 import os
+import threading
 from concurrent.futures import ThreadPoolExecutor
 from concurrent.futures import as_completed as threads_completed
 from dataclasses import dataclass
@@ -166,14 +167,26 @@ def run(job, n_states: int, *, seed: int | None = None, chunk_size: int = DEFAUL
     try:
         if client is None:
             workers = (os.cpu_count() or 1) if workers is None else _count("workers", workers, 1)
+            failed = threading.Event()  # set by a failing chunk: the chunks after it do not start
+
+            def run_chunk(chunk):
+                if failed.is_set():
+                    return None
+                try:
+                    return job(chunk)
+                except BaseException:
+                    failed.set()
+                    raise
+
             with ThreadPoolExecutor(max_workers=min(workers, max(len(parts), 1))) as pool:
-                futures = {pool.submit(job, chunk): chunk for chunk in parts}
+                futures = {pool.submit(run_chunk, chunk): chunk for chunk in parts}
                 try:
                     for future in threads_completed(futures):
                         chunk = futures[future]
                         results[chunk.index] = future.result()
                         bar.update(chunk.size)
                 except BaseException:  # a failed chunk or Ctrl-C: the chunks not started are dropped
+                    failed.set()
                     for future in futures:
                         future.cancel()
                     raise
