@@ -5,9 +5,9 @@ It only moves arrays: it takes one state ``(6,)`` or a batch ``(N, 6)`` (a singl
 broadcasts against a batch), makes every input C-contiguous float64 (copying only when
 needed), checks that inputs are finite, runs the C function over the rows with the GIL
 released (split over threads in blocks of rows when asked: OpenMP threads, or plain threads
-in a build without OpenMP), and turns the C status codes into Python errors. A batch of at
-least ``LANES`` rows goes through the C batch function (``batch_<name>``, several states
-per vector instruction), a single state or a smaller batch through the scalar one. All the
+in a build without OpenMP), and turns the C status codes into Python errors. A batch goes
+through the C batch function (``batch_<name>``, ``LANES`` states per vector instruction), a
+single state through the single-state one (the batch function on one row). All the
 mathematics is in the generated C.
 
 The C functions are called through a table (generated/stewart_dispatch.h): the build
@@ -344,7 +344,7 @@ cdef class Kernel:
         p1 = <const double *>cnp.PyArray_DATA(a1)
         p2 = <const double *>cnp.PyArray_DATA(a2)
 
-        if batch and batch_fn != NULL and n >= LANES:
+        if batch and batch_fn != NULL:
             # The batch function takes whole arrays: a row broadcast against the batch is copied.
             if a0.ndim == 1: a0 = np.ascontiguousarray(np.broadcast_to(a0, (n, 6)))
             if a1.ndim == 1: a1 = np.ascontiguousarray(np.broadcast_to(a1, (n, 6)))

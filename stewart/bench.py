@@ -134,17 +134,11 @@ def forward_differences(function, *args, step: float = DIFFERENCE_STEP) -> np.nd
 
 
 def scalar_time(function, args) -> float:
-    """Seconds per state of the C function that one call of ``function`` runs (the batch
-    function on one row), without the call's own work: a batch of fewer rows than the
-    vector path takes (``LANES``) goes row by row through it, so the time of a batch of
-    ``LANES - 1`` rows less that of one row, over the rows added. On a build of 2 lanes
-    every batch of two takes the vector path, whose speed per state then stands in."""
-    rows = LANES - 1
-    if rows < 2:
-        many = tuple(a[:2 * LANES] for a in args)
-        return median_time(lambda: function(*many), 200) / len(many[0])
-    few, first = tuple(a[:rows] for a in args), tuple(a[:1] for a in args)
-    return (median_time(lambda: function(*few), 300) - median_time(lambda: function(*first), 2000)) / (rows - 1)
+    """Seconds of the C function that one call of ``function`` runs (the batch function on
+    one row: one block of ``LANES`` lanes), without the call's own work: the time of a batch
+    of three blocks less that of one block, over the two blocks added."""
+    three, one = tuple(a[:3 * LANES] for a in args), tuple(a[:LANES] for a in args)
+    return (median_time(lambda: function(*three), 300) - median_time(lambda: function(*one), 300)) / 2
 
 
 def derivative_figures(preset: str, batch: int) -> dict:
