@@ -13,13 +13,13 @@ cdef class Kernel:
     cdef readonly int threads
 
     cdef object _run(self, str fname, int kind, void *fn, tuple names, tuple values,
-                     tuple shapes, bint return_mask, double scalar=*, void *batch_fn=*)
+                     tuple shapes, bint return_mask, double scalar, void *batch_fn)
     cdef void _batch(self, int kind, void *fn, Py_ssize_t n, Py_ssize_t block, const double *x0,
                      const double *x1, const double *x2, double scalar, int nout, double **outs,
                      const int *widths, int *status) noexcept nogil
     cdef int _threads(self, int kind, void *fn, double scalar, int nout, Py_ssize_t n, Py_ssize_t block,
-                      bint batch, const double *p0, const double *p1, const double *p2, Py_ssize_t s0,
-                      Py_ssize_t s1, Py_ssize_t s2, double **po, const int *widths, int *ps) except -1
+                      const double *p0, const double *p1, const double *p2, double **po, const int *widths,
+                      int *ps) except -1
     cdef int _row(self, int kind, void *fn, const double *x0, const double *x1, const double *x2,
                   double scalar, double **outs, const int *widths, int nout, Py_ssize_t row,
                   int *status) noexcept nogil

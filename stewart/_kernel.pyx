@@ -173,10 +173,6 @@ cdef Py_ssize_t C_LANES = T.batch_lanes()
 cdef enum:
     NONFINITE_INPUT = -1  # status of a row whose input is not finite (C status codes are >= 0)
     MAX_OUTPUTS = 4
-    # Rows a thread takes at a time: a block's inputs and outputs stay within a core's L2
-    # cache (inverse dynamics: 192 bytes a row, 48 kB a block; at most, the RK4 step's
-    # Jacobians: 1,968 bytes a row, 0.5 MB); threads that finish early take the next block.
-    BLOCK_ROWS = 256
     # Bytes of inputs and outputs a thread takes at a time from a batch function: whole blocks
     # of LANES rows, within a core's L1 and L2 caches (Zen 4: 32 kB, 1 MB).
     BATCH_BYTES = 65536
@@ -279,12 +275,11 @@ cdef class Kernel:
         self.threads = _checks.thread_count(threads)
 
     cdef object _run(self, str fname, int kind, void *fn, tuple names, tuple values,
-                     tuple shapes, bint return_mask, double scalar=0.0, void *batch_fn=NULL):
-        """Evaluate ``fn`` row by row: ``kind`` 1-3 input arrays and one output, or a
-        ``Signature`` (three inputs, and ``scalar`` the same for every row); an output array
-        per row shape in ``shapes``, returned as it is for one, as a tuple for several.
-        ``batch_fn``, the batch function of ``fn``, if it has one, evaluates batches of ``LANES``
-        rows or more."""
+                     tuple shapes, bint return_mask, double scalar, void *batch_fn):
+        """Evaluate the single-state function ``fn`` on one state, or its batch function
+        ``batch_fn`` on a batch: ``kind`` 1-3 input arrays and one output, or a ``Signature``
+        (three inputs, and ``scalar`` the same for every row); an output array per row shape in
+        ``shapes``, returned as it is for one, as a tuple for several."""
         cdef cnp.ndarray a0, a1, a2, status
         cdef const double *p0
         cdef const double *p1
@@ -294,7 +289,6 @@ cdef class Kernel:
         cdef int *ps
         cdef int status1 = 0
         cdef cnp.npy_intp n = 1
-        cdef Py_ssize_t i, s0 = 0, s1 = 0, s2 = 0
         cdef bint batch = False
         cdef int nthreads = self.threads
         cdef Py_ssize_t block
@@ -315,9 +309,6 @@ cdef class Kernel:
                             "arguments must have matching batch shapes: "
                             + ", ".join(f"{nm} {np.shape(v)}" for nm, v in zip(names, values)))
                     batch, n = True, arr.shape[0]
-        if a0.ndim == 2: s0 = 6
-        if a1.ndim == 2: s1 = 6
-        if a2.ndim == 2: s2 = 6
 
         outs = []
         for k in range(nout):
@@ -344,7 +335,7 @@ cdef class Kernel:
         p1 = <const double *>cnp.PyArray_DATA(a1)
         p2 = <const double *>cnp.PyArray_DATA(a2)
 
-        if batch and batch_fn != NULL:
+        if batch:
             # The batch function takes whole arrays: a row broadcast against the batch is copied.
             if a0.ndim == 1: a0 = np.ascontiguousarray(np.broadcast_to(a0, (n, 6)))
             if a1.ndim == 1: a1 = np.ascontiguousarray(np.broadcast_to(a1, (n, 6)))
@@ -354,25 +345,13 @@ cdef class Kernel:
             p2 = <const double *>cnp.PyArray_DATA(a2)
             block = _batch_block(arity, nout, widths)
             if nthreads > 1 and n > block and not STEWART_OPENMP:
-                self._threads(kind, batch_fn, scalar, nout, n, block, True, p0, p1, p2, 6, 6, 6, po, widths, ps)
+                self._threads(kind, batch_fn, scalar, nout, n, block, p0, p1, p2, po, widths, ps)
             else:
                 with nogil:
                     self._batch(kind, batch_fn, n, block, p0, p1, p2, scalar, nout, po, widths, ps)
             failures = np.count_nonzero(status) if status is not None else status1 != STEWART_OK
-        elif n == 1:
-            failures = self._row(kind, fn, p0, p1, p2, scalar, po, widths, nout, 0, ps)
-        elif nthreads > 1 and STEWART_OPENMP:
-            for i in prange(n, nogil=True, num_threads=nthreads, schedule="dynamic", chunksize=BLOCK_ROWS):
-                failures += self._row(kind, fn, p0 + i * s0, p1 + i * s1, p2 + i * s2, scalar,
-                                      po, widths, nout, i, ps + i)
-        elif nthreads > 1:
-            failures = self._threads(kind, fn, scalar, nout, n, BLOCK_ROWS, False, p0, p1, p2, s0, s1, s2,
-                                     po, widths, ps)
         else:
-            with nogil:
-                for i in range(n):
-                    failures += self._row(kind, fn, p0 + i * s0, p1 + i * s1, p2 + i * s2, scalar,
-                                          po, widths, nout, i, ps + i)
+            failures = self._row(kind, fn, p0, p1, p2, scalar, po, widths, nout, 0, ps)
         result = outs[0] if nout == 1 else tuple(outs)
         if failures == 0:
             return (result, np.ones(n, dtype=bool) if batch else True) if return_mask else result
@@ -395,16 +374,16 @@ cdef class Kernel:
             _batch_call(&self.p, kind, fn, 0, n, x0, x1, x2, scalar, nout, outs, widths, status)
 
     cdef int _threads(self, int kind, void *fn, double scalar, int nout, Py_ssize_t n, Py_ssize_t block,
-                      bint batch, const double *p0, const double *p1, const double *p2, Py_ssize_t s0,
-                      Py_ssize_t s1, Py_ssize_t s2, double **po, const int *widths, int *ps) except -1:
+                      const double *p0, const double *p1, const double *p2, double **po, const int *widths,
+                      int *ps) except -1:
         """The n rows split over plain threads (a build without OpenMP) in blocks of ``block``
-        rows, through the batch function ``fn`` (``batch``) or the single-state one row by row;
-        the number of rows the single-state function failed at."""
-        blocks = _Blocks(self, kind, <Py_ssize_t>fn, scalar, nout, n, block, batch)
-        blocks.p0, blocks.p1, blocks.p2, blocks.s0, blocks.s1, blocks.s2 = p0, p1, p2, s0, s1, s2
+        rows, through the batch function ``fn``."""
+        blocks = _Blocks(self, kind, <Py_ssize_t>fn, scalar, nout, n, block)
+        blocks.p0, blocks.p1, blocks.p2 = p0, p1, p2
         blocks.po, blocks.widths, blocks.ps = po, widths, ps
         with ThreadPoolExecutor(self.threads) as pool:
-            return sum(pool.map(blocks.run, range(self.threads), [self.threads] * self.threads))
+            list(pool.map(blocks.run, range(self.threads), [self.threads] * self.threads))
+        return 0
 
     cdef int _row(self, int kind, void *fn, const double *x0, const double *x1, const double *x2,
                   double scalar, double **outs, const int *widths, int nout, Py_ssize_t row,
@@ -563,14 +542,12 @@ cdef class Kernel:
 @cython.final
 cdef class _Blocks:
     """A batch split over plain threads (a build without OpenMP): thread ``k`` of ``m`` runs
-    blocks k, k + m, ... of ``block`` rows without the GIL, through the batch function
-    (``batch``) or through ``Kernel._row`` row by row."""
+    blocks k, k + m, ... of ``block`` rows without the GIL, through the batch function."""
     cdef Kernel kernel
     cdef int kind, nout
-    cdef bint batch
     cdef void *fn
     cdef double scalar
-    cdef Py_ssize_t n, block, s0, s1, s2
+    cdef Py_ssize_t n, block
     cdef const double *p0
     cdef const double *p1
     cdef const double *p2
@@ -579,25 +556,16 @@ cdef class _Blocks:
     cdef int *ps
 
     def __cinit__(self, Kernel kernel, int kind, Py_ssize_t fn, double scalar, int nout, Py_ssize_t n,
-                  Py_ssize_t block, bint batch):
+                  Py_ssize_t block):
         self.kernel, self.kind, self.fn, self.scalar, self.nout, self.n = kernel, kind, <void *>fn, scalar, nout, n
-        self.block, self.batch = block, batch
+        self.block = block
 
     def run(self, Py_ssize_t first, Py_ssize_t step):
-        """Run blocks ``first``, ``first + step``, ...; the number of rows the single-state
-        function failed at."""
-        cdef Py_ssize_t start, i
-        cdef int failures = 0
+        """Run blocks ``first``, ``first + step``, ...."""
+        cdef Py_ssize_t start
         with nogil:
             start = first * self.block
             while start < self.n:
-                if self.batch:
-                    _batch_call(&self.kernel.p, self.kind, self.fn, start, min(self.block, self.n - start),
-                                self.p0, self.p1, self.p2, self.scalar, self.nout, self.po, self.widths, self.ps)
-                else:
-                    for i in range(start, min(start + self.block, self.n)):
-                        failures += self.kernel._row(self.kind, self.fn, self.p0 + i * self.s0,
-                                                     self.p1 + i * self.s1, self.p2 + i * self.s2, self.scalar,
-                                                     self.po, self.widths, self.nout, i, self.ps + i)
+                _batch_call(&self.kernel.p, self.kind, self.fn, start, min(self.block, self.n - start),
+                            self.p0, self.p1, self.p2, self.scalar, self.nout, self.po, self.widths, self.ps)
                 start += step * self.block
-        return failures
