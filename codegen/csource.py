@@ -60,7 +60,7 @@ HEADER = r'''/* stewart_model.h -- dynamic model of a 6-DOF Stewart platform.
  *    joint's first axis is the joint's gimbal lock.
  *
  * Arrays: x, xd, xdd, tau, L, G, Vxd, xn, xdn: 6 doubles; LLd: 12 doubles ([L; Ldot]);
- * JC, M, Mt, V: 36 doubles, row-major; terms: 84 doubles ([M; Vxd; G; JC]).
+ * JC, M, Mt, V: 36 doubles, row-major.
  * f_base, f_platform, n_base: 18 doubles, the 3 components (in {B}) of each leg in turn.
  * Jacobians (dtau_dx, ..., dxdd_dtau: 6 x 6; A: 12 x 12; B: 12 x 6) are row-major with
  * row = output, column = input: J[i * ncols + j] = d out_i / d in_j.  Every function
@@ -325,14 +325,23 @@ def batch_function(function, kernels):
 
 
 def _block_body(function, kernels):
-    """The C lines of the body of `vblock_<name>` for a generated function: its kernel (the
-    first variant whose test holds), the legs' checks, its steps (solves, helpers, further
-    kernels) over the block, every step on every lane, the statuses merged."""
+    """The C lines of the body of `vblock_<name>` for a generated function: its kernel on its
+    inputs (the first variant whose test holds), if it has one, and its steps (solves, helpers,
+    further kernels), each kernel followed by the legs' checks, every step on every lane, the
+    statuses merged."""
     runs = kernel_runs(function, kernels)
     outputs = dict(function.outputs)
-    arrays = {name: len(exprs) * k.lanes for specs in runs for k in specs for name, exprs in k.outputs
-              if name not in outputs}
-    arrays.update(function.scratch)
+    arrays = {}  # the block's own arrays: the kernels' outputs (the largest of the variants')...
+    for specs, _, renames in runs:
+        for k in specs:
+            for name, exprs in k.outputs:
+                name = renames.get(name, name)
+                if name not in outputs and name.isidentifier():  # not a place in another array
+                    arrays[name] = max(arrays.get(name, 0), len(exprs) * k.lanes)
+    for name, n in function.scratch:  # ... and the scratch arrays of the steps
+        if name in arrays:
+            raise ValueError(f'{function.name}: scratch array {name} is a kernel output')
+        arrays[name] = n
     lines = ['    (void)scalar;']
     lines += [f'    const stewart_vd *{name} = in[{k}];' for k, name in enumerate(function.inputs)]
     lines += [f'    stewart_vd *{name} = out[{k}];' for k, (name, _) in enumerate(function.outputs)]
@@ -340,20 +349,21 @@ def _block_body(function, kernels):
         lines.append('    stewart_vd ' + ', '.join(f'{name}[{n}]' for name, n in arrays.items()) + ';')
     lines.append('    stewart_vl status = vnone();')
 
-    def run(kernel, inputs, indent):
-        names = [name for name, _ in kernel.outputs]
-        out = [indent + _call(f'vkernel_{kernel.name}', ['p', *inputs, *names])]
-        if 'L2' in names:
-            out.append(indent + f'status = vcheck_legs({_legs_checked(names)});')
-        return out
+    def dispatch(specs, inputs, renames):
+        def run(kernel, indent):
+            names = [name for name, _ in kernel.outputs]
+            out = [indent + _call(f'vkernel_{kernel.name}', ['p', *inputs, *(renames.get(n, n) for n in names)])]
+            if 'L2' in names:
+                out.append(indent + f'status = vmerge(status, vcheck_legs({_legs_checked(names)}));')
+            return out
+        return _dispatch(specs, '    ', run)
 
-    def dispatch(specs, inputs):
-        return _dispatch(specs, '    ', lambda kernel, indent: run(kernel, inputs, indent))
-
-    lines += dispatch(runs[0], function.inputs)
+    steps = iter(runs)
+    if function.kernels:
+        lines += dispatch(*next(steps))
     for step in function.steps:
         if hasattr(step, 'builders'):
-            lines += dispatch(_builds(kernels, step.builders), step.inputs)
+            lines += dispatch(*next(steps))
         else:
             lines.append(f'    status = vmerge(status, {_call("v" + step[0], step[1])[:-1]});')
     lines += ['    return status;', '}', '']
@@ -361,10 +371,13 @@ def _block_body(function, kernels):
 
 
 def kernel_runs(function, kernels):
-    """The built `model.KernelSpec`s a generated function runs: its kernel (one, or its
-    variants in the order `_dispatch` tries them), then those of each of its `Kernels` steps."""
-    return [_builds(kernels, function.kernels)] + [_builds(kernels, step.builders) for step in function.steps
-                                                   if hasattr(step, 'builders')]
+    """The kernels a generated function runs, in order, each as (its built `model.KernelSpec`s,
+    the variants in the order `_dispatch` tries them; the C arrays of its inputs; {output:
+    C array} where an output goes elsewhere than to the array of its name): its kernel, if it
+    has one, then those of its `Kernels` steps."""
+    runs = [(_builds(kernels, function.kernels), function.inputs, {})] if function.kernels else []
+    return runs + [(_builds(kernels, step.builders), step.inputs, dict(step.outputs))
+                   for step in function.steps if hasattr(step, 'builders')]
 
 
 def _legs_checked(names):

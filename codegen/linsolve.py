@@ -180,29 +180,23 @@ def _ldl_index(i, k):
 
 
 def ldl_factor():
-    """C text of `static stewart_vl vldl_factor(upper, F)`."""
-    diag = [sum(N - r for r in range(k)) for k in range(N)]  # index of S_kk in upper[]
+    """C text of `static stewart_vl vldl_factor(S, F)`."""
     inv_at = N * (N - 1) // 2
     lines = [
-        '/* Factor S = L D L^T for symmetric S given by its upper triangle (21 entries,',
-        ' * row-major), unrolled (m_ij: the upper triangle being eliminated, l_ik = m_ki / d_k);',
+        '/* Factor S = L D L^T for symmetric S (6 x 6, row-major; only its upper triangle is',
+        ' * read), unrolled (m_ij: the upper triangle being eliminated, l_ik = m_ki / d_k);',
         ' * F receives l_ik (i > k, by columns) and then 1 / d_k.  A lane\'s status is',
         ' * STEWART_ERR_MASS_SINGULAR when a pivot d_k (the square of the Cholesky diagonal) is',
         ' * <= STEWART_MASS_TOL times its diagonal entry S_kk (or S_kk <= 0), else STEWART_OK. */',
-        f'static stewart_vl vldl_factor(const stewart_vd upper[21], stewart_vd F[{LDL_SIZE}])',
+        f'static stewart_vl vldl_factor(const stewart_vd S[{N * N}], stewart_vd F[{LDL_SIZE}])',
         '{',
     ]
     add = lines.append
-    n = 0
     for i in range(N):
-        decl = []
-        for j in range(i, N):
-            decl.append(f'm{i}{j} = upper[{n}]')
-            n += 1
-        add('    stewart_vd ' + ', '.join(decl) + ';')
+        add('    stewart_vd ' + ', '.join(f'm{i}{j} = S[{N * i + j}]' for j in range(i, N)) + ';')
     add('    stewart_vl ok = ~vnone();')
     for k in range(N):
-        add(f'    ok &= (upper[{diag[k]}] > 0.0) & (m{k}{k} > STEWART_MASS_TOL * upper[{diag[k]}]);')
+        add(f'    ok &= (S[{(N + 1) * k}] > 0.0) & (m{k}{k} > STEWART_MASS_TOL * S[{(N + 1) * k}]);')
         add(f'    const stewart_vd inv{k} = 1.0 / m{k}{k};')
         add(f'    F[{inv_at + k}] = inv{k};')
         for i in range(k + 1, N):

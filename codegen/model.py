@@ -564,13 +564,13 @@ def gravity_kernel(variant):
                       [('x', X)], [('G', list(G))] + _leg_checks(kin))
 
 
-def mass_matrix_kernel(variant):
+def euler_maps_kernel():
+    """J_A (eq. 8), J_A^-1 and cos(theta), by which J_A^-1 divides: T = blockdiag(E, J_A)
+    (eq. 18) maps the pose rates to the twist."""
     g = Graph({})
-    kin = kinematics_of(g, variant)
-    M = twist_mass_matrix(g, PARAMS, kin, variant) * euler_map(kin)
-    return _variant_spec(variant, 'mass_matrix',
-                      'M = M_t T (eqs. 19, 39, 51, 61, 69), row-major.', g, [('x', X)],
-                      [('M', list(M))] + _leg_checks(kin))
+    kin = kinematics(g, PARAMS)
+    return KernelSpec('euler_maps', euler_maps_kernel.__doc__ + ' Row-major.', g, [('x', X)],
+                      [('JA', list(kin.J_A)), ('JAinv', list(euler_rates_inverse(kin))), ('ctheta', [kin.c_theta])])
 
 
 def twist_mass_matrix_kernel(variant):
@@ -582,30 +582,20 @@ def twist_mass_matrix_kernel(variant):
                       [('x', X)], [('Mt', list(Mt))] + _leg_checks(kin))
 
 
-def coriolis_vector_kernel(variant):
+#: The velocity that `coriolis_product_kernel` applies V(x, xd) to.
+VEL = _symbols('vel', 6)
+
+
+def coriolis_product_kernel(variant):
+    """V(x, xd) vel = sum_b J_b^T d/dt(I_b J_b T) vel with vel held constant: V xd for
+    vel = xd, column j of V for vel = e_j."""
     g = Graph({x: xd for x, xd in zip(X, XD)})
     kin = kinematics_of(g, variant)
-    v, omega = twist(g, kin, XD, 'q')
+    v, omega = twist(g, kin, VEL, 'q')
     m = momenta(g, PARAMS, kin, v, omega, variant, 'q')
     W = momentum_rate_force(g, PARAMS, kin, m, False, 'q')
-    return _variant_spec(variant, 'coriolis_vector',
-                      'V xd = sum_b J_b^T d/dt(I_b J_b T) xd.', g, [('x', X), ('xd', XD)],
-                      [('Vxd', list(W))] + _leg_checks(kin))
-
-
-def coriolis_matrix_kernel(variant):
-    """Column j of V is sum_b J_b^T d/dt(I_b J_b T e_j) with e_j held constant."""
-    g = Graph({x: xd for x, xd in zip(X, XD)})
-    kin = kinematics_of(g, variant)
-    V = sp.zeros(6, 6)
-    for j in range(6):
-        e = [1 if k == j else 0 for k in range(6)]
-        v, omega = twist(g, kin, e, f'c{j}')
-        m = momenta(g, PARAMS, kin, v, omega, variant, f'c{j}')
-        V[:, j] = momentum_rate_force(g, PARAMS, kin, m, False, f'c{j}')
-    return _variant_spec(variant, 'coriolis_matrix',
-                      coriolis_matrix_kernel.__doc__ + ' Row-major.', g,
-                      [('x', X), ('xd', XD)], [('V', list(V))] + _leg_checks(kin))
+    return _variant_spec(variant, 'coriolis_product', coriolis_product_kernel.__doc__, g,
+                         [('x', X), ('xd', XD), ('vel', VEL)], [('Vv', list(W))] + _leg_checks(kin))
 
 
 def inverse_dynamics_kernel(variant):
@@ -619,23 +609,6 @@ def inverse_dynamics_kernel(variant):
                       [('x', X), ('xd', XD), ('xdd', XDD)],
                       [('W', list(W)), ('JC', list(jacobian_rows(kin)))]
                       + _leg_checks(kin))
-
-
-def all_terms_kernel(variant):
-    """M = M_t T, V xd, G and J_C of one state, from one pass over its geometry: the terms
-    of M xdd + V xd + G = J_C^T tau (eqs. 5, 19, 39, 51, 61, 69, 72-76)."""
-    g = Graph({x: xd for x, xd in zip(X, XD)})
-    P = PARAMS
-    kin = kinematics_of(g, variant)
-    M = twist_mass_matrix(g, P, kin, variant) * euler_map(kin)
-    v, omega = twist(g, kin, XD, 'q')
-    Vxd = momentum_rate_force(g, P, kin, momenta(g, P, kin, v, omega, variant, 'q'), False, 'q')
-    G = gravity_force(g, P, kin)
-    return _variant_spec(variant, 'all_terms', all_terms_kernel.__doc__ + ' Row-major.', g,
-                      [('x', X), ('xd', XD)],
-                      [('terms', list(M) + list(Vxd) + list(G) + list(jacobian_rows(kin)))]
-                      + _leg_checks(kin))
-
 
 
 #: Per leg, the inputs of `joint_forces_kernel` that do not depend on tau: the force f at P_i
@@ -859,25 +832,6 @@ def euler_rates_inverse(kin):
                       [cps / cth, sps / cth, 0]])
 
 
-def forward_dynamics_kernel(variant):
-    """Upper triangle of M_t, rhs = J_C^T tau - V xd - G, J_A^-1 and cos(theta).
-
-    The C code solves M_t y = rhs (y = T xdd) and returns xdd = [y_v; J_A^-1 y_w].
-    """
-    g = Graph({x: xd for x, xd in zip(X, XD)})
-    kin = kinematics_of(g, variant)
-    Mt = twist_mass_matrix(g, PARAMS, kin, variant)
-    v, omega = twist(g, kin, XD, 'q')
-    m = momenta(g, PARAMS, kin, v, omega, variant, 'q')
-    rhs = jacobian_rows(kin).T * sp.Matrix(TAU) - momentum_rate_force(g, PARAMS, kin, m, True, 'q')
-    return _variant_spec(variant, 'forward_dynamics',
-                      forward_dynamics_kernel.__doc__, g,
-                      [('x', X), ('xd', XD), ('tau', TAU)],
-                      [('Mt', [Mt[j, k] for j in range(6) for k in range(j, 6)]), ('rhs', list(rhs)),
-                       ('JAinv', list(euler_rates_inverse(kin))), ('ctheta', [kin.c_theta])]
-                      + _leg_checks(kin))
-
-
 #: The rigid-body inertial parameters of the regressor (`schema.RIGID_BODY_PARAMETERS`).
 RIGID_BODY = _symbols('pi', len(RIGID_BODY_PARAMETERS))
 
@@ -956,29 +910,31 @@ def regressor_kernel(variant):
 @dataclass(frozen=True)
 class Kernels:
     """A step running a kernel (one of its variants, by the parameters: `VARIANTS`, `MODELS`)
-    on the given arrays: the function's inputs or arrays computed by earlier steps."""
-    builders: tuple   # builders of the kernel: one, or one per variant
-    inputs: tuple     # the C arrays passed as its inputs
+    on the given arrays: the function's inputs or arrays computed by earlier steps.  Its
+    outputs go to the arrays of their names, or to those `outputs` names."""
+    builders: tuple    # builders of the kernel: one, or one per variant
+    inputs: tuple      # the C arrays passed as its inputs
+    outputs: tuple = ()  # (kernel output, C array) pairs: where an output goes instead
 
 
 @dataclass(frozen=True)
 class Function:
     """A public C function `stewart_<name>(p, <inputs>, <scalars>, <outputs>)`.
 
-    It checks that the parameters and inputs are finite, runs its kernel (the first variant
-    whose test holds: `VARIANTS`, `MODELS`), checks the legs the kernel reports (`L2`,
-    `h2`, `n2`), then runs `steps` while the status is STEWART_OK, and returns the status with
+    It checks that the parameters and inputs are finite, runs its kernel on its inputs (the
+    first variant whose test holds: `VARIANTS`, `MODELS`), if it has one, then its `steps`,
+    checking the legs each kernel reports (`L2`, `h2`, `n2`), and returns the status with
     every output NaN unless it is STEWART_OK and all outputs are finite.  A step is a C
-    function returning a status (the solvers of `linsolve`, or codegen/templates/runtime.c),
+    function returning a status (the solvers of `linsolve`, or codegen/templates/vector.c),
     called with kernel outputs, `scratch` arrays, outputs or constants, or a further kernel
-    (`Kernels`).  A function with no kernels is written in C in `template`
+    (`Kernels`).  A function with neither kernels nor steps is written in C in `template`
     (codegen/templates), from the functions before it.
     """
     name: str
     doc: str
     inputs: tuple     # its input arrays, 6 doubles each
     outputs: tuple    # (array, number of doubles) of its outputs
-    kernels: tuple    # builders of its kernel: one, or one per variant
+    kernels: tuple    # builders of its kernel: one, or one per variant; or none (steps only)
     steps: tuple = ()    # (C function, argument arrays) or `Kernels`
     scratch: tuple = ()  # (array, size) of the steps' intermediate arrays
     scalars: tuple = ()  # its scalar (double) inputs
@@ -1009,7 +965,9 @@ def _variants(build, *args, variants=VARIANTS):
 
 
 INVERSE_DYNAMICS = _variants(inverse_dynamics_kernel)
-FORWARD_DYNAMICS = _variants(forward_dynamics_kernel)
+TWIST_MASS_MATRIX = _variants(twist_mass_matrix_kernel)
+CORIOLIS_PRODUCT = _variants(coriolis_product_kernel)
+GRAVITY = _variants(gravity_kernel, variants=MODELS)
 LEG_DERIVATIVES = _variants(leg_derivatives_kernel)
 LEG_POINTS = _variants(leg_points_kernel, variants=MODELS)
 REGRESSOR = _variants(regressor_kernel, variants=REGRESSOR_VARIANTS)
@@ -1030,8 +988,18 @@ def _residual_steps(forward):
 _BAREISS_FACTORS = ('FJ', linsolve.BAREISS.size)
 _LDL_FACTORS = ('FM', linsolve.LDL_SIZE)
 
-_FORWARD_STEPS = (('check_euler', ('ctheta',)), ('ldl_factor', ('Mt', 'FM')),
+#: M = M_t T from M_t and J_A (T = blockdiag(E, J_A), eq. 18).
+_MASS_STEPS = (Kernels(TWIST_MASS_MATRIX, ('x',)), Kernels((euler_maps_kernel,), ('x',)),
+               ('mass_matrix', ('Mt', 'JA', 'M')))
+
+#: xdd from M_t y = rhs = J_C^T tau - V xd - G (y = T xdd; V xd + G is the inverse dynamics'
+#: W at xdd = 0), xdd = [y_v; J_A^-1 y_w].
+_FORWARD_STEPS = (Kernels(TWIST_MASS_MATRIX, ('x',)), Kernels((euler_maps_kernel,), ('x',)),
+                  ('check_euler', ('ctheta',)), ('ldl_factor', ('Mt', 'FM')),
+                  ('zero', ('xdd0', '6')), Kernels(INVERSE_DYNAMICS, ('x', 'xd', 'xdd0')),
+                  ('forward_rhs', ('JC', 'tau', 'W', 'rhs')),
                   ('ldl_solve', ('FM', '1', '1', 'rhs', 'y')), ('pose_accelerations', ('JAinv', '1', 'y', 'xdd')))
+_FORWARD_SCRATCH = (_LDL_FACTORS, ('xdd0', 6), ('rhs', 6), ('y', 6))
 
 FUNCTIONS = (
     Function('leg_lengths', 'Leg lengths L_i (a zero length is not an error here).', ('x',), (('L', 6),),
@@ -1039,21 +1007,27 @@ FUNCTIONS = (
     Function('jacobian', 'J_C (eq. 5): Ldot = J_C t.', ('x',), (('JC', 36),), (jacobian_kernel,)),
     Function('leg_rates', 'Leg lengths L and rates Ldot = J_C T xd in one pass: LLd = [L; Ldot].',
              ('x', 'xd'), (('LLd', 12),), (leg_rates_kernel,)),
-    Function('mass_matrix', 'M = M_t T.', ('x',), (('M', 36),), _variants(mass_matrix_kernel)),
+    Function('mass_matrix', 'M = M_t T.', ('x',), (('M', 36),), (), steps=_MASS_STEPS),
     Function('twist_mass_matrix', 'M_t, the symmetric positive definite twist-space mass matrix: M = M_t T.',
-             ('x',), (('Mt', 36),), _variants(twist_mass_matrix_kernel)),
-    Function('coriolis_matrix', 'V(x, xd).', ('x', 'xd'), (('V', 36),), _variants(coriolis_matrix_kernel)),
-    Function('coriolis_vector', 'V xd without forming V.', ('x', 'xd'), (('Vxd', 6),),
-             _variants(coriolis_vector_kernel)),
-    Function('gravity_vector', 'G(x).', ('x',), (('G', 6),), _variants(gravity_kernel, variants=MODELS)),
-    Function('all_terms', 'M, V xd, G and J_C in one pass: terms = [M (36); Vxd (6); G (6); JC (36)].',
-             ('x', 'xd'), (('terms', 84),), _variants(all_terms_kernel)),
+             ('x',), (('Mt', 36),), TWIST_MASS_MATRIX),
+    Function('coriolis_matrix', 'V(x, xd), column by column: column j is V e_j.', ('x', 'xd'), (('V', 36),), (),
+             steps=(('identity', ('E',)),
+                    *(Kernels(CORIOLIS_PRODUCT, ('x', 'xd', f'E + {6 * j}'), (('Vv', f'VT + {6 * j}'),))
+                      for j in range(6)),
+                    ('transpose', ('VT', 'V'))),
+             scratch=(('E', 36), ('VT', 36))),
+    Function('coriolis_vector', 'V xd without forming V.', ('x', 'xd'), (('Vxd', 6),), (),
+             steps=(Kernels(CORIOLIS_PRODUCT, ('x', 'xd', 'xd'), (('Vv', 'Vxd'),)),)),
+    Function('gravity_vector', 'G(x).', ('x',), (('G', 6),), GRAVITY),
+    Function('all_terms', 'M, V xd, G and J_C of one state, the terms of M xdd + V xd + G = J_C^T tau.',
+             ('x', 'xd'), (('M', 36), ('Vxd', 6), ('G', 6), ('JC', 36)), (),
+             steps=(*_MASS_STEPS, Kernels(CORIOLIS_PRODUCT, ('x', 'xd', 'xd'), (('Vv', 'Vxd'),)), Kernels(GRAVITY, ('x',)),
+                    Kernels((jacobian_kernel,), ('x',)))),
     Function('inverse_dynamics', 'tau = J_C^-T (M xdd + V xd + G).', ('x', 'xd', 'xdd'), (('tau', 6),),
              INVERSE_DYNAMICS, steps=(('bareiss_factor', ('JC', 'FJ')), ('bareiss_solve', ('FJ', '1', '1', 'W', 'tau'))),
              scratch=(_BAREISS_FACTORS,)),
     Function('forward_dynamics', 'xdd = M^-1 (J_C^T tau - V xd - G); needs cos(theta) != 0.',
-             ('x', 'xd', 'tau'), (('xdd', 6),), FORWARD_DYNAMICS, steps=_FORWARD_STEPS,
-             scratch=(_LDL_FACTORS, ('y', 6))),
+             ('x', 'xd', 'tau'), (('xdd', 6),), (), steps=_FORWARD_STEPS, scratch=_FORWARD_SCRATCH),
     Function('inverse_dynamics_derivatives',
              'tau and its Jacobians (row = output, column = input): dtau/dx = J_C^-T R_x,'
              ' dtau/dxd = J_C^-T R_xd, dtau/dxdd = J_C^-T M, R = partials of M xdd + V xd + G - J_C^T tau.',
@@ -1069,12 +1043,12 @@ FUNCTIONS = (
              ' dxdd/dxd = -M^-1 R_xd, dxdd/dtau = M^-1 J_C^T, R = partials of M xdd + V xd + G - J_C^T tau;'
              ' needs cos(theta) != 0.',
              ('x', 'xd', 'tau'), (('xdd', 6), ('dxdd_dx', 36), ('dxdd_dxd', 36), ('dxdd_dtau', 36)),
-             FORWARD_DYNAMICS,
+             (),
              steps=_FORWARD_STEPS + _residual_steps(True) + (
                                      ('ldl_solve', ('FM', '18', '18', 'Z', 'Y')),
                                      ('pose_accelerations', ('JAinv', '18', 'Y', 'D')),
                                      ('split_jacobians', ('D', 'dxdd_dx', 'dxdd_dxd', 'dxdd_dtau'))),
-             scratch=(_LDL_FACTORS, ('y', 6), ('Y', 108), ('D', 108))),
+             scratch=_FORWARD_SCRATCH + (('Y', 108), ('D', 108))),
     Function('joint_reactions',
              'tau and the joint reactions of each leg i (3 doubles per leg, leg-major, in {B}): f_base, the'
              ' force the base exerts on the leg at its universal joint B_i; f_platform, the force the leg'

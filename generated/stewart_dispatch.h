@@ -25,7 +25,7 @@ typedef struct {
     int (*coriolis_matrix)(const stewart_params *p, const double *x, const double *xd, double *V);
     int (*coriolis_vector)(const stewart_params *p, const double *x, const double *xd, double *Vxd);
     int (*gravity_vector)(const stewart_params *p, const double *x, double *G);
-    int (*all_terms)(const stewart_params *p, const double *x, const double *xd, double *terms);
+    int (*all_terms)(const stewart_params *p, const double *x, const double *xd, double *M, double *Vxd, double *G, double *JC);
     int (*inverse_dynamics)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *tau);
     int (*forward_dynamics)(const stewart_params *p, const double *x, const double *xd, const double *tau, double *xdd);
     int (*inverse_dynamics_derivatives)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd);
@@ -42,7 +42,7 @@ typedef struct {
     int (*batch_coriolis_matrix)(const stewart_params *p, size_t n, const double *x, const double *xd, double *V, int *status);
     int (*batch_coriolis_vector)(const stewart_params *p, size_t n, const double *x, const double *xd, double *Vxd, int *status);
     int (*batch_gravity_vector)(const stewart_params *p, size_t n, const double *x, double *G, int *status);
-    int (*batch_all_terms)(const stewart_params *p, size_t n, const double *x, const double *xd, double *terms, int *status);
+    int (*batch_all_terms)(const stewart_params *p, size_t n, const double *x, const double *xd, double *M, double *Vxd, double *G, double *JC, int *status);
     int (*batch_inverse_dynamics)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, int *status);
     int (*batch_forward_dynamics)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, int *status);
     int (*batch_inverse_dynamics_derivatives)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd, int *status);

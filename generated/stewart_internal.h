@@ -61,29 +61,18 @@
 #define vkernel_leg_lengths STEWART_LOCAL(vkernel_leg_lengths)
 #define vkernel_jacobian STEWART_LOCAL(vkernel_jacobian)
 #define vkernel_leg_rates STEWART_LOCAL(vkernel_leg_rates)
-#define vkernel_mass_matrix_axisym STEWART_LOCAL(vkernel_mass_matrix_axisym)
-#define vkernel_mass_matrix_frames STEWART_LOCAL(vkernel_mass_matrix_frames)
-#define vkernel_mass_matrix_general STEWART_LOCAL(vkernel_mass_matrix_general)
 #define vkernel_twist_mass_matrix_axisym STEWART_LOCAL(vkernel_twist_mass_matrix_axisym)
 #define vkernel_twist_mass_matrix_frames STEWART_LOCAL(vkernel_twist_mass_matrix_frames)
 #define vkernel_twist_mass_matrix_general STEWART_LOCAL(vkernel_twist_mass_matrix_general)
-#define vkernel_coriolis_matrix_axisym STEWART_LOCAL(vkernel_coriolis_matrix_axisym)
-#define vkernel_coriolis_matrix_frames STEWART_LOCAL(vkernel_coriolis_matrix_frames)
-#define vkernel_coriolis_matrix_general STEWART_LOCAL(vkernel_coriolis_matrix_general)
-#define vkernel_coriolis_vector_axisym STEWART_LOCAL(vkernel_coriolis_vector_axisym)
-#define vkernel_coriolis_vector_frames STEWART_LOCAL(vkernel_coriolis_vector_frames)
-#define vkernel_coriolis_vector_general STEWART_LOCAL(vkernel_coriolis_vector_general)
+#define vkernel_euler_maps STEWART_LOCAL(vkernel_euler_maps)
+#define vkernel_coriolis_product_axisym STEWART_LOCAL(vkernel_coriolis_product_axisym)
+#define vkernel_coriolis_product_frames STEWART_LOCAL(vkernel_coriolis_product_frames)
+#define vkernel_coriolis_product_general STEWART_LOCAL(vkernel_coriolis_product_general)
 #define vkernel_gravity_vector STEWART_LOCAL(vkernel_gravity_vector)
 #define vkernel_gravity_vector_general STEWART_LOCAL(vkernel_gravity_vector_general)
-#define vkernel_all_terms_axisym STEWART_LOCAL(vkernel_all_terms_axisym)
-#define vkernel_all_terms_frames STEWART_LOCAL(vkernel_all_terms_frames)
-#define vkernel_all_terms_general STEWART_LOCAL(vkernel_all_terms_general)
 #define vkernel_inverse_dynamics_axisym STEWART_LOCAL(vkernel_inverse_dynamics_axisym)
 #define vkernel_inverse_dynamics_frames STEWART_LOCAL(vkernel_inverse_dynamics_frames)
 #define vkernel_inverse_dynamics_general STEWART_LOCAL(vkernel_inverse_dynamics_general)
-#define vkernel_forward_dynamics_axisym STEWART_LOCAL(vkernel_forward_dynamics_axisym)
-#define vkernel_forward_dynamics_frames STEWART_LOCAL(vkernel_forward_dynamics_frames)
-#define vkernel_forward_dynamics_general STEWART_LOCAL(vkernel_forward_dynamics_general)
 #define vkernel_leg_points STEWART_LOCAL(vkernel_leg_points)
 #define vkernel_leg_points_general STEWART_LOCAL(vkernel_leg_points_general)
 #define vkernel_leg_derivatives_axisym STEWART_LOCAL(vkernel_leg_derivatives_axisym)
@@ -380,6 +369,57 @@ static stewart_vl vpose_accelerations(const stewart_vd JAinv[9], int n, const st
                 + JAinv[3 * i + 2] * y[5 * n + c];
         }
     }
+    return vnone();
+}
+
+/* n zeros, over a block. */
+static stewart_vl vzero(stewart_vd *a, int n)
+{
+    int i;
+    for (i = 0; i < n; ++i)
+        a[i] = vsplat(0.0);
+    return vnone();
+}
+
+/* M = M_t T, T = blockdiag(E, J_A) (eq. 18), from M_t and J_A (row-major), over a block. */
+static stewart_vl vmass_matrix(const stewart_vd Mt[36], const stewart_vd JA[9], stewart_vd M[36])
+{
+    int i, j;
+    for (i = 0; i < 6; ++i) {
+        for (j = 0; j < 3; ++j) {
+            M[6 * i + j] = Mt[6 * i + j];
+            M[6 * i + 3 + j] = Mt[6 * i + 3] * JA[j] + Mt[6 * i + 4] * JA[3 + j] + Mt[6 * i + 5] * JA[6 + j];
+        }
+    }
+    return vnone();
+}
+
+/* rhs = J_C^T tau - W (J_C row-major), over a block. */
+static stewart_vl vforward_rhs(const stewart_vd JC[36], const stewart_vd tau[6], const stewart_vd W[6], stewart_vd rhs[6])
+{
+    int i;
+    for (i = 0; i < 6; ++i)
+        rhs[i] = JC[i] * tau[0] + JC[6 + i] * tau[1] + JC[12 + i] * tau[2] + JC[18 + i] * tau[3]
+            + JC[24 + i] * tau[4] + JC[30 + i] * tau[5] - W[i];
+    return vnone();
+}
+
+/* The 6 x 6 identity in every lane: its rows e_0, ..., e_5 (row-major). */
+static stewart_vl videntity(stewart_vd E[36])
+{
+    int i;
+    for (i = 0; i < 36; ++i)
+        E[i] = vsplat(i % 7 == 0 ? 1.0 : 0.0);
+    return vnone();
+}
+
+/* B = A^T of a 6 x 6 matrix (row-major), over a block. */
+static stewart_vl vtranspose(const stewart_vd A[36], stewart_vd B[36])
+{
+    int i, j;
+    for (i = 0; i < 6; ++i)
+        for (j = 0; j < 6; ++j)
+            B[6 * j + i] = A[6 * i + j];
     return vnone();
 }
 
@@ -875,21 +915,21 @@ static stewart_vl vbareiss_solve(const stewart_vd F[57], int n, int ld, const st
     return vnone();
 }
 
-/* Factor S = L D L^T for symmetric S given by its upper triangle (21 entries,
- * row-major), unrolled (m_ij: the upper triangle being eliminated, l_ik = m_ki / d_k);
+/* Factor S = L D L^T for symmetric S (6 x 6, row-major; only its upper triangle is
+ * read), unrolled (m_ij: the upper triangle being eliminated, l_ik = m_ki / d_k);
  * F receives l_ik (i > k, by columns) and then 1 / d_k.  A lane's status is
  * STEWART_ERR_MASS_SINGULAR when a pivot d_k (the square of the Cholesky diagonal) is
  * <= STEWART_MASS_TOL times its diagonal entry S_kk (or S_kk <= 0), else STEWART_OK. */
-static stewart_vl vldl_factor(const stewart_vd upper[21], stewart_vd F[21])
+static stewart_vl vldl_factor(const stewart_vd S[36], stewart_vd F[21])
 {
-    stewart_vd m00 = upper[0], m01 = upper[1], m02 = upper[2], m03 = upper[3], m04 = upper[4], m05 = upper[5];
-    stewart_vd m11 = upper[6], m12 = upper[7], m13 = upper[8], m14 = upper[9], m15 = upper[10];
-    stewart_vd m22 = upper[11], m23 = upper[12], m24 = upper[13], m25 = upper[14];
-    stewart_vd m33 = upper[15], m34 = upper[16], m35 = upper[17];
-    stewart_vd m44 = upper[18], m45 = upper[19];
-    stewart_vd m55 = upper[20];
+    stewart_vd m00 = S[0], m01 = S[1], m02 = S[2], m03 = S[3], m04 = S[4], m05 = S[5];
+    stewart_vd m11 = S[7], m12 = S[8], m13 = S[9], m14 = S[10], m15 = S[11];
+    stewart_vd m22 = S[14], m23 = S[15], m24 = S[16], m25 = S[17];
+    stewart_vd m33 = S[21], m34 = S[22], m35 = S[23];
+    stewart_vd m44 = S[28], m45 = S[29];
+    stewart_vd m55 = S[35];
     stewart_vl ok = ~vnone();
-    ok &= (upper[0] > 0.0) & (m00 > STEWART_MASS_TOL * upper[0]);
+    ok &= (S[0] > 0.0) & (m00 > STEWART_MASS_TOL * S[0]);
     const stewart_vd inv0 = 1.0 / m00;
     F[15] = inv0;
     const stewart_vd l10 = m01 * inv0;
@@ -917,7 +957,7 @@ static stewart_vl vldl_factor(const stewart_vd upper[21], stewart_vd F[21])
     m44 -= l40 * m04;
     m45 -= l40 * m05;
     m55 -= l50 * m05;
-    ok &= (upper[6] > 0.0) & (m11 > STEWART_MASS_TOL * upper[6]);
+    ok &= (S[7] > 0.0) & (m11 > STEWART_MASS_TOL * S[7]);
     const stewart_vd inv1 = 1.0 / m11;
     F[16] = inv1;
     const stewart_vd l21 = m12 * inv1;
@@ -938,7 +978,7 @@ static stewart_vl vldl_factor(const stewart_vd upper[21], stewart_vd F[21])
     m44 -= l41 * m14;
     m45 -= l41 * m15;
     m55 -= l51 * m15;
-    ok &= (upper[11] > 0.0) & (m22 > STEWART_MASS_TOL * upper[11]);
+    ok &= (S[14] > 0.0) & (m22 > STEWART_MASS_TOL * S[14]);
     const stewart_vd inv2 = 1.0 / m22;
     F[17] = inv2;
     const stewart_vd l32 = m23 * inv2;
@@ -953,7 +993,7 @@ static stewart_vl vldl_factor(const stewart_vd upper[21], stewart_vd F[21])
     m44 -= l42 * m24;
     m45 -= l42 * m25;
     m55 -= l52 * m25;
-    ok &= (upper[15] > 0.0) & (m33 > STEWART_MASS_TOL * upper[15]);
+    ok &= (S[21] > 0.0) & (m33 > STEWART_MASS_TOL * S[21]);
     const stewart_vd inv3 = 1.0 / m33;
     F[18] = inv3;
     const stewart_vd l43 = m34 * inv3;
@@ -963,13 +1003,13 @@ static stewart_vl vldl_factor(const stewart_vd upper[21], stewart_vd F[21])
     m44 -= l43 * m34;
     m45 -= l43 * m35;
     m55 -= l53 * m35;
-    ok &= (upper[18] > 0.0) & (m44 > STEWART_MASS_TOL * upper[18]);
+    ok &= (S[28] > 0.0) & (m44 > STEWART_MASS_TOL * S[28]);
     const stewart_vd inv4 = 1.0 / m44;
     F[19] = inv4;
     const stewart_vd l54 = m45 * inv4;
     F[14] = l54;
     m55 -= l54 * m45;
-    ok &= (upper[20] > 0.0) & (m55 > STEWART_MASS_TOL * upper[20]);
+    ok &= (S[35] > 0.0) & (m55 > STEWART_MASS_TOL * S[35]);
     const stewart_vd inv5 = 1.0 / m55;
     F[20] = inv5;
     return ~ok & STEWART_ERR_MASS_SINGULAR;
@@ -1020,29 +1060,18 @@ static stewart_vl vldl_solve(const stewart_vd F[21], int n, int ld, const stewar
 STEWART_HIDDEN void vkernel_leg_lengths(const stewart_params *p, const stewart_vd *x, stewart_vd *L);
 STEWART_HIDDEN void vkernel_jacobian(const stewart_params *p, const stewart_vd *x, stewart_vd *JC, stewart_vd *L2);
 STEWART_HIDDEN void vkernel_leg_rates(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, stewart_vd *LLd, stewart_vd *L2);
-STEWART_HIDDEN void vkernel_mass_matrix_axisym(const stewart_params *p, const stewart_vd *x, stewart_vd *M, stewart_vd *L2);
-STEWART_HIDDEN void vkernel_mass_matrix_frames(const stewart_params *p, const stewart_vd *x, stewart_vd *M, stewart_vd *L2, stewart_vd *h2);
-STEWART_HIDDEN void vkernel_mass_matrix_general(const stewart_params *p, const stewart_vd *x, stewart_vd *M, stewart_vd *L2, stewart_vd *n2);
 STEWART_HIDDEN void vkernel_twist_mass_matrix_axisym(const stewart_params *p, const stewart_vd *x, stewart_vd *Mt, stewart_vd *L2);
 STEWART_HIDDEN void vkernel_twist_mass_matrix_frames(const stewart_params *p, const stewart_vd *x, stewart_vd *Mt, stewart_vd *L2, stewart_vd *h2);
 STEWART_HIDDEN void vkernel_twist_mass_matrix_general(const stewart_params *p, const stewart_vd *x, stewart_vd *Mt, stewart_vd *L2, stewart_vd *n2);
-STEWART_HIDDEN void vkernel_coriolis_matrix_axisym(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, stewart_vd *V, stewart_vd *L2);
-STEWART_HIDDEN void vkernel_coriolis_matrix_frames(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, stewart_vd *V, stewart_vd *L2, stewart_vd *h2);
-STEWART_HIDDEN void vkernel_coriolis_matrix_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, stewart_vd *V, stewart_vd *L2, stewart_vd *n2);
-STEWART_HIDDEN void vkernel_coriolis_vector_axisym(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, stewart_vd *Vxd, stewart_vd *L2);
-STEWART_HIDDEN void vkernel_coriolis_vector_frames(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, stewart_vd *Vxd, stewart_vd *L2, stewart_vd *h2);
-STEWART_HIDDEN void vkernel_coriolis_vector_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, stewart_vd *Vxd, stewart_vd *L2, stewart_vd *n2);
+STEWART_HIDDEN void vkernel_euler_maps(const stewart_params *p, const stewart_vd *x, stewart_vd *JA, stewart_vd *JAinv, stewart_vd *ctheta);
+STEWART_HIDDEN void vkernel_coriolis_product_axisym(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *vel, stewart_vd *Vv, stewart_vd *L2);
+STEWART_HIDDEN void vkernel_coriolis_product_frames(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *vel, stewart_vd *Vv, stewart_vd *L2, stewart_vd *h2);
+STEWART_HIDDEN void vkernel_coriolis_product_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *vel, stewart_vd *Vv, stewart_vd *L2, stewart_vd *n2);
 STEWART_HIDDEN void vkernel_gravity_vector(const stewart_params *p, const stewart_vd *x, stewart_vd *G, stewart_vd *L2);
 STEWART_HIDDEN void vkernel_gravity_vector_general(const stewart_params *p, const stewart_vd *x, stewart_vd *G, stewart_vd *L2, stewart_vd *n2);
-STEWART_HIDDEN void vkernel_all_terms_axisym(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, stewart_vd *terms, stewart_vd *L2);
-STEWART_HIDDEN void vkernel_all_terms_frames(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, stewart_vd *terms, stewart_vd *L2, stewart_vd *h2);
-STEWART_HIDDEN void vkernel_all_terms_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, stewart_vd *terms, stewart_vd *L2, stewart_vd *n2);
 STEWART_HIDDEN void vkernel_inverse_dynamics_axisym(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JC, stewart_vd *L2);
 STEWART_HIDDEN void vkernel_inverse_dynamics_frames(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JC, stewart_vd *L2, stewart_vd *h2);
 STEWART_HIDDEN void vkernel_inverse_dynamics_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JC, stewart_vd *L2, stewart_vd *n2);
-STEWART_HIDDEN void vkernel_forward_dynamics_axisym(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *tau, stewart_vd *Mt, stewart_vd *rhs, stewart_vd *JAinv, stewart_vd *ctheta, stewart_vd *L2);
-STEWART_HIDDEN void vkernel_forward_dynamics_frames(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *tau, stewart_vd *Mt, stewart_vd *rhs, stewart_vd *JAinv, stewart_vd *ctheta, stewart_vd *L2, stewart_vd *h2);
-STEWART_HIDDEN void vkernel_forward_dynamics_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *tau, stewart_vd *Mt, stewart_vd *rhs, stewart_vd *JAinv, stewart_vd *ctheta, stewart_vd *L2, stewart_vd *n2);
 STEWART_HIDDEN void vkernel_leg_points(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *lwa);
 STEWART_HIDDEN void vkernel_leg_points_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *lwa);
 STEWART_HIDDEN void vkernel_leg_derivatives_axisym(const stewart_params *p, const stewart_vd *lwa, const stewart_vd *tau, stewart_vd *legs);

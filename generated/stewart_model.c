@@ -76,7 +76,7 @@ static stewart_vl vblock_jacobian(const stewart_params *p, double scalar, const 
     stewart_vd L2[6];
     stewart_vl status = vnone();
     vkernel_jacobian(p, x, JC, L2);
-    status = vcheck_legs(L2, NULL, NULL);
+    status = vmerge(status, vcheck_legs(L2, NULL, NULL));
     return status;
 }
 
@@ -96,7 +96,7 @@ static stewart_vl vblock_leg_rates(const stewart_params *p, double scalar, const
     stewart_vd L2[6];
     stewart_vl status = vnone();
     vkernel_leg_rates(p, x, xd, LLd, L2);
-    status = vcheck_legs(L2, NULL, NULL);
+    status = vmerge(status, vcheck_legs(L2, NULL, NULL));
     return status;
 }
 
@@ -112,18 +112,20 @@ static stewart_vl vblock_mass_matrix(const stewart_params *p, double scalar, con
     (void)scalar;
     const stewart_vd *x = in[0];
     stewart_vd *M = out[0];
-    stewart_vd L2[6], h2[6], n2[6];
+    stewart_vd Mt[36], L2[6], h2[6], n2[6], JA[9], JAinv[9], ctheta[1];
     stewart_vl status = vnone();
     if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
-        vkernel_mass_matrix_axisym(p, x, M, L2);
-        status = vcheck_legs(L2, NULL, NULL);
+        vkernel_twist_mass_matrix_axisym(p, x, Mt, L2);
+        status = vmerge(status, vcheck_legs(L2, NULL, NULL));
     } else if (stewart_is_paper_model(p)) {
-        vkernel_mass_matrix_frames(p, x, M, L2, h2);
-        status = vcheck_legs(L2, h2, NULL);
+        vkernel_twist_mass_matrix_frames(p, x, Mt, L2, h2);
+        status = vmerge(status, vcheck_legs(L2, h2, NULL));
     } else {
-        vkernel_mass_matrix_general(p, x, M, L2, n2);
-        status = vcheck_legs(L2, NULL, n2);
+        vkernel_twist_mass_matrix_general(p, x, Mt, L2, n2);
+        status = vmerge(status, vcheck_legs(L2, NULL, n2));
     }
+    vkernel_euler_maps(p, x, JA, JAinv, ctheta);
+    status = vmerge(status, vmass_matrix(Mt, JA, M));
     return status;
 }
 
@@ -143,13 +145,13 @@ static stewart_vl vblock_twist_mass_matrix(const stewart_params *p, double scala
     stewart_vl status = vnone();
     if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
         vkernel_twist_mass_matrix_axisym(p, x, Mt, L2);
-        status = vcheck_legs(L2, NULL, NULL);
+        status = vmerge(status, vcheck_legs(L2, NULL, NULL));
     } else if (stewart_is_paper_model(p)) {
         vkernel_twist_mass_matrix_frames(p, x, Mt, L2, h2);
-        status = vcheck_legs(L2, h2, NULL);
+        status = vmerge(status, vcheck_legs(L2, h2, NULL));
     } else {
         vkernel_twist_mass_matrix_general(p, x, Mt, L2, n2);
-        status = vcheck_legs(L2, NULL, n2);
+        status = vmerge(status, vcheck_legs(L2, NULL, n2));
     }
     return status;
 }
@@ -167,18 +169,70 @@ static stewart_vl vblock_coriolis_matrix(const stewart_params *p, double scalar,
     const stewart_vd *x = in[0];
     const stewart_vd *xd = in[1];
     stewart_vd *V = out[0];
-    stewart_vd L2[6], h2[6], n2[6];
+    stewart_vd L2[6], h2[6], n2[6], E[36], VT[36];
     stewart_vl status = vnone();
+    status = vmerge(status, videntity(E));
     if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
-        vkernel_coriolis_matrix_axisym(p, x, xd, V, L2);
-        status = vcheck_legs(L2, NULL, NULL);
+        vkernel_coriolis_product_axisym(p, x, xd, E + 0, VT + 0, L2);
+        status = vmerge(status, vcheck_legs(L2, NULL, NULL));
     } else if (stewart_is_paper_model(p)) {
-        vkernel_coriolis_matrix_frames(p, x, xd, V, L2, h2);
-        status = vcheck_legs(L2, h2, NULL);
+        vkernel_coriolis_product_frames(p, x, xd, E + 0, VT + 0, L2, h2);
+        status = vmerge(status, vcheck_legs(L2, h2, NULL));
     } else {
-        vkernel_coriolis_matrix_general(p, x, xd, V, L2, n2);
-        status = vcheck_legs(L2, NULL, n2);
+        vkernel_coriolis_product_general(p, x, xd, E + 0, VT + 0, L2, n2);
+        status = vmerge(status, vcheck_legs(L2, NULL, n2));
     }
+    if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
+        vkernel_coriolis_product_axisym(p, x, xd, E + 6, VT + 6, L2);
+        status = vmerge(status, vcheck_legs(L2, NULL, NULL));
+    } else if (stewart_is_paper_model(p)) {
+        vkernel_coriolis_product_frames(p, x, xd, E + 6, VT + 6, L2, h2);
+        status = vmerge(status, vcheck_legs(L2, h2, NULL));
+    } else {
+        vkernel_coriolis_product_general(p, x, xd, E + 6, VT + 6, L2, n2);
+        status = vmerge(status, vcheck_legs(L2, NULL, n2));
+    }
+    if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
+        vkernel_coriolis_product_axisym(p, x, xd, E + 12, VT + 12, L2);
+        status = vmerge(status, vcheck_legs(L2, NULL, NULL));
+    } else if (stewart_is_paper_model(p)) {
+        vkernel_coriolis_product_frames(p, x, xd, E + 12, VT + 12, L2, h2);
+        status = vmerge(status, vcheck_legs(L2, h2, NULL));
+    } else {
+        vkernel_coriolis_product_general(p, x, xd, E + 12, VT + 12, L2, n2);
+        status = vmerge(status, vcheck_legs(L2, NULL, n2));
+    }
+    if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
+        vkernel_coriolis_product_axisym(p, x, xd, E + 18, VT + 18, L2);
+        status = vmerge(status, vcheck_legs(L2, NULL, NULL));
+    } else if (stewart_is_paper_model(p)) {
+        vkernel_coriolis_product_frames(p, x, xd, E + 18, VT + 18, L2, h2);
+        status = vmerge(status, vcheck_legs(L2, h2, NULL));
+    } else {
+        vkernel_coriolis_product_general(p, x, xd, E + 18, VT + 18, L2, n2);
+        status = vmerge(status, vcheck_legs(L2, NULL, n2));
+    }
+    if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
+        vkernel_coriolis_product_axisym(p, x, xd, E + 24, VT + 24, L2);
+        status = vmerge(status, vcheck_legs(L2, NULL, NULL));
+    } else if (stewart_is_paper_model(p)) {
+        vkernel_coriolis_product_frames(p, x, xd, E + 24, VT + 24, L2, h2);
+        status = vmerge(status, vcheck_legs(L2, h2, NULL));
+    } else {
+        vkernel_coriolis_product_general(p, x, xd, E + 24, VT + 24, L2, n2);
+        status = vmerge(status, vcheck_legs(L2, NULL, n2));
+    }
+    if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
+        vkernel_coriolis_product_axisym(p, x, xd, E + 30, VT + 30, L2);
+        status = vmerge(status, vcheck_legs(L2, NULL, NULL));
+    } else if (stewart_is_paper_model(p)) {
+        vkernel_coriolis_product_frames(p, x, xd, E + 30, VT + 30, L2, h2);
+        status = vmerge(status, vcheck_legs(L2, h2, NULL));
+    } else {
+        vkernel_coriolis_product_general(p, x, xd, E + 30, VT + 30, L2, n2);
+        status = vmerge(status, vcheck_legs(L2, NULL, n2));
+    }
+    status = vmerge(status, vtranspose(VT, V));
     return status;
 }
 
@@ -198,14 +252,14 @@ static stewart_vl vblock_coriolis_vector(const stewart_params *p, double scalar,
     stewart_vd L2[6], h2[6], n2[6];
     stewart_vl status = vnone();
     if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
-        vkernel_coriolis_vector_axisym(p, x, xd, Vxd, L2);
-        status = vcheck_legs(L2, NULL, NULL);
+        vkernel_coriolis_product_axisym(p, x, xd, xd, Vxd, L2);
+        status = vmerge(status, vcheck_legs(L2, NULL, NULL));
     } else if (stewart_is_paper_model(p)) {
-        vkernel_coriolis_vector_frames(p, x, xd, Vxd, L2, h2);
-        status = vcheck_legs(L2, h2, NULL);
+        vkernel_coriolis_product_frames(p, x, xd, xd, Vxd, L2, h2);
+        status = vmerge(status, vcheck_legs(L2, h2, NULL));
     } else {
-        vkernel_coriolis_vector_general(p, x, xd, Vxd, L2, n2);
-        status = vcheck_legs(L2, NULL, n2);
+        vkernel_coriolis_product_general(p, x, xd, xd, Vxd, L2, n2);
+        status = vmerge(status, vcheck_legs(L2, NULL, n2));
     }
     return status;
 }
@@ -226,10 +280,10 @@ static stewart_vl vblock_gravity_vector(const stewart_params *p, double scalar, 
     stewart_vl status = vnone();
     if (stewart_is_paper_model(p)) {
         vkernel_gravity_vector(p, x, G, L2);
-        status = vcheck_legs(L2, NULL, NULL);
+        status = vmerge(status, vcheck_legs(L2, NULL, NULL));
     } else {
         vkernel_gravity_vector_general(p, x, G, L2, n2);
-        status = vcheck_legs(L2, NULL, n2);
+        status = vmerge(status, vcheck_legs(L2, NULL, n2));
     }
     return status;
 }
@@ -246,26 +300,50 @@ static stewart_vl vblock_all_terms(const stewart_params *p, double scalar, const
     (void)scalar;
     const stewart_vd *x = in[0];
     const stewart_vd *xd = in[1];
-    stewart_vd *terms = out[0];
-    stewart_vd L2[6], h2[6], n2[6];
+    stewart_vd *M = out[0];
+    stewart_vd *Vxd = out[1];
+    stewart_vd *G = out[2];
+    stewart_vd *JC = out[3];
+    stewart_vd Mt[36], L2[6], h2[6], n2[6], JA[9], JAinv[9], ctheta[1];
     stewart_vl status = vnone();
     if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
-        vkernel_all_terms_axisym(p, x, xd, terms, L2);
-        status = vcheck_legs(L2, NULL, NULL);
+        vkernel_twist_mass_matrix_axisym(p, x, Mt, L2);
+        status = vmerge(status, vcheck_legs(L2, NULL, NULL));
     } else if (stewart_is_paper_model(p)) {
-        vkernel_all_terms_frames(p, x, xd, terms, L2, h2);
-        status = vcheck_legs(L2, h2, NULL);
+        vkernel_twist_mass_matrix_frames(p, x, Mt, L2, h2);
+        status = vmerge(status, vcheck_legs(L2, h2, NULL));
     } else {
-        vkernel_all_terms_general(p, x, xd, terms, L2, n2);
-        status = vcheck_legs(L2, NULL, n2);
+        vkernel_twist_mass_matrix_general(p, x, Mt, L2, n2);
+        status = vmerge(status, vcheck_legs(L2, NULL, n2));
     }
+    vkernel_euler_maps(p, x, JA, JAinv, ctheta);
+    status = vmerge(status, vmass_matrix(Mt, JA, M));
+    if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
+        vkernel_coriolis_product_axisym(p, x, xd, xd, Vxd, L2);
+        status = vmerge(status, vcheck_legs(L2, NULL, NULL));
+    } else if (stewart_is_paper_model(p)) {
+        vkernel_coriolis_product_frames(p, x, xd, xd, Vxd, L2, h2);
+        status = vmerge(status, vcheck_legs(L2, h2, NULL));
+    } else {
+        vkernel_coriolis_product_general(p, x, xd, xd, Vxd, L2, n2);
+        status = vmerge(status, vcheck_legs(L2, NULL, n2));
+    }
+    if (stewart_is_paper_model(p)) {
+        vkernel_gravity_vector(p, x, G, L2);
+        status = vmerge(status, vcheck_legs(L2, NULL, NULL));
+    } else {
+        vkernel_gravity_vector_general(p, x, G, L2, n2);
+        status = vmerge(status, vcheck_legs(L2, NULL, n2));
+    }
+    vkernel_jacobian(p, x, JC, L2);
+    status = vmerge(status, vcheck_legs(L2, NULL, NULL));
     return status;
 }
 
-int stewart_batch_all_terms(const stewart_params *p, size_t n, const double *x, const double *xd, double *terms, int *status)
+int stewart_batch_all_terms(const stewart_params *p, size_t n, const double *x, const double *xd, double *M, double *Vxd, double *G, double *JC, int *status)
 {
-    stewart_vd in0[6], in1[6], out0[84];
-    return batch_rows(params_finite(p), p, vblock_all_terms, 0.0, n, 2, (const double *const []){x, xd}, (stewart_vd *const []){in0, in1}, 1, (double *const []){terms}, (stewart_vd *const []){out0}, (const int []){84}, status);
+    stewart_vd in0[6], in1[6], out0[36], out1[6], out2[6], out3[36];
+    return batch_rows(params_finite(p), p, vblock_all_terms, 0.0, n, 2, (const double *const []){x, xd}, (stewart_vd *const []){in0, in1}, 4, (double *const []){M, Vxd, G, JC}, (stewart_vd *const []){out0, out1, out2, out3}, (const int []){36, 6, 6, 36}, status);
 }
 
 /* stewart_inverse_dynamics over a block of states (batch_rows). */
@@ -280,13 +358,13 @@ static stewart_vl vblock_inverse_dynamics(const stewart_params *p, double scalar
     stewart_vl status = vnone();
     if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
         vkernel_inverse_dynamics_axisym(p, x, xd, xdd, W, JC, L2);
-        status = vcheck_legs(L2, NULL, NULL);
+        status = vmerge(status, vcheck_legs(L2, NULL, NULL));
     } else if (stewart_is_paper_model(p)) {
         vkernel_inverse_dynamics_frames(p, x, xd, xdd, W, JC, L2, h2);
-        status = vcheck_legs(L2, h2, NULL);
+        status = vmerge(status, vcheck_legs(L2, h2, NULL));
     } else {
         vkernel_inverse_dynamics_general(p, x, xd, xdd, W, JC, L2, n2);
-        status = vcheck_legs(L2, NULL, n2);
+        status = vmerge(status, vcheck_legs(L2, NULL, n2));
     }
     status = vmerge(status, vbareiss_factor(JC, FJ));
     status = vmerge(status, vbareiss_solve(FJ, 1, 1, W, tau));
@@ -307,20 +385,33 @@ static stewart_vl vblock_forward_dynamics(const stewart_params *p, double scalar
     const stewart_vd *xd = in[1];
     const stewart_vd *tau = in[2];
     stewart_vd *xdd = out[0];
-    stewart_vd Mt[21], rhs[6], JAinv[9], ctheta[1], L2[6], h2[6], n2[6], FM[21], y[6];
+    stewart_vd Mt[36], L2[6], h2[6], n2[6], JA[9], JAinv[9], ctheta[1], W[6], JC[36], FM[21], xdd0[6], rhs[6], y[6];
     stewart_vl status = vnone();
     if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
-        vkernel_forward_dynamics_axisym(p, x, xd, tau, Mt, rhs, JAinv, ctheta, L2);
-        status = vcheck_legs(L2, NULL, NULL);
+        vkernel_twist_mass_matrix_axisym(p, x, Mt, L2);
+        status = vmerge(status, vcheck_legs(L2, NULL, NULL));
     } else if (stewart_is_paper_model(p)) {
-        vkernel_forward_dynamics_frames(p, x, xd, tau, Mt, rhs, JAinv, ctheta, L2, h2);
-        status = vcheck_legs(L2, h2, NULL);
+        vkernel_twist_mass_matrix_frames(p, x, Mt, L2, h2);
+        status = vmerge(status, vcheck_legs(L2, h2, NULL));
     } else {
-        vkernel_forward_dynamics_general(p, x, xd, tau, Mt, rhs, JAinv, ctheta, L2, n2);
-        status = vcheck_legs(L2, NULL, n2);
+        vkernel_twist_mass_matrix_general(p, x, Mt, L2, n2);
+        status = vmerge(status, vcheck_legs(L2, NULL, n2));
     }
+    vkernel_euler_maps(p, x, JA, JAinv, ctheta);
     status = vmerge(status, vcheck_euler(ctheta));
     status = vmerge(status, vldl_factor(Mt, FM));
+    status = vmerge(status, vzero(xdd0, 6));
+    if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
+        vkernel_inverse_dynamics_axisym(p, x, xd, xdd0, W, JC, L2);
+        status = vmerge(status, vcheck_legs(L2, NULL, NULL));
+    } else if (stewart_is_paper_model(p)) {
+        vkernel_inverse_dynamics_frames(p, x, xd, xdd0, W, JC, L2, h2);
+        status = vmerge(status, vcheck_legs(L2, h2, NULL));
+    } else {
+        vkernel_inverse_dynamics_general(p, x, xd, xdd0, W, JC, L2, n2);
+        status = vmerge(status, vcheck_legs(L2, NULL, n2));
+    }
+    status = vmerge(status, vforward_rhs(JC, tau, W, rhs));
     status = vmerge(status, vldl_solve(FM, 1, 1, rhs, y));
     status = vmerge(status, vpose_accelerations(JAinv, 1, y, xdd));
     return status;
@@ -347,13 +438,13 @@ static stewart_vl vblock_inverse_dynamics_derivatives(const stewart_params *p, d
     stewart_vl status = vnone();
     if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
         vkernel_inverse_dynamics_axisym(p, x, xd, xdd, W, JC, L2);
-        status = vcheck_legs(L2, NULL, NULL);
+        status = vmerge(status, vcheck_legs(L2, NULL, NULL));
     } else if (stewart_is_paper_model(p)) {
         vkernel_inverse_dynamics_frames(p, x, xd, xdd, W, JC, L2, h2);
-        status = vcheck_legs(L2, h2, NULL);
+        status = vmerge(status, vcheck_legs(L2, h2, NULL));
     } else {
         vkernel_inverse_dynamics_general(p, x, xd, xdd, W, JC, L2, n2);
-        status = vcheck_legs(L2, NULL, n2);
+        status = vmerge(status, vcheck_legs(L2, NULL, n2));
     }
     status = vmerge(status, vbareiss_factor(JC, FJ));
     status = vmerge(status, vbareiss_solve(FJ, 1, 1, W, tau));
@@ -397,20 +488,33 @@ static stewart_vl vblock_forward_dynamics_derivatives(const stewart_params *p, d
     stewart_vd *dxdd_dx = out[1];
     stewart_vd *dxdd_dxd = out[2];
     stewart_vd *dxdd_dtau = out[3];
-    stewart_vd Mt[21], rhs[6], JAinv[9], ctheta[1], L2[6], h2[6], n2[6], lwa[102], legs[198], chain[432], Z[108], FM[21], y[6], Y[108], D[108];
+    stewart_vd Mt[36], L2[6], h2[6], n2[6], JA[9], JAinv[9], ctheta[1], W[6], JC[36], lwa[102], legs[198], chain[432], Z[108], FM[21], xdd0[6], rhs[6], y[6], Y[108], D[108];
     stewart_vl status = vnone();
     if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
-        vkernel_forward_dynamics_axisym(p, x, xd, tau, Mt, rhs, JAinv, ctheta, L2);
-        status = vcheck_legs(L2, NULL, NULL);
+        vkernel_twist_mass_matrix_axisym(p, x, Mt, L2);
+        status = vmerge(status, vcheck_legs(L2, NULL, NULL));
     } else if (stewart_is_paper_model(p)) {
-        vkernel_forward_dynamics_frames(p, x, xd, tau, Mt, rhs, JAinv, ctheta, L2, h2);
-        status = vcheck_legs(L2, h2, NULL);
+        vkernel_twist_mass_matrix_frames(p, x, Mt, L2, h2);
+        status = vmerge(status, vcheck_legs(L2, h2, NULL));
     } else {
-        vkernel_forward_dynamics_general(p, x, xd, tau, Mt, rhs, JAinv, ctheta, L2, n2);
-        status = vcheck_legs(L2, NULL, n2);
+        vkernel_twist_mass_matrix_general(p, x, Mt, L2, n2);
+        status = vmerge(status, vcheck_legs(L2, NULL, n2));
     }
+    vkernel_euler_maps(p, x, JA, JAinv, ctheta);
     status = vmerge(status, vcheck_euler(ctheta));
     status = vmerge(status, vldl_factor(Mt, FM));
+    status = vmerge(status, vzero(xdd0, 6));
+    if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
+        vkernel_inverse_dynamics_axisym(p, x, xd, xdd0, W, JC, L2);
+        status = vmerge(status, vcheck_legs(L2, NULL, NULL));
+    } else if (stewart_is_paper_model(p)) {
+        vkernel_inverse_dynamics_frames(p, x, xd, xdd0, W, JC, L2, h2);
+        status = vmerge(status, vcheck_legs(L2, h2, NULL));
+    } else {
+        vkernel_inverse_dynamics_general(p, x, xd, xdd0, W, JC, L2, n2);
+        status = vmerge(status, vcheck_legs(L2, NULL, n2));
+    }
+    status = vmerge(status, vforward_rhs(JC, tau, W, rhs));
     status = vmerge(status, vldl_solve(FM, 1, 1, rhs, y));
     status = vmerge(status, vpose_accelerations(JAinv, 1, y, xdd));
     if (stewart_is_paper_model(p)) {
@@ -458,13 +562,13 @@ static stewart_vl vblock_joint_reactions(const stewart_params *p, double scalar,
     stewart_vl status = vnone();
     if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
         vkernel_joint_reactions_axisym(p, x, xd, xdd, W, JC, legf, n_base, L2);
-        status = vcheck_legs(L2, NULL, NULL);
+        status = vmerge(status, vcheck_legs(L2, NULL, NULL));
     } else if (stewart_is_paper_model(p)) {
         vkernel_joint_reactions_frames(p, x, xd, xdd, W, JC, legf, n_base, L2, h2);
-        status = vcheck_legs(L2, h2, NULL);
+        status = vmerge(status, vcheck_legs(L2, h2, NULL));
     } else {
         vkernel_joint_reactions_general(p, x, xd, xdd, W, JC, legf, n_base, L2, n2);
-        status = vcheck_legs(L2, NULL, n2);
+        status = vmerge(status, vcheck_legs(L2, NULL, n2));
     }
     status = vmerge(status, vbareiss_factor(JC, FJ));
     status = vmerge(status, vbareiss_solve(FJ, 1, 1, W, tau));
@@ -490,10 +594,10 @@ static stewart_vl vblock_regressor(const stewart_params *p, double scalar, const
     stewart_vl status = vnone();
     if (!legs_spin(p)) {
         vkernel_regressor(p, x, xd, xdd, Y, JC, L2, h2);
-        status = vcheck_legs(L2, h2, NULL);
+        status = vmerge(status, vcheck_legs(L2, h2, NULL));
     } else {
         vkernel_regressor_general(p, x, xd, xdd, Y, JC, L2, n2);
-        status = vcheck_legs(L2, NULL, n2);
+        status = vmerge(status, vcheck_legs(L2, NULL, n2));
     }
     status = vmerge(status, vbareiss_factor(JC, FJ));
     status = vmerge(status, vbareiss_solve(FJ, 20, 32, Y, Y));
@@ -572,9 +676,9 @@ int stewart_gravity_vector(const stewart_params *p, const double x[6], double G[
     return stewart_batch_gravity_vector(p, 1, x, G, NULL);
 }
 
-int stewart_all_terms(const stewart_params *p, const double x[6], const double xd[6], double terms[84])
+int stewart_all_terms(const stewart_params *p, const double x[6], const double xd[6], double M[36], double Vxd[6], double G[6], double JC[36])
 {
-    return stewart_batch_all_terms(p, 1, x, xd, terms, NULL);
+    return stewart_batch_all_terms(p, 1, x, xd, M, Vxd, G, JC, NULL);
 }
 
 int stewart_inverse_dynamics(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6])

@@ -34,7 +34,7 @@
  *    joint's first axis is the joint's gimbal lock.
  *
  * Arrays: x, xd, xdd, tau, L, G, Vxd, xn, xdn: 6 doubles; LLd: 12 doubles ([L; Ldot]);
- * JC, M, Mt, V: 36 doubles, row-major; terms: 84 doubles ([M; Vxd; G; JC]).
+ * JC, M, Mt, V: 36 doubles, row-major.
  * f_base, f_platform, n_base: 18 doubles, the 3 components (in {B}) of each leg in turn.
  * Jacobians (dtau_dx, ..., dxdd_dtau: 6 x 6; A: 12 x 12; B: 12 x 6) are row-major with
  * row = output, column = input: J[i * ncols + j] = d out_i / d in_j.  Every function
@@ -131,14 +131,14 @@ int stewart_leg_rates(const stewart_params *p, const double x[6], const double x
 int stewart_mass_matrix(const stewart_params *p, const double x[6], double M[36]);
 /* M_t, the symmetric positive definite twist-space mass matrix: M = M_t T. */
 int stewart_twist_mass_matrix(const stewart_params *p, const double x[6], double Mt[36]);
-/* V(x, xd). */
+/* V(x, xd), column by column: column j is V e_j. */
 int stewart_coriolis_matrix(const stewart_params *p, const double x[6], const double xd[6], double V[36]);
 /* V xd without forming V. */
 int stewart_coriolis_vector(const stewart_params *p, const double x[6], const double xd[6], double Vxd[6]);
 /* G(x). */
 int stewart_gravity_vector(const stewart_params *p, const double x[6], double G[6]);
-/* M, V xd, G and J_C in one pass: terms = [M (36); Vxd (6); G (6); JC (36)]. */
-int stewart_all_terms(const stewart_params *p, const double x[6], const double xd[6], double terms[84]);
+/* M, V xd, G and J_C of one state, the terms of M xdd + V xd + G = J_C^T tau. */
+int stewart_all_terms(const stewart_params *p, const double x[6], const double xd[6], double M[36], double Vxd[6], double G[6], double JC[36]);
 /* tau = J_C^-T (M xdd + V xd + G). */
 int stewart_inverse_dynamics(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6]);
 /* xdd = M^-1 (J_C^T tau - V xd - G); needs cos(theta) != 0. */
@@ -222,7 +222,7 @@ int stewart_batch_twist_mass_matrix(const stewart_params *p, size_t n, const dou
 int stewart_batch_coriolis_matrix(const stewart_params *p, size_t n, const double *x, const double *xd, double *V, int *status);
 int stewart_batch_coriolis_vector(const stewart_params *p, size_t n, const double *x, const double *xd, double *Vxd, int *status);
 int stewart_batch_gravity_vector(const stewart_params *p, size_t n, const double *x, double *G, int *status);
-int stewart_batch_all_terms(const stewart_params *p, size_t n, const double *x, const double *xd, double *terms, int *status);
+int stewart_batch_all_terms(const stewart_params *p, size_t n, const double *x, const double *xd, double *M, double *Vxd, double *G, double *JC, int *status);
 int stewart_batch_inverse_dynamics(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, int *status);
 int stewart_batch_forward_dynamics(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, int *status);
 int stewart_batch_inverse_dynamics_derivatives(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd, int *status);
@@ -236,29 +236,18 @@ int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const 
  *   leg_lengths                              187
  *   jacobian                                 271
  *   leg_rates                                345
- *   mass_matrix_axisym                      1705
- *   mass_matrix_frames                      1970
- *   mass_matrix_general                     2420
  *   twist_mass_matrix_axisym                1651
  *   twist_mass_matrix_frames                1921
  *   twist_mass_matrix_general               2377
- *   coriolis_matrix_axisym                  5097
- *   coriolis_matrix_frames                  6746
- *   coriolis_matrix_general                 8123
- *   coriolis_vector_axisym                  1717
- *   coriolis_vector_frames                  2211
- *   coriolis_vector_general                 2598
+ *   euler_maps                                15
+ *   coriolis_product_axisym                 1718
+ *   coriolis_product_frames                 2210
+ *   coriolis_product_general                2597
  *   gravity_vector                           397
  *   gravity_vector_general                   495
- *   all_terms_axisym                        3389
- *   all_terms_frames                        4076
- *   all_terms_general                       4846
  *   inverse_dynamics_axisym                 1835
  *   inverse_dynamics_frames                 2331
  *   inverse_dynamics_general                2712
- *   forward_dynamics_axisym                 3294
- *   forward_dynamics_frames                 3989
- *   forward_dynamics_general                4742
  *   leg_points                               585
  *   leg_points_general                       585
  *   leg_derivatives_axisym                  1404

@@ -45,7 +45,7 @@ cdef extern from "stewart_model.h" nogil:
     int stewart_coriolis_matrix(const stewart_params *p, const double *x, const double *xd, double *V)
     int stewart_coriolis_vector(const stewart_params *p, const double *x, const double *xd, double *Vxd)
     int stewart_gravity_vector(const stewart_params *p, const double *x, double *G)
-    int stewart_all_terms(const stewart_params *p, const double *x, const double *xd, double *terms)
+    int stewart_all_terms(const stewart_params *p, const double *x, const double *xd, double *M, double *Vxd, double *G, double *JC)
     int stewart_inverse_dynamics(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *tau)
     int stewart_forward_dynamics(const stewart_params *p, const double *x, const double *xd, const double *tau, double *xdd)
     int stewart_inverse_dynamics_derivatives(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd)
@@ -63,7 +63,7 @@ cdef extern from "stewart_model.h" nogil:
     int stewart_batch_coriolis_matrix(const stewart_params *p, size_t n, const double *x, const double *xd, double *V, int *status)
     int stewart_batch_coriolis_vector(const stewart_params *p, size_t n, const double *x, const double *xd, double *Vxd, int *status)
     int stewart_batch_gravity_vector(const stewart_params *p, size_t n, const double *x, double *G, int *status)
-    int stewart_batch_all_terms(const stewart_params *p, size_t n, const double *x, const double *xd, double *terms, int *status)
+    int stewart_batch_all_terms(const stewart_params *p, size_t n, const double *x, const double *xd, double *M, double *Vxd, double *G, double *JC, int *status)
     int stewart_batch_inverse_dynamics(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, int *status)
     int stewart_batch_forward_dynamics(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, int *status)
     int stewart_batch_inverse_dynamics_derivatives(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd, int *status)
@@ -91,7 +91,7 @@ cdef extern from "stewart_dispatch.h" nogil:
         int (*coriolis_matrix)(const stewart_params *p, const double *x, const double *xd, double *V) noexcept nogil
         int (*coriolis_vector)(const stewart_params *p, const double *x, const double *xd, double *Vxd) noexcept nogil
         int (*gravity_vector)(const stewart_params *p, const double *x, double *G) noexcept nogil
-        int (*all_terms)(const stewart_params *p, const double *x, const double *xd, double *terms) noexcept nogil
+        int (*all_terms)(const stewart_params *p, const double *x, const double *xd, double *M, double *Vxd, double *G, double *JC) noexcept nogil
         int (*inverse_dynamics)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *tau) noexcept nogil
         int (*forward_dynamics)(const stewart_params *p, const double *x, const double *xd, const double *tau, double *xdd) noexcept nogil
         int (*inverse_dynamics_derivatives)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd) noexcept nogil
@@ -108,7 +108,7 @@ cdef extern from "stewart_dispatch.h" nogil:
         int (*batch_coriolis_matrix)(const stewart_params *p, size_t n, const double *x, const double *xd, double *V, int *status) noexcept nogil
         int (*batch_coriolis_vector)(const stewart_params *p, size_t n, const double *x, const double *xd, double *Vxd, int *status) noexcept nogil
         int (*batch_gravity_vector)(const stewart_params *p, size_t n, const double *x, double *G, int *status) noexcept nogil
-        int (*batch_all_terms)(const stewart_params *p, size_t n, const double *x, const double *xd, double *terms, int *status) noexcept nogil
+        int (*batch_all_terms)(const stewart_params *p, size_t n, const double *x, const double *xd, double *M, double *Vxd, double *G, double *JC, int *status) noexcept nogil
         int (*batch_inverse_dynamics)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, int *status) noexcept nogil
         int (*batch_forward_dynamics)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, int *status) noexcept nogil
         int (*batch_inverse_dynamics_derivatives)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd, int *status) noexcept nogil

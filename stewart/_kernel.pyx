@@ -148,6 +148,8 @@ ctypedef int (*dynamics_fn)(const stewart_params *, const double *, const double
                             double *) noexcept nogil
 ctypedef int (*four_outputs_fn)(const stewart_params *, const double *, const double *, const double *,
                                double *, double *, double *, double *) noexcept nogil
+ctypedef int (*terms_fn)(const stewart_params *, const double *, const double *, double *, double *, double *,
+                         double *) noexcept nogil
 ctypedef int (*step_fn)(const stewart_params *, const double *, const double *, const double *, double,
                         double *, double *) noexcept nogil
 ctypedef int (*step_derivatives_fn)(const stewart_params *, const double *, const double *, const double *,
@@ -160,6 +162,8 @@ ctypedef int (*batch_dynamics_fn)(const stewart_params *, size_t, const double *
                                   const double *, double *, int *) noexcept nogil
 ctypedef int (*batch_four_outputs_fn)(const stewart_params *, size_t, const double *, const double *,
                                      const double *, double *, double *, double *, double *, int *) noexcept nogil
+ctypedef int (*batch_terms_fn)(const stewart_params *, size_t, const double *, const double *, double *, double *,
+                               double *, double *, int *) noexcept nogil
 ctypedef int (*batch_step_fn)(const stewart_params *, size_t, const double *, const double *, const double *,
                               double, double *, double *, int *) noexcept nogil
 ctypedef int (*batch_step_derivatives_fn)(const stewart_params *, size_t, const double *, const double *,
@@ -182,6 +186,7 @@ cdef enum Signature:
     FOUR_OUTPUTS = 4      # (p, x0, x1, x2, out0, out1, out2, out3)
     STEP = 5              # (p, x0, x1, x2, scalar, out0, out1)
     STEP_DERIVATIVES = 6  # (p, x0, x1, x2, scalar, out0, out1, out2, out3)
+    TERMS = 7             # (p, x0, x1, out0, out1, out2, out3)
 
 
 cdef cnp.ndarray _states(str name, object value):
@@ -228,6 +233,7 @@ _DERIVATIVES = ((6,), (6, 6), (6, 6), (6, 6))
 _STEP = ((6,), (6,))
 _JOINT_REACTIONS = ((6,), (6, 3), (6, 3), (6, 3))
 _STEP_DERIVATIVES = ((6,), (6,), (12, 12), (12, 6))
+_TERMS = ((6, 6), (6,), (6,), (6, 6))
 
 
 cdef inline void _batch_call(const stewart_params *p, int kind, void *fn, Py_ssize_t start, Py_ssize_t count,
@@ -250,6 +256,8 @@ cdef inline void _batch_call(const stewart_params *p, int kind, void *fn, Py_ssi
         (<batch_dynamics_fn>fn)(p, count, x0, x1, x2, o[0], status + start)
     elif kind == FOUR_OUTPUTS:
         (<batch_four_outputs_fn>fn)(p, count, x0, x1, x2, o[0], o[1], o[2], o[3], status + start)
+    elif kind == TERMS:
+        (<batch_terms_fn>fn)(p, count, x0, x1, o[0], o[1], o[2], o[3], status + start)
     elif kind == STEP:
         (<batch_step_fn>fn)(p, count, x0, x1, x2, scalar, o[0], o[1], status + start)
     else:
@@ -294,7 +302,7 @@ cdef class Kernel:
         cdef Py_ssize_t block
         cdef int failures = 0
         cdef int k, nout = len(shapes)
-        cdef int arity = kind if kind <= 3 else 3
+        cdef int arity = kind if kind <= 3 else 2 if kind == TERMS else 3
         cdef cnp.npy_intp dims[3]
         cdef int nd
 
@@ -407,6 +415,8 @@ cdef class Kernel:
             status[0] = (<dynamics_fn>fn)(&self.p, x0, x1, x2, o[0])
         elif kind == FOUR_OUTPUTS:
             status[0] = (<four_outputs_fn>fn)(&self.p, x0, x1, x2, o[0], o[1], o[2], o[3])
+        elif kind == TERMS:
+            status[0] = (<terms_fn>fn)(&self.p, x0, x1, o[0], o[1], o[2], o[3])
         elif kind == STEP:
             status[0] = (<step_fn>fn)(&self.p, x0, x1, x2, scalar, o[0], o[1])
         else:
@@ -469,10 +479,9 @@ cdef class Kernel:
                       return_mask, ((6,), (6,)))
 
     def all_terms(self, x, xd, return_mask=False):
-        """``(M, V xd, G, J_C)`` from the C function's one array ``[M; Vxd; G; JC]`` per row."""
-        return _parts(self._run("all_terms", 2, <void *>T.all_terms, ("x", "xd"), (x, xd), ((84,),), return_mask,
-                                0.0, <void *>T.batch_all_terms),
-                      return_mask, ((6, 6), (6,), (6,), (6, 6)))
+        """``(M, V xd, G, J_C)``."""
+        return self._run("all_terms", TERMS, <void *>T.all_terms, ("x", "xd"), (x, xd), _TERMS, return_mask,
+                         0.0, <void *>T.batch_all_terms)
 
     def mass_matrix(self, x, return_mask=False):
         return self._run("mass_matrix", 1, <void *>T.mass_matrix, ("x",), (x,), _MATRIX, return_mask,

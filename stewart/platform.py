@@ -172,8 +172,8 @@ class Platform:
 
     def all_terms(self, x, xd, *, return_mask=False):
         """The mass matrix ``M = M_t T``, ``V xdot``, ``G`` and ``J_C`` (eqs. 5, 19, 39, 51,
-        61, 69, 72-76) from one pass over the state's geometry, as an :class:`AllTerms`
-        (like Pinocchio's ``computeAllTerms``); each equals the method of its name."""
+        61, 69, 72-76) in one call, as an :class:`AllTerms` (like Pinocchio's
+        ``computeAllTerms``); each is the method of its name, bit for bit."""
         return _named(AllTerms, self._kernel.all_terms(x, xd, return_mask), return_mask)
 
     def inverse_dynamics(self, x, xd, xdd, *, return_mask=False):

@@ -61,10 +61,15 @@ def expressions() -> dict:
     model = _model()
     p = _param_symbols(model)
     kid = _expand_outputs(model.inverse_dynamics_kernel("axisym"))
-    kfd = _expand_outputs(model.forward_dynamics_kernel("axisym"))
+    mt = _expand_outputs(model.twist_mass_matrix_kernel("axisym"))["Mt"]
+    at_rest = {s: 0 for s in model.XDD}  # W at xdd = 0 is V xd + G
+    w0 = [e.xreplace(at_rest) for e in kid["W"]]
+    rhs = [sum(kid["JC"][6 * k + i] * model.TAU[k] for k in range(6)) - w0[i] for i in range(6)]
     return {
         "id": ([list(model.X), list(model.XD), list(model.XDD), p], [kid["W"], kid["JC"]]),
-        "fd": ([list(model.X), list(model.XD), list(model.TAU), p], [kfd["Mt"], kfd["rhs"], kfd["JAinv"]]),
+        "fd": ([list(model.X), list(model.XD), list(model.TAU), p],
+               [[mt[6 * i + j] for i in range(6) for j in range(i, 6)], rhs,
+                _expand_outputs(model.euler_maps_kernel())["JAinv"]]),
     }
 
 

@@ -77,6 +77,57 @@ static stewart_vl vpose_accelerations(const stewart_vd JAinv[9], int n, const st
     return vnone();
 }
 
+/* n zeros, over a block. */
+static stewart_vl vzero(stewart_vd *a, int n)
+{
+    int i;
+    for (i = 0; i < n; ++i)
+        a[i] = vsplat(0.0);
+    return vnone();
+}
+
+/* M = M_t T, T = blockdiag(E, J_A) (eq. 18), from M_t and J_A (row-major), over a block. */
+static stewart_vl vmass_matrix(const stewart_vd Mt[36], const stewart_vd JA[9], stewart_vd M[36])
+{
+    int i, j;
+    for (i = 0; i < 6; ++i) {
+        for (j = 0; j < 3; ++j) {
+            M[6 * i + j] = Mt[6 * i + j];
+            M[6 * i + 3 + j] = Mt[6 * i + 3] * JA[j] + Mt[6 * i + 4] * JA[3 + j] + Mt[6 * i + 5] * JA[6 + j];
+        }
+    }
+    return vnone();
+}
+
+/* rhs = J_C^T tau - W (J_C row-major), over a block. */
+static stewart_vl vforward_rhs(const stewart_vd JC[36], const stewart_vd tau[6], const stewart_vd W[6], stewart_vd rhs[6])
+{
+    int i;
+    for (i = 0; i < 6; ++i)
+        rhs[i] = JC[i] * tau[0] + JC[6 + i] * tau[1] + JC[12 + i] * tau[2] + JC[18 + i] * tau[3]
+            + JC[24 + i] * tau[4] + JC[30 + i] * tau[5] - W[i];
+    return vnone();
+}
+
+/* The 6 x 6 identity in every lane: its rows e_0, ..., e_5 (row-major). */
+static stewart_vl videntity(stewart_vd E[36])
+{
+    int i;
+    for (i = 0; i < 36; ++i)
+        E[i] = vsplat(i % 7 == 0 ? 1.0 : 0.0);
+    return vnone();
+}
+
+/* B = A^T of a 6 x 6 matrix (row-major), over a block. */
+static stewart_vl vtranspose(const stewart_vd A[36], stewart_vd B[36])
+{
+    int i, j;
+    for (i = 0; i < 6; ++i)
+        for (j = 0; j < 6; ++j)
+            B[6 * j + i] = A[6 * i + j];
+    return vnone();
+}
+
 /* A block function: the outputs out[j] (size[j] vectors each) of the block of states whose
  * inputs are in[i] (6 vectors each), with the function's scalar input (if it has one);
  * returns each lane's status. */

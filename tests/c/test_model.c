@@ -138,7 +138,6 @@ BATCHED_1(twist_mass_matrix)
 BATCHED_2(coriolis_matrix)
 BATCHED_2(coriolis_vector)
 BATCHED_1(gravity_vector)
-BATCHED_2(all_terms)
 BATCHED_3(inverse_dynamics)
 BATCHED_3(forward_dynamics)
 BATCHED_3(regressor)
@@ -196,6 +195,23 @@ static int batch_rk4_step(const stewart_params *p, size_t n, const double *const
     for (size_t r = 0; r < n; ++r) {
         memcpy(out + 12 * r, xn + 6 * r, sizeof(double[6]));
         memcpy(out + 12 * r + 6, xdn + 6 * r, sizeof(double[6]));
+    }
+    return first;
+}
+
+/* The terms of the equation of motion, [M; Vxd; G; JC] (84 doubles) a row. */
+static int row_all_terms(const stewart_params *p, const double *const *in, double *out) {
+    return stewart_all_terms(p, in[0], in[1], out, out + 36, out + 42, out + 48);
+}
+
+static int batch_all_terms(const stewart_params *p, size_t n, const double *const *in, double *out, int *status) {
+    static double M[MAX_ROWS * 36], Vxd[MAX_ROWS * 6], G[MAX_ROWS * 6], JC[MAX_ROWS * 36];
+    int first = stewart_batch_all_terms(p, n, in[0], in[1], M, Vxd, G, JC, status);
+    for (size_t r = 0; r < n; ++r) {
+        memcpy(out + 84 * r, M + 36 * r, sizeof(double[36]));
+        memcpy(out + 84 * r + 36, Vxd + 6 * r, sizeof(double[6]));
+        memcpy(out + 84 * r + 42, G + 6 * r, sizeof(double[6]));
+        memcpy(out + 84 * r + 48, JC + 36 * r, sizeof(double[36]));
     }
     return first;
 }
@@ -339,7 +355,7 @@ int main(void) {
         check_values("coriolis_vector", rc->name, st, out, rc->Vxd, 6, &worst);
         st = stewart_gravity_vector(p, rc->x, out);
         check_values("gravity_vector", rc->name, st, out, rc->G, 6, &worst);
-        st = stewart_all_terms(p, rc->x, rc->xd, terms);
+        st = stewart_all_terms(p, rc->x, rc->xd, terms, terms + 36, terms + 42, terms + 48);
         check_values("all_terms: M", rc->name, st, terms, rc->M, 36, &worst);
         check_values("all_terms: Vxd", rc->name, st, terms + 36, rc->Vxd, 6, &worst);
         check_values("all_terms: G", rc->name, st, terms + 42, rc->G, 6, &worst);
