@@ -6,7 +6,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 INSTALLED := $(VENV)/.installed
 KERNEL := build/.kernel-built
-KERNEL_SOURCES := stewart/_kernel.pyx stewart/_kernel.pxd stewart/_simulate.pyx stewart/_envelope.pyx \
+KERNEL_SOURCES := stewart/_kernel.pyx stewart/_kernel.pxd stewart/_simulate.pxi stewart/_envelope.pxi \
 	$(wildcard generated/*) setup.py
 # The build's first copy of the model (setup.py's MODEL_LIBRARY), which the C test links.
 MODEL_LIBRARY := build/libstewart_model.a

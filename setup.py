@@ -175,12 +175,10 @@ FLAGS = dict(
 )
 
 extensions = [
-    # The model's array wrapper, linked with the copies of the model (BuildKernel).
+    # The model's array wrapper with the simulation loop and the envelope's reduction
+    # (stewart/_simulate.pxi, stewart/_envelope.pxi, included), linked with the copies of the
+    # model (BuildKernel).
     Extension("stewart._kernel", sources=["stewart/_kernel.pyx"], **FLAGS),
-    # The simulation loop, which calls the model through the kernel's C-level methods.
-    Extension("stewart._simulate", sources=["stewart/_simulate.pyx"], **FLAGS),
-    # The envelope's reduction of a batch of states, through the same C-level methods.
-    Extension("stewart._envelope", sources=["stewart/_envelope.pyx"], **FLAGS),
 ]
 
 # generated/stewart_model.pxd, the model's Cython declarations, is cimported by stewart/_kernel.pxd.

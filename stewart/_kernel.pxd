@@ -1,4 +1,4 @@
-# Declarations shared with the other Cython modules (stewart._simulate, stewart._envelope).
+# The declarations of stewart._kernel (its Kernel, whose C-level methods the included loops call).
 cimport cython
 cimport numpy as cnp
 

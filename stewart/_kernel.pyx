@@ -10,6 +10,11 @@ through the C batch function (``batch_<name>``, ``LANES`` states per vector inst
 single state through the single-state one (the batch function on one row). All the
 mathematics is in the generated C.
 
+Two loops that call the model without Python per state are part of the module (included
+from their own files, so that the extension compiles Cython's support code once): the
+simulator's closed loop (stewart/_simulate.pxi: ``ClosedLoop``) and the envelope's running
+peaks (stewart/_envelope.pxi: ``Peaks``, ``box_states``).
+
 The C functions are called through a table (generated/stewart_dispatch.h): the build
 compiles the model once per instruction set, and the import picks the copy this CPU runs
 best, or the one ``STEWART_SIMD`` names.
@@ -578,3 +583,7 @@ cdef class _Blocks:
                 _batch_call(&self.kernel.p, self.kind, self.fn, start, min(self.block, self.n - start),
                             self.p0, self.p1, self.p2, self.scalar, self.nout, self.po, self.widths, self.ps)
                 start += step * self.block
+
+
+include "_simulate.pxi"
+include "_envelope.pxi"

@@ -1,6 +1,6 @@
 """Controllers and actuator models for :func:`stewart.simulate`.
 
-The control laws themselves run in the compiled loop (``stewart._simulate``); these
+The control laws themselves run in the compiled loop (``stewart._kernel.ClosedLoop``); these
 classes hold and document their gains, and each tells the loop which law it is
 (:meth:`Controller.loop_settings`) and where its integral starts.
 
@@ -23,7 +23,7 @@ from typing import ClassVar
 import numpy as np
 
 from . import _checks, conditions
-from ._simulate import Mode
+from ._kernel import Mode
 from .params import PlatformParams
 from .platform import Platform, checked_platform
 

@@ -34,7 +34,7 @@ A motion specification is
 
 The states are generated and reduced chunk by chunk (:mod:`stewart.execution`), locally or
 on a Dask cluster (``client=``), with the same result for the same seed. Within a chunk the
-compiled model evaluates them and keeps the running peaks in C (:mod:`stewart._envelope`),
+compiled model evaluates them and keeps the running peaks in C (:class:`stewart._kernel.Peaks`),
 a box's states generated there too, so that no array is allocated per state.
 """
 
@@ -49,7 +49,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import _checks, _envelope, execution
+from . import _checks, _kernel, execution
 from .errors import WrongTypeError
 from .execution import Peak
 from .params import PlatformParams, checked_params
@@ -59,9 +59,9 @@ __all__ = ["Box", "Trajectories", "Envelope", "envelope", "QUANTITIES", "AXES"]
 #: The pose coordinates, in the order of a state, with their units.
 AXES = (("x", "m"), ("y", "m"), ("z", "m"), ("psi", "rad"), ("theta", "rad"), ("phi", "rad"))
 
-#: The enveloped quantities (each one column per leg, in the order stewart._envelope computes
-#: them), with their units.
-QUANTITIES = tuple(zip(_envelope.QUANTITIES, ("N", "m/s", "W", "N", "N"), strict=True))
+#: The enveloped quantities (each one column per leg, in the order stewart._kernel.Peaks
+#: computes them), with their units.
+QUANTITIES = tuple(zip(_kernel.PEAK_QUANTITIES, ("N", "m/s", "W", "N", "N"), strict=True))
 
 _LABELS = {"force": "actuator force |tau|", "velocity": "leg velocity |Ldot|", "power": "actuator power |tau Ldot|",
            "universal_joint": "universal-joint force", "spherical_joint": "spherical-joint force"}
@@ -148,11 +148,11 @@ class Box:
 
     def states(self, chunk: execution.Chunk):
         """The chunk's samples ``(x, xd, xdd)``: uniform poses, velocities and accelerations at
-        random vertices (:func:`stewart._envelope.box_states` of :meth:`draws`)."""
-        return _envelope.box_states(*self.draws(chunk), self)
+        random vertices (:func:`stewart._kernel.box_states` of :meth:`draws`)."""
+        return _kernel.box_states(*self.draws(chunk), self)
 
     def add_to(self, peaks, chunk: execution.Chunk) -> None:
-        """Evaluate the chunk's samples into ``peaks`` (:class:`stewart._envelope.Peaks`),
+        """Evaluate the chunk's samples into ``peaks`` (:class:`stewart._kernel.Peaks`),
         generating them as it goes from the draws of :meth:`draws` (the uniform numbers into
         this thread's buffer, :func:`_uniforms`)."""
         rng = chunk.rng()
@@ -264,7 +264,7 @@ class Trajectories:
         return tuple(np.concatenate(arrays) for arrays in zip(*parts))
 
     def add_to(self, peaks, chunk: execution.Chunk) -> None:
-        """Evaluate the chunk's samples into ``peaks`` (:class:`stewart._envelope.Peaks`)."""
+        """Evaluate the chunk's samples into ``peaks`` (:class:`stewart._kernel.Peaks`)."""
         peaks.add(*(np.ascontiguousarray(a, dtype=float) for a in self.states(chunk)), chunk.start)
 
 
@@ -276,7 +276,7 @@ class _EnvelopeJob:
     spec: Box | Trajectories
 
     def __call__(self, chunk: execution.Chunk):
-        peaks = _envelope.Peaks(_platform(self.params)._kernel, self.params.leg_length_limits)
+        peaks = _kernel.Peaks(_platform(self.params)._kernel, self.params.leg_length_limits)
         self.spec.add_to(peaks, chunk)
         return {"peak": Peak(peaks.value, peaks.state, peaks.index), "states": chunk.size,
                 "outside_stroke": peaks.outside, "singular": peaks.singular}

@@ -19,7 +19,7 @@ import numpy as np
 
 from . import _checks, csvfile
 from ._kernel import status_message
-from ._simulate import ClosedLoop, Outcome
+from ._kernel import ClosedLoop, Outcome
 from .control import PID, Actuators, Controller
 from .platform import Platform, checked_platform
 from .workspace import WorkspaceError, assembly_mode, reachability

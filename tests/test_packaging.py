@@ -44,11 +44,11 @@ SUPPORTED = ("3.11", "3.12", "3.13")
 RUNNING = "%d.%d" % sys.version_info[:2]
 #: What a build needs, as paths inside the sdist (after its ``stewart-<version>/`` prefix).
 SDIST_NEEDS = {"setup.py", "pyproject.toml", "MANIFEST.in", "README.md", "LICENSE",
-               "stewart/_kernel.pyx", "stewart/_kernel.pxd", "stewart/_simulate.pyx", "stewart/_envelope.pyx",
+               "stewart/_kernel.pyx", "stewart/_kernel.pxd", "stewart/_simulate.pxi", "stewart/_envelope.pxi",
                "generated/stewart_model.h", "generated/stewart_model.c", "generated/stewart_model.pxd",
                "generated/stewart_dispatch.h", "generated/stewart_target.c"}
 #: Cython's C translation of the .pyx: written at build time, shipped in neither.
-CYTHON_OUTPUT = {"stewart/_kernel.c", "stewart/_simulate.c", "stewart/_envelope.c"}
+CYTHON_OUTPUT = {"stewart/_kernel.c"}
 
 
 #: Files setuptools adds to an sdist: its metadata.
@@ -171,9 +171,8 @@ def test_wheel_holds_the_c_model_and_no_cython_output(dists):
         names = set(wheel.namelist())
     assert {"stewart/generated/stewart_model.h", "stewart/generated/stewart_model.c"} <= names
     assert not names & CYTHON_OUTPUT
-    assert not [n for n in names if n.endswith((".pyx", ".pxd", ".html"))]
-    for module in ("_kernel", "_simulate", "_envelope"):
-        assert [n for n in names if n.startswith(f"stewart/{module}.") and n.endswith(".so")], module
+    assert not [n for n in names if n.endswith((".pyx", ".pxi", ".pxd", ".html"))]
+    assert [n for n in names if n.startswith("stewart/_kernel.") and n.endswith(".so")]
     assert [n for n in names if n.endswith(".dist-info/licenses/LICENSE")]
 
 

@@ -521,7 +521,7 @@ def test_condition_check_agrees_with_the_svd(plat):
 
 
 def test_compiled_loop_refuses_buffers_too_small(plat):
-    from stewart._simulate import ClosedLoop
+    from stewart._kernel import ClosedLoop
 
     no_friction = (np.zeros(6), np.zeros(6), 1e-3)
     loop = ClosedLoop(plat._kernel, 1, np.ones(6), np.zeros(6), np.ones(6), np.full(6, np.inf), no_friction, no_friction)

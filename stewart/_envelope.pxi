@@ -1,35 +1,28 @@
-# cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True, initializedcheck=False
-"""The peaks of an envelope, reduced in C as the kernel evaluates the states.
+# The peaks of an envelope, reduced in C as the kernel evaluates the states (included by
+# stewart/_kernel.pyx: stewart._kernel.Peaks and box_states).
+#
+# Per state and leg: the actuator force ``|tau_i|``, the leg velocity ``|Ldot_i|``, the power
+# ``|tau_i Ldot_i|`` and the magnitudes of the joint forces at B_i and P_i (the kernel's
+# ``batch_leg_rates`` and ``batch_joint_reactions``, a few dozen rows at a time into buffers on
+# the stack), kept as a running maximum with the state where it occurs. Nothing is allocated
+# per state, so the work runs without the GIL and at the same speed in any process, whatever
+# its allocator settings (Dask's workers give the heap back after nearly every large free).
 
-Per state and leg: the actuator force ``|tau_i|``, the leg velocity ``|Ldot_i|``, the power
-``|tau_i Ldot_i|`` and the magnitudes of the joint forces at B_i and P_i (the kernel's
-``batch_leg_rates`` and ``batch_joint_reactions``, a few dozen rows at a time into buffers on
-the stack), kept as a running maximum with the state where it occurs. Nothing is allocated
-per state, so the work runs without the GIL and at the same speed in any process, whatever
-its allocator settings (Dask's workers give the heap back after nearly every large free).
-"""
-
-cimport cython
 from libc.math cimport INFINITY, NAN, fabs, sqrt
 
-import numpy as np
-
-from . import _checks
-from ._kernel cimport Kernel, STEWART_OK, STEWART_ERR_NONFINITE
-
 #: The quantities, in the order of their columns (each one column per leg).
-QUANTITIES = ("force", "velocity", "power", "universal_joint", "spherical_joint")
+PEAK_QUANTITIES = ("force", "velocity", "power", "universal_joint", "spherical_joint")
 
 cdef enum:
     LEGS = 6
-    COLUMNS = 30  # LEGS * len(QUANTITIES)
+    COLUMNS = 30  # LEGS * len(PEAK_QUANTITIES)
     # States per call of the batch functions: their outputs (72 doubles a state) stay in L1/L2.
     ROWS = 64
 
 
 @cython.final
 cdef class Peaks:
-    """The running peaks of the :data:`QUANTITIES` of each leg over the states added so far
+    """The running peaks of the :data:`PEAK_QUANTITIES` of each leg over the states added so far
     (:meth:`add`, :meth:`add_box`), for the compiled model ``kernel`` and the stroke ``limits``
     (``(shortest, longest)`` or None): ``value`` ``(30,)`` (quantity-major, leg-minor; ``-inf``
     while no state counted), ``index`` ``(30,)`` the study index of the first state where it

@@ -1,17 +1,12 @@
-# cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True, initializedcheck=False
-"""The closed-loop equations of motion and a fixed-step RK4 loop, with no Python per step.
+# The closed-loop equations of motion and a fixed-step RK4 loop, with no Python per step
+# (included by stewart/_kernel.pyx: stewart._kernel.ClosedLoop).
+#
+# State ``y = [x (6), xdot (6), integral of the leg-length error (6)]``. The controller
+# (joint-space PID or task-space computed torque, which also cancels the model's friction),
+# force saturation and actuator friction are evaluated at every RK4 stage, so the closed
+# loop is one smooth ODE. All model evaluations go to the compiled kernel (``Kernel``).
 
-State ``y = [x (6), xdot (6), integral of the leg-length error (6)]``. The controller
-(joint-space PID or task-space computed torque, which also cancels the model's friction),
-force saturation and actuator friction are evaluated at every RK4 stage, so the closed
-loop is one smooth ODE. All model evaluations go to the compiled kernel
-(:class:`stewart._kernel.Kernel`).
-"""
-
-cimport cython
-from libc.math cimport fabs, isfinite, tanh
-
-from ._kernel cimport Kernel, STEWART_OK
+from libc.math cimport isfinite, tanh
 
 cpdef enum Mode:
     # The control law the loop evaluates (each controller of stewart.control names its own).
@@ -128,7 +123,6 @@ cdef class ClosedLoop:
 
     def derivative(self, double[::1] y, double[::1] ref, double[::1] feedforward):
         """``(ydot, commanded force, L, Ldot, status)`` at one state (for adaptive integrators)."""
-        import numpy as np
         if y.shape[0] != 18 or ref.shape[0] != 18 or feedforward.shape[0] != 6:
             raise ValueError("derivative: need y (18,), ref (18,) and feedforward (6,)")
         ydot = np.empty(18)
