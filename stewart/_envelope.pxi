@@ -9,6 +9,7 @@
 # its allocator settings (Dask's workers give the heap back after nearly every large free).
 
 from libc.math cimport INFINITY, NAN, fabs, sqrt
+from libc.string cimport memcpy
 
 #: The quantities, in the order of their columns (each one column per leg).
 PEAK_QUANTITIES = ("force", "velocity", "power", "universal_joint", "spherical_joint")
@@ -50,23 +51,23 @@ cdef class Peaks:
 
     @property
     def value(self):
-        return np.array(<double[:COLUMNS]>self._value)
+        return _copy_of(self._value, COLUMNS, np.float64)
 
     @property
     def index(self):
-        return np.array(<Py_ssize_t[:COLUMNS]>self._index, dtype=np.intp)
+        return _copy_of(self._index, COLUMNS, np.intp)
 
     @property
     def state(self):
-        return np.array(<double[:COLUMNS * 18]>self._state).reshape(COLUMNS, 18)
+        return _copy_of(self._state, (COLUMNS, 18), np.float64)
 
     def add(self, x, xd, xdd, Py_ssize_t start):
         """Take the rows of ``x, xd, xdd`` (float64, C-contiguous ``(n, 6)``), the states
         ``start`` to ``start + n - 1`` of the study. ``ValueError`` naming the argument for a
         row that is not finite."""
-        cdef const double[:, ::1] cx = x
-        cdef const double[:, ::1] cxd = xd
-        cdef const double[:, ::1] cxdd = xdd
+        cdef cnp.ndarray cx = _c_array("x", x, cnp.NPY_DOUBLE, 2, False)
+        cdef cnp.ndarray cxd = _c_array("xd", xd, cnp.NPY_DOUBLE, 2, False)
+        cdef cnp.ndarray cxdd = _c_array("xdd", xdd, cnp.NPY_DOUBLE, 2, False)
         cdef Py_ssize_t n = cx.shape[0]
         if cxd.shape[0] != n or cxdd.shape[0] != n or cx.shape[1] != 6 or cxd.shape[1] != 6 or cxdd.shape[1] != 6:
             raise ValueError(f"x, xd, xdd: need three (n, 6) arrays, got {np.shape(x)}, {np.shape(xd)}, "
@@ -74,7 +75,8 @@ cdef class Peaks:
         cdef bint nonfinite = False
         if n:
             with nogil:
-                nonfinite = self._add(&cx[0, 0], &cxd[0, 0], &cxdd[0, 0], n, start)
+                nonfinite = self._add(<const double *>cnp.PyArray_DATA(cx), <const double *>cnp.PyArray_DATA(cxd),
+                                      <const double *>cnp.PyArray_DATA(cxdd), n, start)
         if nonfinite:
             for name, arr in (("x", x), ("xd", xd), ("xdd", xdd)):
                 _checks.finite_states(name, arr)
@@ -84,18 +86,18 @@ cdef class Peaks:
         (``(n, 6)`` uniform numbers in [0, 1)) and ``bits`` (``(n,)`` integers, 12 random bits
         each), the states ``start`` to ``start + n - 1`` of the study (:func:`box_states`),
         generated here a few dozen at a time."""
-        cdef const double[:, ::1] cu = u
-        cdef const unsigned short[::1] cbits = bits
+        cdef const double *pu
+        cdef const unsigned short *pbits
         cdef _Bounds bounds
         cdef double x[ROWS * 6]
         cdef double xd[ROWS * 6]
         cdef double xdd[ROWS * 6]
-        cdef Py_ssize_t n = _box_arguments(cu, cbits, box, &bounds)
+        cdef Py_ssize_t n = _box_arguments(u, bits, box, &bounds, &pu, &pbits)
         cdef Py_ssize_t first = 0, count
         with nogil:
             while first < n:
                 count = min(<Py_ssize_t>ROWS, n - first)
-                _box_rows(&cu[first, 0], &cbits[first], count, &bounds, x, xd, xdd)
+                _box_rows(pu + 6 * first, pbits + first, count, &bounds, x, xd, xdd)
                 self._add(x, xd, xdd, count, start + first)
                 first += count
 
@@ -163,16 +165,13 @@ def box_states(u, bits, box):
     ``k`` (bit ``6 + k``) set for ``+velocity[k]`` (``+acceleration[k]``), clear for the
     negative bound: a random vertex of each rate box. :meth:`Peaks.add_box` evaluates the
     same states without storing them."""
-    cdef const double[:, ::1] cu = u
-    cdef const unsigned short[::1] cbits = bits
+    cdef const double *pu
+    cdef const unsigned short *pbits
     cdef _Bounds bounds
-    cdef Py_ssize_t n = _box_arguments(cu, cbits, box, &bounds)
-    x, xd, xdd = np.empty((n, 6)), np.empty((n, 6)), np.empty((n, 6))
-    cdef double[:, ::1] cx = x
-    cdef double[:, ::1] cxd = xd
-    cdef double[:, ::1] cxdd = xdd
-    if n:
-        _box_rows(&cu[0, 0], &cbits[0], n, &bounds, &cx[0, 0], &cxd[0, 0], &cxdd[0, 0])
+    cdef Py_ssize_t n = _box_arguments(u, bits, box, &bounds, &pu, &pbits)
+    cdef cnp.ndarray x = np.empty((n, 6)), xd = np.empty((n, 6)), xdd = np.empty((n, 6))
+    _box_rows(pu, pbits, n, &bounds, <double *>cnp.PyArray_DATA(x), <double *>cnp.PyArray_DATA(xd),
+              <double *>cnp.PyArray_DATA(xdd))
     return x, xd, xdd
 
 
@@ -184,18 +183,30 @@ cdef struct _Bounds:
     double acceleration[6]
 
 
-cdef Py_ssize_t _box_arguments(const double[:, ::1] u, const unsigned short[::1] bits, box,
-                               _Bounds *bounds) except -1:
-    """The bounds of ``box``; the number of draws, checked."""
+cdef Py_ssize_t _box_arguments(u, bits, box, _Bounds *bounds, const double **pu,
+                               const unsigned short **pbits) except -1:
+    """The bounds of ``box``, and the data of the draws ``u`` (C-contiguous float64) and ``bits``
+    (C-contiguous uint16), which stay the caller's; the number of draws, checked."""
     cdef int k
-    if u.shape[1] != 6 or bits.shape[0] != u.shape[0]:
-        raise ValueError(f"u, bits: need (n, 6) and (n,) arrays, got {(u.shape[0], u.shape[1])} and {bits.shape[0]}")
+    cdef cnp.ndarray cu = _c_array("u", u, cnp.NPY_DOUBLE, 2, False)
+    cdef cnp.ndarray cbits = _c_array("bits", bits, cnp.NPY_USHORT, 1, False)
+    if cu.shape[1] != 6 or cbits.shape[0] != cu.shape[0]:
+        raise ValueError(f"u, bits: need (n, 6) and (n,) arrays, got {np.shape(u)} and {np.shape(bits)}")
     for k in range(6):
         bounds.lower[k] = box.lower[k]
         bounds.width[k] = box.upper[k] - box.lower[k]
         bounds.velocity[k] = box.velocity[k]
         bounds.acceleration[k] = box.acceleration[k]
-    return u.shape[0]
+    pu[0] = <const double *>cnp.PyArray_DATA(cu)
+    pbits[0] = <const unsigned short *>cnp.PyArray_DATA(cbits)
+    return cu.shape[0]
+
+
+cdef cnp.ndarray _copy_of(const void *data, shape, dtype):
+    """A new array of ``shape`` and ``dtype`` holding a copy of ``data``."""
+    cdef cnp.ndarray out = np.empty(shape, dtype)
+    memcpy(cnp.PyArray_DATA(out), data, cnp.PyArray_NBYTES(out))
+    return out
 
 
 cdef inline void _box_rows(const double *u, const unsigned short *bits, Py_ssize_t n, const _Bounds *b, double *x,

@@ -209,6 +209,21 @@ cdef cnp.ndarray _states(str name, object value):
     return np.require(_checks.state_array(name, value), np.float64, "CA")
 
 
+cdef cnp.ndarray _c_array(str name, object value, int typenum, int ndim, bint writable):
+    """``value`` as it is, an array that C reads (and writes, if ``writable``) through its data
+    pointer: an ndarray of the type ``typenum`` with ``ndim`` dimensions, C-contiguous, aligned,
+    in native byte order. Anything else is a ValueError naming the argument ``name``."""
+    cdef cnp.ndarray arr
+    if isinstance(value, cnp.ndarray):
+        arr = <cnp.ndarray>value
+        if (arr.ndim == ndim and cnp.PyArray_TYPE(arr) == typenum and cnp.PyArray_IS_C_CONTIGUOUS(arr)
+                and (cnp.PyArray_ISBEHAVED(arr) if writable else cnp.PyArray_ISBEHAVED_RO(arr))):
+            return arr
+    raise ValueError(f"{name}: need a {'writable ' if writable else ''}C-contiguous, aligned ndarray of "
+                     f"{cnp.PyArray_DescrFromType(typenum)} with {ndim} dimension(s), got {type(value).__name__} "
+                     f"{np.shape(value)}")
+
+
 cdef inline bint _finite6(const double *v) noexcept nogil:
     cdef int k
     for k in range(6):

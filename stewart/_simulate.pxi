@@ -121,30 +121,56 @@ cdef class ClosedLoop:
             ydot[k] = y[6 + k]
         return self.kernel.forward_dynamics_c(y, y + 6, applied, ydot + 6)
 
-    def derivative(self, double[::1] y, double[::1] ref, double[::1] feedforward):
-        """``(ydot, commanded force, L, Ldot, status)`` at one state (for adaptive integrators)."""
-        if y.shape[0] != 18 or ref.shape[0] != 18 or feedforward.shape[0] != 6:
+    def derivative(self, y, ref, feedforward):
+        """``(ydot, commanded force, L, Ldot, status)`` at one state (for adaptive integrators);
+        the arguments are C-contiguous float64 arrays."""
+        cdef cnp.ndarray cy = _c_array("y", y, cnp.NPY_DOUBLE, 1, False)
+        cdef cnp.ndarray cref = _c_array("ref", ref, cnp.NPY_DOUBLE, 1, False)
+        cdef cnp.ndarray cff = _c_array("feedforward", feedforward, cnp.NPY_DOUBLE, 1, False)
+        if cy.shape[0] != 18 or cref.shape[0] != 18 or cff.shape[0] != 6:
             raise ValueError("derivative: need y (18,), ref (18,) and feedforward (6,)")
-        ydot = np.empty(18)
-        out = np.empty((3, 6))
-        cdef double[::1] yd = ydot
-        cdef double[:, ::1] o = out
-        cdef int status = self.rhs(&y[0], &ref[0], &feedforward[0], &yd[0], &o[0, 0], &o[1, 0], &o[2, 0])
+        cdef cnp.ndarray ydot = np.empty(18)
+        cdef cnp.ndarray out = np.empty((3, 6))
+        cdef double *o = <double *>cnp.PyArray_DATA(out)
+        cdef int status = self.rhs(<const double *>cnp.PyArray_DATA(cy), <const double *>cnp.PyArray_DATA(cref),
+                                   <const double *>cnp.PyArray_DATA(cff), <double *>cnp.PyArray_DATA(ydot),
+                                   o, o + 6, o + 12)
         return ydot, out[0], out[1], out[2], status
 
-    def rk4(self, double[::1] y, const double[:, ::1] refs, const double[:, ::1] feedforward,
-            double dt, Py_ssize_t start, Py_ssize_t stop, double min_length, double max_length,
-            double[:, ::1] states, double[:, ::1] forces, double[:, ::1] lengths, double[:, ::1] rates):
+    def rk4(self, y, refs, feedforward, double dt, Py_ssize_t start, Py_ssize_t stop, double min_length,
+            double max_length, states, forces, lengths, rates):
         """Advance ``y`` in place from step ``start`` to ``stop`` with classic RK4.
 
         ``refs`` and ``feedforward`` are sampled on the half-step grid (row ``2k`` at
-        ``t_k``, ``2k + 1`` at ``t_k + dt/2``). Row ``k`` of the outputs receives the
-        state, commanded actuator forces (before saturation), leg lengths and leg rates at
-        ``t_k``. Buffers too small for the steps asked for raise ``ValueError``. Returns
-        ``(outcome, step, leg)``: the step at which the run stopped (``stop`` when it ran
-        through) and, for a stroke limit, the leg; the outcome is ``STOP_FINISHED``, a
-        ``STOP_*`` code or the kernel's status code.
+        ``t_k``, ``2k + 1`` at ``t_k + dt/2``). Row ``k`` of the outputs ``states``, ``forces``,
+        ``lengths`` and ``rates`` receives the state, commanded actuator forces (before
+        saturation), leg lengths and leg rates at ``t_k``. Every array is C-contiguous float64,
+        ``y`` and the outputs writable. Buffers too small for the steps asked for raise
+        ``ValueError``. Returns ``(outcome, step, leg)``: the step at which the run stopped
+        (``stop`` when it ran through) and, for a stroke limit, the leg; the outcome is
+        ``STOP_FINISHED``, a ``STOP_*`` code or the kernel's status code.
         """
+        cdef cnp.ndarray cy = _c_array("y", y, cnp.NPY_DOUBLE, 1, True)
+        cdef cnp.ndarray crefs = _c_array("refs", refs, cnp.NPY_DOUBLE, 2, False)
+        cdef cnp.ndarray cff = _c_array("feedforward", feedforward, cnp.NPY_DOUBLE, 2, False)
+        cdef cnp.ndarray cstates = _c_array("states", states, cnp.NPY_DOUBLE, 2, True)
+        cdef cnp.ndarray cforces = _c_array("forces", forces, cnp.NPY_DOUBLE, 2, True)
+        cdef cnp.ndarray clengths = _c_array("lengths", lengths, cnp.NPY_DOUBLE, 2, True)
+        cdef cnp.ndarray crates = _c_array("rates", rates, cnp.NPY_DOUBLE, 2, True)
+        if not (0 <= start <= stop and cy.shape[0] == 18 and crefs.shape[0] >= 2 * stop + 1
+                and crefs.shape[1] == 18 and cff.shape[0] >= 2 * stop + 1 and cff.shape[1] == 6
+                and cstates.shape[0] >= stop and cstates.shape[1] == 18
+                and cforces.shape[0] >= stop and cforces.shape[1] == 6 and clengths.shape[0] >= stop
+                and clengths.shape[1] == 6 and crates.shape[0] >= stop and crates.shape[1] == 6):
+            raise ValueError("rk4: the buffers do not hold the steps asked for")
+        # Rows of 18 (y, refs, states) or 6 (feedforward, the other outputs) doubles.
+        cdef double *py = <double *>cnp.PyArray_DATA(cy)
+        cdef const double *prefs = <const double *>cnp.PyArray_DATA(crefs)
+        cdef const double *pff = <const double *>cnp.PyArray_DATA(cff)
+        cdef double *pstates = <double *>cnp.PyArray_DATA(cstates)
+        cdef double *pforces = <double *>cnp.PyArray_DATA(cforces)
+        cdef double *plengths = <double *>cnp.PyArray_DATA(clengths)
+        cdef double *prates = <double *>cnp.PyArray_DATA(crates)
         cdef double k1[18]
         cdef double k2[18]
         cdef double k3[18]
@@ -154,46 +180,40 @@ cdef class ClosedLoop:
         cdef double Lnew[6]
         cdef Py_ssize_t n, i, j
         cdef int status = 0, leg = -1
-        if not (0 <= start <= stop and y.shape[0] == 18 and refs.shape[0] >= 2 * stop + 1 and refs.shape[1] == 18
-                and feedforward.shape[0] >= 2 * stop + 1 and feedforward.shape[1] == 6
-                and states.shape[0] >= stop and states.shape[1] == 18
-                and forces.shape[0] >= stop and forces.shape[1] == 6 and lengths.shape[0] >= stop
-                and lengths.shape[1] == 6 and rates.shape[0] >= stop and rates.shape[1] == 6):
-            raise ValueError("rk4: the buffers do not hold the steps asked for")
         with nogil:
             for n in range(start, stop):
                 for j in range(18):
-                    states[n, j] = y[j]
-                status = self.rhs(&y[0], &refs[2 * n, 0], &feedforward[2 * n, 0], k1,
-                                  &forces[n, 0], &lengths[n, 0], &rates[n, 0])
+                    pstates[18 * n + j] = py[j]
+                status = self.rhs(py, prefs + 18 * (2 * n), pff + 6 * (2 * n), k1,
+                                  pforces + 6 * n, plengths + 6 * n, prates + 6 * n)
                 if status != STEWART_OK:
                     break
                 for j in range(18):
-                    tmp[j] = y[j] + 0.5 * dt * k1[j]
-                status = self.rhs(tmp, &refs[2 * n + 1, 0], &feedforward[2 * n + 1, 0], k2,
+                    tmp[j] = py[j] + 0.5 * dt * k1[j]
+                status = self.rhs(tmp, prefs + 18 * (2 * n + 1), pff + 6 * (2 * n + 1), k2,
                                   scratch, scratch + 6, scratch + 12)
                 if status != STEWART_OK:
                     break
                 for j in range(18):
-                    tmp[j] = y[j] + 0.5 * dt * k2[j]
-                status = self.rhs(tmp, &refs[2 * n + 1, 0], &feedforward[2 * n + 1, 0], k3,
+                    tmp[j] = py[j] + 0.5 * dt * k2[j]
+                status = self.rhs(tmp, prefs + 18 * (2 * n + 1), pff + 6 * (2 * n + 1), k3,
                                   scratch, scratch + 6, scratch + 12)
                 if status != STEWART_OK:
                     break
                 for j in range(18):
-                    tmp[j] = y[j] + dt * k3[j]
-                status = self.rhs(tmp, &refs[2 * n + 2, 0], &feedforward[2 * n + 2, 0], k4,
+                    tmp[j] = py[j] + dt * k3[j]
+                status = self.rhs(tmp, prefs + 18 * (2 * n + 2), pff + 6 * (2 * n + 2), k4,
                                   scratch, scratch + 6, scratch + 12)
                 if status != STEWART_OK:
                     break
                 for j in range(18):
-                    y[j] += dt / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j])
-                    if not isfinite(y[j]):
+                    py[j] += dt / 6.0 * (k1[j] + 2.0 * k2[j] + 2.0 * k3[j] + k4[j])
+                    if not isfinite(py[j]):
                         status = STOP_NONFINITE
                 if status != STEWART_OK:
                     n += 1
                     break
-                self.kernel.leg_lengths_c(&y[0], Lnew)
+                self.kernel.leg_lengths_c(py, Lnew)
                 for i in range(6):
                     if Lnew[i] < min_length:
                         status, leg = STOP_LEG_SHORT, i
