@@ -87,4 +87,4 @@ readme: build
 	$(PY) -m benchmarks.readme
 
 clean:
-	rm -rf build *.egg-info stewart/*.so stewart/_kernel.c stewart/_simulate.c .pytest_cache $(C_TEST)
+	rm -rf build *.egg-info stewart/*.so stewart/_kernel.c .pytest_cache $(C_TEST)

@@ -69,7 +69,7 @@ TARGET_CHOICES = {"cpu": "the targets the building CPU runs (the default)",
 
 class BuildKernel(build_ext):
     """build_ext that first probes the compiler (OpenMP, the targets), then compiles the model
-    once per target and links the copies into stewart._kernel."""
+    once per target, and the Cython wrapper beside it, and links them into stewart._kernel."""
 
     def _builds(self, code, flags, link=False, run=False):
         """Whether the compiler builds the C program ``code`` with ``flags`` (and links it, and
@@ -103,11 +103,6 @@ class BuildKernel(build_ext):
         return [targets[0]] + [t for t in targets[1:]
                                if self._builds(LEVEL_PROBE % t[2], t[1], link=True, run=choice == "cpu")]
 
-    def finalize_options(self):
-        super().finalize_options()
-        if self.parallel is None:  # the extensions side by side (-j), one per core
-            self.parallel = os.cpu_count() or 1
-
     def build_extensions(self):
         self.openmp = os.environ.get("STEWART_OPENMP", "1") != "0" and self._builds(
             OPENMP_PROBE, ["-fopenmp"], link=True)
@@ -115,31 +110,40 @@ class BuildKernel(build_ext):
         # The wrapper runs on every CPU the base copy runs on, with the same rounding.
         wrapper = WRAPPER_OPTIMIZE + [flag for flag in self.targets[0][1] if flag not in OPTIMIZE]
         openmp = ["-fopenmp"] if self.openmp else []
+        tables = [("STEWART_TABLES", " ".join(f"X({name})" for name, _, _ in self.targets))]
+        if any(level for _, _, level in self.targets):
+            tables.append(("STEWART_CPU_LEVELS", "1"))
         for ext in self.extensions:
             ext.extra_compile_args = wrapper + openmp
             ext.extra_link_args = openmp
-            if ext.name == "stewart._kernel":
-                tables = [("STEWART_TABLES", " ".join(f"X({name})" for name, _, _ in self.targets))]
-                if any(level for _, _, level in self.targets):
-                    tables.append(("STEWART_CPU_LEVELS", "1"))
-                ext.define_macros = ext.define_macros + tables
+            ext.define_macros = ext.define_macros + tables
         super().build_extensions()
 
     def build_extension(self, ext):
-        # The copies of the model only when build_ext would link the kernel anew: an
-        # extension newer than its sources and depends is left alone (e.g. the one the
-        # editable install just built), and so are its objects.
-        stale = self.force or newer_group(ext.sources + ext.depends, self.get_ext_fullpath(ext.name), "newer")
-        if ext.name == "stewart._kernel" and not os.path.exists(self._library()):
-            stale = True
-        if ext.name == "stewart._kernel" and stale:
-            ext.extra_objects = self._model_objects(ext)
-        super().build_extension(ext)
+        """Build stewart._kernel: the units of the model's copies compile side by side, one
+        job per core, while this thread runs Cython on the wrapper and compiles its C; then
+        the link. An extension newer than its sources and depends is left alone (e.g. the one
+        the editable install just built), and so are the model's objects."""
+        path = self.get_ext_fullpath(ext.name)
+        if not (self.force or not os.path.exists(self._library()) or newer_group(ext.sources + ext.depends, path)):
+            return
+        with ThreadPoolExecutor(os.cpu_count() or 1) as pool:
+            units = self._compile_model(pool)
+            sources = cythonize([ext], force=self.force, language_level=3, include_path=["generated"])[0].sources
+            objects = self.compiler.compile(sources, output_dir=self.build_temp, macros=ext.define_macros,
+                                            include_dirs=ext.include_dirs, debug=self.debug,
+                                            extra_postargs=ext.extra_compile_args, depends=ext.depends)
+            objects += self._model_objects(units)
+        self.compiler.link_shared_object(
+            objects, path, libraries=self.get_libraries(ext), library_dirs=ext.library_dirs,
+            runtime_library_dirs=ext.runtime_library_dirs, extra_postargs=ext.extra_link_args,
+            export_symbols=self.get_export_symbols(ext), debug=self.debug, build_temp=self.build_temp,
+            target_lang=ext.language)
 
-    def _model_objects(self, ext):
-        """Compile the model once per target, every unit of every copy side by side, each copy
-        into its own directory; the object files. The first copy is also archived
-        (MODEL_LIBRARY)."""
+    def _compile_model(self, pool):
+        """Compile the model once per target on ``pool``, every unit of every copy side by side,
+        each copy into its own directory, the largest units first (so that the last ones to
+        finish are short); {(copy index, source): the future of its object files}."""
         def compile_unit(job):
             index, source = job
             name, flags, level = self.targets[index]
@@ -153,12 +157,14 @@ class BuildKernel(build_ext):
                 return objects  # compiled already, from the same sources
             return self.compiler.compile([source], output_dir=output_dir, macros=macros,
                                          include_dirs=["generated"], extra_postargs=flags, depends=MODEL)
-        # The largest units first, so that the last ones to finish are short.
         jobs = sorted(((index, source) for index in range(len(self.targets)) for source in MODEL_SOURCES),
                       key=lambda job: -os.path.getsize(job[1]))
-        with ThreadPoolExecutor(os.cpu_count() or 1) as pool:
-            compiled = dict(zip(jobs, pool.map(compile_unit, jobs)))
-        copies = [[obj for source in MODEL_SOURCES for obj in compiled[index, source]]
+        return {job: pool.submit(compile_unit, job) for job in jobs}
+
+    def _model_objects(self, units):
+        """The object files of the model's copies once ``units`` (of ``_compile_model``) are
+        compiled, the copies in order; the first copy is also archived (MODEL_LIBRARY)."""
+        copies = [[obj for source in MODEL_SOURCES for obj in units[index, source].result()]
                   for index in range(len(self.targets))]
         library, directory = MODEL_LIBRARY
         self.compiler.create_static_lib(copies[0], library, output_dir=directory)
@@ -170,21 +176,21 @@ class BuildKernel(build_ext):
         return self.compiler.library_filename(library, output_dir=directory)
 
 
-FLAGS = dict(
-    include_dirs=["generated", np.get_include()],
-    define_macros=[("NPY_NO_DEPRECATED_API", "NPY_1_7_API_VERSION")],
-    libraries=["m"],
-    # Rebuild (build_ext compares times) when the model, its header or this script change.
-    depends=MODEL + ["generated/stewart_model.pxd", "setup.py"],
-)
-
 extensions = [
     # The model's array wrapper with the simulation loop and the envelope's reduction
     # (stewart/_simulate.pxi, stewart/_envelope.pxi, included), linked with the copies of the
-    # model (BuildKernel).
-    Extension("stewart._kernel", sources=["stewart/_kernel.pyx"], **FLAGS),
+    # model (BuildKernel, which also runs Cython on it).
+    Extension(
+        "stewart._kernel", sources=["stewart/_kernel.pyx"],
+        include_dirs=["generated", np.get_include()],
+        define_macros=[("NPY_NO_DEPRECATED_API", "NPY_1_7_API_VERSION")],
+        libraries=["m"],
+        # Rebuild (build_ext compares times) when the wrapper's included files and declarations,
+        # the model, its header or this script change. generated/stewart_model.pxd, the model's
+        # Cython declarations, is cimported by stewart/_kernel.pxd.
+        depends=["stewart/_kernel.pxd", "stewart/_simulate.pxi", "stewart/_envelope.pxi"] + MODEL
+        + ["generated/stewart_model.pxd", "setup.py"],
+    ),
 ]
 
-# generated/stewart_model.pxd, the model's Cython declarations, is cimported by stewart/_kernel.pxd.
-setup(ext_modules=cythonize(extensions, language_level=3, include_path=["generated"]),
-      cmdclass={"build_ext": BuildKernel})
+setup(ext_modules=extensions, cmdclass={"build_ext": BuildKernel})
