@@ -34,9 +34,10 @@ def run_command(command, **kwargs) -> str:
     return done.stdout
 
 
-def run_example(include_dirs, sources, workdir) -> dict[str, np.ndarray]:
-    """Compile the example and the model's units, one compiler per core as ``make -j`` would,
-    link and run it; its printed lines ``name v0 ... v5`` as arrays by name."""
+def run_example(include_dirs, sources, workdir, libraries=()) -> dict[str, np.ndarray]:
+    """Compile the example and the model's units ``sources``, one compiler per core as ``make
+    -j`` would, link them (and the archives ``libraries``, e.g. the model as the build compiled
+    it) and run it; its printed lines ``name v0 ... v5`` as arrays by name."""
     exe = Path(workdir) / "inverse_dynamics"
     compiler = os.environ.get("CC", "cc")
     units = [EXAMPLE, *map(Path, sources)]
@@ -44,15 +45,16 @@ def run_example(include_dirs, sources, workdir) -> dict[str, np.ndarray]:
     with ThreadPoolExecutor(os.cpu_count() or 1) as pool:
         list(pool.map(lambda job: run_command([compiler, *CFLAGS, *(f"-I{d}" for d in include_dirs), "-c", job[0],
                                                "-o", job[1]]), zip(units, objects)))
-    run_command([compiler, *objects, "-lm", "-o", exe])
+    run_command([compiler, *objects, *libraries, "-lm", "-o", exe])
     lines = (line.split() for line in run_command([exe]).splitlines())
     return {name: np.array(values, dtype=float) for name, *values in lines}
 
 
-def check_example(params, include_dirs, sources, workdir) -> float:
-    """Run the example built for ``params`` and return its forces' error relative to the
-    largest force of :meth:`stewart.Platform.inverse_dynamics` at the same state."""
-    printed = run_example(include_dirs, sources, workdir)
+def check_example(params, include_dirs, sources, workdir, libraries=()) -> float:
+    """Run the example built for ``params`` (with the model's units ``sources``, or its archive
+    in ``libraries``) and return its forces' error relative to the largest force of
+    :meth:`stewart.Platform.inverse_dynamics` at the same state."""
+    printed = run_example(include_dirs, sources, workdir, libraries)
     assert sorted(printed) == ["tau", "x", "xd", "xdd"] and all(v.shape == (6,) for v in printed.values())
     want = stewart.Platform(params).inverse_dynamics(printed["x"], printed["xd"], printed["xdd"])
     error = relative_error(printed["tau"][None], want[None])

@@ -30,14 +30,34 @@ def _model_files():
     return [capi.HEADER, capi.INTERNAL_HEADER] + [pathlib.Path(path).name for path in stewart.c_sources()]
 
 
+#: The model as the build compiled it (setup.py's MODEL_LIBRARY: its first copy, with the
+#: public names), which the Makefile's C test links too.
+MODEL_LIBRARY = ROOT / "build" / "libstewart_model.a"
+
+
+def _built_model() -> list[pathlib.Path]:
+    """The build's archive of the model if it is newer than every file of the model, else
+    nothing (the example is then compiled with the model's sources)."""
+    if not MODEL_LIBRARY.is_file():
+        return []
+    newest = max(p.stat().st_mtime for p in (ROOT / "generated").glob("stewart_*.[ch]"))
+    return [MODEL_LIBRARY] if MODEL_LIBRARY.stat().st_mtime >= newest else []
+
+
 def test_c_example_matches_the_package(tmp_path, figures):
+    """The example, compiled against the exported header and parameter header, linked with the
+    model as the build compiled it (make test's build; without it, or older than generated/,
+    compiled here from the exported sources). The exported sources are generated/'s bytes;
+    their compile on their own under the strictest flags is the packaging check's
+    (installed_smoke.py, make test-wheels) and tests/c/ports.py's."""
     params = stewart.PlatformParams.preset("narayan2017")
     written = capi.export(tmp_path / "c", params)
     assert written == [str(tmp_path / "c" / name) for name in _model_files() + [capi.PARAMS_HEADER]]
     for name in _model_files():
         assert (tmp_path / "c" / name).read_bytes() == (ROOT / "generated" / name).read_bytes()
-    sources = [tmp_path / "c" / pathlib.Path(path).name for path in stewart.c_sources()]
-    error = check_example(params, [tmp_path / "c"], sources, tmp_path)
+    library = _built_model()
+    sources = [] if library else [tmp_path / "c" / pathlib.Path(path).name for path in stewart.c_sources()]
+    error = check_example(params, [tmp_path / "c"], sources, tmp_path, library)
     figures("C example (examples/c) against the compiled kernel, relative", error, 1e-12)
 
 
