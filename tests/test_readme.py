@@ -4,8 +4,9 @@
   order, in one temporary directory holding a copy of ``examples/`` (so a command may read
   what an earlier one wrote, as in a shell session), and exits with 0, or with the
   code its comment names ("exit code 3"). ``stewart bench`` runs with ``--batch 2000``
-  added: the full run takes minutes and ``tests/test_cli.py`` tests its figures. The
-  numbers that ``ik``, ``id`` and ``fd`` print or write are compared with the Python API.
+  added (the full run takes minutes); its JSON and its table are checked here, the one run
+  of the command in the suite. The numbers that ``ik``, ``id`` and ``fd`` print or write
+  are compared with the Python API.
 * Its ``python`` blocks run in order in one namespace. A statement followed by a comment
   ``# SomeError: message`` must raise that error with that message (``...`` matches
   anything).
@@ -15,6 +16,7 @@
 from __future__ import annotations
 
 import ast
+import json
 import pathlib
 import re
 import shlex
@@ -130,7 +132,9 @@ def test_readme_command_runs(line, argv, code, in_examples_dir, capsys):
     if argv[:1] == ["bench"]:
         argv = [*argv, "--batch", "2000"]
     assert run_cli(argv) == code, capsys.readouterr()
-    out = capsys.readouterr().out
+    out, err = capsys.readouterr()
+    if argv[:1] == ["bench"]:
+        check_bench(argv, out, err)
     expected = expected_numbers(argv)
     if expected is not None:
         written = option(argv, "--csv")
@@ -138,6 +142,20 @@ def test_readme_command_runs(line, argv, code, in_examples_dir, capsys):
         np.testing.assert_allclose(got, expected, rtol=1e-8, atol=1e-9)
     if option(argv, "--plot"):
         assert len(list(pathlib.Path(option(argv, "--plot")).glob("*.png"))) >= 4
+
+
+def check_bench(argv, out: str, err: str) -> None:
+    """``stewart bench --json``: stdout holds only the JSON, with the figures of every preset
+    measured (or of ``--preset``'s), and the table on stderr shows the same measurements."""
+    assert "--json" in argv
+    figures = json.loads(out)["figures"]
+    assert sorted(figures) == ([option(argv, "--preset")] if option(argv, "--preset") else sorted(stewart.presets()))
+    for preset, values in figures.items():
+        line = next(row for row in err.splitlines() if f"[{preset}] inverse dynamics, C batch loop" in row)
+        per_state = float(line.split("us/state")[0].split()[-1])
+        assert 0 < per_state < 100  # microseconds per state, a real measurement
+        assert per_state == pytest.approx(values["batch_inverse_dynamics_us"], rel=1e-3, abs=1e-3)
+        assert f"[{preset}] 5 s move, RK4 at 1 kHz with PID" in err
 
 
 _RAISES = re.compile(r"#\s*((?:\w+\.)*\w+(?:Error|Exception)):\s*(.*?)\s*$")
