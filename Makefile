@@ -46,10 +46,12 @@ build: $(KERNEL)
 $(C_TEST): tests/c/test_model.c tests/c/reference_values.h $(KERNEL)
 	$(CC) -std=c99 -O2 $(ROUNDING) -Wall -Wextra -pedantic -Igenerated -Itests/c tests/c/test_model.c $(MODEL_LIBRARY) -lm -o $@
 
-# Every test but the comparisons with the peer models (make test-peers), with coverage.
+# Every test but the comparisons with the peer models (make test-peers) and those of make
+# test-ports (the other builds, and the wheels of make test-wheels), with coverage. Of the
+# packaging check it runs the sdist's: the complete source and nothing else.
 test: build $(C_TEST)
 	./$(C_TEST)
-	$(PY) -m pytest -q -m "not peers and not ports" --cov=stewart --cov-report=term
+	$(PY) -m pytest -q -m "not peers and not ports and not packaging" --cov=stewart --cov-report=term
 
 # The agreement of the benchmarks' peer models with the kernel: the sympy route runs with
 # the dev extra (a minute and a half of compiling); CasADi, PyDy and MuJoCo with the peers
@@ -65,12 +67,14 @@ test-ports: build
 	$(PY) -m pytest -q -m ports tests/test_build.py
 	$(MAKE) test-wheels
 
-# The packaging check on each other supported Python found (python3.X on the PATH, or pyenv's;
-# make test's covers the running one): the wheel for other machines (STEWART_TARGETS=all: every
-# x86-64 copy of the model) built from the sdist by that Python, installed into its fresh
-# environment and smoke-tested; a Python not found is SKIPPED.
+# The packaging check's wheels (the tests marked packaging), on each supported Python found
+# (python3.X on the PATH, or pyenv's), the running one included: the wheel for other machines
+# (STEWART_TARGETS=all: every x86-64 copy of the model) built from the sdist by that Python
+# with build isolation, installed into its fresh environment and smoke-tested (the C example
+# compiled with the installed C files under the strictest flags); a Python not found is
+# SKIPPED (tests/test_packaging.py's STEWART_WHEEL_PYTHONS says which versions).
 test-wheels: build
-	STEWART_TARGETS=all STEWART_WHEEL_PYTHONS=others $(PY) -m pytest -n 0 -v -rs --durations=0 --durations-min=1 -m packaging tests/test_packaging.py
+	STEWART_TARGETS=all STEWART_WHEEL_PYTHONS=all $(PY) -m pytest -n 0 -v -rs --durations=0 --durations-min=1 -m packaging tests/test_packaging.py
 
 demo: build
 	$(PY) -m stewart.demo

@@ -1,24 +1,29 @@
 """The sdist and the wheel install, and work, outside the checkout, on each supported Python.
 
 From a copy of the source files — a git checkout's tracked files, or an unpacked sdist's
-own file list — and nothing else (no ``.venv``, build products or outputs), ``python -m
-build`` builds the sdist once, and then a wheel from that sdist for each Python under test,
-with build isolation, as ``pip install stewart-*.tar.gz`` does: so the sdist is proven to
-build on its own, and the source is compiled once per Python. The isolated build
-environments and the fresh environments are set up by uv (the dev extra's ``build[uv]``),
-which installs the same wheels as pip in a fraction of the time. The sdist is the complete
-source, so ``make test`` also runs from it. Each wheel goes into a fresh virtual
-environment of its Python, where ``installed_smoke.py`` runs from a directory outside the
-checkout. Marked ``packaging``: ``pytest -m "not packaging"`` leaves it out.
+own file list — and nothing else (no ``.venv``, build products or outputs), setuptools'
+build backend builds the sdist once, in this environment; the copy also holds the
+checkout's Cython output (``stewart/_*.c``, when the build wrote it and it is newer than
+its ``.pyx``), so that setup.py's ``cythonize`` finds it up to date instead of translating
+the ``.pyx`` again, and the sdist must still leave it out. ``make test`` checks that
+sdist's contents: the complete source and nothing else (so ``make test`` also runs from
+it).
 
-The Pythons under test (``STEWART_WHEEL_PYTHONS``): unset, the one running pytest (``make
-test``: one packaging build); ``others``, each other supported version (``make
-test-wheels``); or versions such as ``3.12 3.13``. A version is found as ``python3.X`` on
-the PATH or among pyenv's versions; one not found is skipped (``python3.X not found``). The
-wheel of a Python other than the running one is built by ``python -m build`` of that Python,
-from a fresh environment with the same ``build[uv]``.
+The wheel tests (marked ``packaging``: ``make test-wheels``, which CI runs through ``make
+test-ports``) then build a wheel from that sdist for each Python under test, with build
+isolation: so the sdist is proven to build on its own, and the source is compiled once per
+Python. The isolated build environments and the fresh environments are set up by uv (the
+dev extra's ``build[uv]``), which installs the same wheels as pip in a fraction of the
+time. Each wheel goes into a fresh virtual environment of its Python, where
+``installed_smoke.py`` runs from a directory outside the checkout.
+
+The Pythons under test (``STEWART_WHEEL_PYTHONS``): unset, the running one; ``all`` (``make
+test-wheels``), every supported version and the running one; ``others``, each supported
+version but the running one; or versions such as ``3.12 3.13``. A version is found as ``python3.X`` on the PATH or
+among pyenv's versions; one not found is skipped (``python3.X not found``). The wheel of a
+Python other than the running one is built by ``python -m build`` of that Python, from a
+fresh environment with the same ``build[uv]``.
 """
-
 import json
 import os
 import platform
@@ -34,8 +39,6 @@ from pathlib import Path
 import pytest
 from c_example import run_command
 from uv import find_uv_bin
-
-pytestmark = pytest.mark.packaging
 
 ROOT = Path(__file__).resolve().parent.parent
 UV = find_uv_bin()
@@ -73,20 +76,29 @@ def source_files() -> list[str]:
 
 @pytest.fixture(scope="module")
 def tree(tmp_path_factory):
-    """A copy of the source files, as a fresh clone or a fresh unpacked sdist has them."""
+    """A copy of the source files, as a fresh clone or a fresh unpacked sdist has them, and
+    the checkout's Cython output where it is up to date (:data:`CYTHON_OUTPUT`: setup.py's
+    ``cythonize`` then leaves it alone, as it does in the checkout)."""
     copy = tmp_path_factory.mktemp("tree")
     for name in source_files():
         (copy / name).parent.mkdir(parents=True, exist_ok=True)
         shutil.copy2(ROOT / name, copy / name)
+    for name in CYTHON_OUTPUT:
+        output, source = ROOT / name, ROOT / name.replace(".c", ".pyx")
+        if output.is_file() and output.stat().st_mtime >= source.stat().st_mtime:
+            shutil.copy2(output, copy / name)  # with its time, so still newer than its sources
     return copy
 
 
 def wheel_pythons() -> list[str]:
-    """The Python versions under test (STEWART_WHEEL_PYTHONS: unset, the running one; ``others``,
-    the other supported versions; or a list of versions)."""
+    """The Python versions under test (STEWART_WHEEL_PYTHONS: unset, the running one; ``all``,
+    every supported version and the running one; ``others``, the supported versions but the
+    running one; or a list of versions)."""
     chosen = os.environ.get("STEWART_WHEEL_PYTHONS", "").split()
     if not chosen:
         return [RUNNING]
+    if chosen == ["all"]:
+        return sorted({*SUPPORTED, RUNNING}, key=lambda v: tuple(map(int, v.split("."))))
     if chosen == ["others"]:
         return [v for v in SUPPORTED if v != RUNNING]
     return chosen
@@ -114,9 +126,12 @@ def find_python(version: str) -> str | None:
 
 @pytest.fixture(scope="module")
 def sdist(tree, tmp_path_factory):
-    """The sdist, built from the copy of the source files."""
+    """The sdist, built from the copy of the source files by setuptools' build backend in this
+    environment (which has the build requirements: the Makefile installs them), as ``python
+    -m build --sdist --no-isolation`` does but running setup.py once, not twice."""
     out = tmp_path_factory.mktemp("sdist")
-    run_command([sys.executable, "-m", "build", "--sdist", "--installer=uv", "--outdir", out, tree])
+    run_command([sys.executable, "-c", "import sys; from setuptools import build_meta; build_meta.build_sdist(sys.argv[1])",
+                 out], cwd=tree)
     (built,) = out.glob("*.tar.gz")
     return built
 
@@ -150,6 +165,7 @@ def dists(request, sdist, tmp_path_factory):
     return wheel, python, version
 
 
+@pytest.mark.slow
 def test_sdist_is_the_complete_source_and_nothing_else(sdist):
     with tarfile.open(sdist) as archive:
         names = {member.name.split("/", 1)[1] for member in archive.getmembers()
@@ -163,6 +179,7 @@ def test_sdist_is_the_complete_source_and_nothing_else(sdist):
     assert names - metadata == sources, (sorted(names - metadata - sources), sorted(sources - names))
 
 
+@pytest.mark.packaging
 def test_wheel_holds_the_c_model_and_no_cython_output(dists):
     # For its Python, tagged for the plain platform it was built on (not manylinux: not audited for it).
     tag = "cp" + dists[2].replace(".", "")
@@ -176,12 +193,14 @@ def test_wheel_holds_the_c_model_and_no_cython_output(dists):
     assert [n for n in names if n.endswith(".dist-info/licenses/LICENSE")]
 
 
+@pytest.mark.packaging
 def test_installs_and_runs_outside_the_checkout(dists, tree, tmp_path):
     python, version = dists[1:]
     printed = run_command([python, tree / "tests" / "installed_smoke.py"], cwd=tmp_path)
     assert "smoke test passed" in printed and f" on Python {version}." in printed, printed
 
 
+@pytest.mark.packaging
 def test_wheel_is_portable(dists, tmp_path):
     """The wheel carries the portable build's copies of the model -- every x86-64 copy with
     STEWART_TARGETS=all (make test-wheels), else those this CPU runs, as the checkout's build
