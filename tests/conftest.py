@@ -42,6 +42,47 @@ def pytest_terminal_summary(terminalreporter):
         terminalreporter.write_line(f"{name:<{width}}  {value:10.3e}  (bound {bound:.0e})")
 
 
+#: The tests that must share one worker process (pytest-xdist, ``--dist loadgroup`` in the
+#: pyproject's addopts), by the start of ``<file>::<test>``: those of a file whose tests share
+#: a costly result computed once per process (a module-scoped fixture, a cache), and the
+#: README's commands, which run in order in one directory. Every other test goes on its own
+#: to whichever worker is free.
+XDIST_GROUPS = {
+    "test_generated.py": "one generator run, which every file's freshness check reads",
+    "test_derivatives.py": "the complex-step oracle of each case, computed once",
+    "test_excitation.py": "one small excitation design",
+    "test_optimize.py": "one IPOPT solve of the seed paper's move",
+    "test_packaging.py": "one copy of the source files and one sdist",
+    "test_build.py": "the baseline path's results, computed once in a subprocess",
+    "test_bitwise.py": "the results of the path that runs everywhere, computed once",
+    "test_readme.py::test_readme_command_runs": "a shell session: a command reads what an earlier one wrote",
+}
+
+
+def xdist_group(nodeid: str) -> str | None:
+    """The group of :data:`XDIST_GROUPS` the test ``nodeid`` belongs to, or None."""
+    path, _, name = nodeid.partition("::")
+    key = f"{path.rsplit('/', 1)[-1]}::{name}"
+    return next((prefix for prefix in XDIST_GROUPS if key.startswith(prefix)), None)
+
+
+@pytest.hookimpl(optionalhook=True)
+def pytest_xdist_make_scheduler(config, log):
+    """``--dist loadgroup`` with the groups of :data:`XDIST_GROUPS`, each a unit of work, and
+    every other test a unit of its own. (pytest-xdist's own loadgroup reads ``xdist_group``
+    marks through node ids it rewrites, which pytest 9.2 no longer lets it do: it then
+    distributes every test on its own, pytest-xdist issue #1386.)"""
+    if config.getvalue("dist") != "loadgroup":
+        return None
+    from xdist.scheduler import LoadScopeScheduling
+
+    class GroupScheduling(LoadScopeScheduling):
+        def _split_scope(self, nodeid: str) -> str:
+            return xdist_group(nodeid) or nodeid
+
+    return GroupScheduling(config, log)
+
+
 PRESETS = sorted(stewart.presets())
 
 
