@@ -142,6 +142,9 @@ def test_readme_command_runs(line, argv, code, in_examples_dir, capsys):
         np.testing.assert_allclose(got, expected, rtol=1e-8, atol=1e-9)
     if option(argv, "--plot"):
         assert len(list(pathlib.Path(option(argv, "--plot")).glob("*.png"))) >= 4
+        if argv[0] == "simulate":  # its four figures (tests/test_cli.py leaves --plot to this run)
+            for name in ("pose", "error", "forces", "leg_velocities"):
+                assert (pathlib.Path(option(argv, "--plot")) / f"simulation_{name}.png").stat().st_size > 10_000
 
 
 def check_bench(argv, out: str, err: str) -> None:
