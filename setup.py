@@ -43,7 +43,9 @@ X86_TARGETS = (("baseline", "x86-64", ""), ("avx2", "x86-64-v3", "x86-64-v3"), (
 #: which adds about a fifth to the model's compile time.
 OPTIMIZE = ["-O3", "-g0"]
 #: The optimisation of the Cython wrapper (stewart._kernel's own C: Python glue and the loops
-#: around the model's calls), which runs as fast at -O1 as at -O3 and compiles in half the time.
+#: around the model's calls): at -O1 it compiles in half the time of -O3 (7 s of CPU instead of
+#: 14), for 1-4 % more instructions in its loops (callgrind, the model's included: 500 RK4
+#: steps 25.7 M against 25.1 M, the envelope's peaks of 20000 states 59.8 M against 57.4 M).
 WRAPPER_OPTIMIZE = ["-O1", "-g0"]
 #: The model's rounding (STEWART_ROUNDING_FLAGS of the generated header): its operations as
 #: written, so that a state gives the same bits on every instruction set. Every extension is

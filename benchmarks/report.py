@@ -48,7 +48,7 @@ def our_rows(results: dict) -> list[tuple[str, str, str, str]]:
     if gen:
         out += [
             bench.measure_row("generation (python -m codegen)", "generation_s", gen["generation_s"], 1.0, "s", ".2f"),
-            bench.measure_row("clean build of the extensions", "clean_build_s", gen["clean_build_s"], 1.0, "s", ".1f"),
+            bench.measure_row("clean build of the extension", "clean_build_s", gen["clean_build_s"], 1.0, "s", ".1f"),
         ]
     code = results["code"]
     out.append(("generated C", f"{code['generated_c_bytes'] / 1024:.0f} KiB, {code['generated_c_lines']} lines", "", ""))
@@ -109,7 +109,7 @@ def rows(peers: dict, ours: dict) -> list[tuple[str, str, str, str]]:
             ratio = f"{(cas['build_s'] + cas['generate_s'] + cas['compile_s']) / (ours['generation_s'] + ours['clean_build_s']):.2f}x"
         else:
             ours_gen, ratio = "(skipped)", ""
-        out.append(("CasADi: generation + compile (ours: codegen + clean build of both extensions)", ours_gen,
+        out.append(("CasADi: generation + compile (ours: codegen + clean build of the extension)", ours_gen,
                     f"{cas['build_s'] + cas['generate_s']:.2f} s + {cas['compile_s']:.1f} s", ratio))
         out.append(("CasADi: agreement, max relative error of tau / xdd", "", f"{cas['tau_rel_error']:.1e} / "
                     f"{cas['xdd_rel_error']:.1e}", ""))

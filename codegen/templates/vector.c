@@ -203,7 +203,7 @@ static void vrk4_stage_jacobians(const stewart_vd ax[36], const stewart_vd axd[3
 
 /* The discrete-time dynamics, over a block of states: one classic RK4 step of the state
  * s = [x; xd] under constant tau, ds/dt = f(s) = [xd; xdd(x, xd, tau)], with the operations of
- * the simulator's RK4 loop (stewart/_simulate.pyx, open loop with constant feed-forward, no
+ * the simulator's RK4 loop (stewart/_simulate.pxi, open loop with constant feed-forward, no
  * friction, no force limit) -- stages k_1 = f(s), k_2 = f(s + dt/2 k_1), k_3 = f(s + dt/2 k_2),
  * k_4 = f(s + dt k_3), s+ = s + dt/6 (k_1 + 2 k_2 + 2 k_3 + k_4) -- and, when `jac`, its exact
  * Jacobians A = ds+/ds, B = ds+/dtau by the chain rule through the four stages with the
