@@ -15,7 +15,7 @@ C_TEST := tests/c/test_model
 # The model's rounding flags (STEWART_ROUNDING_FLAGS of the generated header).
 ROUNDING = $(shell sed -n 's/^\#define STEWART_ROUNDING_FLAGS "\(.*\)"/\1/p' generated/stewart_model.h)
 
-.PHONY: all test test-peers test-ports test-wheels demo generate build bench validate readme clean
+.PHONY: all test coverage test-peers test-ports test-wheels demo generate build bench validate readme clean
 
 all: build
 
@@ -47,11 +47,16 @@ $(C_TEST): tests/c/test_model.c tests/c/reference_values.h $(KERNEL)
 	$(CC) -std=c99 -O2 $(ROUNDING) -Wall -Wextra -pedantic -Igenerated -Itests/c tests/c/test_model.c $(MODEL_LIBRARY) -lm -o $@
 
 # Every test but the comparisons with the peer models (make test-peers) and those of make
-# test-ports (the other builds, and the wheels of make test-wheels), with coverage. Of the
-# packaging check it runs the sdist's: the complete source and nothing else.
+# test-ports (the other builds, and the wheels of make test-wheels). Of the packaging check it
+# runs the sdist's: the complete source and nothing else.
+SUITE := -m "not peers and not ports and not packaging"
 test: build $(C_TEST)
 	./$(C_TEST)
-	$(PY) -m pytest -q -m "not peers and not ports and not packaging" --cov=stewart --cov-report=term
+	$(PY) -m pytest -q $(SUITE)
+
+# make test's pytest run with the package's line coverage (a third longer: coverage's tracer).
+coverage: build
+	$(PY) -m pytest -q $(SUITE) --cov=stewart --cov-report=term
 
 # The agreement of the benchmarks' peer models with the kernel: the sympy route runs with
 # the dev extra (a minute and a half of compiling); CasADi, PyDy and MuJoCo with the peers
