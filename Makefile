@@ -52,6 +52,7 @@ $(C_TEST): tests/c/test_model.c tests/c/reference_values.h $(KERNEL)
 SUITE := -m "not peers and not ports and not packaging"
 test: build $(C_TEST)
 	./$(C_TEST)
+	$(VENV)/bin/lint-imports
 	$(PY) -m pytest -q $(SUITE)
 
 # make test's pytest run with the package's line coverage (a third longer: coverage's tracer).
@@ -82,7 +83,7 @@ test-wheels: build
 	STEWART_TARGETS=all STEWART_WHEEL_PYTHONS=all $(PY) -m pytest -n 0 -v -rs --durations=0 --durations-min=1 -m packaging tests/test_packaging.py
 
 demo: build
-	$(PY) -m stewart.demo
+	$(PY) -m stewart.cli.demo
 
 generate: $(INSTALLED)
 	$(PY) -m codegen

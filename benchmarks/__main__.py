@@ -21,7 +21,7 @@ import tempfile
 import time
 
 import stewart
-from stewart import bench
+from stewart.cli import bench
 
 from . import batch_loop, identification, report, studies
 from .peers.common import peer_available

@@ -18,7 +18,7 @@ from concurrent.futures import ThreadPoolExecutor
 import numpy as np
 
 import stewart
-from stewart import bench
+from stewart.cli import bench
 
 from .peers.common import compile_c, param_vector
 

@@ -1,5 +1,5 @@
 """Identification from a long log, end to end: forward kinematics, filtering, the stacked
-base regressor and the weighted least squares of :func:`stewart.identify.identify`, on a
+base regressor and the weighted least squares of :func:`stewart.identification.identify.identify`, on a
 simulated 1 kHz log of the seed paper's platform following a designed excitation."""
 
 from __future__ import annotations
@@ -9,9 +9,9 @@ import time
 import numpy as np
 
 import stewart
-from stewart.base_parameters import base_parameters
-from stewart.excitation import design_excitation
-from stewart.identify import identify, synthetic_measurements
+from stewart.identification.base_parameters import base_parameters
+from stewart.identification.excitation import design_excitation
+from stewart.identification.identify import identify, synthetic_measurements
 
 #: Samples of the log, and the most seconds their identification may take.
 SAMPLES = 100_000

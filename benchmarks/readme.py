@@ -69,7 +69,8 @@ def where() -> str:
 
 def validate_block() -> str:
     """The ``stewart validate`` checks of both presets as one Markdown table."""
-    from stewart import PlatformParams, validation
+    from stewart import PlatformParams
+    from stewart.oracles import validation
 
     reports = {name: validation.run(PlatformParams.preset(name)) for name in VALIDATE_PRESETS}
     names = [c.name for c in reports[VALIDATE_PRESETS[0]]]
@@ -106,7 +107,8 @@ def mujoco_block() -> str:
 
 def exactness_block() -> str:
     """``stewart exactness`` for both presets as one Markdown table."""
-    from stewart import PlatformParams, exactness
+    from stewart import PlatformParams
+    from stewart.oracles import exactness
 
     effects = {name: exactness.leg_spin_effect(PlatformParams.preset(name)) for name in VALIDATE_PRESETS}
     states = effects[VALIDATE_PRESETS[0]].states

@@ -12,7 +12,7 @@ import sys
 import numpy as np
 
 import stewart
-from stewart import bench
+from stewart.cli import bench
 
 
 def _march() -> str:

@@ -1,5 +1,5 @@
 """Speed of chunked studies (``python -m benchmarks.studies``, and in ``make bench``): an
-envelope (:mod:`stewart.envelope`, a box with velocity and acceleration bounds) in this
+envelope (:mod:`stewart.studies.envelope`, a box with velocity and acceleration bounds) in this
 process and on a 2-worker Dask ``LocalCluster``, an envelope of 10^7 states, the cost of
 one chunk and Dask's overhead per task, each target marked met or missed, and from these
 the estimate of a large sweep on a cluster (:func:`estimate`)."""
@@ -12,7 +12,8 @@ import time
 import numpy as np
 
 import stewart
-from stewart import bench, envelope, execution
+from stewart.cli import bench
+from stewart.studies import envelope, execution
 
 #: States of the throughput runs, and of the large envelope.
 STATES = 10_000_000

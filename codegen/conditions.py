@@ -5,9 +5,9 @@ One row per C status code, in order from 0: its name, the enum's comment, the me
 and the exact test it stands for.  The generator emits from this table the header's enum,
 the tolerance macros and their documentation, `stewart_status_message`, and the Cython
 declarations with a Python-visible table (`stewart_conditions()` in stewart_model.pxd), from
-which `stewart.conditions` reads the tolerances.  The tests themselves are written once in C
+which `stewart.model.conditions` reads the tolerances.  The tests themselves are written once in C
 (codegen/templates/runtime.c: check_legs, check_euler; `linsolve`: the two solvers) and once
-in numpy (`stewart.conditions`), each after the `test` given here.
+in numpy (`stewart.model.conditions`), each after the `test` given here.
 
 Precedence, the same in C and Python: non-finite inputs; then the legs (a zero-length leg,
 then an overflowing one, then a vertical one, then one in gimbal lock); then each function's steps in order

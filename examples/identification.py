@@ -11,8 +11,8 @@ import argparse
 import os
 
 import stewart
-from stewart import demo
-from stewart.presets import narayan2017_target_pose
+from stewart.cli import demo
+from stewart.model.presets import narayan2017_target_pose
 
 
 def main() -> None:

@@ -200,9 +200,9 @@ cdef inline dict stewart_params_left_out():
     """The fields of a stewart.PlatformParams with no member in stewart_params, and why."""
     return {
         'leg_length_limits': 'the C model has no stroke limits (compare stewart_leg_lengths() with them)',
-        'universal_joint_max_angle': 'a workspace bound, checked in Python (stewart.workspace)',
-        'spherical_joint_max_angle': 'a workspace bound, checked in Python (stewart.workspace)',
-        'leg_diameter': 'a workspace bound, checked in Python (stewart.workspace)',
+        'universal_joint_max_angle': 'a workspace bound, checked in Python (stewart.model.reachability)',
+        'spherical_joint_max_angle': 'a workspace bound, checked in Python (stewart.model.reachability)',
+        'leg_diameter': 'a workspace bound, checked in Python (stewart.model.reachability)',
         'name': 'a label, not a model input',
         'viscous_friction': 'actuator friction: a column of the regressor (stewart_regressor), not in the rigid-body model',
         'coulomb_friction': 'actuator friction: a column of the regressor (stewart_regressor), not in the rigid-body model',

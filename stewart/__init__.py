@@ -1,95 +1,93 @@
 """stewart: the complete dynamic model of a 6-DOF Stewart platform (Lopes & Pires 2011).
 
 The public API: :class:`Platform` (the compiled model), :class:`PlatformParams` and its
-presets, the kinematics functions, the numeric reference model :mod:`stewart.reference`,
+presets, the kinematics functions, the numeric reference model :mod:`stewart.oracles.reference`,
 simulation under control (:func:`simulate`, trajectories, controllers), the exact
 derivatives and the model as CasADi functions for optimal control
-(:mod:`stewart.casadi_functions`, :mod:`stewart.optimize`), the errors raised for inputs
-where the model is undefined (:mod:`stewart.conditions`), the generated C model's files
-for C programs (:func:`c_include_dir`, :func:`c_sources`, :mod:`stewart.capi`), the
-platform as a standalone MuJoCo model (:func:`to_mjcf`, :mod:`stewart.mjcf`), and how
+(:mod:`stewart.motion.casadi_functions`, :mod:`stewart.motion.optimize`), the errors raised for inputs
+where the model is undefined (:mod:`stewart.model.conditions`), the generated C model's files
+for C programs (:func:`c_include_dir`, :func:`c_sources`, :mod:`stewart.io.capi`), the
+platform as a standalone MuJoCo model (:func:`to_mjcf`, :mod:`stewart.io.mjcf`), and how
 the compiled model was built and which of its instruction-set paths runs
 (:func:`build_info`).
+
+The package is organised by job: :mod:`stewart.model` (parameters, kinematics, the
+:class:`Platform` facade, reachability), :mod:`stewart.motion` (trajectories, control,
+simulation, optimization), :mod:`stewart.identification`, :mod:`stewart.studies`
+(workspaces, envelopes, sweeps), :mod:`stewart.io` (files, plots, the C export, MuJoCo),
+:mod:`stewart.oracles` (the independent models and checks the tests use) and
+:mod:`stewart.cli`. The names below are imported on first use, so that ``import stewart``
+is fast and :mod:`stewart.model`'s data model imports without the compiled extension.
 """
 
-from . import (capi, casadi_functions, conditions, exactness, kinematics, mjcf, newton_euler, optimize, reference,
-               workspace)
-from .capi import c_include_dir, c_sources
-from ._kernel import build_info, set_simd
-from .errors import ConvergenceError, SimdPathError, SingularityError, WrongTypeError
-from .kinematics import (
-    euler_jacobian,
-    euler_rate_jacobian,
-    forward_kinematics,
-    home_pose,
-    jacobian,
-    leg_lengths,
-    leg_unit_vectors,
-    leg_vectors,
-    leg_velocities,
-    rotation,
-    twist_transform,
-)
-from .mjcf import to_mjcf
-from .params import NonAxisymmetricLegWarning, PlatformParams
-from .platform import AllTerms, ForwardDynamicsDerivatives, InverseDynamicsDerivatives, Platform, Step, StepDerivatives
-from .control import PID, Actuators, ComputedTorque, OpenLoop
-from .simulation import SimulationInterrupted, SimulationResult, simulate
-from .trajectory import PointToPoint, SampledTrajectory
-from .presets import presets
-from .workspace import WorkspaceError, reachability
-
-__all__ = [
-    "Platform",
-    "AllTerms",
-    "InverseDynamicsDerivatives",
-    "ForwardDynamicsDerivatives",
-    "Step",
-    "StepDerivatives",
-    "PlatformParams",
-    "NonAxisymmetricLegWarning",
-    "presets",
-    "simulate",
-    "SimulationResult",
-    "SimulationInterrupted",
-    "PointToPoint",
-    "SampledTrajectory",
-    "PID",
-    "ComputedTorque",
-    "OpenLoop",
-    "Actuators",
-    "kinematics",
-    "reference",
-    "newton_euler",
-    "exactness",
-    "SingularityError",
-    "SimdPathError",
-    "WrongTypeError",
-    "conditions",
-    "casadi_functions",
-    "optimize",
-    "ConvergenceError",
-    "WorkspaceError",
-    "workspace",
-    "reachability",
-    "rotation",
-    "euler_rate_jacobian",
-    "twist_transform",
-    "leg_vectors",
-    "leg_lengths",
-    "leg_unit_vectors",
-    "jacobian",
-    "euler_jacobian",
-    "leg_velocities",
-    "home_pose",
-    "forward_kinematics",
-    "capi",
-    "mjcf",
-    "to_mjcf",
-    "c_include_dir",
-    "c_sources",
-    "build_info",
-    "set_simd",
-]
+import ast
+import importlib
+from typing import TYPE_CHECKING
 
 __version__ = "0.1.0"
+
+if TYPE_CHECKING:  # the public names: what `__getattr__` imports on first use
+    from .io import capi, mjcf
+    from .motion import casadi_functions, optimize
+    from .model import conditions, kinematics
+    from .oracles import exactness, newton_euler, reference
+    from .studies import workspace
+    from .io.capi import c_include_dir, c_sources
+    from ._kernel import build_info, set_simd
+    from .model.errors import ConvergenceError, SimdPathError, SingularityError, WrongTypeError
+    from .model.kinematics import (
+        euler_jacobian,
+        euler_rate_jacobian,
+        forward_kinematics,
+        home_pose,
+        jacobian,
+        leg_lengths,
+        leg_unit_vectors,
+        leg_vectors,
+        leg_velocities,
+        rotation,
+        twist_transform,
+    )
+    from .io.mjcf import to_mjcf
+    from .model.params import NonAxisymmetricLegWarning, PlatformParams
+    from .model.platform import (
+        AllTerms,
+        ForwardDynamicsDerivatives,
+        InverseDynamicsDerivatives,
+        Platform,
+        Step,
+        StepDerivatives,
+    )
+    from .motion.control import PID, Actuators, ComputedTorque, OpenLoop
+    from .motion.simulation import SimulationInterrupted, SimulationResult, simulate
+    from .motion.trajectory import PointToPoint, SampledTrajectory
+    from .model.presets import presets
+    from .model.reachability import WorkspaceError, reachability
+
+
+def _public_names() -> dict[str, tuple[str, str]]:
+    """{public name: (module, attribute)} from the imports under ``TYPE_CHECKING`` above."""
+    with open(__file__, encoding="utf-8") as f:
+        tree = ast.parse(f.read())
+    block = next(node for node in tree.body if isinstance(node, ast.If) and getattr(node.test, "id", "") == "TYPE_CHECKING")
+    return {alias.asname or alias.name: (f"{__name__}.{node.module}", alias.name)
+            for node in block.body for alias in node.names}
+
+
+_PUBLIC = _public_names()
+__all__ = list(_PUBLIC)
+
+
+def __getattr__(name: str):
+    """Import a public name on first use (a function, class or submodule of the package)."""
+    if name not in _PUBLIC:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    module, attribute = _PUBLIC[name]
+    parent = importlib.import_module(module)
+    value = getattr(parent, attribute) if hasattr(parent, attribute) else importlib.import_module(f"{module}.{attribute}")
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    return sorted(set(globals()) | set(__all__))

@@ -79,10 +79,10 @@ cdef class Peaks:
                                       <const double *>cnp.PyArray_DATA(cxdd), n, start)
         if nonfinite:
             for name, arr in (("x", x), ("xd", xd), ("xdd", xdd)):
-                _checks.finite_states(name, arr)
+                arguments.finite_states(name, arr)
 
     def add_box(self, u, bits, box, Py_ssize_t start):
-        """Take the states of ``box`` (a :class:`stewart.envelope.Box`) drawn as ``u``
+        """Take the states of ``box`` (a :class:`stewart.studies.envelope.Box`) drawn as ``u``
         (``(n, 6)`` uniform numbers in [0, 1)) and ``bits`` (``(n,)`` integers, 12 random bits
         each), the states ``start`` to ``start + n - 1`` of the study (:func:`box_states`),
         generated here a few dozen at a time."""
@@ -160,7 +160,7 @@ cdef class Peaks:
 
 def box_states(u, bits, box):
     """The states ``(x, xd, xdd)``, each ``(n, 6)``, of ``box`` (a
-    :class:`stewart.envelope.Box`) drawn as ``u`` (``(n, 6)`` uniform numbers in [0, 1)) and
+    :class:`stewart.studies.envelope.Box`) drawn as ``u`` (``(n, 6)`` uniform numbers in [0, 1)) and
     ``bits`` (``(n,)``, 12 random bits each): the pose ``lower + u (upper - lower)``, and bit
     ``k`` (bit ``6 + k``) set for ``+velocity[k]`` (``+acceleration[k]``), clear for the
     negative bound: a random vertex of each rate box. :meth:`Peaks.add_box` evaluates the

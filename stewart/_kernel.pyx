@@ -30,8 +30,8 @@ cimport numpy as cnp
 from cython.parallel cimport prange
 from libc.math cimport isfinite, NAN
 
-from . import _checks
-from .errors import SimdPathError, SingularityError
+from .model import arguments
+from .model.errors import SimdPathError, SingularityError
 
 cnp.import_array()
 
@@ -136,7 +136,7 @@ PARAMS_LEFT_OUT = stewart_params_left_out()
 
 #: {status code: (name, message, tolerance or None)} of every status code of the C model: the
 #: conditions under which it is undefined and the tolerances of their tests (read by
-#: stewart.conditions).
+#: stewart.model.conditions).
 CONDITIONS = stewart_conditions()
 #: The inertial parameters pi of the regressor, in the order of its columns.
 INERTIAL_NAMES = stewart_inertial_names()
@@ -197,7 +197,7 @@ cdef enum Signature:
 cdef cnp.ndarray _states(str name, object value):
     """``value`` as a C-contiguous, aligned, native-byte-order float64 array of shape (6,)
     or (N, 6); no copy if it is one. What is a valid state array is decided in one place,
-    :func:`stewart._checks.state_array`; the fast path only recognises arrays that need
+    :func:`stewart.arguments.state_array`; the fast path only recognises arrays that need
     no conversion (finiteness is checked row by row in ``Kernel._row``)."""
     cdef cnp.ndarray arr
     if type(value) is cnp.ndarray:
@@ -206,7 +206,7 @@ cdef cnp.ndarray _states(str name, object value):
                 and cnp.PyArray_TYPE(arr) == cnp.NPY_DOUBLE and cnp.PyArray_IS_C_CONTIGUOUS(arr)
                 and cnp.PyArray_ISBEHAVED_RO(arr)):
             return arr
-    return np.require(_checks.state_array(name, value), np.float64, "CA")
+    return np.require(arguments.state_array(name, value), np.float64, "CA")
 
 
 cdef cnp.ndarray _c_array(str name, object value, int typenum, int ndim, bint writable):
@@ -300,7 +300,7 @@ cdef class Kernel:
 
     def __cinit__(self, params, threads=1):
         stewart_params_fill(&self.p, params)
-        self.threads = _checks.thread_count(threads)
+        self.threads = arguments.thread_count(threads)
 
     cdef object _run(self, str fname, int kind, void *fn, tuple names, tuple values,
                      tuple shapes, bint return_mask, double scalar, void *batch_fn):
@@ -448,7 +448,7 @@ cdef class Kernel:
         # The batch functions report a row with a non-finite input as STEWART_ERR_NONFINITE.
         if np.any((status == NONFINITE_INPUT) | (status == STEWART_ERR_NONFINITE)):
             for name, arr in zip(names, arrays):
-                _checks.finite_states(name, arr)
+                arguments.finite_states(name, arr)
         rows = np.flatnonzero(status != STEWART_OK)
         if return_mask:
             return out, (status == STEWART_OK) if batch else bool(status[0] == STEWART_OK)

@@ -9,7 +9,7 @@
 from libc.math cimport isfinite, tanh
 
 cpdef enum Mode:
-    # The control law the loop evaluates (each controller of stewart.control names its own).
+    # The control law the loop evaluates (each controller of stewart.motion.control names its own).
     OPEN_LOOP = 0
     PID = 1
     COMPUTED_TORQUE = 2

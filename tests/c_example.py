@@ -15,7 +15,7 @@ from pathlib import Path
 import numpy as np
 
 import stewart
-from stewart.checks import relative_error
+from stewart.oracles.physics import relative_error
 
 EXAMPLE = Path(__file__).resolve().parent.parent / "examples" / "c" / "inverse_dynamics.c"
 #: The strictest portable C the README promises the model compiles under.

@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import stewart
-from stewart.checks import random_states  # noqa: F401  (re-exported for the tests)
+from stewart.oracles.physics import random_states  # noqa: F401  (re-exported for the tests)
 
 _FIGURES: list[tuple[str, float, float]] = []
 _FIGURE = "figure"

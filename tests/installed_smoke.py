@@ -20,7 +20,8 @@ import numpy as np
 
 import stewart
 from c_example import check_example, run_command
-from stewart import capi, validation
+from stewart.io import capi
+from stewart.oracles import validation
 
 PRESET = "narayan2017"
 

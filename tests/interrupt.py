@@ -3,7 +3,7 @@ bar's first update past a given simulated time, as a user's key press would arri
 
 import signal
 
-from stewart import simulation
+from stewart.motion import simulation
 
 
 def press_ctrl_c_after(monkeypatch, after: float) -> None:

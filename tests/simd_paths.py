@@ -17,7 +17,7 @@ import sys
 import numpy as np
 
 import stewart
-from stewart import bench
+from stewart.cli import bench
 
 #: Batch size: no multiple of 2, 4 or 8.
 ROWS = 1003

@@ -9,9 +9,9 @@ import pytest
 
 import stewart
 from stewart import Platform, PlatformParams
-from stewart.base_parameters import base_parameters
-from stewart.checks import random_states, relative_error
-from stewart.params import INERTIAL_NAMES, NUM_RIGID_BODY
+from stewart.identification.base_parameters import base_parameters
+from stewart.oracles.physics import random_states, relative_error
+from stewart.model.params import INERTIAL_NAMES, NUM_RIGID_BODY
 
 from test_general_kernels import random_general
 

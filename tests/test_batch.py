@@ -10,8 +10,8 @@ import pytest
 
 import stewart
 from stewart import _kernel
-from stewart.checks import relative_error
-from stewart.errors import SingularityError
+from stewart.oracles.physics import relative_error
+from stewart.model.errors import SingularityError
 
 W = _kernel.LANES
 PARAMS = stewart.PlatformParams.preset("narayan2017")

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from stewart import bench
+from stewart.cli import bench
 
 pytest.importorskip("benchmarks", reason="needs the checkout (benchmarks/)")
 from benchmarks import readme, report  # noqa: E402

@@ -86,10 +86,10 @@ def test_each_path_agrees_with_the_baseline(path, baseline, tmp_path):
     assert_same_results(result, baseline)
 
 
-@pytest.mark.parametrize("command", [["-c", "import stewart"], ["-m", "stewart", "info"]], ids=["import", "cli"])
+@pytest.mark.parametrize("command", [["-c", "from stewart import Platform"], ["-m", "stewart", "info"]], ids=["import", "cli"])
 @pytest.mark.parametrize("value", ["sse1", "AVX2", " "])
 def test_an_unknown_path_is_a_one_line_error_naming_the_valid_ones(command, value):
-    """At import and from the command: stderr is one line naming STEWART_SIMD and every path
+    """At the compiled model's import and from the command: stderr is one line naming STEWART_SIMD and every path
     this CPU runs, exit code 2, no traceback."""
     env = dict(os.environ, **{SIMD_VARIABLE: value})
     proc = subprocess.run([sys.executable, *command], env=env, capture_output=True, text=True)

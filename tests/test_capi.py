@@ -10,7 +10,7 @@ import pytest
 import stewart
 from c_example import CFLAGS, EXAMPLE, check_example, run_command
 from conftest import random_params
-from stewart import capi
+from stewart.io import capi
 from stewart._kernel import PARAM_FIELDS, PARAM_INPUTS, PARAM_SOURCES, PARAMS_LEFT_OUT
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent

@@ -10,9 +10,9 @@ from hypothesis import HealthCheck, event, given, settings, strategies as st
 
 import stewart
 from interrupt import press_ctrl_c_after
-from stewart import exactness
+from stewart.oracles import exactness
 from stewart.cli import main
-from stewart.presets import narayan2017_target_pose
+from stewart.model.presets import narayan2017_target_pose
 
 
 def _numbers(text):

@@ -21,8 +21,10 @@ from hypothesis import HealthCheck, assume, given, settings
 from hypothesis import strategies as st
 
 import stewart
-from stewart import _kernel, conditions, newton_euler, reference
-from stewart.control import leg_masses
+from stewart import _kernel
+from stewart.model import conditions
+from stewart.oracles import newton_euler, reference
+from stewart.motion.control import leg_masses
 from conftest import random_params, random_states
 
 ROOT = Path(__file__).resolve().parent.parent

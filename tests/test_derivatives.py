@@ -1,7 +1,7 @@
 """Derivatives of the dynamics.
 
 The oracle is complex-step differentiation of the numeric reference
-(:func:`stewart.checks.reference_inverse_dynamics_jacobians` and its kin), never of the
+(:func:`stewart.oracles.physics.reference_inverse_dynamics_jacobians` and its kin), never of the
 kernel. It is checked first against what it must equal exactly: its own complex-input
 path, the identities ``dtau/dxddot = J_C^-T M`` and ``dxddot/dtau = M^-1 J_C^T`` built
 from the reference's ``M`` and ``J_C``, the implicit-function relation between its
@@ -24,8 +24,8 @@ import numpy as np
 import pytest
 
 import stewart
-from stewart import reference as ref
-from stewart.checks import (
+from stewart.oracles import reference as ref
+from stewart.oracles.physics import (
     complex_step_jacobians,
     random_states,
     reference_forward_dynamics_jacobians,

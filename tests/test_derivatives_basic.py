@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 import stewart
-from stewart.platform import ForwardDynamicsDerivatives, InverseDynamicsDerivatives, StepDerivatives
+from stewart.model.platform import ForwardDynamicsDerivatives, InverseDynamicsDerivatives, StepDerivatives
 
 from conftest import random_params
 

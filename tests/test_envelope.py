@@ -1,4 +1,4 @@
-"""Force and joint-load envelopes (stewart.envelope): the peaks against brute-force dense
+"""Force and joint-load envelopes (stewart.studies.envelope): the peaks against brute-force dense
 evaluation of the Newton-Euler solution, the stroke count, and one-line errors for bad
 specifications."""
 
@@ -10,9 +10,10 @@ import numpy as np
 import pytest
 
 import stewart
-from stewart import envelope as env
-from stewart import execution, newton_euler
-from stewart.presets import narayan2017_target_pose
+from stewart.studies import envelope as env
+from stewart.studies import execution
+from stewart.oracles import newton_euler
+from stewart.model.presets import narayan2017_target_pose
 
 from conftest import make_general
 

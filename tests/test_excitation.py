@@ -7,12 +7,13 @@ import numpy as np
 import pytest
 
 import stewart
-from stewart import csvfile, kinematics
+from stewart.io import csvfile
+from stewart.model import kinematics
 from stewart.cli import main
-from stewart.excitation import condition_number, design_excitation
-from stewart.trajectory import FourierTrajectory, SampledTrajectory
-from stewart.trajectory import load as load_trajectory
-from stewart.workspace import reachability
+from stewart.identification.excitation import condition_number, design_excitation
+from stewart.motion.trajectory import FourierTrajectory, SampledTrajectory
+from stewart.motion.trajectory import load as load_trajectory
+from stewart.studies.workspace import reachability
 
 #: A short design: few harmonics, samples, starts and iterations (seconds, not minutes).
 SMALL = dict(period=4.0, harmonics=3, samples=40, starts=2, max_iterations=25, seed=1)
@@ -92,7 +93,7 @@ def test_design_lowers_the_condition_number(design):
 
 
 def test_design_condition_number_is_that_of_the_stacked_base_regressor(plat, design):
-    from stewart.base_parameters import base_parameters
+    from stewart.identification.base_parameters import base_parameters
 
     base = base_parameters(plat)
     assert design.base_names == tuple(base.names)

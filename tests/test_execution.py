@@ -1,4 +1,4 @@
-"""Chunked studies (stewart.execution): the chunking, the reductions against brute force over
+"""Chunked studies (stewart.studies.execution): the chunking, the reductions against brute force over
 the whole study, and the same result on a pool of threads and on a 2-worker Dask cluster."""
 
 from __future__ import annotations
@@ -9,8 +9,8 @@ import numpy as np
 import pytest
 
 import stewart
-from stewart import execution
-from stewart.execution import Chunk, Peak
+from stewart.studies import execution
+from stewart.studies.execution import Chunk, Peak
 
 
 @dataclass(frozen=True)

@@ -46,11 +46,12 @@ from hypothesis import strategies as st
 from hypothesis.extra import numpy as hnp
 
 import stewart
-import stewart.trajectory
-from stewart import (ConvergenceError, PlatformParams, SingularityError, envelope, excitation, reference, sweep,
-                     workspace)
-from stewart.control import leg_masses
-from stewart.paramfile import dumps_toml
+import stewart.motion.trajectory
+from stewart import ConvergenceError, PlatformParams, SingularityError, reference, workspace
+from stewart.identification import excitation
+from stewart.studies import envelope, sweep
+from stewart.motion.control import leg_masses
+from stewart.model.paramfile import dumps_toml
 from conftest import LAYOUTS, PLATFORM_METHODS, random_states, valid_arguments
 
 _EXPLORE = int(os.environ.get("STEWART_FUZZ_EXAMPLES", "0"))
@@ -274,7 +275,7 @@ def fuzz_platform(call, return_mask, threads):
                                                                  and getattr(getattr(v, "dtype", None), "kind", "") != "c"))
 def fuzz_one_definition_of_a_state(x):
     """The kernel and the numpy kinematics accept and refuse the same real inputs, with the
-    same message (one definition, ``_checks.state_array``), and agree where both answer."""
+    same message (one definition, ``stewart.model.arguments.state_array``), and agree where both answer."""
     _example()
     kernel = kept_contract(lambda: PLAT.jacobian(x), ("x",))
     numpy = kept_contract(lambda: stewart.jacobian(PARAMS, x), ("x",))
@@ -595,15 +596,15 @@ HOME = PLAT.home_pose
 _AMPLITUDES = np.array([0.003] * 3 + [0.02] * 3)[:, None]
 _RNG = np.random.default_rng(0)
 #: A periodic motion that excites every base parameter.
-EXCITING = stewart.trajectory.FourierTrajectory(HOME, 2.0, _RNG.normal(size=(6, 3)) * _AMPLITUDES,
+EXCITING = stewart.motion.trajectory.FourierTrajectory(HOME, 2.0, _RNG.normal(size=(6, 3)) * _AMPLITUDES,
                                                 _RNG.normal(size=(6, 3)) * _AMPLITUDES)
 
 
 @functools.cache
 def _identify():
-    """stewart.identify, imported when first needed (scipy.signal takes a second to import,
+    """stewart.identification.identify, imported when first needed (scipy.signal takes a second to import,
     which each interpreter of ``test_isolated`` would pay)."""
-    from stewart import identify
+    from stewart.identification import identify
 
     return identify
 
@@ -811,7 +812,7 @@ def test_sweeps_keep_the_contract(changes):
 @functools.cache
 def _excitation_base():
     """The preset's base parameters (computed once, not by each design)."""
-    from stewart.base_parameters import base_parameters
+    from stewart.identification.base_parameters import base_parameters
 
     return base_parameters(PLAT)
 

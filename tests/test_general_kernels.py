@@ -2,7 +2,7 @@
 payload with a full inertia tensor.
 
 The kernel is checked against Lagrange's equations of the energy written out from the
-bodies (:func:`stewart.checks.energy`, differentiated by complex step and polarization, not
+bodies (:func:`stewart.oracles.physics.energy`, differentiated by complex step and polarization, not
 by the derivation), against the paper's kernel where the two models coincide, and by the
 energy it conserves and the power it balances.
 """
@@ -13,9 +13,10 @@ import numpy as np
 import pytest
 
 import stewart
-from stewart import checks, conditions, kinematics
-from stewart import reference as ref
-from stewart.checks import COMPLEX_STEP, random_states, relative_error
+from stewart.oracles import physics
+from stewart.model import conditions, kinematics
+from stewart.oracles import reference as ref
+from stewart.oracles.physics import COMPLEX_STEP, random_states, relative_error
 
 from conftest import random_params
 
@@ -45,7 +46,7 @@ def random_general(seed):
 
 
 def _kinetic(params, x, xd):
-    return checks.energy(params, x, xd) - checks.energy(params, x, np.zeros_like(xd))
+    return physics.energy(params, x, xd) - physics.energy(params, x, np.zeros_like(xd))
 
 
 def lagrange_mass_matrix(params, x):
@@ -69,7 +70,7 @@ def lagrange_forces(params, x, xd, xdd):
     dmass = [lagrange_mass_matrix(params, x + 1j * h * np.eye(6)[k]).imag / h for k in range(6)]
     mdot = sum(dmass[k] * xd[:, k, None, None] for k in range(6))
     quadratic = np.stack([np.einsum("ni,nij,nj->n", xd, dmass[k], xd) for k in range(6)], axis=-1)
-    potential = np.stack([checks.energy(params, x + 1j * h * np.eye(6)[k], np.zeros_like(xd)).imag / h
+    potential = np.stack([physics.energy(params, x + 1j * h * np.eye(6)[k], np.zeros_like(xd)).imag / h
                           for k in range(6)], axis=-1)
     return (np.einsum("nij,nj->ni", mass, xdd) + np.einsum("nij,nj->ni", mdot, xd)
             - 0.5 * quadratic + potential)
@@ -107,8 +108,8 @@ def test_derivative_kernels_match_complex_step_of_the_reference(figures):
     inv = plat.inverse_dynamics_derivatives(x, xd, xdd)
     fwd = plat.forward_dynamics_derivatives(x, xd, tau)
     worst = max(max(relative_error(got, want) for got, want in zip(out[1:], oracle)) for out, oracle in (
-        (inv, checks.reference_inverse_dynamics_jacobians(params, x, xd, xdd)),
-        (fwd, checks.reference_forward_dynamics_jacobians(params, x, xd, tau))))
+        (inv, physics.reference_inverse_dynamics_jacobians(params, x, xd, xdd)),
+        (fwd, physics.reference_forward_dynamics_jacobians(params, x, xd, tau))))
     figures("general kernel derivatives vs complex step of the reference", worst, 1e-9)
     assert worst <= 1e-9
 
@@ -161,7 +162,7 @@ def test_power_balance(seed):
     params = random_general(seed)
     plat = stewart.Platform(params)
     x, xd, xdd = random_states(params, 5, np.random.default_rng(seed))
-    assert checks.power_balance(params, x, xd, xdd, plat.inverse_dynamics(x, xd, xdd)) <= 1e-12
+    assert physics.power_balance(params, x, xd, xdd, plat.inverse_dynamics(x, xd, xdd)) <= 1e-12
 
 
 def test_forward_dynamics_inverts_inverse_dynamics():
@@ -243,10 +244,10 @@ def test_derivative_kernels_match_differences_of_the_values(seed, figures):
 
 
 def test_energy_is_conserved_with_no_forces():
-    """tau = 0 in zero gravity (checks.energy_drift, DOP853 on the kernel's forward
+    """tau = 0 in zero gravity (physics.energy_drift, DOP853 on the kernel's forward
     dynamics), with spinning non-axisymmetric legs and an off-centre payload."""
     pytest.importorskip("scipy")
-    assert checks.energy_drift(random_general(1), 1.0, seed=1) <= 1e-9
+    assert physics.energy_drift(random_general(1), 1.0, seed=1) <= 1e-9
 
 
 def test_energy_is_conserved_under_gravity_by_the_rk4_step():
@@ -256,12 +257,12 @@ def test_energy_is_conserved_under_gravity_by_the_rk4_step():
     params = random_general(2)
     plat = stewart.Platform(params)
     x, xd = plat.home_pose, np.zeros(6)
-    start = checks.energy(params, x, xd)
+    start = physics.energy(params, x, xd)
     path = []
     for _ in range(500):
         x, xd = plat.rk4_step(x, xd, np.zeros(6), 1e-4)[:2]
         path.append(np.concatenate([x, xd]))
     path = np.array(path)
     kinetic = float(np.max(_kinetic(params, path[:, :6], path[:, 6:])))
-    worst = float(np.max(np.abs(checks.energy(params, path[:, :6], path[:, 6:]) - start)))
+    worst = float(np.max(np.abs(physics.energy(params, path[:, :6], path[:, 6:]) - start)))
     assert kinetic > 0.0 and worst <= 1e-9 * kinetic

@@ -1,17 +1,17 @@
 """The general model (legs that turn with their universal joints, an off-centre payload with
 a full inertia tensor) in the numeric reference and the Newton-Euler check: against the
-energy written out from the bodies (stewart.checks.energy), against each other, against
+energy written out from the bodies (stewart.oracles.physics.energy), against each other, against
 the paper's model where the two must coincide, and at the joints' gimbal lock."""
 
 import numpy as np
 import pytest
 
 import stewart
-from stewart import kinematics
-from stewart import newton_euler as ne
-from stewart import reference as ref
-from stewart.checks import COMPLEX_STEP as H
-from stewart.checks import energy, power_balance, relative_error
+from stewart.model import kinematics
+from stewart.oracles import newton_euler as ne
+from stewart.oracles import reference as ref
+from stewart.oracles.physics import COMPLEX_STEP as H
+from stewart.oracles.physics import energy, power_balance, relative_error
 from conftest import random_states
 
 
@@ -150,8 +150,8 @@ def test_gimbal_lock_is_a_singularity():
 def test_leg_spin_effect_against_newton_euler():
     """stewart.exactness measures with the reference; Newton-Euler, an independent
     formulation, gives the same changes of the actuator forces."""
-    from stewart import exactness
-    from stewart.checks import random_states as states
+    from stewart.oracles import exactness
+    from stewart.oracles.physics import random_states as states
 
     params = stewart.PlatformParams.preset("narayan2017")
     effect = exactness.leg_spin_effect(params, n_states=40, seed=3)

@@ -12,7 +12,7 @@ import pytest
 
 from stewart import Platform, PlatformParams
 from stewart.cli import main
-from stewart.identify import Measurements, estimate, identify, synthetic_measurements, validation
+from stewart.identification.identify import Measurements, estimate, identify, synthetic_measurements, validation
 
 NOISE_LENGTH = 1e-6   # m, a linear encoder's
 NOISE_FORCE = 0.2     # N, a load cell's

@@ -9,9 +9,9 @@ import numpy as np
 import pytest
 
 import stewart
-from stewart import kinematics
-from stewart import newton_euler as ne
-from stewart.checks import COMPLEX_STEP, random_states, relative_error
+from stewart.model import kinematics
+from stewart.oracles import newton_euler as ne
+from stewart.oracles.physics import COMPLEX_STEP, random_states, relative_error
 
 from conftest import random_params
 from test_general_kernels import random_general

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 import stewart
-from stewart import reference as ref
-from stewart.checks import relative_error
+from stewart.oracles import reference as ref
+from stewart.oracles.physics import relative_error
 from conftest import random_params, random_states
 
 FUNCTIONS = [

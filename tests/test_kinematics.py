@@ -6,7 +6,7 @@ import pytest
 
 import stewart
 from conftest import random_params, random_states
-from stewart.presets import narayan2017_target_pose
+from stewart.model.presets import narayan2017_target_pose
 
 # Narayan Rao et al. (2017), section IX, in the paper's y-up frame.
 PAPER_ROTATION = np.array([[0.9908, 0.0953, -0.09575], [-0.1044, 0.99, -0.09531], [0.0857, 0.1044, 0.9908]])

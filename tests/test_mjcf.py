@@ -13,10 +13,10 @@ import numpy as np
 import pytest
 
 import stewart
-from stewart import bench
-from stewart.checks import relative_error
+from stewart.cli import bench
+from stewart.oracles.physics import relative_error
 from stewart.cli import EXIT_USAGE, main
-from stewart.kinematics import leg_unit_vectors, rotation
+from stewart.model.kinematics import leg_unit_vectors, rotation
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 if str(ROOT) not in sys.path:

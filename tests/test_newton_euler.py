@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 import stewart
-from stewart import newton_euler as ne
-from stewart import reference as ref
-from stewart.checks import COMPLEX_STEP as H
-from stewart.checks import relative_error, statics_residuals
+from stewart.oracles import newton_euler as ne
+from stewart.oracles import reference as ref
+from stewart.oracles.physics import COMPLEX_STEP as H
+from stewart.oracles.physics import relative_error, statics_residuals
 from conftest import PRESETS, random_params, random_states
 
 E_Z = np.array([0.0, 0.0, 1.0])
@@ -100,7 +100,7 @@ def _weights_scale(params):
 
 
 def test_statics_balance(any_params, figures):
-    """At rest the joint forces balance the weights (:func:`stewart.checks.statics_residuals`):
+    """At rest the joint forces balance the weights (:func:`stewart.oracles.physics.statics_residuals`):
     the platform's legs carry m_P g with no moment about its centre of mass; each leg's
     base force, the platform's push (-platform force) and its weight sum to zero, and so do
     their moments about B_i. The piston's axial balance gives tau; tau equals the compiled

@@ -7,9 +7,11 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import stewart
-import stewart.optimize
-from stewart import casadi_functions, kinematics
-from stewart.checks import random_states, relative_error
+import stewart.io.csvfile
+import stewart.motion.optimize
+from stewart.motion import casadi_functions
+from stewart.model import kinematics
+from stewart.oracles.physics import random_states, relative_error
 
 ca = pytest.importorskip("casadi")
 
@@ -161,7 +163,7 @@ def test_optimize_command(move, tmp_path, capsys):
     assert code == 0 and summary["ok"] and summary["status"] == "Solve_Succeeded" and summary["exit_code"] == 0
     assert max(summary["peak_force"]) <= 60 + 1e-6 and len(summary["files"]) == 3
     assert sorted(p.name for p in figures_dir.iterdir()) == ["optimize_forces.png", "optimize_legs.png"]
-    rows = stewart.csvfile.read(csv, ["t", "x", "y", "z", "psi", "theta", "phi", "force0", "L5"])
+    rows = stewart.io.csvfile.read(csv, ["t", "x", "y", "z", "psi", "theta", "phi", "force0", "L5"])
     np.testing.assert_allclose(rows[:, 1:7], move.x, rtol=1e-10, atol=1e-12)
     np.testing.assert_allclose(rows[:-1, 7], move.tau[:, 0], rtol=1e-10)
     np.testing.assert_allclose(rows[:, 8], move.lengths[:, 5], rtol=1e-10)

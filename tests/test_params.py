@@ -316,8 +316,8 @@ def test_params_module_imports_point_one_way():
                 for n in ast.walk(f) if isinstance(n, (ast.Import, ast.ImportFrom))]
         return found, lazy
 
-    params_imports, params_lazy = imports("stewart.params")
+    params_imports, params_lazy = imports("stewart.model.params")
     assert "presets" in params_imports and ".paramfile" in params_imports and not params_lazy
-    for module in ("stewart.presets", "stewart.paramfile"):
+    for module in ("stewart.model.presets", "stewart.model.paramfile"):
         found, _ = imports(module)
         assert not any("params" in name and "paramfile" not in name for name in found), (module, found)

@@ -10,14 +10,14 @@ import numpy as np
 import pytest
 
 import stewart
-from stewart import bench
+from stewart.cli import bench
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
 from benchmarks.peers.common import param_vector  # noqa: E402
-from stewart.checks import relative_error  # noqa: E402
+from stewart.oracles.physics import relative_error  # noqa: E402
 
 pytestmark = pytest.mark.peers
 
@@ -45,7 +45,7 @@ def test_casadi_general_legs_match_reference(figures):
     import warnings
 
     from benchmarks.peers import casadi_model
-    from stewart import reference
+    from stewart.oracles import reference
 
     base = stewart.PlatformParams.preset("motion_simulator")
     with warnings.catch_warnings():

@@ -1,6 +1,6 @@
 """The compiled kernel against physics: energy conservation in free motion, the power
 balance, a symmetric positive-definite twist-space mass matrix; a check that these
-tests catch the paper's eq. 60 typo; and stewart.validation on every preset."""
+tests catch the paper's eq. 60 typo; and stewart.oracles.validation on every preset."""
 
 import warnings
 
@@ -8,17 +8,17 @@ import numpy as np
 import pytest
 
 import stewart
-from stewart import newton_euler as ne
-from stewart import reference as ref
-from stewart import validation
-from stewart.checks import COMPLEX_STEP as H
-from stewart.checks import energy, energy_drift, power_balance, relative_error, twist_mass_matrix_figures
+from stewart.oracles import newton_euler as ne
+from stewart.oracles import reference as ref
+from stewart.oracles import validation
+from stewart.oracles.physics import COMPLEX_STEP as H
+from stewart.oracles.physics import energy, energy_drift, power_balance, relative_error, twist_mass_matrix_figures
 from conftest import PRESETS, random_params, random_states
 
 
 def test_energy_conserved_in_free_motion(any_params, figures):
-    """With tau = 0 the kernel's motion conserves E (:func:`stewart.checks.energy`) over 1 s
-    (:func:`stewart.checks.energy_drift`: zero gravity, a modest twist from home, DOP853
+    """With tau = 0 the kernel's motion conserves E (:func:`stewart.oracles.physics.energy`) over 1 s
+    (:func:`stewart.oracles.physics.energy_drift`: zero gravity, a modest twist from home, DOP853
     at rtol 1e-12; ``inf`` if the path nears a singular pose); drift relative to the
     largest kinetic energy."""
     drift = energy_drift(any_params, seconds=1.0, seed=40)
@@ -103,7 +103,7 @@ def test_eq60_typo_is_caught(any_params, figures):
     figures(f"eq. 60 typo detected: power tolerance / typo error ({any_params.name})", 1e-10 / typo_power, 1e-4)
 
 
-# --- stewart.validation ------------------------------------------------------------------
+# --- stewart.oracles.validation ------------------------------------------------------------------
 
 
 @pytest.mark.parametrize("name", PRESETS)

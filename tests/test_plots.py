@@ -5,7 +5,7 @@ from types import SimpleNamespace
 import pytest
 
 pytest.importorskip("matplotlib")
-from stewart.plots import run_title  # noqa: E402
+from stewart.io.plots import run_title  # noqa: E402
 
 
 @pytest.mark.parametrize("metadata, title", [

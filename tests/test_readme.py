@@ -197,7 +197,7 @@ def test_the_python_tour_runs(tmp_path, monkeypatch):
 
 
 def test_the_validate_sample_lists_the_checks_stewart_validate_runs():
-    from stewart import validation
+    from stewart.oracles import validation
 
     sample = re.search(r"<!-- BEGIN validate\b.*?-->\n(.*?)<!-- END validate -->", README, re.S)
     assert sample, "README.md has the generated block of make validate"

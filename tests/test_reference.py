@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 
 import stewart
-from stewart import reference as ref
-from stewart.checks import COMPLEX_STEP as H
-from stewart.checks import energy, power_balance, relative_error
-from stewart.kinematics import euler_rate_jacobian
+from stewart.oracles import reference as ref
+from stewart.oracles.physics import COMPLEX_STEP as H
+from stewart.oracles.physics import energy, power_balance, relative_error
+from stewart.model.kinematics import euler_rate_jacobian
 from conftest import random_params, random_states
 
 
@@ -37,7 +37,7 @@ def test_forward_inverse_round_trip(figures):
 
 
 def test_power_balance(figures):
-    """dE/dt = tau . Ldot along any motion, E written out from the bodies (stewart.checks)."""
+    """dE/dt = tau . Ldot along any motion, E written out from the bodies (stewart.oracles.physics)."""
     rng = np.random.default_rng(11)
     worst = 0.0
     for params in _all_params(rng):

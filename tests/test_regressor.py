@@ -15,9 +15,9 @@ import pytest
 
 import stewart
 from stewart import Platform, PlatformParams
-from stewart import reference as ref
-from stewart.checks import random_states, relative_error
-from stewart.params import INERTIAL_NAMES, NUM_INERTIAL, NUM_RIGID_BODY
+from stewart.oracles import reference as ref
+from stewart.oracles.physics import random_states, relative_error
+from stewart.model.params import INERTIAL_NAMES, NUM_INERTIAL, NUM_RIGID_BODY
 
 from conftest import random_params
 from test_general_kernels import random_general

@@ -14,9 +14,11 @@ import numpy as np
 import pytest
 
 import stewart
-from stewart import envelope, exactness, excitation, identify, reference, sweep, workspace
-from stewart._checks import MAX_THREADS
-from stewart.control import leg_masses
+from stewart.studies import envelope, sweep, workspace
+from stewart.oracles import exactness, reference
+from stewart.identification import excitation, identify
+from stewart.model.arguments import MAX_THREADS
+from stewart.motion.control import leg_masses
 from conftest import LAYOUTS, PLATFORM_METHODS, valid_arguments
 
 PLAT = stewart.Platform.preset("narayan2017")
@@ -518,7 +520,7 @@ def test_limits_that_leave_no_motion_are_named():
     """A leg-velocity limit of 5e-324 m/s once gave a design that does not move, reported as
     feasible with a condition number of inf; a tiny smallest margin (ample at every pose)
     once made the centre pose break its limit."""
-    from stewart.base_parameters import base_parameters
+    from stewart.identification.base_parameters import base_parameters
 
     base = base_parameters(PLAT)
     options = dict(period=2.0, harmonics=2, starts=1, max_iterations=1, base=base)

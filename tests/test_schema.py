@@ -11,7 +11,7 @@ import numpy as np
 import pytest
 
 import stewart
-from stewart import capi
+from stewart.io import capi
 from stewart._kernel import PARAM_FIELDS, PARAM_INPUTS, PARAM_SOURCES, PARAMS_LEFT_OUT, Kernel
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent

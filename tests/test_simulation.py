@@ -5,8 +5,9 @@ import pytest
 from hypothesis import HealthCheck, event, given, settings, strategies as st
 
 import stewart
+import stewart.motion.simulation
 from interrupt import press_ctrl_c_after
-from stewart.presets import narayan2017_target_pose
+from stewart.model.presets import narayan2017_target_pose
 
 
 @pytest.fixture(scope="module")
@@ -415,7 +416,7 @@ def test_ctrl_c_returns_what_was_computed(plat, move, monkeypatch, method):
 
 
 def test_reachability_flags_each_problem(plat):
-    from stewart import workspace
+    from stewart.studies import workspace
 
     home = plat.home_pose
     below = home * [1, 1, -1, 1, 1, 1]  # mirrored under the base: legs within their stroke
@@ -496,7 +497,7 @@ def test_fuzz_simulate_arguments(plat, move, controller, dt, duration, method, t
         event(f"refused: {name}")
         return
     event(f"ran: {run.outcome}")
-    assert run.outcome in stewart.simulation.OUTCOMES and run.outcome != "interrupted"
+    assert run.outcome in stewart.motion.simulation.OUTCOMES and run.outcome != "interrupted"
     assert run.ok == (run.outcome == "completed") and (run.problems == []) == run.ok
     assert np.all(np.isfinite(run.x)) and np.all(np.isfinite(run.t)) and len(run.t) == len(run.x) >= 1
 
@@ -513,7 +514,7 @@ def test_condition_check_agrees_with_the_svd(plat):
     """The workspace check flags exactly the poses whose unit-free condition number (by
     numpy's cond) exceeds the limit, along a move through a singularity, and its margin
     is the inverse of that condition number."""
-    from stewart import workspace
+    from stewart.studies import workspace
 
     poses = stewart.PointToPoint(plat.home_pose, ISSUE_TARGET, 5.0).sample(np.linspace(0, 5, 2001))[0]
     radius = np.max(np.linalg.norm(plat.params.platform_points - plat.params.platform_points.mean(axis=0), axis=1))

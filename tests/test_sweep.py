@@ -1,4 +1,4 @@
-"""Design sweeps (stewart.sweep): the design parameters against hand-built layouts, the Pareto
+"""Design sweeps (stewart.studies.sweep): the design parameters against hand-built layouts, the Pareto
 front against its definition, each design's metrics against separate envelope and workspace
 runs, the same result on a 2-worker Dask cluster, and one-line errors naming the field."""
 
@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 import stewart
-from stewart import envelope, sweep, workspace
-from stewart.presets import hexapod_points
+from stewart.studies import envelope, sweep, workspace
+from stewart.model.presets import hexapod_points
 
 SIM = stewart.PlatformParams.preset("motion_simulator")
 

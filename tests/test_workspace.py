@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 
 import stewart
-from stewart import execution, workspace
+from stewart.studies import execution, workspace
 from stewart.cli import main
-from stewart.presets import hexapod_points
+from stewart.model.presets import hexapod_points
 
 
 def _vertical_legs(**bounds):

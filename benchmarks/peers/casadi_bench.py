@@ -9,7 +9,7 @@ import time
 import numpy as np
 
 import stewart
-from stewart import bench
+from stewart.cli import bench
 
 from . import casadi_model, cdriver
 from .common import PARAM_COUNT, param_vector, relative_error

@@ -26,8 +26,8 @@ import time
 import numpy as np
 
 import stewart
-from stewart import bench
-from stewart.checks import relative_error
+from stewart.cli import bench
+from stewart.oracles.physics import relative_error
 
 from . import casadi_model, cdriver
 from .common import param_vector

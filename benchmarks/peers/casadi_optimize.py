@@ -48,7 +48,7 @@ def casadi_functions(params, dt: float):
 def minimum_effort_move(platform, target, duration: float, intervals: int, force_limit=None):
     """:func:`stewart.optimize.solve_move` over CasADi's model: ``(states, forces, effort,
     stats, seconds)``, with the initial guess of :func:`stewart.optimize.initial_guess`."""
-    from stewart import optimize
+    from stewart.motion import optimize
 
     step, lengths = casadi_functions(platform.params, duration / intervals)
     return optimize.solve_move(step.map(intervals), lengths.map(intervals + 1), platform.home_pose, np.asarray(target, dtype=float), duration,
@@ -67,8 +67,8 @@ def figures(preset: str = "narayan2017", intervals: int = 50, force_limit: float
     import time
 
     import stewart
-    from stewart import casadi_functions as ours
-    from stewart import optimize
+    from stewart.motion import casadi_functions as ours
+    from stewart.motion import optimize
 
     plat = stewart.Platform.preset(preset)
     target = np.array([0.04565, -0.0102, 0.192, -0.0863, 0.1046, 0.0960])

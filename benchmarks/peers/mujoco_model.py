@@ -32,8 +32,8 @@ import time
 import numpy as np
 
 import stewart
-from stewart.kinematics import rotation
-from stewart.mjcf import SOLVERS, joint_velocities, pose_accelerations
+from stewart.model.kinematics import rotation
+from stewart.io.mjcf import SOLVERS, joint_velocities, pose_accelerations
 
 
 def without_axial_inertia(params: stewart.PlatformParams) -> stewart.PlatformParams:
@@ -126,8 +126,8 @@ def accelerations(params: stewart.PlatformParams, x, xd, tau, setting: str = "ti
 def our_run(dt: float = 1e-3, params: stewart.PlatformParams | None = None):
     """Our simulation of the demo's move under computed torque (RK4 at ``dt``), for the
     narayan2017 preset or ``params`` (a variant of it)."""
-    from stewart.demo import MOVE_DURATION
-    from stewart.presets import narayan2017_target_pose
+    from stewart.cli.demo import MOVE_DURATION
+    from stewart.model.presets import narayan2017_target_pose
 
     plat = stewart.Platform(params or stewart.PlatformParams.preset("narayan2017"))
     move = stewart.PointToPoint(plat.home_pose, narayan2017_target_pose(), MOVE_DURATION, "sinusoidal")
@@ -253,8 +253,8 @@ def trajectory_replay(params: stewart.PlatformParams, inverse_dynamics, duration
     import mujoco
     from mujoco import rollout
 
-    from stewart.demo import MOVE_DURATION
-    from stewart.presets import narayan2017_target_pose
+    from stewart.cli.demo import MOVE_DURATION
+    from stewart.model.presets import narayan2017_target_pose
 
     move = stewart.PointToPoint(stewart.home_pose(params), narayan2017_target_pose(), MOVE_DURATION, "sinusoidal")
     m = model(comparable(params), move.start, setting)
@@ -278,10 +278,10 @@ def trajectory_replay(params: stewart.PlatformParams, inverse_dynamics, duration
 def acceleration_differences(ours: stewart.PlatformParams, theirs: stewart.PlatformParams, inverse_dynamics,
                              states: int, seed: int = 0) -> dict:
     """The largest relative difference of MuJoCo's ``xdd`` (:func:`accelerations`, the
-    model of ``theirs``) from ``xdd`` at random states of ``ours`` (:func:`stewart.bench.states`)
+    model of ``theirs``) from ``xdd`` at random states of ``ours`` (:func:`stewart.cli.bench.states`)
     under the forces ``inverse_dynamics(x, xd, xdd)``: ``{"rigid": .., "soft": ..}``."""
-    from stewart import bench
-    from stewart.checks import relative_error
+    from stewart.cli import bench
+    from stewart.oracles.physics import relative_error
 
     x, xd, xdd = bench.states(ours, states, seed=seed)
     worst = {"rigid": 0.0, "soft": 0.0}

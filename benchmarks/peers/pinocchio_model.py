@@ -24,9 +24,9 @@ from __future__ import annotations
 import numpy as np
 
 import stewart
-from stewart import bench
-from stewart.checks import relative_error
-from stewart.kinematics import euler_rate_jacobian, rotation
+from stewart.cli import bench
+from stewart.oracles.physics import relative_error
+from stewart.model.kinematics import euler_rate_jacobian, rotation
 
 
 def build(params):

@@ -151,7 +151,7 @@ def figures(preset: str = "narayan2017", n_check: int = 200) -> dict:
     """Generation + compile time, single-call speed (with and without numpy's solve) and
     agreement of each available sympy route, next to our single call on the same state."""
     import stewart
-    from stewart import bench
+    from stewart.cli import bench
 
     from .common import param_vector, peer_available, relative_error
 

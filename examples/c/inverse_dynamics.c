@@ -7,7 +7,7 @@
  *   cc -std=c99 -O2 -Icdir examples/c/inverse_dynamics.c cdir/stewart_model*.c -lm -o inverse_dynamics
  *   ./inverse_dynamics
  *
- * (from Python: stewart.capi.export("cdir", stewart.PlatformParams.preset("narayan2017"))).
+ * (from Python: stewart.io.capi.export("cdir", stewart.PlatformParams.preset("narayan2017"))).
  * It prints the state and the six leg forces, one line each, to full precision.
  */
 #include <stdio.h>

@@ -11,8 +11,8 @@ import warnings
 import numpy as np
 
 import stewart
-from stewart import capi
-from stewart import reference as ref
+from stewart.io import capi
+from stewart.oracles import reference as ref
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 STATES_PER_PRESET = 4

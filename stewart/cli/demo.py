@@ -1,0 +1,244 @@
+"""``make demo``: the seed paper's move on its platform, under PID and computed torque.
+
+Narayan Rao et al. (2017) move their platform from an initial pose to a target pose in
+5 s along a sinusoidal velocity profile with joint-space PID. This demo makes that move
+from the home pose on the ``narayan2017`` preset with the compiled model, then the same
+move with computed torque; prints peak forces and tracking errors; writes the paper's
+figures as PNG; repeats the paper's leg-inertia study; runs an identification study
+(:func:`identification_run`): the platform carrying a payload the identifier does not know,
+with friction in its legs, follows a designed excitation trajectory; its logged leg lengths
+and forces, with noise, give back the base parameters; and ends with a sizing study
+(:func:`sizing_run`): workspace slices, the force and joint-load envelope of the move and of
+a box around it with a 20 % margin, and a small sweep of the joint radii.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import os
+
+import numpy as np
+
+import stewart
+from stewart.oracles import reference
+from stewart.model.presets import narayan2017_target_pose
+
+MOVE_DURATION = 5.0
+#: Widening of the box around the move for the sizing envelope (each range and rate bound).
+SIZING_MARGIN = 0.2
+SIZING_SAMPLES = 500_000
+#: The machine the identification study logs: a payload unknown to the identifier (mass [kg],
+#: centre of mass in {P} [m], principal moments [kg m^2]) and friction in each leg.
+PAYLOAD = (2.0, (0.02, -0.01, 0.03), (0.02, 0.03, 0.025))
+VISCOUS_FRICTION = (12.0, 15.0, 10.0, 14.0, 11.0, 13.0)   # N s/m
+COULOMB_FRICTION = (1.5, 2.0, 1.2, 1.8, 1.6, 1.4)         # N
+#: Measurement noise of the log: a linear encoder's [m] and a load cell's [N] standard deviation.
+NOISE_LENGTH = 1e-6
+NOISE_FORCE = 0.2
+SWEEP_FILE = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "examples", "sweep.toml")
+
+
+def _row(label: str, values, fmt: str = "{:>10.4f}", width: int = 34) -> str:
+    return f"  {label:<{width}}" + "".join(fmt.format(v) for v in values)
+
+
+def leg_inertia_study(params: stewart.PlatformParams, trajectory, dt: float = 1e-3) -> dict[str, np.ndarray]:
+    """Peak actuator force per leg along ``trajectory`` (inverse dynamics at every ``dt``)
+    for the full model, with massless legs, and with the legs' rotation neglected (leg
+    masses kept, leg rotational inertias zero)."""
+    variants = {
+        "full model": params,
+        "massless legs": params.replace(cylinder_mass=0.0, piston_mass=0.0,
+                                        cylinder_inertia=(0, 0, 0), piston_inertia=(0, 0, 0)),
+        "leg rotation neglected (leg masses kept)": params.replace(cylinder_inertia=(0, 0, 0),
+                                                                   piston_inertia=(0, 0, 0)),
+    }
+    times = np.arange(int(round(trajectory.duration / dt)) + 1) * dt
+    x, xd, xdd = trajectory.sample(times)
+    return {name: np.max(np.abs(stewart.Platform(p).inverse_dynamics(x, xd, xdd)), axis=0)
+            for name, p in variants.items()}
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(prog="python -m stewart.cli.demo", description=__doc__)
+    parser.add_argument("--out", default=os.path.join("out", "demo"), help="directory for the figures")
+    parser.add_argument("--no-plots", action="store_true", help="skip the figures")
+    args = parser.parse_args(argv)
+
+    plat = stewart.Platform.preset("narayan2017")
+    params = plat.params
+    home = plat.home_pose
+    print(f"Platform {params.name!r}: {stewart.presets()[params.name]}")
+    print(f"  masses: platform {params.platform_mass:.4f} kg, cylinder {params.cylinder_mass:.4f} kg, "
+          f"piston {params.piston_mass:.4f} kg; leg lengths {params.leg_length_limits[0]}-"
+          f"{params.leg_length_limits[1]} m")
+    print(_row("home pose [m, rad]", home))
+    print(_row("leg lengths at home [m]", plat.leg_lengths(home)))
+
+    xd = np.array([0.02, -0.01, 0.05, 0.3, -0.2, 0.1])
+    xdd = np.array([0.3, 0.1, -0.5, 2.0, 1.0, -1.5])
+    print("\nInverse dynamics at home, moving (xdot, xddot below):")
+    print(_row("xdot [m/s, rad/s]", xd))
+    print(_row("xddot [m/s^2, rad/s^2]", xdd))
+    print(_row("tau, numeric reference [N]", reference.inverse_dynamics(params, home, xd, xdd)))
+    print(_row("tau, compiled kernel [N]", plat.inverse_dynamics(home, xd, xdd)))
+
+    target = narayan2017_target_pose()
+    move = stewart.PointToPoint(home, target, MOVE_DURATION, "sinusoidal")
+    print(f"\nThe paper's move: home -> target in {MOVE_DURATION:g} s, sinusoidal velocity profile")
+    print(_row("target pose [m, rad]", target))
+    print(_row("leg lengths at target [m]", plat.leg_lengths(target)))
+    runs = {
+        "PID": stewart.simulate(plat, move, stewart.PID.tuned(plat)),
+        "computed torque": stewart.simulate(plat, move, stewart.ComputedTorque.tuned()),
+    }
+    print(f"\n  {'':<34}" + "".join(f"{name:>22}" for name in runs))
+    summaries = {name: run.summary() for name, run in runs.items()}
+    for leg in range(6):
+        print(f"  {f'peak force, leg {leg} [N]':<34}" + "".join(f"{s['peak_force'][leg]:>22.3f}" for s in summaries.values()))
+    rows = [
+        ("final position error [m]", "final_position_error", "{:>22.2e}"),
+        ("final angle error [rad]", "final_angle_error", "{:>22.2e}"),
+        ("RMS position error [m]", "rms_position_error", "{:>22.2e}"),
+        ("RMS angle error [rad]", "rms_angle_error", "{:>22.2e}"),
+    ]
+    for label, key, fmt in rows:
+        print(f"  {label:<34}" + "".join(fmt.format(s[key]) for s in summaries.values()))
+    timing = [f"{1e3 * s['wall_time']:.1f} ms / {s['simulated_time']:g} s" for s in summaries.values()]
+    print(f"  {'wall time / simulated time':<34}" + "".join(f"{v:>22}" for v in timing))
+    print(f"  {'outcome':<34}" + "".join(f"{run.outcome:>22}" for run in runs.values()))
+    for name, run in runs.items():
+        for problem in run.problems:
+            print(f"  {name}: {problem}")
+
+    study = leg_inertia_study(params, move)
+    print("\nLeg-inertia study: peak actuator force per leg over the move [N] (inverse dynamics)")
+    print(f"  {'':<42}" + "".join(f"{f'leg {k}':>10}" for k in range(6)) + f"{'max':>10}")
+    full = study["full model"]
+    for name, peaks in study.items():
+        change = "" if name == "full model" else f"   ({100 * (np.max(peaks) / np.max(full) - 1):+.1f}% of max)"
+        print(f"  {name:<42}" + "".join(f"{v:>10.3f}" for v in peaks) + f"{np.max(peaks):>10.3f}{change}")
+
+    ident = identification_run(params, move, short=True)
+    sizing = sizing_run(params, move)
+
+    if not args.no_plots:
+        from stewart.io.plots import plot_bars, plot_run, plot_workspace_slices
+
+        paths = []
+        for name, run in runs.items():
+            paths += plot_run(run, args.out, prefix=name.replace(" ", "_").lower())
+        paths.append(plot_bars(
+            [f"leg {k}" for k in range(6)], study, "peak actuator force [N]",
+            f"{params.name}: peak actuator force per leg, three models of the legs",
+            os.path.join(args.out, "leg_inertia_study.png"), xlabel="leg",
+            caption=f"largest |force| of each leg over the seed paper's {MOVE_DURATION:g} s move (home to target, "
+                    "sinusoidal profile), by inverse dynamics along the reference path",
+            value_format="{:.2f}"))
+        paths.append(plot_identification(ident, os.path.join(args.out, "identification_held_out.png")))
+        paths.append(plot_workspace_slices(sizing["slices"], os.path.join(args.out, "workspace_slices.png")))
+        paths.append(sizing["move"].plot(os.path.join(args.out, "envelope_move.png")))
+        paths.append(sizing["box"].plot(os.path.join(args.out, "envelope_margin_box.png")))
+        if sizing["sweep"] is not None:
+            paths.append(sizing["sweep"].plot(os.path.join(args.out, "sweep_pareto.png")))
+        print(f"\nFigures written to {os.path.abspath(args.out)}:")
+        for path in paths:
+            print(f"  {os.path.basename(path)}")
+
+
+def sizing_run(params: stewart.PlatformParams, move) -> dict:
+    """Workspace slices, the envelopes of ``move`` and of the box around it widened by
+    :data:`SIZING_MARGIN`, and the sweep of ``examples/sweep.toml`` (when the checkout has
+    it); prints the tables and returns the results."""
+    from stewart.studies import envelope, sweep, workspace
+
+    print("\nSizing: the translational workspace at zero rotation")
+    work = workspace.translational_workspace(params, samples=100_000, seed=0, progress=False)
+    print(f"  volume {work.volume * 1e6:.0f} +- {work.volume_error * 1e6:.0f} cm^3, mean singularity margin "
+          f"{work.margin_mean:.3f} (the smallest {work.margin_min:.3g})")
+    slices = [workspace.workspace_slice(params, axes, resolution=81) for axes in ("xy", "xz", "yz")]
+
+    peaks = {"move": envelope.envelope(params, envelope.Trajectories([move], 1e-3), progress=False),
+             "box": envelope.envelope(params, envelope.Box.around(move, SIZING_MARGIN), samples=SIZING_SAMPLES,
+                                      progress=False)}
+    labels = {"move": f"the move ({peaks['move'].states:,} samples)",
+              "box": f"the box around it, +-{SIZING_MARGIN:.0%} ({peaks['box'].states:,} states, "
+                     f"{peaks['box'].outside_stroke:,} outside the stroke)"}
+    for key, result in peaks.items():
+        print(f"\nEnvelope of {labels[key]}: peaks per leg")
+        print(f"  {'':<34}" + "".join(f"{f'leg {k}':>10}" for k in range(6)))
+        for quantity, unit in envelope.QUANTITIES:
+            print(_row(f"{quantity.replace('_', ' ')} [{unit}]", result.value(quantity), "{:>10.3f}"))
+
+    result = None
+    if os.path.exists(SWEEP_FILE):
+        spec = sweep.load(SWEEP_FILE)
+        result = sweep.sweep(spec, progress=False)
+        front = result.front()
+        print(f"\nSweep of the joint radii ({len(spec.designs)} designs, examples/sweep.toml); * on the Pareto "
+              f"front of {spec.pareto[0]} and {spec.pareto[1]}")
+        print(f"  {'base radius [m]':>16}{'platform radius [m]':>21}{'volume [cm^3]':>15}{'peak force [N]':>16}")
+        for k, design in enumerate(spec.designs):
+            print(f"{'*' if front[k] else ' ':>2}{design['base_radius']:>16.3f}{design['platform_radius']:>21.3f}"
+                  f"{result.metrics['workspace_volume'][k] * 1e6:>15.0f}{result.metrics['peak_force'][k]:>16.2f}")
+    return {"workspace": work, "slices": slices, **peaks, "sweep": result}
+
+
+def identification_run(params: stewart.PlatformParams, held_out, *, short: bool = False, seed: int = 0) -> dict:
+    """Identify the platform ``params`` carrying :data:`PAYLOAD` with friction in its legs
+    (unknown to the identifier, whose prior is ``params``): design an excitation trajectory
+    for the prior (:func:`stewart.identification.excitation.design_excitation`), log the machine following it
+    at 500 Hz with :data:`NOISE_LENGTH` and :data:`NOISE_FORCE` of noise, identify, and predict
+    the forces of the trajectory ``held_out``. Prints the estimates against the true base
+    parameters, in standard errors, and the prediction's RMS error against the true model's
+    through the same measurement pipeline (the noise level); returns the results."""
+    from stewart.identification.excitation import design_excitation
+    from stewart.identification.identify import identify, synthetic_measurements, validation
+
+    prior = stewart.Platform(params)
+    machine = stewart.Platform(params.with_payload(*PAYLOAD).replace(
+        viscous_friction=VISCOUS_FRICTION, coulomb_friction=COULOMB_FRICTION))
+    design = design_excitation(prior, period=5.0, harmonics=4, starts=1 if short else 4,
+                               max_iterations=20 if short else 100, periods=2 if short else 6, seed=seed)
+    traj = design.trajectory
+    cutoff = 10.0 * traj.harmonics / traj.period  # ten times the highest harmonic
+    print(f"\nIdentification: {params.name} with a {PAYLOAD[0]:g} kg payload off-centre and friction, "
+          f"following an excitation of {traj.harmonics} harmonics over {traj.period:g} s, {traj.periods} periods "
+          f"(condition number {design.initial_condition:.0f} at the random start, {design.condition:.0f} designed)")
+    log = synthetic_measurements(machine, traj, rate=500.0, noise_length=NOISE_LENGTH, noise_force=NOISE_FORCE,
+                                 seed=seed)
+    result = identify(prior, log, cutoff=cutoff)
+    truth = result.base.values(machine.params.inertial_vector())
+    z = (result.estimates - truth) / result.standard_errors
+    print(f"  {len(log.t)} samples at 500 Hz, noise {NOISE_LENGTH:g} m and {NOISE_FORCE:g} N; cut-off {cutoff:g} Hz; "
+          f"condition number {result.condition_number:.0f}")
+    width = max(len(n) for n in result.base.names)
+    print(f"  {'base parameter':<{width}}{'true':>13}{'estimate':>13}{'std error':>11}{'error/std':>10}")
+    for name, true, value, error, score in zip(result.base.names, truth, result.estimates,
+                                              result.standard_errors, z):
+        print(f"  {name:<{width}}{true:>13.5g}{value:>13.5g}{error:>11.2g}{score:>10.2f}")
+    inside = np.abs(z) <= 2.0
+    print(f"  {int(inside.sum())} of {len(z)} estimates within 2 standard errors of the truth "
+          f"(about 95 % expected for Gaussian errors)")
+    held = synthetic_measurements(machine, held_out, rate=500.0, noise_length=NOISE_LENGTH, noise_force=NOISE_FORCE,
+                                  seed=seed + 1)
+    t, predicted, measured, rms = validation(result, prior, held, cutoff=cutoff)
+    exact = dataclasses.replace(result, estimates=truth)
+    _, _, _, floor = validation(exact, prior, held, cutoff=cutoff)
+    print(_row("held-out RMS error, identified [N]", rms, "{:>10.3f}"))
+    print(_row("held-out RMS error, true model [N]", floor, "{:>10.3f}"))
+    return {"design": design, "result": result, "z": z, "t": t, "predicted": predicted, "measured": measured,
+            "rms": rms, "floor": floor}
+
+
+def plot_identification(run: dict, path: str) -> str:
+    """The held-out prediction of :func:`identification_run` as a figure."""
+    from stewart.io.plots import plot_force_prediction
+
+    return plot_force_prediction(run["t"], run["predicted"], run["measured"], path,
+                                 "identified model on a held-out move: predicted and measured actuator forces")
+
+
+if __name__ == "__main__":
+    main()

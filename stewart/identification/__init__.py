@@ -1,0 +1,5 @@
+"""Identification of a built machine's inertial and friction parameters: the base
+parameters the forces determine (:mod:`~stewart.identification.base_parameters`), the
+least-squares estimate from measured logs (:mod:`~stewart.identification.identify`) and the
+excitation trajectories that make it well conditioned
+(:mod:`~stewart.identification.excitation`)."""

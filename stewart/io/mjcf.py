@@ -1,0 +1,250 @@
+"""The platform as a standalone MuJoCo model (MJCF), with real joints.
+
+:func:`to_mjcf` writes what a built machine has, body by body, from :class:`PlatformParams`:
+
+- per leg a **cylinder** body at the base joint ``b_i`` on a universal joint made of two
+  hinges: the first (``u{i}a``) about the joint's base-fixed axis ``a_i``
+  (``universal_joint_axes``), the second (``u{i}b``) about the cross axis ``y_i``,
+  perpendicular to ``a_i`` and to the leg. The cylinder's frame is the model's leg frame
+  ``x = u_i``, ``y = a_i x u_i / |a_i x u_i|``, ``z = x x y`` at every pose (two hinges in
+  one MuJoCo body compose as a universal joint: the second axis turns with the first),
+  so the leg spins about its axis exactly as the joint makes it;
+- a **piston** body on a slide joint (``slide{i}``) along the leg, driven by a motor
+  (``force{i}``, gear 1, no limits): ``ctrl`` is the actuator force along the leg in N,
+  positive extends it. The slide's position is the leg length ``|l_i|`` (its ``ref`` is
+  the leg length of the assembly pose); a parameter set's ``leg_length_limits`` become its
+  range;
+- the **platform**, a free body, tied to each piston's tip (``P_i``) by an equality
+  ``connect`` constraint: a ball joint;
+- masses, centres of mass and inertias from the parameters: the cylinder's at
+  ``cylinder_com_distance`` from ``B_i`` and the piston's at ``piston_com_distance`` back
+  from ``P_i`` along the leg, principal moments ``(axial, I_yy, I_zz)`` in the leg frame
+  (eqs. 44-48, 64-66; MuJoCo needs positive masses and moments: :data:`MOMENT_FLOOR`); the
+  platform's at ``platform_com`` in {P} with the full tensor ``platform_inertia_tensor``
+  (eqs. 10-13);
+- gravity ``-g e_z`` of {B} (eq. 72), and sites and sensors: ``tip{i}`` on each piston and
+  ``joint{i}`` on the platform (the two ends of each ball joint), the platform's position
+  and orientation (``platform_position``, ``platform_orientation``) and the leg lengths
+  (``leg_length{i}``);
+- visual geometry only: capsules for the legs, discs for the base and the platform, none
+  of them colliding and none carrying mass (the ``inertial`` elements do).
+
+Parameters without ``universal_joint_axes`` (the paper's model, eq. 29, where the legs
+never spin) get the realistic default of
+:meth:`PlatformParams.with_universal_joints`: first axes horizontal and tangential to the
+base circle. MuJoCo's legs then spin about their own axis as a real machine's do, and the
+legs' axial inertia enters MuJoCo's dynamics where the paper's model ignores it: the two
+agree exactly for axisymmetric legs with zero axial inertia, and otherwise differ by the
+leg spin the general model (:mod:`stewart.oracles.reference`) includes.
+
+The model is assembled at ``pose`` (default: home) and at rest; MuJoCo's ``qpos0`` is that
+assembly, so the equality constraints hold exactly there. The hinges read zero at it.
+Contacts, further sensors or a scene can be added in MuJoCo (an ``<include>`` of the
+file, or ``mujoco.MjSpec.from_string``); the legs and the platform have no colliding
+geometry of their own.
+
+Solver settings (:data:`SOLVERS`): MuJoCo's equality constraints are soft. ``"default"``
+keeps MuJoCo's defaults (2 ms Euler steps, ``solref 0.02 1``, ``solimp 0.9 0.95 0.001``):
+a fast, visually faithful model. ``"tight"`` (0.1 ms RK4 steps and a stiff, nearly hard
+constraint) is what the agreement with the kernel is measured at.
+"""
+
+from __future__ import annotations
+
+import os
+from typing import Any
+from xml.sax.saxutils import quoteattr
+
+import numpy as np
+
+from ..model import arguments
+from ..model.kinematics import euler_rate_jacobian, home_pose, rotation
+from ..model.params import PlatformParams, checked_params
+
+__all__ = ["SOLVERS", "MOMENT_FLOOR", "to_mjcf", "joint_velocities", "pose_accelerations"]
+
+#: MuJoCo solver settings by name: the step, the integrator, and the equality constraints'
+#: ``solref`` (time constant, damping ratio) and ``solimp`` (impedance); ``None`` keeps
+#: MuJoCo's default.
+SOLVERS: dict[str, dict[str, Any]] = {
+    "default": {"timestep": 2e-3, "integrator": "Euler", "solref": None, "solimp": None},
+    "tight": {"timestep": 1e-4, "integrator": "RK4", "solref": (2e-4, 1.0),
+              "solimp": (0.9999, 0.9999, 1e-4, 0.5, 2.0)},
+}
+
+#: MuJoCo refuses a moving body with a mass below 1e-15 kg or a principal moment below
+#: 1e-15 kg m^2; a smaller one (a leg's zero axial inertia, a massless leg) is written as
+#: this one, in kg or kg m^2.
+MOMENT_FLOOR = 1e-14
+
+#: Visual capsule radius of the legs, as a fraction of the base radius.
+_LEG_RADIUS = 0.02
+
+
+def _fmt(values) -> str:
+    """Numbers as MJCF text, to the last bit."""
+    return " ".join(f"{float(v):.17g}" for v in np.ravel(values))
+
+
+def _jointed(platform_or_params) -> PlatformParams:
+    """The parameters, with the default universal joints when they have none."""
+    params = checked_params(getattr(platform_or_params, "params", platform_or_params), "platform_or_params")
+    return params.with_universal_joints() if params.universal_joint_axes is None else params
+
+
+def _pose(name: str, value) -> np.ndarray:
+    pose = arguments.state_array(name, value)
+    if pose.shape != (6,) or not np.all(np.isfinite(pose)):
+        raise ValueError(f"{name}: expected 6 finite numbers [x, y, z, psi, theta, phi], got {value!r}")
+    return pose
+
+
+def _legs(params: PlatformParams, x: np.ndarray, name: str = "x"):
+    """Arms ``R p_i``, leg frames (columns ``x = u_i``, ``y = a_i x u_i / |a_i x u_i|``,
+    ``z = x x y``), lengths and ``|a_i x u_i|`` at the pose ``x``; a leg of zero length or
+    parallel to its axis (the joint's gimbal lock) is a ``ValueError`` naming ``name``."""
+    arms = params.platform_points @ rotation(x).T
+    with np.errstate(over="ignore", invalid="ignore"):
+        legs = x[:3] + arms - params.base_points
+        lengths = np.linalg.norm(legs, axis=1)
+    if not np.all(np.isfinite(lengths)):
+        raise ValueError(f"{name}: out of numeric range (its leg lengths overflow double precision)")
+    with np.errstate(invalid="ignore", divide="ignore"):
+        units = legs / lengths[:, None]
+        axes = params.universal_joint_axes
+        cross = np.cross(axes / np.linalg.norm(axes, axis=1, keepdims=True), units)
+        sines = np.linalg.norm(cross, axis=1)
+    bad = np.flatnonzero(~(sines >= 1e-9))
+    if bad.size:
+        raise ValueError(f"{name}: leg(s) {bad.tolist()} of zero length or parallel to their universal joint's "
+                         "first axis (the joint's gimbal lock)")
+    y = cross / sines[:, None]
+    return arms, np.stack([units, y, np.cross(units, y)], axis=-1), lengths, sines
+
+
+def joint_velocities(platform_or_params, x, xd) -> np.ndarray:
+    """MuJoCo's ``qvel`` of the model :func:`to_mjcf` writes, at the platform state ``(x, xd)``.
+
+    Per leg ``i`` the two hinge rates and the slide rate: with the tip velocity
+    ``v_i = p' + omega x R p_i`` and the leg frame ``(u_i, y_i, z_i)``, the leg turns at
+    ``omega_i = q_a a_i + q_b y_i``, so ``v_i = L_i (q_a |a_i x u_i| y_i - q_b z_i) + L' u_i``;
+    then the platform's free joint: the velocity of the origin of {P} in {B} and the angular
+    velocity ``J_A(x) [psi', theta', phi']`` (eq. 8) in {P}. Shape ``(24,)``.
+    """
+    params = _jointed(platform_or_params)
+    x, xd = _pose("x", x), _pose("xd", xd)
+    rot = rotation(x)
+    omega = euler_rate_jacobian(x) @ xd[3:]
+    arms, frames, lengths, sines = _legs(params, x)
+    tips = xd[:3] + np.cross(omega, arms)
+    rates = np.einsum("ij,ijk->ik", tips, frames)  # components along u_i, y_i, z_i
+    legs = np.stack([rates[:, 1] / (lengths * sines), -rates[:, 2] / lengths, rates[:, 0]], axis=1)
+    return np.concatenate([legs.ravel(), xd[:3], rot.T @ omega])
+
+
+def pose_accelerations(x, xd, qacc) -> np.ndarray:
+    """``xdd`` of the platform from MuJoCo's ``qacc`` of its free joint (the last six: the
+    acceleration of the origin of {P} in {B}, and ``omega'`` in {P}) at the state ``(x, xd)``:
+    ``[psi'', theta'', phi''] = J_A^-1 (R omega'_P - J_A' [psi', theta', phi'])`` (eq. 8)."""
+    x, xd = _pose("x", x), _pose("xd", xd)
+    qacc = np.asarray(qacc, dtype=float)[-6:]
+    step = 1e-30  # J_A' = d/dt J_A(x + t xd), by complex step
+    j_a_rate = euler_rate_jacobian(x + 1j * step * xd).imag / step
+    angular = rotation(x) @ qacc[3:] - j_a_rate @ xd[3:]
+    return np.concatenate([qacc[:3], np.linalg.solve(euler_rate_jacobian(x), angular)])
+
+
+def _moments(inertia) -> str:
+    """Masses or principal moments as MJCF text, raised to :data:`MOMENT_FLOOR`."""
+    return _fmt(np.maximum(inertia, MOMENT_FLOOR))
+
+
+def _xyaxes(frame: np.ndarray) -> str:
+    return _fmt(np.concatenate([frame[:, 0], frame[:, 1]]))
+
+
+def _solver(solver) -> dict[str, Any]:
+    if isinstance(solver, str):
+        if solver not in SOLVERS:
+            raise ValueError(f"solver: expected one of {', '.join(SOLVERS)}, got {solver!r}")
+        return SOLVERS[solver]
+    return {**SOLVERS["default"], **dict(solver)}
+
+
+def to_mjcf(platform_or_params, path=None, *, pose=None, solver="default") -> str:
+    """The MJCF text of a platform (a :class:`~stewart.Platform` or :class:`PlatformParams`),
+    written to ``path`` too when given; see the module's documentation for what it holds.
+
+    ``pose``: the assembly pose ``[x, y, z, psi, theta, phi]`` (default: home).
+    ``solver``: a name in :data:`SOLVERS` or a mapping of its keys (missing ones from
+    ``"default"``).
+    """
+    params = _jointed(platform_or_params)
+    pose = home_pose(params) if pose is None else _pose("pose", pose)
+    settings = _solver(solver)
+    _, frames, lengths, _ = _legs(params, pose, "pose")
+    rot = rotation(pose)
+    radius = _LEG_RADIUS * float(np.max(np.linalg.norm(params.base_points[:, :2], axis=1)))
+    eq_opts = "".join(f' {key}="{_fmt(settings[key])}"' for key in ("solref", "solimp") if settings[key] is not None)
+    limits = "" if params.leg_length_limits is None else f' range="{_fmt(params.leg_length_limits)}"'
+    legs = []
+    for i in range(6):
+        length, b_c, b_s = lengths[i], params.cylinder_com_distance, params.piston_com_distance
+        first_axis = frames[i].T @ params.universal_joint_axes[i]
+        legs.append(f"""
+    <body name="cylinder{i}" pos="{_fmt(params.base_points[i])}" xyaxes="{_xyaxes(frames[i])}">
+      <joint name="u{i}a" type="hinge" axis="{_fmt(first_axis)}"/>
+      <joint name="u{i}b" type="hinge" axis="0 1 0"/>
+      <inertial pos="{_fmt([b_c, 0, 0])}" mass="{_moments(params.cylinder_mass)}" diaginertia="{_moments(params.cylinder_inertia)}"/>
+      <geom type="capsule" fromto="0 0 0 {_fmt(length / 2)} 0 0" size="{_fmt(radius)}" rgba="0.3 0.3 0.35 1"/>
+      <body name="piston{i}">
+        <joint name="slide{i}" type="slide" axis="1 0 0" ref="{_fmt(length)}"{limits}/>
+        <inertial pos="{_fmt([length - b_s, 0, 0])}" mass="{_moments(params.piston_mass)}" diaginertia="{_moments(params.piston_inertia)}"/>
+        <geom type="capsule" fromto="{_fmt(length / 2)} 0 0 {_fmt(length)} 0 0" size="{_fmt(radius / 2)}" rgba="0.75 0.75 0.8 1"/>
+        <site name="tip{i}" pos="{_fmt([length, 0, 0])}"/>
+      </body>
+    </body>""")
+    sites = "".join(f'\n      <site name="joint{i}" pos="{_fmt(params.platform_points[i])}"/>' for i in range(6))
+    com = np.zeros(3) if params.platform_com is None else params.platform_com
+    tensor = params.platform_inertia_tensor
+    full = [tensor[0, 0], tensor[1, 1], tensor[2, 2], tensor[0, 1], tensor[0, 2], tensor[1, 2]]
+    top = float(np.max(np.linalg.norm(params.platform_points[:, :2], axis=1)))
+    bottom = float(np.max(np.linalg.norm(params.base_points[:, :2], axis=1)))
+    eqs = "".join(f'\n    <connect name="ball{i}" body1="piston{i}" body2="platform" anchor="{_fmt([lengths[i], 0, 0])}"'
+                  f'{eq_opts}/>' for i in range(6))
+    motors = "".join(f'\n    <motor name="force{i}" joint="slide{i}" gear="1"/>' for i in range(6))
+    sensors = "".join(f'\n    <jointpos name="leg_length{i}" joint="slide{i}"/>' for i in range(6))
+    label = "stewart platform" + ("" if params.name is None else " " + params.name)
+    return _written(path, f"""<mujoco model={quoteattr(label)}>
+  <!-- Generated by stewart.to_mjcf: the platform assembled at the pose {_fmt(pose)}
+       (x, y, z [m], ZYX Euler angles psi, theta, phi [rad]); ctrl = actuator forces [N]. -->
+  <compiler angle="radian" autolimits="true"/>
+  <option timestep="{_fmt(settings['timestep'])}" integrator="{settings['integrator']}" gravity="0 0 {_fmt(-params.gravity)}"/>
+  <default>
+    <geom contype="0" conaffinity="0"/>
+  </default>
+  <worldbody>
+    <geom name="base" type="cylinder" pos="0 0 {_fmt(np.mean(params.base_points[:, 2]))}" size="{_fmt([bottom, radius / 2])}" rgba="0.5 0.5 0.5 1"/>{''.join(legs)}
+    <body name="platform" pos="{_fmt(pose[:3])}" xyaxes="{_xyaxes(rot)}">
+      <freejoint name="platform"/>
+      <inertial pos="{_fmt(com)}" mass="{_moments(params.platform_mass)}" fullinertia="{_fmt(full)}"/>
+      <geom type="cylinder" pos="0 0 {_fmt(np.mean(params.platform_points[:, 2]))}" size="{_fmt([top, radius / 2])}" rgba="0.8 0.5 0.2 1"/>{sites}
+    </body>
+  </worldbody>
+  <equality>{eqs}
+  </equality>
+  <actuator>{motors}
+  </actuator>
+  <sensor>
+    <framepos name="platform_position" objtype="xbody" objname="platform"/>
+    <framequat name="platform_orientation" objtype="xbody" objname="platform"/>{sensors}
+  </sensor>
+</mujoco>
+""")
+
+
+def _written(path, text: str) -> str:
+    if path is not None:
+        with open(os.fspath(path), "w", encoding="utf-8") as handle:
+            handle.write(text)
+    return text

@@ -1,0 +1,332 @@
+"""Kinematics of the 6-UPS platform, in numpy, batched over a leading axis.
+
+Every function takes one pose ``x = [x, y, z, psi, theta, phi]`` of shape ``(6,)`` or a
+batch ``(N, 6)`` and returns the matching shape. The orientation is ZYX Euler,
+``R = Rz(psi) Ry(theta) Rx(phi)`` (Lopes & Pires 2011, eqs. 3 and 8). The functions are
+written with analytic operations only (no ``abs``/``norm``), so they also accept complex
+arrays, which :mod:`stewart.oracles.reference` uses for exact complex-step derivatives. A zero-length
+leg or a result that overflows raises :class:`~stewart.SingularityError`.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from . import arguments, conditions
+from .errors import ConvergenceError
+from .params import TOLERANCE, PlatformParams, checked_params
+
+__all__ = [
+    "rotation",
+    "euler_rate_jacobian",
+    "twist_transform",
+    "leg_vectors",
+    "leg_lengths",
+    "leg_unit_vectors",
+    "jacobian",
+    "euler_jacobian",
+    "leg_velocities",
+    "leg_accelerations",
+    "home_pose",
+    "check_universal_joint_axes",
+    "forward_kinematics",
+]
+
+
+def rotation(x) -> np.ndarray:
+    """Orientation ``R = Rz(psi) Ry(theta) Rx(phi)`` of {P} in {B}, shape ``(..., 3, 3)``."""
+    x = arguments.states("x", x, allow_complex=True)
+    with np.errstate(over="ignore", invalid="ignore"):  # complex angles: cosh overflows
+        cps, sps = np.cos(x[..., 3]), np.sin(x[..., 3])
+        cth, sth = np.cos(x[..., 4]), np.sin(x[..., 4])
+        cph, sph = np.cos(x[..., 5]), np.sin(x[..., 5])
+        rows = [
+            [cps * cth, cps * sth * sph - sps * cph, cps * sth * cph + sps * sph],
+            [sps * cth, sps * sth * sph + cps * cph, sps * sth * cph - cps * sph],
+            [-sth, cth * sph, cth * cph],
+        ]
+        rot = np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
+    return arguments.finite_result("rotation", rot, x)
+
+
+def euler_rate_jacobian(x) -> np.ndarray:
+    """``J_A`` of eq. 8: maps ``[psi', theta', phi']`` to the angular velocity in {B}."""
+    x = arguments.states("x", x, allow_complex=True)
+    with np.errstate(over="ignore", invalid="ignore"):  # complex angles: cosh overflows
+        cps, sps = np.cos(x[..., 3]), np.sin(x[..., 3])
+        cth, sth = np.cos(x[..., 4]), np.sin(x[..., 4])
+        zero, one = np.zeros_like(cps), np.ones_like(cps)
+        rows = [[zero, -sps, cps * cth], [zero, cps, sps * cth], [one, zero, -sth]]
+        j_a = np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
+    return arguments.finite_result("euler_rate_jacobian", j_a, x)
+
+
+def twist_transform(x) -> np.ndarray:
+    """``T = blockdiag(I3, J_A)`` of eq. 18: the twist ``[v; omega] = T xdot``."""
+    x = arguments.states("x", x, allow_complex=True)
+    out = np.zeros(x.shape[:-1] + (6, 6), dtype=x.dtype)
+    out[..., 0, 0] = out[..., 1, 1] = out[..., 2, 2] = 1.0
+    out[..., 3:, 3:] = euler_rate_jacobian(x)
+    return out
+
+
+def platform_points_in_base(params: PlatformParams, x) -> np.ndarray:
+    """``r_i = R p_i``: the platform points rotated into {B} (not translated), ``(..., 6, 3)``."""
+    params = checked_params(params)
+    return np.einsum("...jk,ik->...ij", rotation(x), params.platform_points)
+
+
+def _legs(params: PlatformParams, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``r_i = R p_i``, ``l_i`` (eq. 26) and ``|l_i|^2`` for a checked state, unchecked results."""
+    arms = platform_points_in_base(params, x)
+    legs = x[..., None, :3] + arms - params.base_points
+    with np.errstate(over="ignore", invalid="ignore"):
+        return arms, legs, np.sum(legs * legs, axis=-1)
+
+
+def _jacobian(arms: np.ndarray, legs: np.ndarray, length_sq: np.ndarray) -> np.ndarray:
+    """``J_C`` rows ``[u_i, r_i x u_i]`` (eq. 5), unchecked."""
+    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
+        units = legs / np.sqrt(length_sq)[..., None]
+        return np.concatenate([units, np.cross(arms, units)], axis=-1)
+
+
+def leg_vectors(params: PlatformParams, x) -> np.ndarray:
+    """Leg vectors ``l_i = p + R p_i - b_i`` of eq. 26, shape ``(..., 6, 3)``."""
+    params = checked_params(params)
+    x = arguments.states("x", x, allow_complex=True)
+    return _legs(params, x)[1]
+
+
+def leg_lengths(params: PlatformParams, x) -> np.ndarray:
+    """Leg lengths ``|l_i|``, shape ``(..., 6)``."""
+    params = checked_params(params)
+    x = arguments.states("x", x, allow_complex=True)
+    return arguments.finite_result("leg_lengths", np.sqrt(_legs(params, x)[2]), x)
+
+
+def leg_unit_vectors(params: PlatformParams, x) -> np.ndarray:
+    """Unit leg vectors ``l_i / |l_i|`` of eq. 25, shape ``(..., 6, 3)``; a zero-length leg
+    raises :class:`~stewart.SingularityError`."""
+    return jacobian(params, x)[..., :3]
+
+
+def jacobian(params: PlatformParams, x) -> np.ndarray:
+    """Kinematic Jacobian ``J_C`` of eq. 5, ``Ldot = J_C [v; omega]``; row i is
+    ``[u_i, (R p_i) x u_i]``. Shape ``(..., 6, 6)``; a zero-length leg raises
+    :class:`~stewart.SingularityError`."""
+    params = checked_params(params)
+    x = arguments.states("x", x, allow_complex=True)
+    arms, legs, length_sq = _legs(params, x)
+    conditions.check("jacobian", x, conditions.leg_codes(length_sq))
+    return arguments.finite_result("jacobian", _jacobian(arms, legs, length_sq), x)
+
+
+def euler_jacobian(params: PlatformParams, x) -> np.ndarray:
+    """Euler-angle Jacobian ``J_E = J_C T`` of eq. 4, ``Ldot = J_E xdot``."""
+    return jacobian(params, x) @ twist_transform(x)
+
+
+def leg_velocities(params: PlatformParams, x, xd) -> np.ndarray:
+    """Leg extension rates ``Ldot = J_E xdot`` (eq. 4), shape ``(..., 6)``."""
+    xd = arguments.states("xd", xd, allow_complex=True)
+    x = arguments.states("x", x, allow_complex=True)
+    arguments.same_batch(x=x, xd=xd)
+    with np.errstate(over="ignore", invalid="ignore"):
+        rates = np.einsum("...ij,...j->...i", euler_jacobian(params, x), xd)
+    return arguments.finite_result("leg_velocities", rates, x)
+
+
+def _angular_rates(x, xd, xdd) -> tuple[np.ndarray, np.ndarray]:
+    """The angular velocity ``omega = J_A e'`` and acceleration ``alpha = J_A e'' + J_A' e'``
+    in {B} (eq. 8, with ``e = [psi, theta, phi]``), each ``(..., 3)``."""
+    sps, cps = np.sin(x[..., 3]), np.cos(x[..., 3])
+    sth, cth = np.sin(x[..., 4]), np.cos(x[..., 4])
+    dps, dth, dph = xd[..., 3], xd[..., 4], xd[..., 5]
+    j_a = euler_rate_jacobian(x)
+    omega = np.einsum("...ij,...j->...i", j_a, xd[..., 3:])
+    j_a_dot_rates = np.stack([
+        -cps * dps * dth - sps * cth * dps * dph - cps * sth * dth * dph,
+        -sps * dps * dth + cps * cth * dps * dph - sps * sth * dth * dph,
+        -cth * dth * dph,
+    ], axis=-1)
+    return omega, np.einsum("...ij,...j->...i", j_a, xdd[..., 3:]) + j_a_dot_rates
+
+
+def leg_accelerations(params: PlatformParams, x, xd, xdd) -> np.ndarray:
+    """Leg extension accelerations ``Lddot``, shape ``(..., 6)``: the second time
+    derivative of ``L_i = |l_i|`` (eq. 26),
+    ``Lddot_i = u_i . a_i + (|v_i|^2 - Ldot_i^2) / L_i`` with the velocity
+    ``v_i = p' + omega x r_i`` and acceleration ``a_i = p'' + alpha x r_i + omega x (omega x r_i)``
+    of the spherical joint ``P_i`` and ``Ldot_i = u_i . v_i`` (eq. 4)."""
+    params = checked_params(params)
+    x = arguments.states("x", x)
+    xd = arguments.states("xd", xd)
+    xdd = arguments.states("xdd", xdd)
+    arguments.same_batch(x=x, xd=xd, xdd=xdd)
+    arms, legs, length_sq = _legs(params, x)
+    conditions.check("leg_accelerations", x, conditions.leg_codes(length_sq))
+    omega, alpha = _angular_rates(x, xd, xdd)
+    with np.errstate(over="ignore", invalid="ignore"):
+        lengths = np.sqrt(length_sq)
+        units = legs / lengths[..., None]
+        turn = np.cross(omega[..., None, :], arms)
+        velocity = xd[..., None, :3] + turn
+        acceleration = (xdd[..., None, :3] + np.cross(alpha[..., None, :], arms)
+                        + np.cross(omega[..., None, :], turn))
+        rates = np.sum(units * velocity, axis=-1)
+        result = (np.sum(units * acceleration, axis=-1)
+                  + (np.sum(velocity * velocity, axis=-1) - rates * rates) / lengths)
+    return arguments.finite_result("leg_accelerations", result, x)
+
+
+def home_pose(params: PlatformParams, leg_length: float | None = None) -> np.ndarray:
+    """The home pose: no rotation, {P}'s joint centroid above the base's, at the height
+    where the mean leg length equals ``leg_length``.
+
+    ``leg_length`` defaults to mid-stroke of ``params.leg_length_limits``; for a platform
+    without limits, to the larger of the base's circumradius and sqrt(2) times the widest
+    horizontal leg span at home (so no leg leans more than 45 degrees).
+    """
+    params = checked_params(params)
+    offset = params.base_points.mean(axis=0) - params.platform_points.mean(axis=0)
+    planar = params.platform_points[:, :2] + offset[:2] - params.base_points[:, :2]
+    dz0 = params.platform_points[:, 2] - params.base_points[:, 2]
+    reach = np.sqrt(np.sum(planar * planar, axis=1))
+    if leg_length is None:
+        if params.leg_length_limits is not None:
+            leg_length = 0.5 * sum(params.leg_length_limits)
+        else:
+            centred = params.base_points - params.base_points.mean(axis=0)
+            leg_length = max(float(np.max(np.sqrt(np.sum(centred * centred, axis=1)))), np.sqrt(2.0) * reach.max())
+    leg_length = arguments.real("leg_length", leg_length)
+
+    def mean_length(z: float) -> float:
+        with np.errstate(over="ignore"):  # inf for lengths near the float limit: bisection still works
+            return float(np.add.reduce(np.hypot(reach, z + dz0))) / len(reach)
+
+    # Above the highest base joint, mean_length increases with z: bisect on it.
+    lo = float(np.max(-dz0))
+    if not np.isfinite(leg_length) or mean_length(lo) >= leg_length:
+        raise ValueError(
+            f"leg_length: {leg_length} m is too short to raise the platform above the base "
+            f"(the legs span up to {reach.max():.6g} m horizontally at home)"
+        )
+    hi = lo + leg_length
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        if not lo < mid < hi:  # converged to adjacent floats: further steps change nothing
+            break
+        if mean_length(mid) < leg_length:
+            lo = mid
+        else:
+            hi = mid
+    return np.array([offset[0], offset[1], 0.5 * (lo + hi), 0.0, 0.0, 0.0])
+
+
+#: Most Newton iterations :func:`forward_kinematics` may be asked for.
+MAX_ITERATIONS = 10_000
+
+
+def check_universal_joint_axes(params: PlatformParams, home: np.ndarray | None = None) -> None:
+    """``ValueError`` naming ``universal_joint_axes`` when a joint's first axis lies within
+    :data:`stewart.model.params.TOLERANCE` radians of parallel to its leg at the home pose (the
+    joint's gimbal lock); nothing for the paper's model. ``home`` defaults to
+    :func:`home_pose`. (The check needs the home pose, so it runs here and in
+    :class:`stewart.Platform`, not in :class:`PlatformParams`.)"""
+    params = checked_params(params)
+    axes = params.universal_joint_axes
+    if axes is None:
+        return
+    units = leg_unit_vectors(params, home_pose(params) if home is None else home)
+    sines = np.linalg.norm(np.cross(axes, units), axis=1) / np.linalg.norm(axes, axis=1)
+    if np.any(sines <= TOLERANCE):
+        i = int(np.argmin(sines))
+        raise ValueError(
+            f"universal_joint_axes: axis {i} is parallel to leg {i} at the home pose "
+            "(the joint's gimbal lock); choose a first axis across the leg"
+        )
+
+
+def forward_kinematics(
+    params: PlatformParams,
+    lengths,
+    guess=None,
+    *,
+    tol: float = 1e-12,
+    max_iter: int = 50,
+) -> np.ndarray:
+    """Pose(s) with the given leg lengths, by Newton-Raphson on ``L(x) = lengths``.
+
+    ``lengths`` is ``(6,)`` or ``(N, 6)``. The iteration starts from ``guess`` (one pose,
+    or one per row; default :func:`home_pose`) and uses ``J_E`` (eq. 4) as the Jacobian,
+    halving a step that does not reduce the residual; a row stops where ``J_E`` is singular
+    by the model's test for ``J_C`` (:func:`stewart.model.conditions.jacobian_codes`). Raises
+    :class:`~stewart.model.errors.ConvergenceError` naming the rows that did not reach
+    ``max|L(x) - lengths| <= tol * max(lengths)``. ``tol`` is a positive number and
+    ``max_iter`` an int from 1 to 10000.
+    """
+    params = checked_params(params)
+    lengths = arguments.states("lengths", lengths)
+    if np.any(lengths <= 0.0):
+        raise ValueError("lengths: leg lengths must be positive")
+    tol = arguments.real("tol", tol)
+    if not tol > 0.0:
+        raise ValueError(f"tol: must be positive, got {tol}")
+    max_iter = arguments.count("max_iter", max_iter, MAX_ITERATIONS)
+    target = np.atleast_2d(lengths)
+    if guess is None:
+        x = np.broadcast_to(home_pose(params), target.shape).copy()
+    else:
+        guess = arguments.states("guess", guess)
+        if guess.ndim == 2 and guess.shape != target.shape:
+            raise ValueError(f"guess: expected one pose or one per row of lengths {lengths.shape}, got {guess.shape}")
+        x = np.broadcast_to(guess, target.shape).copy()
+    scale = tol * target.max(axis=1)
+
+    def residual(poses, rows=slice(None)):
+        out = np.full(poses.shape, np.inf)  # a trial step may leave the floats
+        fine = np.isfinite(poses).all(axis=1)
+        out[fine] = np.sqrt(_legs(params, poses[fine])[2]) - target[rows][fine]
+        return out
+
+    res = residual(x)
+    norm = np.max(np.abs(res), axis=1)
+    active = ~(norm <= scale)
+    for _ in range(max_iter):
+        if not active.any():
+            break
+        idx = np.flatnonzero(active)
+        jac = _jacobian(*_legs(params, x[idx])) @ twist_transform(x[idx])
+        singular = conditions.jacobian_codes(jac) != conditions.Status.OK
+        step = np.zeros((idx.size, 6))
+        ok = ~singular
+        step[ok] = np.linalg.solve(jac[ok], res[idx][ok][..., None])[..., 0]
+        trial_norm = np.full(idx.size, np.inf)
+        alpha = np.ones(idx.size)
+        for _ in range(30):
+            pending = ok & ~(trial_norm < norm[idx])
+            if not pending.any():
+                break
+            alpha[pending & np.isfinite(trial_norm)] *= 0.5
+            with np.errstate(over="ignore", invalid="ignore"):
+                trial = x[idx] - alpha[:, None] * step
+            trial_norm = np.max(np.abs(residual(trial, idx)), axis=1)
+            trial_norm[~ok] = np.inf
+        improved = ok & (trial_norm < norm[idx])
+        rows = idx[improved]
+        x[rows] = x[rows] - alpha[improved, None] * step[improved]
+        res[rows] = residual(x[rows], rows)
+        norm[rows] = np.max(np.abs(res[rows]), axis=1)
+        active[idx[~improved]] = False
+        active[rows] = ~(norm[rows] <= scale[rows])
+    failed = np.flatnonzero(~(norm <= scale))
+    if failed.size:
+        worst = float(np.max(norm[failed]))
+        raise ConvergenceError(
+            f"forward_kinematics: no pose found for lengths in row(s) {failed[:10].tolist()}"
+            f"{' ...' if failed.size > 10 else ''} (residual {worst:.3g} m after {max_iter} "
+            "Newton iterations); the lengths may be unreachable or the guess too far",
+            rows=failed,
+        )
+    return x[0] if lengths.ndim == 1 else x

@@ -1,0 +1,297 @@
+"""``stewart.Platform``: the compiled model of one platform, the object most users hold."""
+
+from __future__ import annotations
+
+from typing import NamedTuple
+
+import numpy as np
+
+from . import arguments, kinematics
+from .._kernel import Kernel
+from .errors import WrongTypeError
+from .params import INERTIAL_NAMES, PlatformParams, checked_params
+from .results import JointReactions
+
+__all__ = ["Platform", "AllTerms", "InverseDynamicsDerivatives", "ForwardDynamicsDerivatives",
+           "Step", "StepDerivatives", "checked_platform"]
+
+
+class AllTerms(NamedTuple):
+    """The terms of the equation of motion ``M xddot + V xdot + G = J_C^T tau`` at one state
+    or a batch (:meth:`Platform.all_terms`)."""
+
+    mass_matrix: np.ndarray
+    coriolis_vector: np.ndarray
+    gravity_vector: np.ndarray
+    jacobian: np.ndarray
+
+
+class InverseDynamicsDerivatives(NamedTuple):
+    """Actuator forces and their Jacobians (:meth:`Platform.inverse_dynamics_derivatives`):
+    row = output, column = input, ``dtau_dx[..., i, j] = d tau_i / d x_j``."""
+
+    tau: np.ndarray
+    dtau_dx: np.ndarray
+    dtau_dxd: np.ndarray
+    dtau_dxdd: np.ndarray
+
+
+class ForwardDynamicsDerivatives(NamedTuple):
+    """Accelerations and their Jacobians (:meth:`Platform.forward_dynamics_derivatives`):
+    row = output, column = input, ``dxdd_dx[..., i, j] = d xddot_i / d x_j``."""
+
+    xdd: np.ndarray
+    dxdd_dx: np.ndarray
+    dxdd_dxd: np.ndarray
+    dxdd_dtau: np.ndarray
+
+
+class Step(NamedTuple):
+    """The state after one RK4 step (:meth:`Platform.rk4_step`)."""
+
+    x: np.ndarray
+    xd: np.ndarray
+
+
+class StepDerivatives(NamedTuple):
+    """The state after one RK4 step and its Jacobians (:meth:`Platform.rk4_step` with
+    ``jacobians=True``): ``A = d(x+, xd+)/d(x, xd)`` (12 x 12), ``B = d(x+, xd+)/d tau``
+    (12 x 6), row = output, column = input."""
+
+    x: np.ndarray
+    xd: np.ndarray
+    A: np.ndarray
+    B: np.ndarray
+
+
+#: The regressor's columns of the legs' axial moments.
+_AXIAL = [INERTIAL_NAMES.index("cylinder.Ixx"), INERTIAL_NAMES.index("piston.Ixx")]
+
+
+def _named(kind, result, return_mask):
+    """``result`` of a kernel method (a tuple, or ``(tuple, ok)``) as the named tuple ``kind``
+    (built by ``tuple.__new__``, which skips the named tuple's own ``__new__``)."""
+    return (tuple.__new__(kind, result[0]), result[1]) if return_mask else tuple.__new__(kind, result)
+
+
+class Platform:
+    """The generalized-momentum model of Lopes & Pires (2011) for one parameter set,
+    evaluated by the generated C kernel.
+
+    Every method takes one state ``(6,)`` or a batch ``(N, 6)`` (a single row broadcasts
+    against a batch) and returns the matching shape. Inputs of any integer or floating
+    dtype, byte order, alignment and memory layout are converted to C-contiguous native
+    float64 (copied only when needed). A wrong shape, a value that is not a real number
+    (complex, bool, ``timedelta64``, ``datetime64``, strings, objects) or a NaN raises
+    ``ValueError`` naming the argument. A state where the model is undefined
+    raises :class:`stewart.SingularityError` naming the condition and the rows; with
+    ``return_mask=True`` such rows come back as NaN instead and the method returns
+    ``(result, ok)`` with a boolean mask (a bool for one state), for workspace sweeps.
+
+    ``threads`` > 1 splits batches over that many threads: an int from 1 to 256
+    (``ValueError`` otherwise).
+    """
+
+    def __init__(self, params: PlatformParams, *, threads: int = 1):
+        self._params = checked_params(params)
+        self._home = kinematics.home_pose(params)
+        self._home.flags.writeable = False
+        kinematics.check_universal_joint_axes(params, self._home)
+        self._kernel = Kernel(params, threads)
+        # Legs that do not spin in a general model (a payload off-centre, no joint axes): the C
+        # model takes a_i = z with no axial moment, so the regressor's axial columns are set to zero.
+        self._axial_idle = params.universal_joint_axes is None and not params.is_paper_model
+
+    @classmethod
+    def preset(cls, name: str, **options) -> "Platform":
+        """The compiled model of a built-in parameter set (see :func:`stewart.model.presets`)."""
+        return cls(PlatformParams.preset(name), **options)
+
+    @classmethod
+    def load(cls, path, **options) -> "Platform":
+        """The compiled model of a TOML or JSON parameter file."""
+        return cls(PlatformParams.load(path), **options)
+
+    #: The same as :meth:`load`.
+    from_file = load
+
+    def with_payload(self, mass, com, inertia) -> "Platform":
+        """The compiled model of this platform carrying a rigid payload
+        (:meth:`PlatformParams.with_payload`), with the same options."""
+        return type(self)(self._params.with_payload(mass, com, inertia), threads=self.threads)
+
+    @property
+    def params(self) -> PlatformParams:
+        """The parameter set (immutable)."""
+        return self._params
+
+    @property
+    def home_pose(self) -> np.ndarray:
+        """The home pose of :func:`stewart.home_pose` (read-only)."""
+        return self._home
+
+    @property
+    def threads(self) -> int:
+        return self._kernel.threads
+
+    def __repr__(self) -> str:
+        return f"Platform({self._params!r}, threads={self.threads})"
+
+    def leg_lengths(self, x, *, return_mask=False):
+        """Leg lengths ``|l_i|``, ``l_i = p + R p_i - b_i`` (eq. 26)."""
+        return self._kernel.leg_lengths(x, return_mask)
+
+    def jacobian(self, x, *, return_mask=False):
+        """``J_C`` (eq. 5): ``Ldot = J_C [v; omega]``, shape ``(..., 6, 6)``."""
+        return self._kernel.jacobian(x, return_mask)
+
+    def leg_rates(self, x, xd, *, return_mask=False):
+        """Leg lengths and rates ``(L, Ldot)`` in one pass: ``L_i = |l_i|`` (eq. 26) and
+        ``Ldot = J_C T xdot`` (eqs. 5, 8, 18), each of shape ``(..., 6)``."""
+        return self._kernel.leg_rates(x, xd, return_mask)
+
+    def mass_matrix(self, x, *, return_mask=False):
+        """``M = sum_b J_b^T I_b J_b T`` (eqs. 22, 40, 52, 62, 70); multiplies ``xddot``."""
+        return self._kernel.mass_matrix(x, return_mask)
+
+    def twist_mass_matrix(self, x, *, return_mask=False):
+        """The twist-space mass matrix ``M_t = sum_b J_b^T I_b J_b`` (eqs. 19, 39, 51, 61,
+        69), symmetric positive definite, with ``M = M_t T`` (eq. 18); shape ``(..., 6, 6)``."""
+        return self._kernel.twist_mass_matrix(x, return_mask)
+
+    def coriolis_matrix(self, x, xd, *, return_mask=False):
+        """``V = sum_b J_b^T d/dt(I_b J_b T)`` (eqs. 23, 41, 53, 63, 71)."""
+        return self._kernel.coriolis_matrix(x, xd, return_mask)
+
+    def coriolis_vector(self, x, xd, *, return_mask=False):
+        """``V xdot``, computed without forming ``V``."""
+        return self._kernel.coriolis_vector(x, xd, return_mask)
+
+    def gravity_vector(self, x, *, return_mask=False):
+        """``G`` (eqs. 72-76), computed as ``sum_b m_b g J_b^T e_z``."""
+        return self._kernel.gravity_vector(x, return_mask)
+
+    def all_terms(self, x, xd, *, return_mask=False):
+        """The mass matrix ``M = M_t T``, ``V xdot``, ``G`` and ``J_C`` (eqs. 5, 19, 39, 51,
+        61, 69, 72-76) in one call, as an :class:`AllTerms` (like Pinocchio's
+        ``computeAllTerms``); each is the method of its name, bit for bit."""
+        return _named(AllTerms, self._kernel.all_terms(x, xd, return_mask), return_mask)
+
+    def inverse_dynamics(self, x, xd, xdd, *, return_mask=False):
+        """Actuator forces along the legs [N]: ``tau = J_C^-T (M xddot + V xdot + G)``."""
+        return self._kernel.inverse_dynamics(x, xd, xdd, return_mask)
+
+    def forward_dynamics(self, x, xd, tau, *, return_mask=False):
+        """Euler accelerations ``xddot = M^-1 (J_C^T tau - V xdot - G)``."""
+        return self._kernel.forward_dynamics(x, xd, tau, return_mask)
+
+    def regressor(self, x, xd, xdd, *, return_mask=False):
+        """The regressor ``Y`` of the actuator forces, linear in the inertial parameters:
+        ``Y @ params.inertial_vector() == actuator_forces(x, xd, xdd)``, shape ``(..., 6, 32)``,
+        columns in the order of :meth:`PlatformParams.inertial_names`. ``J_C^T Y`` holds the
+        partials of ``M xddot + V xdot + G`` (eqs. 19, 39, 51, 61, 69, 72-76) with respect to
+        each body's mass, first moments and second moments about its joint (the parallel-axis
+        form), then ``Ldot_i`` and ``tanh(Ldot_i / coulomb_velocity)`` of each leg for its
+        friction. The columns of parameters that never act are zero: ``cylinder.m`` (the
+        cylinder turns about the fixed B_i) and, for legs that do not spin (no
+        ``universal_joint_axes``), the axial moments. Legs that do not spin are described in
+        the frames of eqs. 43-48, so a vertical leg is singular here (``leg_vertical``)."""
+        result = self._kernel.regressor(x, xd, xdd, return_mask)
+        if self._axial_idle:
+            (result[0] if return_mask else result)[..., _AXIAL] *= 0.0  # failed rows stay NaN
+        return result
+
+    def friction_forces(self, x, xd, *, return_mask=False):
+        """The actuator force each leg loses to friction at ``(x, xdot)`` [N]:
+        ``F_v,i Ldot_i + F_c,i tanh(Ldot_i / coulomb_velocity)`` (:class:`PlatformParams`),
+        zero without friction parameters; shape ``(..., 6)``. A force that overflows double
+        precision is a failed row (``nonfinite``), as in the kernel's methods."""
+        friction, ok = self._friction(x, xd, return_mask)
+        return arguments.finite_rows("friction_forces", friction, ok, return_mask)
+
+    def _friction(self, x, xd, return_mask):
+        """The friction forces, overflows and all, and the kernel's mask (True without ``return_mask``)."""
+        p = self._params
+        result = self._kernel.leg_rates(x, xd, return_mask)
+        rates = (result[0] if return_mask else result)[1]
+        friction = np.zeros_like(rates)
+        with np.errstate(over="ignore", invalid="ignore"):
+            if p.viscous_friction is not None:
+                friction += p.viscous_friction * rates
+            if p.coulomb_friction is not None:
+                friction += p.coulomb_friction * np.tanh(rates / p.coulomb_velocity)
+        return friction, result[1] if return_mask else True
+
+    def actuator_forces(self, x, xd, xdd, *, return_mask=False):
+        """The forces the actuators deliver [N]: the rigid-body forces of
+        :meth:`inverse_dynamics` plus :meth:`friction_forces`, ``Y @ pi`` of :meth:`regressor`
+        (a sum that overflows is a failed row, as in :meth:`friction_forces`)."""
+        tau = self._kernel.inverse_dynamics(x, xd, xdd, return_mask)
+        friction, ok = self._friction(x, xd, return_mask)
+        with np.errstate(over="ignore", invalid="ignore"):
+            forces = (tau[0] if return_mask else tau) + friction
+        return arguments.finite_rows("actuator_forces", forces, tau[1] & ok if return_mask else True, return_mask)
+
+    def joint_reactions(self, x, xd, xdd, *, return_mask=False):
+        """Actuator forces and the reactions at each leg's joints, a
+        :class:`~stewart.model.results.JointReactions` ``(tau, base, platform, base_moment)`` in
+        {B}: ``base`` the force the base exerts on leg i at its universal joint B_i, ``platform``
+        the force leg i exerts on the platform at its spherical joint P_i, ``base_moment`` the
+        moment the base exerts on leg i through its universal joint, each of shape ``(..., 6, 3)``.
+        From the model's own leg terms: ``platform = tau_i u_i - f_i`` with ``f_i`` the force at
+        P_i equivalent to the leg's momentum rates and weight, ``base`` from the leg's Newton
+        equation, ``base_moment`` from its moment balance about B_i (along ``a_i x y_i`` with
+        joint axes, along the leg in the paper's model, where it keeps a leg with
+        ``I_yy != I_zz`` from spinning, zero for axisymmetric legs). Equal to the Newton-Euler
+        solution :func:`stewart.oracles.newton_euler.joint_reactions` wherever that is defined."""
+        return _named(JointReactions,
+                      self._kernel.joint_reactions(x, xd, xdd, return_mask), return_mask)
+
+    def forward_kinematics(self, lengths, guess=None, **options):
+        """Pose(s) from leg lengths by Newton-Raphson (:func:`stewart.forward_kinematics`),
+        starting from ``guess`` or the home pose."""
+        return kinematics.forward_kinematics(
+            self._params, lengths, self._home if guess is None else guess, **options
+        )
+
+    def inverse_dynamics_derivatives(self, x, xd, xdd, *, return_mask=False):
+        """Actuator forces and their exact Jacobians, an :class:`InverseDynamicsDerivatives`
+        ``(tau, dtau_dx, dtau_dxd, dtau_dxdd)``: with the residual ``r = M xddot + V xdot + G
+        - J_C^T tau`` of the equation of motion and its partials ``R_x``, ``R_xd`` at that
+        ``tau``, ``dtau/dx = J_C^-T R_x``, ``dtau/dxd = J_C^-T R_xd``, ``dtau/dxdd = J_C^-T M``.
+        Row = output, column = input; each Jacobian of shape ``(..., 6, 6)``."""
+        return _named(InverseDynamicsDerivatives,
+                      self._kernel.inverse_dynamics_derivatives(x, xd, xdd, return_mask),
+                      return_mask)
+
+    def forward_dynamics_derivatives(self, x, xd, tau, *, return_mask=False):
+        """Euler accelerations and their exact Jacobians, a :class:`ForwardDynamicsDerivatives`
+        ``(xdd, dxdd_dx, dxdd_dxd, dxdd_dtau)``: ``dxdd/dx = -M^-1 R_x``, ``dxdd/dxd = -M^-1
+        R_xd`` (partials of the residual at that ``xddot``) and ``dxdd/dtau = M^-1 J_C^T``.
+        Row = output, column = input; each Jacobian of shape ``(..., 6, 6)``."""
+        return _named(ForwardDynamicsDerivatives,
+                      self._kernel.forward_dynamics_derivatives(x, xd, tau, return_mask),
+                      return_mask)
+
+    def rk4_step(self, x, xd, tau, dt, *, jacobians=False, return_mask=False):
+        """One classic RK4 step of ``[x; xdot]`` under forces ``tau`` held over ``dt`` seconds (a
+        positive finite number): the step :func:`stewart.simulate` takes in open loop. Returns a
+        :class:`Step` ``(x, xd)``, or with ``jacobians`` a :class:`StepDerivatives` ``(x, xd,
+        A, B)`` with ``A = d(x+, xd+)/d(x, xd)`` of shape ``(..., 12, 12)`` and ``B = d(x+,
+        xd+)/d tau`` of shape ``(..., 12, 6)``, exact (the chain rule through the stages)."""
+        if type(dt) is not float or not 0.0 < dt < np.inf:  # a positive finite float passes as it is
+            dt = arguments.real("dt", dt)
+            if not dt > 0:
+                raise ValueError(f"dt: must be a positive number of seconds, got {dt}")
+        return _named(StepDerivatives if jacobians else Step,
+                      self._kernel.rk4_step(x, xd, tau, dt, bool(jacobians), return_mask),
+                      return_mask)
+
+
+def checked_platform(value, name: str = "platform") -> Platform:
+    """``value`` if it is a :class:`Platform`; :class:`~stewart.WrongTypeError` (a ``TypeError``
+    and a ``ValueError``) naming ``name`` and what to pass otherwise."""
+    if not isinstance(value, Platform):
+        hint = " (build one with stewart.Platform(params))" if isinstance(value, PlatformParams) else ""
+        raise WrongTypeError(f"{name}: expected a stewart.Platform, got {type(value).__name__}{hint}")
+    return value

@@ -1,0 +1,7 @@
+"""The independent models and checks the compiled model is tested against: the numeric
+reference (:mod:`~stewart.oracles.reference`, the paper's equations body by body), the
+Newton–Euler formulation (:mod:`~stewart.oracles.newton_euler`), the physics checks
+(:mod:`~stewart.oracles.physics`: energy, power balance, complex-step derivatives, statics),
+how much the complete model changes the forces (:mod:`~stewart.oracles.exactness`) and the
+report of ``stewart validate`` (:mod:`~stewart.oracles.validation`). Only ``validate`` and
+the tests import them."""

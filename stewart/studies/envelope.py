@@ -1,0 +1,375 @@
+"""Force and joint-load envelopes: the sizing table of a platform for a motion specification.
+
+For every state ``(x, xdot, xddot)`` of a motion specification the envelope evaluates, per
+leg ``i``,
+
+* the actuator force ``tau_i`` (``tau = J_C^-T (M xddot + V xdot + G)``, eqs. 5, 18-23, 72-76,
+  by the compiled kernel),
+* the leg velocity ``Ldot_i`` (``Ldot = J_C T xdot``, eqs. 5, 8, 18) and the actuator power
+  ``tau_i Ldot_i``,
+* the magnitudes of the universal-joint force (base on leg, at ``B_i``) and of the
+  spherical-joint force (leg on platform, at ``P_i``), the joint reactions of the compiled
+  kernel (:meth:`stewart.Platform.joint_reactions`, equal to the Newton-Euler solution
+  :func:`stewart.oracles.newton_euler.joint_reactions`),
+
+and keeps the peak of each magnitude with the state where it occurs (:class:`Envelope`).
+States whose legs leave the stroke limits (``params.leg_length_limits``) or where the model
+is undefined (a singular ``J_C``) are counted and left out.
+
+A motion specification is
+
+* a :class:`Box`: poses in a box with per-axis velocity and acceleration bounds. The
+  worst case is searched by sampling: poses uniformly in the box, velocities and
+  accelerations at random vertices of their bound boxes (each component at ``+bound`` or
+  ``-bound``). At a fixed pose and velocity the forces (actuator and joint) are affine in
+  ``xddot`` and the leg velocities linear in ``xdot``, so the largest magnitude over the
+  acceleration box lies at one of its vertices and that over the velocity box, for the leg
+  velocities, too; the poses and the velocity's quadratic (Coriolis) terms are sampled.
+  Every reported peak is attained by a state of the box: it is a lower bound of the true
+  worst case that approaches it as the sample count grows (the tests compare it with dense
+  grids of small boxes);
+* :class:`Trajectories`: moves with ``sample(t) -> (x, xdot, xddot)`` (the package's
+  :class:`~stewart.PointToPoint` and :class:`~stewart.SampledTrajectory`, the latter also
+  from CSV files), sampled every ``dt`` seconds from 0 to their duration.
+
+The states are generated and reduced chunk by chunk (:mod:`stewart.studies.execution`), locally or
+on a Dask cluster (``client=``), with the same result for the same seed. Within a chunk the
+compiled model evaluates them and keeps the running peaks in C (:class:`stewart._kernel.Peaks`),
+a box's states generated there too, so that no array is allocated per state.
+"""
+
+from __future__ import annotations
+
+import csv
+import functools
+import json
+import os
+import threading
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..model import arguments
+from .. import _kernel
+from . import execution
+from ..model.errors import WrongTypeError
+from .execution import Peak
+from ..model.params import PlatformParams, checked_params
+
+__all__ = ["Box", "Trajectories", "Envelope", "envelope", "QUANTITIES", "AXES"]
+
+#: The pose coordinates, in the order of a state, with their units.
+AXES = (("x", "m"), ("y", "m"), ("z", "m"), ("psi", "rad"), ("theta", "rad"), ("phi", "rad"))
+
+#: The enveloped quantities (each one column per leg, in the order stewart._kernel.Peaks
+#: computes them), with their units.
+QUANTITIES = tuple(zip(_kernel.PEAK_QUANTITIES, ("N", "m/s", "W", "N", "N"), strict=True))
+
+_LABELS = {"force": "actuator force |tau|", "velocity": "leg velocity |Ldot|", "power": "actuator power |tau Ldot|",
+           "universal_joint": "universal-joint force", "spherical_joint": "spherical-joint force"}
+
+#: Samples of a box unless told otherwise.
+DEFAULT_SAMPLES = 1_000_000
+#: Most states a study may draw (a box's ``samples``, or a trajectory's duration over ``dt``).
+MAX_STATES = 10**12
+
+
+def _bounds(name: str, value) -> np.ndarray:
+    arr = arguments.reals(name, value)
+    if arr.shape != (6,) or not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name}: expected six finite numbers (x, y, z, psi, theta, phi), got {np.shape(value)}")
+    return arr
+
+
+@dataclass(frozen=True)
+class Box:
+    """Poses with ``lower <= x <= upper`` (per axis; an axis with ``lower == upper`` is held),
+    velocities ``|xdot| <= velocity`` and accelerations ``|xddot| <= acceleration`` per axis
+    (Euler angles and their rates, rad, rad/s, rad/s^2). ``ValueError`` naming the field for
+    an empty box (an upper bound below the lower one) or a negative rate bound."""
+
+    lower: np.ndarray
+    upper: np.ndarray
+    velocity: np.ndarray
+    acceleration: np.ndarray
+
+    def __post_init__(self):
+        fields = {name: _bounds(name, getattr(self, name)) for name in ("lower", "upper", "velocity", "acceleration")}
+        inverted = np.flatnonzero(fields["upper"] < fields["lower"])
+        if inverted.size:
+            axis = AXES[inverted[0]][0]
+            raise ValueError(f"upper: below lower on axis {axis} ({fields['upper'][inverted[0]]:g} < "
+                             f"{fields['lower'][inverted[0]]:g}): the box is empty")
+        with np.errstate(over="ignore"):
+            wide = np.flatnonzero(~np.isfinite(fields["upper"] - fields["lower"]))
+        if wide.size:
+            raise ValueError(f"upper: the box's width on axis {AXES[wide[0]][0]} overflows double precision "
+                             f"({fields['lower'][wide[0]]:g} to {fields['upper'][wide[0]]:g})")
+        for name in ("velocity", "acceleration"):
+            if np.any(fields[name] < 0):
+                raise ValueError(f"{name}: bounds must be >= 0, got {fields[name].tolist()}")
+        for name, arr in fields.items():
+            arr.flags.writeable = False
+            object.__setattr__(self, name, arr)
+
+    @classmethod
+    def around(cls, motion, margin: float = 0.2, dt: float = 0.01) -> "Box":
+        """The box around a trajectory's states (sampled every ``dt`` s) widened by
+        ``margin``: each pose range by ``margin`` times its width on either side, the peak
+        speed and acceleration of each axis times ``1 + margin``."""
+        duration = _duration("motion", motion)
+        margin = arguments.real("margin", margin)
+        if margin < 0:
+            raise ValueError(f"margin: must be >= 0, got {margin}")
+        dt = _step(dt)
+        x, xd, xdd = arguments.sampled("motion", motion, _sample_times(_sample_count("the motion", duration, dt), dt))
+        low, high = x.min(axis=0), x.max(axis=0)
+        with np.errstate(over="ignore", invalid="ignore"):  # the Box refuses what overflows, naming the bound
+            pad = margin * (high - low)
+            bounds = (low - pad, high + pad, (1 + margin) * np.abs(xd).max(axis=0),
+                      (1 + margin) * np.abs(xdd).max(axis=0))
+        try:
+            return cls(*bounds)
+        except ValueError as exc:
+            raise ValueError(f"margin: the box around the motion is too large: {exc}") from None
+
+    def count(self, samples: int | None) -> int:
+        if samples is None:
+            return DEFAULT_SAMPLES
+        if isinstance(samples, (bool, np.bool_)) or not isinstance(samples, (int, np.integer)) or samples < 1:
+            raise ValueError(f"samples: expected a whole number >= 1, got {samples!r}")
+        if samples > MAX_STATES:
+            raise ValueError(f"samples: at most {MAX_STATES:.0e} states, got {samples!r}")
+        return int(samples)
+
+    def draws(self, chunk: execution.Chunk):
+        """The chunk's random numbers from its generator: ``(n, 6)`` uniform numbers for the
+        poses and ``(n,)`` 12 random bits each for the rates' signs."""
+        rng = chunk.rng()
+        return rng.random((chunk.size, 6)), rng.integers(0, 1 << 12, chunk.size, dtype=np.uint16)
+
+    def states(self, chunk: execution.Chunk):
+        """The chunk's samples ``(x, xd, xdd)``: uniform poses, velocities and accelerations at
+        random vertices (:func:`stewart._kernel.box_states` of :meth:`draws`)."""
+        return _kernel.box_states(*self.draws(chunk), self)
+
+    def add_to(self, peaks, chunk: execution.Chunk) -> None:
+        """Evaluate the chunk's samples into ``peaks`` (:class:`stewart._kernel.Peaks`),
+        generating them as it goes from the draws of :meth:`draws` (the uniform numbers into
+        this thread's buffer, :func:`_uniforms`)."""
+        rng = chunk.rng()
+        uniform = _uniforms(rng, chunk.size)
+        peaks.add_box(uniform, rng.integers(0, 1 << 12, chunk.size, dtype=np.uint16), self, chunk.start)
+
+
+@functools.lru_cache(maxsize=8)
+def _platform(params: PlatformParams):
+    """The compiled model of ``params``, built once per process (the chunks of a study, on
+    threads here or one task after another on a worker, share it)."""
+    from ..model.platform import Platform
+
+    return Platform(params)
+
+
+#: Each thread's buffer of a box's uniform numbers, reused from chunk to chunk: a new array of
+#: megabytes per chunk would be mapped and faulted in afresh where the allocator returns
+#: memory to the system early (Dask's workers, with their MALLOC_TRIM_THRESHOLD_). It holds
+#: at most _UNIFORMS_ROWS states (6 MB); larger chunks draw into an array of their own.
+_UNIFORMS = threading.local()
+_UNIFORMS_ROWS = 1 << 17
+
+
+def _uniforms(rng: np.random.Generator, n: int) -> np.ndarray:
+    """``rng.random((n, 6))``, into this thread's buffer when it fits (the same numbers)."""
+    if n > _UNIFORMS_ROWS:
+        return rng.random((n, 6))
+    buffer = getattr(_UNIFORMS, "buffer", None)
+    if buffer is None:
+        buffer = _UNIFORMS.buffer = np.empty((_UNIFORMS_ROWS, 6))
+    return rng.random(out=buffer[:n])
+
+
+def _duration(name: str, motion) -> float:
+    """The duration of ``motion`` (named ``name``), a trajectory: an object with ``sample(t)``
+    and a finite ``duration`` >= 0 [s]."""
+    duration = arguments.real(f"{name}: its duration", arguments.trajectory(name, motion).duration)
+    if duration < 0:
+        raise ValueError(f"{name}: its duration must be >= 0, got {duration}")
+    return duration
+
+
+def _step(dt) -> float:
+    dt = arguments.real("dt", dt)
+    if not dt > 0:
+        raise ValueError(f"dt: must be a positive number of seconds, got {dt}")
+    return dt
+
+
+def _sample_count(name: str, duration: float, dt: float) -> int:
+    """How many samples every ``dt`` seconds from 0 to ``duration`` (of the trajectory ``name``);
+    ``ValueError`` naming ``dt`` for more than :data:`MAX_STATES`."""
+    with np.errstate(over="ignore"):
+        count = np.floor(duration / dt) + 1
+    if not count <= MAX_STATES:
+        raise ValueError(f"dt: {dt:g} s samples {name} ({duration:g} s) {count:.3g} times, more than {MAX_STATES:.0e}")
+    return int(count)
+
+
+def _sample_times(count: int, dt: float) -> np.ndarray:
+    return np.arange(count) * dt
+
+
+@dataclass(frozen=True)
+class Trajectories:
+    """Moves with ``sample(t) -> (x, xdot, xddot)`` and a ``duration``, each sampled every
+    ``dt`` seconds from 0 to its duration."""
+
+    motions: tuple
+    dt: float = 0.001
+
+    def __post_init__(self):
+        try:
+            motions = tuple(self.motions)
+        except TypeError:
+            raise WrongTypeError(f"motions: expected a sequence of trajectories, got {type(self.motions).__name__}") \
+                from None
+        if not motions:
+            raise ValueError("motions: need at least one trajectory")
+        durations = [_duration(f"motions: item {k}", motion) for k, motion in enumerate(motions)]
+        dt = _step(self.dt)
+        counts = [_sample_count(f"trajectory {k}", duration, dt) for k, duration in enumerate(durations)]
+        if sum(counts) > MAX_STATES:
+            raise ValueError(f"dt: {dt:g} s samples the trajectories {sum(counts):.3g} times, more than "
+                             f"{MAX_STATES:.0e}")
+        object.__setattr__(self, "motions", motions)
+        object.__setattr__(self, "dt", dt)
+        object.__setattr__(self, "_counts", tuple(counts))
+
+    @property
+    def offsets(self) -> np.ndarray:
+        """Index of each trajectory's first sample in the study, and the total count at the end."""
+        return np.concatenate([[0], np.cumsum(self._counts)])
+
+    def count(self, samples: int | None) -> int:
+        if samples is not None:
+            raise ValueError("samples: trajectories are sampled every dt seconds; give dt instead")
+        return int(self.offsets[-1])
+
+    def states(self, chunk: execution.Chunk):
+        """The chunk's samples ``(x, xd, xdd)``."""
+        offsets = self.offsets
+        parts = []
+        for k, motion in enumerate(self.motions):
+            lo, hi = max(chunk.start, offsets[k]), min(chunk.stop, offsets[k + 1])
+            if lo < hi:
+                parts.append(arguments.sampled(f"motions: item {k}", motion, (np.arange(lo, hi) - offsets[k]) * self.dt))
+        return tuple(np.concatenate(arrays) for arrays in zip(*parts))
+
+    def add_to(self, peaks, chunk: execution.Chunk) -> None:
+        """Evaluate the chunk's samples into ``peaks`` (:class:`stewart._kernel.Peaks`)."""
+        peaks.add(*(np.ascontiguousarray(a, dtype=float) for a in self.states(chunk)), chunk.start)
+
+
+@dataclass(frozen=True)
+class _EnvelopeJob:
+    """One chunk of an envelope: generate the states, evaluate, reduce (:mod:`stewart.studies.execution`)."""
+
+    params: PlatformParams
+    spec: Box | Trajectories
+
+    def __call__(self, chunk: execution.Chunk):
+        peaks = _kernel.Peaks(_platform(self.params)._kernel, self.params.leg_length_limits)
+        self.spec.add_to(peaks, chunk)
+        return {"peak": Peak(peaks.value, peaks.state, peaks.index), "states": chunk.size,
+                "outside_stroke": peaks.outside, "singular": peaks.singular}
+
+
+@dataclass(frozen=True)
+class Envelope:
+    """The peaks of an envelope: ``peak`` a :class:`~stewart.studies.execution.Peak` over the
+    ``6 * len(QUANTITIES)`` columns (quantity-major, leg-minor; the state of a peak is
+    ``[x, xdot, xddot]``), ``states`` the states drawn, ``outside_stroke`` and ``singular``
+    those left out."""
+
+    peak: Peak
+    states: int
+    outside_stroke: int
+    singular: int
+    platform: str = ""
+
+    def value(self, quantity: str) -> np.ndarray:
+        """The six legs' peaks of one quantity of :data:`QUANTITIES`."""
+        k = [name for name, _ in QUANTITIES].index(quantity)
+        return self.peak.value[6 * k:6 * k + 6]
+
+    def rows(self) -> list[dict]:
+        """The sizing table: one row per quantity and leg with the peak, its unit, the study
+        index of the state causing it and that state."""
+        out = []
+        names = [f"{a}" for a, _ in AXES] + [f"{a}_dot" for a, _ in AXES] + [f"{a}_ddot" for a, _ in AXES]
+        for k, (quantity, unit) in enumerate(QUANTITIES):
+            for leg in range(6):
+                col = 6 * k + leg
+                row = {"quantity": quantity, "leg": leg, "peak": float(self.peak.value[col]), "unit": unit,
+                       "state_index": int(self.peak.index[col])}
+                row.update(zip(names, self.peak.state[col].tolist()))
+                out.append(row)
+        return out
+
+    def summary(self) -> dict:
+        return {"platform": self.platform, "states": self.states, "outside_stroke": self.outside_stroke,
+                "singular": self.singular}
+
+    def to_csv(self, path) -> None:
+        rows = self.rows()
+        with open(path, "w", newline="") as fh:
+            fh.write("# " + ", ".join(f"{k} = {v}" for k, v in self.summary().items()) + "\n")
+            writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
+            writer.writeheader()
+            writer.writerows(rows)
+
+    def to_json(self, path) -> None:
+        with open(path, "w") as fh:
+            json.dump({**self.summary(), "peaks": self.rows()}, fh, indent=1)
+
+    def plot(self, path) -> str:
+        """A figure of the peaks per leg, one panel per quantity."""
+        from ..io.plots import _pyplot
+
+        plt = _pyplot()
+        fig, axes = plt.subplots(1, len(QUANTITIES), figsize=(15, 3.6), constrained_layout=True)
+        legs = np.arange(6)
+        for ax, (quantity, unit) in zip(axes, QUANTITIES):
+            ax.bar(legs, self.value(quantity), color="tab:blue")
+            ax.set_title(_LABELS[quantity], fontsize=10)
+            ax.set_xlabel("leg")
+            ax.set_ylabel(f"peak [{unit}]")
+            ax.set_xticks(legs)
+            ax.grid(True, axis="y", alpha=0.3)
+        fig.suptitle(f"Envelope of {self.platform or 'the platform'}: peaks over {self.states:,} states "
+                     f"({self.outside_stroke:,} outside the stroke, {self.singular:,} singular, left out)")
+        os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
+        fig.savefig(path, dpi=90)
+        plt.close(fig)
+        return path
+
+
+def envelope(platform, spec, *, samples: int | None = None, seed: int = 0, client=None,
+             chunk_size: int = execution.DEFAULT_CHUNK_SIZE, progress: bool = True) -> Envelope:
+    """The :class:`Envelope` of ``platform`` (a :class:`~stewart.Platform` or
+    :class:`~stewart.PlatformParams`) over ``spec`` (a :class:`Box`, of ``samples`` states,
+    default :data:`DEFAULT_SAMPLES`, drawn from ``seed``; or :class:`Trajectories`).
+    ``client``, ``chunk_size`` and ``progress`` as in :func:`stewart.studies.execution.run`."""
+    params = checked_params(getattr(platform, "params", platform), "platform")
+    if not isinstance(spec, (Box, Trajectories)):
+        raise ValueError(f"spec: expected a Box or Trajectories, got {type(spec).__name__}")
+    n = spec.count(samples)
+    total = execution.run(_EnvelopeJob(params, spec), n, seed=seed, chunk_size=chunk_size, client=client,
+                          progress=progress, desc="envelope")
+    peak = total["peak"]
+    overflow = np.flatnonzero(~(np.isfinite(peak.value) | np.isneginf(peak.value)))  # -inf: no state counted
+    if overflow.size:
+        column = overflow[0]
+        raise ValueError(f"spec: the {QUANTITIES[column // 6][0]} of leg {column % 6} overflows double precision at "
+                         f"state {peak.index[column]} of the study (rates too large for the platform)")
+    return Envelope(peak, total["states"], total["outside_stroke"], total["singular"], params.name or "")
