@@ -1,5 +1,5 @@
 """Shared fixtures. ``figures`` records the figure each check reached; they are printed
-in a table at the end of the run (the README quotes it). The figures travel on the test
+in a table at the end of the run (docs/checks.md quotes it). The figures travel on the test
 reports (``user_properties``), so the table is complete when pytest-xdist runs the tests
 in worker processes too."""
 
@@ -45,7 +45,7 @@ def pytest_terminal_summary(terminalreporter):
 #: The tests that must share one worker process (pytest-xdist, ``--dist loadgroup`` in the
 #: pyproject's addopts), by the start of ``<file>::<test>``: those of a file whose tests share
 #: a costly result computed once per process (a module-scoped fixture, a cache), and the
-#: README's commands, which run in order in one directory. Every other test goes on its own
+#: commands of the README and the docs, which run in order in one directory. Every other test goes on its own
 #: to whichever worker is free.
 XDIST_GROUPS = {
     "test_generated.py": "one generator run, which every file's freshness check reads",

@@ -61,9 +61,9 @@ def test_c_example_matches_the_package(tmp_path, figures):
     figures("C example (examples/c) against the compiled kernel, relative", error, 1e-12)
 
 
-def test_readme_shows_the_example_as_shipped():
+def test_docs_show_the_example_as_shipped():
     example = EXAMPLE.read_text()
-    assert example[example.index("#include"):] in (ROOT / "README.md").read_text()
+    assert example[example.index("#include"):] in (ROOT / "docs" / "c.md").read_text()
 
 
 def test_export_without_params_writes_the_model_only(tmp_path):

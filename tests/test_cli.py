@@ -53,8 +53,8 @@ def test_params_file_is_used(tmp_path, capsys):
 
 @pytest.mark.slow
 def test_simulate_writes_series(tmp_path, capsys):
-    """The series; the plots of --plot are checked by tests/test_readme.py, whose README
-    command runs the same simulation with --plot."""
+    """The series; the plots of --plot are checked by tests/test_readme.py, whose command
+    of docs/cli.md runs the same simulation with --plot."""
     target = ["0.04565", "-0.0102", "0.192", "-0.086", "0.105", "0.096"]
     main(["simulate", "--target", *target, "--csv", str(tmp_path / "run.csv"), "--no-progress"])
     out = capsys.readouterr().out
@@ -110,7 +110,7 @@ def test_bad_input_is_an_error_naming_the_argument(capsys):
 
 
 # `stewart bench --json` (its JSON on stdout, the same figures in its table on stderr) is
-# tested by tests/test_readme.py, which runs the README's bench command: the one run of it.
+# tested by tests/test_readme.py, which runs the bench command of docs/cli.md: the one run of it.
 
 
 def _run(argv, capsys):

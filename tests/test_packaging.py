@@ -46,7 +46,8 @@ UV = find_uv_bin()
 SUPPORTED = ("3.11", "3.12", "3.13")
 RUNNING = "%d.%d" % sys.version_info[:2]
 #: What a build needs, as paths inside the sdist (after its ``stewart-<version>/`` prefix).
-SDIST_NEEDS = {"setup.py", "pyproject.toml", "MANIFEST.in", "README.md", "LICENSE",
+SDIST_NEEDS = {"setup.py", "pyproject.toml", "MANIFEST.in", "README.md", "LICENSE", "mkdocs.yml", "docs/index.md",
+               "docs/api.md",
                "stewart/_kernel.pyx", "stewart/_kernel.pxd", "stewart/_simulate.pxi", "stewart/_envelope.pxi",
                "generated/stewart_model.h", "generated/stewart_model.c", "generated/stewart_model.pxd",
                "generated/stewart_dispatch.h", "generated/stewart_target.c"}

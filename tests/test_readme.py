@@ -1,15 +1,18 @@
-"""The README's examples run as written.
+"""The commands and examples of the README and of the documentation's pages run as written.
 
-* Every ``stewart ...`` line of its ``sh`` blocks runs through :func:`stewart.cli.main`, in
+The pages are those of ``mkdocs.yml``'s ``nav``, read in its order after the README, as one
+session:
+
+* Every ``stewart ...`` line of their ``sh`` blocks runs through :func:`stewart.cli.main`, in
   order, in one temporary directory holding a copy of ``examples/`` (so a command may read
   what an earlier one wrote, as in a shell session), and exits with 0, or with the
   code its comment names ("exit code 3"). ``stewart bench`` runs with ``--batch 2000
   --preset narayan2017`` added (the full run takes minutes; every preset runs the same
   code); its JSON and its table are checked here, the one run of the command in the suite. The numbers that ``ik``, ``id`` and ``fd`` print or write
   are compared with the Python API.
-* Its ``python`` blocks run in order in one namespace. A statement followed by a comment
-  ``# SomeError: message`` must raise that error with that message (``...`` matches
-  anything).
+* Their ``python`` blocks run in order in one namespace (a page's examples continue the
+  README's tour). A statement followed by a comment ``# SomeError: message`` must raise that
+  error with that message (``...`` matches anything).
 * The generated sample of ``stewart validate`` lists the checks that command runs today.
 """
 
@@ -29,19 +32,31 @@ import stewart
 from stewart import cli
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
-README = (ROOT / "README.md").read_text()
-if not (ROOT / "examples").is_dir():
-    pytest.skip("needs the checkout (README.md and examples/)", allow_module_level=True)
+if not (ROOT / "examples").is_dir() or not (ROOT / "mkdocs.yml").is_file():
+    pytest.skip("needs the checkout (README.md, mkdocs.yml, docs/ and examples/)", allow_module_level=True)
 
 
-def blocks(language: str) -> list[str]:
-    return re.findall(rf"^```{language}\n(.*?)^```", README, re.S | re.M)
+def nav_pages() -> list[str]:
+    """The pages of ``mkdocs.yml``'s ``nav`` (``- Title: page.md``), in its order, as paths."""
+    nav = (ROOT / "mkdocs.yml").read_text().split("\nnav:", 1)[1]
+    return [f"docs/{name}" for name in re.findall(r"^\s*- [^\n]*?:\s*(\S+\.md)\s*$", nav, re.M)]
+
+
+#: The files whose commands and examples run, in order: the README, then the site's pages.
+PAGES = ["README.md", *nav_pages()]
+TEXTS = {name: (ROOT / name).read_text() for name in PAGES}
+
+
+def blocks(language: str, pages=PAGES) -> list[tuple[str, str]]:
+    """(page, block) of every ``language`` block of ``pages``, in order."""
+    return [(page, block) for page in pages
+            for block in re.findall(rf"^```{language}\n(.*?)^```", TEXTS[page], re.S | re.M)]
 
 
 def commands() -> list[tuple[str, list[str], int]]:
-    """(line, argv after ``stewart``, expected exit code) of every README command."""
+    """(line, argv after ``stewart``, expected exit code) of every command of the pages."""
     out = []
-    for block in blocks("sh"):
+    for _, block in blocks("sh"):
         for line in block.splitlines():
             words = shlex.split(line, comments=True)
             if words[:1] == ["stewart"]:
@@ -117,6 +132,11 @@ def expected_numbers(argv) -> np.ndarray | None:
     return plat.forward_dynamics(data[:, :6], data[:, 6:12], data[:, 12:])
 
 
+def test_every_page_of_the_docs_is_in_the_nav():
+    pages = sorted(str(p.relative_to(ROOT)) for p in (ROOT / "docs").rglob("*.md"))
+    assert pages == sorted(PAGES[1:]), "a page missing from mkdocs.yml's nav would escape these tests"
+
+
 def test_the_readme_shows_commands_on_the_shipped_examples():
     used = " ".join(line for line, _, _ in COMMANDS)
     for name in ("examples/platform.toml", "examples/states.csv", "examples/trajectory.csv"):
@@ -164,12 +184,12 @@ def check_bench(argv, out: str, err: str) -> None:
 _RAISES = re.compile(r"#\s*((?:\w+\.)*\w+(?:Error|Exception)):\s*(.*?)\s*$")
 
 
-def run_python(source: str, namespace: dict) -> int:
+def run_python(source: str, namespace: dict, page: str = "README.md") -> int:
     """Run ``source`` statement by statement; returns how many raised as their comment says."""
     lines = source.splitlines()
     raised = 0
     for node in ast.parse(source).body:
-        code = compile(ast.Module([node], type_ignores=[]), "README.md", "exec")
+        code = compile(ast.Module([node], type_ignores=[]), page, "exec")
         following = lines[node.end_lineno].strip() if node.end_lineno < len(lines) else ""
         expected = _RAISES.match(following)
         if not expected:
@@ -180,7 +200,7 @@ def run_python(source: str, namespace: dict) -> int:
         name, message = expected.groups()
         assert type(info.value).__name__ == name.split(".")[-1], info.value
         pattern = ".*".join(re.escape(part) for part in message.split("..."))
-        assert re.fullmatch(pattern, str(info.value)), f"README says {message!r}, got {str(info.value)!r}"
+        assert re.fullmatch(pattern, str(info.value)), f"{page} says {message!r}, got {str(info.value)!r}"
         raised += 1
     return raised
 
@@ -190,7 +210,7 @@ def test_the_python_tour_runs(tmp_path, monkeypatch):
     pytest.importorskip("matplotlib")
     monkeypatch.chdir(tmp_path)
     namespace: dict = {}
-    raised = sum(run_python(block, namespace) for block in blocks("python"))
+    raised = sum(run_python(block, namespace, page) for page, block in blocks("python"))
     assert raised >= 2  # the error messages the tour shows are the ones raised
     assert isinstance(namespace["run"], stewart.SimulationResult)
     assert (tmp_path / "run.csv").is_file() and any((tmp_path / "figures").glob("*.png"))
@@ -199,8 +219,8 @@ def test_the_python_tour_runs(tmp_path, monkeypatch):
 def test_the_validate_sample_lists_the_checks_stewart_validate_runs():
     from stewart.oracles import validation
 
-    sample = re.search(r"<!-- BEGIN validate\b.*?-->\n(.*?)<!-- END validate -->", README, re.S)
-    assert sample, "README.md has the generated block of make validate"
+    sample = re.search(r"<!-- BEGIN validate\b.*?-->\n(.*?)<!-- END validate -->", TEXTS["docs/checks.md"], re.S)
+    assert sample, "docs/checks.md has the generated block of make validate"
     rows = [line.split(" | ")[0].lstrip("| ").replace("\\|", "|") for line in sample.group(1).splitlines()
             if line.startswith("| ") and not line.startswith("| check")]
     checks = validation.run(stewart.PlatformParams.preset("narayan2017"), n_states=5)
