@@ -15,7 +15,7 @@ C_TEST := tests/c/test_model
 # The model's rounding flags (STEWART_ROUNDING_FLAGS of the generated header).
 ROUNDING = $(shell sed -n 's/^\#define STEWART_ROUNDING_FLAGS "\(.*\)"/\1/p' generated/stewart_model.h)
 
-.PHONY: all test coverage test-peers test-ports test-wheels demo generate build bench validate readme clean
+.PHONY: all test coverage test-peers test-ports test-wheels demo generate build bench validate docs serve-docs clean
 
 all: build
 
@@ -95,9 +95,19 @@ validate: build
 	$(PY) -m stewart validate --preset narayan2017
 	$(PY) -m stewart validate --preset motion_simulator
 
-# Rewrite the README's measured figures (tests, validate; performance from the last make bench).
-readme: build
-	$(PY) -m benchmarks.readme
+# The documentation (docs/, mkdocs.yml): rewrite its measured figures from the commands that
+# measure them (tests, validate, exactness, MuJoCo; performance from the last make bench),
+# redraw its figures of the seed paper's move, then build the site into site/, where a broken
+# link or reference is an error. (make test builds the site too: tests/test_docs.py.)
+DOCS_MOVE := --target 0.04565 -0.0102 0.192 -0.0863 0.1046 0.0960 --controller pid
+docs: build
+	$(PY) -m benchmarks.docs
+	MPLBACKEND=Agg $(PY) -m stewart simulate $(DOCS_MOVE) --plot docs/images/
+	$(PY) -m mkdocs build --strict
+
+# The site, rebuilt as its pages change, at http://127.0.0.1:8000.
+serve-docs: $(INSTALLED)
+	$(PY) -m mkdocs serve
 
 clean:
-	rm -rf build *.egg-info stewart/*.so stewart/_kernel.c .pytest_cache $(C_TEST)
+	rm -rf build *.egg-info stewart/*.so stewart/_kernel.c .pytest_cache site $(C_TEST)

@@ -1,5 +1,5 @@
 """The bench tables: each target marked met or missed from the measured median, the peers'
-chart drawing a bar for every figure, and the README blocks rewritten from the commands."""
+chart drawing a bar for every figure, and the documentation's blocks rewritten from the commands."""
 
 import json
 import math
@@ -10,7 +10,7 @@ import pytest
 from stewart.cli import bench
 
 pytest.importorskip("benchmarks", reason="needs the checkout (benchmarks/)")
-from benchmarks import readme, report  # noqa: E402
+from benchmarks import docs, report  # noqa: E402
 
 
 @pytest.mark.parametrize("key", sorted(bench.TARGETS))
@@ -111,19 +111,19 @@ def test_the_figures_table_is_taken_from_the_pytest_output():
         "FK(IK(x)) - x [m, rad]                    1.5e-12  (bound 1e-10)",
         "J_C vs complex step of L (narayan2017)    4.0e-16  (bound 1e-13)",
     ]
-    assert readme.summary_table(PYTEST_OUTPUT) == rows
+    assert docs.summary_table(PYTEST_OUTPUT) == rows
     # With nothing skipped, pytest -q ends with its count right after the table.
     no_skips = PYTEST_OUTPUT.split("=========================== short")[0] + "764 passed, 6 deselected in 100.40s\n"
-    assert readme.summary_table(no_skips) == rows
+    assert docs.summary_table(no_skips) == rows
 
 
-def test_a_readme_block_is_replaced_between_its_markers():
+def test_a_docs_block_is_replaced_between_its_markers():
     text = "intro\n<!-- BEGIN checks: generated -->\nold\nlines\n<!-- END checks -->\nafter\n"
-    out = readme.replace_block(text, "checks", "new")
+    out = docs.replace_block(text, "checks", "new")
     assert out == "intro\n<!-- BEGIN checks: generated -->\nnew\n<!-- END checks -->\nafter\n"
-    assert readme.replace_block(out, "checks", "new") == out  # deterministic
+    assert docs.replace_block(out, "checks", "new") == out  # deterministic
     with pytest.raises(SystemExit, match="no <!-- BEGIN validate"):
-        readme.replace_block(text, "validate", "x")
+        docs.replace_block(text, "validate", "x")
 
 
 def test_performance_block_marks_targets_from_the_bench_figures(tmp_path):
@@ -137,7 +137,7 @@ def test_performance_block_marks_targets_from_the_bench_figures(tmp_path):
                "code": {"generated_c_bytes": 580_000, "generated_c_lines": 11289,
                         "operation_counts": {"inverse_dynamics_axisym": 1781, "mass_matrix_general": 2045}}}
     (tmp_path / "b.json").write_text(json.dumps(results))
-    block = readme.performance_block(tmp_path / "b.json")
+    block = docs.performance_block(tmp_path / "b.json")
     assert "2026-11-23 15:00 UTC, 2-core AMD EPYC, Linux x86_64" in block
     assert "-march=native, load average 1.3 at the start" in block
     assert "| inverse dynamics, C batch loop | 0.450 us/state | <= 0.4 us/state | MISSED |" in block

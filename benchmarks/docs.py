@@ -1,26 +1,27 @@
-"""Rewrite the README's measured figures from the commands that measure them
-(``make readme``), so that none is copied by hand.
+"""Rewrite the documentation's measured figures from the commands that measure them
+(``make docs``, before it builds the site), so that none is copied by hand.
 
 Each generated block sits between ``<!-- BEGIN name ... -->`` and ``<!-- END name -->``
-in ``README.md`` and starts with the date, the machine and the command that produced it:
+in its page of ``docs/`` (:data:`PAGES`) and starts with the date, the machine and the
+command that produced it:
 
-``validate``
+``validate`` (``docs/checks.md``)
     the report of ``stewart validate`` for both presets (what ``make validate`` prints),
     as one table;
-``checks``
+``checks`` (``docs/checks.md``)
     the table of figures that ``make test`` prints at the end of its pytest run
     (``tests/conftest.py``), verbatim;
-``mujoco``
+``mujoco`` (``docs/mujoco.md``)
     how closely the MuJoCo export reproduces the model
     (:func:`benchmarks.peers.mujoco_model.export_figures`; needs MuJoCo);
-``performance``
+``performance`` (``docs/performance.md``)
     our own rows of the last ``make bench`` run, read from its JSON figures
     (``out/benchmarks.json``), each target marked met or missed;
-``exactness``
+``exactness`` (``docs/exactness.md``)
     what ``stewart exactness`` measures for both presets (the legs' spin), as one table.
 
 Everything apart from the measured numbers, the date and the machine is deterministic.
-``python -m benchmarks.readme validate checks`` rewrites only those blocks.
+``python -m benchmarks.docs validate checks`` rewrites only those blocks.
 """
 
 from __future__ import annotations
@@ -34,12 +35,15 @@ import subprocess
 import sys
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
-README = ROOT / "README.md"
+DOCS = ROOT / "docs"
 BENCH_JSON = ROOT / "out" / "benchmarks.json"
 SECTIONS = ("validate", "checks", "mujoco", "performance", "exactness")
+#: The page of ``docs/`` that holds each generated block.
+PAGES = {"validate": "checks.md", "checks": "checks.md", "mujoco": "mujoco.md",
+         "performance": "performance.md", "exactness": "exactness.md"}
 #: The presets ``make validate`` reports on, in its order.
 VALIDATE_PRESETS = ("narayan2017", "motion_simulator")
-#: The preset whose kernel rows the README's performance table shows (all presets count
+#: The preset whose kernel rows the performance page's table shows (all presets count
 #: in its line of targets met and missed).
 PERFORMANCE_PRESET = "narayan2017"
 _SUMMARY = "figures reached (worst case per check)"
@@ -96,7 +100,7 @@ def mujoco_block() -> str:
     states = 20
     fig = export_figures(states=states)
     duration = next(iter(fig.values()))["duration_s"]
-    lines = [f"`python -m benchmarks.readme mujoco` ({states} random states, seed 0; MuJoCo {mujoco.__version__}), "
+    lines = [f"`python -m benchmarks.docs mujoco` ({states} random states, seed 0; MuJoCo {mujoco.__version__}), "
              f"{where()}:", "",
              f"| MuJoCo against | ẍ rigid | ẍ soft (tight) | replay {duration:g} s: position | angle | ball-joint gap |",
              "|---|---|---|---|---|---|"]
@@ -134,7 +138,7 @@ def checks_block() -> str:
     run = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-m", "not peers"], cwd=ROOT,
                          capture_output=True, text=True)
     if run.returncode != 0:
-        raise SystemExit(f"pytest failed (exit {run.returncode}); the README keeps its figures\n{run.stdout[-3000:]}")
+        raise SystemExit(f"pytest failed (exit {run.returncode}); the documentation keeps its figures\n{run.stdout[-3000:]}")
     table = summary_table(run.stdout)
     return "\n".join([f"Sample of the table `make test` prints, {where()} "
                       "(without the optional peers):", "",
@@ -184,16 +188,16 @@ def performance_block(path: pathlib.Path) -> str:
     return "\n".join(lines)
 
 
-def replace_block(text: str, name: str, body: str) -> str:
+def replace_block(text: str, name: str, body: str, page: str = "the page") -> str:
     """``text`` with the block ``name`` replaced by ``body``; the markers must be there."""
     pattern = re.compile(rf"(<!-- BEGIN {name}\b[^>]*-->\n)(.*?)(<!-- END {name} -->)", re.S)
     if not pattern.search(text):
-        raise SystemExit(f"README.md has no <!-- BEGIN {name} --> ... <!-- END {name} --> block")
+        raise SystemExit(f"{page} has no <!-- BEGIN {name} --> ... <!-- END {name} --> block")
     return pattern.sub(lambda m: m.group(1) + body.rstrip() + "\n" + m.group(3), text, count=1)
 
 
 def main(argv=None) -> None:
-    parser = argparse.ArgumentParser(prog="python -m benchmarks.readme", description=__doc__,
+    parser = argparse.ArgumentParser(prog="python -m benchmarks.docs", description=__doc__,
                                      formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("sections", nargs="*", metavar="SECTION",
                         help=f"blocks to rewrite: {', '.join(SECTIONS)} (default: all; performance only when "
@@ -208,12 +212,13 @@ def main(argv=None) -> None:
     if "performance" in sections and not args.bench_json.exists():
         parser.error(f"--bench-json: {args.bench_json} does not exist; run make bench first")
     for name in sections:  # in order, each written at once: the test run reads the validate block
-        print(f"[readme] {name} ...", flush=True)
+        print(f"[docs] {name} ...", flush=True)
         body = {"validate": validate_block, "checks": checks_block, "mujoco": mujoco_block,
                 "exactness": exactness_block,
                 "performance": lambda: performance_block(args.bench_json)}[name]()
-        README.write_text(replace_block(README.read_text(), name, body))
-    print(f"rewrote {', '.join(sections)} in {README}")
+        page = DOCS / PAGES[name]
+        page.write_text(replace_block(page.read_text(), name, body, str(page)))
+    print(f"rewrote {', '.join(f'{name} ({PAGES[name]})' for name in sections)} in {DOCS}")
 
 
 if __name__ == "__main__":
