@@ -106,7 +106,7 @@ docs: build
 	$(PY) -m mkdocs build --strict
 
 # The site, rebuilt as its pages change, at http://127.0.0.1:8000.
-serve-docs: $(INSTALLED)
+serve-docs: build
 	$(PY) -m mkdocs serve
 
 clean:
