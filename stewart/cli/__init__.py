@@ -17,6 +17,7 @@ import numpy as np
 
 from .. import __version__, build_info
 from ..io import csvfile
+from ..model.kinematics import POSE_AXES
 from ..model import kinematics
 from ..identification import excitation
 from ..motion.control import PID, Actuators, ComputedTorque
@@ -36,7 +37,7 @@ from ..motion.trajectory import PROFILES, PointToPoint
 from ..motion.trajectory import load as load_trajectory
 from ..model.reachability import WorkspaceError, reachability
 
-POSE = ["x", "y", "z", "psi", "theta", "phi"]
+POSE = list(POSE_AXES)
 
 EXIT_CHECK_FAILED = 1
 EXIT_USAGE = 2

@@ -44,6 +44,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..model.kinematics import POSE_AXES
 from ..model import arguments, kinematics
 from ..io import csvfile
 from ..model.platform import Platform, checked_platform
@@ -80,7 +81,7 @@ CHECK_SLACK = 1e-3
 #: Relative step of the forward differences of the objective and the constraints.
 _STEP = 1e-6
 
-POSE = ["x", "y", "z", "psi", "theta", "phi"]
+POSE = list(POSE_AXES)
 
 
 @dataclass(frozen=True)

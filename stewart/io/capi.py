@@ -17,7 +17,6 @@ in the manner of ``numpy.get_include()``::
 from __future__ import annotations
 
 import dataclasses
-import os
 import re
 from pathlib import Path
 from typing import Any

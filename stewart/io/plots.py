@@ -9,10 +9,12 @@ import os
 
 import numpy as np
 
+from ..model.kinematics import POSE_AXES, POSE_UNITS
+
 __all__ = ["plot_run", "plot_move", "plot_excitation", "plot_bars", "run_title", "plot_workspace_slices",
            "plot_force_prediction"]
 
-_POSE = [("x", "m"), ("y", "m"), ("z", "m"), ("psi", "rad"), ("theta", "rad"), ("phi", "rad")]
+_POSE = list(zip(POSE_AXES, POSE_UNITS, strict=True))
 
 
 def _pyplot():

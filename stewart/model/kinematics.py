@@ -16,7 +16,15 @@ from . import arguments, conditions
 from .errors import ConvergenceError
 from .params import TOLERANCE, PlatformParams, checked_params
 
+#: The coordinates of a pose, in the order of a state: the position of {P}'s origin in {B}
+#: and the ZYX Euler angles (eq. 3). Every table, file and plot names them so.
+POSE_AXES = ("x", "y", "z", "psi", "theta", "phi")
+#: The unit of each coordinate of :data:`POSE_AXES`.
+POSE_UNITS = ("m", "m", "m", "rad", "rad", "rad")
+
 __all__ = [
+    "POSE_AXES",
+    "POSE_UNITS",
     "rotation",
     "euler_rate_jacobian",
     "twist_transform",

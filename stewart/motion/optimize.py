@@ -21,6 +21,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..model.kinematics import POSE_AXES
 from ..model import arguments
 from . import casadi_functions
 from ..io import csvfile
@@ -69,7 +70,7 @@ class MinimumEffortMove:
         ``t``, the pose, its rates (``x_dot`` ...), the leg lengths ``L0`` ... ``L5`` and the
         forces ``force0`` ... ``force5`` held from each node to the next (the last row
         repeats the last interval's); a ``#`` comment line gives :meth:`describe`."""
-        pose = ["x", "y", "z", "psi", "theta", "phi"]
+        pose = list(POSE_AXES)
         names = (["t"] + pose + [f"{name}_dot" for name in pose] + [f"L{k}" for k in range(6)]
                  + [f"force{k}" for k in range(6)])
         held = np.vstack([self.tau, self.tau[-1:]])

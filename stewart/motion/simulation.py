@@ -17,6 +17,7 @@ from typing import Callable, NamedTuple
 
 import numpy as np
 
+from ..model.kinematics import POSE_AXES
 from ..model import arguments
 from ..io import csvfile
 from .._kernel import status_message
@@ -122,7 +123,7 @@ class SimulationResult:
         }
 
     def _columns(self):
-        pose = ["x", "y", "z", "psi", "theta", "phi"]
+        pose = list(POSE_AXES)
         cols = [("t", self.t[:, None])]
         cols += [
             (pose, self.x),

@@ -12,6 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..model.kinematics import POSE_AXES
 from ..model import arguments
 
 __all__ = ["PointToPoint", "SampledTrajectory", "FourierTrajectory", "PROFILES", "load"]
@@ -135,7 +136,7 @@ class SampledTrajectory:
         them from a wider file, such as a simulation's output)."""
         from ..io import csvfile
 
-        data = csvfile.read(path, ["t", "x", "y", "z", "psi", "theta", "phi"])
+        data = csvfile.read(path, ["t", *POSE_AXES])
         try:
             return cls(data[:, 0], data[:, 1:])
         except ValueError as exc:

@@ -49,6 +49,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..model.kinematics import POSE_AXES, POSE_UNITS
 from ..model import arguments
 from .. import _kernel
 from . import execution
@@ -59,7 +60,7 @@ from ..model.params import PlatformParams, checked_params
 __all__ = ["Box", "Trajectories", "Envelope", "envelope", "QUANTITIES", "AXES"]
 
 #: The pose coordinates, in the order of a state, with their units.
-AXES = (("x", "m"), ("y", "m"), ("z", "m"), ("psi", "rad"), ("theta", "rad"), ("phi", "rad"))
+AXES = tuple(zip(POSE_AXES, POSE_UNITS, strict=True))
 
 #: The enveloped quantities (each one column per leg, in the order stewart._kernel.Peaks
 #: computes them), with their units.

@@ -10,6 +10,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..model.kinematics import POSE_AXES
 from ..model import arguments, kinematics
 from ..model.params import PlatformParams
 from ..model.reachability import (
@@ -45,7 +46,7 @@ __all__ = [
     "segment_distances",
 ]
 #: The coordinates a workspace varies, and their unit, by kind.
-KINDS = {"translational": (("x", "y", "z"), "m"), "orientation": (("psi", "theta", "phi"), "rad")}
+KINDS = {"translational": (POSE_AXES[:3], "m"), "orientation": (POSE_AXES[3:], "rad")}
 
 #: Poses checked per chunk (one task of :mod:`stewart.studies.execution`).
 CHUNK_SIZE = 20_000
