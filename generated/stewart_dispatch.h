@@ -17,6 +17,10 @@ typedef struct {
     int (*is_axisymmetric)(const stewart_params *p);
     int (*is_paper_model)(const stewart_params *p);
     int (*batch_lanes)(void);
+    int (*friction_forces)(const stewart_friction *f, const double *Ld, double *friction);
+    int (*batch_friction_forces)(const stewart_friction *f, size_t n, const double *Ld, double *friction, int *status);
+    int (*loop_derivative)(const stewart_params *p, const stewart_loop *loop, const double *y, const double *ref, const double *feedforward, double *ydot, double *force, double *L, double *Ld);
+    int (*loop_rk4)(const stewart_params *p, const stewart_loop *loop, double *y, const double *refs, const double *feedforward, double dt, size_t start, size_t stop, double min_length, double max_length, double *states, double *forces, double *lengths, double *rates, size_t *step, int *leg);
     int (*leg_lengths)(const stewart_params *p, const double *x, double *L);
     int (*jacobian)(const stewart_params *p, const double *x, double *JC);
     int (*leg_rates)(const stewart_params *p, const double *x, const double *xd, double *LLd);

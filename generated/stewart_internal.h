@@ -21,6 +21,10 @@
 #define stewart_is_axisymmetric STEWART_LOCAL(is_axisymmetric)
 #define stewart_is_paper_model STEWART_LOCAL(is_paper_model)
 #define stewart_batch_lanes STEWART_LOCAL(batch_lanes)
+#define stewart_friction_forces STEWART_LOCAL(friction_forces)
+#define stewart_batch_friction_forces STEWART_LOCAL(batch_friction_forces)
+#define stewart_loop_derivative STEWART_LOCAL(loop_derivative)
+#define stewart_loop_rk4 STEWART_LOCAL(loop_rk4)
 #define stewart_leg_lengths STEWART_LOCAL(leg_lengths)
 #define stewart_jacobian STEWART_LOCAL(jacobian)
 #define stewart_leg_rates STEWART_LOCAL(leg_rates)
@@ -443,6 +447,15 @@ static stewart_vl vsplit_jacobians(const stewart_vd Y[108], stewart_vd a[36], st
     return vnone();
 }
 
+/* The classic RK4 step, the one of every integrator of the model (vrk4 here, the closed loop's
+ * stewart_loop_rk4 in control.c), on doubles or vectors of doubles: stage s (0-3) evaluates
+ * k_s = f(s_0 + RK4_FRACTION(s) dt k_{s-1}) (RK4_STAGE; the first at s_0 itself), and the step
+ * is s_0 + dt/6 (k_0 + 2 k_1 + 2 k_2 + k_3) (RK4_UPDATE; RK4_WEIGHT(s) the weight of k_s). */
+#define RK4_FRACTION(stage) ((stage) == 0 ? 0.0 : (stage) == 3 ? 1.0 : 0.5)
+#define RK4_WEIGHT(stage) ((stage) == 0 || (stage) == 3 ? 1.0 : 2.0)
+#define RK4_STAGE(s, h, k) ((s) + (h) * (k))
+#define RK4_UPDATE(s, dt, k0, k1, k2, k3) ((s) + (dt) / 6.0 * ((k0) + 2.0 * (k1) + 2.0 * (k2) + (k3)))
+
 /* The stage state t = s + h k of a stage after the first and, when S != NULL, its Jacobians
  * S = dt/ds = E + h K, U = dt/dtau = h KB (K, KB: those of k), over a block. */
 static void vrk4_stage_state(const stewart_vd s[12], double h, const stewart_vd k[12], const stewart_vd *K,
@@ -450,7 +463,7 @@ static void vrk4_stage_state(const stewart_vd s[12], double h, const stewart_vd 
 {
     int i, j;
     for (i = 0; i < 12; ++i) {
-        t[i] = s[i] + h * k[i];
+        t[i] = RK4_STAGE(s[i], h, k[i]);
     }
     for (i = 0; S != NULL && i < 12; ++i) {
         for (j = 0; j < 12; ++j) {
@@ -497,10 +510,10 @@ static void vrk4_stage_jacobians(const stewart_vd ax[36], const stewart_vd axd[3
 }
 
 /* The discrete-time dynamics, over a block of states: one classic RK4 step of the state
- * s = [x; xd] under constant tau, ds/dt = f(s) = [xd; xdd(x, xd, tau)], with the operations of
- * the simulator's RK4 loop (stewart/_simulate.pxi, open loop with constant feed-forward, no
- * friction, no force limit) -- stages k_1 = f(s), k_2 = f(s + dt/2 k_1), k_3 = f(s + dt/2 k_2),
- * k_4 = f(s + dt k_3), s+ = s + dt/6 (k_1 + 2 k_2 + 2 k_3 + k_4) -- and, when `jac`, its exact
+ * s = [x; xd] under constant tau, ds/dt = f(s) = [xd; xdd(x, xd, tau)], by RK4_STAGE and
+ * RK4_UPDATE, the step of the simulator's closed loop (stewart_loop_rk4 in open loop with
+ * constant feed-forward, no friction, no force limit) -- stages k_1 = f(s), k_2 = f(s + dt/2 k_1),
+ * k_3 = f(s + dt/2 k_2), k_4 = f(s + dt k_3), s+ = s + dt/6 (k_1 + 2 k_2 + 2 k_3 + k_4) -- and, when `jac`, its exact
  * Jacobians A = ds+/ds, B = ds+/dtau by the chain rule through the four stages with the
  * forward-dynamics Jacobians.  in = {x, xd, tau}, out = {xn, xdn} and, when `jac`,
  * {A, B}; the stages' accelerations by `forward`, the block function of
@@ -511,8 +524,6 @@ static void vrk4_stage_jacobians(const stewart_vd ax[36], const stewart_vd axd[3
 static stewart_vl vrk4(const stewart_params *p, vblock_fn forward, int jac, double dt, const stewart_vd *const in[],
                        stewart_vd *const out[])
 {
-    static const double fraction[4] = {0.0, 0.5, 0.5, 1.0};
-    static const double weight[4] = {1.0, 2.0, 2.0, 1.0};
     stewart_vd s[12], t[12], k[4][12], ax[36], axd[36], atau[36], S[144], U[72], K[2][144], KB[2][72];
     stewart_vd *const A = jac ? out[2] : NULL, *const B = jac ? out[3] : NULL;
     stewart_vl status = vsplat(isfinite(dt) ? 0.0 : 1.0) != 0.0;
@@ -531,7 +542,7 @@ static stewart_vl vrk4(const stewart_params *p, vblock_fn forward, int jac, doub
     for (stage = 0; stage < 4; ++stage) {
         const int prev = (stage + 1) % 2, cur = stage % 2;
         if (stage) {
-            vrk4_stage_state(s, fraction[stage] * dt, k[stage - 1], K[prev], KB[prev], t, jac ? S : NULL, U);
+            vrk4_stage_state(s, RK4_FRACTION(stage) * dt, k[stage - 1], K[prev], KB[prev], t, jac ? S : NULL, U);
         } else {
             for (i = 0; i < 12; ++i) {
                 t[i] = s[i];
@@ -548,15 +559,15 @@ static stewart_vl vrk4(const stewart_params *p, vblock_fn forward, int jac, doub
             status = vmerge(status, ~(vfinite(ax, 36) & vfinite(axd, 36) & vfinite(atau, 36)) & STEWART_ERR_NONFINITE);
             vrk4_stage_jacobians(ax, axd, atau, stage ? S : NULL, stage ? U : NULL, K[cur], KB[cur]);
             for (i = 0; i < 144; ++i) {
-                A[i] += weight[stage] * K[cur][i];
+                A[i] += RK4_WEIGHT(stage) * K[cur][i];
             }
             for (i = 0; i < 72; ++i) {
-                B[i] += weight[stage] * KB[cur][i];
+                B[i] += RK4_WEIGHT(stage) * KB[cur][i];
             }
         }
     }
     for (i = 0; i < 12; ++i) {
-        t[i] = s[i] + dt / 6.0 * (k[0][i] + 2.0 * k[1][i] + 2.0 * k[2][i] + k[3][i]);
+        t[i] = RK4_UPDATE(s[i], dt, k[0][i], k[1][i], k[2][i], k[3][i]);
     }
     for (i = 0; i < 6; ++i) {
         out[0][i] = t[i];

@@ -72,6 +72,25 @@ cdef extern from "stewart_model.h" nogil:
     int stewart_batch_regressor(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Y, int *status)
     int stewart_batch_rk4_step(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status)
     int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B, int *status)
+    enum:
+        STEWART_OPEN_LOOP
+        STEWART_PID
+        STEWART_COMPUTED_TORQUE
+        STEWART_STOP_LEG_SHORT
+        STEWART_STOP_LEG_LONG
+        STEWART_STOP_NONFINITE
+    ctypedef struct stewart_friction:
+        double viscous[6]
+        double coulomb[6]
+        double velocity
+    ctypedef struct stewart_loop:
+        int mode
+        double kp[6]
+        double ki[6]
+        double kd[6]
+        double force_limit[6]
+        stewart_friction friction
+        stewart_friction model_friction
 
 cdef extern from "stewart_dispatch.h" nogil:
     ctypedef struct stewart_table:
@@ -83,6 +102,10 @@ cdef extern from "stewart_dispatch.h" nogil:
         int (*is_axisymmetric)(const stewart_params *p) noexcept nogil
         int (*is_paper_model)(const stewart_params *p) noexcept nogil
         int (*batch_lanes)() noexcept nogil
+        int (*friction_forces)(const stewart_friction *f, const double *Ld, double *friction) noexcept nogil
+        int (*batch_friction_forces)(const stewart_friction *f, size_t n, const double *Ld, double *friction, int *status) noexcept nogil
+        int (*loop_derivative)(const stewart_params *p, const stewart_loop *loop, const double *y, const double *ref, const double *feedforward, double *ydot, double *force, double *L, double *Ld) noexcept nogil
+        int (*loop_rk4)(const stewart_params *p, const stewart_loop *loop, double *y, const double *refs, const double *feedforward, double dt, size_t start, size_t stop, double min_length, double max_length, double *states, double *forces, double *lengths, double *rates, size_t *step, int *leg) noexcept nogil
         int (*leg_lengths)(const stewart_params *p, const double *x, double *L) noexcept nogil
         int (*jacobian)(const stewart_params *p, const double *x, double *JC) noexcept nogil
         int (*leg_rates)(const stewart_params *p, const double *x, const double *xd, double *LLd) noexcept nogil

@@ -558,6 +558,20 @@ cdef class Kernel:
         return self._run("regressor", 3, <void *>T.regressor, ("x", "xd", "xdd"), (x, xd, xdd),
                          ((6, len(INERTIAL_NAMES)),), return_mask, 0.0, <void *>T.batch_regressor)
 
+    def friction_forces(self, rates, law):
+        """The forces the legs lose to friction (the C model's law, stewart_batch_friction_forces)
+        at the leg rates ``rates`` (``(6,)`` or ``(N, 6)``, C-contiguous float64) for the law
+        ``(F_v (6,), F_c (6,), v_c)``: an array of the shape of ``rates``, NaN in a row whose
+        rates or forces are not finite."""
+        cdef cnp.ndarray crates = _c_array("rates", rates, cnp.NPY_DOUBLE, np.ndim(rates), False)
+        cdef cnp.ndarray out = np.empty_like(crates)
+        cdef stewart_friction f = as_friction(law)
+        cdef size_t n = crates.size // 6
+        with nogil:
+            T.batch_friction_forces(&f, n, <const double *>cnp.PyArray_DATA(crates), <double *>cnp.PyArray_DATA(out),
+                                    NULL)
+        return out
+
     def rk4_step(self, x, xd, tau, double dt, bint jacobians=False, return_mask=False):
         """``(x, xd)`` after one RK4 step of ``dt`` (a positive finite number, checked by the
         caller), with ``(A, B)`` after them when ``jacobians``."""

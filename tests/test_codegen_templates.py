@@ -17,14 +17,16 @@ LANES = ROOT / "codegen" / "templates" / "lanes.c"
 
 
 def test_there_are_templates():
-    assert [t.name for t in TEMPLATES] == ["lanes.c", "public.c", "runtime.c", "vector.c"]
+    assert [t.name for t in TEMPLATES] == ["control.c", "lanes.c", "public.c", "runtime.c", "vector.c"]
 
 
 @pytest.mark.parametrize("template", TEMPLATES, ids=lambda t: t.name)
 def test_template_compiles_on_its_own(template, tmp_path):
-    """Each template after the lane-wise arithmetic, as the generated source has them."""
+    """Each template after the lane-wise arithmetic, as the generated source has them (one that
+    includes the header the units share, which holds the lane-wise arithmetic, on its own)."""
     source = tmp_path / template.name
-    source.write_text(LANES.read_text() + ("" if template == LANES else template.read_text()))
+    shared = '#include "stewart_internal.h"' in template.read_text()
+    source.write_text(("" if shared else LANES.read_text()) + ("" if template == LANES else template.read_text()))
     # A template's static helpers are used by the generated functions, not by itself.
     run_command([os.environ.get("CC", "cc"), *CFLAGS, "-Wno-unused-function", "-fsyntax-only",
                  f"-I{ROOT / 'generated'}", source])

@@ -210,16 +210,13 @@ class Platform:
         return arguments.finite_rows("friction_forces", friction, ok, return_mask)
 
     def _friction(self, x, xd, return_mask):
-        """The friction forces, overflows and all, and the kernel's mask (True without ``return_mask``)."""
-        p = self._params
+        """The friction forces by the C model's law (NaN where they overflow) and the kernel's
+        mask (True without ``return_mask``)."""
+        from .control import Actuators  # the law's coefficients, zero where the parameters have none
+
         result = self._kernel.leg_rates(x, xd, return_mask)
         rates = (result[0] if return_mask else result)[1]
-        friction = np.zeros_like(rates)
-        with np.errstate(over="ignore", invalid="ignore"):
-            if p.viscous_friction is not None:
-                friction += p.viscous_friction * rates
-            if p.coulomb_friction is not None:
-                friction += p.coulomb_friction * np.tanh(rates / p.coulomb_velocity)
+        friction = self._kernel.friction_forces(rates, Actuators().friction(self._params))
         return friction, result[1] if return_mask else True
 
     def actuator_forces(self, x, xd, xdd, *, return_mask=False):
