@@ -20,6 +20,7 @@ that fills it (stewart_target.c, compiled once per instruction set) come from th
 of functions; their fixed C is in codegen/templates/dispatch/.
 """
 
+import textwrap
 from pathlib import Path
 
 from . import conditions, linsolve
@@ -224,18 +225,25 @@ LOOP_FUNCTIONS = (
 
 def _loop_types():
     """The C of `LOOP_CONSTANTS` and `LOOP_TYPES`."""
-    text = 'enum {\n' + _table([(f'{name} = {value},', doc) for name, value, doc in LOOP_CONSTANTS]) + '};\n\n'
+    width = max(len(name) for name, _, _ in LOOP_CONSTANTS) + 1
+    text = ''.join(f'#define {name:<{width}}{f"({value})" if value < 0 else value:<5}/* {doc} */\n'
+                   for name, value, doc in LOOP_CONSTANTS) + '\n'
     for name, doc, members in LOOP_TYPES:
-        text += f'/* {doc} */\ntypedef struct {{\n' + _table(
+        text += _comment(doc) + 'typedef struct {\n' + _table(
             [(f'{ctype} {member}{f"[{n}]" if n else ""};', mdoc) for ctype, member, n, mdoc in members])
         text += f'}} {name};\n\n'
     return text
 
 
+def _comment(doc):
+    """`doc` as a C comment, wrapped at 100 columns."""
+    return textwrap.fill(f'/* {doc} */', 100, subsequent_indent=' * ', break_on_hyphens=False) + '\n'
+
+
 def loop_header():
     """The header's section of the actuators and the closed loop: types, constants, functions."""
     return ('/* ---- actuators and the closed loop (stewart.simulate) ---- */\n\n' + _loop_types()
-            + ''.join(f'/* {doc} */\nint stewart_{name}({args});\n' for name, args, doc in LOOP_FUNCTIONS))
+            + ''.join(_comment(doc) + f'int stewart_{name}({args});\n' for name, args, doc in LOOP_FUNCTIONS))
 
 
 def loop_pxd():

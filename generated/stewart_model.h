@@ -193,23 +193,23 @@ int stewart_rk4_step_derivatives(const stewart_params *p, const double x[6], con
 
 /* ---- actuators and the closed loop (stewart.simulate) ---- */
 
-enum {
-    STEWART_OPEN_LOOP = 0,        /* the commanded forces are the feed-forward */
-    STEWART_PID = 1,              /* joint-space PID on the leg lengths, plus the feed-forward */
-    STEWART_COMPUTED_TORQUE = 2,  /* task-space computed torque with the model's friction, plus the feed-forward */
-    STEWART_STOP_LEG_SHORT = -1,  /* stewart_loop_rk4: a leg shorter than min_length */
-    STEWART_STOP_LEG_LONG = -2,   /* stewart_loop_rk4: a leg longer than max_length */
-    STEWART_STOP_NONFINITE = -3,  /* stewart_loop_rk4: a state that is not finite */
-};
+#define STEWART_OPEN_LOOP       0    /* the commanded forces are the feed-forward */
+#define STEWART_PID             1    /* joint-space PID on the leg lengths, plus the feed-forward */
+#define STEWART_COMPUTED_TORQUE 2    /* task-space computed torque with the model's friction, plus the feed-forward */
+#define STEWART_STOP_LEG_SHORT  (-1) /* stewart_loop_rk4: a leg shorter than min_length */
+#define STEWART_STOP_LEG_LONG   (-2) /* stewart_loop_rk4: a leg longer than max_length */
+#define STEWART_STOP_NONFINITE  (-3) /* stewart_loop_rk4: a state that is not finite */
 
-/* The friction law of the legs: leg i loses F_v,i Ld_i + F_c,i tanh(Ld_i / v_c) at the leg rate Ld_i (a smooth Coulomb law). */
+/* The friction law of the legs: leg i loses F_v,i Ld_i + F_c,i tanh(Ld_i / v_c) at the leg rate
+ * Ld_i (a smooth Coulomb law). */
 typedef struct {
     double viscous[6];  /* F_v of each leg, N s/m */
     double coulomb[6];  /* F_c of each leg, N */
     double velocity;    /* v_c > 0, m/s */
 } stewart_friction;
 
-/* A controller and its actuators (stewart_loop_derivative): the commanded forces, each saturated at +-force_limit, act on the legs less the legs' friction. */
+/* A controller and its actuators (stewart_loop_derivative): the commanded forces, each saturated at
+ * +-force_limit, act on the legs less the legs' friction. */
 typedef struct {
     int mode;                         /* STEWART_OPEN_LOOP, STEWART_PID or STEWART_COMPUTED_TORQUE */
     double kp[6];                     /* PID: N/m per leg; computed torque: 1/s^2 per pose coordinate */
@@ -220,13 +220,30 @@ typedef struct {
     stewart_friction model_friction;  /* what computed torque adds back at the measured leg rates */
 } stewart_loop;
 
-/* The force each leg loses to friction at the leg rates Ld (6 doubles): friction_i = F_v,i Ld_i + F_c,i tanh(Ld_i / v_c), summed from +0, the Coulomb term only where F_c,i != 0.  STEWART_ERR_NONFINITE if f or a force is not finite. */
+/* The force each leg loses to friction at the leg rates Ld (6 doubles): friction_i = F_v,i Ld_i +
+ * F_c,i tanh(Ld_i / v_c), summed from +0, the Coulomb term only where F_c,i != 0.
+ * STEWART_ERR_NONFINITE if f or a force is not finite. */
 int stewart_friction_forces(const stewart_friction *f, const double *Ld, double *friction);
 /* stewart_friction_forces on n rows (as the batch functions below). */
 int stewart_batch_friction_forces(const stewart_friction *f, size_t n, const double *Ld, double *friction, int *status);
-/* The closed loop as one ODE: ydot (18) at the state y = [x; xd; e] (18; e the integral of the leg-length error L_r - L of the PID) for the reference ref = [x_r; xd_r; xdd_r] (18) and the feed-forward forces (6), with the commanded forces (before saturation and friction), the leg lengths L and rates Ld at y.  PID: force = kp (L_r - L) + ki e + kd (Ld_r - Ld) + feedforward, de/dt = L_r - L; computed torque: force = stewart_inverse_dynamics(x, xd, xdd_r + kd (xd_r - xd) + kp (x_r - x)) + model friction at Ld + feedforward; open loop: force = feedforward.  The legs receive the force saturated at +-force_limit less their friction (stewart_friction_forces); xdd = stewart_forward_dynamics of it.  Returns the status of the first model function that fails (the outputs are then not all set). */
+/* The closed loop as one ODE: ydot (18) at the state y = [x; xd; e] (18; e the integral of the
+ * leg-length error L_r - L of the PID) for the reference ref = [x_r; xd_r; xdd_r] (18) and the
+ * feed-forward forces (6), with the commanded forces (before saturation and friction), the leg
+ * lengths L and rates Ld at y.  PID: force = kp (L_r - L) + ki e + kd (Ld_r - Ld) + feedforward,
+ * de/dt = L_r - L; computed torque: force = stewart_inverse_dynamics(x, xd, xdd_r + kd (xd_r - xd)
+ * + kp (x_r - x)) + model friction at Ld + feedforward; open loop: force = feedforward.  The legs
+ * receive the force saturated at +-force_limit less their friction (stewart_friction_forces); xdd =
+ * stewart_forward_dynamics of it.  Returns the status of the first model function that fails (the
+ * outputs are then not all set). */
 int stewart_loop_derivative(const stewart_params *p, const stewart_loop *loop, const double *y, const double *ref, const double *feedforward, double *ydot, double *force, double *L, double *Ld);
-/* Classic fixed-step RK4 of stewart_loop_derivative (the stages of stewart_rk4_step), y (18) advanced in place from step start to stop: refs (rows of 18) and feedforward (rows of 6) on the half-step grid (row 2k at t_k, 2k + 1 at t_k + dt/2); row k of states (18), forces, lengths and rates (6) receives y, the commanded forces, L and Ld at t_k.  Stops after a step whose state is not finite (STEWART_STOP_NONFINITE) or has a leg outside [min_length, max_length] (STEWART_STOP_LEG_SHORT, STEWART_STOP_LEG_LONG, *leg that leg, else -1), or at a step whose derivative fails (its status); *step is the step it stopped at (stop when it ran through).  Returns STEWART_OK or the reason. */
+/* Classic fixed-step RK4 of stewart_loop_derivative (the stages of stewart_rk4_step), y (18)
+ * advanced in place from step start to stop: refs (rows of 18) and feedforward (rows of 6) on the
+ * half-step grid (row 2k at t_k, 2k + 1 at t_k + dt/2); row k of states (18), forces, lengths and
+ * rates (6) receives y, the commanded forces, L and Ld at t_k.  Stops after a step whose state is
+ * not finite (STEWART_STOP_NONFINITE) or has a leg outside [min_length, max_length]
+ * (STEWART_STOP_LEG_SHORT, STEWART_STOP_LEG_LONG, *leg that leg, else -1), or at a step whose
+ * derivative fails (its status); *step is the step it stopped at (stop when it ran through).
+ * Returns STEWART_OK or the reason. */
 int stewart_loop_rk4(const stewart_params *p, const stewart_loop *loop, double *y, const double *refs, const double *feedforward, double dt, size_t start, size_t stop, double min_length, double max_length, double *states, double *forces, double *lengths, double *rates, size_t *step, int *leg);
 
 /* ---- batches ----

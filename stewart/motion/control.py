@@ -1,7 +1,7 @@
 """Controllers and actuator models for :func:`stewart.simulate`.
 
-The control laws themselves run in the compiled loop (``stewart._kernel.ClosedLoop``); these
-classes hold and document their gains, and each tells the loop which law it is
+The control laws themselves run in the generated C model's closed loop (``stewart_loop_derivative``
+of the C API, through ``stewart._kernel.ClosedLoop``); these classes hold and document their gains, and each tells the loop which law it is
 (:meth:`Controller.loop_settings`) and where its integral starts.
 
 * :class:`PID` — joint-space PID on the leg lengths with actuator forces as output, as in
