@@ -555,7 +555,7 @@ class PlatformParams:
 
     @classmethod
     def preset(cls, name: str) -> "PlatformParams":
-        """A built-in parameter set by name; :func:`stewart.model.presets` lists them."""
+        """A built-in parameter set by name; :func:`stewart.presets` lists them."""
         if not isinstance(name, str):
             raise ValueError(f"name: expected a preset name, got {type(name).__name__} {name!r}")
         return cls(**_preset_fields(name))

@@ -104,7 +104,7 @@ class Platform:
 
     @classmethod
     def preset(cls, name: str, **options) -> "Platform":
-        """The compiled model of a built-in parameter set (see :func:`stewart.model.presets`)."""
+        """The compiled model of a built-in parameter set (see :func:`stewart.presets`)."""
         return cls(PlatformParams.preset(name), **options)
 
     @classmethod
