@@ -212,11 +212,9 @@ class Platform:
     def _friction(self, x, xd, return_mask):
         """The friction forces by the C model's law (NaN where they overflow) and the kernel's
         mask (True without ``return_mask``)."""
-        from .control import Actuators  # the law's coefficients, zero where the parameters have none
-
         result = self._kernel.leg_rates(x, xd, return_mask)
         rates = (result[0] if return_mask else result)[1]
-        friction = self._kernel.friction_forces(rates, Actuators().friction(self._params))
+        friction = self._kernel.friction_forces(rates, friction_law(self._params))
         return friction, result[1] if return_mask else True
 
     def actuator_forces(self, x, xd, xdd, *, return_mask=False):
@@ -283,6 +281,17 @@ class Platform:
         return _named(StepDerivatives if jacobians else Step,
                       self._kernel.rk4_step(x, xd, tau, dt, bool(jacobians), return_mask),
                       return_mask)
+
+
+def friction_law(params: PlatformParams, viscous=None, coulomb=None, velocity=None) -> tuple[np.ndarray, np.ndarray, float]:
+    """``(F_v (6,), F_c (6,), v_c)`` of the legs' friction law: the values given, else the
+    parameters' ``viscous_friction``, ``coulomb_friction`` and ``coulomb_velocity`` (zeros
+    where they have none)."""
+    def per_leg(given, own):
+        return given if given is not None else np.zeros(6) if own is None else np.array(own)
+
+    return (per_leg(viscous, params.viscous_friction), per_leg(coulomb, params.coulomb_friction),
+            params.coulomb_velocity if velocity is None else velocity)
 
 
 def checked_platform(value, name: str = "platform") -> Platform:

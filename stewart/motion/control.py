@@ -25,7 +25,7 @@ import numpy as np
 from ..model import arguments, conditions
 from .._kernel import Mode
 from ..model.params import PlatformParams
-from ..model.platform import Platform, checked_platform
+from ..model.platform import Platform, checked_platform, friction_law
 
 __all__ = ["Controller", "PID", "ComputedTorque", "OpenLoop", "Actuators", "PID_BANDWIDTH_HZ", "leg_masses"]
 
@@ -217,9 +217,4 @@ class Actuators:
     def friction(self, params: PlatformParams) -> tuple[np.ndarray, np.ndarray, float]:
         """``(F_v (6,), F_c (6,), v_c)`` on a platform with parameters ``params``: the values
         given here, else the platform's (zeros where it has none)."""
-        def per_leg(given, own):
-            return given if given is not None else np.zeros(6) if own is None else np.array(own)
-
-        velocity = params.coulomb_velocity if self.coulomb_velocity is None else self.coulomb_velocity
-        return (per_leg(self.viscous, params.viscous_friction), per_leg(self.coulomb, params.coulomb_friction),
-                velocity)
+        return friction_law(params, self.viscous, self.coulomb, self.coulomb_velocity)
