@@ -252,7 +252,7 @@ def test_output_paths_and_matplotlib_are_checked_before_the_run(tmp_path, capsys
     def no_run(*args, **kwargs):
         raise AssertionError("the run started")
 
-    monkeypatch.setattr("stewart.cli.simulate", no_run)
+    monkeypatch.setattr("stewart.cli.motion.simulate", no_run)
     target = ["--target", "0.01", "0", "0.27", "0", "0", "0"]
     code, _, err = _run(["simulate", *target, "--csv", str(tmp_path / "nowhere" / "run.csv")], capsys)
     assert code == 2 and "does not exist" in _one_error_line(err, "simulate", "--csv ")

@@ -1,0 +1,66 @@
+"""``stewart c-export`` (the generated C with a platform's parameter header, for C programs)
+and ``stewart export-mjcf`` (the platform as a MuJoCo model)."""
+
+from __future__ import annotations
+
+import os
+import sys
+
+from ..io.mjcf import SOLVERS, to_mjcf
+from .common import UserError, check_output, platform_params
+from .options import AXES, UNITS, add_file, add_params, add_six, subcommand
+
+
+def cmd_c_export(args) -> int:
+    from ..io import capi
+
+    params, label = platform_params(args)
+    if os.path.exists(args.directory) and not os.path.isdir(args.directory):
+        raise UserError(f"DIR {args.directory}: exists and is not a directory")
+    try:
+        written = capi.export(args.directory, params)
+    except OSError as exc:
+        raise UserError(f"DIR {args.directory}: {exc.strerror or exc}") from None
+    for path in written:
+        print(f"wrote {path}")
+    print(f"platform {label}: stewart_platform_params in {capi.PARAMS_HEADER}")
+    return 0
+
+
+def add_c_export(sub) -> None:
+    p = subcommand(sub, "c-export", "write the generated C model and a platform's parameter header into a "
+                   "directory, for C programs", cmd_c_export)
+    add_params(p)
+    p.add_argument("directory", metavar="DIR", help="directory to write into (created if missing)")
+
+
+def cmd_export_mjcf(args) -> int:
+    check_output("--output", args.output)
+    params, label = platform_params(args)
+    try:
+        text = to_mjcf(params, pose=args.pose, solver=args.solver)
+    except ValueError as exc:
+        message = str(exc)
+        raise UserError(f"--{message}" if message.startswith("pose:") else message) from None
+    if not args.output:
+        sys.stdout.write(text)
+        return 0
+    try:
+        with open(args.output, "w", encoding="utf-8") as handle:
+            handle.write(text)
+    except OSError as exc:
+        raise UserError(f"--output {args.output}: {exc.strerror or exc}") from None
+    print(f"wrote {args.output}: MuJoCo model of platform {label}, solver settings '{args.solver}'")
+    return 0
+
+
+def add_export_mjcf(sub) -> None:
+    p = subcommand(sub, "export-mjcf", "write the platform as a standalone MuJoCo model (MJCF): universal "
+                   "joints, actuated slides, ball joints as equality constraints; ctrl = actuator forces [N]",
+                   cmd_export_mjcf)
+    add_params(p)
+    add_file(p, "--output", "write the model to FILE (default: standard output)")
+    add_six(p, "--pose", f"assembly pose: {AXES} [{UNITS}] (default: home)")
+    p.add_argument("--solver", choices=list(SOLVERS), default="default",
+                   help="MuJoCo's defaults (2 ms Euler step, soft constraints), or the 0.1 ms RK4 step and stiff "
+                        "constraints the agreement with this model is measured at")

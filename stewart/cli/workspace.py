@@ -1,0 +1,166 @@
+"""``stewart workspace``: the reachable workspace's volume, bounding box and singularity
+margin, and its slices through home as heat maps."""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+
+import numpy as np
+
+from ..io import csvfile
+from ..model.kinematics import POSE_AXES, POSE_UNITS
+from .common import (
+    EXIT_WORKSPACE,
+    UserError,
+    check_output,
+    check_plotting,
+    chunking,
+    flag_names,
+    platform_params,
+    print_written,
+    progress,
+    scheduler,
+)
+from .options import add_file, add_json, add_params, add_progress, add_seed, count, number, positive, subcommand
+
+#: The user's flags for the arguments of the workspace functions and the parameters they override.
+_WORKSPACE_FLAGS = {"region": "--region", "orientation": "--orientation", "position": "--position",
+                    "samples": "--samples", "grid": "--grid", "seed": "--seed", "chunk_size": "--chunk-size",
+                    "resolution": "--resolution", "universal_joint_max_angle": "--universal-max-angle",
+                    "spherical_joint_max_angle": "--spherical-max-angle", "leg_diameter": "--leg-diameter"}
+
+#: The slices drawn by ``stewart workspace --slices``: the three coordinate planes through home.
+_SLICES = {"translational": ("xy", "xz", "yz"), "orientation": ("psi,theta", "psi,phi", "theta,phi")}
+
+
+def cmd_workspace(args) -> int:
+    from ..studies import workspace
+
+    check_output("--csv", args.csv)
+    check_output("--slices", args.slices, directory=True)
+    if args.slices:
+        check_plotting("--slices")
+    if args.kind == "orientation" and args.orientation is not None:
+        raise UserError("--orientation: holds the orientation of a translational workspace; "
+                        "with --kind orientation give --position")
+    if args.kind == "translational" and args.position is not None:
+        raise UserError("--position: holds the position of an orientation workspace; "
+                        "with --kind translational give --orientation")
+    for flag, value in (("--universal-max-angle", args.universal_max_angle),
+                        ("--spherical-max-angle", args.spherical_max_angle)):
+        if value is not None and value > 90.0:
+            raise UserError(f"{flag}: a cone half-angle needs 0 < DEG <= 90, got {value:g}")
+    params, label = platform_params(args)
+    bounds = {"universal_joint_max_angle": args.universal_max_angle, "spherical_joint_max_angle":
+              args.spherical_max_angle, "leg_diameter": args.leg_diameter}
+    region = None if args.region is None else np.reshape(args.region, (3, 2))
+    fixed = ({"orientation": args.orientation or (0.0, 0.0, 0.0)} if args.kind == "translational"
+             else {"position": args.position})
+    try:
+        params = params.replace(**{key: math.radians(v) if "angle" in key else v
+                                   for key, v in bounds.items() if v is not None})
+        study = workspace.translational_workspace if args.kind == "translational" else workspace.orientation_workspace
+        with scheduler(args.scheduler) as client:
+            result = study(params, **fixed, region=region, samples=None if args.grid else args.samples,
+                           grid=args.grid, seed=args.seed, client=client, progress=progress(args),
+                           **chunking(args))
+        slices = [workspace.workspace_slice(params, axes, **fixed, region=_zoom(result, axes),
+                                            resolution=args.resolution)
+                  for axes in _SLICES[args.kind]] if args.slices else []
+    except ValueError as exc:
+        raise UserError(flag_names(str(exc), _WORKSPACE_FLAGS)) from None
+    files = []
+    if slices:
+        from ..io.plots import plot_workspace_slices
+
+        os.makedirs(args.slices, exist_ok=True)
+        files.append(plot_workspace_slices(slices, os.path.join(args.slices, f"workspace_{args.kind}.png"),
+                                           f"{params.name or 'unnamed'}: {args.kind} workspace slices through home"))
+    summary = {"command": "workspace", "platform_source": label, **result.summary()}
+    code = 0 if result.reachable else EXIT_WORKSPACE
+    if args.csv:
+        flat = {key: json.dumps(val) if isinstance(val, (list, dict)) else val for key, val in summary.items()}
+        numeric = {key: val for key, val in flat.items() if isinstance(val, (int, float)) and val is not None}
+        csvfile.write(args.csv, list(numeric), np.array([list(numeric.values())], dtype=float), f"platform {label}")
+        files.append(args.csv)
+    summary.update(exit_code=code, files=files)
+    if args.json:
+        print(json.dumps(summary))
+    else:
+        _workspace_report(result, label, files)
+    if not result.reachable:
+        excluded = ", ".join(f"{name} {n}" for name, n in result.excluded.items())
+        raise UserError(f"no sampled pose is reachable ({result.samples} samples; excluded: {excluded})",
+                        EXIT_WORKSPACE)
+    return code
+
+
+def _zoom(result, axes: str):
+    """The two rows of the sampled region for a slice's ``axes``, narrowed to the reachable
+    samples' bounding box widened by a fifth of its size (the whole region if none is reachable)."""
+    names = axes.split(",") if "," in axes else list(axes)
+    rows = [result.axes.index(name) for name in names]
+    region = result.region[rows]
+    if result.bounding_box is None:
+        return region
+    box = result.bounding_box[rows]
+    pad = 0.2 * (box[:, 1] - box[:, 0]) + 1e-9 * (region[:, 1] - region[:, 0])
+    return np.column_stack([np.maximum(box[:, 0] - pad, region[:, 0]), np.minimum(box[:, 1] + pad, region[:, 1])])
+
+
+def _workspace_report(result, label: str, files: list[str]) -> None:
+    unit = result.unit
+    axes = ", ".join(result.axes)
+    held = "orientation" if result.kind == "translational" else "position"
+    print(f"platform {label}: {result.kind} workspace ({axes}) at {held} "
+          f"{' '.join(f'{v:.6g}' for v in result.fixed)}")
+    print(f"{result.method}: {result.reachable} of {result.samples} poses reachable"
+          + (f" (seed {result.seed})" if result.seed is not None else ""))
+    print(f"volume {result.volume:.6g} +- {result.volume_error:.2g} {unit}^3")
+    if result.bounding_box is not None:
+        for name, (lo, hi) in zip(result.axes, result.bounding_box):
+            print(f"  {name:<6} {lo:+.5g} .. {hi:+.5g} {unit}")
+        print(f"singularity margin (1/cond J_C): min {result.margin_min:.3g}, mean {result.margin_mean:.3g}, "
+              f"max {result.margin_max:.3g}")
+    if result.clipped:
+        print(f"warning: the workspace reaches the --region faces on {', '.join(result.clipped)}; widen --region")
+    if result.excluded:
+        print("excluded: " + ", ".join(f"{name} {n}" for name, n in result.excluded.items()))
+    print_written(files)
+
+
+def add_workspace(sub) -> None:
+    p = subcommand(sub, "workspace", "the reachable workspace: volume with its error, bounding box, singularity "
+                   "margin, and slices as heat maps", cmd_workspace)
+    add_params(p)
+    p.add_argument("--kind", choices=["translational", "orientation"], default="translational",
+                   help="positions at a constant orientation, or orientations at a position")
+    position, orientation = POSE_AXES[:3], POSE_AXES[3:]
+    p.add_argument("--orientation", nargs=3, type=number, metavar=tuple(a.upper() for a in orientation),
+                   help=f"orientation held by a translational workspace [{POSE_UNITS[3]}] (default 0 0 0)")
+    p.add_argument("--position", nargs=3, type=number, metavar=tuple(a.upper() for a in position),
+                   help=f"position held by an orientation workspace [{POSE_UNITS[0]}] (default: home)")
+    samples = p.add_mutually_exclusive_group()
+    samples.add_argument("--samples", type=count, default=100_000, help="uniform random poses (Monte Carlo)")
+    samples.add_argument("--grid", type=count, help="grid points per axis instead of random samples")
+    add_seed(p, "poses")
+    p.add_argument("--region", nargs=6, type=number, metavar=("LO1", "HI1", "LO2", "HI2", "LO3", "HI3"),
+                   help=f"box to sample [{' or '.join(dict.fromkeys(POSE_UNITS))}] (default: one that holds the "
+                        "whole workspace)")
+    p.add_argument("--universal-max-angle", type=positive, metavar="DEG",
+                   help="universal-joint cone half-angle [deg] (overrides the parameters')")
+    p.add_argument("--spherical-max-angle", type=positive, metavar="DEG",
+                   help="spherical-joint cone half-angle [deg] (overrides the parameters')")
+    p.add_argument("--leg-diameter", type=positive, metavar="M", help="leg diameter for the leg-leg clearance [m] "
+                   "(overrides the parameters')")
+    p.add_argument("--chunk-size", type=count, default=20_000, help="poses per chunk (one task)")
+    p.add_argument("--scheduler", metavar="ADDRESS", help="run the chunks on the Dask cluster at ADDRESS "
+                   "(e.g. tcp://host:8786; needs stewart[cluster]) instead of the local cores")
+    add_file(p, "--slices", "write PNG heat maps of the margin on the three coordinate planes through home, around "
+             "the reachable samples, into DIR (needs matplotlib)", metavar="DIR")
+    p.add_argument("--resolution", type=count, default=121, help="cells per axis of each slice")
+    add_progress(p)
+    add_file(p, "--csv", "write the summary's numbers as a one-row CSV file")
+    add_json(p)
