@@ -132,7 +132,7 @@ def add_excitation(sub) -> None:
                    f"(default: {excitation.VELOCITY_PER_STROKE:g} stroke(s) per second)")
     p.add_argument("--max-leg-acceleration", type=positive, metavar="M/S2", help="largest |leg acceleration| "
                    f"(default: {excitation.ACCELERATION_PER_STROKE:g} strokes per second squared)")
-    add_force_limit(p, "largest |actuator force| [N]")
+    add_force_limit(p)
     p.add_argument("--min-margin", type=positive, help="smallest singularity margin 1/cond(J_C) "
                    f"(default: {excitation.MARGIN_FRACTION:g} times the centre pose's)")
     p.add_argument("--stroke-margin", type=non_negative, default=excitation.STROKE_MARGIN,

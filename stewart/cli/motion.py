@@ -253,7 +253,7 @@ def add_optimize(sub) -> None:
                    "force limits (trajectory optimization with IPOPT; needs CasADi)", cmd_optimize)
     add_params(p)
     add_six(p, "--target", f"pose to move to from home, at rest at both ends: {AXES} [{UNITS}]")
-    add_move_time(p, "duration of the move [s]")
+    add_move_time(p)
     p.add_argument("--intervals", type=count, default=50, help="RK4 intervals (multiple-shooting nodes - 1)")
     add_force_limit(p)
     add_max_iterations(p, 1000, "IPOPT's iteration budget")

@@ -125,9 +125,9 @@ def add_seed(parser, drawn: str) -> None:
     parser.add_argument("--seed", type=int, default=0, help=f"seed of the random {drawn}")
 
 
-def add_move_time(parser, help_text: str = "duration of the move to --target [s]") -> None:
+def add_move_time(parser) -> None:
     """``--move-time``: the duration of the move to ``--target``."""
-    parser.add_argument("--move-time", type=positive, default=5.0, help=help_text)
+    parser.add_argument("--move-time", type=positive, default=5.0, help="duration of the move to --target [s]")
 
 
 def add_profile(parser) -> None:

@@ -23,7 +23,8 @@ from .common import (
     progress,
     scheduler,
 )
-from .options import add_file, add_json, add_params, add_progress, add_seed, count, number, positive, subcommand
+from .options import add_chunk_size, add_file, add_json, add_params, add_progress, add_scheduler, add_seed, count, \
+    number, positive, subcommand
 
 #: The user's flags for the arguments of the workspace functions and the parameters they override.
 _WORKSPACE_FLAGS = {"region": "--region", "orientation": "--orientation", "position": "--position",
@@ -155,9 +156,8 @@ def add_workspace(sub) -> None:
                    help="spherical-joint cone half-angle [deg] (overrides the parameters')")
     p.add_argument("--leg-diameter", type=positive, metavar="M", help="leg diameter for the leg-leg clearance [m] "
                    "(overrides the parameters')")
-    p.add_argument("--chunk-size", type=count, default=20_000, help="poses per chunk (one task)")
-    p.add_argument("--scheduler", metavar="ADDRESS", help="run the chunks on the Dask cluster at ADDRESS "
-                   "(e.g. tcp://host:8786; needs stewart[cluster]) instead of the local cores")
+    add_chunk_size(p)
+    add_scheduler(p)
     add_file(p, "--slices", "write PNG heat maps of the margin on the three coordinate planes through home, around "
              "the reachable samples, into DIR (needs matplotlib)", metavar="DIR")
     p.add_argument("--resolution", type=count, default=121, help="cells per axis of each slice")
