@@ -3,6 +3,7 @@ margin, and its slices through home as heat maps."""
 
 from __future__ import annotations
 
+import itertools
 import json
 import math
 import os
@@ -33,7 +34,8 @@ _WORKSPACE_FLAGS = {"region": "--region", "orientation": "--orientation", "posit
                     "spherical_joint_max_angle": "--spherical-max-angle", "leg_diameter": "--leg-diameter"}
 
 #: The slices drawn by ``stewart workspace --slices``: the three coordinate planes through home.
-_SLICES = {"translational": ("xy", "xz", "yz"), "orientation": ("psi,theta", "psi,phi", "theta,phi")}
+_SLICES = {"translational": tuple("".join(pair) for pair in itertools.combinations(POSE_AXES[:3], 2)),
+           "orientation": tuple(",".join(pair) for pair in itertools.combinations(POSE_AXES[3:], 2))}
 
 
 def cmd_workspace(args) -> int:
