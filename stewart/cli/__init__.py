@@ -19,7 +19,7 @@ __all__ = ["main", "build_parser", "UserError", "EXIT_CHECK_FAILED", "EXIT_USAGE
 #: The commands in the order ``stewart --help`` lists them: each adds its parsers to the subparsers.
 COMMANDS = (
     model.add_info,  # info, presets
-    model.add_states,  # ik, id, fd
+    model.add_state_commands,  # ik, id, fd
     motion.add_simulate,
     motion.add_optimize,
     identification.add_excitation,

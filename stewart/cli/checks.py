@@ -57,10 +57,15 @@ def cmd_exactness(args) -> int:
     return 0
 
 
+def _add_states(parser, help_text: str) -> None:
+    """``--states``: how many random states a check draws."""
+    parser.add_argument("--states", type=count, default=200, help=help_text)
+
+
 def add_validate(sub) -> None:
     p = subcommand(sub, "validate", "check the model against independent physics for a platform", cmd_validate)
     add_params(p)
-    p.add_argument("--states", type=count, default=200, help="random states per check")
+    _add_states(p, "random states per check")
     add_seed(p, "states")
     add_json(p)
 
@@ -69,7 +74,7 @@ def add_exactness(sub) -> None:
     p = subcommand(sub, "exactness", "how much the legs' spin with their universal joints changes the actuator "
                    "forces: the paper's model against the exact-leg model", cmd_exactness)
     add_params(p)
-    p.add_argument("--states", type=count, default=200, help="random states around home")
+    _add_states(p, "random states around home")
     add_seed(p, "states")
     add_json(p)
 

@@ -100,7 +100,7 @@ def state_usage_error(args) -> str | None:
     return None
 
 
-def add_states(sub) -> None:
+def add_state_commands(sub) -> None:
     """``ik``, ``id`` and ``fd``."""
     first, last = POSE[0], POSE[-1]
     rates = ("--vel", f"pose rates [{RATE_UNITS}]")
