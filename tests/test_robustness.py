@@ -157,15 +157,15 @@ ZERO = np.zeros(6)
         (lambda: stewart.PointToPoint(X, X, 1.0).sample(10**400), "t: .* too large"),
         (lambda: stewart.home_pose(PARAMS, 10**400), "leg_length: .* too large"),
         # AttributeError once
-        (lambda: stewart.PID.tuned(PARAMS), "platform: expected a stewart.Platform, got PlatformParams"),
-        (lambda: leg_masses(PARAMS), "platform: expected a stewart.Platform"),
+        (lambda: stewart.PID.tuned({}), "platform: expected a stewart.Platform, got dict"),
+        (lambda: leg_masses(None), "platform: expected a stewart.Platform"),
         (lambda: stewart.leg_lengths({}, X), "params: expected a stewart.PlatformParams, got dict"),
         (lambda: stewart.jacobian(None, X), "params: expected a stewart.PlatformParams, got NoneType"),
         (lambda: stewart.home_pose(None), "params: expected a stewart.PlatformParams"),
         (lambda: stewart.forward_kinematics({}, [0.3] * 6), "params: expected a stewart.PlatformParams"),
         (lambda: reference.mass_matrix(None, X), "params: expected a stewart.PlatformParams"),
         (lambda: reference.rotational_inertias({}, X), "params: expected a stewart.PlatformParams"),
-        (lambda: reference.forward_dynamics(PLAT, X, ZERO, ZERO), "params: expected a stewart.PlatformParams, got Platform"),
+        (lambda: reference.forward_dynamics("narayan2017", X, ZERO, ZERO), "params: expected a stewart.PlatformParams, got str"),
         (lambda: stewart.newton_euler.joint_reactions(None, X, ZERO, ZERO), "params: expected a stewart.PlatformParams"),
         (lambda: stewart.Actuators(force_limit="abc"), "force_limit: expected a number"),
         (lambda: stewart.Actuators(viscous="abc"), "viscous: expected a number"),
@@ -384,8 +384,7 @@ def test_gains_no_machine_realises_end_the_adaptive_run_at_once(controller):
     (lambda: sweep.parse(dict(_SWEEP, pareto=[])), ValueError, r"^pareto: expected a table"),
     (lambda: sweep.parse(dict(_SWEEP, pareto={"x": ["peak_force"]})), ValueError, "^pareto.x: unknown metric"),
     (lambda: identify.identify(None, _log()), TypeError, "^platform: expected a stewart.Platform, got NoneType$"),
-    (lambda: identify.identify(PARAMS, _log()), TypeError,
-     r"^platform: expected a stewart.Platform, got PlatformParams \(build one with stewart.Platform\(params\)\)$"),
+    (lambda: identify.identify({}, _log()), TypeError, "^platform: expected a stewart.Platform, got dict$"),
     (lambda: envelope.Box.around(_HOME), TypeError,
      "^motion: expected an object with sample.t. and duration .* got ndarray$"),
     # inf or NaN once
@@ -412,11 +411,32 @@ def test_bad_input_to_the_studies_is_a_named_error(call, error, message):
 def test_wrong_types_are_type_errors_and_value_errors():
     """A wrong kind of object raises stewart.WrongTypeError, a TypeError as the call is
     wrong and a ValueError as every other bad argument (one except clause catches all)."""
-    for call in (lambda: identify.identify(PARAMS, _log()), lambda: stewart.PID.tuned(PARAMS),
-                 lambda: stewart.simulate(PARAMS, _MOVE), lambda: stewart.leg_lengths(PLAT, _HOME)):
+    for call in (lambda: identify.identify({}, _log()), lambda: stewart.PID.tuned(None),
+                 lambda: stewart.simulate("narayan2017", _MOVE), lambda: stewart.leg_lengths(None, _HOME)):
         with pytest.raises(stewart.WrongTypeError) as info:
             call()
         assert isinstance(info.value, TypeError) and isinstance(info.value, ValueError)
+
+
+def test_a_platform_argument_is_a_platform_or_its_parameters():
+    """Every function that takes a platform takes a stewart.Platform or its PlatformParams
+    (stewart.model), with the same result: those that evaluate the compiled model compile
+    the parameters, those that work on the parameters take the Platform's."""
+    pid, pid_from_params = stewart.PID.tuned(PLAT), stewart.PID.tuned(PARAMS)
+    for gain in ("kp", "ki", "kd"):
+        np.testing.assert_array_equal(getattr(pid_from_params, gain), getattr(pid, gain))
+    np.testing.assert_array_equal(leg_masses(PARAMS), leg_masses(PLAT))
+    np.testing.assert_array_equal(reference.forward_dynamics(PLAT, X, ZERO, ZERO),
+                                  reference.forward_dynamics(PARAMS, X, ZERO, ZERO))
+    np.testing.assert_array_equal(stewart.leg_lengths(PLAT, _HOME), stewart.leg_lengths(PARAMS, _HOME))
+    np.testing.assert_array_equal(stewart.jacobian(PLAT, _HOME), stewart.jacobian(PARAMS, _HOME))
+    log, from_params = _log(), identify.synthetic_measurements(PARAMS, _MOVE, rate=200)
+    np.testing.assert_array_equal(from_params.lengths, log.lengths)
+    np.testing.assert_array_equal(from_params.forces, log.forces)
+    run, from_params = stewart.simulate(PLAT, _MOVE), stewart.simulate(PARAMS, _MOVE)
+    assert run.ok and from_params.ok
+    np.testing.assert_array_equal(from_params.x, run.x)
+    np.testing.assert_array_equal(from_params.forces, run.forces)
 
 
 def _friction_platform(viscous):

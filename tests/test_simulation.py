@@ -391,7 +391,9 @@ def test_wrong_arguments_name_themselves(plat, move):
         with pytest.raises(ValueError, match="^controller: expected a stewart.PID, ComputedTorque or OpenLoop"):
             stewart.simulate(plat, move, controller)
     with pytest.raises(ValueError, match="^platform: expected a stewart.Platform"):
-        stewart.simulate(plat.params, move)
+        stewart.simulate(None, move)
+    from_params = stewart.simulate(plat.params, move)  # a Platform's parameters are a platform too
+    np.testing.assert_array_equal(from_params.x, stewart.simulate(plat, move).x)
     with pytest.raises(ValueError, match="^trajectory: expected an object with sample"):
         stewart.simulate(plat, np.zeros(6))
     with pytest.raises(ValueError, match="^actuators: expected a stewart.Actuators"):

@@ -25,6 +25,7 @@ import scipy.linalg
 from ..model import arguments
 from ..model.sampling import random_states
 from ..model.params import INERTIAL_NAMES, NUM_RIGID_BODY
+from ..model.platform import as_platform
 
 __all__ = ["BaseParameters", "base_parameters", "RANK_TOLERANCE"]
 
@@ -104,9 +105,10 @@ def _rounded(values: np.ndarray, scale: float) -> np.ndarray:
 
 
 def base_parameters(platform, *, samples: int = 200, seed: int = 0, friction: bool = True) -> BaseParameters:
-    """The base parameters of ``platform`` (a :class:`stewart.Platform`) from its regressor at
+    """The base parameters of ``platform`` (a :class:`stewart.Platform` or :class:`stewart.PlatformParams`) from its regressor at
     ``samples`` random states around home (:func:`stewart.oracles.physics.random_states`, seeded);
     ``friction=False`` leaves the friction columns out."""
+    platform = as_platform(platform)
     samples = arguments.count("samples", samples, 10**6)
     if samples < 10:
         raise ValueError(f"samples: need at least 10 states, got {samples}")

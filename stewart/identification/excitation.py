@@ -47,7 +47,7 @@ import numpy as np
 from ..model.kinematics import POSE_AXES
 from ..model import arguments, kinematics
 from ..io import csvfile
-from ..model.platform import Platform, checked_platform
+from ..model.platform import Platform, as_platform
 from ..motion.trajectory import FourierTrajectory
 from ..model.reachability import margins, reachability
 
@@ -128,6 +128,7 @@ def limits(platform: Platform, centre, *, stroke_margin=None, max_leg_velocity=N
            force_limit=None, min_margin=None) -> Limits:
     """The :class:`Limits` of ``platform`` about the pose ``centre`` with the defaults of
     :func:`design_excitation`."""
+    platform = as_platform(platform)
     params = platform.params
     if params.leg_length_limits is None:
         raise ValueError("platform: its parameters set no leg_length_limits; an excitation needs the stroke")
@@ -426,7 +427,7 @@ def design_excitation(platform: Platform, *, period: float = DEFAULT_PERIOD, har
 
     from .base_parameters import base_parameters
 
-    checked_platform(platform)
+    platform = as_platform(platform)
     period = _positive("period", period, DEFAULT_PERIOD)
     harmonics = arguments.count("harmonics", harmonics, 100)
     if rest and harmonics < 2:

@@ -48,7 +48,7 @@ from ..io import csvfile
 from ..model.errors import ConvergenceError, WrongTypeError
 from .base_parameters import BaseParameters, base_parameters
 from ..model.params import NonAxisymmetricLegWarning, PlatformParams
-from ..model.platform import checked_platform
+from ..model.platform import as_platform
 
 __all__ = ["Measurements", "Identification", "identify", "estimate", "synthetic_measurements",
            "MAX_CONDITION", "FILTERS", "COLUMNS", "excitation_condition", "differentiate", "validation"]
@@ -205,7 +205,7 @@ def estimate(platform, x, xd, xdd, forces, *, friction: bool = True, base: BaseP
     """Weighted least squares for the base parameters from states ``x, xd, xdd`` ``(n, 6)`` and
     the measured forces ``(n, 6)`` (see the module's text); ``base`` from :func:`base_parameters`
     (``samples`` states) unless given."""
-    checked_platform(platform)
+    platform = as_platform(platform)
     x, xd, xdd = (arguments.states(n, v) for n, v in (("x", x), ("xd", xd), ("xdd", xdd)))
     forces = arguments.states("forces", forces)
     base = base or base_parameters(platform, samples=samples, friction=friction)
@@ -298,7 +298,7 @@ def identify(platform, measurements: Measurements, *, filter: str = "savgol", cu
              friction: bool = True, base: BaseParameters | None = None) -> Identification:
     """The base parameters of ``platform`` (its geometry; its inertial values are the prior)
     from ``measurements`` (see the module's text)."""
-    checked_platform(platform)
+    platform = as_platform(platform)
     _checked_measurements(measurements)
     poses = _poses(platform, measurements)
     x, xd, xdd, forces = differentiate(measurements, poses, filter=filter, cutoff=cutoff)
@@ -311,7 +311,7 @@ def validation(result: Identification, platform, measurements: Measurements, *, 
     the measured forces filtered as for the identification."""
     if not isinstance(result, Identification):
         raise WrongTypeError(f"result: expected a stewart.identification.identify.Identification, got {type(result).__name__}")
-    checked_platform(platform)
+    platform = as_platform(platform)
     _checked_measurements(measurements)
     poses = _poses(platform, measurements)
     x, xd, xdd, forces = differentiate(measurements, poses, filter=filter, cutoff=cutoff)
@@ -328,7 +328,7 @@ def synthetic_measurements(platform, trajectory, *, rate: float = 500.0, noise_l
     lengths by inverse kinematics and the forces its actuators deliver (rigid body plus
     friction), with Gaussian noise of standard deviation ``noise_length`` [m] and
     ``noise_force`` [N] (seeded)."""
-    checked_platform(platform)
+    platform = as_platform(platform)
     rate = arguments.real("rate", rate)
     if not rate > 0.0:
         raise ValueError(f"rate: must be positive, got {rate:g}")

@@ -59,7 +59,8 @@ import numpy as np
 
 from ..model import arguments
 from ..model.kinematics import euler_rate_jacobian, home_pose, rotation
-from ..model.params import PlatformParams, checked_params
+from ..model.arguments import platform_params
+from ..model.params import PlatformParams
 
 __all__ = ["SOLVERS", "MOMENT_FLOOR", "to_mjcf", "joint_velocities", "pose_accelerations"]
 
@@ -88,7 +89,7 @@ def _fmt(values) -> str:
 
 def _jointed(platform_or_params) -> PlatformParams:
     """The parameters, with the default universal joints when they have none."""
-    params = checked_params(getattr(platform_or_params, "params", platform_or_params), "platform_or_params")
+    params = platform_params(platform_or_params, "platform_or_params")
     return params.with_universal_joints() if params.universal_joint_axes is None else params
 
 

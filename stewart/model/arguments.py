@@ -131,6 +131,22 @@ def sampled(name: str, trajectory: Any, times: Any) -> tuple[np.ndarray, np.ndar
     return tuple(checked)
 
 
+def platform_params(value: Any, name: str = "params"):
+    """The parameters of ``value``, a :class:`~stewart.PlatformParams` or a
+    :class:`~stewart.Platform` (its :attr:`~stewart.Platform.params`): how a function that
+    works on the parameters takes its platform argument (see :mod:`stewart.model`).
+    :class:`~stewart.WrongTypeError` (a ``TypeError`` and a ``ValueError``) naming ``name``
+    for anything else."""
+    from .params import PlatformParams  # imported here: both modules import this one
+    from .platform import Platform
+
+    if isinstance(value, PlatformParams):
+        return value
+    if isinstance(value, Platform):
+        return value.params
+    raise WrongTypeError(f"{name}: expected a stewart.PlatformParams, got {type(value).__name__}")
+
+
 def same_batch(**arrays: np.ndarray) -> None:
     """Raise ``ValueError`` unless the arrays share one leading shape."""
     shapes = {name: arr.shape[:-1] for name, arr in arrays.items()}

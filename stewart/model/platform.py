@@ -9,11 +9,12 @@ import numpy as np
 from . import arguments, kinematics
 from .._kernel import Kernel
 from .errors import WrongTypeError
-from .params import INERTIAL_NAMES, PlatformParams, checked_params
+from .arguments import platform_params
+from .params import INERTIAL_NAMES, PlatformParams
 from .results import JointReactions
 
 __all__ = ["Platform", "AllTerms", "InverseDynamicsDerivatives", "ForwardDynamicsDerivatives",
-           "Step", "StepDerivatives", "checked_platform"]
+           "Step", "StepDerivatives", "as_platform"]
 
 
 class AllTerms(NamedTuple):
@@ -93,10 +94,10 @@ class Platform:
     """
 
     def __init__(self, params: PlatformParams, *, threads: int = 1):
-        self._params = checked_params(params)
-        self._home = kinematics.home_pose(params)
+        self._params = params = platform_params(params)
+        self._home = kinematics._home_pose(params)
         self._home.flags.writeable = False
-        kinematics.check_universal_joint_axes(params, self._home)
+        kinematics._check_universal_joint_axes(params, self._home)
         self._kernel = Kernel(params, threads)
         # Legs that do not spin in a general model (a payload off-centre, no joint axes): the C
         # model takes a_i = z with no axial moment, so the regressor's axial columns are set to zero.
@@ -133,6 +134,13 @@ class Platform:
     @property
     def threads(self) -> int:
         return self._kernel.threads
+
+    @property
+    def kernel(self) -> Kernel:
+        """The compiled model (:class:`stewart._kernel.Kernel`) whose batch functions the
+        methods call, for the compiled reductions that take one (:class:`stewart._kernel.Peaks`
+        of the motion envelopes)."""
+        return self._kernel
 
     def __repr__(self) -> str:
         return f"Platform({self._params!r}, threads={self.threads})"
@@ -294,10 +302,14 @@ def friction_law(params: PlatformParams, viscous=None, coulomb=None, velocity=No
             params.coulomb_velocity if velocity is None else velocity)
 
 
-def checked_platform(value, name: str = "platform") -> Platform:
-    """``value`` if it is a :class:`Platform`; :class:`~stewart.WrongTypeError` (a ``TypeError``
-    and a ``ValueError``) naming ``name`` and what to pass otherwise."""
-    if not isinstance(value, Platform):
-        hint = " (build one with stewart.Platform(params))" if isinstance(value, PlatformParams) else ""
-        raise WrongTypeError(f"{name}: expected a stewart.Platform, got {type(value).__name__}{hint}")
-    return value
+def as_platform(value, name: str = "platform") -> Platform:
+    """``value`` as a :class:`Platform`: a :class:`Platform` as it is, a
+    :class:`PlatformParams` compiled into one (``Platform(value)``); how a function that
+    evaluates the compiled model takes its platform argument (see :mod:`stewart.model`).
+    :class:`~stewart.WrongTypeError` (a ``TypeError`` and a ``ValueError``) naming ``name``
+    for anything else."""
+    if isinstance(value, Platform):
+        return value
+    if isinstance(value, PlatformParams):
+        return Platform(value)
+    raise WrongTypeError(f"{name}: expected a stewart.Platform, got {type(value).__name__}")

@@ -35,6 +35,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import arguments, kinematics
+from .arguments import platform_params
 from .params import PlatformParams
 
 __all__ = ["WorkspaceError", "Reachability", "reachability", "assembly_mode", "margins", "CONDITION_LIMIT",
@@ -167,17 +168,10 @@ def _platform_radius(params: PlatformParams) -> float:
 
 def assembly_mode(platform, pose) -> float:
     """The sign of ``det J_C`` at ``pose``: +1 or -1 (0 at a singularity)."""
+    params = platform_params(platform, "platform")
     with np.errstate(all="ignore"):
-        return float(np.nan_to_num(np.sign(np.linalg.det(kinematics.jacobian(platform_params(platform), pose)))))
-
-
-def platform_params(platform) -> PlatformParams:
-    """The parameters of ``platform``, a :class:`~stewart.Platform` or
-    :class:`~stewart.PlatformParams`; ValueError naming the argument otherwise."""
-    params = getattr(platform, "params", platform)
-    if not isinstance(params, PlatformParams):
-        raise ValueError(f"platform: expected a stewart.Platform or PlatformParams, got {type(platform).__name__}")
-    return params
+        jac = kinematics._jacobian_at(params, pose)
+        return float(np.nan_to_num(np.sign(np.linalg.det(jac))))
 
 
 def reachability(platform, poses, *, mode: float | None = None, name: str = "poses") -> Reachability:
@@ -188,9 +182,9 @@ def reachability(platform, poses, *, mode: float | None = None, name: str = "pos
     (default: the home pose's, see :func:`assembly_mode`). Returns a :class:`Reachability`
     with one row per pose.
     """
-    from .platform import Platform
+    from .platform import as_platform
 
-    plat = platform if isinstance(platform, Platform) else Platform(platform_params(platform))
+    plat = as_platform(platform)
     x = np.atleast_2d(arguments.states(name, poses))
     if np.iscomplexobj(x):
         raise ValueError(f"{name}: expected real poses")
@@ -224,11 +218,11 @@ def joint_angles(params: PlatformParams, poses) -> tuple[np.ndarray, np.ndarray]
     each ``(..., 6)``: the angle between leg ``i`` and its joints' neutral axis (the leg's
     direction at the home pose, fixed in {B} for the universal joint and in {P} for the
     spherical joint)."""
-    from .platform import Platform
+    from .platform import as_platform
 
-    plat = Platform(platform_params(params))
+    plat = as_platform(params, "params")
     x = arguments.states("poses", poses)
-    units = kinematics.leg_unit_vectors(plat.params, x)
+    units = kinematics._jacobian_at(plat.params, x)[..., :3]
     return _joint_angles(units, kinematics.rotation(x), _neutral_axes(plat))
 
 
@@ -300,9 +294,9 @@ def margins(platform, poses) -> np.ndarray:
     """The singularity margin (:attr:`Reachability.margin`) alone of ``poses`` ``(N, 6)``,
     without the other checks of :func:`reachability`: the same values, for callers that
     need only the margin (the excitation's finite differences)."""
-    from .platform import Platform
+    from .platform import as_platform
 
-    plat = platform if isinstance(platform, Platform) else Platform(platform_params(platform))
+    plat = as_platform(platform)
     with np.errstate(all="ignore"):
         jac = plat.jacobian(np.atleast_2d(poses), return_mask=True)[0]
         jac[..., 3:] /= _platform_radius(plat.params)

@@ -25,7 +25,7 @@ import numpy as np
 from ..model import arguments, conditions
 from .._kernel import Mode
 from ..model.params import PlatformParams
-from ..model.platform import Platform, checked_platform, friction_law
+from ..model.platform import Platform, as_platform, friction_law
 
 __all__ = ["Controller", "PID", "ComputedTorque", "OpenLoop", "Actuators", "PID_BANDWIDTH_HZ", "leg_masses"]
 
@@ -69,7 +69,7 @@ def _tuned_gains(bandwidth_hz: float, **gains: np.ndarray) -> dict[str, np.ndarr
 def leg_masses(platform, x=None) -> np.ndarray:
     """Effective mass each actuator moves at pose ``x`` (default home): the diagonal of the
     leg-space mass matrix ``J_C^-T M_t J_C^-1``, with ``M_t`` the twist-space mass matrix."""
-    platform = checked_platform(platform)
+    platform = as_platform(platform)
     x = platform.home_pose if x is None else arguments.states("x", x)
     if x.shape != (6,):
         raise ValueError(f"x: expected one pose, shape (6,), got {x.shape}")
@@ -131,7 +131,7 @@ class PID(Controller):
 
         ``f`` defaults to :data:`PID_BANDWIDTH_HZ` for a preset, else 5 Hz.
         """
-        platform = checked_platform(platform)
+        platform = as_platform(platform)
         if bandwidth_hz is None:
             bandwidth_hz = PID_BANDWIDTH_HZ.get(platform.params.name, DEFAULT_BANDWIDTH_HZ)
         bandwidth_hz = _bandwidth(bandwidth_hz)

@@ -25,7 +25,7 @@ from ..model.kinematics import POSE_AXES
 from ..model import arguments
 from . import casadi_functions
 from ..io import csvfile
-from ..model.platform import Platform, checked_platform
+from ..model.platform import Platform, as_platform
 from .trajectory import PointToPoint
 from ..model.reachability import WorkspaceError, reachability
 
@@ -139,6 +139,7 @@ def initial_guess(platform: Platform, start, target, duration: float, intervals:
     """``(states (N+1, 12), forces (N, 6))``: the quintic :class:`stewart.PointToPoint` move
     at the nodes, and its inverse-dynamics forces at the middle of each interval (zero where
     undefined)."""
+    platform = as_platform(platform)
     t = np.linspace(0.0, duration, intervals + 1)
     move = PointToPoint(start, target, duration, "quintic")
     x, xd, _ = move.sample(t)
@@ -157,7 +158,7 @@ def minimum_effort_move(platform: Platform, target, duration: float, intervals: 
     ``start`` or ``target`` is outside the workspace; an unsolved problem is returned with
     ``ok = False``. Under gravity the least effort may lift the platform on the way, to
     where its legs stand steeper and carry its weight with less force."""
-    checked_platform(platform)
+    platform = as_platform(platform)
     start = platform.home_pose if start is None else arguments.states("start", start)
     target = arguments.states("target", target)
     for name, pose in (("start", start), ("target", target)):

@@ -12,19 +12,18 @@ from __future__ import annotations
 import signal
 import threading
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Callable, NamedTuple
 
 import numpy as np
 
-from ..model.kinematics import POSE_AXES
 from ..model import arguments
-from ..io import csvfile
 from .._kernel import status_message
 from .._kernel import ClosedLoop, Outcome
 from .control import PID, Actuators, Controller
-from ..model.platform import Platform, checked_platform
+from ..model.platform import Platform, as_platform
 from ..model.reachability import WorkspaceError, assembly_mode, reachability
+from .simulation_result import OUTCOMES, SimulationInterrupted, SimulationResult
 
 __all__ = ["simulate", "SimulationResult", "SimulationInterrupted", "WorkspaceError", "MAX_STEPS",
            "MAX_ADAPTIVE_STEPS", "MIN_DT", "MAX_SHORT_EVALUATIONS", "DEFAULT_TOLERANCE", "OUTCOMES"]
@@ -46,130 +45,7 @@ MAX_SHORT_EVALUATIONS = 120
 #: Default final tracking tolerance: (position error [m], Euler-angle error [rad]).
 DEFAULT_TOLERANCE = (1e-3, 1e-2)
 
-#: Every outcome of a run and its exit code in ``stewart simulate`` (0 is success).
-OUTCOMES = {
-    "completed": 0,
-    "failed": 4,  # stroke limit, singular or non-finite state, assembly mode left, step budget, steps < MIN_DT
-    "inaccurate": 5,  # final tracking error above the tolerance
-    "saturated": 6,  # commanded force above the actuator limit
-    "interrupted": 130,
-}
-
 _RK4_CHUNK = 2000  # steps between checks for Ctrl-C and progress updates
-
-
-@dataclass
-class SimulationResult:
-    """Time series of one run, sampled every ``dt`` (legs are indexed 0-5 as in arrays).
-
-    ``forces`` are the actuator forces after saturation (what an actuator must deliver);
-    ``commanded_forces`` the controller's output before it; friction, when modelled, is
-    subtracted from ``forces`` before they act on the legs.
-
-    ``outcome`` is ``"completed"`` for a successful run, else ``"failed"`` (the platform
-    hit a stroke limit, left its assembly mode, passed a singularity, became non-finite or
-    used up its step budget), ``"inaccurate"`` (final tracking error above the tolerance),
-    ``"saturated"`` (commanded force above the actuator limit) or ``"interrupted"``; with
-    several problems the most severe is kept (the order of :data:`OUTCOMES`) and
-    ``problems`` lists a sentence for each. ``completed`` and ``reason`` say only whether
-    the integration ran to the end.
-    """
-
-    t: np.ndarray
-    x: np.ndarray
-    xd: np.ndarray
-    reference: np.ndarray
-    reference_velocity: np.ndarray
-    lengths: np.ndarray
-    leg_velocities: np.ndarray
-    forces: np.ndarray
-    completed: bool
-    reason: str
-    wall_time: float
-    method: str
-    stopped_leg: int | None = None
-    metadata: dict = field(default_factory=dict)
-    commanded_forces: np.ndarray | None = None
-    outcome: str = "completed"
-    problems: list = field(default_factory=list)
-
-    @property
-    def ok(self) -> bool:
-        """True when the run completed with no problem."""
-        return self.outcome == "completed"
-
-    @property
-    def exit_code(self) -> int:
-        """The exit code of ``stewart simulate`` for this outcome (:data:`OUTCOMES`)."""
-        return OUTCOMES[self.outcome]
-
-    @property
-    def tracking_error(self) -> np.ndarray:
-        """``reference - x`` at every sample, ``(N, 6)``."""
-        return self.reference - self.x
-
-    def summary(self) -> dict:
-        """Peak force per leg, final pose error, RMS tracking error (position and angle)
-        and wall time against simulated time."""
-        err = self.tracking_error
-        return {
-            "peak_force": np.max(np.abs(self.forces), axis=0),
-            "final_position_error": float(np.linalg.norm(err[-1, :3])),
-            "final_angle_error": float(np.linalg.norm(err[-1, 3:])),
-            "rms_position_error": float(np.sqrt(np.mean(np.sum(err[:, :3] ** 2, axis=1)))),
-            "rms_angle_error": float(np.sqrt(np.mean(np.sum(err[:, 3:] ** 2, axis=1)))),
-            "simulated_time": float(self.t[-1] - self.t[0]),
-            "wall_time": self.wall_time,
-        }
-
-    def _columns(self):
-        pose = list(POSE_AXES)
-        cols = [("t", self.t[:, None])]
-        cols += [
-            (pose, self.x),
-            ([f"{p}_dot" for p in pose], self.xd),
-            ([f"{p}_ref" for p in pose], self.reference),
-            ([f"{p}_dot_ref" for p in pose], self.reference_velocity),
-            ([f"L{i}" for i in range(6)], self.lengths),
-            ([f"L{i}_dot" for i in range(6)], self.leg_velocities),
-            ([f"force{i}" for i in range(6)], self.forces),
-        ]
-        names = []
-        for name, _ in cols:
-            names += [name] if isinstance(name, str) else name
-        return names, np.hstack([arr for _, arr in cols])
-
-    def describe(self) -> str:
-        """One line naming the platform, controller, method and outcome (a CSV comment)."""
-        meta = self.metadata
-        return (f"platform {meta.get('platform', 'unnamed')}, controller {meta.get('controller', '?')}, "
-                f"method {self.method}, dt {meta.get('dt', float('nan')):g} s, outcome {self.outcome}")
-
-    def to_csv(self, path) -> None:
-        """Write every series as columns of a CSV file (SI units): a header line, then a
-        ``#`` comment naming the platform, controller and outcome, then the rows."""
-        names, data = self._columns()
-        csvfile.write(path, names, data, self.describe(), fmt="%.10g")
-
-    def to_npz(self, path) -> None:
-        """Write every series and the run's outcome to a compressed ``.npz`` file."""
-        commanded = {} if self.commanded_forces is None else {"commanded_forces": self.commanded_forces}
-        np.savez_compressed(
-            path, t=self.t, x=self.x, xd=self.xd, reference=self.reference,
-            reference_velocity=self.reference_velocity, lengths=self.lengths,
-            leg_velocities=self.leg_velocities, forces=self.forces, completed=self.completed, reason=self.reason,
-            method=self.method, outcome=self.outcome, problems=np.array(self.problems, dtype=str),
-            platform=self.metadata.get("platform", "unnamed"), controller=self.metadata.get("controller", ""),
-            **commanded,
-        )
-
-
-class SimulationInterrupted(KeyboardInterrupt):
-    """Ctrl-C during :func:`simulate`; ``result`` holds the run up to that point."""
-
-    def __init__(self, result: SimulationResult):
-        super().__init__("simulation interrupted")
-        self.result = result
 
 
 def _reason(outcome: int, t: float, leg: int, params) -> str:
@@ -378,7 +254,7 @@ def _checked_run(platform, trajectory, controller, *, duration, dt, method, actu
                  rtol, atol, tolerance, max_steps) -> _Run:
     """The arguments of :func:`simulate` checked, with their defaults filled in; each
     problem raises ``ValueError`` naming its argument."""
-    checked_platform(platform)
+    platform = as_platform(platform)
     arguments.trajectory("trajectory", trajectory)
     if controller is None:
         controller = PID.tuned(platform)

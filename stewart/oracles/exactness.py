@@ -24,7 +24,8 @@ import numpy as np
 from ..model import arguments
 from . import reference
 from .physics import random_states
-from ..model.params import PlatformParams, checked_params
+from ..model.arguments import platform_params
+from ..model.params import PlatformParams
 
 __all__ = ["Change", "LegSpinEffect", "leg_spin_effect"]
 
@@ -61,7 +62,7 @@ def leg_spin_effect(params: PlatformParams, n_states: int = 200, seed: int = 0) 
     the exact-leg model is :meth:`PlatformParams.with_universal_joints` (first axes
     horizontal and tangential to the base circle, an assumption: ``assumed_axes`` is then
     True). ``n_states`` random states from ``seed``."""
-    params = checked_params(params)
+    params = platform_params(params)
     n_states = arguments.count("n_states", n_states, 10**7)
     seed = arguments.seed(seed)
     assumed = params.universal_joint_axes is None

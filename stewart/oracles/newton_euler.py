@@ -79,7 +79,8 @@ import numpy as np
 
 from ..model import arguments, conditions
 from ..model.kinematics import euler_rate_jacobian, rotation
-from ..model.params import PlatformParams, checked_params
+from ..model.arguments import platform_params
+from ..model.params import PlatformParams
 from ..model.results import JointReactions
 
 __all__ = ["JointReactions", "inverse_dynamics", "joint_reactions"]
@@ -130,7 +131,7 @@ def _joint_motion(axes: np.ndarray, u: np.ndarray, u_dot: np.ndarray, u_ddot: np
 
 
 def _solve(params: PlatformParams, x, xd, xdd) -> JointReactions:
-    params = checked_params(params)
+    params = platform_params(params)
     axes = params.universal_joint_axes
     if axes is None and not params.is_axisymmetric:
         raise ValueError(

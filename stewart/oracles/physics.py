@@ -26,6 +26,7 @@ import numpy as np
 from ..model import kinematics
 from . import newton_euler, reference
 from ..model import reachability
+from ..model.arguments import platform_params
 from ..model.params import PlatformParams
 from ..model.platform import Platform
 from ..model.sampling import random_states
@@ -51,6 +52,7 @@ def energy(params: PlatformParams, x, xd) -> np.ndarray:
     energy is ``sum_k I_k (omega . e_k)^2 / 2``. Analytic operations only, so complex-step
     derivatives apply.
     """
+    params = platform_params(params)
     x = np.asarray(x)
     xd = np.asarray(xd)
     rot = kinematics.rotation(x)
@@ -193,6 +195,7 @@ def power_balance(params: PlatformParams, x, xd, xdd, tau) -> float:
     """Worst ``|dE/dt - tau . Ldot| / sum |tau_i Ldot_i|`` over the states: the actuator
     forces ``tau`` that produce ``xdd`` must deliver the power the energy gains. ``dE/dt``
     is the complex-step derivative of :func:`energy` along ``(xd, xdd)``."""
+    params = platform_params(params)
     h = COMPLEX_STEP
     de_dt = energy(params, x + 1j * h * xd, xd + 1j * h * xdd).imag / h
     power = tau * kinematics.leg_velocities(params, x, xd)
@@ -229,6 +232,7 @@ def energy_drift(params: PlatformParams, seconds: float = 1.0, seed: int = 0) ->
     ``params`` with ``gravity=0``) so that the free platform coasts instead of falling
     through the base; ``inf`` if the motion comes closer to a singular pose than the
     workspace's design margin (:data:`stewart.model.reachability.CONDITION_LIMIT`)."""
+    params = platform_params(params)
     from scipy.integrate import solve_ivp
 
     free = params.replace(gravity=0.0)
@@ -262,6 +266,7 @@ def statics_residuals(params: PlatformParams, x) -> dict[str, float]:
     about its centre of mass (``platform_com``). Each leg: ``f_B - f_P - (m_C + m_S) g e_z = 0``, and the
     moments about B_i of ``-f_P`` at P_i and of the weights vanish. Scaled by the total
     weight (and the home height for moments)."""
+    params = platform_params(params)
     rest = np.zeros_like(x)
     forces = newton_euler.joint_reactions(params, x, rest, rest)
     g = params.gravity

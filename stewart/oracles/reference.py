@@ -52,16 +52,9 @@ from typing import NamedTuple
 import numpy as np
 
 from ..model import arguments, conditions
-from ..model.kinematics import (
-    jacobian,
-    leg_lengths,
-    leg_unit_vectors,
-    leg_vectors,
-    platform_points_in_base,
-    rotation,
-    twist_transform,
-)
-from ..model.params import PlatformParams, checked_params
+from ..model.kinematics import _arms, _jacobian_at, _leg_lengths, _leg_vectors, rotation, twist_transform
+from ..model.arguments import platform_params
+from ..model.params import PlatformParams
 
 __all__ = [
     "BODIES",
@@ -130,13 +123,16 @@ def partial_velocity_jacobians(params: PlatformParams, x) -> dict[str, np.ndarra
     Cylinder centre of mass: ``J_B = b_C u~^T J_D`` (eq. 35). Piston centre of mass:
     ``J_G = (E - b_S u~^T lbar~) [E, r~^T]`` (eq. 57).
     """
-    params = checked_params(params)
+    return _partial_velocity_jacobians(platform_params(params), x)
+
+
+def _partial_velocity_jacobians(params: PlatformParams, x) -> dict[str, np.ndarray]:
     x = arguments.states("x", x, allow_complex=True)
-    units = leg_unit_vectors(params, x)
-    legs = leg_vectors(params, x)
+    units = _jacobian_at(params, x)[..., :3]
+    legs = _leg_vectors(params, x)
     lbar_x = _skew(units / np.sqrt(np.sum(legs * legs, axis=-1))[..., None])
     u_x = _skew(units)
-    arm_xT = -_skew(platform_points_in_base(params, x))  # r~^T
+    arm_xT = -_skew(_arms(params, x))  # r~^T
     eye = np.broadcast_to(np.eye(3, dtype=x.dtype), arm_xT.shape)
     point = np.concatenate([eye, arm_xT], axis=-1)  # velocity of P_i: [E, r~^T]
     j_d = lbar_x @ point
@@ -172,7 +168,7 @@ def _check_legs(function: str, params: PlatformParams, x: np.ndarray, general: b
     ``x``: the legs' tests (the vertical-leg test only with ``general``, the paper's
     cylinder frames; the gimbal-lock test with ``universal_joint_axes``), then ``steps``
     (see :func:`stewart.model.conditions.check`)."""
-    legs = leg_vectors(params, np.real(x))
+    legs = _leg_vectors(params, np.real(x))
     axes = params.universal_joint_axes
     with np.errstate(over="ignore", invalid="ignore"):
         length_sq = np.sum(legs * legs, axis=-1)
@@ -220,13 +216,16 @@ def rotational_inertias(params: PlatformParams, x, general: bool | None = None) 
     frame form, where {C_i} is undefined, and for a leg along its joint's first axis
     (:mod:`stewart.model.conditions`).
     """
-    params = checked_params(params)
+    return _rotational_inertias(platform_params(params), x, general)
+
+
+def _rotational_inertias(params: PlatformParams, x, general: bool | None) -> dict[str, np.ndarray]:
     x = arguments.states("x", x, allow_complex=True)
     if general is None:
         general = not params.is_axisymmetric
     _check_legs("rotational_inertias", params, x, general)
     rot = rotation(x)
-    units = leg_unit_vectors(params, x)
+    units = _jacobian_at(params, x)[..., :3]
     axes = _leg_axes(params, general)
     with np.errstate(over="ignore", invalid="ignore"):
         inertias = {
@@ -248,8 +247,8 @@ def _masses(params: PlatformParams) -> dict[str, float]:
 
 def _inertia_times_t(params: PlatformParams, x, general: bool | None) -> tuple[dict, dict]:
     """``J_b`` and ``A_b = I_b J_b T`` for every body part (the momentum is ``A_b xdot``)."""
-    jacs = partial_velocity_jacobians(params, x)
-    inertias = rotational_inertias(params, x, general)
+    jacs = _partial_velocity_jacobians(params, x)
+    inertias = _rotational_inertias(params, x, general)
     t_mat = twist_transform(x)
     masses = _masses(params)
     out = {}
@@ -267,7 +266,7 @@ def momenta(params: PlatformParams, x, xd, general: bool | None = None) -> dict[
     x = arguments.states("x", x)
     xd = arguments.states("xd", xd)
     arguments.same_batch(x=x, xd=xd)
-    _, amat = _inertia_times_t(params, x, general)
+    _, amat = _inertia_times_t(platform_params(params), x, general)
     with np.errstate(over="ignore", invalid="ignore"):
         out = {
             body: np.einsum("...ij,...j->...i", a, xd if body.startswith("platform") else xd[..., None, :])
@@ -286,7 +285,7 @@ def _inertia_rates(params: PlatformParams, x: np.ndarray, xd: np.ndarray, genera
         total = {body: a.imag for body, a in shifted.items()}
     else:
         rates = np.abs(np.real(xd))
-        shortest = np.min(leg_lengths(params, np.real(x)), axis=-1)
+        shortest = np.min(_leg_lengths(params, np.real(x)), axis=-1)
         speed = np.maximum(np.max(rates[..., :3], axis=-1) / shortest, np.max(rates[..., 3:], axis=-1))
         step = _DIFFERENCE_STEP / np.where(speed > 0.0, speed, 1.0)
         total = {}
@@ -302,11 +301,21 @@ def body_terms(params: PlatformParams, x, xd=None, general: bool | None = None) 
     centripetal matrix ``J^T dA/dt`` (eqs. 23, 41, 53, 63, 71; zero when ``xd`` is None)
     and gravity vector ``m g J^T e_z`` (eqs. 72-75). ``x`` and ``xd`` may be complex (the
     module docstring says how ``dA/dt`` is then taken)."""
+    x, xd = _states_and_rates(x, xd)
+    return _body_terms(platform_params(params), x, xd, general)
+
+
+def _states_and_rates(x, xd) -> tuple[np.ndarray, np.ndarray]:
+    """The checked ``x`` and ``xd`` of :func:`body_terms` (zero rates for ``None``)."""
     x = arguments.states("x", x, allow_complex=True)
     if xd is None:
         xd = np.zeros_like(x)
     xd = arguments.states("xd", xd, allow_complex=True)
     arguments.same_batch(x=x, xd=xd)
+    return x, xd
+
+
+def _body_terms(params: PlatformParams, x: np.ndarray, xd: np.ndarray, general: bool | None) -> dict[str, BodyTerms]:
     a_dot = _inertia_rates(params, x, xd, general)
     jacs, amat = _inertia_times_t(params, x, general)
     weights = {
@@ -329,7 +338,7 @@ def _totals(params, x, xd, function: str, general: bool | None = None) -> BodyTe
     """``M``, ``V`` and ``G`` of the whole platform: the body terms summed over bodies and legs."""
     totals = [0.0, 0.0, 0.0]
     with np.errstate(over="ignore", invalid="ignore"):
-        for body, term in body_terms(params, x, xd, general).items():
+        for body, term in _body_terms(params, *_states_and_rates(x, xd), general).items():
             for k, value in enumerate(term):
                 leg_axis = -2 if k == 2 else -3  # the gravity vector has one axis less
                 totals[k] = totals[k] + (value if body.startswith("platform") else value.sum(axis=leg_axis))
@@ -338,18 +347,21 @@ def _totals(params, x, xd, function: str, general: bool | None = None) -> BodyTe
 
 def _general(params: PlatformParams) -> bool:
     """Whether the legs need the paper's cylinder frames (non-axisymmetric leg inertia)."""
-    return not checked_params(params).is_axisymmetric
+    return not params.is_axisymmetric
 
 
 def twist_mass_matrix(params: PlatformParams, x) -> np.ndarray:
     """The twist-space mass matrix ``M_t = sum_b J_b^T I_b J_b`` (eqs. 19, 39, 51, 61, 69
     without the factor ``T``), symmetric, ``(..., 6, 6)``: ``M = M_t T``."""
-    params = checked_params(params)
+    return _twist_mass_matrix(platform_params(params), x)
+
+
+def _twist_mass_matrix(params: PlatformParams, x) -> np.ndarray:
     x = arguments.states("x", x)
     general = _general(params)
     _check_legs("twist_mass_matrix", params, x, general)
-    jacs = partial_velocity_jacobians(params, x)
-    inertias = rotational_inertias(params, x, general)
+    jacs = _partial_velocity_jacobians(params, x)
+    inertias = _rotational_inertias(params, x, general)
     masses = _masses(params)
     total = 0.0
     with np.errstate(over="ignore", invalid="ignore"):
@@ -364,14 +376,16 @@ def twist_mass_matrix(params: PlatformParams, x) -> np.ndarray:
 def mass_matrix(params: PlatformParams, x) -> np.ndarray:
     """``M = sum_b J_b^T I_b J_b T`` (6x6, not symmetric: it multiplies ``xddot``)."""
     x = arguments.states("x", x)
-    _check_legs("mass_matrix", checked_params(params), x, _general(params))
+    params = platform_params(params)
+    _check_legs("mass_matrix", params, x, _general(params))
     return _totals(params, x, None, "mass_matrix").mass_matrix
 
 
 def coriolis_matrix(params: PlatformParams, x, xd) -> np.ndarray:
     """``V = sum_b J_b^T d/dt(I_b J_b T)`` (6x6)."""
     x = arguments.states("x", x)
-    _check_legs("coriolis_matrix", checked_params(params), x, _general(params))
+    params = platform_params(params)
+    _check_legs("coriolis_matrix", params, x, _general(params))
     return _totals(params, x, xd, "coriolis_matrix").coriolis_matrix
 
 
@@ -379,9 +393,11 @@ def coriolis_vector(params: PlatformParams, x, xd) -> np.ndarray:
     """``V xdot``."""
     x = arguments.states("x", x)
     xd = arguments.states("xd", xd)
-    _check_legs("coriolis_vector", checked_params(params), x, _general(params))
+    params = platform_params(params)
+    _check_legs("coriolis_vector", params, x, _general(params))
+    matrix = _totals(params, x, xd, "coriolis_matrix").coriolis_matrix
     with np.errstate(over="ignore", invalid="ignore"):
-        vxd = np.einsum("...ij,...j->...i", coriolis_matrix(params, x, xd), xd)
+        vxd = np.einsum("...ij,...j->...i", matrix, xd)
     return arguments.finite_result("coriolis_vector", vxd, x)
 
 
@@ -389,7 +405,8 @@ def gravity_vector(params: PlatformParams, x) -> np.ndarray:
     """``G = sum_b m_b g J_b^T e_z`` (eqs. 72-76); it does not depend on the rotational
     inertias, so the legs' axisymmetric form serves every platform (no vertical-leg test)."""
     x = arguments.states("x", x)
-    _check_legs("gravity_vector", checked_params(params), x, False)
+    params = platform_params(params)
+    _check_legs("gravity_vector", params, x, False)
     return _totals(params, x, None, "gravity_vector", general=False).gravity_vector
 
 
@@ -404,9 +421,10 @@ def inverse_dynamics(params: PlatformParams, x, xd, xdd) -> np.ndarray:
     xdd = arguments.states("xdd", xdd, allow_complex=True)
     arguments.same_batch(x=x, xd=xd, xdd=xdd)
     rows = np.real(x).reshape(-1, 6)  # definedness is a property of the real point
-    _check_legs("inverse_dynamics", checked_params(params), x, _general(params),
-                lambda todo: conditions.jacobian_codes(jacobian(params, rows[todo])))
-    jac = jacobian(params, x)
+    params = platform_params(params)
+    _check_legs("inverse_dynamics", params, x, _general(params),
+                lambda todo: conditions.jacobian_codes(_jacobian_at(params, rows[todo])))
+    jac = _jacobian_at(params, x)
     total = _totals(params, x, xd, "inverse_dynamics")
     with np.errstate(over="ignore", invalid="ignore"):
         wrench = (
@@ -429,12 +447,13 @@ def forward_dynamics(params: PlatformParams, x, xd, tau) -> np.ndarray:
     tau = arguments.states("tau", tau, allow_complex=True)
     arguments.same_batch(x=x, xd=xd, tau=tau)
     rows = np.real(x).reshape(-1, 6)  # definedness is a property of the real point
-    _check_legs("forward_dynamics", checked_params(params), x, _general(params), conditions.euler_codes(rows),
-                lambda todo: conditions.mass_codes(twist_mass_matrix(params, rows[todo])))
+    params = platform_params(params)
+    _check_legs("forward_dynamics", params, x, _general(params), conditions.euler_codes(rows),
+                lambda todo: conditions.mass_codes(_twist_mass_matrix(params, rows[todo])))
     total = _totals(params, x, xd, "forward_dynamics")
     with np.errstate(over="ignore", invalid="ignore"):
         rhs = (
-            np.einsum("...ji,...j->...i", jacobian(params, x), tau)
+            np.einsum("...ji,...j->...i", _jacobian_at(params, x), tau)
             - np.einsum("...ij,...j->...i", total.coriolis_matrix, xd)
             - total.gravity_vector
         )

@@ -41,7 +41,6 @@ a box's states generated there too, so that no array is allocated per state.
 from __future__ import annotations
 
 import csv
-import functools
 import json
 import os
 import threading
@@ -55,7 +54,8 @@ from .. import _kernel
 from . import execution
 from ..model.errors import WrongTypeError
 from .execution import Peak
-from ..model.params import PlatformParams, checked_params
+from ..model.arguments import platform_params
+from ..model.params import PlatformParams
 
 __all__ = ["Box", "Trajectories", "Envelope", "envelope", "QUANTITIES", "AXES"]
 
@@ -163,15 +163,6 @@ class Box:
         peaks.add_box(uniform, rng.integers(0, 1 << 12, chunk.size, dtype=np.uint16), self, chunk.start)
 
 
-@functools.lru_cache(maxsize=8)
-def _platform(params: PlatformParams):
-    """The compiled model of ``params``, built once per process (the chunks of a study, on
-    threads here or one task after another on a worker, share it)."""
-    from ..model.platform import Platform
-
-    return Platform(params)
-
-
 #: Each thread's buffer of a box's uniform numbers, reused from chunk to chunk: a new array of
 #: megabytes per chunk would be mapped and faulted in afresh where the allocator returns
 #: memory to the system early (Dask's workers, with their MALLOC_TRIM_THRESHOLD_). It holds
@@ -272,14 +263,15 @@ class Trajectories:
 
 
 @dataclass(frozen=True)
-class _EnvelopeJob:
-    """One chunk of an envelope: generate the states, evaluate, reduce (:mod:`stewart.studies.execution`)."""
+class _EnvelopeJob(execution.ModelJob):
+    """One chunk of an envelope: generate the states, evaluate, reduce (:mod:`stewart.studies.execution`),
+    with the compiled model built once per process (:class:`~stewart.studies.execution.ModelJob`)."""
 
     params: PlatformParams
     spec: Box | Trajectories
 
     def __call__(self, chunk: execution.Chunk):
-        peaks = _kernel.Peaks(_platform(self.params)._kernel, self.params.leg_length_limits)
+        peaks = _kernel.Peaks(self.platform.kernel, self.params.leg_length_limits)
         self.spec.add_to(peaks, chunk)
         return {"peak": Peak(peaks.value, peaks.state, peaks.index), "states": chunk.size,
                 "outside_stroke": peaks.outside, "singular": peaks.singular}
@@ -361,12 +353,21 @@ def envelope(platform, spec, *, samples: int | None = None, seed: int = 0, clien
     :class:`~stewart.PlatformParams`) over ``spec`` (a :class:`Box`, of ``samples`` states,
     default :data:`DEFAULT_SAMPLES`, drawn from ``seed``; or :class:`Trajectories`).
     ``client``, ``chunk_size`` and ``progress`` as in :func:`stewart.studies.execution.run`."""
-    params = checked_params(getattr(platform, "params", platform), "platform")
+    job, n = _job(platform_params(platform, "platform"), spec, samples)
+    total = execution.run(job, n, seed=seed, chunk_size=chunk_size, client=client, progress=progress,
+                          desc="envelope")
+    return _envelope(total, job.params)
+
+
+def _job(params: PlatformParams, spec, samples: int | None) -> tuple[_EnvelopeJob, int]:
+    """The job of the envelope of ``params`` over ``spec`` and its number of states."""
     if not isinstance(spec, (Box, Trajectories)):
         raise ValueError(f"spec: expected a Box or Trajectories, got {type(spec).__name__}")
-    n = spec.count(samples)
-    total = execution.run(_EnvelopeJob(params, spec), n, seed=seed, chunk_size=chunk_size, client=client,
-                          progress=progress, desc="envelope")
+    return _EnvelopeJob(params, spec), spec.count(samples)
+
+
+def _envelope(total: dict, params: PlatformParams) -> Envelope:
+    """The :class:`Envelope` of the combined partials ``total`` of the jobs of :func:`_job`."""
     peak = total["peak"]
     overflow = np.flatnonzero(~(np.isfinite(peak.value) | np.isneginf(peak.value)))  # -inf: no state counted
     if overflow.size:

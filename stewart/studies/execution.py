@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import os
 import threading
+import functools
 from concurrent.futures import ThreadPoolExecutor
 from concurrent.futures import as_completed as threads_completed
 from dataclasses import dataclass
@@ -35,7 +36,7 @@ import numpy as np
 
 from ..model import arguments
 
-__all__ = ["Chunk", "Peak", "chunks", "combine", "run", "DEFAULT_CHUNK_SIZE"]
+__all__ = ["Chunk", "Peak", "Study", "ModelJob", "chunks", "combine", "run", "run_studies", "DEFAULT_CHUNK_SIZE"]
 
 #: States per chunk unless told otherwise: large enough that a task's overhead (Dask's is of
 #: the order of a millisecond) is small against its work, small enough to bound the memory.
@@ -161,30 +162,59 @@ def run(job, n_states: int, *, seed: int | None = None, chunk_size: int = DEFAUL
     states with an ETA. The result does not depend on where the chunks ran. An exception
     in a chunk is raised here, and the chunks not yet started are cancelled.
     """
-    parts = chunks(n_states, chunk_size, seed)
-    bar = _progress(n_states, desc, progress)
-    results: list = [None] * len(parts)
+    return run_studies([Study(job, n_states, seed, chunk_size)], client=client, workers=workers, progress=progress,
+                       desc=desc)[0]
+
+
+@dataclass(frozen=True)
+class Study:
+    """One study of :func:`run_studies`: its ``job``, number of states, seed and chunk size
+    (the arguments of :func:`run`)."""
+
+    job: object
+    n_states: int
+    seed: int | None = None
+    chunk_size: int = DEFAULT_CHUNK_SIZE
+
+
+def _call(job, chunk):
+    """``job(chunk)``: one task of :func:`run_studies` on a Dask worker."""
+    return job(chunk)
+
+
+def run_studies(studies, *, client=None, workers: int | None = None, progress: bool = True,
+                desc: str = "states") -> list:
+    """Evaluate several :class:`Study` s as one set of tasks, one per chunk of each study (on
+    ``workers`` threads here, or on the cluster of ``client``, as :func:`run`), and return
+    each study's :func:`combine` d partial, in the order of ``studies``: the same as
+    :func:`run` of each study alone, bit for bit. One progress bar (named ``desc``) counts
+    the states of all the studies."""
+    studies = list(studies)
+    tasks = [(k, chunk) for k, study in enumerate(studies)
+             for chunk in chunks(study.n_states, study.chunk_size, study.seed)]
+    bar = _progress(sum(chunk.size for _, chunk in tasks), desc, progress)
+    results: list = [None] * len(tasks)
     try:
         if client is None:
             workers = (os.cpu_count() or 1) if workers is None else _count("workers", workers, 1)
             failed = threading.Event()  # set by a failing chunk: the chunks after it do not start
 
-            def run_chunk(chunk):
+            def run_chunk(k, chunk):
                 if failed.is_set():
                     return None
                 try:
-                    return job(chunk)
+                    return studies[k].job(chunk)
                 except BaseException:
                     failed.set()
                     raise
 
-            with ThreadPoolExecutor(max_workers=min(workers, max(len(parts), 1))) as pool:
-                futures = {pool.submit(run_chunk, chunk): chunk for chunk in parts}
+            with ThreadPoolExecutor(max_workers=min(workers, max(len(tasks), 1))) as pool:
+                futures = {pool.submit(run_chunk, *task): t for t, task in enumerate(tasks)}
                 try:
                     for future in threads_completed(futures):
-                        chunk = futures[future]
-                        results[chunk.index] = future.result()
-                        bar.update(chunk.size)
+                        t = futures[future]
+                        results[t] = future.result()
+                        bar.update(tasks[t][1].size)
                 except BaseException:  # a failed chunk or Ctrl-C: the chunks not started are dropped
                     failed.set()
                     for future in futures:
@@ -193,8 +223,9 @@ def run(job, n_states: int, *, seed: int | None = None, chunk_size: int = DEFAUL
         else:
             from distributed import as_completed
 
-            futures = client.map(job, parts, pure=False)
-            order = {future.key: chunk for future, chunk in zip(futures, parts)}
+            futures = client.map(_call, [studies[k].job for k, _ in tasks], [chunk for _, chunk in tasks],
+                                 pure=False)
+            order = {future.key: chunk for future, (_, chunk) in zip(futures, tasks)}
             try:
                 for future in as_completed(futures):
                     if future.status != "finished":
@@ -207,8 +238,34 @@ def run(job, n_states: int, *, seed: int | None = None, chunk_size: int = DEFAUL
                 raise
     finally:
         bar.close()
-    total = None
-    for partial in results:
-        total = combine(total, partial)
-    return total
+    totals: list = [None] * len(studies)
+    for (k, _), partial in zip(tasks, results):  # each study's partials in chunk order
+        totals[k] = combine(totals[k], partial)
+    return totals
 
+
+class ModelJob:
+    """A job that evaluates the compiled model of its ``params`` (a field of the job's
+    dataclass, a :class:`~stewart.PlatformParams`): :attr:`platform`, the
+    :class:`~stewart.Platform`, is built once per process, on first use, and shared by the
+    chunks the process runs. A job sent to a Dask worker is pickled without it (only the
+    parameters travel) and builds it there."""
+
+    @functools.cached_property
+    def platform(self):
+        """The compiled model of ``params`` (one per process and parameter set)."""
+        return _compiled(self.params)
+
+    def __getstate__(self):
+        state = dict(self.__dict__)
+        state.pop("platform", None)
+        return state
+
+
+@functools.lru_cache(maxsize=8)
+def _compiled(params):
+    """``Platform(params)``, built once per process: the jobs of the same parameters (the tasks
+    a Dask worker unpickles one by one) share it."""
+    from ..model.platform import Platform
+
+    return Platform(params)

@@ -266,34 +266,35 @@ def load(path) -> SweepSpec:
     return parse(data, os.fspath(path))
 
 
-@dataclass(frozen=True)
-class _DesignJob:
-    """One design of a sweep (an :mod:`stewart.studies.execution` job with one state per chunk: the design)."""
+def _studies(spec: SweepSpec, k: int) -> tuple[PlatformParams, np.ndarray, list[execution.Study]]:
+    """The parameters and home pose of design ``k`` of ``spec``, its two studies (the
+    envelope of the box around its home pose, and its translational workspace: the jobs,
+    counts, seeds and chunk sizes that :func:`~stewart.studies.envelope.envelope` and
+    :func:`~stewart.studies.workspace.translational_workspace` run)."""
+    params = design_params(spec.base, spec.designs[k])
+    home = kinematics.home_pose(params)
+    box = envelope_module.Box(home + spec.offsets.lower, home + spec.offsets.upper, spec.offsets.velocity,
+                              spec.offsets.acceleration)
+    env_job, env_states = envelope_module._job(params, box, spec.envelope_samples)
+    fixed = np.zeros(3)
+    work_job, work_states = workspace._job(params, "translational", fixed, workspace.position_bounds(params, fixed),
+                                           spec.workspace_samples, None)
+    return params, home, [execution.Study(env_job, env_states, spec.seed),
+                          execution.Study(work_job, work_states, spec.seed, workspace.CHUNK_SIZE)]
 
-    spec: SweepSpec
 
-    def __call__(self, chunk: execution.Chunk) -> np.ndarray:
-        """The metrics of the chunk's designs in their rows of a zero table (designs x
-        :data:`METRICS`): the chunks' rows are disjoint, so adding the partials fills the table."""
-        spec = self.spec
-        table = np.zeros((len(spec.designs), len(METRICS)))
-        for k in range(chunk.start, chunk.stop):
-            params = design_params(spec.base, spec.designs[k])
-            home = kinematics.home_pose(params)
-            box = envelope_module.Box(home + spec.offsets.lower, home + spec.offsets.upper, spec.offsets.velocity,
-                                      spec.offsets.acceleration)
-            env = envelope_module.envelope(params, box, samples=spec.envelope_samples, seed=spec.seed,
-                                           progress=False)
-            work = workspace.translational_workspace(params, samples=spec.workspace_samples, seed=spec.seed,
-                                                     progress=False)
-            metrics = {"workspace_volume": work.volume, "workspace_volume_error": work.volume_error,
-                       "margin_mean": work.margin_mean,
-                       "home_margin": float(workspace.reachability(params, home).margin[0]),
-                       "outside_stroke": env.outside_stroke / env.states}
-            for quantity, _ in envelope_module.QUANTITIES:
-                metrics[f"peak_{quantity}"] = float(np.max(env.value(quantity)))
-            table[k] = [metrics[name] for name in METRICS]
-        return table
+def _metrics(params: PlatformParams, home: np.ndarray, env_total: dict, work_total: dict, studies) -> list[float]:
+    """The :data:`METRICS` of one design from its studies' combined partials."""
+    env = envelope_module._envelope(env_total, params)
+    work_study = studies[1]
+    work = workspace._workspace(work_study.job, work_total, work_study.n_states, True, work_study.seed)
+    metrics = {"workspace_volume": work.volume, "workspace_volume_error": work.volume_error,
+               "margin_mean": work.margin_mean,
+               "home_margin": float(workspace.reachability(params, home).margin[0]),
+               "outside_stroke": env.outside_stroke / env.states}
+    for quantity, _ in envelope_module.QUANTITIES:
+        metrics[f"peak_{quantity}"] = float(np.max(env.value(quantity)))
+    return [metrics[name] for name in METRICS]
 
 
 @dataclass(frozen=True)
@@ -367,11 +368,15 @@ def pareto_front(x, y) -> np.ndarray:
 
 
 def sweep(spec: SweepSpec, *, client=None, progress: bool = True) -> Sweep:
-    """Evaluate every design of ``spec`` (:func:`load`), locally or on a Dask ``client``
-    (one design per task), with a progress bar over the designs."""
+    """Evaluate every design of ``spec`` (:func:`load`), locally or on a Dask ``client``: the
+    chunks of every design's envelope and workspace are the tasks of one
+    :func:`~stewart.studies.execution.run_studies`, with one progress bar over their states."""
     if not isinstance(spec, SweepSpec):
         raise ValueError(f"spec: expected a SweepSpec (stewart.studies.sweep.load), got {type(spec).__name__}")
-    total = execution.run(_DesignJob(spec), len(spec.designs), chunk_size=1, client=client, progress=progress,
-                          desc="designs")
-    metrics = {name: total[:, j] for j, name in enumerate(METRICS)}
+    designs = [_studies(spec, k) for k in range(len(spec.designs))]
+    totals = execution.run_studies([study for *_, studies in designs for study in studies], client=client,
+                                   progress=progress, desc="sweep")
+    table = np.array([_metrics(params, home, *totals[2 * k:2 * k + 2], studies)
+                      for k, (params, home, studies) in enumerate(designs)]).reshape(len(designs), len(METRICS))
+    metrics = {name: table[:, j] for j, name in enumerate(METRICS)}
     return Sweep(spec.designs, metrics, spec.pareto, spec.base.name or "")

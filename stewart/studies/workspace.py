@@ -12,7 +12,9 @@ import numpy as np
 
 from ..model.kinematics import POSE_AXES
 from ..model import arguments, kinematics
+from ..model.arguments import platform_params
 from ..model.params import PlatformParams
+from ..model.platform import as_platform
 from ..model.reachability import (
     BELOW_BASE,
     CONDITION_LIMIT,
@@ -31,7 +33,6 @@ from ..model.reachability import (
     assembly_mode,
     joint_angles,
     margins,
-    platform_params,
     reachability,
     segment_distances,
 )
@@ -122,11 +123,13 @@ class Workspace:
 
 
 @dataclass(frozen=True)
-class WorkspaceJob:
+class WorkspaceJob(execution.ModelJob):
     """The per-chunk work of a workspace study (an :mod:`stewart.studies.execution` job):
     ``job(chunk)`` builds the chunk's poses (uniform random ones from ``chunk.rng()``, or the
     grid's cells ``chunk.start`` to ``chunk.stop``), checks them with :func:`reachability`
-    and returns counts, sums and peaks, never the poses."""
+    against the compiled model, built once per process
+    (:class:`~stewart.studies.execution.ModelJob`), and returns counts, sums and peaks,
+    never the poses."""
 
     params: PlatformParams
     kind: str
@@ -146,7 +149,7 @@ class WorkspaceJob:
 
     def __call__(self, chunk) -> dict:
         poses = self.poses(chunk)
-        check = reachability(self.params, poses)
+        check = reachability(self.platform, poses)
         ok = check.ok[:, None]
         coords = poses[:, :3] if self.kind == "translational" else poses[:, 3:]
         margin = np.where(ok, check.margin[:, None], np.nan)
@@ -217,7 +220,7 @@ def position_bounds(params: PlatformParams, orientation=(0.0, 0.0, 0.0)) -> np.n
         raise ValueError("region: the parameters have no leg_length_limits; give the region to sample")
     reach = params.leg_length_limits[1]
     orientation = _three("orientation", orientation)
-    arms = kinematics.platform_points_in_base(params, np.r_[0.0, 0.0, 0.0, orientation])
+    arms = kinematics._arms(params, np.r_[0.0, 0.0, 0.0, orientation])
     centres = params.base_points - arms
     box = np.column_stack([np.max(centres - reach, axis=0), np.min(centres + reach, axis=0)])
     box[2, 0] = max(box[2, 0], np.max(params.base_points[:, 2]) - np.min(arms[:, 2]))
@@ -231,15 +234,27 @@ def position_bounds(params: PlatformParams, orientation=(0.0, 0.0, 0.0)) -> np.n
 ORIENTATION_REGION = np.array([[-np.pi, np.pi], [-np.pi / 2, np.pi / 2], [-np.pi, np.pi]])
 
 
-def _study(params, kind, fixed, region, complete, samples, grid, seed, chunk_size, client, progress) -> Workspace:
+def _job(params, kind, fixed, region, samples, grid) -> tuple[WorkspaceJob, int]:
+    """The job of a workspace study and its number of poses."""
     if (samples is None) == (grid is None):
         raise ValueError("samples, grid: give exactly one (random samples, or grid points per axis)")
     resolution = 0 if grid is None else arguments.count("grid", grid, 1000)
     total = resolution ** 3 if grid is not None else arguments.count("samples", samples, 10 ** 12)
-    job = WorkspaceJob(params, kind, fixed, region, resolution)
+    return WorkspaceJob(params, kind, fixed, region, resolution), total
+
+
+def _study(params, kind, fixed, region, complete, samples, grid, seed, chunk_size, client, progress) -> Workspace:
+    job, total = _job(params, kind, fixed, region, samples, grid)
     progress = sys.stderr.isatty() if progress is None else bool(progress)
     parts = execution.run(job, total, seed=None if grid is not None else seed, chunk_size=chunk_size,
                           client=client, progress=progress, desc=f"{kind} workspace")
+    return _workspace(job, parts, total, complete, seed)
+
+
+def _workspace(job: WorkspaceJob, parts: dict, total: int, complete: bool, seed) -> Workspace:
+    """The :class:`Workspace` of the combined partials ``parts`` of ``job`` over ``total`` poses."""
+    params, kind, fixed, region, resolution = job.params, job.kind, job.fixed, job.region, job.resolution
+    grid = resolution or None
     box_volume = float(np.prod(region[:, 1] - region[:, 0]))
     count = parts["count"]
     if grid is None:
@@ -282,7 +297,7 @@ def translational_workspace(platform, orientation=(0.0, 0.0, 0.0), *, region=Non
     same result. ``progress`` shows a bar with an ETA (default: when stderr is a terminal).
     Returns a :class:`Workspace`.
     """
-    params = platform_params(platform)
+    params = platform_params(platform, "platform")
     orientation = _three("orientation", orientation)
     complete = region is None
     region = position_bounds(params, orientation) if complete else _region("region", region)
@@ -298,8 +313,8 @@ def orientation_workspace(platform, position=None, *, region=None, samples=None,
     orientation); the other arguments are those of :func:`translational_workspace`.
     The volume is measured in Euler-angle coordinates [rad^3].
     """
-    params = platform_params(platform)
-    position = kinematics.home_pose(params)[:3] if position is None else _three("position", position)
+    params = platform_params(platform, "platform")
+    position = kinematics._home_pose(params)[:3] if position is None else _three("position", position)
     complete = region is None
     region = ORIENTATION_REGION if complete else _region("region", region)
     return _study(params, "orientation", position, region, complete, samples, grid, seed, chunk_size, client, progress)
@@ -347,9 +362,10 @@ def workspace_slice(platform, axes="xy", at=None, *, orientation=(0.0, 0.0, 0.0)
     :func:`position_bounds` or :data:`ORIENTATION_REGION`); ``resolution`` is the number
     of cell centres per axis.
     """
-    params = platform_params(platform)
+    plat = as_platform(platform)
+    params = plat.params
     kind, (first, second, third) = _axes(axes)
-    home = kinematics.home_pose(params)
+    home = plat.home_pose
     if kind == "translational":
         fixed = _three("orientation", orientation)
         full = position_bounds(params, fixed) if region is None else None
@@ -373,7 +389,7 @@ def workspace_slice(platform, axes="xy", at=None, *, orientation=(0.0, 0.0, 0.0)
     coords[:, first], coords[:, second], coords[:, third] = uu.ravel(), vv.ravel(), at
     fixed_rows = np.broadcast_to(fixed, (n * n, 3))
     poses = np.hstack([coords, fixed_rows] if kind == "translational" else [fixed_rows, coords])
-    check = reachability(params, poses)
+    check = reachability(plat, poses)
     margin = np.where(check.ok, check.margin, np.nan).reshape(n, n)
     names, unit = KINDS[kind]
     return Slice(axes=(names[first], names[second]), unit=unit, u=u, v=v, at=(names[third], at), fixed=fixed,
