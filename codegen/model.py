@@ -885,7 +885,7 @@ def regressor_kernel(variant):
     dW/dpi of `inertial_force`, which is linear in pi, by forward mode along each parameter
     (J_C^T times the regressor's columns: solved in place with J_C, eq. 5), then per leg i the
     friction columns, the rate Ld_i = u_i . w_i at 20 + i and its smooth sign tanh(Ld_i / v_c)
-    at 26 + i.
+    at 26 + i (the friction law of codegen/templates/vector.c).
     The paper's legs, which do not spin, are the general model's with a_i = z, no axial
     moment and no spin: the leg frame y = z x l / |z x l| is that of eqs. 44-47, and
     |z x l|^2 = l_x^2 + l_y^2 is checked as the frame's h2."""
@@ -898,7 +898,7 @@ def regressor_kernel(variant):
     WY = g.partials(list(inertial_force(g, kin, v, omega, pi, spin=not paper)), RIGID_BODY, 'Y')
     rates = [g.define(f'Ld_{i}', _dot(leg.u, g.vector(f'y{i}vP', v + _cross(omega, leg.r))))
              for i, leg in enumerate(kin.legs)]
-    signs = [sp.tanh(rate / PARAMS.v_c) for rate in rates]
+    signs = [sp.tanh(rate / PARAMS.v_c) for rate in rates]  # vector.c's vcoulomb_sign: vtanh(Ld_i (1 / v_c))
     Y = [row + [rates[i] if j == i else 0 for j in range(NUM_LEGS)] + [signs[i] if j == i else 0 for j in range(NUM_LEGS)]
          for i, row in enumerate(WY)]
     checks = [('L2', [leg.L2 for leg in kin.legs]), ('h2' if paper else 'n2', [leg.n2 for leg in kin.legs])]
@@ -1001,6 +1001,9 @@ _FORWARD_STEPS = (Kernels(TWIST_MASS_MATRIX, ('x',)), Kernels((euler_maps_kernel
                   ('ldl_solve', ('FM', '1', '1', 'rhs', 'y')), ('pose_accelerations', ('JAinv', '1', 'y', 'xdd')))
 _FORWARD_SCRATCH = (_LDL_FACTORS, ('xdd0', 6), ('rhs', 6), ('y', 6))
 
+#: The number of columns of the regressor: the rigid-body parameters, then the friction's.
+_REGRESSOR_COLUMNS = str(len(RIGID_BODY) + len(FRICTION_PARAMETERS))
+
 FUNCTIONS = (
     Function('leg_lengths', 'Leg lengths L_i (a zero length is not an error here).', ('x',), (('L', 6),),
              (leg_lengths_kernel,)),
@@ -1063,11 +1066,11 @@ FUNCTIONS = (
              'The regressor Y (6 x 32, row-major) of the actuator forces, tau + friction = Y pi, with pi the'
              ' inertial parameters (the columns listed below): J_C^T Y = dW/dpi for the 20 rigid-body'
              ' parameters (W = M xdd + V xd + G), then per leg i Ld_i (column 20 + i) and'
-             ' tanh(Ld_i / coulomb_velocity) (column 26 + i), Ld = J_C T xd.',
+             ' tanh(Ld_i / coulomb_velocity) (column 26 + i), Ld = J_C T xd: the friction law of'
+             ' stewart_friction_forces.',
              ('x', 'xd', 'xdd'), (('Y', 6 * (len(RIGID_BODY) + len(FRICTION_PARAMETERS))),), REGRESSOR,
              steps=(('bareiss_factor', ('JC', 'FJ')),
-                    ('bareiss_solve', ('FJ', str(len(RIGID_BODY)), str(len(RIGID_BODY) + len(FRICTION_PARAMETERS)),
-                                       'Y', 'Y'))),
+                    ('bareiss_solve', ('FJ', str(len(RIGID_BODY)), _REGRESSOR_COLUMNS, 'Y', 'Y'))),
              scratch=(_BAREISS_FACTORS,)),
     Function('rk4_step', 'One classic RK4 step of s = [x; xd], ds/dt = [xd; xdd(x, xd, tau)], tau constant:'
              ' [xn; xdn] after dt.', ('x', 'xd', 'tau'), (('xn', 6), ('xdn', 6)), (), scalars=('dt',),

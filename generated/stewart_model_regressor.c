@@ -6,7 +6,7 @@
     dW/dpi of `inertial_force`, which is linear in pi, by forward mode along each parameter
     (J_C^T times the regressor's columns: solved in place with J_C, eq. 5), then per leg i the
     friction columns, the rate Ld_i = u_i . w_i at 20 + i and its smooth sign tanh(Ld_i / v_c)
-    at 26 + i.
+    at 26 + i (the friction law of codegen/templates/vector.c).
     The paper's legs, which do not spin, are the general model's with a_i = z, no axial
     moment and no spin: the leg frame y = z x l / |z x l| is that of eqs. 44-47, and
     |z x l|^2 = l_x^2 + l_y^2 is checked as the frame's h2. */
@@ -952,7 +952,7 @@ void vkernel_regressor(const stewart_params *p, const stewart_vd *x, const stewa
     dW/dpi of `inertial_force`, which is linear in pi, by forward mode along each parameter
     (J_C^T times the regressor's columns: solved in place with J_C, eq. 5), then per leg i the
     friction columns, the rate Ld_i = u_i . w_i at 20 + i and its smooth sign tanh(Ld_i / v_c)
-    at 26 + i.
+    at 26 + i (the friction law of codegen/templates/vector.c).
     The paper's legs, which do not spin, are the general model's with a_i = z, no axial
     moment and no spin: the leg frame y = z x l / |z x l| is that of eqs. 44-47, and
     |z x l|^2 = l_x^2 + l_y^2 is checked as the frame's h2. */

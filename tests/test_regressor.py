@@ -8,7 +8,7 @@ inverse dynamics when one parameter changes (the forces are linear in pi).
 
 from __future__ import annotations
 
-import math
+import mpmath
 import warnings
 
 import numpy as np
@@ -25,6 +25,14 @@ from test_general_kernels import random_general
 
 RELATIVE = 1e-12
 COLUMN = INERTIAL_NAMES.index
+
+
+def _exact_law(rates, viscous, coulomb, velocity):
+    """The friction law F_v Ld + F_c tanh(Ld / v_c) of each leg at ``rates`` (N, 6) in 40
+    digits, rounded once to floats."""
+    with mpmath.workdps(40):
+        return np.array([[float(mpmath.mpf(fv) * mpmath.mpf(r) + mpmath.mpf(fc) * mpmath.tanh(mpmath.mpf(r) / velocity))
+                          for r, fv, fc in zip(row, viscous, coulomb)] for row in rates])
 
 
 def _with_friction(params, rng):
@@ -113,7 +121,7 @@ def test_columns_that_never_act_are_zero():
             assert np.any(Y[..., COLUMN(f"{body}.mb")]) and np.any(Y[..., COLUMN(f"{body}.Iyy")])
 
 
-def test_friction_columns():
+def test_friction_columns(figures):
     rng = np.random.default_rng(2)
     params = _with_friction(PlatformParams.preset("narayan2017"), rng)
     plat = Platform(params)
@@ -123,14 +131,22 @@ def test_friction_columns():
     viscous = Y[..., NUM_RIGID_BODY:NUM_RIGID_BODY + 6]
     coulomb = Y[..., NUM_RIGID_BODY + 6:]
     assert np.allclose(viscous, rates[:, :, None] * np.eye(6), rtol=1e-14, atol=1e-15)
-    assert np.allclose(coulomb, np.tanh(rates / params.coulomb_velocity)[:, :, None] * np.eye(6),
-                       rtol=0, atol=1e-14)  # Ldot / v_c (up to ~40) carries its round-off
     assert not np.any(viscous * (1.0 - np.eye(6))) and not np.any(coulomb * (1.0 - np.eye(6)))
-    # The law with the C library's tanh (math.tanh), which the C model calls; numpy's own tanh
-    # differs from it in the last bits.
-    libm_tanh = np.vectorize(math.tanh)
-    want = params.viscous_friction * rates + params.coulomb_friction * libm_tanh(rates / params.coulomb_velocity)
-    assert np.array_equal(plat.friction_forces(x, xd), want)
+    # The smooth sign against tanh(Ld_i / v_c) of the regressor's own rates in 40 digits: it is
+    # vtanh(Ld_i (1 / v_c)) (vector.c's friction law), whose argument rounds twice (a relative
+    # 2^-52, which moves tanh by at most max |a| sech^2(a) 2^-52 < 0.45 * 2^-52) and whose tanh
+    # is within a few 2^-53 of the exact one (lanes.c): 4 * 2^-53 in all, absolute.
+    own = np.einsum("nii->ni", viscous)
+    sign = np.einsum("nii->ni", coulomb)
+    assert np.max(np.abs(sign - _exact_law(own, np.zeros(6), np.ones(6), params.coulomb_velocity))) <= 4 * 2.0 ** -53
+    # friction_forces: the same law at the legs' rates, within the same 4 * 2^-53 of its sign
+    # times F_c, plus the roundings of F_v Ld, F_c s and their sum (2^-53 of each term, 2^-53 of
+    # the sum): (|F_v Ld| + 2 |F_c|) 2^-51 bounds them.
+    law = _exact_law(rates, params.viscous_friction, params.coulomb_friction, params.coulomb_velocity)
+    bound = (np.abs(params.viscous_friction * rates) + 2 * params.coulomb_friction) * 2.0 ** -51
+    error = np.abs(plat.friction_forces(x, xd) - law)
+    assert np.all(error <= bound)
+    figures("friction_forces vs the law in 40 digits: largest error / its bound", float(np.max(error / bound)), 1.0)
     assert not np.any(Platform.preset("narayan2017").friction_forces(x, xd))
 
 

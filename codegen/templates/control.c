@@ -1,22 +1,19 @@
 /* The actuators and the closed loop (codegen/templates/control.c, copied verbatim by the
  * generator into stewart_model.c after the public functions it calls): the legs' friction
- * law, the force saturation, the control laws (joint-space PID, task-space computed torque,
- * open loop) and the closed loop's fixed-step RK4 (the classic step of vector.c's RK4_STAGE
- * and RK4_UPDATE, that of stewart_rk4_step).  Compiles on its own against stewart_internal.h. */
+ * forces (vector.c's friction law), the force saturation, the control laws (joint-space PID,
+ * task-space computed torque, open loop) and the closed loop's fixed-step RK4 (the classic
+ * step of vector.c's RK4_STAGE and RK4_UPDATE, that of stewart_rk4_step).
+ * Compiles on its own against stewart_internal.h. */
 #include "stewart_internal.h"
 
 #include <math.h>
 #include <stddef.h>
 
-/* The force leg k loses to friction at the leg rate Ld: F_v Ld + F_c tanh(Ld / v_c), summed
- * from +0 (a leg without friction loses +0); the Coulomb term only where F_c != 0. */
+/* The force leg k loses to friction at the leg rate Ld: the friction law of vector.c's
+ * vfriction_force (that of the regressor's columns) on one rate. */
 static double friction_force(const stewart_friction *f, int k, double Ld)
 {
-    double force = 0.0 + f->viscous[k] * Ld;
-    if (f->coulomb[k] != 0.0) {
-        force += f->coulomb[k] * tanh(Ld / f->velocity);
-    }
-    return force;
+    return vfriction_force(vsplat(Ld), f->viscous[k], f->coulomb[k], f->velocity)[0];
 }
 
 int stewart_batch_friction_forces(const stewart_friction *f, size_t n, const double *Ld, double *friction, int *status)

@@ -128,6 +128,27 @@ static stewart_vl vtranspose(const stewart_vd A[36], stewart_vd B[36])
     return vnone();
 }
 
+/* The legs' friction law, that of stewart_friction_forces and of the closed loop
+ * (codegen/templates/control.c): a leg moving at the rate Ld loses F_v Ld + F_c tanh(Ld / v_c)
+ * to friction, a viscous term and a smooth Coulomb term, lane-wise.  vcoulomb_sign is its
+ * smooth sign tanh(Ld / v_c), taken as vtanh(Ld (1 / v_c)) (lanes.c: the same bits on every
+ * CPU), as the regressor's friction columns (codegen/model.py, regressor_kernel) take it. */
+static stewart_vd vcoulomb_sign(stewart_vd Ld, double velocity)
+{
+    return vtanh(Ld * (1.0 / velocity));
+}
+
+/* F_v Ld + F_c tanh(Ld / v_c), summed from +0 (a leg without friction loses +0); the Coulomb
+ * term only where F_c != 0. */
+static stewart_vd vfriction_force(stewart_vd Ld, double viscous, double coulomb, double velocity)
+{
+    stewart_vd force = 0.0 + viscous * Ld;
+    if (coulomb != 0.0) {
+        force += coulomb * vcoulomb_sign(Ld, velocity);
+    }
+    return force;
+}
+
 /* A block function: the outputs out[j] (size[j] vectors each) of the block of states whose
  * inputs are in[i] (6 vectors each), with the function's scalar input (if it has one);
  * returns each lane's status. */
