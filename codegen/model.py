@@ -1003,6 +1003,9 @@ _FORWARD_SCRATCH = (_LDL_FACTORS, ('xdd0', 6), ('rhs', 6), ('y', 6))
 
 #: The number of columns of the regressor: the rigid-body parameters, then the friction's.
 _REGRESSOR_COLUMNS = str(len(RIGID_BODY) + len(FRICTION_PARAMETERS))
+#: The regressor's columns of the legs' axial moments.
+_AXIAL_COLUMNS = tuple(str([name for name, _ in RIGID_BODY_PARAMETERS].index(f'{body}.Ixx'))
+                       for body in ('cylinder', 'piston'))
 
 FUNCTIONS = (
     Function('leg_lengths', 'Leg lengths L_i (a zero length is not an error here).', ('x',), (('L', 6),),
@@ -1067,10 +1070,12 @@ FUNCTIONS = (
              ' inertial parameters (the columns listed below): J_C^T Y = dW/dpi for the 20 rigid-body'
              ' parameters (W = M xdd + V xd + G), then per leg i Ld_i (column 20 + i) and'
              ' tanh(Ld_i / coulomb_velocity) (column 26 + i), Ld = J_C T xd: the friction law of'
-             ' stewart_friction_forces.',
+             ' stewart_friction_forces.  The columns of the legs\' axial moments are zero where the legs do'
+             ' not spin (spinless_legs != 0, or no universal_joint_axes).',
              ('x', 'xd', 'xdd'), (('Y', 6 * (len(RIGID_BODY) + len(FRICTION_PARAMETERS))),), REGRESSOR,
              steps=(('bareiss_factor', ('JC', 'FJ')),
-                    ('bareiss_solve', ('FJ', str(len(RIGID_BODY)), _REGRESSOR_COLUMNS, 'Y', 'Y'))),
+                    ('bareiss_solve', ('FJ', str(len(RIGID_BODY)), _REGRESSOR_COLUMNS, 'Y', 'Y')),
+                    ('spinless_columns', ('p', _REGRESSOR_COLUMNS, *_AXIAL_COLUMNS, 'Y'))),
              scratch=(_BAREISS_FACTORS,)),
     Function('rk4_step', 'One classic RK4 step of s = [x; xd], ds/dt = [xd; xdd(x, xd, tau)], tau constant:'
              ' [xn; xdn] after dt.', ('x', 'xd', 'tau'), (('xn', 6), ('xdn', 6)), (), scalars=('dt',),

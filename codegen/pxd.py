@@ -86,7 +86,7 @@ cdef inline int stewart_params_fill(stewart_params *p, object params) except -1:
 def _copy(field):
     """Cython lines setting member `field` of p from params."""
     if not field.shape:
-        return [f'    p.{field.name} = params.{field.name}']
+        return [f'    p.{field.name} = params.{field.source or field.name}']
     lines = [f'    value = params.{field.source or field.name}']
     loops = [f'i{k}' for k in range(len(field.shape))]
     for depth, (index, n) in enumerate(zip(loops, field.shape)):

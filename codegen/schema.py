@@ -65,6 +65,12 @@ PARAM_FIELDS = (
                'a_i in {B}, the first axis of each universal joint; all zero (and platform_com zero, '
                'the products zero): the paper\'s model, whose legs do not spin (eq. 29)',
                symbol='a', source='universal_joint_axes_in_model'),
+    ParamField('spinless_legs', 'spinless', (),
+               'nonzero: the legs do not spin with their joints (eq. 29) whatever universal_joint_axes hold '
+               '(a_i = z standing for the leg frames of eqs. 44-47 in a model with the platform\'s centre of mass '
+               'or products of inertia given), so the regressor\'s columns of their axial moments are zero; '
+               '0: they spin about the a_i given',
+               source='spinless_legs_in_model', field='universal_joint_axes'),
     ParamField('coulomb_velocity', 'v_c', (), 'v_c > 0, m/s: the smooth sign tanh(Ld / v_c) of the Coulomb '
                'friction of a leg moving at Ld (the regressor)'),
 )

@@ -294,6 +294,7 @@ static int params_finite(const stewart_params *p)
         && all_finite(&p->piston_com_distance, 1)
         && all_finite(&p->gravity, 1)
         && all_finite(&p->universal_joint_axes[0][0], 18)
+        && all_finite(&p->spinless_legs, 1)
         && all_finite(&p->coulomb_velocity, 1);
 }
 
@@ -446,6 +447,21 @@ static stewart_vd vfriction_force(stewart_vd Ld, double viscous, double coulomb,
         force += coulomb * vcoulomb_sign(Ld, velocity);
     }
     return force;
+}
+
+/* Where the legs do not spin with their joints (p->spinless_legs != 0, eq. 29), the columns a
+ * and b of Y (n columns a row), the regressor's columns of the legs' axial moments, which then
+ * never act, multiplied by 0, over a block. */
+static stewart_vl vspinless_columns(const stewart_params *p, int n, int a, int b, stewart_vd *Y)
+{
+    int i;
+    if (p->spinless_legs != 0.0) {
+        for (i = 0; i < 6; ++i) {
+            Y[n * i + a] *= 0.0;
+            Y[n * i + b] *= 0.0;
+        }
+    }
+    return vnone();
 }
 
 /* A block function: the outputs out[j] (size[j] vectors each) of the block of states whose

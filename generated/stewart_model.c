@@ -601,6 +601,7 @@ static stewart_vl vblock_regressor(const stewart_params *p, double scalar, const
     }
     status = vmerge(status, vbareiss_factor(JC, FJ));
     status = vmerge(status, vbareiss_solve(FJ, 20, 32, Y, Y));
+    status = vmerge(status, vspinless_columns(p, 32, 12, 17, Y));
     return status;
 }
 

@@ -75,6 +75,7 @@ typedef struct {
     double piston_com_distance;           /* b_S from P_i back along the leg */
     double gravity;                       /* m/s^2 along -z */
     double universal_joint_axes[6][3];    /* a_i in {B}, the first axis of each universal joint; all zero (and platform_com zero, the products zero): the paper's model, whose legs do not spin (eq. 29) */
+    double spinless_legs;                 /* nonzero: the legs do not spin with their joints (eq. 29) whatever universal_joint_axes hold (a_i = z standing for the leg frames of eqs. 44-47 in a model with the platform's centre of mass or products of inertia given), so the regressor's columns of their axial moments are zero; 0: they spin about the a_i given */
     double coulomb_velocity;              /* v_c > 0, m/s: the smooth sign tanh(Ld / v_c) of the Coulomb friction of a leg moving at Ld (the regressor) */
 } stewart_params;
 
@@ -149,7 +150,7 @@ int stewart_inverse_dynamics_derivatives(const stewart_params *p, const double x
 int stewart_forward_dynamics_derivatives(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double xdd[6], double dxdd_dx[36], double dxdd_dxd[36], double dxdd_dtau[36]);
 /* tau and the joint reactions of each leg i (3 doubles per leg, leg-major, in {B}): f_base, the force the base exerts on the leg at its universal joint B_i; f_platform, the force the leg exerts on the platform at its spherical joint P_i; n_base, the moment the base exerts on the leg through its universal joint. */
 int stewart_joint_reactions(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6], double f_base[18], double f_platform[18], double n_base[18]);
-/* The regressor Y (6 x 32, row-major) of the actuator forces, tau + friction = Y pi, with pi the inertial parameters (the columns listed below): J_C^T Y = dW/dpi for the 20 rigid-body parameters (W = M xdd + V xd + G), then per leg i Ld_i (column 20 + i) and tanh(Ld_i / coulomb_velocity) (column 26 + i), Ld = J_C T xd: the friction law of stewart_friction_forces. */
+/* The regressor Y (6 x 32, row-major) of the actuator forces, tau + friction = Y pi, with pi the inertial parameters (the columns listed below): J_C^T Y = dW/dpi for the 20 rigid-body parameters (W = M xdd + V xd + G), then per leg i Ld_i (column 20 + i) and tanh(Ld_i / coulomb_velocity) (column 26 + i), Ld = J_C T xd: the friction law of stewart_friction_forces.  The columns of the legs' axial moments are zero where the legs do not spin (spinless_legs != 0, or no universal_joint_axes). */
 int stewart_regressor(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double Y[192]);
 /* One classic RK4 step of s = [x; xd], ds/dt = [xd; xdd(x, xd, tau)], tau constant: [xn; xdn] after dt. */
 int stewart_rk4_step(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double dt, double xn[6], double xdn[6]);

@@ -18,6 +18,7 @@ cdef extern from "stewart_model.h" nogil:
         double piston_com_distance
         double gravity
         double universal_joint_axes[6][3]
+        double spinless_legs
         double coulomb_velocity
     enum:
         STEWART_OK
@@ -174,6 +175,7 @@ cdef inline tuple stewart_params_fields():
         ('piston_com_distance', ()),
         ('gravity', ()),
         ('universal_joint_axes', (6, 3)),
+        ('spinless_legs', ()),
         ('coulomb_velocity', ()),
     )
 
@@ -195,6 +197,7 @@ cdef inline dict stewart_params_sources():
         'piston_com_distance': 'piston_com_distance',
         'gravity': 'gravity',
         'universal_joint_axes': 'universal_joint_axes_in_model',
+        'spinless_legs': 'spinless_legs_in_model',
         'coulomb_velocity': 'coulomb_velocity',
     }
 
@@ -313,5 +316,6 @@ cdef inline int stewart_params_fill(stewart_params *p, object params) except -1:
     for i0 in range(6):
         for i1 in range(3):
             p.universal_joint_axes[i0][i1] = value[i0, i1]
+    p.spinless_legs = params.spinless_legs_in_model
     p.coulomb_velocity = params.coulomb_velocity
     return 0

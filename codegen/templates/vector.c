@@ -149,6 +149,21 @@ static stewart_vd vfriction_force(stewart_vd Ld, double viscous, double coulomb,
     return force;
 }
 
+/* Where the legs do not spin with their joints (p->spinless_legs != 0, eq. 29), the columns a
+ * and b of Y (n columns a row), the regressor's columns of the legs' axial moments, which then
+ * never act, multiplied by 0, over a block. */
+static stewart_vl vspinless_columns(const stewart_params *p, int n, int a, int b, stewart_vd *Y)
+{
+    int i;
+    if (p->spinless_legs != 0.0) {
+        for (i = 0; i < 6; ++i) {
+            Y[n * i + a] *= 0.0;
+            Y[n * i + b] *= 0.0;
+        }
+    }
+    return vnone();
+}
+
 /* A block function: the outputs out[j] (size[j] vectors each) of the block of states whose
  * inputs are in[i] (6 vectors each), with the function's scalar input (if it has one);
  * returns each lane's status. */

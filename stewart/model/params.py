@@ -276,6 +276,14 @@ class PlatformParams:
         return _readonly(np.zeros((6, 3)) if self.is_paper_model else np.tile([0.0, 0.0, 1.0], (6, 1)))
 
     @property
+    def spinless_legs_in_model(self) -> float:
+        """1.0 where the legs do not spin with their joints (no ``universal_joint_axes``, eq. 29),
+        else 0.0: the C model's flag (``stewart_params.spinless_legs``) that leaves the axial
+        moments out of the regressor where its joint axes stand for the frames of eqs. 44-47
+        (:attr:`universal_joint_axes_in_model`)."""
+        return 1.0 if self.universal_joint_axes is None else 0.0
+
+    @property
     def cylinder_inertia_in_model(self) -> np.ndarray:
         """cylinder_inertia as the C model takes it: without ``universal_joint_axes`` the legs
         do not spin (eq. 29), so the axial moment is left out (it has no effect there)."""

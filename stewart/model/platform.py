@@ -10,7 +10,7 @@ from . import arguments, kinematics
 from .._kernel import Kernel
 from .errors import WrongTypeError
 from .arguments import platform_params
-from .params import INERTIAL_NAMES, PlatformParams
+from .params import PlatformParams
 from .results import JointReactions
 
 __all__ = ["Platform", "AllTerms", "InverseDynamicsDerivatives", "ForwardDynamicsDerivatives",
@@ -65,9 +65,6 @@ class StepDerivatives(NamedTuple):
     B: np.ndarray
 
 
-#: The regressor's columns of the legs' axial moments.
-_AXIAL = [INERTIAL_NAMES.index("cylinder.Ixx"), INERTIAL_NAMES.index("piston.Ixx")]
-
 
 def _named(kind, result, return_mask):
     """``result`` of a kernel method (a tuple, or ``(tuple, ok)``) as the named tuple ``kind``
@@ -99,9 +96,6 @@ class Platform:
         self._home.flags.writeable = False
         kinematics._check_universal_joint_axes(params, self._home)
         self._kernel = Kernel(params, threads)
-        # Legs that do not spin in a general model (a payload off-centre, no joint axes): the C
-        # model takes a_i = z with no axial moment, so the regressor's axial columns are set to zero.
-        self._axial_idle = params.universal_joint_axes is None and not params.is_paper_model
 
     @classmethod
     def preset(cls, name: str, **options) -> "Platform":
@@ -204,10 +198,7 @@ class Platform:
         cylinder turns about the fixed B_i) and, for legs that do not spin (no
         ``universal_joint_axes``), the axial moments. Legs that do not spin are described in
         the frames of eqs. 43-48, so a vertical leg is singular here (``leg_vertical``)."""
-        result = self._kernel.regressor(x, xd, xdd, return_mask)
-        if self._axial_idle:
-            (result[0] if return_mask else result)[..., _AXIAL] *= 0.0  # failed rows stay NaN
-        return result
+        return self._kernel.regressor(x, xd, xdd, return_mask)
 
     def friction_forces(self, x, xd, *, return_mask=False):
         """The actuator force each leg loses to friction at ``(x, xdot)`` [N]:

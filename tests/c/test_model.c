@@ -492,6 +492,7 @@ int main(void) {
     }
     jointed.universal_joint_axes[2][0] = 0.0;
     jointed.universal_joint_axes[2][2] = 1.0;
+    jointed.spinless_legs = 0.0; /* the legs spin with their joints */
     check(stewart_is_paper_model(p) && !stewart_is_paper_model(&jointed), "paper model: no joint axes", gc->name, 0);
     st = stewart_mass_matrix(&jointed, upright, out36);
     check(st == STEWART_ERR_GIMBAL_LOCK && isnan(out36[0]), "status: gimbal lock", gc->name, st);
@@ -508,6 +509,25 @@ int main(void) {
         check(statuses[0] == STEWART_OK && statuses[1] == STEWART_OK && statuses[2] == STEWART_ERR_GIMBAL_LOCK
               && statuses[3] == STEWART_OK && isnan(taus[2][0]) && !isnan(taus[3][0]),
               "status: gimbal lock flagged per row (batch)", gc->name, statuses[2]);
+    }
+
+    /* Legs that do not spin whatever their joint axes (spinless_legs): the regressor's columns
+     * of the axial moments (12 and 17) are zero, the others those of the spinning legs. */
+    {
+        double Yspin[192], Yfixed[192];
+        stewart_params fixed = jointed;
+        fixed.spinless_legs = 1.0;
+        int st0 = stewart_regressor(&jointed, gc->x, gc->xd, gc->xdd, Yspin);
+        int st1 = stewart_regressor(&fixed, gc->x, gc->xd, gc->xdd, Yfixed);
+        int axial = 0, same = 1;
+        for (int i = 0; i < 6; ++i) {
+            axial |= Yspin[32 * i + 12] != 0.0 || Yspin[32 * i + 17] != 0.0;
+            for (int j = 0; j < 32; ++j) {
+                same &= (j == 12 || j == 17) ? Yfixed[32 * i + j] == 0.0 : Yfixed[32 * i + j] == Yspin[32 * i + j];
+            }
+        }
+        check(st0 == STEWART_OK && st1 == STEWART_OK && axial && same, "regressor: spinless legs, no axial columns",
+              gc->name, st1);
     }
 
     /* A massless platform with massless legs: M_t = 0. */
