@@ -1,8 +1,9 @@
 """CLI: regenerate generated/: the model's header stewart_model.h, its units (stewart_model.c, the
 public functions, and stewart_model_<family>.c, the kernels of one family each) with what they
 share (stewart_internal.h), its Cython declarations stewart_model.pxd, and the dispatch between
-compiled copies of the model, stewart_dispatch.h and stewart_target.c.  Files of an earlier
-generation that it no longer writes (stewart_model_*.c) are removed."""
+compiled copies of the model, stewart_dispatch.h and stewart_target.c; and the tables the Python
+layer reads, the module stewart/_generated.py.  Files of an earlier generation that it no longer
+writes (stewart_model_*.c) are removed."""
 
 import argparse
 import dataclasses
@@ -11,9 +12,10 @@ import time
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
-from . import csource, emit, model, pxd, schema
+from . import csource, emit, model, pxd, pymodule, schema
 
 DEFAULT_OUT = Path(__file__).resolve().parent.parent / 'generated'
+DEFAULT_PYTHON = Path(__file__).resolve().parent.parent / 'stewart' / '_generated.py'
 
 
 def _timed(func, *args):
@@ -44,6 +46,8 @@ def main(argv=None):
     parser = argparse.ArgumentParser(prog='python -m codegen', description=__doc__)
     parser.add_argument('--out', type=Path, default=DEFAULT_OUT,
                         help='output directory (default: %(default)s)')
+    parser.add_argument('--python', type=Path, default=DEFAULT_PYTHON,
+                        help='the Python module of the tables (default: %(default)s)')
     parser.add_argument('--jobs', type=int, default=os.cpu_count() or 1,
                         help='processes deriving the kernels side by side (default: %(default)s)')
     args = parser.parse_args(argv)
@@ -75,11 +79,15 @@ def main(argv=None):
         'stewart_internal.h': csource.internal_header(schema.PARAM_FIELDS, model.FUNCTIONS, emitted),
         'stewart_model.c': csource.source(public, batch),
         **{f'stewart_model_{family}.c': csource.kernel_unit(family, units) for family, units in families.items()},
-        'stewart_model.pxd': pxd.pxd(schema.PARAM_FIELDS, schema.LEFT_OUT, model.FUNCTIONS, schema.INERTIAL_PARAMETERS),
+        'stewart_model.pxd': pxd.pxd(schema.PARAM_FIELDS, model.FUNCTIONS),
         'stewart_dispatch.h': csource.dispatch_header(model.FUNCTIONS),
         'stewart_target.c': csource.target_source(model.FUNCTIONS),
     }
     written = [name for name, text in files.items() if _write_if_changed(args.out / name, text)]
+    python = pymodule.module(schema.PARAM_FIELDS, schema.LEFT_OUT, model.FUNCTIONS, schema.INERTIAL_PARAMETERS)
+    args.python.parent.mkdir(parents=True, exist_ok=True)
+    if _write_if_changed(args.python, python):
+        written.append(str(args.python))
     for stale in sorted(set(p.name for p in args.out.glob('stewart_model_*.c')) - files.keys()):
         (args.out / stale).unlink()
         written.append(f'{stale} removed')

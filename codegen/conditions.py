@@ -3,8 +3,8 @@
 One row per C status code, in order from 0: its name, the enum's comment, the message of
 `stewart_status_message`, its tolerance (a `#define STEWART_<...>_TOL`, where it has one)
 and the exact test it stands for.  The generator emits from this table the header's enum,
-the tolerance macros and their documentation, `stewart_status_message`, and the Cython
-declarations with a Python-visible table (`stewart_conditions()` in stewart_model.pxd), from
+the tolerance macros and their documentation, `stewart_status_message`, the Cython
+declarations, and the Python table `CONDITIONS` of stewart/_generated.py (`pymodule`), from
 which `stewart.model.conditions` reads the tolerances.  The tests themselves are written once in C
 (codegen/templates/runtime.c: check_legs, check_euler; `linsolve`: the two solvers) and once
 in numpy (`stewart.model.conditions`), each after the `test` given here.
@@ -87,13 +87,3 @@ def pxd_declarations():
     return ['    enum:'] + [f'        {c.enum}' for c in CONDITIONS] + [
         f'    const double {c.macro}' for c in CONDITIONS if c.macro]
 
-
-def pxd_table():
-    """Cython text of `stewart_conditions()`: {status code: (name, message, tolerance or None)},
-    the messages from stewart_status_message and the tolerances from the header's macros."""
-    rows = ''.join(f'        {c.enum}: ({c.name!r}, stewart_status_message({c.enum}).decode(), '
-                   f'{c.macro or None}),\n' for c in CONDITIONS)
-    return ('cdef inline dict stewart_conditions():\n'
-            '    """{status code: (name, message, tolerance or None)} of every status code of the C\n'
-            '    model: the conditions under which it is undefined, with the tolerances of their tests."""\n'
-            f'    return {{\n{rows}    }}\n')

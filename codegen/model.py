@@ -27,6 +27,7 @@ Performance rests on three rules:
   acceleration of P_i (`leg_derivatives_kernel`, `residual_derivatives_kernel`).
 """
 
+import math
 from dataclasses import dataclass
 from functools import partial, reduce
 
@@ -933,12 +934,25 @@ class Function:
     name: str
     doc: str
     inputs: tuple     # its input arrays, 6 doubles each
-    outputs: tuple    # (array, number of doubles) of its outputs
+    outputs: tuple    # (array, row shape) of its outputs: (6,), (6, 6), ...; its size the shape's product
     kernels: tuple    # builders of its kernel: one, or one per variant; or none (steps only)
     steps: tuple = ()    # (C function, argument arrays) or `Kernels`
     scratch: tuple = ()  # (array, size) of the steps' intermediate arrays
     scalars: tuple = ()  # its scalar (double) inputs
     template: str = ''   # the template file of a function written in C
+    # In Python (stewart/_generated.py): its results, filling its outputs in turn, each the name
+    # of a whole output or (name, row shape) of the next part of one (default: one per output,
+    # named as it is); the named tuple they form ('': the one array, or a plain tuple); and
+    # (method, keyword) if it is that method's result with that keyword true (default: the
+    # method of its own name).
+    results: tuple = ()
+    result_type: str = ''
+    option: tuple = ()
+
+    @property
+    def sizes(self):
+        """(array, number of doubles) of its outputs."""
+        return tuple((name, math.prod(shape)) for name, shape in self.outputs)
 
 
 #: The kernel variants, in the order a public function tries them, with the C test under
@@ -1008,63 +1022,68 @@ _AXIAL_COLUMNS = tuple(str([name for name, _ in RIGID_BODY_PARAMETERS].index(f'{
                        for body in ('cylinder', 'piston'))
 
 FUNCTIONS = (
-    Function('leg_lengths', 'Leg lengths L_i (a zero length is not an error here).', ('x',), (('L', 6),),
+    Function('leg_lengths', 'Leg lengths L_i (a zero length is not an error here).', ('x',), (('L', (6,)),),
              (leg_lengths_kernel,)),
-    Function('jacobian', 'J_C (eq. 5): Ldot = J_C t.', ('x',), (('JC', 36),), (jacobian_kernel,)),
+    Function('jacobian', 'J_C (eq. 5): Ldot = J_C t.', ('x',), (('JC', (6, 6)),), (jacobian_kernel,)),
     Function('leg_rates', 'Leg lengths L and rates Ldot = J_C T xd in one pass: LLd = [L; Ldot].',
-             ('x', 'xd'), (('LLd', 12),), (leg_rates_kernel,)),
-    Function('mass_matrix', 'M = M_t T.', ('x',), (('M', 36),), (), steps=_MASS_STEPS),
+             ('x', 'xd'), (('LLd', (12,)),), (leg_rates_kernel,),
+             results=(('L', (6,)), ('Ldot', (6,)))),
+    Function('mass_matrix', 'M = M_t T.', ('x',), (('M', (6, 6)),), (), steps=_MASS_STEPS),
     Function('twist_mass_matrix', 'M_t, the symmetric positive definite twist-space mass matrix: M = M_t T.',
-             ('x',), (('Mt', 36),), TWIST_MASS_MATRIX),
-    Function('coriolis_matrix', 'V(x, xd), column by column: column j is V e_j.', ('x', 'xd'), (('V', 36),), (),
+             ('x',), (('Mt', (6, 6)),), TWIST_MASS_MATRIX),
+    Function('coriolis_matrix', 'V(x, xd), column by column: column j is V e_j.', ('x', 'xd'), (('V', (6, 6)),), (),
              steps=(('identity', ('E',)),
                     *(Kernels(CORIOLIS_PRODUCT, ('x', 'xd', f'E + {6 * j}'), (('Vv', f'VT + {6 * j}'),))
                       for j in range(6)),
                     ('transpose', ('VT', 'V'))),
              scratch=(('E', 36), ('VT', 36))),
-    Function('coriolis_vector', 'V xd without forming V.', ('x', 'xd'), (('Vxd', 6),), (),
+    Function('coriolis_vector', 'V xd without forming V.', ('x', 'xd'), (('Vxd', (6,)),), (),
              steps=(Kernels(CORIOLIS_PRODUCT, ('x', 'xd', 'xd'), (('Vv', 'Vxd'),)),)),
-    Function('gravity_vector', 'G(x).', ('x',), (('G', 6),), GRAVITY),
+    Function('gravity_vector', 'G(x).', ('x',), (('G', (6,)),), GRAVITY),
     Function('all_terms', 'M, V xd, G and J_C of one state, the terms of M xdd + V xd + G = J_C^T tau.',
-             ('x', 'xd'), (('M', 36), ('Vxd', 6), ('G', 6), ('JC', 36)), (),
+             ('x', 'xd'), (('M', (6, 6)), ('Vxd', (6,)), ('G', (6,)), ('JC', (6, 6))), (),
+             results=('mass_matrix', 'coriolis_vector', 'gravity_vector', 'jacobian'), result_type='AllTerms',
              steps=(*_MASS_STEPS, Kernels(CORIOLIS_PRODUCT, ('x', 'xd', 'xd'), (('Vv', 'Vxd'),)), Kernels(GRAVITY, ('x',)),
                     Kernels((jacobian_kernel,), ('x',)))),
-    Function('inverse_dynamics', 'tau = J_C^-T (M xdd + V xd + G).', ('x', 'xd', 'xdd'), (('tau', 6),),
+    Function('inverse_dynamics', 'tau = J_C^-T (M xdd + V xd + G).', ('x', 'xd', 'xdd'), (('tau', (6,)),),
              INVERSE_DYNAMICS, steps=(('bareiss_factor', ('JC', 'FJ')), ('bareiss_solve', ('FJ', '1', '1', 'W', 'tau'))),
              scratch=(_BAREISS_FACTORS,)),
     Function('forward_dynamics', 'xdd = M^-1 (J_C^T tau - V xd - G); needs cos(theta) != 0.',
-             ('x', 'xd', 'tau'), (('xdd', 6),), (), steps=_FORWARD_STEPS, scratch=_FORWARD_SCRATCH),
+             ('x', 'xd', 'tau'), (('xdd', (6,)),), (), steps=_FORWARD_STEPS, scratch=_FORWARD_SCRATCH),
     Function('inverse_dynamics_derivatives',
              'tau and its Jacobians (row = output, column = input): dtau/dx = J_C^-T R_x,'
              ' dtau/dxd = J_C^-T R_xd, dtau/dxdd = J_C^-T M, R = partials of M xdd + V xd + G - J_C^T tau.',
-             ('x', 'xd', 'xdd'), (('tau', 6), ('dtau_dx', 36), ('dtau_dxd', 36), ('dtau_dxdd', 36)),
+             ('x', 'xd', 'xdd'), (('tau', (6,)), ('dtau_dx', (6, 6)), ('dtau_dxd', (6, 6)), ('dtau_dxdd', (6, 6))),
              INVERSE_DYNAMICS,
              steps=(('bareiss_factor', ('JC', 'FJ')), ('bareiss_solve', ('FJ', '1', '1', 'W', 'tau')),
                     *_residual_steps(False),
                     ('bareiss_solve', ('FJ', '18', '18', 'Z', 'Y')),
                     ('split_jacobians', ('Y', 'dtau_dxdd', 'dtau_dx', 'dtau_dxd'))),
-             scratch=(_BAREISS_FACTORS, ('Y', 108))),
+             scratch=(_BAREISS_FACTORS, ('Y', 108)),
+             result_type='InverseDynamicsDerivatives'),
     Function('forward_dynamics_derivatives',
              'xdd and its Jacobians (row = output, column = input): dxdd/dx = -M^-1 R_x,'
              ' dxdd/dxd = -M^-1 R_xd, dxdd/dtau = M^-1 J_C^T, R = partials of M xdd + V xd + G - J_C^T tau;'
              ' needs cos(theta) != 0.',
-             ('x', 'xd', 'tau'), (('xdd', 6), ('dxdd_dx', 36), ('dxdd_dxd', 36), ('dxdd_dtau', 36)),
+             ('x', 'xd', 'tau'), (('xdd', (6,)), ('dxdd_dx', (6, 6)), ('dxdd_dxd', (6, 6)), ('dxdd_dtau', (6, 6))),
              (),
              steps=_FORWARD_STEPS + _residual_steps(True) + (
                                      ('ldl_solve', ('FM', '18', '18', 'Z', 'Y')),
                                      ('pose_accelerations', ('JAinv', '18', 'Y', 'D')),
                                      ('split_jacobians', ('D', 'dxdd_dx', 'dxdd_dxd', 'dxdd_dtau'))),
-             scratch=_FORWARD_SCRATCH + (('Y', 108), ('D', 108))),
+             scratch=_FORWARD_SCRATCH + (('Y', 108), ('D', 108)),
+             result_type='ForwardDynamicsDerivatives'),
     Function('joint_reactions',
              'tau and the joint reactions of each leg i (3 doubles per leg, leg-major, in {B}): f_base, the'
              ' force the base exerts on the leg at its universal joint B_i; f_platform, the force the leg'
              ' exerts on the platform at its spherical joint P_i; n_base, the moment the base exerts on'
              ' the leg through its universal joint.',
-             ('x', 'xd', 'xdd'), (('tau', 6), ('f_base', 18), ('f_platform', 18), ('n_base', 18)),
+             ('x', 'xd', 'xdd'), (('tau', (6,)), ('f_base', (6, 3)), ('f_platform', (6, 3)), ('n_base', (6, 3))),
              JOINT_REACTIONS,
              steps=(('bareiss_factor', ('JC', 'FJ')), ('bareiss_solve', ('FJ', '1', '1', 'W', 'tau')),
                     Kernels((joint_forces_kernel,), ('tau', 'JC', 'legf'))),
-             scratch=(_BAREISS_FACTORS,)),
+             scratch=(_BAREISS_FACTORS,),
+             results=('tau', 'base', 'platform', 'base_moment'), result_type='JointReactions'),
     Function('regressor',
              'The regressor Y (6 x 32, row-major) of the actuator forces, tau + friction = Y pi, with pi the'
              ' inertial parameters (the columns listed below): J_C^T Y = dW/dpi for the 20 rigid-body'
@@ -1072,16 +1091,17 @@ FUNCTIONS = (
              ' tanh(Ld_i / coulomb_velocity) (column 26 + i), Ld = J_C T xd: the friction law of'
              ' stewart_friction_forces.  The columns of the legs\' axial moments are zero where the legs do'
              ' not spin (spinless_legs != 0, or no universal_joint_axes).',
-             ('x', 'xd', 'xdd'), (('Y', 6 * (len(RIGID_BODY) + len(FRICTION_PARAMETERS))),), REGRESSOR,
+             ('x', 'xd', 'xdd'), (('Y', (6, len(RIGID_BODY) + len(FRICTION_PARAMETERS))),), REGRESSOR,
              steps=(('bareiss_factor', ('JC', 'FJ')),
                     ('bareiss_solve', ('FJ', str(len(RIGID_BODY)), _REGRESSOR_COLUMNS, 'Y', 'Y')),
                     ('spinless_columns', ('p', _REGRESSOR_COLUMNS, *_AXIAL_COLUMNS, 'Y'))),
              scratch=(_BAREISS_FACTORS,)),
     Function('rk4_step', 'One classic RK4 step of s = [x; xd], ds/dt = [xd; xdd(x, xd, tau)], tau constant:'
-             ' [xn; xdn] after dt.', ('x', 'xd', 'tau'), (('xn', 6), ('xdn', 6)), (), scalars=('dt',),
-             template='vector.c'),
+             ' [xn; xdn] after dt.', ('x', 'xd', 'tau'), (('xn', (6,)), ('xdn', (6,))), (), scalars=('dt',),
+             template='vector.c', results=('x', 'xd'), result_type='Step'),
     Function('rk4_step_derivatives', 'The RK4 step and its Jacobians A = d[xn; xdn]/d[x; xd] (12 x 12) and'
              ' B = d[xn; xdn]/dtau (12 x 6), row-major, by the chain rule through the stages.',
-             ('x', 'xd', 'tau'), (('xn', 6), ('xdn', 6), ('A', 144), ('B', 72)), (), scalars=('dt',),
-             template='vector.c'),
+             ('x', 'xd', 'tau'), (('xn', (6,)), ('xdn', (6,)), ('A', (12, 12)), ('B', (12, 6))), (), scalars=('dt',),
+             template='vector.c', results=('x', 'xd', 'A', 'B'), result_type='StepDerivatives',
+             option=('rk4_step', 'jacobians')),
 )

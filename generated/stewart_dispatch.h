@@ -8,6 +8,36 @@
 
 #include "stewart_model.h"
 
+/* The public functions of the table's `call`, in this order (their index):
+ *    0  leg_lengths
+ *    1  jacobian
+ *    2  leg_rates
+ *    3  mass_matrix
+ *    4  twist_mass_matrix
+ *    5  coriolis_matrix
+ *    6  coriolis_vector
+ *    7  gravity_vector
+ *    8  all_terms
+ *    9  inverse_dynamics
+ *   10  forward_dynamics
+ *   11  inverse_dynamics_derivatives
+ *   12  forward_dynamics_derivatives
+ *   13  joint_reactions
+ *   14  regressor
+ *   15  rk4_step
+ *   16  rk4_step_derivatives
+ */
+#define STEWART_FUNCTIONS 17
+/* The most input arrays and output arrays a public function has. */
+#define STEWART_MAX_INPUTS 3
+#define STEWART_MAX_OUTPUTS 4
+
+/* A public function in one calling convention (the table's `call`): its batch function on n
+ * rows with its input arrays in[], its scalar input (ignored by a function without one) and
+ * its output arrays out[], each in the order of its prototype. */
+typedef int (*stewart_call)(const stewart_params *p, size_t n, const double *const in[], double scalar,
+                            double *const out[], int *status);
+
 typedef struct {
     const char *name;      /* the target: baseline, avx2, avx512, or the one of the build */
     const char *level;     /* the x86-64 level the CPU needs ("" for none) */
@@ -55,6 +85,7 @@ typedef struct {
     int (*batch_regressor)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Y, int *status);
     int (*batch_rk4_step)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status);
     int (*batch_rk4_step_derivatives)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B, int *status);
+    stewart_call call[STEWART_FUNCTIONS];  /* the public functions by their index */
 } stewart_table;
 
 /* The compiled copies of the model and the choice between them at run time

@@ -22,6 +22,108 @@
 #include "stewart_internal.h"
 #include "stewart_dispatch.h"
 
+/* The public functions in the convention of the table's `call` (stewart_call): each its batch
+ * function, its arrays passed from in[] and out[]. */
+static int call_leg_lengths(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_leg_lengths(p, n, in[0], out[0], status);
+}
+
+static int call_jacobian(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_jacobian(p, n, in[0], out[0], status);
+}
+
+static int call_leg_rates(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_leg_rates(p, n, in[0], in[1], out[0], status);
+}
+
+static int call_mass_matrix(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_mass_matrix(p, n, in[0], out[0], status);
+}
+
+static int call_twist_mass_matrix(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_twist_mass_matrix(p, n, in[0], out[0], status);
+}
+
+static int call_coriolis_matrix(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_coriolis_matrix(p, n, in[0], in[1], out[0], status);
+}
+
+static int call_coriolis_vector(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_coriolis_vector(p, n, in[0], in[1], out[0], status);
+}
+
+static int call_gravity_vector(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_gravity_vector(p, n, in[0], out[0], status);
+}
+
+static int call_all_terms(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_all_terms(p, n, in[0], in[1], out[0], out[1], out[2], out[3], status);
+}
+
+static int call_inverse_dynamics(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_inverse_dynamics(p, n, in[0], in[1], in[2], out[0], status);
+}
+
+static int call_forward_dynamics(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_forward_dynamics(p, n, in[0], in[1], in[2], out[0], status);
+}
+
+static int call_inverse_dynamics_derivatives(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_inverse_dynamics_derivatives(p, n, in[0], in[1], in[2], out[0], out[1], out[2], out[3], status);
+}
+
+static int call_forward_dynamics_derivatives(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_forward_dynamics_derivatives(p, n, in[0], in[1], in[2], out[0], out[1], out[2], out[3], status);
+}
+
+static int call_joint_reactions(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_joint_reactions(p, n, in[0], in[1], in[2], out[0], out[1], out[2], out[3], status);
+}
+
+static int call_regressor(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_regressor(p, n, in[0], in[1], in[2], out[0], status);
+}
+
+static int call_rk4_step(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    return stewart_batch_rk4_step(p, n, in[0], in[1], in[2], scalar, out[0], out[1], status);
+}
+
+static int call_rk4_step_derivatives(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    return stewart_batch_rk4_step_derivatives(p, n, in[0], in[1], in[2], scalar, out[0], out[1], out[2], out[3], status);
+}
+
 const stewart_table STEWART_JOIN(stewart_table, STEWART_TARGET) = {
     STEWART_STRING(STEWART_TARGET), STEWART_TARGET_LEVEL, STEWART_TARGET_FLAGS, STEWART_COMPILER,
     stewart_status_message,
@@ -66,4 +168,5 @@ const stewart_table STEWART_JOIN(stewart_table, STEWART_TARGET) = {
     stewart_batch_regressor,
     stewart_batch_rk4_step,
     stewart_batch_rk4_step_derivatives,
+    {call_leg_lengths, call_jacobian, call_leg_rates, call_mass_matrix, call_twist_mass_matrix, call_coriolis_matrix, call_coriolis_vector, call_gravity_vector, call_all_terms, call_inverse_dynamics, call_forward_dynamics, call_inverse_dynamics_derivatives, call_forward_dynamics_derivatives, call_joint_reactions, call_regressor, call_rk4_step, call_rk4_step_derivatives},
 };

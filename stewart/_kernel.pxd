@@ -8,23 +8,32 @@ from stewart_model cimport *
 
 
 @cython.final
+cdef class _Function:
+    cdef readonly str name
+    cdef readonly int index, nin, nout
+    cdef readonly str scalar
+    cdef readonly tuple inputs, results
+    cdef tuple parts  # (output, start, stop, row shape) of each result
+    cdef bint whole
+    cdef int widths[STEWART_MAX_OUTPUTS]
+    cdef int ndims[STEWART_MAX_OUTPUTS]
+    cdef cnp.npy_intp dims[STEWART_MAX_OUTPUTS][2]
+
+    cdef object split(self, list outputs)
+
+
+@cython.final
 cdef class Kernel:
     cdef stewart_params p
     cdef readonly int threads
 
-    cdef object _run(self, str fname, int kind, void *fn, tuple names, tuple values,
-                     tuple shapes, bint return_mask, double scalar, void *batch_fn)
-    cdef void _batch(self, int kind, void *fn, Py_ssize_t n, Py_ssize_t block, const double *x0,
-                     const double *x1, const double *x2, double scalar, int nout, double **outs,
-                     const int *widths, int *status) noexcept nogil
-    cdef int _threads(self, int kind, void *fn, double scalar, int nout, Py_ssize_t n, Py_ssize_t block,
-                      const double *p0, const double *p1, const double *p2, double **po, const int *widths,
-                      int *ps) except -1
-    cdef int _row(self, int kind, void *fn, const double *x0, const double *x1, const double *x2,
-                  double scalar, double **outs, const int *widths, int nout, Py_ssize_t row,
-                  int *status) noexcept nogil
-    cdef object _failed(self, str fname, tuple names, tuple arrays, object out,
-                        cnp.ndarray status, bint batch, bint return_mask)
+    cdef object _run(self, _Function f, tuple values, double scalar, bint return_mask)
+    cdef void _batch(self, stewart_call fn, _Function f, Py_ssize_t n, Py_ssize_t block, const double **ins,
+                     double scalar, double **outs, int *status) noexcept nogil
+    cdef int _threads(self, stewart_call fn, _Function f, Py_ssize_t n, Py_ssize_t block, const double **ins,
+                      double scalar, double **outs, int *status) except -1
+    cdef object _failed(self, _Function f, tuple arrays, object out, cnp.ndarray status, bint batch,
+                        bint return_mask)
     cdef int leg_lengths_c(self, const double *x, double *out) noexcept nogil
     cdef int leg_rates_c(self, const double *x, const double *xd, double *L, double *Ld) noexcept nogil
     cdef int inverse_dynamics_c(self, const double *x, const double *xd, const double *xdd,

@@ -20,6 +20,7 @@ compiles the model once per instruction set, and the import picks the copy this 
 best, or the one ``STEWART_SIMD`` names.
 """
 
+import math
 import os
 from concurrent.futures import ThreadPoolExecutor
 
@@ -28,9 +29,12 @@ import numpy as np
 cimport cython
 cimport numpy as cnp
 from cython.parallel cimport prange
-from libc.math cimport isfinite, NAN
 
 from .model import arguments
+# The tables of the generated model (parameters, status codes, public functions), read here and
+# also importable from here.
+from ._generated import (CONDITIONS, FUNCTIONS, INERTIAL_NAMES, PARAM_FIELDS, PARAM_INPUTS, PARAM_SOURCES,
+                         PARAMS_LEFT_OUT)
 from .model.errors import SimdPathError, SingularityError
 
 cnp.import_array()
@@ -123,23 +127,9 @@ def build_info():
     }
 
 
-#: (member, shape) of every member of the C struct stewart_params, in order: the fields of a
-#: PlatformParams that reach the C model (the generator's parameter schema).
-PARAM_FIELDS = stewart_params_fields()
-#: {member: the PlatformParams attribute (a field or a property) it is copied from}.
-PARAM_SOURCES = stewart_params_sources()
-#: The fields of a PlatformParams the members are copied from.
-PARAM_INPUTS = stewart_params_inputs()
-#: The fields of a PlatformParams with no member in stewart_params, and why.
-PARAMS_LEFT_OUT = stewart_params_left_out()
-
-
-#: {status code: (name, message, tolerance or None)} of every status code of the C model: the
-#: conditions under which it is undefined and the tolerances of their tests (read by
-#: stewart.model.conditions).
-CONDITIONS = stewart_conditions()
-#: The inertial parameters pi of the regressor, in the order of its columns.
-INERTIAL_NAMES = stewart_inertial_names()
+#: The fields a parameter set must have: those the members of stewart_params are copied from,
+#: and those left out.
+cdef frozenset _PARAM_NAMES = frozenset(PARAM_INPUTS).union(PARAMS_LEFT_OUT)
 
 
 def status_message(int status):
@@ -147,58 +137,23 @@ def status_message(int status):
     return T.status_message(status).decode()
 
 
-ctypedef int (*state_fn)(const stewart_params *, const double *, double *) noexcept nogil
-ctypedef int (*rate_fn)(const stewart_params *, const double *, const double *, double *) noexcept nogil
-ctypedef int (*dynamics_fn)(const stewart_params *, const double *, const double *, const double *,
-                            double *) noexcept nogil
-ctypedef int (*four_outputs_fn)(const stewart_params *, const double *, const double *, const double *,
-                               double *, double *, double *, double *) noexcept nogil
-ctypedef int (*terms_fn)(const stewart_params *, const double *, const double *, double *, double *, double *,
-                         double *) noexcept nogil
-ctypedef int (*step_fn)(const stewart_params *, const double *, const double *, const double *, double,
-                        double *, double *) noexcept nogil
-ctypedef int (*step_derivatives_fn)(const stewart_params *, const double *, const double *, const double *,
-                                    double, double *, double *, double *, double *) noexcept nogil
-
-ctypedef int (*batch_state_fn)(const stewart_params *, size_t, const double *, double *, int *) noexcept nogil
-ctypedef int (*batch_rate_fn)(const stewart_params *, size_t, const double *, const double *, double *,
-                              int *) noexcept nogil
-ctypedef int (*batch_dynamics_fn)(const stewart_params *, size_t, const double *, const double *,
-                                  const double *, double *, int *) noexcept nogil
-ctypedef int (*batch_four_outputs_fn)(const stewart_params *, size_t, const double *, const double *,
-                                     const double *, double *, double *, double *, double *, int *) noexcept nogil
-ctypedef int (*batch_terms_fn)(const stewart_params *, size_t, const double *, const double *, double *, double *,
-                               double *, double *, int *) noexcept nogil
-ctypedef int (*batch_step_fn)(const stewart_params *, size_t, const double *, const double *, const double *,
-                              double, double *, double *, int *) noexcept nogil
-ctypedef int (*batch_step_derivatives_fn)(const stewart_params *, size_t, const double *, const double *,
-                                          const double *, double, double *, double *, double *, double *,
-                                          int *) noexcept nogil
-
 #: Rows of a batch function's states evaluated at once (one per vector lane of the copy in use).
 LANES = T.batch_lanes()
 cdef Py_ssize_t C_LANES = T.batch_lanes()
 
 cdef enum:
-    NONFINITE_INPUT = -1  # status of a row whose input is not finite (C status codes are >= 0)
-    MAX_OUTPUTS = 4
     # Bytes of inputs and outputs a thread takes at a time from a batch function: whole blocks
     # of LANES rows, within a core's L1 and L2 caches (Zen 4: 32 kB, 1 MB).
     BATCH_BYTES = 65536
-
-cdef enum Signature:
-    # The C signatures _run calls: 1-3 input arrays and one output, or as named.
-    FOUR_OUTPUTS = 4      # (p, x0, x1, x2, out0, out1, out2, out3)
-    STEP = 5              # (p, x0, x1, x2, scalar, out0, out1)
-    STEP_DERIVATIVES = 6  # (p, x0, x1, x2, scalar, out0, out1, out2, out3)
-    TERMS = 7             # (p, x0, x1, out0, out1, out2, out3)
+    # The most dimensions of an output array: the batch's and a row's (a matrix).
+    MAX_DIMS = 3
 
 
 cdef cnp.ndarray _states(str name, object value):
     """``value`` as a C-contiguous, aligned, native-byte-order float64 array of shape (6,)
     or (N, 6); no copy if it is one. What is a valid state array is decided in one place,
     :func:`stewart.arguments.state_array`; the fast path only recognises arrays that need
-    no conversion (finiteness is checked row by row in ``Kernel._row``)."""
+    no conversion (finiteness is checked by the C, row by row)."""
     cdef cnp.ndarray arr
     if type(value) is cnp.ndarray:
         arr = <cnp.ndarray>value
@@ -224,70 +179,63 @@ cdef cnp.ndarray _c_array(str name, object value, int typenum, int ndim, bint wr
                      f"{np.shape(value)}")
 
 
-cdef inline bint _finite6(const double *v) noexcept nogil:
+@cython.final
+cdef class _Function:
+    """A public function of the C model as the mover calls it: its entry of
+    stewart._generated.FUNCTIONS, with the sizes of its arrays at hand for C."""
+
+    def __cinit__(self, str name, spec):
+        cdef int k, j
+        self.name, self.index, self.inputs, self.results = name, spec.index, tuple(spec.inputs), tuple(spec.results)
+        self.nin, self.nout, self.scalar = len(spec.inputs), len(spec.outputs), spec.scalar
+        if not 0 <= self.index < STEWART_FUNCTIONS or self.nin > STEWART_MAX_INPUTS or self.nout > STEWART_MAX_OUTPUTS:
+            raise ImportError(f"stewart._generated does not match the compiled model ({name}): rebuild")
+        # Each result a whole output: the outputs are made in the results' shapes.
+        self.whole = len(self.results) == self.nout and all(
+            output == k and offset == 0 for k, (_, output, offset, _) in enumerate(self.results))
+        self.parts = tuple((output, offset, offset + math.prod(shape), shape)
+                           for _, output, offset, shape in self.results)
+        for k, (_, width) in enumerate(spec.outputs):
+            self.widths[k] = width
+            shape = self.results[k][3] if self.whole else (width,)
+            self.ndims[k] = len(shape)
+            if self.ndims[k] > MAX_DIMS - 1:
+                raise ImportError(f"{name}: an output of more than {MAX_DIMS - 1} dimensions per row")
+            for j in range(self.ndims[k]):
+                self.dims[k][j] = shape[j]
+
+    cdef object split(self, list outputs):
+        """The results, parts of the rows of the C function's ``outputs``, each C-contiguous."""
+        parts = []
+        for output, start, stop, shape in self.parts:
+            part = outputs[output][..., start:stop]
+            parts.append(np.ascontiguousarray(part.reshape(part.shape[:-1] + shape)))
+        return parts[0] if len(parts) == 1 else tuple(parts)
+
+
+#: {name: _Function} of every public function of the C model (stewart._generated.FUNCTIONS).
+cdef dict _FUNCTIONS = {name: _Function(name, spec) for name, spec in FUNCTIONS.items()}
+
+
+cdef inline void _batch_call(const stewart_params *p, stewart_call fn, Py_ssize_t start, Py_ssize_t count,
+                             int nin, const double **ins, double scalar, int nout, double **outs,
+                             const int *widths, int *status) noexcept nogil:
+    """Rows start ... start + count - 1 of a batch through the function ``fn``: its ``nin``
+    input arrays ``ins`` (6 doubles a row) and ``nout`` output arrays ``outs`` (``widths``)."""
+    cdef const double *i[STEWART_MAX_INPUTS]
+    cdef double *o[STEWART_MAX_OUTPUTS]
     cdef int k
-    for k in range(6):
-        if not isfinite(v[k]):
-            return False
-    return True
-
-
-cdef object _parts(object result, bint return_mask, tuple shapes):
-    """Split the rows of a C function's one output array into its parts of ``shapes``
-    (``(6,)`` or ``(6, 6)``; row-major), each C-contiguous; ``result`` is as ``Kernel._run``
-    returns."""
-    out = result[0] if return_mask else result
-    parts, start = [], 0
-    for shape in shapes:
-        size = 36 if len(shape) == 2 else 6
-        part = out[..., start:start + size]
-        parts.append(np.ascontiguousarray(part.reshape(part.shape[:-1] + shape)))
-        start += size
-    return (tuple(parts), result[1]) if return_mask else tuple(parts)
-
-
-#: Row shapes of the outputs of the C functions.
-_VECTOR = ((6,),)
-_MATRIX = ((6, 6),)
-_DERIVATIVES = ((6,), (6, 6), (6, 6), (6, 6))
-_STEP = ((6,), (6,))
-_JOINT_REACTIONS = ((6,), (6, 3), (6, 3), (6, 3))
-_STEP_DERIVATIVES = ((6,), (6,), (12, 12), (12, 6))
-_TERMS = ((6, 6), (6,), (6,), (6, 6))
-
-
-cdef inline void _batch_call(const stewart_params *p, int kind, void *fn, Py_ssize_t start, Py_ssize_t count,
-                             const double *x0, const double *x1, const double *x2, double scalar,
-                             int nout, double **outs, const int *widths, int *status) noexcept nogil:
-    """Rows start ... start + count - 1 of a batch through the batch function ``fn`` (``kind``
-    1-3 inputs and one output, or a ``Signature``), its ``nout`` outputs in ``outs``."""
-    cdef double *o[MAX_OUTPUTS]
-    cdef int k
+    for k in range(nin):
+        i[k] = ins[k] + 6 * start
     for k in range(nout):
         o[k] = outs[k] + widths[k] * start
-    x0 += 6 * start
-    x1 += 6 * start
-    x2 += 6 * start
-    if kind == 1:
-        (<batch_state_fn>fn)(p, count, x0, o[0], status + start)
-    elif kind == 2:
-        (<batch_rate_fn>fn)(p, count, x0, x1, o[0], status + start)
-    elif kind == 3:
-        (<batch_dynamics_fn>fn)(p, count, x0, x1, x2, o[0], status + start)
-    elif kind == FOUR_OUTPUTS:
-        (<batch_four_outputs_fn>fn)(p, count, x0, x1, x2, o[0], o[1], o[2], o[3], status + start)
-    elif kind == TERMS:
-        (<batch_terms_fn>fn)(p, count, x0, x1, o[0], o[1], o[2], o[3], status + start)
-    elif kind == STEP:
-        (<batch_step_fn>fn)(p, count, x0, x1, x2, scalar, o[0], o[1], status + start)
-    else:
-        (<batch_step_derivatives_fn>fn)(p, count, x0, x1, x2, scalar, o[0], o[1], o[2], o[3], status + start)
+    fn(p, count, i, scalar, o, status + start)
 
 
-cdef Py_ssize_t _batch_block(int arity, int nout, const int *widths) noexcept nogil:
+cdef Py_ssize_t _batch_block(int nin, int nout, const int *widths) noexcept nogil:
     """Rows a thread takes at a time from a batch function: BATCH_BYTES of their inputs,
     outputs and statuses, in whole blocks of LANES rows."""
-    cdef Py_ssize_t k, row = 6 * arity * sizeof(double) + sizeof(int)
+    cdef Py_ssize_t k, row = 6 * nin * sizeof(double) + sizeof(int)
     for k in range(nout):
         row += widths[k] * sizeof(double)
     return max(1, BATCH_BYTES // row // C_LANES) * C_LANES
@@ -296,164 +244,148 @@ cdef Py_ssize_t _batch_block(int arity, int nout, const int *widths) noexcept no
 @cython.final
 cdef class Kernel:
     """The compiled model for one parameter set. ``threads`` > 1 splits batches over
-    that many threads."""
+    that many threads.
+
+    :meth:`call` runs any public function of the C model (stewart._generated.FUNCTIONS) on
+    one state or a batch; each is also a method of its name (``kernel.inverse_dynamics(x, xd,
+    xdd, return_mask=False)``; the RK4 step ``kernel.rk4_step(x, xd, tau, dt, jacobians=False,
+    return_mask=False)``)."""
 
     def __cinit__(self, params, threads=1):
-        stewart_params_fill(&self.p, params)
+        stewart_params_fill(&self.p, params, _PARAM_NAMES)
         self.threads = arguments.thread_count(threads)
 
-    cdef object _run(self, str fname, int kind, void *fn, tuple names, tuple values,
-                     tuple shapes, bint return_mask, double scalar, void *batch_fn):
-        """Evaluate the single-state function ``fn`` on one state, or its batch function
-        ``batch_fn`` on a batch: ``kind`` 1-3 input arrays and one output, or a ``Signature``
-        (three inputs, and ``scalar`` the same for every row); an output array per row shape in
-        ``shapes``, returned as it is for one, as a tuple for several."""
-        cdef cnp.ndarray a0, a1, a2, status
-        cdef const double *p0
-        cdef const double *p1
-        cdef const double *p2
-        cdef double *po[MAX_OUTPUTS]
-        cdef int widths[MAX_OUTPUTS]
+    def call(self, str name, *arrays, double scalar=0.0, bint return_mask=False):
+        """The public function ``name`` of the C model on ``arrays``, its inputs (each one state
+        ``(6,)`` or a batch ``(N, 6)``; a row broadcasts against a batch), with its scalar input
+        ``scalar`` (the RK4 step's ``dt``): its one result, or the tuple of its results, each of
+        shape ``(N,) +`` its row shape for a batch; with ``return_mask``, ``(result, ok)``."""
+        cdef _Function f = _FUNCTIONS.get(name)
+        if f is None:
+            raise ValueError(f"no function {name!r} in the C model; its functions: {', '.join(_FUNCTIONS)}")
+        if len(arrays) != f.nin:
+            raise TypeError(f"{name} takes {f.nin} array(s) ({', '.join(f.inputs)}), got {len(arrays)}")
+        return self._run(f, arrays, scalar, return_mask)
+
+    def __getattr__(self, str name):
+        """The public functions of the C model as methods (stewart._generated.FUNCTIONS: each
+        function under its method's name)."""
+        entry = _METHODS.get(name)
+        if entry is None:
+            raise AttributeError(f"'Kernel' object has no attribute {name!r}")
+        return _Method(self, *entry)
+
+    def __dir__(self):
+        return sorted(set(object.__dir__(self)) | _METHODS.keys())
+
+    cdef object _run(self, _Function f, tuple values, double scalar, bint return_mask):
+        """Evaluate ``f`` on one state (its batch function on one row) or on a batch (in
+        blocks of rows, split over threads if asked), the inputs ``values`` checked and
+        converted, its outputs made; its result, or the errors of its failed rows."""
+        cdef cnp.ndarray arr, status
+        cdef const double *ins[STEWART_MAX_INPUTS]
+        cdef double *outs[STEWART_MAX_OUTPUTS]
+        cdef cnp.npy_intp dims[MAX_DIMS]
         cdef int *ps
         cdef int status1 = 0
         cdef cnp.npy_intp n = 1
         cdef bint batch = False
-        cdef int nthreads = self.threads
-        cdef Py_ssize_t block
-        cdef int failures = 0
-        cdef int k, nout = len(shapes)
-        cdef int arity = kind if kind <= 3 else 2 if kind == TERMS else 3
-        cdef cnp.npy_intp dims[3]
-        cdef int nd
+        cdef Py_ssize_t block, failures
+        cdef int j, k, nd, nin = f.nin, nout = f.nout
+        cdef stewart_call fn = T.call[f.index]
 
-        a0 = _states(names[0], values[0])
-        a1 = _states(names[1], values[1]) if arity > 1 else a0
-        a2 = _states(names[2], values[2]) if arity > 2 else a0
-        if a0.ndim == 2 or a1.ndim == 2 or a2.ndim == 2:
-            for arr in (a0, a1, a2):
-                if arr.ndim == 2:
-                    if batch and arr.shape[0] != n:
-                        raise ValueError(
-                            "arguments must have matching batch shapes: "
-                            + ", ".join(f"{nm} {np.shape(v)}" for nm, v in zip(names, values)))
-                    batch, n = True, arr.shape[0]
-
-        outs = []
+        arrays = [_states(f.inputs[k], values[k]) for k in range(nin)]
+        for k in range(nin):
+            arr = <cnp.ndarray>arrays[k]
+            if arr.ndim == 2:
+                if batch and arr.shape[0] != n:
+                    raise ValueError("arguments must have matching batch shapes: "
+                                     + ", ".join(f"{nm} {np.shape(v)}" for nm, v in zip(f.inputs, values)))
+                batch, n = True, arr.shape[0]
+        outputs = []
         for k in range(nout):
-            shape = shapes[k]
             nd = 0
             if batch:
-                dims[nd] = n
+                dims[0] = n
+                nd = 1
+            for j in range(f.ndims[k]):
+                dims[nd] = f.dims[k][j]
                 nd += 1
-            widths[k] = 1
-            for size in shape:
-                dims[nd] = size
-                nd += 1
-                widths[k] *= size
-            out = cnp.PyArray_EMPTY(nd, dims, cnp.NPY_DOUBLE, 0)
-            po[k] = <double *>cnp.PyArray_DATA(out)
-            outs.append(out)
-        if n == 1:  # one row's status needs no array unless it fails
-            status = None
-            ps = &status1
-        else:
-            status = cnp.PyArray_ZEROS(1, &n, cnp.NPY_INT, 0)
-            ps = <int *>cnp.PyArray_DATA(status)
-        p0 = <const double *>cnp.PyArray_DATA(a0)
-        p1 = <const double *>cnp.PyArray_DATA(a1)
-        p2 = <const double *>cnp.PyArray_DATA(a2)
+            arr = cnp.PyArray_EMPTY(nd, dims, cnp.NPY_DOUBLE, 0)
+            outs[k] = <double *>cnp.PyArray_DATA(arr)
+            outputs.append(arr)
 
         if batch:
-            # The batch function takes whole arrays: a row broadcast against the batch is copied.
-            if a0.ndim == 1: a0 = np.ascontiguousarray(np.broadcast_to(a0, (n, 6)))
-            if a1.ndim == 1: a1 = np.ascontiguousarray(np.broadcast_to(a1, (n, 6)))
-            if a2.ndim == 1: a2 = np.ascontiguousarray(np.broadcast_to(a2, (n, 6)))
-            p0 = <const double *>cnp.PyArray_DATA(a0)
-            p1 = <const double *>cnp.PyArray_DATA(a1)
-            p2 = <const double *>cnp.PyArray_DATA(a2)
-            block = _batch_block(arity, nout, widths)
-            if nthreads > 1 and n > block and not STEWART_OPENMP:
-                self._threads(kind, batch_fn, scalar, nout, n, block, p0, p1, p2, po, widths, ps)
+            for k in range(nin):
+                arr = <cnp.ndarray>arrays[k]
+                if arr.ndim == 1:  # the batch function takes whole arrays: a row broadcast is copied
+                    arr = np.ascontiguousarray(np.broadcast_to(arr, (n, 6)))
+                    arrays[k] = arr
+                ins[k] = <const double *>cnp.PyArray_DATA(arr)
+            status = cnp.PyArray_ZEROS(1, &n, cnp.NPY_INT, 0)
+            ps = <int *>cnp.PyArray_DATA(status)
+            block = _batch_block(nin, nout, f.widths)
+            if self.threads > 1 and n > block and not STEWART_OPENMP:
+                self._threads(fn, f, n, block, ins, scalar, outs, ps)
             else:
                 with nogil:
-                    self._batch(kind, batch_fn, n, block, p0, p1, p2, scalar, nout, po, widths, ps)
-            failures = np.count_nonzero(status) if status is not None else status1 != STEWART_OK
+                    self._batch(fn, f, n, block, ins, scalar, outs, ps)
+            failures = np.count_nonzero(status)
         else:
-            failures = self._row(kind, fn, p0, p1, p2, scalar, po, widths, nout, 0, ps)
-        result = outs[0] if nout == 1 else tuple(outs)
+            for k in range(nin):
+                ins[k] = <const double *>cnp.PyArray_DATA(<cnp.ndarray>arrays[k])
+            status1 = fn(&self.p, 1, ins, scalar, outs, NULL)
+            failures = status1 != STEWART_OK
+            status = None
+        if f.whole:
+            result = outputs[0] if nout == 1 else tuple(outputs)
+        else:
+            result = f.split(outputs)
         if failures == 0:
             return (result, np.ones(n, dtype=bool) if batch else True) if return_mask else result
         if status is None:
             status = np.array([status1], dtype=np.intc)
-        return self._failed(fname, names, (a0, a1, a2)[:arity], result, status, batch, return_mask)
+        return self._failed(f, tuple(arrays), result, status, batch, return_mask)
 
-    cdef void _batch(self, int kind, void *fn, Py_ssize_t n, Py_ssize_t block, const double *x0,
-                     const double *x1, const double *x2, double scalar, int nout, double **outs,
-                     const int *widths, int *status) noexcept nogil:
-        """The batch function ``fn`` (``kind`` as for ``_batch_call``) on n rows, in blocks of
-        ``block`` rows split over OpenMP threads (one thread without OpenMP)."""
+    cdef void _batch(self, stewart_call fn, _Function f, Py_ssize_t n, Py_ssize_t block, const double **ins,
+                     double scalar, double **outs, int *status) noexcept nogil:
+        """``fn`` on n rows, in blocks of ``block`` rows split over OpenMP threads (one thread
+        without OpenMP)."""
         cdef Py_ssize_t b, start, count, nblocks = (n + block - 1) // block
         if self.threads > 1 and nblocks > 1:
             for b in prange(nblocks, num_threads=self.threads, schedule="dynamic"):
                 start = b * block
                 count = min(block, n - start)
-                _batch_call(&self.p, kind, fn, start, count, x0, x1, x2, scalar, nout, outs, widths, status)
+                _batch_call(&self.p, fn, start, count, f.nin, ins, scalar, f.nout, outs, f.widths, status)
         else:
-            _batch_call(&self.p, kind, fn, 0, n, x0, x1, x2, scalar, nout, outs, widths, status)
+            _batch_call(&self.p, fn, 0, n, f.nin, ins, scalar, f.nout, outs, f.widths, status)
 
-    cdef int _threads(self, int kind, void *fn, double scalar, int nout, Py_ssize_t n, Py_ssize_t block,
-                      const double *p0, const double *p1, const double *p2, double **po, const int *widths,
-                      int *ps) except -1:
+    cdef int _threads(self, stewart_call fn, _Function f, Py_ssize_t n, Py_ssize_t block, const double **ins,
+                      double scalar, double **outs, int *status) except -1:
         """The n rows split over plain threads (a build without OpenMP) in blocks of ``block``
-        rows, through the batch function ``fn``."""
-        blocks = _Blocks(self, kind, <Py_ssize_t>fn, scalar, nout, n, block)
-        blocks.p0, blocks.p1, blocks.p2 = p0, p1, p2
-        blocks.po, blocks.widths, blocks.ps = po, widths, ps
+        rows, through ``fn``."""
+        cdef int k
+        cdef _Blocks blocks = _Blocks(self, f, scalar, n, block)
+        blocks.fn, blocks.status = fn, status
+        for k in range(f.nin):
+            blocks.ins[k] = ins[k]
+        for k in range(f.nout):
+            blocks.outs[k] = outs[k]
         with ThreadPoolExecutor(self.threads) as pool:
             list(pool.map(blocks.run, range(self.threads), [self.threads] * self.threads))
         return 0
 
-    cdef int _row(self, int kind, void *fn, const double *x0, const double *x1, const double *x2,
-                  double scalar, double **outs, const int *widths, int nout, Py_ssize_t row,
-                  int *status) noexcept nogil:
-        """Row ``row``: its outputs start ``row * widths[k]`` into ``outs[k]``."""
-        cdef int j, k
-        cdef double *o[MAX_OUTPUTS]
-        for k in range(nout):
-            o[k] = outs[k] + row * widths[k]
-        if not (_finite6(x0) and (kind < 2 or _finite6(x1)) and (kind < 3 or _finite6(x2))):
-            status[0] = NONFINITE_INPUT
-            for k in range(nout):
-                for j in range(widths[k]):
-                    o[k][j] = NAN
-            return 1
-        if kind == 1:
-            status[0] = (<state_fn>fn)(&self.p, x0, o[0])
-        elif kind == 2:
-            status[0] = (<rate_fn>fn)(&self.p, x0, x1, o[0])
-        elif kind == 3:
-            status[0] = (<dynamics_fn>fn)(&self.p, x0, x1, x2, o[0])
-        elif kind == FOUR_OUTPUTS:
-            status[0] = (<four_outputs_fn>fn)(&self.p, x0, x1, x2, o[0], o[1], o[2], o[3])
-        elif kind == TERMS:
-            status[0] = (<terms_fn>fn)(&self.p, x0, x1, o[0], o[1], o[2], o[3])
-        elif kind == STEP:
-            status[0] = (<step_fn>fn)(&self.p, x0, x1, x2, scalar, o[0], o[1])
-        else:
-            status[0] = (<step_derivatives_fn>fn)(&self.p, x0, x1, x2, scalar, o[0], o[1], o[2], o[3])
-        return status[0] != STEWART_OK
-
-    cdef object _failed(self, str fname, tuple names, tuple arrays, object out,
-                        cnp.ndarray status, bint batch, bint return_mask):
-        # The batch functions report a row with a non-finite input as STEWART_ERR_NONFINITE.
-        if np.any((status == NONFINITE_INPUT) | (status == STEWART_ERR_NONFINITE)):
-            for name, arr in zip(names, arrays):
+    cdef object _failed(self, _Function f, tuple arrays, object out, cnp.ndarray status, bint batch,
+                        bint return_mask):
+        # The C reports a row with a non-finite input as STEWART_ERR_NONFINITE.
+        if np.any(status == STEWART_ERR_NONFINITE):
+            for name, arr in zip(f.inputs, arrays):
                 arguments.finite_states(name, arr)
         rows = np.flatnonzero(status != STEWART_OK)
         if return_mask:
             return out, (status == STEWART_OK) if batch else bool(status[0] == STEWART_OK)
         condition, message, _ = CONDITIONS[status[rows[0]]]
-        raise SingularityError.at_rows(fname, condition, message, rows.tolist(), batch)
+        raise SingularityError.at_rows(f.name, condition, message, rows.tolist(), batch)
 
     cdef int leg_lengths_c(self, const double *x, double *out) noexcept nogil:
         return T.leg_lengths(&self.p, x, out)
@@ -484,80 +416,6 @@ cdef class Kernel:
                                       int *status) noexcept nogil:
         T.batch_joint_reactions(&self.p, n, x, xd, xdd, tau, f_base, f_platform, n_base, status)
 
-    def leg_lengths(self, x, return_mask=False):
-        return self._run("leg_lengths", 1, <void *>T.leg_lengths, ("x",), (x,), _VECTOR, return_mask,
-                         0.0, <void *>T.batch_leg_lengths)
-
-    def jacobian(self, x, return_mask=False):
-        return self._run("jacobian", 1, <void *>T.jacobian, ("x",), (x,), _MATRIX, return_mask,
-                         0.0, <void *>T.batch_jacobian)
-
-    def leg_rates(self, x, xd, return_mask=False):
-        """``(L, Ldot)`` from the C function's one array ``[L; Ldot]`` per row."""
-        return _parts(self._run("leg_rates", 2, <void *>T.leg_rates, ("x", "xd"), (x, xd), ((12,),), return_mask,
-                                0.0, <void *>T.batch_leg_rates),
-                      return_mask, ((6,), (6,)))
-
-    def all_terms(self, x, xd, return_mask=False):
-        """``(M, V xd, G, J_C)``."""
-        return self._run("all_terms", TERMS, <void *>T.all_terms, ("x", "xd"), (x, xd), _TERMS, return_mask,
-                         0.0, <void *>T.batch_all_terms)
-
-    def mass_matrix(self, x, return_mask=False):
-        return self._run("mass_matrix", 1, <void *>T.mass_matrix, ("x",), (x,), _MATRIX, return_mask,
-                         0.0, <void *>T.batch_mass_matrix)
-
-    def twist_mass_matrix(self, x, return_mask=False):
-        return self._run("twist_mass_matrix", 1, <void *>T.twist_mass_matrix, ("x",), (x,), _MATRIX,
-                         return_mask,
-                         0.0, <void *>T.batch_twist_mass_matrix)
-
-    def gravity_vector(self, x, return_mask=False):
-        return self._run("gravity_vector", 1, <void *>T.gravity_vector, ("x",), (x,), _VECTOR, return_mask,
-                         0.0, <void *>T.batch_gravity_vector)
-
-    def coriolis_matrix(self, x, xd, return_mask=False):
-        return self._run("coriolis_matrix", 2, <void *>T.coriolis_matrix, ("x", "xd"), (x, xd), _MATRIX,
-                         return_mask,
-                         0.0, <void *>T.batch_coriolis_matrix)
-
-    def coriolis_vector(self, x, xd, return_mask=False):
-        return self._run("coriolis_vector", 2, <void *>T.coriolis_vector, ("x", "xd"), (x, xd), _VECTOR,
-                         return_mask,
-                         0.0, <void *>T.batch_coriolis_vector)
-
-    def inverse_dynamics(self, x, xd, xdd, return_mask=False):
-        return self._run("inverse_dynamics", 3, <void *>T.inverse_dynamics, ("x", "xd", "xdd"),
-                         (x, xd, xdd), _VECTOR, return_mask,
-                         0.0, <void *>T.batch_inverse_dynamics)
-
-    def forward_dynamics(self, x, xd, tau, return_mask=False):
-        return self._run("forward_dynamics", 3, <void *>T.forward_dynamics, ("x", "xd", "tau"),
-                         (x, xd, tau), _VECTOR, return_mask,
-                         0.0, <void *>T.batch_forward_dynamics)
-
-    def inverse_dynamics_derivatives(self, x, xd, xdd, return_mask=False):
-        """``(tau, dtau_dx, dtau_dxd, dtau_dxdd)``."""
-        return self._run("inverse_dynamics_derivatives", FOUR_OUTPUTS, <void *>T.inverse_dynamics_derivatives,
-                         ("x", "xd", "xdd"), (x, xd, xdd), _DERIVATIVES, return_mask,
-                         0.0, <void *>T.batch_inverse_dynamics_derivatives)
-
-    def forward_dynamics_derivatives(self, x, xd, tau, return_mask=False):
-        """``(xdd, dxdd_dx, dxdd_dxd, dxdd_dtau)``."""
-        return self._run("forward_dynamics_derivatives", FOUR_OUTPUTS, <void *>T.forward_dynamics_derivatives,
-                         ("x", "xd", "tau"), (x, xd, tau), _DERIVATIVES, return_mask,
-                         0.0, <void *>T.batch_forward_dynamics_derivatives)
-
-    def joint_reactions(self, x, xd, xdd, return_mask=False):
-        """``(tau, f_base, f_platform, n_base)``, the last three ``(6, 3)`` per row."""
-        return self._run("joint_reactions", FOUR_OUTPUTS, <void *>T.joint_reactions, ("x", "xd", "xdd"),
-                         (x, xd, xdd), _JOINT_REACTIONS, return_mask, 0.0, <void *>T.batch_joint_reactions)
-
-    def regressor(self, x, xd, xdd, return_mask=False):
-        """Y, ``(6, len(INERTIAL_NAMES))`` per row."""
-        return self._run("regressor", 3, <void *>T.regressor, ("x", "xd", "xdd"), (x, xd, xdd),
-                         ((6, len(INERTIAL_NAMES)),), return_mask, 0.0, <void *>T.batch_regressor)
-
     def friction_forces(self, rates, law):
         """The forces the legs lose to friction (the C model's law, stewart_batch_friction_forces)
         at the leg rates ``rates`` (``(6,)`` or ``(N, 6)``, C-contiguous float64) for the law
@@ -572,14 +430,53 @@ cdef class Kernel:
                                     NULL)
         return out
 
-    def rk4_step(self, x, xd, tau, double dt, bint jacobians=False, return_mask=False):
-        """``(x, xd)`` after one RK4 step of ``dt`` (a positive finite number, checked by the
-        caller), with ``(A, B)`` after them when ``jacobians``."""
-        if jacobians:
-            return self._run("rk4_step", STEP_DERIVATIVES, <void *>T.rk4_step_derivatives, ("x", "xd", "tau"),
-                             (x, xd, tau), _STEP_DERIVATIVES, return_mask, dt, <void *>T.batch_rk4_step_derivatives)
-        return self._run("rk4_step", STEP, <void *>T.rk4_step, ("x", "xd", "tau"), (x, xd, tau), _STEP,
-                         return_mask, dt, <void *>T.batch_rk4_step)
+
+@cython.final
+cdef class _Method:
+    """A public function of the C model as a method of a Kernel: ``(*arrays, [scalar,]
+    [option=False,] return_mask=False)``, the arrays and the scalar (if the function has one)
+    named as the function's inputs; with ``option`` true, the function ``optional``."""
+    cdef Kernel kernel
+    cdef _Function plain, optional
+    cdef str option
+
+    def __cinit__(self, Kernel kernel, _Function plain, str option, _Function optional):
+        self.kernel, self.plain, self.option, self.optional = kernel, plain, option, optional
+
+    def __call__(self, *args, **kwargs):
+        f = self.plain
+        names = f.inputs + ((f.scalar,) if f.scalar else ()) + ((self.option,) if self.option else ()) + ("return_mask",)
+        required = f.nin + bool(f.scalar)
+        if len(args) > len(names):
+            raise TypeError(f"{f.name} takes at most {len(names)} arguments ({', '.join(names)}), got {len(args)}")
+        bound = dict(zip(names, args))
+        for key, value in kwargs.items():
+            if key not in names or key in bound:
+                raise TypeError(f"{f.name}: {'unexpected' if key not in names else 'repeated'} argument {key!r}")
+            bound[key] = value
+        missing = [name for name in names[:required] if name not in bound]
+        if missing:
+            raise TypeError(f"{f.name}: missing argument(s) {', '.join(missing)}")
+        if self.option and bound.get(self.option, False):
+            f = self.optional
+        return self.kernel._run(f, tuple(bound[name] for name in f.inputs), bound[f.scalar] if f.scalar else 0.0,
+                                bound.get("return_mask", False))
+
+
+def _methods():
+    """{method: (its function, its option or '', the function with the option true or None)}."""
+    methods = {}
+    for name, spec in FUNCTIONS.items():
+        if not spec.option:
+            methods[spec.method] = [_FUNCTIONS[name], "", None]
+    for name, spec in FUNCTIONS.items():
+        if spec.option:
+            methods[spec.method][1:] = [spec.option, _FUNCTIONS[name]]
+    return {method: tuple(entry) for method, entry in methods.items()}
+
+
+#: {method: (function, option, function with the option)} of the Kernel's methods.
+cdef dict _METHODS = _methods()
 
 
 @cython.final
@@ -587,21 +484,16 @@ cdef class _Blocks:
     """A batch split over plain threads (a build without OpenMP): thread ``k`` of ``m`` runs
     blocks k, k + m, ... of ``block`` rows without the GIL, through the batch function."""
     cdef Kernel kernel
-    cdef int kind, nout
-    cdef void *fn
+    cdef _Function f
+    cdef stewart_call fn
     cdef double scalar
     cdef Py_ssize_t n, block
-    cdef const double *p0
-    cdef const double *p1
-    cdef const double *p2
-    cdef double **po
-    cdef const int *widths
-    cdef int *ps
+    cdef const double *ins[STEWART_MAX_INPUTS]
+    cdef double *outs[STEWART_MAX_OUTPUTS]
+    cdef int *status
 
-    def __cinit__(self, Kernel kernel, int kind, Py_ssize_t fn, double scalar, int nout, Py_ssize_t n,
-                  Py_ssize_t block):
-        self.kernel, self.kind, self.fn, self.scalar, self.nout, self.n = kernel, kind, <void *>fn, scalar, nout, n
-        self.block = block
+    def __cinit__(self, Kernel kernel, _Function f, double scalar, Py_ssize_t n, Py_ssize_t block):
+        self.kernel, self.f, self.scalar, self.n, self.block = kernel, f, scalar, n, block
 
     def run(self, Py_ssize_t first, Py_ssize_t step):
         """Run blocks ``first``, ``first + step``, ...."""
@@ -609,8 +501,8 @@ cdef class _Blocks:
         with nogil:
             start = first * self.block
             while start < self.n:
-                _batch_call(&self.kernel.p, self.kind, self.fn, start, min(self.block, self.n - start),
-                            self.p0, self.p1, self.p2, self.scalar, self.nout, self.po, self.widths, self.ps)
+                _batch_call(&self.kernel.p, self.fn, start, min(self.block, self.n - start), self.f.nin,
+                            self.ins, self.scalar, self.f.nout, self.outs, self.f.widths, self.status)
                 start += step * self.block
 
 

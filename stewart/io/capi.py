@@ -23,7 +23,7 @@ from typing import Any
 
 import numpy as np
 
-from .._kernel import PARAM_FIELDS, PARAM_INPUTS, PARAM_SOURCES, PARAMS_LEFT_OUT
+from .._generated import PARAM_FIELDS, PARAM_INPUTS, PARAM_SOURCES, PARAMS_LEFT_OUT
 from ..model.params import PlatformParams
 
 __all__ = ["c_include_dir", "c_flags", "c_sources", "export", "params_header", "params_initializer", "HEADER",

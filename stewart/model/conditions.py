@@ -31,7 +31,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from .._kernel import CONDITIONS as _GENERATED
+from .._generated import CONDITIONS as _GENERATED
 from .errors import SingularityError
 
 __all__ = [

@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 
 from . import arguments, paramfile
-from .._kernel import INERTIAL_NAMES as _inertial_names_of_the_model
+from .._generated import INERTIAL_NAMES as _inertial_names_of_the_model
 from .errors import WrongTypeError
 from .presets import fields as _preset_fields
 

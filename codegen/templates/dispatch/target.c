@@ -21,6 +21,9 @@
 #include "stewart_internal.h"
 #include "stewart_dispatch.h"
 
+/* The public functions in the convention of the table's `call` (stewart_call): each its batch
+ * function, its arrays passed from in[] and out[]. */
+@CALLS@
 const stewart_table STEWART_JOIN(stewart_table, STEWART_TARGET) = {
     STEWART_STRING(STEWART_TARGET), STEWART_TARGET_LEVEL, STEWART_TARGET_FLAGS, STEWART_COMPILER,
 @ENTRIES@
