@@ -550,6 +550,17 @@ def leg_rates_kernel():
                       [('LLd', [leg.L for leg in kin.legs] + list(Ld))] + _leg_checks(kin))
 
 
+def leg_accelerations_kernel():
+    """Lddot_i, the time derivative of Ldot_i = u_i . w_i (eqs. 4, 26) with w_i = v + omega x
+    r_i the velocity of P_i (eq. 27), by forward mode along x' = xd, xd' = xdd."""
+    g = _accelerated_graph()
+    kin = kinematics(g, PARAMS)
+    v, omega = twist(g, kin, XD, 'q')
+    rates = [g.define(f'Ld{i}', _dot(leg.u, v + _cross(omega, leg.r))) for i, leg in enumerate(kin.legs)]
+    return KernelSpec('leg_accelerations', leg_accelerations_kernel.__doc__, g, [('x', X), ('xd', XD), ('xdd', XDD)],
+                      [('Ldd', [g.rate(Ld) for Ld in rates])] + _leg_checks(kin))
+
+
 def gravity_force(g, P, kin):
     """G = sum_b J_b^T m_b g e_z (eqs. 72-76)."""
     w_P, w_C, w_S = _gravity_forces(P, True)
@@ -1028,6 +1039,8 @@ FUNCTIONS = (
     Function('leg_rates', 'Leg lengths L and rates Ldot = J_C T xd in one pass: LLd = [L; Ldot].',
              ('x', 'xd'), (('LLd', (12,)),), (leg_rates_kernel,),
              results=(('L', (6,)), ('Ldot', (6,)))),
+    Function('leg_accelerations', 'Leg accelerations Lddot, the time derivative of Ldot = J_C T xd at xdd.',
+             ('x', 'xd', 'xdd'), (('Ldd', (6,)),), (leg_accelerations_kernel,)),
     Function('mass_matrix', 'M = M_t T.', ('x',), (('M', (6, 6)),), (), steps=_MASS_STEPS),
     Function('twist_mass_matrix', 'M_t, the symmetric positive definite twist-space mass matrix: M = M_t T.',
              ('x',), (('Mt', (6, 6)),), TWIST_MASS_MATRIX),

@@ -12,22 +12,23 @@
  *    0  leg_lengths
  *    1  jacobian
  *    2  leg_rates
- *    3  mass_matrix
- *    4  twist_mass_matrix
- *    5  coriolis_matrix
- *    6  coriolis_vector
- *    7  gravity_vector
- *    8  all_terms
- *    9  inverse_dynamics
- *   10  forward_dynamics
- *   11  inverse_dynamics_derivatives
- *   12  forward_dynamics_derivatives
- *   13  joint_reactions
- *   14  regressor
- *   15  rk4_step
- *   16  rk4_step_derivatives
+ *    3  leg_accelerations
+ *    4  mass_matrix
+ *    5  twist_mass_matrix
+ *    6  coriolis_matrix
+ *    7  coriolis_vector
+ *    8  gravity_vector
+ *    9  all_terms
+ *   10  inverse_dynamics
+ *   11  forward_dynamics
+ *   12  inverse_dynamics_derivatives
+ *   13  forward_dynamics_derivatives
+ *   14  joint_reactions
+ *   15  regressor
+ *   16  rk4_step
+ *   17  rk4_step_derivatives
  */
-#define STEWART_FUNCTIONS 17
+#define STEWART_FUNCTIONS 18
 /* The most input arrays and output arrays a public function has. */
 #define STEWART_MAX_INPUTS 3
 #define STEWART_MAX_OUTPUTS 4
@@ -54,6 +55,7 @@ typedef struct {
     int (*leg_lengths)(const stewart_params *p, const double *x, double *L);
     int (*jacobian)(const stewart_params *p, const double *x, double *JC);
     int (*leg_rates)(const stewart_params *p, const double *x, const double *xd, double *LLd);
+    int (*leg_accelerations)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *Ldd);
     int (*mass_matrix)(const stewart_params *p, const double *x, double *M);
     int (*twist_mass_matrix)(const stewart_params *p, const double *x, double *Mt);
     int (*coriolis_matrix)(const stewart_params *p, const double *x, const double *xd, double *V);
@@ -71,6 +73,7 @@ typedef struct {
     int (*batch_leg_lengths)(const stewart_params *p, size_t n, const double *x, double *L, int *status);
     int (*batch_jacobian)(const stewart_params *p, size_t n, const double *x, double *JC, int *status);
     int (*batch_leg_rates)(const stewart_params *p, size_t n, const double *x, const double *xd, double *LLd, int *status);
+    int (*batch_leg_accelerations)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Ldd, int *status);
     int (*batch_mass_matrix)(const stewart_params *p, size_t n, const double *x, double *M, int *status);
     int (*batch_twist_mass_matrix)(const stewart_params *p, size_t n, const double *x, double *Mt, int *status);
     int (*batch_coriolis_matrix)(const stewart_params *p, size_t n, const double *x, const double *xd, double *V, int *status);

@@ -28,6 +28,7 @@
 #define stewart_leg_lengths STEWART_LOCAL(leg_lengths)
 #define stewart_jacobian STEWART_LOCAL(jacobian)
 #define stewart_leg_rates STEWART_LOCAL(leg_rates)
+#define stewart_leg_accelerations STEWART_LOCAL(leg_accelerations)
 #define stewart_mass_matrix STEWART_LOCAL(mass_matrix)
 #define stewart_twist_mass_matrix STEWART_LOCAL(twist_mass_matrix)
 #define stewart_coriolis_matrix STEWART_LOCAL(coriolis_matrix)
@@ -45,6 +46,7 @@
 #define stewart_batch_leg_lengths STEWART_LOCAL(batch_leg_lengths)
 #define stewart_batch_jacobian STEWART_LOCAL(batch_jacobian)
 #define stewart_batch_leg_rates STEWART_LOCAL(batch_leg_rates)
+#define stewart_batch_leg_accelerations STEWART_LOCAL(batch_leg_accelerations)
 #define stewart_batch_mass_matrix STEWART_LOCAL(batch_mass_matrix)
 #define stewart_batch_twist_mass_matrix STEWART_LOCAL(batch_twist_mass_matrix)
 #define stewart_batch_coriolis_matrix STEWART_LOCAL(batch_coriolis_matrix)
@@ -65,6 +67,7 @@
 #define vkernel_leg_lengths STEWART_LOCAL(vkernel_leg_lengths)
 #define vkernel_jacobian STEWART_LOCAL(vkernel_jacobian)
 #define vkernel_leg_rates STEWART_LOCAL(vkernel_leg_rates)
+#define vkernel_leg_accelerations STEWART_LOCAL(vkernel_leg_accelerations)
 #define vkernel_twist_mass_matrix_axisym STEWART_LOCAL(vkernel_twist_mass_matrix_axisym)
 #define vkernel_twist_mass_matrix_frames STEWART_LOCAL(vkernel_twist_mass_matrix_frames)
 #define vkernel_twist_mass_matrix_general STEWART_LOCAL(vkernel_twist_mass_matrix_general)
@@ -1108,6 +1111,7 @@ static stewart_vl vldl_solve(const stewart_vd F[21], int n, int ld, const stewar
 STEWART_HIDDEN void vkernel_leg_lengths(const stewart_params *p, const stewart_vd *x, stewart_vd *L);
 STEWART_HIDDEN void vkernel_jacobian(const stewart_params *p, const stewart_vd *x, stewart_vd *JC, stewart_vd *L2);
 STEWART_HIDDEN void vkernel_leg_rates(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, stewart_vd *LLd, stewart_vd *L2);
+STEWART_HIDDEN void vkernel_leg_accelerations(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *Ldd, stewart_vd *L2);
 STEWART_HIDDEN void vkernel_twist_mass_matrix_axisym(const stewart_params *p, const stewart_vd *x, stewart_vd *Mt, stewart_vd *L2);
 STEWART_HIDDEN void vkernel_twist_mass_matrix_frames(const stewart_params *p, const stewart_vd *x, stewart_vd *Mt, stewart_vd *L2, stewart_vd *h2);
 STEWART_HIDDEN void vkernel_twist_mass_matrix_general(const stewart_params *p, const stewart_vd *x, stewart_vd *Mt, stewart_vd *L2, stewart_vd *n2);

@@ -106,6 +106,27 @@ int stewart_batch_leg_rates(const stewart_params *p, size_t n, const double *x, 
     return batch_rows(params_finite(p), p, vblock_leg_rates, 0.0, n, 2, (const double *const []){x, xd}, (stewart_vd *const []){in0, in1}, 1, (double *const []){LLd}, (stewart_vd *const []){out0}, (const int []){12}, status);
 }
 
+/* stewart_leg_accelerations over a block of states (batch_rows). */
+static stewart_vl vblock_leg_accelerations(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    const stewart_vd *xd = in[1];
+    const stewart_vd *xdd = in[2];
+    stewart_vd *Ldd = out[0];
+    stewart_vd L2[6];
+    stewart_vl status = vnone();
+    vkernel_leg_accelerations(p, x, xd, xdd, Ldd, L2);
+    status = vmerge(status, vcheck_legs(L2, NULL, NULL));
+    return status;
+}
+
+int stewart_batch_leg_accelerations(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Ldd, int *status)
+{
+    stewart_vd in0[6], in1[6], in2[6], out0[6];
+    return batch_rows(params_finite(p), p, vblock_leg_accelerations, 0.0, n, 3, (const double *const []){x, xd, xdd}, (stewart_vd *const []){in0, in1, in2}, 1, (double *const []){Ldd}, (stewart_vd *const []){out0}, (const int []){6}, status);
+}
+
 /* stewart_mass_matrix over a block of states (batch_rows). */
 static stewart_vl vblock_mass_matrix(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
 {
@@ -650,6 +671,11 @@ int stewart_jacobian(const stewart_params *p, const double x[6], double JC[36])
 int stewart_leg_rates(const stewart_params *p, const double x[6], const double xd[6], double LLd[12])
 {
     return stewart_batch_leg_rates(p, 1, x, xd, LLd, NULL);
+}
+
+int stewart_leg_accelerations(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double Ldd[6])
+{
+    return stewart_batch_leg_accelerations(p, 1, x, xd, xdd, Ldd, NULL);
 }
 
 int stewart_mass_matrix(const stewart_params *p, const double x[6], double M[36])

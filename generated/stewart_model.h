@@ -128,6 +128,8 @@ int stewart_leg_lengths(const stewart_params *p, const double x[6], double L[6])
 int stewart_jacobian(const stewart_params *p, const double x[6], double JC[36]);
 /* Leg lengths L and rates Ldot = J_C T xd in one pass: LLd = [L; Ldot]. */
 int stewart_leg_rates(const stewart_params *p, const double x[6], const double xd[6], double LLd[12]);
+/* Leg accelerations Lddot, the time derivative of Ldot = J_C T xd at xdd. */
+int stewart_leg_accelerations(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double Ldd[6]);
 /* M = M_t T. */
 int stewart_mass_matrix(const stewart_params *p, const double x[6], double M[36]);
 /* M_t, the symmetric positive definite twist-space mass matrix: M = M_t T. */
@@ -273,6 +275,7 @@ int stewart_batch_lanes(void);
 int stewart_batch_leg_lengths(const stewart_params *p, size_t n, const double *x, double *L, int *status);
 int stewart_batch_jacobian(const stewart_params *p, size_t n, const double *x, double *JC, int *status);
 int stewart_batch_leg_rates(const stewart_params *p, size_t n, const double *x, const double *xd, double *LLd, int *status);
+int stewart_batch_leg_accelerations(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Ldd, int *status);
 int stewart_batch_mass_matrix(const stewart_params *p, size_t n, const double *x, double *M, int *status);
 int stewart_batch_twist_mass_matrix(const stewart_params *p, size_t n, const double *x, double *Mt, int *status);
 int stewart_batch_coriolis_matrix(const stewart_params *p, size_t n, const double *x, const double *xd, double *V, int *status);
@@ -292,6 +295,7 @@ int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const 
  *   leg_lengths                              187
  *   jacobian                                 271
  *   leg_rates                                345
+ *   leg_accelerations                        843
  *   twist_mass_matrix_axisym                1651
  *   twist_mass_matrix_frames                1921
  *   twist_mass_matrix_general               2377

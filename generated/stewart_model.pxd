@@ -42,6 +42,7 @@ cdef extern from "stewart_model.h" nogil:
     int stewart_leg_lengths(const stewart_params *p, const double *x, double *L)
     int stewart_jacobian(const stewart_params *p, const double *x, double *JC)
     int stewart_leg_rates(const stewart_params *p, const double *x, const double *xd, double *LLd)
+    int stewart_leg_accelerations(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *Ldd)
     int stewart_mass_matrix(const stewart_params *p, const double *x, double *M)
     int stewart_twist_mass_matrix(const stewart_params *p, const double *x, double *Mt)
     int stewart_coriolis_matrix(const stewart_params *p, const double *x, const double *xd, double *V)
@@ -60,6 +61,7 @@ cdef extern from "stewart_model.h" nogil:
     int stewart_batch_leg_lengths(const stewart_params *p, size_t n, const double *x, double *L, int *status)
     int stewart_batch_jacobian(const stewart_params *p, size_t n, const double *x, double *JC, int *status)
     int stewart_batch_leg_rates(const stewart_params *p, size_t n, const double *x, const double *xd, double *LLd, int *status)
+    int stewart_batch_leg_accelerations(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Ldd, int *status)
     int stewart_batch_mass_matrix(const stewart_params *p, size_t n, const double *x, double *M, int *status)
     int stewart_batch_twist_mass_matrix(const stewart_params *p, size_t n, const double *x, double *Mt, int *status)
     int stewart_batch_coriolis_matrix(const stewart_params *p, size_t n, const double *x, const double *xd, double *V, int *status)
@@ -117,6 +119,7 @@ cdef extern from "stewart_dispatch.h" nogil:
         int (*leg_lengths)(const stewart_params *p, const double *x, double *L) noexcept nogil
         int (*jacobian)(const stewart_params *p, const double *x, double *JC) noexcept nogil
         int (*leg_rates)(const stewart_params *p, const double *x, const double *xd, double *LLd) noexcept nogil
+        int (*leg_accelerations)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *Ldd) noexcept nogil
         int (*mass_matrix)(const stewart_params *p, const double *x, double *M) noexcept nogil
         int (*twist_mass_matrix)(const stewart_params *p, const double *x, double *Mt) noexcept nogil
         int (*coriolis_matrix)(const stewart_params *p, const double *x, const double *xd, double *V) noexcept nogil
@@ -134,6 +137,7 @@ cdef extern from "stewart_dispatch.h" nogil:
         int (*batch_leg_lengths)(const stewart_params *p, size_t n, const double *x, double *L, int *status) noexcept nogil
         int (*batch_jacobian)(const stewart_params *p, size_t n, const double *x, double *JC, int *status) noexcept nogil
         int (*batch_leg_rates)(const stewart_params *p, size_t n, const double *x, const double *xd, double *LLd, int *status) noexcept nogil
+        int (*batch_leg_accelerations)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Ldd, int *status) noexcept nogil
         int (*batch_mass_matrix)(const stewart_params *p, size_t n, const double *x, double *M, int *status) noexcept nogil
         int (*batch_twist_mass_matrix)(const stewart_params *p, size_t n, const double *x, double *Mt, int *status) noexcept nogil
         int (*batch_coriolis_matrix)(const stewart_params *p, size_t n, const double *x, const double *xd, double *V, int *status) noexcept nogil
@@ -148,7 +152,7 @@ cdef extern from "stewart_dispatch.h" nogil:
         int (*batch_regressor)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Y, int *status) noexcept nogil
         int (*batch_rk4_step)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status) noexcept nogil
         int (*batch_rk4_step_derivatives)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B, int *status) noexcept nogil
-        stewart_call call[17]
+        stewart_call call[18]
 
 
 cdef inline int stewart_params_fill(stewart_params *p, object params, frozenset expected) except -1:

@@ -42,6 +42,12 @@ static int call_leg_rates(const stewart_params *p, size_t n, const double *const
     return stewart_batch_leg_rates(p, n, in[0], in[1], out[0], status);
 }
 
+static int call_leg_accelerations(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_leg_accelerations(p, n, in[0], in[1], in[2], out[0], status);
+}
+
 static int call_mass_matrix(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
 {
     (void)scalar;
@@ -137,6 +143,7 @@ const stewart_table STEWART_JOIN(stewart_table, STEWART_TARGET) = {
     stewart_leg_lengths,
     stewart_jacobian,
     stewart_leg_rates,
+    stewart_leg_accelerations,
     stewart_mass_matrix,
     stewart_twist_mass_matrix,
     stewart_coriolis_matrix,
@@ -154,6 +161,7 @@ const stewart_table STEWART_JOIN(stewart_table, STEWART_TARGET) = {
     stewart_batch_leg_lengths,
     stewart_batch_jacobian,
     stewart_batch_leg_rates,
+    stewart_batch_leg_accelerations,
     stewart_batch_mass_matrix,
     stewart_batch_twist_mass_matrix,
     stewart_batch_coriolis_matrix,
@@ -168,5 +176,5 @@ const stewart_table STEWART_JOIN(stewart_table, STEWART_TARGET) = {
     stewart_batch_regressor,
     stewart_batch_rk4_step,
     stewart_batch_rk4_step_derivatives,
-    {call_leg_lengths, call_jacobian, call_leg_rates, call_mass_matrix, call_twist_mass_matrix, call_coriolis_matrix, call_coriolis_vector, call_gravity_vector, call_all_terms, call_inverse_dynamics, call_forward_dynamics, call_inverse_dynamics_derivatives, call_forward_dynamics_derivatives, call_joint_reactions, call_regressor, call_rk4_step, call_rk4_step_derivatives},
+    {call_leg_lengths, call_jacobian, call_leg_rates, call_leg_accelerations, call_mass_matrix, call_twist_mass_matrix, call_coriolis_matrix, call_coriolis_vector, call_gravity_vector, call_all_terms, call_inverse_dynamics, call_forward_dynamics, call_inverse_dynamics_derivatives, call_forward_dynamics_derivatives, call_joint_reactions, call_regressor, call_rk4_step, call_rk4_step_derivatives},
 };

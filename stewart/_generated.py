@@ -183,8 +183,18 @@ FUNCTIONS = {
         method='leg_rates',
         option='',
     ),
-    'mass_matrix': Function(
+    'leg_accelerations': Function(
         index=3,
+        inputs=('x', 'xd', 'xdd'),
+        scalar='',
+        outputs=(('Ldd', 6),),
+        results=(('Ldd', 0, 0, (6,)),),
+        result_type='',
+        method='leg_accelerations',
+        option='',
+    ),
+    'mass_matrix': Function(
+        index=4,
         inputs=('x',),
         scalar='',
         outputs=(('M', 36),),
@@ -194,7 +204,7 @@ FUNCTIONS = {
         option='',
     ),
     'twist_mass_matrix': Function(
-        index=4,
+        index=5,
         inputs=('x',),
         scalar='',
         outputs=(('Mt', 36),),
@@ -204,7 +214,7 @@ FUNCTIONS = {
         option='',
     ),
     'coriolis_matrix': Function(
-        index=5,
+        index=6,
         inputs=('x', 'xd'),
         scalar='',
         outputs=(('V', 36),),
@@ -214,7 +224,7 @@ FUNCTIONS = {
         option='',
     ),
     'coriolis_vector': Function(
-        index=6,
+        index=7,
         inputs=('x', 'xd'),
         scalar='',
         outputs=(('Vxd', 6),),
@@ -224,7 +234,7 @@ FUNCTIONS = {
         option='',
     ),
     'gravity_vector': Function(
-        index=7,
+        index=8,
         inputs=('x',),
         scalar='',
         outputs=(('G', 6),),
@@ -234,7 +244,7 @@ FUNCTIONS = {
         option='',
     ),
     'all_terms': Function(
-        index=8,
+        index=9,
         inputs=('x', 'xd'),
         scalar='',
         outputs=(('M', 36), ('Vxd', 6), ('G', 6), ('JC', 36)),
@@ -244,7 +254,7 @@ FUNCTIONS = {
         option='',
     ),
     'inverse_dynamics': Function(
-        index=9,
+        index=10,
         inputs=('x', 'xd', 'xdd'),
         scalar='',
         outputs=(('tau', 6),),
@@ -254,7 +264,7 @@ FUNCTIONS = {
         option='',
     ),
     'forward_dynamics': Function(
-        index=10,
+        index=11,
         inputs=('x', 'xd', 'tau'),
         scalar='',
         outputs=(('xdd', 6),),
@@ -264,7 +274,7 @@ FUNCTIONS = {
         option='',
     ),
     'inverse_dynamics_derivatives': Function(
-        index=11,
+        index=12,
         inputs=('x', 'xd', 'xdd'),
         scalar='',
         outputs=(('tau', 6), ('dtau_dx', 36), ('dtau_dxd', 36), ('dtau_dxdd', 36)),
@@ -274,7 +284,7 @@ FUNCTIONS = {
         option='',
     ),
     'forward_dynamics_derivatives': Function(
-        index=12,
+        index=13,
         inputs=('x', 'xd', 'tau'),
         scalar='',
         outputs=(('xdd', 6), ('dxdd_dx', 36), ('dxdd_dxd', 36), ('dxdd_dtau', 36)),
@@ -284,7 +294,7 @@ FUNCTIONS = {
         option='',
     ),
     'joint_reactions': Function(
-        index=13,
+        index=14,
         inputs=('x', 'xd', 'xdd'),
         scalar='',
         outputs=(('tau', 6), ('f_base', 18), ('f_platform', 18), ('n_base', 18)),
@@ -294,7 +304,7 @@ FUNCTIONS = {
         option='',
     ),
     'regressor': Function(
-        index=14,
+        index=15,
         inputs=('x', 'xd', 'xdd'),
         scalar='',
         outputs=(('Y', 192),),
@@ -304,7 +314,7 @@ FUNCTIONS = {
         option='',
     ),
     'rk4_step': Function(
-        index=15,
+        index=16,
         inputs=('x', 'xd', 'tau'),
         scalar='dt',
         outputs=(('xn', 6), ('xdn', 6)),
@@ -314,7 +324,7 @@ FUNCTIONS = {
         option='',
     ),
     'rk4_step_derivatives': Function(
-        index=16,
+        index=17,
         inputs=('x', 'xd', 'tau'),
         scalar='dt',
         outputs=(('xn', 6), ('xdn', 6), ('A', 144), ('B', 72)),

@@ -19,7 +19,7 @@ cdef class _Function:
     cdef int ndims[STEWART_MAX_OUTPUTS]
     cdef cnp.npy_intp dims[STEWART_MAX_OUTPUTS][2]
 
-    cdef object split(self, list outputs)
+    cdef object split(self, tuple outputs)
 
 
 @cython.final

@@ -1,14 +1,16 @@
 # cython: language_level=3, boundscheck=False, wraparound=False, cdivision=True, initializedcheck=False
 """Thin Cython layer over the generated C model (generated/stewart_model.c).
 
-It only moves arrays: it takes one state ``(6,)`` or a batch ``(N, 6)`` (a single row
-broadcasts against a batch), makes every input C-contiguous float64 (copying only when
-needed), checks that inputs are finite, runs the C function over the rows with the GIL
-released (split over threads in blocks of rows when asked: OpenMP threads, or plain threads
-in a build without OpenMP), and turns the C status codes into Python errors. A batch goes
-through the C batch function (``batch_<name>``, ``LANES`` states per vector instruction), a
-single state through the single-state one (the batch function on one row). All the
-mathematics is in the generated C.
+It only moves arrays, the same way for every public function of the C model, as the
+generated table stewart._generated.FUNCTIONS describes it (its inputs, its scalar input, its
+outputs and the shapes of its results): it takes one state ``(6,)`` or a batch ``(N, 6)`` (a
+single row broadcasts against a batch), makes every input C-contiguous float64 (copying only
+when needed), runs the C function over the rows with the GIL released (split over threads in
+blocks of rows when asked: OpenMP threads, or plain threads in a build without OpenMP), and
+turns the C status codes into Python errors (a non-finite input names its argument). Every
+function is called through its entry of the table's ``call`` (stewart_dispatch.h): its batch
+function (``batch_<name>``, ``LANES`` states per vector instruction), on one row for a single
+state. All the mathematics is in the generated C.
 
 Two loops that call the model without Python per state are part of the module (included
 from their own files, so that the extension compiles Cython's support code once): the
@@ -28,6 +30,8 @@ import numpy as np
 
 cimport cython
 cimport numpy as cnp
+from cpython.ref cimport Py_INCREF
+from cpython.tuple cimport PyTuple_New, PyTuple_SET_ITEM
 from cython.parallel cimport prange
 
 from .model import arguments
@@ -204,7 +208,7 @@ cdef class _Function:
             for j in range(self.ndims[k]):
                 self.dims[k][j] = shape[j]
 
-    cdef object split(self, list outputs):
+    cdef object split(self, tuple outputs):
         """The results, parts of the rows of the C function's ``outputs``, each C-contiguous."""
         parts = []
         for output, start, stop, shape in self.parts:
@@ -215,6 +219,19 @@ cdef class _Function:
 
 #: {name: _Function} of every public function of the C model (stewart._generated.FUNCTIONS).
 cdef dict _FUNCTIONS = {name: _Function(name, spec) for name, spec in FUNCTIONS.items()}
+
+
+cdef inline cnp.ndarray _output(_Function f, int k, bint batch, cnp.npy_intp n):
+    """A new array for output ``k`` of ``f``: its row shape, after ``n`` rows for a batch."""
+    cdef cnp.npy_intp dims[MAX_DIMS]
+    cdef int j, nd = 0
+    if batch:
+        dims[0] = n
+        nd = 1
+    for j in range(f.ndims[k]):
+        dims[nd] = f.dims[k][j]
+        nd += 1
+    return cnp.PyArray_EMPTY(nd, dims, cnp.NPY_DOUBLE, 0)
 
 
 cdef inline void _batch_call(const stewart_params *p, stewart_call fn, Py_ssize_t start, Py_ssize_t count,
@@ -255,11 +272,12 @@ cdef class Kernel:
         stewart_params_fill(&self.p, params, _PARAM_NAMES)
         self.threads = arguments.thread_count(threads)
 
-    def call(self, str name, *arrays, double scalar=0.0, bint return_mask=False):
-        """The public function ``name`` of the C model on ``arrays``, its inputs (each one state
-        ``(6,)`` or a batch ``(N, 6)``; a row broadcasts against a batch), with its scalar input
-        ``scalar`` (the RK4 step's ``dt``): its one result, or the tuple of its results, each of
-        shape ``(N,) +`` its row shape for a batch; with ``return_mask``, ``(result, ok)``."""
+    def call(self, str name, tuple arrays, bint return_mask=False, double scalar=0.0):
+        """The public function ``name`` of the C model on the tuple ``arrays``, its inputs (each
+        one state ``(6,)`` or a batch ``(N, 6)``; a row broadcasts against a batch), with its
+        scalar input ``scalar`` (the RK4 step's ``dt``): its one result, or the tuple of its
+        results, each of shape ``(N,) +`` its row shape for a batch; with ``return_mask``,
+        ``(result, ok)``. (All positional, the cheapest call from Python.)"""
         cdef _Function f = _FUNCTIONS.get(name)
         if f is None:
             raise ValueError(f"no function {name!r} in the C model; its functions: {', '.join(_FUNCTIONS)}")
@@ -285,16 +303,22 @@ cdef class Kernel:
         cdef cnp.ndarray arr, status
         cdef const double *ins[STEWART_MAX_INPUTS]
         cdef double *outs[STEWART_MAX_OUTPUTS]
-        cdef cnp.npy_intp dims[MAX_DIMS]
         cdef int *ps
         cdef int status1 = 0
         cdef cnp.npy_intp n = 1
         cdef bint batch = False
         cdef Py_ssize_t block, failures
-        cdef int j, k, nd, nin = f.nin, nout = f.nout
+        cdef int k, nin = f.nin, nout = f.nout
         cdef stewart_call fn = T.call[f.index]
 
-        arrays = [_states(f.inputs[k], values[k]) for k in range(nin)]
+        # The inputs as C arrays: ``values`` itself when each is one already (no new object).
+        arrays = values
+        for k in range(nin):
+            arr = _states(f.inputs[k], values[k])
+            if arr is not values[k]:
+                if arrays is values:
+                    arrays = list(values)
+                arrays[k] = arr
         for k in range(nin):
             arr = <cnp.ndarray>arrays[k]
             if arr.ndim == 2:
@@ -302,20 +326,20 @@ cdef class Kernel:
                     raise ValueError("arguments must have matching batch shapes: "
                                      + ", ".join(f"{nm} {np.shape(v)}" for nm, v in zip(f.inputs, values)))
                 batch, n = True, arr.shape[0]
-        outputs = []
-        for k in range(nout):
-            nd = 0
-            if batch:
-                dims[0] = n
-                nd = 1
-            for j in range(f.ndims[k]):
-                dims[nd] = f.dims[k][j]
-                nd += 1
-            arr = cnp.PyArray_EMPTY(nd, dims, cnp.NPY_DOUBLE, 0)
-            outs[k] = <double *>cnp.PyArray_DATA(arr)
-            outputs.append(arr)
+        # The outputs: the one array, or a tuple of them.
+        if nout == 1:
+            outputs = arr = _output(f, 0, batch, n)
+            outs[0] = <double *>cnp.PyArray_DATA(arr)
+        else:
+            outputs = PyTuple_New(nout)
+            for k in range(nout):
+                arr = _output(f, k, batch, n)
+                outs[k] = <double *>cnp.PyArray_DATA(arr)
+                Py_INCREF(arr)
+                PyTuple_SET_ITEM(outputs, k, arr)
 
         if batch:
+            arrays = list(arrays)
             for k in range(nin):
                 arr = <cnp.ndarray>arrays[k]
                 if arr.ndim == 1:  # the batch function takes whole arrays: a row broadcast is copied
@@ -337,10 +361,7 @@ cdef class Kernel:
             status1 = fn(&self.p, 1, ins, scalar, outs, NULL)
             failures = status1 != STEWART_OK
             status = None
-        if f.whole:
-            result = outputs[0] if nout == 1 else tuple(outputs)
-        else:
-            result = f.split(outputs)
+        result = outputs if f.whole else f.split((outputs,) if nout == 1 else outputs)
         if failures == 0:
             return (result, np.ones(n, dtype=bool) if batch else True) if return_mask else result
         if status is None:

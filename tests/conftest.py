@@ -178,6 +178,7 @@ PLATFORM_METHODS = {
     "leg_lengths": ("x",),
     "jacobian": ("x",),
     "leg_rates": ("x", "xd"),
+    "leg_accelerations": ("x", "xd", "xdd"),
     "mass_matrix": ("x",),
     "twist_mass_matrix": ("x",),
     "gravity_vector": ("x",),

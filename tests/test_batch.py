@@ -22,7 +22,8 @@ with warnings.catch_warnings():
 ZERO = np.zeros(6)
 
 #: (method, inputs) of every Kernel method with a batch function.
-METHODS = [("leg_lengths", 1), ("jacobian", 1), ("leg_rates", 2), ("mass_matrix", 1), ("twist_mass_matrix", 1),
+METHODS = [("leg_lengths", 1), ("jacobian", 1), ("leg_rates", 2), ("leg_accelerations", 3), ("mass_matrix", 1),
+           ("twist_mass_matrix", 1),
            ("coriolis_matrix", 2), ("coriolis_vector", 2), ("gravity_vector", 1), ("all_terms", 2),
            ("inverse_dynamics", 3), ("forward_dynamics", 3), ("rk4_step", 3), ("inverse_dynamics_derivatives", 3),
            ("forward_dynamics_derivatives", 3), ("rk4_step_jacobians", 3)]

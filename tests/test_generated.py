@@ -41,7 +41,7 @@ def test_generated_file_is_fresh(output, name):
     )
 
 
-#: Imports stewart._generated, stewart.params and stewart.conditions with the compiled extension
+#: Imports stewart._generated, stewart.model.params and stewart.model.conditions with the compiled extension
 #: made unimportable and the package's __init__ (which imports it) skipped.
 WITHOUT_EXTENSION = """
 import importlib.abc, sys, types
@@ -53,15 +53,15 @@ sys.meta_path.insert(0, Refuse())
 package = types.ModuleType("stewart")
 package.__path__ = [sys.argv[1]]
 sys.modules["stewart"] = package
-import stewart._generated, stewart.params, stewart.conditions
+import stewart._generated, stewart.model.params, stewart.model.conditions
 assert "stewart._kernel" not in sys.modules
-print(len(stewart._generated.FUNCTIONS), stewart.conditions.JACOBIAN_TOL, len(stewart.params.PlatformParams.inertial_names()))
+print(len(stewart._generated.FUNCTIONS), stewart.model.conditions.JACOBIAN_TOL, len(stewart.model.params.PlatformParams.inertial_names()))
 """
 
 
 def test_the_python_tables_import_without_the_extension():
-    """stewart._generated is plain Python, and the modules that read it (stewart.params,
-    stewart.conditions) need no compiled code."""
+    """stewart._generated is plain Python, and the modules that read it (stewart.model.params,
+    stewart.model.conditions) need no compiled code."""
     run = subprocess.run([sys.executable, "-c", WITHOUT_EXTENSION, str(ROOT / "stewart")],
                          check=True, capture_output=True, text=True)
     from stewart import _generated
@@ -92,7 +92,7 @@ def test_the_python_tables_are_the_compiled_models():
     for name, spec in _generated.FUNCTIONS.items():
         for rows in ((), (3,)):
             arrays = [np.broadcast_to(x, rows + (6,))] + [np.full(rows + (6,), 0.1)] * (len(spec.inputs) - 1)
-            result = kernel.call(name, *arrays, scalar=1e-3)
+            result = kernel.call(name, tuple(arrays), False, 1e-3)
             parts = (result,) if len(spec.results) == 1 else result
             assert [p.shape for p in parts] == [rows + shape for _, _, _, shape in spec.results]
             assert all(np.isfinite(p).all() for p in parts)

@@ -67,6 +67,55 @@ def test_leg_rates_match_the_numpy_kinematics(figures):
     figures("kernel leg_rates vs numpy leg_lengths, leg_velocities (all parameter sets)", worst, 1e-12)
 
 
+def test_leg_accelerations_match_the_numpy_kinematics(figures):
+    """Platform.leg_accelerations (forward mode along time in the generated C) against the numpy
+    closed form u_i . a_i + (|v_i|^2 - Ldot_i^2) / L_i of stewart.kinematics."""
+    rng = np.random.default_rng(27)
+    worst = 0.0
+    for label, params in _param_sets():
+        x, xd, xdd = random_states(params, 300, rng)
+        plat = stewart.Platform(params)
+        Ldd = plat.leg_accelerations(x, xd, xdd)
+        assert Ldd.shape == (300, 6)
+        worst = max(worst, relative_error(Ldd, stewart.kinematics.leg_accelerations(params, x, xd, xdd)))
+        # One state at a time gives the rows of the batch.
+        np.testing.assert_array_equal(plat.leg_accelerations(x[0], xd[0], xdd[0]), Ldd[0])
+    figures("kernel leg_accelerations vs numpy leg_accelerations (all parameter sets)", worst, 1e-12)
+
+
+def test_leg_accelerations_are_the_rate_of_the_leg_rates(figures):
+    """Along the motion x(t) = x + xd t + xdd t^2 / 2 (constant pose accelerations), Lddot(0) is
+    the time derivative of the kernel's Ldot(t): central differences of leg_rates, Richardson-
+    extrapolated (error O(h^4))."""
+    rng = np.random.default_rng(28)
+    worst = 0.0
+    for label, params in _param_sets():
+        x, xd, xdd = random_states(params, 100, rng)
+        plat = stewart.Platform(params)
+
+        def rates(t):
+            return plat.leg_rates(x + xd * t + xdd * t * t / 2, xd + xdd * t)[1]
+
+        def central(h):
+            return (rates(h) - rates(-h)) / (2 * h)
+
+        h = 1e-3
+        worst = max(worst, relative_error(plat.leg_accelerations(x, xd, xdd), (4 * central(h / 2) - central(h)) / 3))
+    figures("kernel leg_accelerations vs d/dt of kernel leg_rates (Richardson, all parameter sets)", worst, 1e-9)
+
+
+def test_leg_accelerations_fail_where_the_numpy_kinematics_fail():
+    """A leg of zero length is the same SingularityError in the kernel and in numpy."""
+    params = stewart.PlatformParams.preset("narayan2017")
+    collapsed = np.concatenate([params.base_points[0] - params.platform_points[0], np.zeros(3)])
+    rates = np.full(6, 0.1)
+    with pytest.raises(stewart.SingularityError) as kernel:
+        stewart.Platform(params).leg_accelerations(collapsed, rates, rates)
+    with pytest.raises(stewart.SingularityError) as numpy:
+        stewart.kinematics.leg_accelerations(params, collapsed, rates, rates)
+    assert kernel.value.condition == numpy.value.condition == "leg_degenerate"
+
+
 def test_leg_rates_report_a_zero_length_leg():
     params = stewart.PlatformParams.preset("narayan2017")
     plat = stewart.Platform(params)

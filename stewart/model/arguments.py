@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numbers
 import operator
+import sys
 from typing import Any
 
 import numpy as np
@@ -138,11 +139,12 @@ def platform_params(value: Any, name: str = "params"):
     :class:`~stewart.WrongTypeError` (a ``TypeError`` and a ``ValueError``) naming ``name``
     for anything else."""
     from .params import PlatformParams  # imported here: both modules import this one
-    from .platform import Platform
 
     if isinstance(value, PlatformParams):
         return value
-    if isinstance(value, Platform):
+    # A Platform exists only once its module (which needs the compiled extension) is loaded.
+    platform = sys.modules.get(f"{__package__}.platform")
+    if platform is not None and isinstance(value, platform.Platform):
         return value.params
     raise WrongTypeError(f"{name}: expected a stewart.PlatformParams, got {type(value).__name__}")
 

@@ -18,14 +18,11 @@ import numpy as np
 
 from . import arguments, paramfile
 from .._generated import INERTIAL_NAMES as _inertial_names_of_the_model
-from .errors import WrongTypeError
+from .fields import TOLERANCE, _BOUNDS, _friction, _inertia, _inertia_tensor, _joint_axes  # the checks of each field
+from .fields import _optional_bound, _points, _positive, _readonly, _scalar, _vector3
 from .presets import fields as _preset_fields
 
-__all__ = ["PlatformParams", "NonAxisymmetricLegWarning"]
-
-# The checks of each field (stewart.model.fields).
-from .fields import TOLERANCE, _BOUNDS, _friction, _inertia, _inertia_tensor, _joint_axes  # noqa: E402
-from .fields import _optional_bound, _points, _positive, _readonly, _scalar, _vector3  # noqa: E402
+__all__ = ["PlatformParams", "NonAxisymmetricLegWarning", "TOLERANCE"]
 
 
 class NonAxisymmetricLegWarning(UserWarning):

@@ -7,6 +7,7 @@ from typing import NamedTuple
 import numpy as np
 
 from . import arguments, kinematics
+from .._generated import FUNCTIONS
 from .._kernel import Kernel
 from .errors import WrongTypeError
 from .arguments import platform_params
@@ -17,53 +18,43 @@ __all__ = ["Platform", "AllTerms", "InverseDynamicsDerivatives", "ForwardDynamic
            "Step", "StepDerivatives", "as_platform"]
 
 
-class AllTerms(NamedTuple):
-    """The terms of the equation of motion ``M xddot + V xdot + G = J_C^T tau`` at one state
-    or a batch (:meth:`Platform.all_terms`)."""
-
-    mass_matrix: np.ndarray
-    coriolis_vector: np.ndarray
-    gravity_vector: np.ndarray
-    jacobian: np.ndarray
-
-
-class InverseDynamicsDerivatives(NamedTuple):
-    """Actuator forces and their Jacobians (:meth:`Platform.inverse_dynamics_derivatives`):
-    row = output, column = input, ``dtau_dx[..., i, j] = d tau_i / d x_j``."""
-
-    tau: np.ndarray
-    dtau_dx: np.ndarray
-    dtau_dxd: np.ndarray
-    dtau_dxdd: np.ndarray
+def _result_type(function, doc):
+    """The named tuple of the results of the C model's function ``function``: its name and
+    fields from the generated table (:data:`stewart._generated.FUNCTIONS`), its docstring ``doc``."""
+    spec = FUNCTIONS[function]
+    cls = NamedTuple(spec.result_type, [(name, np.ndarray) for name, *_ in spec.results])
+    cls.__doc__, cls.__module__ = doc, __name__
+    return cls
 
 
-class ForwardDynamicsDerivatives(NamedTuple):
-    """Accelerations and their Jacobians (:meth:`Platform.forward_dynamics_derivatives`):
-    row = output, column = input, ``dxdd_dx[..., i, j] = d xddot_i / d x_j``."""
-
-    xdd: np.ndarray
-    dxdd_dx: np.ndarray
-    dxdd_dxd: np.ndarray
-    dxdd_dtau: np.ndarray
-
-
-class Step(NamedTuple):
-    """The state after one RK4 step (:meth:`Platform.rk4_step`)."""
-
-    x: np.ndarray
-    xd: np.ndarray
+def _same_fields(cls, function):
+    """``cls``, a named tuple declared elsewhere, if its name and fields are those of the results of
+    the C model's function ``function`` (:data:`stewart._generated.FUNCTIONS`); else ImportError."""
+    spec = FUNCTIONS[function]
+    if (cls.__name__, cls._fields) != (spec.result_type, tuple(name for name, *_ in spec.results)):
+        raise ImportError(f"{cls.__name__}{cls._fields} does not match the results of {function}: {spec.results}")
+    return cls
 
 
-class StepDerivatives(NamedTuple):
-    """The state after one RK4 step and its Jacobians (:meth:`Platform.rk4_step` with
-    ``jacobians=True``): ``A = d(x+, xd+)/d(x, xd)`` (12 x 12), ``B = d(x+, xd+)/d tau``
-    (12 x 6), row = output, column = input."""
+AllTerms = _result_type("all_terms", """The terms of the equation of motion ``M xddot + V xdot + G = J_C^T tau`` at one
+    state or a batch (:meth:`Platform.all_terms`).""")
 
-    x: np.ndarray
-    xd: np.ndarray
-    A: np.ndarray
-    B: np.ndarray
+InverseDynamicsDerivatives = _result_type("inverse_dynamics_derivatives", """Actuator forces and their Jacobians
+    (:meth:`Platform.inverse_dynamics_derivatives`): row = output, column = input,
+    ``dtau_dx[..., i, j] = d tau_i / d x_j``.""")
 
+ForwardDynamicsDerivatives = _result_type("forward_dynamics_derivatives", """Accelerations and their Jacobians
+    (:meth:`Platform.forward_dynamics_derivatives`): row = output, column = input,
+    ``dxdd_dx[..., i, j] = d xddot_i / d x_j``.""")
+
+Step = _result_type("rk4_step", """The state after one RK4 step (:meth:`Platform.rk4_step`).""")
+
+StepDerivatives = _result_type("rk4_step_derivatives", """The state after one RK4 step and its Jacobians
+    (:meth:`Platform.rk4_step` with ``jacobians=True``): ``A = d(x+, xd+)/d(x, xd)`` (12 x 12),
+    ``B = d(x+, xd+)/d tau`` (12 x 6), row = output, column = input.""")
+
+# The joint reactions' type (shared with the Newton-Euler oracle) has the fields of the C's results.
+_same_fields(JointReactions, "joint_reactions")
 
 
 def _named(kind, result, return_mask):
@@ -96,6 +87,8 @@ class Platform:
         self._home.flags.writeable = False
         kinematics._check_universal_joint_axes(params, self._home)
         self._kernel = Kernel(params, threads)
+        # The kernel's call, bound once: the methods below call it without looking it up.
+        self._call = self._kernel.call
 
     @classmethod
     def preset(cls, name: str, **options) -> "Platform":
@@ -141,51 +134,59 @@ class Platform:
 
     def leg_lengths(self, x, *, return_mask=False):
         """Leg lengths ``|l_i|``, ``l_i = p + R p_i - b_i`` (eq. 26)."""
-        return self._kernel.leg_lengths(x, return_mask)
+        return self._call("leg_lengths", (x,), return_mask)
 
     def jacobian(self, x, *, return_mask=False):
         """``J_C`` (eq. 5): ``Ldot = J_C [v; omega]``, shape ``(..., 6, 6)``."""
-        return self._kernel.jacobian(x, return_mask)
+        return self._call("jacobian", (x,), return_mask)
 
     def leg_rates(self, x, xd, *, return_mask=False):
         """Leg lengths and rates ``(L, Ldot)`` in one pass: ``L_i = |l_i|`` (eq. 26) and
         ``Ldot = J_C T xdot`` (eqs. 5, 8, 18), each of shape ``(..., 6)``."""
-        return self._kernel.leg_rates(x, xd, return_mask)
+        return self._call("leg_rates", (x, xd), return_mask)
+
+    def leg_accelerations(self, x, xd, xdd, *, return_mask=False):
+        """Leg extension accelerations ``Lddot``, the second time derivative of ``L_i = |l_i|``
+        (eq. 26): the rate of ``Ldot_i = u_i . (v + omega x r_i)`` (eqs. 4, 5) at the pose
+        accelerations ``xddot``, shape ``(..., 6)``; equal to ``u_i . a_i + (|v_i|^2 - Ldot_i^2)
+        / L_i`` with ``v_i``, ``a_i`` the velocity and acceleration of the spherical joint P_i
+        (:func:`stewart.model.kinematics.leg_accelerations`)."""
+        return self._call("leg_accelerations", (x, xd, xdd), return_mask)
 
     def mass_matrix(self, x, *, return_mask=False):
         """``M = sum_b J_b^T I_b J_b T`` (eqs. 22, 40, 52, 62, 70); multiplies ``xddot``."""
-        return self._kernel.mass_matrix(x, return_mask)
+        return self._call("mass_matrix", (x,), return_mask)
 
     def twist_mass_matrix(self, x, *, return_mask=False):
         """The twist-space mass matrix ``M_t = sum_b J_b^T I_b J_b`` (eqs. 19, 39, 51, 61,
         69), symmetric positive definite, with ``M = M_t T`` (eq. 18); shape ``(..., 6, 6)``."""
-        return self._kernel.twist_mass_matrix(x, return_mask)
+        return self._call("twist_mass_matrix", (x,), return_mask)
 
     def coriolis_matrix(self, x, xd, *, return_mask=False):
         """``V = sum_b J_b^T d/dt(I_b J_b T)`` (eqs. 23, 41, 53, 63, 71)."""
-        return self._kernel.coriolis_matrix(x, xd, return_mask)
+        return self._call("coriolis_matrix", (x, xd), return_mask)
 
     def coriolis_vector(self, x, xd, *, return_mask=False):
         """``V xdot``, computed without forming ``V``."""
-        return self._kernel.coriolis_vector(x, xd, return_mask)
+        return self._call("coriolis_vector", (x, xd), return_mask)
 
     def gravity_vector(self, x, *, return_mask=False):
         """``G`` (eqs. 72-76), computed as ``sum_b m_b g J_b^T e_z``."""
-        return self._kernel.gravity_vector(x, return_mask)
+        return self._call("gravity_vector", (x,), return_mask)
 
     def all_terms(self, x, xd, *, return_mask=False):
         """The mass matrix ``M = M_t T``, ``V xdot``, ``G`` and ``J_C`` (eqs. 5, 19, 39, 51,
         61, 69, 72-76) in one call, as an :class:`AllTerms` (like Pinocchio's
         ``computeAllTerms``); each is the method of its name, bit for bit."""
-        return _named(AllTerms, self._kernel.all_terms(x, xd, return_mask), return_mask)
+        return _named(AllTerms, self._call("all_terms", (x, xd), return_mask), return_mask)
 
     def inverse_dynamics(self, x, xd, xdd, *, return_mask=False):
         """Actuator forces along the legs [N]: ``tau = J_C^-T (M xddot + V xdot + G)``."""
-        return self._kernel.inverse_dynamics(x, xd, xdd, return_mask)
+        return self._call("inverse_dynamics", (x, xd, xdd), return_mask)
 
     def forward_dynamics(self, x, xd, tau, *, return_mask=False):
         """Euler accelerations ``xddot = M^-1 (J_C^T tau - V xdot - G)``."""
-        return self._kernel.forward_dynamics(x, xd, tau, return_mask)
+        return self._call("forward_dynamics", (x, xd, tau), return_mask)
 
     def regressor(self, x, xd, xdd, *, return_mask=False):
         """The regressor ``Y`` of the actuator forces, linear in the inertial parameters:
@@ -198,7 +199,7 @@ class Platform:
         cylinder turns about the fixed B_i) and, for legs that do not spin (no
         ``universal_joint_axes``), the axial moments. Legs that do not spin are described in
         the frames of eqs. 43-48, so a vertical leg is singular here (``leg_vertical``)."""
-        return self._kernel.regressor(x, xd, xdd, return_mask)
+        return self._call("regressor", (x, xd, xdd), return_mask)
 
     def friction_forces(self, x, xd, *, return_mask=False):
         """The actuator force each leg loses to friction at ``(x, xdot)`` [N]:
@@ -211,7 +212,7 @@ class Platform:
     def _friction(self, x, xd, return_mask):
         """The friction forces by the C model's law (NaN where they overflow) and the kernel's
         mask (True without ``return_mask``)."""
-        result = self._kernel.leg_rates(x, xd, return_mask)
+        result = self._call("leg_rates", (x, xd), return_mask)
         rates = (result[0] if return_mask else result)[1]
         friction = self._kernel.friction_forces(rates, friction_law(self._params))
         return friction, result[1] if return_mask else True
@@ -220,7 +221,7 @@ class Platform:
         """The forces the actuators deliver [N]: the rigid-body forces of
         :meth:`inverse_dynamics` plus :meth:`friction_forces`, ``Y @ pi`` of :meth:`regressor`
         (a sum that overflows is a failed row, as in :meth:`friction_forces`)."""
-        tau = self._kernel.inverse_dynamics(x, xd, xdd, return_mask)
+        tau = self._call("inverse_dynamics", (x, xd, xdd), return_mask)
         friction, ok = self._friction(x, xd, return_mask)
         with np.errstate(over="ignore", invalid="ignore"):
             forces = (tau[0] if return_mask else tau) + friction
@@ -239,7 +240,7 @@ class Platform:
         ``I_yy != I_zz`` from spinning, zero for axisymmetric legs). Equal to the Newton-Euler
         solution :func:`stewart.oracles.newton_euler.joint_reactions` wherever that is defined."""
         return _named(JointReactions,
-                      self._kernel.joint_reactions(x, xd, xdd, return_mask), return_mask)
+                      self._call("joint_reactions", (x, xd, xdd), return_mask), return_mask)
 
     def forward_kinematics(self, lengths, guess=None, **options):
         """Pose(s) from leg lengths by Newton-Raphson (:func:`stewart.forward_kinematics`),
@@ -255,7 +256,7 @@ class Platform:
         ``tau``, ``dtau/dx = J_C^-T R_x``, ``dtau/dxd = J_C^-T R_xd``, ``dtau/dxdd = J_C^-T M``.
         Row = output, column = input; each Jacobian of shape ``(..., 6, 6)``."""
         return _named(InverseDynamicsDerivatives,
-                      self._kernel.inverse_dynamics_derivatives(x, xd, xdd, return_mask),
+                      self._call("inverse_dynamics_derivatives", (x, xd, xdd), return_mask),
                       return_mask)
 
     def forward_dynamics_derivatives(self, x, xd, tau, *, return_mask=False):
@@ -264,7 +265,7 @@ class Platform:
         R_xd`` (partials of the residual at that ``xddot``) and ``dxdd/dtau = M^-1 J_C^T``.
         Row = output, column = input; each Jacobian of shape ``(..., 6, 6)``."""
         return _named(ForwardDynamicsDerivatives,
-                      self._kernel.forward_dynamics_derivatives(x, xd, tau, return_mask),
+                      self._call("forward_dynamics_derivatives", (x, xd, tau), return_mask),
                       return_mask)
 
     def rk4_step(self, x, xd, tau, dt, *, jacobians=False, return_mask=False):
@@ -277,9 +278,10 @@ class Platform:
             dt = arguments.real("dt", dt)
             if not dt > 0:
                 raise ValueError(f"dt: must be a positive number of seconds, got {dt}")
-        return _named(StepDerivatives if jacobians else Step,
-                      self._kernel.rk4_step(x, xd, tau, dt, bool(jacobians), return_mask),
-                      return_mask)
+        if jacobians:
+            return _named(StepDerivatives, self._call("rk4_step_derivatives", (x, xd, tau), return_mask, dt),
+                          return_mask)
+        return _named(Step, self._call("rk4_step", (x, xd, tau), return_mask, dt), return_mask)
 
 
 def friction_law(params: PlatformParams, viscous=None, coulomb=None, velocity=None) -> tuple[np.ndarray, np.ndarray, float]:
