@@ -3,7 +3,7 @@ tests, for the numpy modules (:mod:`stewart.oracles.reference`, :mod:`stewart.or
 :mod:`stewart.model.kinematics`, :mod:`stewart.motion.control`).
 
 The conditions and their tolerances are the generated C's (``codegen/conditions.py``),
-read from the compiled kernel's table, never retyped. Each test below is the C's test
+read from the generator's table (:mod:`stewart._generated`), never retyped. Each test below is the C's test
 written in numpy, so that the kernel and the numpy modules agree on whether a state is
 defined and raise the same :class:`~stewart.SingularityError` condition:
 
