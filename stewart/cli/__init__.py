@@ -9,7 +9,7 @@ import argparse
 import sys
 
 from .. import __version__, build_info
-from . import checks, export, identification, model, motion, sizing, workspace
+from . import checks, cueing, export, identification, model, motion, sizing, workspace
 from .common import EXIT_CHECK_FAILED, EXIT_CODES, EXIT_INTERRUPTED, EXIT_USAGE, EXIT_WORKSPACE, UserError
 from .options import Formatter
 
@@ -22,6 +22,7 @@ COMMANDS = (
     model.add_state_commands,  # ik, id, fd
     motion.add_simulate,
     motion.add_optimize,
+    cueing.add_cueing,
     identification.add_excitation,
     sizing.add_envelope,
     workspace.add_workspace,

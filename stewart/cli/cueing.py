@@ -1,0 +1,92 @@
+"""``stewart cueing``: a platform reference from a vehicle log by classical washout, checked
+against the workspace and optionally run through the closed loop (``--simulate``)."""
+
+from __future__ import annotations
+
+import json
+import sys
+
+from ..cueing import WashoutParams, read_log, washout
+from ..model.platform import Platform
+from .common import (
+    EXIT_USAGE,
+    UserError,
+    check_output,
+    check_outputs,
+    check_plotting,
+    platform_params,
+    print_written,
+)
+from .options import add_file, add_json, add_params, subcommand
+
+
+def _usage_error(args) -> str | None:
+    if args.method == "mpc":
+        return "--method mpc: not available yet; use --method washout"
+    if not args.output:
+        return "give --output FILE for the reference"
+    return None
+
+
+def cmd_cueing(args) -> int:
+    check_outputs(args, "--output", "--report")
+    check_output("--plot", args.plot, directory=True)
+    if args.plot:
+        check_plotting("--plot")
+    params, label = platform_params(args)
+    plat = Platform(params)
+    try:
+        log = read_log(args.log)
+    except ValueError as exc:
+        raise UserError(str(exc)) from None
+    try:
+        settings = (WashoutParams.load(args.cueing, plat) if args.cueing else WashoutParams.for_platform(plat))
+    except ValueError as exc:
+        raise UserError(f"--cueing {exc}", EXIT_USAGE) from None
+    result = washout(log, plat, settings, simulate=args.simulate)
+    files = []
+    if result.inside:
+        result.to_csv(args.output)
+        files.append(args.output)
+    if args.report:
+        result.to_json(args.report)
+        files.append(args.report)
+    if args.plot:
+        files += result.plot(args.plot)
+    report = result.report()
+    if args.json:
+        print(json.dumps({"command": "cueing", "platform_source": label, **report, "files": files}))
+    else:
+        print(f"platform {label}, washout of {log.name} ({len(log.t)} samples at {1 / log.dt:g} Hz)")
+        print("perceived error RMS: " + "  ".join(f"{k} {v:.3g}" for k, v in report["perceived_error_rms"].items()))
+        if result.simulation is not None:
+            sim = report["simulation"]
+            print(f"simulation (computed torque): {sim['outcome']}")
+            if "perceived_error_rms" in sim:
+                print("achieved perceived error RMS: "
+                      + "  ".join(f"{k} {v:.3g}" for k, v in sim["perceived_error_rms"].items()))
+        print_written(files)
+    for problem in result.problems:
+        print(f"stewart cueing: problem: {problem}", file=sys.stderr)
+    if not result.inside:
+        print(f"stewart cueing: error: the reference leaves the workspace; {args.output} not written",
+              file=sys.stderr)
+    return result.exit_code
+
+
+def add_cueing(sub) -> None:
+    p = subcommand(sub, "cueing", "a platform reference from a vehicle log (t,fx,fy,fz,wx,wy,wz CSV) by "
+                   "motion cueing, within the platform's limits", cmd_cueing)
+    p.add_argument("log", metavar="LOG.csv", help="vehicle log: specific force [m/s^2] and angular velocity "
+                   "[rad/s] in the vehicle frame (x forward, y left, z up), constant sample rate")
+    p.add_argument("--method", choices=["washout", "mpc"], default="washout", help="cueing algorithm")
+    add_params(p)
+    p.set_defaults(preset="motion_simulator", usage_error=_usage_error)
+    p.add_argument("--cueing", metavar="C.toml", help="washout settings (default: scaled to the platform)")
+    add_file(p, "--output", "write the reference t, pose, rates, accelerations as CSV (stewart simulate "
+             "--trajectory reads it)")
+    add_file(p, "--report", "write the metrics and outcome as JSON")
+    add_file(p, "--plot", "write PNG figures into DIR (needs matplotlib)", metavar="DIR")
+    p.add_argument("--simulate", action="store_true", help="run the reference through the closed loop "
+                   "(computed torque) and report the achieved motion's perceived error and problems")
+    add_json(p)

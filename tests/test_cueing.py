@@ -1,0 +1,207 @@
+"""stewart.cueing: washout filters against their transfer functions, the vestibular model
+against its published constants, the platform's perceived gravity by hand, the shipped
+maneuvers inside motion_simulator's workspace, and the CLI's one-line errors."""
+
+import filecmp
+import math
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+from scipy import signal
+
+from stewart.cueing import VehicleLog, WashoutParams, read_log, vestibular, washout
+from stewart.cueing import washout as washout_module  # noqa: F401
+from stewart.cueing.washout import filters
+from stewart.model.params import PlatformParams
+from stewart.motion.trajectory import SampledTrajectory
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+EXAMPLES = os.path.join(ROOT, "examples", "cueing")
+MANEUVERS = ["double_lane_change", "hard_braking", "constant_radius_turn", "slalom", "takeoff_roll"]
+W = np.logspace(-3, 3, 400)
+
+
+def _relative(a, b):
+    return np.max(np.abs(a - b) / np.abs(b))
+
+
+@pytest.mark.parametrize("order", [2, 3])
+def test_washout_frequency_responses_match_transfer_functions(order):
+    p = WashoutParams(translation_cutoff=(0.8, 1.3, 2.1), translation_damping=0.7, translation_order=order,
+                      translation_break_frequency=0.35, rotation_cutoff=(0.9, 1.1, 0.5), rotation_damping=0.8,
+                      tilt_cutoff=1.7, tilt_damping=0.9)
+    fs = filters(p)
+    s = 1j * W
+    for i, axis in enumerate("xyz"):
+        wn = p.translation_cutoff[i]
+        hp = s**2 / (s**2 + 2 * 0.7 * wn * s + wn**2) * (s / (s + 0.35) if order == 3 else 1.0)
+        assert _relative(signal.freqresp(fs[f"translation_{axis}"], W)[1], hp) <= 1e-9
+        assert _relative(signal.freqresp(fs[f"position_{axis}"], W)[1], hp / s**2) <= 1e-9
+        wr = p.rotation_cutoff[i]
+        hr = s**2 / (s**2 + 2 * 0.8 * wr * s + wr**2)
+        assert _relative(signal.freqresp(fs[f"rotation_{axis}"], W)[1], hr) <= 1e-9
+        assert _relative(signal.freqresp(fs[f"angle_{axis}"], W)[1], hr / s) <= 1e-9
+    lp = 1.7**2 / (s**2 + 2 * 0.9 * 1.7 * s + 1.7**2)
+    assert _relative(signal.freqresp(fs["tilt"], W)[1], lp) <= 1e-9
+
+
+def _step(t):
+    u = np.ones((len(t), 3))
+    u[0] = 0.0
+    return u
+
+
+def test_otolith_step_response_young_meiry_1968():
+    # Young & Meiry 1968: K = 0.4, tau_a = 13.2 s, tau_L = 5.33 s, tau_S = 0.66 s; step response
+    # K [1 + (ta - tL)/(tL - tS) exp(-t/tL) + (ta - tS)/(tS - tL) exp(-t/tS)] by partial fractions
+    k, ta, tl, ts = 0.4, 13.2, 5.33, 0.66
+    t = np.arange(0, 40, 1e-3)
+    got = vestibular.perceive(t, _step(t), np.zeros((len(t), 3))).f[:, 0]
+    s = np.maximum(t - 0.5e-3, 0.0)  # the sampled step rises over the first interval: centred half a step late
+    want = k * (1 + (ta - tl) / (tl - ts) * np.exp(-s / tl) + (ta - ts) / (ts - tl) * np.exp(-s / ts))
+    assert np.max(np.abs(got - want)[1:]) <= 1e-6 * k
+    assert got[-1] == pytest.approx(k, rel=2e-3)
+
+
+def test_canal_step_response_telban_cardullo_2005():
+    # Telban & Cardullo 2005: tau_L = 5.73 s, tau_S = 0.005 s, tau_a = 80 s; step response of
+    # tau_a tau_L s^2 / ((tau_a s+1)(tau_L s+1)(tau_S s+1)) as a sum of residues
+    ta, tl, ts = 80.0, 5.73, 0.005
+    t = np.arange(0, 30, 2e-4)
+    got = vestibular.perceive(t, np.zeros((len(t), 3)), _step(t)).w[:, 2]
+    poles = [-1 / ta, -1 / tl, -1 / ts]
+    s = np.maximum(t - 1e-4, 0.0)  # the sampled step, centred half a step late
+    want = sum((p / ts) / np.prod([p - q for q in poles if q != p]) * np.exp(p * s) for p in poles)
+    assert np.max(np.abs(got - want)[1:]) <= 1e-4
+    # after the short time constant the perception is near 1 and decays with tau_L (and tau_a)
+    assert np.max(got) == pytest.approx(1.0, abs=0.01)
+
+
+def test_static_tilt_is_gravity_rotated():
+    g = 9.81
+    phi, theta, psi = 0.1, -0.05, 0.3
+    pose = np.array([[0.0, 0.0, 1.5, psi, theta, phi]])
+    f, w = vestibular.platform_signals(pose, np.zeros((1, 6)), np.zeros((1, 6)), g)
+    # gravity's reaction [0, 0, g] of {B} in the frame R = Rz Ry Rx: g * (third row of R)
+    want = g * np.array([-math.sin(theta), math.cos(theta) * math.sin(phi), math.cos(theta) * math.cos(phi)])
+    np.testing.assert_allclose(f[0], want, rtol=0, atol=1e-14)
+    np.testing.assert_array_equal(w[0], 0.0)
+
+
+def test_platform_rotation_rate_in_its_frame():
+    # pure roll rate at a yawed pose: the platform feels it about its own x axis
+    pose = np.array([[0, 0, 1.5, 0.7, 0.0, 0.2]])
+    xd = np.array([[0, 0, 0, 0, 0, 0.3]])
+    _, w = vestibular.platform_signals(pose, xd, np.zeros((1, 6)))
+    np.testing.assert_allclose(w[0], [0.3, 0, 0], atol=1e-15)
+
+
+def test_maneuvers_are_reproduced(tmp_path):
+    subprocess.run([sys.executable, os.path.join(EXAMPLES, "make_maneuvers.py"), str(tmp_path)], check=True,
+                   capture_output=True)
+    for name in MANEUVERS:
+        assert filecmp.cmp(tmp_path / f"{name}.csv", os.path.join(EXAMPLES, f"{name}.csv"), shallow=False), name
+
+
+@pytest.fixture(scope="module")
+def simulator():
+    from stewart import Platform
+
+    plat = Platform(PlatformParams.preset("motion_simulator"))
+    return plat, WashoutParams.for_platform(plat)
+
+
+@pytest.mark.parametrize("name", MANEUVERS)
+def test_shipped_maneuvers_stay_inside_motion_simulator(simulator, name):
+    plat, params = simulator
+    log = read_log(os.path.join(EXAMPLES, f"{name}.csv"))
+    result = washout(log, plat, params)
+    assert result.inside, result.problems
+    assert result.exit_code == 0
+    tilt = np.abs(np.diff(result.poses[:, 3:], axis=0)) / log.dt
+    assert result.metrics["perceived_error_rms"]["fx"] >= 0
+    # the reference starts at home, at rest
+    np.testing.assert_allclose(result.poses[0], plat.home_pose, atol=1e-12)
+    assert np.all(np.isfinite(tilt))
+
+
+def test_tilt_rate_is_limited():
+    t = np.arange(0, 20, 0.01)
+    f = np.tile([0.0, 0.0, 9.81], (len(t), 1))
+    f[t >= 1, 0] = 4.0  # sustained acceleration: tilt coordination pitches nose up
+    log = VehicleLog(t, f, np.zeros((len(t), 3)))
+    from stewart.cueing.washout import reference_poses
+
+    params = WashoutParams(tilt_max_angle=math.radians(15))
+    poses, parts = reference_poses(log, params, np.zeros(6))
+    rate = np.abs(np.diff(parts["tilt"][:, 1])) / log.dt
+    assert np.max(rate) <= math.radians(3.0) * (1 + 1e-12)
+    # settles at -asin(gain * a / g) = -11.8 deg, within the 15 deg limit
+    assert parts["tilt"][-1, 1] == pytest.approx(-math.asin(0.5 * 4.0 / 9.81), rel=1e-3)
+
+
+def _cli(*args, cwd=None):
+    return subprocess.run([sys.executable, "-m", "stewart", *args], capture_output=True, text=True, cwd=cwd)
+
+
+def _write(path, text):
+    path.write_text(text)
+    return str(path)
+
+
+HEADER = "t,fx,fy,fz,wx,wy,wz\n"
+
+
+@pytest.mark.parametrize("body, message", [
+    (HEADER + "0,0,0,9.81,0,0,0\n0.01,nan,0,9.81,0,0,0\n0.02,0,0,9.81,0,0,0\n", "line 3, column 2"),
+    (HEADER + "0,0,0,9.81,0,0,0\n0.02,0,0,9.81,0,0,0\n0.01,0,0,9.81,0,0,0\n", "row 3: time goes backwards"),
+    (HEADER + "0,0,0,9.81,0,0,0\n0.01,0,0,9.81,0,0,0\n0.03,0,0,9.81,0,0,0\n", "row 3: uneven sample rate"),
+    ("t,ax,ay\n0,0,0\n0.01,0,0\n", "lacks fx"),
+])
+def test_cli_bad_logs_give_one_line_errors(tmp_path, body, message):
+    log = _write(tmp_path / "log.csv", body)
+    run = _cli("cueing", log, "--output", str(tmp_path / "ref.csv"))
+    assert run.returncode == 2
+    assert "Traceback" not in run.stderr and len(run.stderr.strip().splitlines()) == 1, run.stderr
+    assert message in run.stderr, run.stderr
+    assert not (tmp_path / "ref.csv").exists()
+
+
+def test_cli_negative_limit_and_mpc(tmp_path):
+    cfg = _write(tmp_path / "c.toml", "[tilt]\nrate_limit = -3.0\n")
+    log = os.path.join(EXAMPLES, "hard_braking.csv")
+    run = _cli("cueing", log, "--cueing", cfg, "--output", str(tmp_path / "ref.csv"))
+    assert run.returncode == 2 and "rate_limit: must be a number >= 0" in run.stderr, run.stderr
+    assert "Traceback" not in run.stderr and len(run.stderr.strip().splitlines()) == 1
+    run = _cli("cueing", log, "--method", "mpc", "--output", str(tmp_path / "ref.csv"))
+    assert run.returncode == 2 and "not available yet" in run.stderr
+
+
+def test_cli_reference_outside_workspace_has_its_own_exit_code(tmp_path):
+    cfg = _write(tmp_path / "c.toml", "[translation]\ngain = 1.0\ncutoff = 0.1\norder = 2\n")
+    log = os.path.join(EXAMPLES, "hard_braking.csv")
+    run = _cli("cueing", log, "--cueing", cfg, "--output", str(tmp_path / "ref.csv"),
+               "--report", str(tmp_path / "r.json"))
+    assert run.returncode == 3, run.stderr
+    assert "leaves the workspace" in run.stderr
+    assert not (tmp_path / "ref.csv").exists()
+    import json
+
+    report = json.loads((tmp_path / "r.json").read_text())
+    assert report["ok"] is False and report["inside_workspace"] is False and report["exit_code"] == 3
+
+
+def test_cli_reference_feeds_simulate(tmp_path):
+    log = os.path.join(EXAMPLES, "hard_braking.csv")
+    ref = tmp_path / "ref.csv"
+    run = _cli("cueing", log, "--output", str(ref), "--report", str(tmp_path / "r.json"))
+    assert run.returncode == 0, run.stderr
+    traj = SampledTrajectory.from_csv(ref)
+    data = np.loadtxt(ref, delimiter=",", skiprows=2)
+    np.testing.assert_allclose(traj.sample(data[:, 0])[1], data[:, 7:13], atol=1e-9)
+    run = _cli("simulate", "--preset", "motion_simulator", "--trajectory", str(ref), "--controller", "ct",
+               "--dt", "0.002", "--json")
+    assert run.returncode == 0, run.stderr
