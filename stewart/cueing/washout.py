@@ -232,19 +232,17 @@ def reference_poses(log, params: WashoutParams, home) -> tuple[np.ndarray, dict]
 def axis_excursions(platform, limit: float = 1.0) -> np.ndarray:
     """How far the platform moves from home along each pose axis, alone, before a pose leaves
     the workspace: the smaller of the two directions, ``(6,)`` [m, m, m, rad, rad, rad],
-    found by bisection with :func:`stewart.model.reachability.reachability`."""
+    on a grid of 2000 steps with :func:`stewart.model.reachability.reachability`."""
     plat = as_platform(platform)
     home = plat.home_pose
+    steps = np.linspace(0.0, limit, 2001)[1:]  # 0.5 mm / 0.5 mrad resolution
     out = np.empty(6)
     for k in range(6):
         sides = []
         for sign in (1.0, -1.0):
-            lo, hi = 0.0, limit
-            for _ in range(30):
-                mid = 0.5 * (lo + hi)
-                pose = home.copy()
-                pose[k] += sign * mid
-                lo, hi = (mid, hi) if reachability(plat, pose).ok[0] else (lo, mid)
-            sides.append(lo)
+            poses = np.tile(home, (len(steps), 1))
+            poses[:, k] += sign * steps
+            ok = reachability(plat, poses).ok
+            sides.append(steps[np.argmin(ok)] - steps[0] if not np.all(ok) else limit)
         out[k] = min(sides)
     return out
