@@ -208,6 +208,7 @@ def run_python(source: str, namespace: dict, page: str = "README.md") -> int:
 @pytest.mark.slow
 def test_the_python_tour_runs(tmp_path, monkeypatch):
     pytest.importorskip("matplotlib")
+    shutil.copytree(ROOT / "examples", tmp_path / "examples")   # the files the pages' examples read
     monkeypatch.chdir(tmp_path)
     namespace: dict = {}
     raised = sum(run_python(block, namespace, page) for page, block in blocks("python"))
