@@ -32,6 +32,7 @@ if TYPE_CHECKING:  # the public names: what `__getattr__` imports on first use
     from .model import conditions, kinematics
     from .oracles import exactness, newton_euler, reference
     from .studies import workspace
+    from . import cueing
     from .io.capi import c_include_dir, c_sources
     from ._kernel import build_info, set_simd
     from .model.errors import ConvergenceError, SimdPathError, SingularityError, WrongTypeError
@@ -70,7 +71,7 @@ def _public_names() -> dict[str, tuple[str, str]]:
     with open(__file__, encoding="utf-8") as f:
         tree = ast.parse(f.read())
     block = next(node for node in tree.body if isinstance(node, ast.If) and getattr(node.test, "id", "") == "TYPE_CHECKING")
-    return {alias.asname or alias.name: (f"{__name__}.{node.module}", alias.name)
+    return {alias.asname or alias.name: (f"{__name__}.{node.module}" if node.module else __name__, alias.name)
             for node in block.body for alias in node.names}
 
 
@@ -83,8 +84,11 @@ def __getattr__(name: str):
     if name not in _PUBLIC:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
     module, attribute = _PUBLIC[name]
-    parent = importlib.import_module(module)
-    value = getattr(parent, attribute) if hasattr(parent, attribute) else importlib.import_module(f"{module}.{attribute}")
+    if module == __name__:  # a sub-package of this one
+        value = importlib.import_module(f"{module}.{attribute}")
+    else:
+        parent = importlib.import_module(module)
+        value = getattr(parent, attribute) if hasattr(parent, attribute) else importlib.import_module(f"{module}.{attribute}")
     globals()[name] = value
     return value
 

@@ -57,3 +57,16 @@ def test_no_hand_written_module_is_over_the_limit():
              for pattern in ("*.py", "*.pyx", "*.pxi") for path in PACKAGE.rglob(pattern) if path not in GENERATED}
     assert len(sizes) > 40
     assert {name: n for name, n in sizes.items() if n > MAX_LINES} == {}
+
+
+def test_every_public_name_resolves():
+    """Each name of ``stewart.__all__`` (imported on first use) is an object of the package,
+    in a fresh process, and ``dir(stewart)`` lists them all."""
+    code = ("import stewart, json; print(json.dumps({n: getattr(getattr(stewart, n), '__module__', None) "
+            "or getattr(stewart, n).__name__ for n in stewart.__all__} | {'@dir': sorted(dir(stewart))}))")
+    proc = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, cwd=ROOT)
+    assert proc.returncode == 0, proc.stderr
+    out = json.loads(proc.stdout)
+    names = out.pop("@dir")
+    assert set(stewart.__all__) <= set(names) and len(out) == len(stewart.__all__) >= 50
+    assert all(module.startswith("stewart") for module in out.values()), out
