@@ -10,6 +10,8 @@ import sys
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from scipy import signal
 
 from stewart.cueing import VehicleLog, WashoutParams, read_log, vestibular, washout
@@ -205,3 +207,40 @@ def test_cli_reference_feeds_simulate(tmp_path):
     run = _cli("simulate", "--preset", "motion_simulator", "--trajectory", str(ref), "--controller", "ct",
                "--dt", "0.002", "--json")
     assert run.returncode == 0, run.stderr
+
+
+_FLOATS = st.floats(allow_nan=True, allow_infinity=True, width=64)
+
+
+@settings(max_examples=60, deadline=None)
+@given(n=st.integers(0, 6), rows=st.lists(st.lists(_FLOATS, min_size=7, max_size=7), min_size=0, max_size=6),
+       ragged=st.booleans(), junk=st.sampled_from([None, {}, "abc", object()]))
+def test_fuzz_vehicle_log_is_valid_or_a_named_value_error(n, rows, ragged, junk):
+    """Any arrays give a log whose samples are finite and evenly spaced, or a ValueError
+    naming the log; nothing else escapes."""
+    data = np.array(rows, dtype=float).reshape(-1, 7)
+    t = np.arange(len(data)) * 0.01 if n % 2 else data[:, 0]
+    f, w = (data[:, 1:4][:, :2] if ragged else data[:, 1:4]), data[:, 4:7]
+    for args in ((t, f, w), (junk, f, w), (t, junk, w)):
+        try:
+            log = VehicleLog(*args, name="fuzzed")
+        except ValueError as exc:
+            assert str(exc).startswith("fuzzed: ")
+            continue
+        assert np.all(np.isfinite(log.t)) and np.all(np.isfinite(log.f)) and np.all(np.isfinite(log.w))
+        assert np.allclose(np.diff(log.t), log.dt, rtol=1e-6)
+
+
+@settings(max_examples=8, deadline=None)
+@given(scale=st.floats(0.0, 3.0), seed=st.integers(0, 2**16))
+def test_fuzz_washout_is_finite_or_reports_the_workspace(simulator, scale, seed):
+    """A random smooth log gives a finite reference inside the workspace, or one reported as
+    outside it (never NaN, never a silent success)."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(301) * 0.01
+    f = np.column_stack([scale * 9.81 * np.sin(rng.uniform(0.2, 3) * t) for _ in range(3)]) + [0, 0, 9.81]
+    w = np.column_stack([scale * np.sin(rng.uniform(0.2, 3) * t) for _ in range(3)])
+    plat, params = simulator
+    result = washout(VehicleLog(t, f, w, name="random"), plat, params)
+    assert np.all(np.isfinite(result.poses))
+    assert result.inside == (not result.problems) and result.exit_code == (0 if result.inside else 3)

@@ -35,10 +35,11 @@ class VehicleLog:
     name: str = "log"
 
     def __post_init__(self):
-        t = np.asarray(self.t, dtype=float)
-        f = np.asarray(self.f, dtype=float)
-        w = np.asarray(self.w, dtype=float)
         where = self.name
+        try:
+            t, f, w = (np.asarray(value, dtype=float) for value in (self.t, self.f, self.w))
+        except (TypeError, ValueError) as exc:
+            raise ValueError(f"{where}: t, f and w must be arrays of numbers ({exc})") from None
         if t.ndim != 1 or f.shape != (len(t), 3) or w.shape != (len(t), 3):
             raise ValueError(f"{where}: need t (N,), f (N, 3) and w (N, 3), got {t.shape}, {f.shape}, {w.shape}")
         if len(t) < 3:
