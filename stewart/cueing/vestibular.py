@@ -34,7 +34,7 @@ from scipy import signal
 
 from ..model import kinematics
 
-__all__ = ["CANAL", "OTOLITH", "THRESHOLDS", "CHANNELS", "Perceived", "canal", "otolith", "perceive",
+__all__ = ["CANAL", "OTOLITH", "THRESHOLDS", "TILT_RATE_LIMIT", "CHANNELS", "Perceived", "canal", "otolith", "perceive",
            "vehicle", "platform_motion", "platform_signals"]
 
 #: Semicircular canal time constants [s] (Telban & Cardullo 2005).
@@ -46,6 +46,9 @@ CHANNELS = ("fx", "fy", "fz", "wx", "wy", "wz")
 #: Perception thresholds per channel: m/s^2 for fx, fy, fz (Reid & Nahon 1985), rad/s for
 #: wx, wy, wz (3.0, 3.6, 2.6 deg/s, Telban & Cardullo 2005).
 THRESHOLDS = dict(zip(CHANNELS, (0.17, 0.17, 0.28, *np.radians([3.0, 3.6, 2.6]))))
+#: The tilt rate [rad/s] below which a rider feels a tilt's force but not its rotation, 3 deg/s
+#: (the roll threshold above; Reid & Nahon 1985 limit tilt coordination to it).
+TILT_RATE_LIMIT = float(np.radians(3.0))
 
 
 def canal() -> signal.TransferFunction:

@@ -15,7 +15,7 @@ import numpy as np
 from ..model.kinematics import POSE_AXES
 from ..model import arguments
 
-__all__ = ["PointToPoint", "SampledTrajectory", "FourierTrajectory", "PROFILES", "load"]
+__all__ = ["PointToPoint", "SampledTrajectory", "PiecewiseTrajectory", "FourierTrajectory", "PROFILES", "load"]
 
 
 def _sinusoidal(s):
@@ -154,6 +154,38 @@ class SampledTrajectory:
         if not (np.all(np.isfinite(pos)) and np.all(np.isfinite(vel)) and np.all(np.isfinite(acc))):
             raise ValueError("t: the spline overflows at these times (values too large for double precision)")
         return pos, vel, acc
+
+
+class PiecewiseTrajectory:
+    """A motion of constant pose acceleration between samples: at ``times[k] <= t <
+    times[k+1]``, ``x = poses[k] + velocities[k] tau + accelerations[k] tau^2 / 2`` with
+    ``tau = t - times[k]`` (a discrete-time controller's motion, exactly, such as
+    :func:`stewart.cueing.mpc`'s), to ``duration``, the last time. Before the first sample
+    and after the last it holds the first or last pose at rest."""
+
+    def __init__(self, times, poses, velocities, accelerations):
+        times = _times(times, "times")
+        arrays = [arguments.states(name, value) for name, value in
+                  (("poses", poses), ("velocities", velocities), ("accelerations", accelerations))]
+        if times.ndim != 1 or len(times) < 2 or np.any(np.diff(times) <= 0):
+            raise ValueError("times: need at least two strictly increasing times")
+        for name, value in zip(("poses", "velocities", "accelerations"), arrays):
+            if value.shape != (len(times), 6):
+                raise ValueError(f"{name}: need ({len(times)}, 6), got {value.shape}")
+        self.times = times
+        self.poses, self.velocities, self.accelerations = arrays
+        self.duration = float(times[-1])
+
+    def sample(self, t):
+        """Pose, velocity and acceleration at time(s) ``t``."""
+        t = _times(t)
+        k = np.clip(np.searchsorted(self.times, t, side="right") - 1, 0, len(self.times) - 1)
+        tau = (np.clip(t, self.times[0], self.times[-1]) - self.times[k])[..., None]
+        moving = (t >= self.times[0])[..., None] & (t <= self.times[-1])[..., None]
+        acc = self.accelerations[k]
+        pos = self.poses[k] + self.velocities[k] * tau + 0.5 * acc * tau * tau
+        vel = np.where(moving, self.velocities[k] + acc * tau, 0.0)
+        return pos, vel, np.where(moving, acc, 0.0)
 
 
 class FourierTrajectory:
