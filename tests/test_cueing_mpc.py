@@ -1,15 +1,18 @@
 """MPC cueing (stewart.cueing.predictive): the rider's signals and their Jacobians against
 the independent numpy implementation, the vestibular sections against the transfer
 functions, one step's QP against a dense solver, the linearized force constraint against
-the exact inverse dynamics, and the closed loop within every limit on shipped maneuvers."""
+the exact inverse dynamics, convergence to the vehicle's perception as the horizon grows,
+and the closed loop within every limit on shipped maneuvers."""
 
 import os
+from dataclasses import replace
+
 import numpy as np
 import pytest
-from scipy import optimize, signal
+from scipy import signal
 
 import stewart
-from stewart.cueing import MPCParams, mpc, prediction, predictive, read_log, vestibular
+from stewart.cueing import MPCParams, VehicleLog, mpc, prediction, predictive, read_log, vestibular
 from stewart.motion.trajectory import PiecewiseTrajectory
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -64,40 +67,50 @@ def _qp(platform, **settings):
     return predictive.CueingQP(platform, params, 0.01)
 
 
+def _dense_soft_qp(H, q, rows, lo, hi, soft, weight):
+    """The soft-constrained QP ``min u^T H u / 2 + q^T u + weight/2 sum_soft dist(r_i, [lo_i,
+    hi_i])^2`` with the other rows equalities ``r_i = lo_i`` (``r = rows u``), by a dense
+    active-set Newton method: solve the KKT system for the rows outside their bounds, update
+    them, until the set repeats (finite for this piecewise-quadratic, convex problem)."""
+    hard = np.setdiff1d(np.arange(len(lo)), soft)
+    u = np.zeros(H.shape[0])
+    seen = []
+    for _ in range(100):
+        r = rows[soft] @ u
+        below, above = r < lo[soft], r > hi[soft]
+        key = (below.tobytes(), above.tobytes())
+        if key in seen:
+            return u
+        seen.append(key)
+        act = below | above
+        target = np.where(below, lo[soft], hi[soft])[act]
+        a = rows[soft][act]
+        k = H + weight * a.T @ a
+        g = -q + weight * a.T @ target
+        e = rows[hard]
+        kkt = np.block([[k, e.T], [e, np.zeros((len(hard), len(hard)))]])
+        u = np.linalg.solve(kkt, np.concatenate([g, lo[hard]]))[: H.shape[0]]
+    raise AssertionError("active set did not settle")
+
+
 def test_one_step_qp_against_dense_solver(simulator, monkeypatch):
-    """Braking held over the horizon pushes the plan onto its limits; OSQP (tight
-    tolerances) against scipy's SLSQP on the same soft-constrained QP, dense."""
+    """Braking held over the horizon from a platform already moving back pushes the plan
+    onto its limits; OSQP (tight tolerances) against a dense active-set solution of the
+    same soft-constrained QP."""
     monkeypatch.setitem(predictive.SOLVER_SETTINGS, "eps_abs", 1e-10)
     monkeypatch.setitem(predictive.SOLVER_SETTINGS, "eps_rel", 1e-10)
-    monkeypatch.setitem(predictive.SOLVER_SETTINGS, "max_iter", 200000)
-    qp = _qp(simulator, steps=4, duration=0.4)
+    monkeypatch.setitem(predictive.SOLVER_SETTINGS, "max_iter", 400000)
+    qp = _qp(simulator, steps=5, duration=0.5)
     vehicle = np.tile([-6.0, 0.0, 9.81, 0.0, 0.0, 0.0], (qp.n, 1))
     z0 = np.zeros(qp.vestibular.n)
-    x0, v0 = qp.home + [0.3, 0, 0, 0, 0, 0], np.array([-0.4, 0, 0, 0, 0.03, 0])
+    x0, v0 = qp.home + [-0.4, 0, 0, 0, 0, 0], np.array([-0.5, 0, 0, 0, 0.03, 0])
     H, q, M, lo, hi, _, _ = qp.condensed(x0, v0, z0, vehicle)
     u, *_ = qp.solve(x0, v0, z0, vehicle)
-    nu, soft = 6 * qp.n, qp.soft
     scaled = M / qp.row_scale[:, None]
-    lo_s, hi_s = lo / qp.row_scale, hi / qp.row_scale
-
-    def cost(z):
-        return 0.5 * z[:nu] @ H @ z[:nu] + q @ z[:nu] + 0.5 * predictive.SOFT_WEIGHT * z[nu:] @ z[nu:]
-
-    def rows(z):
-        r = scaled @ z[:nu]
-        r[soft] -= z[nu:]
-        return r
-    hard = np.setdiff1d(np.arange(qp.m), soft)
-    constraints = [{"type": "ineq", "fun": lambda z: rows(z)[soft] - lo_s[soft]},
-                   {"type": "ineq", "fun": lambda z: hi_s[soft] - rows(z)[soft]},
-                   {"type": "eq", "fun": lambda z: rows(z)[hard] - lo_s[hard]}]
-    start = np.concatenate([u.ravel(), np.zeros(len(soft))]) * 0.5
-    dense = optimize.minimize(cost, start, jac=lambda z: np.concatenate([H @ z[:nu] + q, predictive.SOFT_WEIGHT * z[nu:]]),
-                              constraints=constraints, method="SLSQP", options={"ftol": 1e-14, "maxiter": 2000})
-    assert dense.success, dense.message
-    active = np.sum((rows(dense.x)[soft] <= lo_s[soft] + 1e-9) | (rows(dense.x)[soft] >= hi_s[soft] - 1e-9))
-    assert active > 0  # the limits do bind
-    assert np.max(np.abs(u.ravel() - dense.x[:nu])) <= 1e-6 * max(1.0, np.max(np.abs(dense.x[:nu])))
+    dense = _dense_soft_qp(H, q, scaled, lo / qp.row_scale, hi / qp.row_scale, qp.soft, predictive.SOFT_WEIGHT)
+    r = scaled[qp.soft] @ dense
+    assert np.any((r < lo[qp.soft] / qp.row_scale[qp.soft]) | (r > hi[qp.soft] / qp.row_scale[qp.soft]))  # limits bind
+    assert np.max(np.abs(u.ravel() - dense)) <= 1e-6 * max(1.0, np.max(np.abs(dense)))
 
 
 def test_linearized_force_is_exact_to_second_order(simulator):
@@ -121,6 +134,26 @@ def test_linearized_force_is_exact_to_second_order(simulator):
         errors.append(np.max(np.abs(exact - linear)))
     assert errors[0] > 1e-6  # a real nonlinearity, not round-off
     assert 3.5 < errors[0] / errors[1] < 4.5 and 3.5 < errors[1] / errors[2] < 4.5
+
+
+def test_long_horizon_reproduces_a_slow_small_maneuver(simulator):
+    """No position or velocity weights, limits far away, the log's future known, intervals
+    of one sample: the perceived error falls as the horizon grows (0.1, 0.4, 0.8 s), to a
+    few per cent of the signal."""
+    t = np.arange(0, 4.0, 0.02)
+    fx = 0.3 * np.sin(2 * np.pi * 0.5 * t) * np.minimum(t, 1.0)
+    log = VehicleLog(t, np.column_stack([fx, 0 * t, 9.81 + 0 * t]), np.zeros((len(t), 3)), "slow")
+    wide = replace(simulator.params, leg_length_limits=(0.5, 3.0))
+    errors = []
+    for steps in (5, 20, 40):
+        params = MPCParams(duration=0.02 * steps, steps=steps, preview=True, position=0.0, velocity=0.0,
+                           acceleration=1e-3, box=(10.0,) * 6, force=1e6, leg_velocity=10.0, tilt_rate=1.0)
+        result = mpc(log, wide, params)
+        assert result.ok and result.solver["qp_failures"] == 0
+        errors.append(result.metrics["perceived_error_rms"]["fx"])
+    scale = np.sqrt(np.mean(vestibular.vehicle(log).f[:, 0] ** 2))
+    assert errors[0] > errors[1] > errors[2]
+    assert errors[2] < 0.5 * errors[0] and errors[2] < 0.05 * scale
 
 
 @pytest.mark.parametrize("name", ["hard_braking", "double_lane_change"])

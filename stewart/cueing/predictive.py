@@ -25,9 +25,10 @@ error scaled by its perception threshold or the pose box) subject to
 All but the last are soft: each row has a slack whose square, in units of the row's limit,
 costs :data:`SOFT_WEIGHT`, so a QP always has a solution and a violation (reported by
 :func:`stewart.cueing.mpc` from the exact kinematics and dynamics) is paid for far above any
-cue. The linearization point is the last plan, shifted by one sample. The first interval is
-one log sample long; its input is applied, the state advanced exactly, and the QP solved
-again.
+cue. The linearization point is the last plan, shifted by one sample. The intervals are
+equal; the first input is applied for one log sample, the state advanced exactly, and the
+QP solved again (a short first interval would let the plan buy velocity cheaply for the
+long ones).
 """
 
 from __future__ import annotations
@@ -96,7 +97,7 @@ class CueingQP:
         discrete = {h: self.vestibular.discrete(h) for h in np.unique(self.h)}
         self.ad = np.stack([discrete[h][0] for h in self.h])
         self.bd = np.stack([discrete[h][1] for h in self.h])
-        self.ad_dt, self.bd_dt = discrete[self.h[0]]
+        self.ad_dt, self.bd_dt = self.vestibular.discrete(self.dt)
         lo, hi = self.platform.params.leg_length_limits
         self.stroke = (lo + params.stroke_margin, hi - params.stroke_margin)
         self.force_limit = (1.0 - params.margin) * params.force

@@ -5,7 +5,7 @@ A TOML file has three sections, each key optional::
 
     [horizon]
     duration = 1.0        # s, the prediction horizon
-    steps = 10            # prediction intervals: the first one log sample long, the others equal
+    steps = 10            # equal prediction intervals (each at least one log sample long)
     preview = false       # true: predict with the log's future (a recorded run); false: hold
                           # the vehicle's present signals over the horizon (a live simulator)
 
@@ -118,15 +118,15 @@ class MPCParams:
         return name
 
     def intervals(self, dt: float) -> np.ndarray:
-        """The prediction intervals [s] for log samples ``dt`` apart: the first ``dt``, the
-        others ``(duration - dt) / (steps - 1)``; a horizon shorter than two samples, or
-        intervals shorter than one, are a ``ValueError``."""
-        rest = (self.duration - dt) / (self.steps - 1)
-        if rest < dt * (1 - 1e-9):
+        """The prediction intervals [s] for log samples ``dt`` apart: ``steps`` equal ones
+        spanning ``duration`` (the first input is applied for one sample, then the plan is
+        made again); intervals shorter than a sample are a ``ValueError``."""
+        h = self.duration / self.steps
+        if h < dt * (1 - 1e-9):
             raise ValueError(f"{self.source}: horizon.duration: {self.duration:g} s with {self.steps} steps gives "
                              f"intervals shorter than the log's sample interval {dt:g} s; need duration >= "
                              f"{self.steps * dt:g} s or fewer steps")
-        return np.array([dt] + [rest] * (self.steps - 1))
+        return np.full(self.steps, h)
 
     @classmethod
     def for_platform(cls, platform, **overrides) -> "MPCParams":
