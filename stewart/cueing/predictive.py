@@ -39,8 +39,8 @@ from dataclasses import dataclass
 import numpy as np
 import osqp
 from scipy import sparse
+from threadpoolctl import threadpool_limits
 
-from ..model import kinematics
 from ..model.platform import as_platform
 from . import prediction, vestibular
 from .settings import MPCParams
@@ -138,6 +138,13 @@ class CueingQP:
         self._p_rows_u, self._p_cols_u = self._p_rows[self._p_input], self._p_cols[self._p_input]
         self._p_values = np.full(len(self._p_rows), SOFT_WEIGHT)
         self.Q, self.R = self._weights()
+        self._starts = np.concatenate([[0.0], np.cumsum(self.h)[:-1]])
+        self._weight = self.h[:, None, None] * self.Q
+        self._input_weight = np.repeat(self.h, 6) * np.tile(self.R, n)
+        self._inputs = np.zeros((n, 6, 6 * n))
+        for k in range(n):
+            self._inputs[k, :, 6 * k: 6 * k + 6] = np.eye(6)
+        self._unit = np.tile(np.eye(6), (n, 1))
         self.solver = None
         self.last = None
 
@@ -160,11 +167,13 @@ class CueingQP:
         if self.last is None:
             return np.tile(x0, (n, 1)), np.tile(v0, (n, 1)), np.zeros((n, 6))
         t_prev, x_prev, v_prev, u_prev = self.last
-        starts = np.concatenate([[0.0], np.cumsum(self.h)[:-1]])
-        times = np.minimum(starts + self.dt, t_prev[-1])
-        xs = np.column_stack([np.interp(times, t_prev, x_prev[:, j]) for j in range(6)])
-        vs = np.column_stack([np.interp(times, t_prev, v_prev[:, j]) for j in range(6)])
-        us = np.column_stack([np.interp(times, t_prev[:-1], u_prev[:, j]) for j in range(6)])
+        # the plan at the intervals' starts one sample later: linear between its knots
+        times = np.minimum(self._starts + self.dt, t_prev[-1])
+        k = np.minimum(np.searchsorted(t_prev, times, side="right") - 1, n - 1)
+        w = ((times - t_prev[k]) / (t_prev[k + 1] - t_prev[k]))[:, None]
+        xs = x_prev[k] + w * (x_prev[k + 1] - x_prev[k])
+        vs = v_prev[k] + w * (v_prev[k + 1] - v_prev[k])
+        us = u_prev[k]
         xs[0], vs[0] = x0, v0
         return xs, vs, us
 
@@ -202,25 +211,23 @@ class CueingQP:
             s_mat[k + 1] = a[k] @ s_mat[k]
             s_mat[k + 1, :, 6 * k: 6 * k + 6] += b[k]
             d[k + 1] = a[k] @ d[k] + c[k]
-        weight = h[:, None, None] * self.Q
-        sq = np.einsum("kab,kbj->kaj", weight, s_mat[1:])
-        H = np.einsum("kai,kaj->ij", s_mat[1:], sq)
-        H[np.diag_indices(6 * n)] += np.repeat(h, 6) * np.tile(self.R, n)
-        q = np.einsum("kaj,ka->j", sq, d[1:])
+        sq = (self._weight @ s_mat[1:]).reshape(-1, 6 * n)
+        H = s_mat[1:].reshape(-1, 6 * n).T @ sq
+        H[np.diag_indices(6 * n)] += self._input_weight
+        q = d[1:].reshape(-1) @ sq
         # leg geometry at the predicted states s_1..s_N, forces at s_0..s_{N-1}
         x_next = xs + h[:, None] * vs + (0.5 * h * h)[:, None] * us
         v_next = vs + h[:, None] * us
-        lengths = plat.leg_lengths(x_next)
-        jl = plat.jacobian(x_next) @ kinematics.twist_transform(x_next)           # dL/dx
+        lengths, rates = plat.leg_rates(np.repeat(x_next, 6, axis=0), self._unit)
+        lengths = lengths[::6]
+        jl = np.transpose(rates.reshape(n, 6, 6), (0, 2, 1))                       # dL/dx, column j: Ldot at e_j
         probes = np.concatenate([v_next[:, None, :] + eye, v_next[:, None, :] - eye], axis=1)
         quad = plat.leg_accelerations(np.repeat(x_next, 12, axis=0), probes.reshape(-1, 6),
                                       np.zeros((12 * n, 6))).reshape(n, 12, 6)
         hl = np.transpose(0.25 * (quad[:, :6] - quad[:, 6:]), (0, 2, 1))           # dLdot/dx along v
         deriv = plat.inverse_dynamics_derivatives(xs, vs, us)
         sp, sv, dp, dv = s_mat[1:, _P], s_mat[1:, _V], d[1:, _P], d[1:, _V]
-        inputs = np.zeros((n, 6, 6 * n))
-        for k in range(n):
-            inputs[k, :, 6 * k: 6 * k + 6] = eye
+        inputs = self._inputs
         p_bar, box = x_next - self.home, np.asarray(prm.box)
         wv = vehicle[:, [4, 3]]                                    # the vehicle's w_y, w_x: theta', phi'
         t_dx, t_dv = deriv.dtau_dx, deriv.dtau_dxd
@@ -297,7 +304,13 @@ def _vehicle_at(times, t, y, preview: bool, now: float):
 def plan(log, platform, params: MPCParams, progress: bool = False) -> Plan:
     """Run the receding horizon over ``log`` (a :class:`~stewart.cueing.log.VehicleLog`) on
     ``platform`` from rest at home: at every sample one QP (:class:`CueingQP`), its first
-    input applied over one sample."""
+    input applied over one sample. The linear algebra runs on one thread (BLAS threads
+    only contend on matrices this small)."""
+    with threadpool_limits(1):
+        return _plan(log, platform, params, progress)
+
+
+def _plan(log, platform, params, progress):
     qp = CueingQP(platform, params, log.dt)
     prm, h, dt = qp.params, qp.h, log.dt
     t = log.t
