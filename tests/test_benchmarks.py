@@ -268,3 +268,11 @@ def test_identification_rows_mark_the_target():
     slow = identification.rows({"samples": 100_000, "identify_s": 3.5, "base_parameters_s": 0.16})
     assert fast[0][1:] == ("2.50 s", "<= 3 s", "met") and slow[0][-1] == "MISSED"
     assert "100,000 samples" in fast[0][0] and fast[1][1] == "160 ms"
+
+
+def test_cueing_rows_mark_the_target():
+    from benchmarks import cueing
+
+    fig = {"preset": "motion_simulator", "horizon_s": 1.0, "steps": 10, "step_max_ms": 9.0, "qp_median_ms": 1.0}
+    assert cueing.rows({**fig, "step_median_ms": 1.9})[0][3] == "met"
+    assert cueing.rows({**fig, "step_median_ms": 2.1})[0][3] == "MISSED"
