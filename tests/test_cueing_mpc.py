@@ -196,3 +196,36 @@ def test_piecewise_trajectory_is_constant_acceleration():
     pos, vel, acc = traj.sample(np.array([0.05, 0.15]))
     assert np.allclose(pos[:, 0], [0.5 * 2.0 * 0.05 ** 2, x[1, 0] + 0.2 * 0.05 - 0.5 * 0.05 ** 2], atol=1e-15)
     assert np.allclose(vel[:, 0], [0.1, 0.15], atol=1e-15) and np.allclose(acc[:, 0], [2.0, -1.0])
+
+
+def test_cli_mpc_report_plot_and_closed_loop(tmp_path):
+    """stewart cueing --method mpc on the first 2.5 s of the braking: the report names the
+    method, the time per step, the limits and peaks, the closed loop's outcome and peaks;
+    the written reference is the report's motion; the figures exist."""
+    import json
+    import subprocess
+    import sys
+
+    log = read_log(os.path.join(EXAMPLES, "hard_braking.csv"))
+    short = tmp_path / "braking.csv"
+    keep = log.t <= 2.5
+    type(log)(log.t[keep], log.f[keep], log.w[keep]).to_csv(short)
+    pytest.importorskip("matplotlib")
+    run = subprocess.run([sys.executable, "-m", "stewart", "cueing", str(short), "--method", "mpc", "--simulate",
+                          "--output", str(tmp_path / "ref.csv"), "--report", str(tmp_path / "r.json"),
+                          "--plot", str(tmp_path / "figs")], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    report = json.loads((tmp_path / "r.json").read_text())
+    assert report["method"] == "mpc" and report["ok"] and report["preview"] is False
+    assert 0 < report["solve_time_s"]["median"] <= report["solve_time_s"]["max"]
+    assert report["qp_failures"] == 0
+    assert report["peak_force"] <= report["limits"]["force"]
+    assert report["peak_leg_velocity"] <= report["limits"]["leg_velocity"]
+    sim = report["simulation"]
+    assert sim["outcome"] == "completed" and max(sim["peak_force"]) <= report["limits"]["force"]
+    assert sim["peak_leg_velocity"] <= report["limits"]["leg_velocity"]
+    assert report["perceived_error_rms"]["fx"] > 0 and set(sim["perceived_error_rms"]) == set(vestibular.CHANNELS)
+    ref = np.genfromtxt(tmp_path / "ref.csv", delimiter=",", names=True)
+    assert len(ref) == int(keep.sum())
+    for name in ("cueing_perceived.png", "cueing_reference.png"):
+        assert (tmp_path / "figs" / name).stat().st_size > 10_000

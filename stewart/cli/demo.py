@@ -9,7 +9,9 @@ figures as PNG; repeats the paper's leg-inertia study; runs an identification st
 with friction in its legs, follows a designed excitation trajectory; its logged leg lengths
 and forces, with noise, give back the base parameters; and ends with a sizing study
 (:func:`sizing_run`): workspace slices, the force and joint-load envelope of the move and of
-a box around it with a 20 % margin, and a small sweep of the joint radii.
+a box around it with a 20 % margin, and a small sweep of the joint radii; and a cueing study
+(:func:`cueing_run`): washout against MPC cueing on the shipped maneuvers, closed loop, on
+the seed paper's platform and on ``motion_simulator``.
 """
 
 from __future__ import annotations
@@ -36,7 +38,10 @@ COULOMB_FRICTION = (1.5, 2.0, 1.2, 1.8, 1.6, 1.4)         # N
 #: Measurement noise of the log: a linear encoder's [m] and a load cell's [N] standard deviation.
 NOISE_LENGTH = 1e-6
 NOISE_FORCE = 0.2
-SWEEP_FILE = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "examples", "sweep.toml")
+#: The checkout's examples/ (make demo runs from a checkout or an unpacked sdist).
+EXAMPLES = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "examples")
+SWEEP_FILE = os.path.join(EXAMPLES, "sweep.toml")
+MANEUVER_DIR = os.path.join(EXAMPLES, "cueing")
 
 
 def _row(label: str, values, fmt: str = "{:>10.4f}", width: int = 34) -> str:
@@ -122,6 +127,7 @@ def main(argv=None) -> None:
 
     ident = identification_run(params, move, short=True)
     sizing = sizing_run(params, move)
+    cueing_rows = cueing_run([params.name, "motion_simulator"])
 
     if not args.no_plots:
         from stewart.io.plots import plot_bars, plot_run, plot_workspace_slices
@@ -142,9 +148,36 @@ def main(argv=None) -> None:
         paths.append(sizing["box"].plot(os.path.join(args.out, "envelope_margin_box.png")))
         if sizing["sweep"] is not None:
             paths.append(sizing["sweep"].plot(os.path.join(args.out, "sweep_pareto.png")))
+        from stewart.cueing import comparison
+
+        for preset, rows in cueing_rows.items():
+            braking = next(r for r in rows if r["name"] == "hard_braking")
+            paths.append(comparison.plot(braking, preset, os.path.join(args.out, f"cueing_{preset}.png")))
         print(f"\nFigures written to {os.path.abspath(args.out)}:")
         for path in paths:
             print(f"  {os.path.basename(path)}")
+
+
+def cueing_run(presets) -> dict[str, list[dict]]:
+    """Washout against MPC cueing, closed loop under computed torque, on every maneuver of
+    ``examples/cueing/`` for each preset (:func:`stewart.cueing.comparison.compare`)."""
+    from stewart.cueing import comparison
+
+    if not os.path.isdir(MANEUVER_DIR):
+        print(f"\nCueing: skipped, {MANEUVER_DIR} not found (make demo runs from a checkout)")
+        return {}
+    logs = sorted(os.path.join(MANEUVER_DIR, f) for f in os.listdir(MANEUVER_DIR) if f.endswith(".csv"))
+    out = {}
+    for preset in presets:
+        print(f"\nCueing on {preset}: washout (W) against MPC, closed loop; perceived-error RMS of the main "
+              "channel [m/s^2 or rad/s], correlation, false cues, RMS of all channels' errors in perception "
+              "thresholds, MPC's peak force over its limit, exit codes", flush=True)
+        rows = comparison.compare(stewart.Platform.preset(preset), logs)
+        print(comparison.format_table(rows))
+        time = np.median([r["solve_time_ms"] for r in rows])
+        print(f"  MPC: 1 s horizon in 10 intervals, no preview, median time per step {time:.2f} ms")
+        out[preset] = rows
+    return out
 
 
 def sizing_run(params: stewart.PlatformParams, move) -> dict:
@@ -172,7 +205,9 @@ def sizing_run(params: stewart.PlatformParams, move) -> dict:
             print(_row(f"{quantity.replace('_', ' ')} [{unit}]", result.value(quantity), "{:>10.3f}"))
 
     result = None
-    if os.path.exists(SWEEP_FILE):
+    if not os.path.exists(SWEEP_FILE):
+        print(f"\nSweep of the joint radii: skipped, {SWEEP_FILE} not found (make demo runs from a checkout)")
+    else:
         spec = sweep.load(SWEEP_FILE)
         result = sweep.sweep(spec, progress=False)
         front = result.front()
