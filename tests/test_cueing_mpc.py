@@ -67,29 +67,50 @@ def _qp(platform, **settings):
     return predictive.CueingQP(platform, params, 0.01)
 
 
-def _dense_soft_qp(H, q, rows, lo, hi, soft, weight):
-    """The soft-constrained QP ``min u^T H u / 2 + q^T u + weight/2 sum_soft dist(r_i, [lo_i,
-    hi_i])^2`` with the other rows equalities ``r_i = lo_i`` (``r = rows u``), by a dense
-    active-set Newton method: solve the KKT system for the rows outside their bounds, update
-    them, until the set repeats (finite for this piecewise-quadratic, convex problem)."""
-    hard = np.setdiff1d(np.arange(len(lo)), soft)
+def _dense_soft_qp(H, q, rows, lo, hi, soft, equal):
+    """The QP ``min u^T H u / 2 + q^T u + SOFT_WEIGHT/2 sum_soft dist(r_i, [lo_i, hi_i])^2``
+    (``r = rows u``) with the rows ``equal`` equalities ``r_i = lo_i`` and the others hard
+    bounds, by a dense active-set method: solve the KKT system with the soft rows outside
+    their bounds penalized and the active hard bounds as equalities; add violated hard
+    bounds, drop those whose multiplier has the wrong sign; until nothing changes."""
+    weight = predictive.SOFT_WEIGHT
+    bounds = np.setdiff1d(np.setdiff1d(np.arange(len(lo)), soft), equal)
+    upper, lower = np.zeros(len(lo), bool), np.zeros(len(lo), bool)
     u = np.zeros(H.shape[0])
-    seen = []
-    for _ in range(100):
-        r = rows[soft] @ u
-        below, above = r < lo[soft], r > hi[soft]
-        key = (below.tobytes(), above.tobytes())
-        if key in seen:
-            return u
-        seen.append(key)
+    for _ in range(200):
+        r = rows @ u
+        below, above = (r < lo)[soft], (r > hi)[soft]
         act = below | above
         target = np.where(below, lo[soft], hi[soft])[act]
         a = rows[soft][act]
         k = H + weight * a.T @ a
         g = -q + weight * a.T @ target
-        e = rows[hard]
-        kkt = np.block([[k, e.T], [e, np.zeros((len(hard), len(hard)))]])
-        u = np.linalg.solve(kkt, np.concatenate([g, lo[hard]]))[: H.shape[0]]
+        fixed = np.concatenate([equal, np.flatnonzero(upper), np.flatnonzero(lower)])
+        e = rows[fixed]
+        rhs = np.concatenate([lo[equal], hi[upper], lo[lower]])
+        kkt = np.block([[k, e.T], [e, np.zeros((len(fixed), len(fixed)))]])
+        sol = np.linalg.solve(kkt, np.concatenate([g, rhs]))
+        u_new, lam = sol[: H.shape[0]], sol[H.shape[0]:]
+        lam_upper = lam[len(equal): len(equal) + upper.sum()]
+        lam_lower = lam[len(equal) + upper.sum():]
+        r = rows @ u_new
+        changed = False
+        for mask, lams, wrong in ((upper, lam_upper, lambda x: x < -1e-12), (lower, lam_lower, lambda x: x > 1e-12)):
+            drop = np.flatnonzero(mask)[wrong(lams)]
+            if drop.size:
+                mask[drop] = False
+                changed = True
+        free = ~upper[bounds] & ~lower[bounds]
+        violated_hi = bounds[(r[bounds] > hi[bounds] + 1e-12) & free]
+        violated_lo = bounds[(r[bounds] < lo[bounds] - 1e-12) & free]
+        if violated_hi.size or violated_lo.size:
+            upper[violated_hi] = True
+            lower[violated_lo] = True
+            changed = True
+        soft_changed = np.any(((rows @ u_new < lo) | (rows @ u_new > hi))[soft] != act)
+        u = u_new
+        if not changed and not soft_changed:
+            return u
     raise AssertionError("active set did not settle")
 
 
@@ -107,7 +128,8 @@ def test_one_step_qp_against_dense_solver(simulator, monkeypatch):
     H, q, M, lo, hi, _, _ = qp.condensed(x0, v0, z0, vehicle)
     u, *_ = qp.solve(x0, v0, z0, vehicle)
     scaled = M / qp.row_scale[:, None]
-    dense = _dense_soft_qp(H, q, scaled, lo / qp.row_scale, hi / qp.row_scale, qp.soft, predictive.SOFT_WEIGHT)
+    rest = np.arange(qp.rows["rest"].start, qp.rows["rest"].stop)
+    dense = _dense_soft_qp(H, q, scaled, lo / qp.row_scale, hi / qp.row_scale, qp.soft, rest)
     r = scaled[qp.soft] @ dense
     assert np.any((r < lo[qp.soft] / qp.row_scale[qp.soft]) | (r > hi[qp.soft] / qp.row_scale[qp.soft]))  # limits bind
     assert np.max(np.abs(u.ravel() - dense)) <= 1e-6 * max(1.0, np.max(np.abs(dense)))

@@ -72,26 +72,6 @@ def midpoint(p, v, u, h):
     return p + 0.5 * h * v + 0.125 * h * h * u, v + 0.5 * h * u
 
 
-def _elementary(angles):
-    """``Rz(psi), Ry(theta), Rx(phi)`` ``(N, 3, 3)`` each, for ``angles`` ``(N, 3)``."""
-    n = len(angles)
-    out = []
-    for col, (i, j) in zip(range(3), ((0, 1), (2, 0), (1, 2))):  # z: (x, y), y: (z, x), x: (y, z)
-        c, s = np.cos(angles[:, col]), np.sin(angles[:, col])
-        m = np.zeros((n, 3, 3))
-        m[:, i, i] = m[:, j, j] = c
-        m[:, i, j], m[:, j, i] = -s, s
-        k = 3 - i - j
-        m[:, k, k] = 1.0
-        out.append(m)
-    return out
-
-
-_SKEW = np.array([[[0, 0, 0], [0, 0, -1], [0, 1, 0]],     # [e_x]x
-                  [[0, 0, 1], [0, 0, 0], [-1, 0, 0]],     # [e_y]x
-                  [[0, -1, 0], [1, 0, 0], [0, 0, 0]]], dtype=float)  # [e_z]x
-
-
 def signals_and_jacobians(x, v, u, gravity):
     """The rider's specific force and angular velocity ``y = [f; w]`` ``(N, 6)`` for poses
     ``x``, pose rates ``v`` and pose accelerations ``u`` ``(N, 6)``, and their exact
@@ -100,33 +80,41 @@ def signals_and_jacobians(x, v, u, gravity):
     (:func:`stewart.cueing.vestibular.platform_signals`)."""
     x, v, u = (np.atleast_2d(np.asarray(a, dtype=float)) for a in (x, v, u))
     n = len(x)
-    rz, ry, rx = _elementary(x[:, 3:])
-    rot = rz @ ry @ rx
-    d_rot = (_SKEW[2] @ rot,                    # dR/dpsi = [e_z]x Rz Ry Rx
-             rz @ ry @ _SKEW[1] @ rx,           # dR/dtheta
-             rot @ _SKEW[0])                    # dR/dphi = R [e_x]x
+    cps, sps = np.cos(x[:, 3]), np.sin(x[:, 3])
+    cth, sth = np.cos(x[:, 4]), np.sin(x[:, 4])
+    cph, sph = np.cos(x[:, 5]), np.sin(x[:, 5])
+    # R and its partials in psi, theta, phi, entry by entry ((4, N, 3, 3))
+    r = np.zeros((4, n, 3, 3))
+    r[0, :, 0] = np.stack([cps * cth, cps * sth * sph - sps * cph, cps * sth * cph + sps * sph], -1)
+    r[0, :, 1] = np.stack([sps * cth, sps * sth * sph + cps * cph, sps * sth * cph - cps * sph], -1)
+    r[0, :, 2] = np.stack([-sth, cth * sph, cth * cph], -1)
+    r[1, :, 0] = -r[0, :, 1]
+    r[1, :, 1] = r[0, :, 0]
+    r[2, :, 0] = np.stack([-cps * sth, cps * cth * sph, cps * cth * cph], -1)
+    r[2, :, 1] = np.stack([-sps * sth, sps * cth * sph, sps * cth * cph], -1)
+    r[2, :, 2] = np.stack([-cth, -sth * sph, -sth * cph], -1)
+    r[3, :, :, 1] = r[0, :, :, 2]
+    r[3, :, :, 2] = -r[0, :, :, 1]
     b = u[:, :3].copy()
     b[:, 2] += gravity
     y = np.empty((n, 6))
     dy_dx = np.zeros((n, 6, 6))
     dy_dv = np.zeros((n, 6, 6))
     dy_du = np.zeros((n, 6, 6))
-    y[:, :3] = np.einsum("nji,nj->ni", rot, b)
-    for k in range(3):
-        dy_dx[:, :3, 3 + k] = np.einsum("nji,nj->ni", d_rot[k], b)
-    dy_du[:, :3, :3] = np.transpose(rot, (0, 2, 1))
-    sth, cth = np.sin(x[:, 4]), np.cos(x[:, 4])
-    sph, cph = np.sin(x[:, 5]), np.cos(x[:, 5])
-    zero = np.zeros(n)
-    e = np.stack([np.stack([-sth, zero, zero + 1], -1), np.stack([cth * sph, cph, zero], -1),
-                  np.stack([cth * cph, -sph, zero], -1)], -2)
-    de_dth = np.stack([np.stack([-cth, zero, zero], -1), np.stack([-sth * sph, zero, zero], -1),
-                       np.stack([-sth * cph, zero, zero], -1)], -2)
-    de_dph = np.stack([np.stack([zero, zero, zero], -1), np.stack([cth * cph, -sph, zero], -1),
-                       np.stack([-cth * sph, -cph, zero], -1)], -2)
-    rates = v[:, 3:]
-    y[:, 3:] = np.einsum("nij,nj->ni", e, rates)
-    dy_dx[:, 3:, 4] = np.einsum("nij,nj->ni", de_dth, rates)
-    dy_dx[:, 3:, 5] = np.einsum("nij,nj->ni", de_dph, rates)
-    dy_dv[:, 3:, 3:] = e
+    rtb = np.einsum("knji,nj->kni", r, b)                  # R^T b and its partials
+    y[:, :3] = rtb[0]
+    dy_dx[:, :3, 3:] = np.transpose(rtb[1:], (1, 2, 0))
+    dy_du[:, :3, :3] = np.transpose(r[0], (0, 2, 1))
+    e = np.zeros((3, n, 3, 3))                             # E and its partials in theta, phi
+    e[0, :, 0, 0], e[0, :, 0, 2] = -sth, 1.0
+    e[0, :, 1, 0], e[0, :, 1, 1] = cth * sph, cph
+    e[0, :, 2, 0], e[0, :, 2, 1] = cth * cph, -sph
+    e[1, :, 0, 0], e[1, :, 1, 0], e[1, :, 2, 0] = -cth, -sth * sph, -sth * cph
+    e[2, :, 1, 0], e[2, :, 1, 1] = cth * cph, -sph
+    e[2, :, 2, 0], e[2, :, 2, 1] = -cth * sph, -cph
+    er = np.einsum("knij,nj->kni", e, v[:, 3:])
+    y[:, 3:] = er[0]
+    dy_dx[:, 3:, 4] = er[1]
+    dy_dx[:, 3:, 5] = er[2]
+    dy_dv[:, 3:, 3:] = e[0]
     return y, dy_dx, dy_dv, dy_du

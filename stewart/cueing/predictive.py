@@ -22,7 +22,7 @@ error scaled by its perception threshold or the pose box) subject to
 * the tilt rate: roll and pitch rates differ from the vehicle's by at most ``tilt_rate``;
 * the platform at rest at the horizon's end, ``v_N = 0`` (so every plan can stop).
 
-All but the last are soft: each row has a slack whose square, in units of the row's limit,
+All but the box and the rest are soft: each row has a slack whose square, in units of its limit,
 costs :data:`SOFT_WEIGHT`, so a QP always has a solution and a violation (reported by
 :func:`stewart.cueing.mpc` from the exact kinematics and dynamics) is paid for far above any
 cue. The linearization point is the last plan, shifted by one sample. The intervals are
@@ -47,9 +47,9 @@ from .settings import MPCParams
 
 __all__ = ["CueingQP", "Plan", "plan"]
 
-#: OSQP's settings: tolerances of the scaled QP, warm start on, no polishing.
+#: OSQP's settings: tolerances of the scaled QP, warm start on, no polishing, 4 scaling passes.
 SOLVER_SETTINGS = {"eps_abs": 1e-3, "eps_rel": 1e-3, "max_iter": 4000, "polishing": False,
-                   "warm_starting": True, "verbose": False, "check_termination": 5}
+                   "warm_starting": True, "verbose": False, "check_termination": 5, "scaling": 4}
 #: Weight of a constraint's squared violation, in units of its limit (the constraints are
 #: soft: a QP always has a solution, and a violation is paid for far above any cue).
 SOFT_WEIGHT = 1e6
@@ -111,7 +111,8 @@ class CueingQP:
         self.rows = {g: slice(edges[i], edges[i + 1]) for i, g in enumerate(GROUPS)}
         self.m = int(edges[-1])
         self.row_scale = np.concatenate([scales[g] for g in GROUPS])
-        self.soft = np.arange(self.rows["rest"].start)                  # every row but v_N = 0
+        # every row but the pose box (linear in the inputs: always met exactly) and v_N = 0
+        self.soft = np.arange(self.rows["tilt"].start, self.rows["rest"].start)
         # which inputs each row depends on: a state s_k on u_0..u_{k-1}, the force at k also on u_k
         depends = np.zeros((self.m, n), dtype=bool)
         for g in GROUPS[:4]:
@@ -247,14 +248,14 @@ class CueingQP:
                       + tau_shift, -self.force_limit, self.force_limit),
             "rest": (sv[-1:], dv[-1:], 0.0, 0.0),
         }
-        rows, lo, hi = [], [], []
+        rows, lo, hi = np.empty((self.m, 6 * n)), np.empty(self.m), np.empty(self.m)
         for g in GROUPS:
             mat, const, low, high = groups[g]
-            const = const.reshape(-1)
-            rows.append(mat.reshape(-1, 6 * n))
-            lo.append(np.broadcast_to(low, np.shape(groups[g][1])).reshape(-1) - const)
-            hi.append(np.broadcast_to(high, np.shape(groups[g][1])).reshape(-1) - const)
-        return H, q, np.vstack(rows), np.concatenate(lo), np.concatenate(hi), s_mat[1:], d[1:]
+            at = self.rows[g]
+            rows[at] = mat.reshape(-1, 6 * n)
+            lo[at] = (low - const).reshape(-1)
+            hi[at] = (high - const).reshape(-1)
+        return H, q, rows, lo, hi, s_mat[1:], d[1:]
 
     def solve(self, x0, v0, z0, vehicle):
         """The plan from pose ``x0``, rates ``v0`` and vestibular error states ``z0`` for the
