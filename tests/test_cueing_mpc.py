@@ -251,3 +251,25 @@ def test_cli_mpc_report_plot_and_closed_loop(tmp_path):
     assert len(ref) == int(keep.sum())
     for name in ("cueing_perceived.png", "cueing_reference.png"):
         assert (tmp_path / "figs" / name).stat().st_size > 10_000
+
+
+def test_no_feasible_motion_is_reported_not_written(simulator, tmp_path):
+    """A force limit below the static load: no motion holds it; the exact check of the
+    reference says so, the exit code is 3 and the CLI writes no reference."""
+    import subprocess
+    import sys
+
+    log = read_log(os.path.join(EXAMPLES, "hard_braking.csv"))
+    keep = log.t <= 1.0
+    short = type(log)(log.t[keep], log.f[keep], log.w[keep], "short")
+    static = np.max(simulator.inverse_dynamics(simulator.home_pose, np.zeros(6), np.zeros(6)))
+    result = mpc(short, simulator, MPCParams.for_platform(simulator, force=0.5 * static))
+    assert result.exit_code == 3 and not result.ok and result.beyond_limits
+    assert any("force reaches" in p for p in result.problems), result.problems
+    short.to_csv(tmp_path / "short.csv")
+    (tmp_path / "c.toml").write_text(f"[limits]\nforce = {0.5 * static}\n")
+    run = subprocess.run([sys.executable, "-m", "stewart", "cueing", str(tmp_path / "short.csv"), "--method", "mpc",
+                          "--cueing", str(tmp_path / "c.toml"), "--output", str(tmp_path / "ref.csv")],
+                         capture_output=True, text=True)
+    assert run.returncode == 3 and "force reaches" in run.stderr and "Traceback" not in run.stderr, run.stderr
+    assert not (tmp_path / "ref.csv").exists()
