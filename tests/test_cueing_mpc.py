@@ -13,7 +13,7 @@ from scipy import signal
 
 import stewart
 from stewart.cueing import MPCParams, VehicleLog, mpc, prediction, predictive, read_log, vestibular
-from stewart.motion.trajectory import PiecewiseTrajectory
+from stewart.motion.trajectory import SampledTrajectory
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 EXAMPLES = os.path.join(ROOT, "examples", "cueing")
@@ -206,18 +206,21 @@ def test_mpc_beats_washout_on_the_braking_and_take_off_channels(simulator):
         assert a < b, (name, a, b)
 
 
-def test_piecewise_trajectory_is_constant_acceleration():
-    t = np.array([0.0, 0.1, 0.2])
-    x = np.zeros((3, 6))
-    v = np.zeros((3, 6))
-    a = np.zeros((3, 6))
-    a[0, 0], a[1, 0] = 2.0, -1.0
-    x[1, 0], v[1, 0] = 0.5 * 2.0 * 0.01, 0.2
-    x[2, 0], v[2, 0] = x[1, 0] + 0.2 * 0.1 - 0.5 * 0.01, 0.1
-    traj = PiecewiseTrajectory(t, x, v, a)
-    pos, vel, acc = traj.sample(np.array([0.05, 0.15]))
-    assert np.allclose(pos[:, 0], [0.5 * 2.0 * 0.05 ** 2, x[1, 0] + 0.2 * 0.05 - 0.5 * 0.05 ** 2], atol=1e-15)
-    assert np.allclose(vel[:, 0], [0.1, 0.15], atol=1e-15) and np.allclose(acc[:, 0], [2.0, -1.0])
+def test_reference_file_gives_the_plan_back(simulator, tmp_path):
+    """The reference CSV read by stewart simulate --trajectory (poses and rates: a Hermite
+    spline) is the MPC's motion: constant acceleration between samples, the plan's."""
+    log = read_log(os.path.join(EXAMPLES, "hard_braking.csv"))
+    keep = log.t <= 2.0
+    result = mpc(type(log)(log.t[keep], log.f[keep], log.w[keep]), simulator)
+    result.to_csv(tmp_path / "ref.csv")
+    trajectory = SampledTrajectory.from_csv(tmp_path / "ref.csv")
+    mid = 0.5 * (result.t[1:] + result.t[:-1])
+    x, v, a = trajectory.sample(mid)
+    h = 0.5 * np.diff(result.t)[:, None]
+    u = result.accelerations[:-1]
+    assert np.max(np.abs(a - u)) < 1e-6 * max(1.0, np.max(np.abs(u)))
+    assert np.max(np.abs(v - (result.velocities[:-1] + h * u))) < 1e-9
+    assert np.max(np.abs(x - (result.poses[:-1] + h * result.velocities[:-1] + 0.5 * h * h * u))) < 1e-9
 
 
 def test_cli_mpc_report_plot_and_closed_loop(tmp_path):

@@ -11,7 +11,7 @@ import numpy as np
 
 from ..model.platform import as_platform
 from ..model.reachability import reachability
-from ..motion.trajectory import PiecewiseTrajectory, SampledTrajectory
+from ..motion.trajectory import SampledTrajectory
 from . import log as log_module
 from . import metrics, vestibular
 from . import predictive
@@ -77,8 +77,7 @@ def mpc(log, platform, params: MPCParams | None = None, *, simulate: bool = Fals
         params = MPCParams.for_platform(plat, **{k: getattr(params, k) for k in params.__dataclass_fields__
                                                  if getattr(params, k) is not None})
     run = predictive.plan(log, plat, params, progress=progress)
-    result = _result("mpc", log, plat, params, PiecewiseTrajectory(log.t, run.x, run.v, run.u), run.x, run.v,
-                     run.u)
+    result = _result("mpc", log, plat, params, SampledTrajectory(log.t, run.x, run.v), run.x, run.v, run.u)
     result.solver = {"preview": params.preview, "steps": params.steps, "horizon_s": params.duration,
                      "solve_time_s": _stats(run.step_time), "qp_time_s": _stats(run.solve_time),
                      "qp_iterations": _stats(run.iterations), "qp_failures": run.failures}

@@ -11,14 +11,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..io import csvfile
-from ..model.kinematics import POSE_AXES
+from ..model.kinematics import POSE_ACCELERATIONS, POSE_AXES, POSE_RATES
 from .vestibular import CHANNELS, Perceived
 
 __all__ = ["CueingResult", "REFERENCE_COLUMNS"]
 
 #: The columns of :meth:`CueingResult.to_csv`: time, pose, pose rates and accelerations
-#: (``stewart simulate --trajectory`` picks ``t`` and the pose by name).
-REFERENCE_COLUMNS = ("t", *POSE_AXES, *(f"{a}_dot" for a in POSE_AXES), *(f"{a}_ddot" for a in POSE_AXES))
+#: (``stewart simulate --trajectory`` picks ``t``, the pose and its rates by name).
+REFERENCE_COLUMNS = ("t", *POSE_AXES, *POSE_RATES, *POSE_ACCELERATIONS)
 
 
 @dataclass
@@ -86,7 +86,7 @@ class CueingResult:
         """Write ``t``, the pose, its rates and accelerations (SI units, rad)."""
         rows = np.column_stack([self.t, self.poses, self.velocities, self.accelerations])
         csvfile.write(path, list(REFERENCE_COLUMNS), rows,
-                      f"cueing reference ({self.method}) of {self.log.name} for {self.platform_name}", fmt="%.12g")
+                      f"cueing reference ({self.method}) of {self.log.name} for {self.platform_name}", fmt="%.17g")
 
     def report(self) -> dict:
         """The report: method, platform, inputs, outcome, problems, settings and metrics."""
