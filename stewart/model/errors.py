@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import sys
 
-__all__ = ["SingularityError", "ConvergenceError", "WrongTypeError", "SimdPathError"]
+__all__ = ["SingularityError", "ConvergenceError", "WrongTypeError", "SimdPathError", "UnstableError"]
 
 
 def row_list(rows) -> str:
@@ -76,3 +76,14 @@ class SimdPathError(SystemExit):
         """Print ``stewart: error: <message>`` to stderr; the error to raise."""
         print(f"stewart: error: {message}", file=sys.stderr)
         return cls(message)
+
+
+class UnstableError(ValueError):
+    """A pose that the preloaded leg springs cannot hold: the stiffness matrix there is not
+    positive definite, so the static equilibrium is unstable (the preload buckles the
+    platform) and it has no modes of oscillation (:mod:`stewart.model.stiffness`); ``rows``
+    as for :class:`SingularityError`."""
+
+    def __init__(self, message: str, rows=None):
+        super().__init__(message)
+        self.rows = [] if rows is None else list(rows)

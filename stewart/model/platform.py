@@ -6,7 +6,7 @@ from typing import NamedTuple
 
 import numpy as np
 
-from . import arguments, kinematics
+from . import arguments, kinematics, stiffness as _stiffness
 from .._generated import FUNCTIONS
 from .._kernel import Kernel
 from .errors import WrongTypeError
@@ -282,6 +282,28 @@ class Platform:
             return _named(StepDerivatives, self._call("rk4_step_derivatives", (x, xd, tau), return_mask, dt),
                           return_mask)
         return _named(Step, self._call("rk4_step", (x, xd, tau), return_mask, dt), return_mask)
+
+    def stiffness_matrix(self, x, stiffness, *, coordinates="pose", return_mask=False):
+        """The stiffness of the platform on leg springs of ``stiffness`` [N/m] (one value or one
+        per leg) preloaded to hold it at ``x``: the Hessian of the potential (springs and
+        gravity) ``K_q = J_E^T (diag(k) J_E + dtau_s/dx)`` in the pose coordinates, or in the
+        twist coordinates with ``coordinates="twist"``; exact, shape ``(..., 6, 6)``
+        (:func:`stewart.model.stiffness.stiffness_matrix`)."""
+        return _stiffness.stiffness_matrix(self, x, stiffness, coordinates=coordinates, return_mask=return_mask)
+
+    def modes(self, x, stiffness, damping=None, *, return_mask=False):
+        """The natural frequencies [Hz] (ascending), mass-normalized mode shapes as twists
+        ``[dp; dtheta]`` in {B} and, with leg dampers ``damping`` [N s/m], the damping ratios of
+        the platform on preloaded leg springs of ``stiffness`` [N/m] at ``x``, legs' inertia
+        and payload included: a :class:`~stewart.model.stiffness.Modes`
+        (:func:`stewart.model.stiffness.modes`)."""
+        return _stiffness.modes(self, x, stiffness, damping, return_mask=return_mask)
+
+    def compliance(self, x, stiffness, point=None, *, return_mask=False):
+        """The Cartesian compliance at ``x``: the small displacement ``[dp; dtheta]`` of
+        ``point`` (in {P}, default its origin) under a unit wrench ``[f; m]`` there, all in {B},
+        shape ``(..., 6, 6)`` (:func:`stewart.model.stiffness.compliance`)."""
+        return _stiffness.compliance(self, x, stiffness, point, return_mask=return_mask)
 
 
 def friction_law(params: PlatformParams, viscous=None, coulomb=None, velocity=None) -> tuple[np.ndarray, np.ndarray, float]:
