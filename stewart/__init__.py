@@ -29,13 +29,13 @@ __version__ = "0.1.0"
 if TYPE_CHECKING:  # the public names: what `__getattr__` imports on first use
     from .io import capi, mjcf
     from .motion import casadi_functions, optimize
-    from .model import conditions, kinematics
+    from .model import conditions, kinematics, stiffness
     from .oracles import exactness, newton_euler, reference
     from .studies import workspace
     from . import cueing
     from .io.capi import c_include_dir, c_sources
     from ._kernel import build_info, set_simd
-    from .model.errors import ConvergenceError, SimdPathError, SingularityError, WrongTypeError
+    from .model.errors import ConvergenceError, SimdPathError, SingularityError, UnstableError, WrongTypeError
     from .model.kinematics import (
         euler_jacobian,
         euler_rate_jacobian,
@@ -63,6 +63,7 @@ if TYPE_CHECKING:  # the public names: what `__getattr__` imports on first use
     from .motion.simulation import SimulationInterrupted, SimulationResult, simulate
     from .motion.trajectory import PointToPoint, SampledTrajectory
     from .model.presets import presets
+    from .model.stiffness import Modes
     from .model.reachability import WorkspaceError, reachability
 
 

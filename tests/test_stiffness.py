@@ -8,7 +8,6 @@ from scipy.optimize import least_squares
 
 import stewart
 from conftest import make_general
-from stewart.model.errors import UnstableError
 from stewart.model.kinematics import euler_jacobian, leg_lengths, twist_transform
 from stewart.oracles import reference
 
@@ -266,9 +265,9 @@ def test_a_singular_pose_and_a_pose_that_cannot_be_held():
         plat.compliance(plat.home_pose + [0, 0, 0, 0, np.pi / 2, 0], K_LEG)
     # Legs of 10 kN/m under 1.5 t hold it at home; 0.3 m aside the preload's geometric term wins.
     poses = np.stack([plat.home_pose, plat.home_pose + [0.3, 0, 0, 0, 0, 0]])
-    with pytest.raises(UnstableError, match=r"^modes: the preloaded legs cannot hold the pose at row\(s\) \[1\]"):
+    with pytest.raises(stewart.UnstableError, match=r"^modes: the preloaded legs cannot hold the pose at row\(s\) \[1\]"):
         plat.modes(poses, 1e4)
-    with pytest.raises(UnstableError, match=r"^compliance: the preloaded legs cannot hold the pose: "):
+    with pytest.raises(stewart.UnstableError, match=r"^compliance: the preloaded legs cannot hold the pose: "):
         plat.compliance(poses[1], 1e4)
     assert plat.modes(poses, 1e4, return_mask=True)[1].tolist() == [True, False]
     with pytest.raises(ValueError, match="point: expected three finite coordinates"):

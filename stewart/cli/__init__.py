@@ -9,7 +9,7 @@ import argparse
 import sys
 
 from .. import __version__, build_info
-from . import checks, cueing, export, identification, model, motion, sizing, workspace
+from . import checks, cueing, export, identification, model, modes, motion, sizing, workspace
 from .common import EXIT_CHECK_FAILED, EXIT_CODES, EXIT_INTERRUPTED, EXIT_USAGE, EXIT_WORKSPACE, UserError
 from .options import Formatter
 
@@ -26,6 +26,7 @@ COMMANDS = (
     identification.add_excitation,
     sizing.add_envelope,
     workspace.add_workspace,
+    modes.add_modes,
     sizing.add_sweep,
     identification.add_identify,
     checks.add_validate,
