@@ -7,7 +7,7 @@ PY := $(VENV)/bin/python
 UV := $(VENV)/bin/uv
 INSTALLED := $(VENV)/.installed
 KERNEL := build/.kernel-built
-KERNEL_SOURCES := stewart/_kernel.pyx stewart/_kernel.pxd stewart/_simulate.pxi stewart/_envelope.pxi \
+KERNEL_SOURCES := stewart/_kernel.pyx stewart/_kernel.pxd stewart/_simulate.pxi stewart/_envelope.pxi stewart/_modes.pxi \
 	$(wildcard generated/*) setup.py
 # The build's first copy of the model (setup.py's MODEL_LIBRARY), which the C test links.
 MODEL_LIBRARY := build/libstewart_model.a

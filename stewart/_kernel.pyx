@@ -529,3 +529,4 @@ cdef class _Blocks:
 
 include "_simulate.pxi"
 include "_envelope.pxi"
+include "_modes.pxi"

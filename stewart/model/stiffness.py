@@ -32,10 +32,11 @@ from __future__ import annotations
 from typing import NamedTuple
 
 import numpy as np
-from scipy.linalg import lapack
 
 from . import arguments, conditions
+from .._kernel import UNSTABLE, modal_terms
 from .errors import SingularityError, UnstableError, row_list
+from .kinematics import rotation, twist_transform
 
 __all__ = ["Modes", "MOTION_AXES", "leg_coefficients", "stiffness_matrix", "modes", "compliance",
            "lowest_frequency", "largest_compliance"]
@@ -90,47 +91,86 @@ def leg_coefficients(name: str, value, *, positive: bool) -> np.ndarray:
 
 
 def _radius(platform) -> float:
-    """The platform's radius: the largest distance of a spherical joint from {P}'s origin."""
-    points = platform.params.platform_points
-    return float(np.max(np.sqrt(np.sum(points * points, axis=1))))
+    """The platform's radius: the largest distance of a spherical joint from {P}'s origin (kept on
+    the platform once computed)."""
+    radius = platform.__dict__.get("_modal_radius")
+    if radius is None:
+        points = platform.params.platform_points
+        radius = platform._modal_radius = float(np.max(np.sqrt(np.sum(points * points, axis=1))))
+    return radius
 
 
-def _inverse_euler_rates(x: np.ndarray) -> np.ndarray:
-    """``J_A^-1`` (eq. 8 inverted): maps the angular velocity in {B} to ``[psi', theta', phi']``,
-    shape ``(..., 3, 3)``; finite where ``cos theta != 0``."""
-    sps, cps = np.sin(x[..., 3]), np.cos(x[..., 3])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        sec = 1.0 / np.cos(x[..., 4])
-    tth, zero = np.tan(x[..., 4]), np.zeros_like(sps)
-    rows = [[tth * cps, tth * sps, zero + 1.0], [-sps, cps, zero], [cps * sec, sps * sec, zero]]
-    return np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
+def _stiffnesses(stiffness) -> np.ndarray:
+    """:func:`leg_coefficients` of ``stiffness``, with a fast path for one positive float."""
+    if type(stiffness) is float and 0.0 < stiffness < np.inf:
+        return np.full(6, stiffness)
+    return leg_coefficients("stiffness", stiffness, positive=True)
 
 
-def _static_terms(platform, function: str, x, return_mask: bool):
-    """``(x, J_C, dtau_s/dx, ok)`` at the pose(s) ``x``: the static forces' exact Jacobian from
-    the compiled kernel, ``ok`` ``(N,)`` the rows where the model is defined (all, or
-    :class:`~stewart.SingularityError` naming ``function``, without ``return_mask``)."""
-    x = arguments.states("x", x)
-    zero = np.zeros(6)
-    try:
-        (tau, dtau_dx, _, _), ok = platform.inverse_dynamics_derivatives(x, zero, zero, return_mask=True) \
-            if return_mask else (platform.inverse_dynamics_derivatives(x, zero, zero), True)
-    except SingularityError as exc:
-        raise SingularityError(str(exc).replace("inverse_dynamics_derivatives", function, 1),
-                               rows=exc.rows, condition=exc.condition) from None
-    if not return_mask:
-        conditions.check(function, x, conditions.euler_codes(x))
-    ok = np.reshape(ok, (-1,)) & (conditions.euler_codes(x) == conditions.Status.OK)
-    jac = platform.jacobian(np.where(ok[:, None], x, platform.home_pose).reshape(x.shape))
-    return x, jac, dtau_dx, ok
+def _poses(x) -> np.ndarray:
+    """``x`` as C-contiguous float64 ``(N, 6)``: an array that is one as it is, else checked by
+    :func:`stewart.model.arguments.states` (which names ``x``)."""
+    if not (type(x) is np.ndarray and x.dtype == np.float64 and x.flags.c_contiguous and 1 <= x.ndim <= 2
+            and x.shape[-1] == 6):
+        x = np.ascontiguousarray(arguments.states("x", x))
+    return x.reshape(-1, 6)
 
 
-def _twist_stiffness(x, jac, dtau_dx, k) -> np.ndarray:
-    """``K_t = J_C^T (diag(k) J_C + dtau_s/dx T^-1)`` (module docstring), unsymmetrized."""
-    inner = k[:, None] * jac
-    inner[..., :3] += dtau_dx[..., :3]
-    inner[..., 3:] += dtau_dx[..., 3:] @ _inverse_euler_rates(x)
-    return np.swapaxes(jac, -1, -2) @ inner
+#: {status code: condition} of the compiled model (:data:`stewart.model.conditions.CONDITIONS`).
+_CONDITIONS = {condition.code: condition for condition in conditions.CONDITIONS.values()}
+
+
+class _Terms(NamedTuple):
+    """The compiled loop's results (:func:`stewart._kernel.modal_terms`) at ``(N, 6)`` poses, with
+    ``good`` the rows that did not fail and ``one`` whether a single pose was given."""
+
+    x: np.ndarray
+    stiffness: np.ndarray
+    jacobian: np.ndarray
+    mass: np.ndarray
+    frequencies: np.ndarray
+    shapes: np.ndarray
+    good: np.ndarray | None  # None: every row
+    one: bool
+
+
+def _terms(platform, function: str, x, k, return_mask: bool, stable: bool = True) -> _Terms:
+    """The stiffness and modes at the pose(s) ``x`` from the compiled loop. A row where the model
+    is undefined raises :class:`~stewart.SingularityError` naming ``function`` and the condition
+    (``euler_singular`` at ``theta = +-90 deg``, where ``T^-1`` is undefined), and with ``stable``
+    one the legs cannot hold :class:`~stewart.model.errors.UnstableError`; with ``return_mask``
+    they are left out of ``good`` instead."""
+    one = np.ndim(x) == 1
+    poses = _poses(x)
+    stiff, jac, mass, freqs, shapes, status, failures = modal_terms(platform.kernel, poses, k)
+    if not failures:
+        return _Terms(poses, stiff, jac, mass, freqs, shapes, None, one)
+    failed = (status != 0) & ((status != UNSTABLE) | stable)
+    if not return_mask and failed.any():
+        arguments.finite_states("x", poses[0] if one else poses)  # names a row that is not finite
+        rows = np.flatnonzero(failed).tolist()
+        code = int(status[rows[0]])
+        if code == UNSTABLE:
+            where = "" if one else f" at row(s) {row_list(rows)}"
+            raise UnstableError(f"{function}: the preloaded legs cannot hold the pose{where}: the stiffness is "
+                                "not positive definite (the preload buckles the platform); stiffer legs or a "
+                                "smaller load", rows=rows)
+        condition = _CONDITIONS[code]
+        raise SingularityError.at_rows(function, condition.name, condition.message, rows, not one)
+    return _Terms(poses, stiff, jac, mass, freqs, shapes, ~failed, one)
+
+
+def _shaped(terms: _Terms, result, return_mask: bool):
+    """``result`` (a batch) as one pose's if ``terms`` are of one pose, with the mask if asked."""
+    if terms.one:
+        result = result[0]
+    return (result, _mask(terms)) if return_mask else result
+
+
+def _mask(terms: _Terms):
+    """The rows that did not fail: a bool for one pose, else ``(N,)``."""
+    good = np.ones(len(terms.x), bool) if terms.good is None else terms.good
+    return bool(good[0]) if terms.one else good
 
 
 def stiffness_matrix(platform, x, stiffness, *, coordinates: str = "pose", return_mask: bool = False):
@@ -139,62 +179,17 @@ def stiffness_matrix(platform, x, stiffness, *, coordinates: str = "pose", retur
     ``K_q = J_E^T (diag(k) J_E + dtau_s/dx)`` in the pose coordinates ``[x, y, z, psi, theta,
     phi]`` (``coordinates="pose"``, units N/m, N/rad, N m/rad), or ``K_t = T^-T K_q T^-1`` in the
     twist coordinates ``[dp; dtheta]`` of {B} (``coordinates="twist"``); shape ``(..., 6, 6)``.
-    See the module docstring; exact, symmetric to round-off (not symmetrized)."""
-    k = leg_coefficients("stiffness", stiffness, positive=True)
+    See the module docstring; exact, symmetric to round-off (not symmetrized). It is given where
+    the legs cannot hold the pose too (it is not positive definite there)."""
+    k = _stiffnesses(stiffness)
     if coordinates not in ("pose", "twist"):
         raise ValueError(f"coordinates: expected 'pose' or 'twist', got {coordinates!r}")
-    x, jac, dtau_dx, ok = _static_terms(platform, "stiffness_matrix", x, return_mask)
+    terms = _terms(platform, "stiffness_matrix", x, k, return_mask, stable=False)
+    result = terms.stiffness
     if coordinates == "pose":
-        from .kinematics import twist_transform
-
-        jac_e = jac @ twist_transform(np.where(ok[:, None], x, 0.0).reshape(x.shape))
-        result = np.swapaxes(jac_e, -1, -2) @ (k[:, None] * jac_e + dtau_dx)
-    else:
-        with np.errstate(invalid="ignore"):
-            result = _twist_stiffness(x, jac, dtau_dx, k)
-    return (result, ok if x.ndim == 2 else bool(ok[0])) if return_mask else result
-
-
-def _whitened(platform, x, jac, dtau_dx, k, good):
-    """``(K_t symmetrized, M_t)`` ``(N, 6, 6)`` with the rows not ``good`` replaced by identities
-    (so that batched linear algebra runs on them)."""
-    safe = np.where(good[:, None], x.reshape(-1, 6), platform.home_pose)
-    mass = platform.twist_mass_matrix(safe)
-    with np.errstate(invalid="ignore"):
-        stiff = _twist_stiffness(safe, jac.reshape(-1, 6, 6), np.nan_to_num(dtau_dx.reshape(-1, 6, 6)), k)
-    stiff = 0.5 * (stiff + np.swapaxes(stiff, -1, -2))
-    stiff[~good], mass[~good] = np.eye(6), np.eye(6)
-    return stiff, mass
-
-
-def _unstable(function: str, lowest: np.ndarray, good: np.ndarray, batch: bool, return_mask: bool) -> np.ndarray:
-    """``good`` without the rows whose lowest eigenvalue ``lowest`` (of the stiffness, or of the
-    generalized eigenproblem) is not positive,
-    or :class:`~stewart.model.errors.UnstableError` naming them (without ``return_mask``)."""
-    unstable = good & ~(lowest > 0.0)
-    if unstable.any() and not return_mask:
-        rows = np.flatnonzero(unstable).tolist()
-        where = f" at row(s) {row_list(rows)}" if batch else ""
-        raise UnstableError(f"{function}: the preloaded legs cannot hold the pose{where}: the stiffness is not "
-                            "positive definite (the preload buckles the platform); stiffer legs or a smaller load",
-                            rows=rows)
-    return good & ~unstable
-
-
-def _eigen(stiff: np.ndarray, mass: np.ndarray, vectors: bool):
-    """Eigenvalues ``w^2`` (ascending, ``(N, 6)``) and mass-normalized eigenvectors (columns) of
-    ``K phi = w^2 M phi``: LAPACK's ``dsygv`` for one matrix, else the batched ``eigh`` of
-    ``L^-1 K L^-T`` with ``M = L L^T``."""
-    if len(stiff) == 1:
-        values, shapes, info = lapack.dsygv(stiff[0], mass[0], jobz="V" if vectors else "N")
-        if info == 0:
-            return values[None], shapes[None] if vectors else None
-    low_inv = np.linalg.inv(np.linalg.cholesky(mass))
-    whitened = low_inv @ stiff @ np.swapaxes(low_inv, -1, -2)
-    if not vectors:
-        return np.linalg.eigvalsh(whitened), None
-    values, vecs = np.linalg.eigh(whitened)
-    return values, np.swapaxes(low_inv, -1, -2) @ vecs
+        transform = twist_transform(terms.x if terms.good is None else np.where(terms.good[:, None], terms.x, 0.0))
+        result = np.swapaxes(transform, -1, -2) @ result @ transform
+    return _shaped(terms, result, return_mask)
 
 
 def _damping_ratios(values: np.ndarray, shapes: np.ndarray, c: np.ndarray, jac: np.ndarray) -> np.ndarray:
@@ -224,18 +219,6 @@ def _damping_ratios(values: np.ndarray, shapes: np.ndarray, c: np.ndarray, jac: 
     return ratios
 
 
-def _modal(platform, function, x, stiffness, damping, return_mask, vectors):
-    """The undamped eigenvalues, shapes, damping ratios and mask at ``x`` (see :func:`modes`)."""
-    k = leg_coefficients("stiffness", stiffness, positive=True)
-    c = None if damping is None else leg_coefficients("damping", damping, positive=False)
-    x, jac, dtau_dx, ok = _static_terms(platform, function, x, return_mask)
-    stiff, mass = _whitened(platform, x, jac, dtau_dx, k, ok)
-    values, shapes = _eigen(stiff, mass, vectors)
-    good = _unstable(function, values[:, 0], ok, x.ndim == 2, return_mask)
-    ratios = None if c is None else _damping_ratios(values, shapes, c, jac.reshape(-1, 6, 6))
-    return x, values, shapes, ratios, good
-
-
 def modes(platform, x, stiffness, damping=None, *, return_mask: bool = False):
     """The natural frequencies and mode shapes (:class:`Modes`) at the pose(s) ``x`` of the
     platform on legs of ``stiffness`` [N/m] (each > 0) preloaded to hold it there, with
@@ -245,27 +228,27 @@ def modes(platform, x, stiffness, damping=None, *, return_mask: bool = False):
     ``theta = +-90 deg``), :class:`~stewart.model.errors.UnstableError` where the stiffness is
     not positive definite (the preload buckles the legs: the pose cannot be held); with
     ``return_mask`` those rows are NaN and ``(modes, ok)`` is returned."""
-    x, values, shapes, ratios, good = _modal(platform, "modes", x, stiffness, damping, return_mask, True)
-    with np.errstate(invalid="ignore"):
-        freqs = np.sqrt(values) / (2.0 * np.pi)
-    freqs[~good], shapes[~good] = np.nan, np.nan
-    if ratios is not None:
-        ratios[~good] = np.nan
-    one = x.ndim == 1
-    result = Modes(freqs[0] if one else freqs, shapes[0] if one else shapes,
-                   None if ratios is None else ratios[0] if one else ratios, _radius(platform))
-    return (result, bool(good[0]) if one else good) if return_mask else result
+    k = _stiffnesses(stiffness)
+    c = None if damping is None else leg_coefficients("damping", damping, positive=False)
+    terms = _terms(platform, "modes", x, k, return_mask)
+    ratios = None
+    if c is not None:
+        omega = 2.0 * np.pi * np.nan_to_num(terms.frequencies)
+        ratios = _damping_ratios(omega * omega, np.nan_to_num(terms.shapes), c, np.nan_to_num(terms.jacobian))
+        if terms.good is not None:
+            ratios[~terms.good] = np.nan
+    if terms.one:
+        result = Modes(terms.frequencies[0], terms.shapes[0], None if ratios is None else ratios[0], _radius(platform))
+    else:
+        result = Modes(terms.frequencies, terms.shapes, ratios, _radius(platform))
+    return (result, _mask(terms)) if return_mask else result
 
 
 def lowest_frequency(platform, x, stiffness, *, return_mask: bool = False):
     """The lowest natural frequency [Hz] at the pose(s) ``x`` (:func:`modes` without the
     shapes), shape ``(...)``."""
-    x, values, _, _, good = _modal(platform, "lowest_frequency", x, stiffness, None, return_mask, False)
-    with np.errstate(invalid="ignore"):
-        lowest = np.where(good, np.sqrt(values[:, 0]) / (2.0 * np.pi), np.nan)
-    one = x.ndim == 1
-    result = lowest[0] if one else lowest
-    return (result, bool(good[0]) if one else good) if return_mask else result
+    terms = _terms(platform, "lowest_frequency", x, _stiffnesses(stiffness), return_mask)
+    return _shaped(terms, terms.frequencies[:, 0], return_mask)
 
 
 def compliance(platform, x, stiffness, point=None, *, return_mask: bool = False):
@@ -274,25 +257,22 @@ def compliance(platform, x, stiffness, point=None, *, return_mask: bool = False)
     applied at ``point`` (in {P}, m; default {P}'s origin) to the small displacement
     ``[dp (m); dtheta (rad)]`` of that point and of the platform, all in {B}:
     ``A K_t^-1 A^T`` with ``A = [[I, -[r]x], [0, I]]``, ``r = R point``. Errors as :func:`modes`."""
-    k = leg_coefficients("stiffness", stiffness, positive=True)
+    k = _stiffnesses(stiffness)
     point = np.zeros(3) if point is None else arguments.reals("point", point)
     if point.shape != (3,) or not np.all(np.isfinite(point)):
         raise ValueError(f"point: expected three finite coordinates in {{P}} (m), got {point.tolist()}")
-    x, jac, dtau_dx, ok = _static_terms(platform, "compliance", x, return_mask)
-    stiff, _ = _whitened(platform, x, jac, dtau_dx, k, ok)
-    good = _unstable("compliance", np.linalg.eigvalsh(stiff)[:, 0], ok, x.ndim == 2, return_mask)
-    from .kinematics import rotation
-
-    arm = rotation(np.where(good[:, None], x.reshape(-1, 6), 0.0)) @ point
+    terms = _terms(platform, "compliance", x, k, return_mask)
+    good = np.ones(len(terms.x), bool) if terms.good is None else terms.good
+    stiff = 0.5 * (terms.stiffness + np.swapaxes(terms.stiffness, -1, -2))
+    stiff[~good] = np.eye(6)
+    arm = rotation(np.where(good[:, None], terms.x, 0.0)) @ point
     shift = np.broadcast_to(np.eye(6), stiff.shape).copy()
     shift[:, 0, 4], shift[:, 0, 5] = arm[:, 2], -arm[:, 1]
     shift[:, 1, 3], shift[:, 1, 5] = -arm[:, 2], arm[:, 0]
     shift[:, 2, 3], shift[:, 2, 4] = arm[:, 1], -arm[:, 0]
     result = shift @ np.linalg.solve(stiff, np.swapaxes(shift, -1, -2))
     result[~good] = np.nan
-    one = x.ndim == 1
-    result = result[0] if one else result
-    return (result, bool(good[0]) if one else good) if return_mask else result
+    return _shaped(terms, result, return_mask)
 
 
 def largest_compliance(platform, x, stiffness, point=None, *, return_mask: bool = False):

@@ -1,0 +1,161 @@
+# The stiffness and modes of the platform on preloaded leg springs, per state in C (included by
+# stewart/_kernel.pyx: stewart._kernel.modal_terms; the equations are those of
+# stewart.model.stiffness).
+#
+# A few dozen rows at a time, the model's batch functions give the static forces' exact Jacobian
+# dtau_s/dx (inverse_dynamics_derivatives at rest), J_C and the twist-space mass matrix M_t into
+# buffers on the stack; per row the twist-space stiffness
+#     K_t = J_C^T (diag(k) J_C + dtau_s/dx T^-1),   T^-1 = blockdiag(I, J_A^-1),
+# is formed and LAPACK's dsygv (scipy.linalg.cython_lapack) solves K_t phi = w^2 M_t phi for
+# the symmetric part of K_t. Nothing is allocated per state, and the rows run without the GIL,
+# on the kernel's threads.
+
+from libc.math cimport M_PI, cos, sin, tan
+from scipy.linalg.cython_lapack cimport dsygv
+
+cdef enum:
+    # The status of a row whose stiffness is not positive definite: the legs cannot hold the pose.
+    MODAL_UNSTABLE = -1
+    # Rows per call of the batch functions: their outputs (150 doubles a row) stay in L1/L2.
+    MODAL_ROWS = 32
+    # The workspace of dsygv (at least 3 n - 1 = 17).
+    MODAL_WORK = 64
+
+#: The status :func:`modal_terms` gives a row whose stiffness is not positive definite.
+UNSTABLE = MODAL_UNSTABLE
+
+
+cdef void _inverse_euler_rates(const double *x, double *out) noexcept nogil:
+    """``J_A^-1`` (eq. 8 inverted, row-major 3 x 3): the Euler rates of an angular velocity in {B}."""
+    cdef double sps = sin(x[3]), cps = cos(x[3]), tth = tan(x[4]), sec = 1.0 / cos(x[4])
+    out[0], out[1], out[2] = tth * cps, tth * sps, 1.0
+    out[3], out[4], out[5] = -sps, cps, 0.0
+    out[6], out[7], out[8] = cps * sec, sps * sec, 0.0
+
+
+cdef int _modal_row(const double *x, const double *k, const double *jac, const double *dtau_dx, const double *mass,
+                    double *stiff, double *frequencies, double *shapes) noexcept nogil:
+    """One state: ``stiff`` = ``K_t`` (row-major, not symmetrized), ``frequencies`` = ``w / 2 pi``
+    ascending and ``shapes`` (row-major, mode j in column j) mass-normalized; the status."""
+    cdef double inv_rates[9]
+    cdef double inner[36]
+    cdef double a[36]
+    cdef double b[36]
+    cdef double work[MODAL_WORK]
+    cdef double values[6]
+    cdef int i, j, m, itype = 1, order = 6, lwork = MODAL_WORK, info = 0
+    cdef char jobz = b'V', uplo = b'L'
+    cdef double s
+    _inverse_euler_rates(x, inv_rates)
+    for i in range(6):
+        for j in range(6):
+            s = k[i] * jac[6 * i + j]
+            if j < 3:
+                s += dtau_dx[6 * i + j]
+            else:
+                for m in range(3):
+                    s += dtau_dx[6 * i + 3 + m] * inv_rates[3 * m + j - 3]
+            inner[6 * i + j] = s
+    for i in range(6):
+        for j in range(6):
+            s = 0.0
+            for m in range(6):
+                s += jac[6 * m + i] * inner[6 * m + j]
+            stiff[6 * i + j] = s
+    for i in range(6):
+        for j in range(6):
+            a[6 * i + j] = 0.5 * (stiff[6 * i + j] + stiff[6 * j + i])
+            b[6 * i + j] = mass[6 * i + j]
+    dsygv(&itype, &jobz, &uplo, &order, a, &order, b, &order, values, work, &lwork, &info)
+    if info != 0:
+        return STEWART_ERR_MASS_SINGULAR
+    if not values[0] > 0.0:
+        return MODAL_UNSTABLE
+    for i in range(6):
+        frequencies[i] = sqrt(values[i]) * (0.5 / M_PI)
+        for j in range(6):
+            shapes[6 * i + j] = a[6 * j + i]  # LAPACK's column j is mode j
+    return STEWART_OK
+
+
+cdef void _modal_rows(const stewart_params *p, const double *x, const double *k, Py_ssize_t n, double *stiff, double *jac,
+                      double *mass, double *values, double *shapes, int *status) noexcept nogil:
+    """Up to MODAL_ROWS states; a failed row's outputs are NaN but for the stiffness of an
+    unstable one."""
+    cdef double rest[MODAL_ROWS * 6]
+    cdef double tau[MODAL_ROWS * 6]
+    cdef double dtau_dx[MODAL_ROWS * 36]
+    cdef double dtau_dxd[MODAL_ROWS * 36]
+    cdef double dtau_dxdd[MODAL_ROWS * 36]
+    cdef int jac_status[MODAL_ROWS]
+    cdef int mass_status[MODAL_ROWS]
+    cdef Py_ssize_t r, i
+    for i in range(6 * n):
+        rest[i] = 0.0
+    if n == 1:  # one state: the model's own functions, not a batch padded to the vector width
+        status[0] = T.inverse_dynamics_derivatives(p, x, rest, rest, tau, dtau_dx, dtau_dxd, dtau_dxdd)
+        jac_status[0] = T.jacobian(p, x, jac)
+        mass_status[0] = T.twist_mass_matrix(p, x, mass)
+    else:
+        T.batch_inverse_dynamics_derivatives(p, n, x, rest, rest, tau, dtau_dx, dtau_dxd, dtau_dxdd, status)
+        T.batch_jacobian(p, n, x, jac, jac_status)
+        T.batch_twist_mass_matrix(p, n, x, mass, mass_status)
+    for r in range(n):
+        if status[r] == STEWART_OK and mass_status[r] != STEWART_OK:
+            status[r] = mass_status[r]
+        if status[r] == STEWART_OK and not fabs(cos(x[6 * r + 4])) >= STEWART_EULER_TOL:
+            status[r] = STEWART_ERR_EULER_SINGULAR
+        if status[r] == STEWART_OK:
+            status[r] = _modal_row(x + 6 * r, k, jac + 36 * r, dtau_dx + 36 * r, mass + 36 * r, stiff + 36 * r,
+                                   values + 6 * r, shapes + 36 * r)
+        if status[r] != STEWART_OK:
+            for i in range(6):
+                values[6 * r + i] = NAN
+            for i in range(36):
+                shapes[36 * r + i] = NAN
+                if status[r] != MODAL_UNSTABLE:
+                    stiff[36 * r + i] = NAN
+
+
+def modal_terms(Kernel kernel, x, k):
+    """The stiffness and modes at the states ``x`` (float64, C-contiguous ``(n, 6)``) of the
+    platform on preloaded leg springs ``k`` (``(6,)`` N/m): ``(K_t, J_C, M_t, frequencies [Hz],
+    shapes, status, failures)``, shapes ``(n, 6, 6)``, ``(n, 6, 6)``, ``(n, 6, 6)``, ``(n, 6)``,
+    ``(n, 6, 6)``, ``(n,)`` and an int; ``status`` per row ``STEWART_OK`` (0), a status of the model
+    (its outputs NaN), or :data:`UNSTABLE` (``K_t``, ``J_C`` and ``M_t`` given, the rest NaN);
+    ``failures`` the rows not OK. See :mod:`stewart.model.stiffness`."""
+    cdef cnp.ndarray cx = _c_array("x", x, cnp.NPY_DOUBLE, 2, False)
+    cdef cnp.ndarray ck = _c_array("k", k, cnp.NPY_DOUBLE, 1, False)
+    cdef Py_ssize_t n = cx.shape[0]
+    if cx.shape[1] != 6 or ck.shape[0] != 6:
+        raise ValueError(f"x, k: need (n, 6) states and (6,) stiffnesses, got {np.shape(x)}, {np.shape(k)}")
+    cdef cnp.ndarray stiff = np.empty((n, 6, 6)), jac = np.empty((n, 6, 6)), mass = np.empty((n, 6, 6))
+    cdef cnp.ndarray shapes = np.empty((n, 6, 6)), values = np.empty((n, 6)), status = np.empty(n, dtype=np.intc)
+    cdef double *pstiff = <double *>cnp.PyArray_DATA(stiff)
+    cdef double *pjac = <double *>cnp.PyArray_DATA(jac)
+    cdef double *pmass = <double *>cnp.PyArray_DATA(mass)
+    cdef double *pvalues = <double *>cnp.PyArray_DATA(values)
+    cdef double *pshapes = <double *>cnp.PyArray_DATA(shapes)
+    cdef int *pstatus = <int *>cnp.PyArray_DATA(status)
+    cdef const double *px = <const double *>cnp.PyArray_DATA(cx)
+    cdef const double *pk = <const double *>cnp.PyArray_DATA(ck)
+    cdef Py_ssize_t b, first, nblocks = (n + MODAL_ROWS - 1) // MODAL_ROWS
+    cdef const stewart_params *params = &kernel.p
+    cdef int threads = kernel.threads if nblocks > 1 else 1
+    with nogil:
+        if threads == 1:  # one block, or one thread: no parallel region
+            for b in range(nblocks):
+                first = b * MODAL_ROWS
+                _modal_rows(params, px + 6 * first, pk, min(<Py_ssize_t>MODAL_ROWS, n - first), pstiff + 36 * first,
+                            pjac + 36 * first, pmass + 36 * first, pvalues + 6 * first, pshapes + 36 * first,
+                            pstatus + first)
+        else:
+            for b in prange(nblocks, num_threads=threads, schedule="dynamic"):
+                first = b * MODAL_ROWS
+                _modal_rows(params, px + 6 * first, pk, min(<Py_ssize_t>MODAL_ROWS, n - first), pstiff + 36 * first,
+                            pjac + 36 * first, pmass + 36 * first, pvalues + 6 * first, pshapes + 36 * first,
+                            pstatus + first)
+    cdef Py_ssize_t r, failures = 0
+    for r in range(n):
+        failures += pstatus[r] != STEWART_OK
+    return stiff, jac, mass, values, shapes, status, failures
