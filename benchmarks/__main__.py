@@ -143,6 +143,8 @@ def main(argv=None) -> None:
         results["kernel"][preset].update(bench.general_model_figures(preset, args.batch))
         print(f"[bench] exact derivatives and finite differences, {preset} ...", flush=True)
         results["kernel"][preset].update(bench.derivative_figures(preset, min(args.batch, bench.DERIVATIVE_BATCH)))
+        print(f"[bench] modes at one pose and a map of the lowest frequency, {preset} ...", flush=True)
+        results["kernel"][preset].update(bench.modal_figures(preset))
     print("[bench] batch functions against the single-state ones, C loop ...", flush=True)
     results["batch_loop"] = batch_loop.figures("narayan2017", min(args.batch, 100_000))
     if peer_available("distributed"):

@@ -148,7 +148,7 @@ def test_performance_block_marks_targets_from_the_bench_figures(tmp_path):
     assert "mass_matrix_general" not in block and "[motion_simulator]" not in block.split("Targets")[0]
     assert block.count("MISSED") == 2
     assert block.splitlines()[-1] == (
-        "Targets over every preset in that run: 19 met, 3 missed ([narayan2017] inverse dynamics, C batch "
+        "Targets over every preset in that run: 23 met, 3 missed ([narayan2017] inverse dynamics, C batch "
         "loop; [motion_simulator] inverse dynamics, C batch loop; generation (python -m codegen)).")
 
 

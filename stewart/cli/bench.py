@@ -13,10 +13,12 @@ from stewart.model import kinematics
 from stewart.oracles import reference
 from stewart._kernel import LANES
 from stewart.oracles.physics import relative_error
+from stewart.model.presets import LEG_STIFFNESS
+from stewart.model.stiffness import lowest_frequency
 
 __all__ = ["TARGETS", "Target", "median_time", "states", "thread_speedup", "kernel_figures", "simulation_figures",
            "derivative_figures", "scalar_time", "general_model_figures", "general_model_params",
-           "forward_differences", "kernel_rows", "measure_row", "format_table"]
+           "forward_differences", "kernel_rows", "measure_row", "format_table", "modal_figures"]
 
 
 def median_time(fn, number: int, repeat: int = 7) -> float:
@@ -33,6 +35,9 @@ def states(params, n: int, seed: int = 0):
     xdd = rng.normal(size=(n, 6)) * scale * 50
     return x, xd, xdd
 
+
+#: Poses of the timed map of the lowest frequency.
+MODAL_MAP = 100_000
 
 #: The smallest batch the two-thread target covers.
 SMALL_BATCH = 10_000
@@ -75,6 +80,21 @@ def kernel_figures(preset: str, batch: int) -> dict:
     out["speedup_batch_vs_reference"] = out["reference_batch_inverse_dynamics_us"] / out["batch_inverse_dynamics_us"]
     out["speedup_single_vs_reference"] = out["reference_single_inverse_dynamics_us"] / out["single_inverse_dynamics_us"]
     return out
+
+
+def modal_figures(preset: str) -> dict:
+    """Modes at one pose (:meth:`stewart.Platform.modes`) and the lowest frequency over a map of
+    :data:`MODAL_MAP` poses on two threads, on legs of the preset's
+    :data:`~stewart.model.presets.LEG_STIFFNESS`."""
+    plat = stewart.Platform.preset(preset)
+    both = stewart.Platform.preset(preset, threads=2)
+    k = LEG_STIFFNESS[preset]
+    x = states(plat.params, MODAL_MAP)[0]
+    one = x[0]
+    return {
+        "single_modes_us": median_time(lambda: plat.modes(one, k), 20000) * 1e6,
+        "threads2_modal_map_s": median_time(lambda: lowest_frequency(both, x, k, return_mask=True), 1, 5),
+    }
 
 
 def general_model_params(params):
@@ -222,6 +242,9 @@ TARGETS: dict[str, Target] = {
     "python_overhead_inverse_dynamics_derivatives_us": Target(1.0, True),
     "python_overhead_forward_dynamics_derivatives_us": Target(1.0, True),
     "python_overhead_rk4_step_jacobians_us": Target(1.0, True),
+    # The stiffness-and-modes issue: modes at one pose, and a workspace map of 1e5 poses.
+    "single_modes_us": Target(20.0, True),
+    "threads2_modal_map_s": Target(5.0, True),
 }
 
 #: Table rows of the kernel figures: (measure, figure key, display scale, unit, format).
@@ -246,6 +269,8 @@ KERNEL_MEASURES = [
     ("general model: forward dynamics, C batch loop", "general_batch_forward_dynamics_us", 1.0, "us/state", ".3f"),
     ("general model over the paper's: inverse dynamics", "general_over_paper_inverse_dynamics", 1.0, "x", ".2f"),
     ("general model over the paper's: forward dynamics", "general_over_paper_forward_dynamics", 1.0, "x", ".2f"),
+    ("modes (frequencies and shapes), one call from Python", "single_modes_us", 1.0, "us", ".2f"),
+    (f"lowest frequency of {MODAL_MAP:.0e} poses, 2 threads", "threads2_modal_map_s", 1.0, "s", ".2f"),
 ]
 
 
@@ -315,6 +340,7 @@ def main(presets=None, batch: int = 200_000) -> dict:
         fig = kernel_figures(preset, batch)
         fig.update(simulation_figures(preset))
         fig.update(derivative_figures(preset, min(batch, DERIVATIVE_BATCH)))
+        fig.update(modal_figures(preset))
         results[preset] = fig
         rows += kernel_rows(preset, fig)
     print(format_table(rows))

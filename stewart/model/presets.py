@@ -150,3 +150,11 @@ def fields(name: str) -> dict[str, Any]:
     except KeyError:
         raise ValueError(f"name: unknown preset {name!r}; available: {', '.join(_PRESETS)}") from None
     return build()
+
+
+#: A realistic axial stiffness of each preset's legs [N/m] (actuator, screw and leg in series),
+#: for modal studies, the demo and the benchmarks; the parameter sets themselves carry none.
+#: ``narayan2017``: a small ball-screw actuator, 1 N/um (catalogue values of 0.5-5 N/um);
+#: ``motion_simulator``: an electromechanical simulator actuator of its size, 20 N/um (the
+#: 10-100 N/um of 0.1-0.3 m screws and 1.5 m legs, and of hydraulic legs' oil columns).
+LEG_STIFFNESS = {"narayan2017": 1e6, "motion_simulator": 2e7}
