@@ -90,7 +90,7 @@ def test_dask_cluster_matches_the_local_sweep():
                                   dashboard_address=None) as cluster, distributed.Client(cluster) as client:
         remote = sweep.sweep(spec, client=client, progress=False)
     for name in sweep.METRICS:
-        assert np.array_equal(local.metrics[name], remote.metrics[name])
+        assert np.array_equal(local.metrics[name], remote.metrics[name], equal_nan=True)
 
 
 @pytest.mark.parametrize("change, field", [

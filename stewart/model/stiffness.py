@@ -39,7 +39,7 @@ from .errors import SingularityError, UnstableError, row_list
 from .kinematics import rotation, twist_transform
 
 __all__ = ["Modes", "MOTION_AXES", "leg_coefficients", "stiffness_matrix", "modes", "compliance",
-           "lowest_frequency", "largest_compliance"]
+           "lowest_frequency", "modal_metrics"]
 
 #: The axes of a mode shape or compliance, in the order of a twist ``[dp; dtheta]`` in {B}.
 MOTION_AXES = ("translation along x", "translation along y", "translation along z",
@@ -251,18 +251,17 @@ def lowest_frequency(platform, x, stiffness, *, return_mask: bool = False):
     return _shaped(terms, terms.frequencies[:, 0], return_mask)
 
 
-def compliance(platform, x, stiffness, point=None, *, return_mask: bool = False):
-    """The Cartesian compliance at the pose(s) ``x`` of the platform on preloaded legs of
-    ``stiffness`` [N/m]: the matrix ``(..., 6, 6)`` that maps a small wrench ``[f (N); m (N m)]``
-    applied at ``point`` (in {P}, m; default {P}'s origin) to the small displacement
-    ``[dp (m); dtheta (rad)]`` of that point and of the platform, all in {B}:
-    ``A K_t^-1 A^T`` with ``A = [[I, -[r]x], [0, I]]``, ``r = R point``. Errors as :func:`modes`."""
-    k = _stiffnesses(stiffness)
+def _point(point) -> np.ndarray:
+    """``point`` (in {P}, m; None: the origin) as three finite numbers; ``ValueError`` otherwise."""
     point = np.zeros(3) if point is None else arguments.reals("point", point)
     if point.shape != (3,) or not np.all(np.isfinite(point)):
         raise ValueError(f"point: expected three finite coordinates in {{P}} (m), got {point.tolist()}")
-    terms = _terms(platform, "compliance", x, k, return_mask)
-    good = np.ones(len(terms.x), bool) if terms.good is None else terms.good
+    return point
+
+
+def _compliances(terms: _Terms, point: np.ndarray, good: np.ndarray) -> np.ndarray:
+    """``A K_t^-1 A^T`` ``(N, 6, 6)`` at the rows ``good`` of ``terms`` (NaN elsewhere): see
+    :func:`compliance`."""
     stiff = 0.5 * (terms.stiffness + np.swapaxes(terms.stiffness, -1, -2))
     stiff[~good] = np.eye(6)
     arm = rotation(np.where(good[:, None], terms.x, 0.0)) @ point
@@ -272,15 +271,31 @@ def compliance(platform, x, stiffness, point=None, *, return_mask: bool = False)
     shift[:, 2, 3], shift[:, 2, 4] = arm[:, 1], -arm[:, 0]
     result = shift @ np.linalg.solve(stiff, np.swapaxes(shift, -1, -2))
     result[~good] = np.nan
-    return _shaped(terms, result, return_mask)
+    return result
 
 
-def largest_compliance(platform, x, stiffness, point=None, *, return_mask: bool = False):
-    """The largest translational compliance [m/N] at ``point`` (:func:`compliance`): the
-    deflection of that point under a unit force in its weakest direction, the largest
-    eigenvalue of the compliance's translational block; shape ``(...)``."""
-    result = compliance(platform, x, stiffness, point, return_mask=return_mask)
-    matrix = result[0] if return_mask else result
-    largest = np.linalg.eigvalsh(np.nan_to_num(matrix[..., :3, :3]))[..., -1]
-    largest = np.where(np.isnan(matrix[..., 0, 0]), np.nan, largest)
-    return (largest[()], result[1]) if return_mask else largest[()]
+def compliance(platform, x, stiffness, point=None, *, return_mask: bool = False):
+    """The Cartesian compliance at the pose(s) ``x`` of the platform on preloaded legs of
+    ``stiffness`` [N/m]: the matrix ``(..., 6, 6)`` that maps a small wrench ``[f (N); m (N m)]``
+    applied at ``point`` (in {P}, m; default {P}'s origin) to the small displacement
+    ``[dp (m); dtheta (rad)]`` of that point and of the platform, all in {B}:
+    ``A K_t^-1 A^T`` with ``A = [[I, -[r]x], [0, I]]``, ``r = R point``. Errors as :func:`modes`."""
+    k = _stiffnesses(stiffness)
+    point = _point(point)
+    terms = _terms(platform, "compliance", x, k, return_mask)
+    good = np.ones(len(terms.x), bool) if terms.good is None else terms.good
+    return _shaped(terms, _compliances(terms, point, good), return_mask)
+
+
+def modal_metrics(platform, x, stiffness, point=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The workspace metrics of the modes at the poses ``x`` ``(N, 6)`` in one pass: the lowest
+    natural frequency [Hz] (:func:`modes`), the largest translational compliance [m/N] at
+    ``point`` (the deflection under a unit force in the weakest direction, the largest
+    eigenvalue of the translational block of :func:`compliance`), both NaN where the model is
+    undefined or the legs cannot hold the pose, and the mask of the poses where they are given."""
+    point = _point(point)
+    terms = _terms(platform, "modal_metrics", x, _stiffnesses(stiffness), True)
+    good = np.ones(len(terms.x), bool) if terms.good is None else terms.good
+    translational = _compliances(terms, point, good)[:, :3, :3]
+    largest = np.linalg.eigvalsh(np.where(good[:, None, None], translational, 0.0))[:, -1]
+    return terms.frequencies[:, 0], np.where(good, largest, np.nan), good

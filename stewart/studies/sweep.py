@@ -22,6 +22,9 @@ A sweep is described by a TOML file (:func:`load`)::
     [workspace]
     samples = 20000             # Monte-Carlo poses of the translational workspace at zero rotation
 
+    [modes]                     # optional: legs as preloaded springs (stewart.model.stiffness)
+    stiffness = 2e7             # N/m, one value or one per leg
+
     [pareto]                    # the two metrics of the Pareto-front figure
     x = "workspace_volume"
     y = "peak_force"
@@ -41,8 +44,11 @@ The metrics of each design (:data:`METRICS`): the volume of the translational wo
 (:func:`stewart.studies.workspace.translational_workspace`) with its sampling error, the mean
 singularity margin over it (Gosselin & Angeles' global conditioning index) and the margin at
 the home pose; the peaks over all legs of the envelope (:mod:`stewart.studies.envelope`) of the box
-around the home pose. Every design draws the same samples (common random numbers), so the
-differences between designs are not sampling noise. Each design is one task of
+around the home pose; with ``[modes] stiffness``, the lowest natural frequency over the
+workspace's reachable samples and the largest translational compliance there (the reachable
+samples the preloaded legs cannot hold are counted in ``unheld``); without it these three
+are NaN, and a Pareto axis that names one is an error. Every design draws the same samples
+(common random numbers), so the differences between designs are not sampling noise. Each design is one task of
 :mod:`stewart.studies.execution` (on a Dask cluster with ``client=``).
 
 Unknown names and bad values raise ``ValueError`` naming the field (``parameters.radius``).
@@ -63,6 +69,7 @@ from . import envelope as envelope_module
 from . import execution, workspace
 from ..model import kinematics
 from ..model.params import PlatformParams
+from ..model.stiffness import leg_coefficients
 
 __all__ = ["Sweep", "SweepSpec", "load", "sweep", "design_params", "pareto_front", "PARAMETERS", "METRICS"]
 
@@ -75,9 +82,13 @@ METRICS = {"workspace_volume": ("m^3", 1), "workspace_volume_error": ("m^3", -1)
            "margin_mean": ("", 1), "home_margin": ("", 1),
            "peak_force": ("N", -1), "peak_velocity": ("m/s", -1), "peak_power": ("W", -1),
            "peak_universal_joint": ("N", -1), "peak_spherical_joint": ("N", -1),
-           "outside_stroke": ("", -1)}
+           "outside_stroke": ("", -1),
+           "lowest_frequency": ("Hz", 1), "largest_compliance": ("m/N", -1), "unheld": ("", -1)}
 
-_TOP = {"preset", "params", "method", "designs", "seed", "parameters", "envelope", "workspace", "pareto"}
+#: The metrics that need the legs' stiffness (``[modes] stiffness``).
+MODAL_METRICS = ("lowest_frequency", "largest_compliance", "unheld")
+
+_TOP = {"preset", "params", "method", "designs", "seed", "parameters", "envelope", "workspace", "modes", "pareto"}
 _ENVELOPE = {"lower", "upper", "velocity", "acceleration", "samples"}
 
 
@@ -138,6 +149,7 @@ class SweepSpec:
     workspace_samples: int
     seed: int
     pareto: tuple[str, str]
+    stiffness: np.ndarray | None = None
 
 
 def _number(field: str, value) -> float:
@@ -246,14 +258,21 @@ def parse(data: dict, where: str = "") -> SweepSpec:
     _table("envelope", env, "[envelope] with lower, upper, velocity, acceleration around the home pose")
     work = _table("workspace", data.get("workspace", {}), "[workspace] with samples = N")
     _unknown("workspace", work, {"samples"})
+    modes = _table("modes", data.get("modes", {}), "[modes] with stiffness = K (N/m)")
+    _unknown("modes", modes, {"stiffness"})
+    stiffness = None
+    if "stiffness" in modes:
+        stiffness = leg_coefficients("modes.stiffness", modes["stiffness"], positive=True)
     pareto = _table("pareto", data.get("pareto", {}), "[pareto] with x and y, two metrics")
     _unknown("pareto", pareto, {"x", "y"})
     axes = (pareto.get("x", "workspace_volume"), pareto.get("y", "peak_force"))
     for key, name in zip(("x", "y"), axes):
         if not isinstance(name, str) or name not in METRICS:
             raise ValueError(f"pareto.{key}: unknown metric {name!r}; known: {', '.join(METRICS)}")
+        if name in MODAL_METRICS and stiffness is None:
+            raise ValueError(f"pareto.{key}: {name} needs the legs' stiffness: [modes] stiffness = K (N/m)")
     return SweepSpec(base, designs, _offsets(env), _whole("envelope.samples", env.get("samples", 100_000)),
-                     _whole("workspace.samples", work.get("samples", 20_000)), seed, axes)
+                     _whole("workspace.samples", work.get("samples", 20_000)), seed, axes, stiffness)
 
 
 def load(path) -> SweepSpec:
@@ -278,7 +297,7 @@ def _studies(spec: SweepSpec, k: int) -> tuple[PlatformParams, np.ndarray, list[
     env_job, env_states = envelope_module._job(params, box, spec.envelope_samples)
     fixed = np.zeros(3)
     work_job, work_states = workspace._job(params, "translational", fixed, workspace.position_bounds(params, fixed),
-                                           spec.workspace_samples, None)
+                                           spec.workspace_samples, None, spec.stiffness)
     return params, home, [execution.Study(env_job, env_states, spec.seed),
                           execution.Study(work_job, work_states, spec.seed, workspace.CHUNK_SIZE)]
 
@@ -291,7 +310,9 @@ def _metrics(params: PlatformParams, home: np.ndarray, env_total: dict, work_tot
     metrics = {"workspace_volume": work.volume, "workspace_volume_error": work.volume_error,
                "margin_mean": work.margin_mean,
                "home_margin": float(workspace.reachability(params, home).margin[0]),
-               "outside_stroke": env.outside_stroke / env.states}
+               "outside_stroke": env.outside_stroke / env.states,
+               "lowest_frequency": work.frequency_min, "largest_compliance": work.compliance_max,
+               "unheld": float(work.unheld) if work.stiffness is not None else float("nan")}
     for quantity, _ in envelope_module.QUANTITIES:
         metrics[f"peak_{quantity}"] = float(np.max(env.value(quantity)))
     return [metrics[name] for name in METRICS]

@@ -15,6 +15,7 @@ from ..model import arguments, kinematics
 from ..model.arguments import platform_params
 from ..model.params import PlatformParams
 from ..model.platform import as_platform
+from ..model.stiffness import leg_coefficients, modal_metrics
 from ..model.reachability import (
     BELOW_BASE,
     CONDITION_LIMIT,
@@ -85,6 +86,12 @@ class Workspace:
     global conditioning index of Gosselin & Angeles (1991); ``margin_min_pose`` is the
     reachable pose closest to a singularity. ``excluded`` counts the
     samples each problem excludes (a sample may have several).
+
+    With legs of ``stiffness`` [N/m] (:mod:`stewart.model.stiffness`), ``frequency_min`` [Hz] is
+    the lowest natural frequency over the reachable samples, at ``frequency_min_pose``, and
+    ``compliance_max`` [m/N] the largest translational compliance at {P}'s origin, at
+    ``compliance_max_pose``; ``unheld`` counts the reachable samples the preloaded legs cannot
+    hold (left out of both). Without a stiffness they are NaN, None and 0.
     """
 
     kind: str
@@ -104,6 +111,12 @@ class Workspace:
     excluded: dict
     seed: int | None
     platform: str
+    stiffness: np.ndarray | None = None
+    frequency_min: float = float("nan")
+    frequency_min_pose: np.ndarray | None = None
+    compliance_max: float = float("nan")
+    compliance_max_pose: np.ndarray | None = None
+    unheld: int = 0
 
     @property
     def axes(self) -> tuple[str, str, str]:
@@ -116,7 +129,8 @@ class Workspace:
     def summary(self) -> dict:
         """Plain-Python form (for JSON)."""
         out = {key: getattr(self, key) for key in self.__dataclass_fields__}
-        for key in ("fixed", "region", "bounding_box", "margin_min_pose"):
+        for key in ("fixed", "region", "bounding_box", "margin_min_pose", "stiffness", "frequency_min_pose",
+                    "compliance_max_pose"):
             out[key] = None if out[key] is None else np.asarray(out[key]).tolist()
         out.update(axes=list(self.axes), unit=self.unit, clipped=list(self.clipped))
         return out
@@ -129,13 +143,15 @@ class WorkspaceJob(execution.ModelJob):
     grid's cells ``chunk.start`` to ``chunk.stop``), checks them with :func:`reachability`
     against the compiled model, built once per process
     (:class:`~stewart.studies.execution.ModelJob`), and returns counts, sums and peaks,
-    never the poses."""
+    never the poses; with a leg ``stiffness``, the modal metrics of the reachable poses
+    (:func:`stewart.model.stiffness.modal_metrics`) too."""
 
     params: PlatformParams
     kind: str
     fixed: np.ndarray
     region: np.ndarray
     resolution: int  # grid points per axis; 0 for random samples
+    stiffness: np.ndarray | None = None
 
     def poses(self, chunk) -> np.ndarray:
         lo, hi = self.region[:, 0], self.region[:, 1]
@@ -163,6 +179,15 @@ class WorkspaceJob(execution.ModelJob):
             extent=Peak.of(np.hstack([-coords, coords]), poses, chunk.start),
             excluded=np.array([np.count_nonzero(check.flags & bit) for bit in FLAGS]),
         )
+        if self.stiffness is not None:
+            frequency, compliance = np.full(len(poses), np.nan), np.full(len(poses), np.nan)
+            rows = np.flatnonzero(check.ok)
+            held = np.ones(0, bool)
+            if rows.size:
+                frequency[rows], compliance[rows], held = modal_metrics(self.platform, poses[rows], self.stiffness)
+            part["unheld"] = int(np.count_nonzero(~held))
+            # Peaks of -frequency and compliance: the lowest frequency and the largest compliance.
+            part["modal"] = Peak.of(np.column_stack([-frequency, compliance]), poses, chunk.start)
         if self.resolution:
             # The reachable cells as bits of the whole grid: the chunks' bits are disjoint,
             # so adding the partials (as execution.combine does) sets each cell once.
@@ -234,17 +259,20 @@ def position_bounds(params: PlatformParams, orientation=(0.0, 0.0, 0.0)) -> np.n
 ORIENTATION_REGION = np.array([[-np.pi, np.pi], [-np.pi / 2, np.pi / 2], [-np.pi, np.pi]])
 
 
-def _job(params, kind, fixed, region, samples, grid) -> tuple[WorkspaceJob, int]:
+def _job(params, kind, fixed, region, samples, grid, stiffness=None) -> tuple[WorkspaceJob, int]:
     """The job of a workspace study and its number of poses."""
     if (samples is None) == (grid is None):
         raise ValueError("samples, grid: give exactly one (random samples, or grid points per axis)")
     resolution = 0 if grid is None else arguments.count("grid", grid, 1000)
     total = resolution ** 3 if grid is not None else arguments.count("samples", samples, 10 ** 12)
-    return WorkspaceJob(params, kind, fixed, region, resolution), total
+    if stiffness is not None:
+        stiffness = leg_coefficients("stiffness", stiffness, positive=True)
+    return WorkspaceJob(params, kind, fixed, region, resolution, stiffness), total
 
 
-def _study(params, kind, fixed, region, complete, samples, grid, seed, chunk_size, client, progress) -> Workspace:
-    job, total = _job(params, kind, fixed, region, samples, grid)
+def _study(params, kind, fixed, region, complete, samples, grid, seed, chunk_size, client, progress,
+           stiffness) -> Workspace:
+    job, total = _job(params, kind, fixed, region, samples, grid, stiffness)
     progress = sys.stderr.isatty() if progress is None else bool(progress)
     parts = execution.run(job, total, seed=None if grid is not None else seed, chunk_size=chunk_size,
                           client=client, progress=progress, desc=f"{kind} workspace")
@@ -273,6 +301,14 @@ def _workspace(job: WorkspaceJob, parts: dict, total: int, complete: bool, seed)
         touches = (bbox[:, 0] <= region[:, 0] + step) | (bbox[:, 1] >= region[:, 1] - step)
         clipped = tuple(name for name, hit in zip(KINDS[kind][0], touches) if hit)
     nan = float("nan")
+    modal = {}
+    if job.stiffness is not None:
+        peak, found = parts["modal"], parts["modal"].index >= 0
+        modal = dict(stiffness=job.stiffness, unheld=parts["unheld"],
+                     frequency_min=float(-peak.value[0]) if found[0] else nan,
+                     frequency_min_pose=peak.state[0] if found[0] else None,
+                     compliance_max=float(peak.value[1]) if found[1] else nan,
+                     compliance_max_pose=peak.state[1] if found[1] else None)
     return Workspace(
         kind=kind, fixed=fixed, region=region, method="random" if grid is None else "grid", samples=total,
         reachable=count, volume=volume, volume_error=float(error), bounding_box=bbox, clipped=clipped,
@@ -280,12 +316,12 @@ def _workspace(job: WorkspaceJob, parts: dict, total: int, complete: bool, seed)
         margin_max=float(margin[1]) if count else nan,
         margin_min_pose=parts["margin"].state[0] if count else None,
         excluded={_NAMES[bit]: int(n) for bit, n in zip(FLAGS, parts["excluded"]) if n},
-        seed=None if grid is not None else int(seed), platform=params.name or "unnamed",
+        seed=None if grid is not None else int(seed), platform=params.name or "unnamed", **modal,
     )
 
 
 def translational_workspace(platform, orientation=(0.0, 0.0, 0.0), *, region=None, samples=None, grid=None,
-                            seed=0, chunk_size=CHUNK_SIZE, client=None, progress=None) -> Workspace:
+                            seed=0, chunk_size=CHUNK_SIZE, client=None, progress=None, stiffness=None) -> Workspace:
     """The constant-orientation workspace: the positions ``(x, y, z)`` [m] reachable at
     the ZYX Euler angles ``orientation`` [rad], by :func:`reachability`.
 
@@ -295,17 +331,20 @@ def translational_workspace(platform, orientation=(0.0, 0.0, 0.0), *, region=Non
     poses are checked in chunks of ``chunk_size`` by :func:`stewart.studies.execution.run`: on the
     local cores, or with ``client`` (a ``dask.distributed.Client``) on its cluster, with the
     same result. ``progress`` shows a bar with an ETA (default: when stderr is a terminal).
+    With ``stiffness`` [N/m] (legs as preloaded springs, one value or one per leg) the lowest
+    natural frequency and the largest compliance over the workspace are found too.
     Returns a :class:`Workspace`.
     """
     params = platform_params(platform, "platform")
     orientation = _three("orientation", orientation)
     complete = region is None
     region = position_bounds(params, orientation) if complete else _region("region", region)
-    return _study(params, "translational", orientation, region, complete, samples, grid, seed, chunk_size, client, progress)
+    return _study(params, "translational", orientation, region, complete, samples, grid, seed, chunk_size, client,
+                  progress, stiffness)
 
 
 def orientation_workspace(platform, position=None, *, region=None, samples=None, grid=None, seed=0,
-                          chunk_size=CHUNK_SIZE, client=None, progress=None) -> Workspace:
+                          chunk_size=CHUNK_SIZE, client=None, progress=None, stiffness=None) -> Workspace:
     """The orientation workspace: the ZYX Euler angles ``(psi, theta, phi)`` [rad]
     reachable at ``position`` [m] (default: the home pose's), by :func:`reachability`.
 
@@ -317,7 +356,8 @@ def orientation_workspace(platform, position=None, *, region=None, samples=None,
     position = kinematics._home_pose(params)[:3] if position is None else _three("position", position)
     complete = region is None
     region = ORIENTATION_REGION if complete else _region("region", region)
-    return _study(params, "orientation", position, region, complete, samples, grid, seed, chunk_size, client, progress)
+    return _study(params, "orientation", position, region, complete, samples, grid, seed, chunk_size, client,
+                  progress, stiffness)
 
 
 @dataclass(frozen=True)
@@ -326,7 +366,9 @@ class Slice:
     (``u`` along columns, ``v`` along rows, in ``unit``), ``at`` the third coordinate's name
     and value, ``fixed`` the orientation (translational slices) or position held;
     ``margin`` ``(len(v), len(u))`` is NaN where the pose is unreachable and ``flags`` the
-    problem bits of :func:`reachability` there."""
+    problem bits of :func:`reachability` there. With legs of ``stiffness`` [N/m], ``frequency``
+    ``(len(v), len(u))`` is the lowest natural frequency [Hz] (NaN where the pose is unreachable
+    or the preloaded legs cannot hold it); None without."""
 
     axes: tuple[str, str]
     unit: str
@@ -337,6 +379,8 @@ class Slice:
     margin: np.ndarray
     flags: np.ndarray
     platform: str
+    stiffness: np.ndarray | None = None
+    frequency: np.ndarray | None = None
 
 
 def _axes(value) -> tuple[str, tuple[int, int, int]]:
@@ -352,7 +396,7 @@ def _axes(value) -> tuple[str, tuple[int, int, int]]:
 
 
 def workspace_slice(platform, axes="xy", at=None, *, orientation=(0.0, 0.0, 0.0), position=None, region=None,
-                    resolution=101) -> Slice:
+                    resolution=101, stiffness=None) -> Slice:
     """The singularity margin over a plane of poses (:class:`Slice`).
 
     ``axes`` names two coordinates of one workspace (``"xy"``, ``("x", "z")``,
@@ -360,7 +404,8 @@ def workspace_slice(platform, axes="xy", at=None, *, orientation=(0.0, 0.0, 0.0)
     Translational slices hold ``orientation`` [rad], orientation slices ``position`` [m]
     (default: home). ``region`` ``(2, 2)`` bounds the two axes (default: those of
     :func:`position_bounds` or :data:`ORIENTATION_REGION`); ``resolution`` is the number
-    of cell centres per axis.
+    of cell centres per axis. ``stiffness`` [N/m] (one value or one per leg) adds the lowest
+    natural frequency on the preloaded leg springs.
     """
     plat = as_platform(platform)
     params = plat.params
@@ -389,8 +434,18 @@ def workspace_slice(platform, axes="xy", at=None, *, orientation=(0.0, 0.0, 0.0)
     coords[:, first], coords[:, second], coords[:, third] = uu.ravel(), vv.ravel(), at
     fixed_rows = np.broadcast_to(fixed, (n * n, 3))
     poses = np.hstack([coords, fixed_rows] if kind == "translational" else [fixed_rows, coords])
+    if stiffness is not None:
+        stiffness = leg_coefficients("stiffness", stiffness, positive=True)
     check = reachability(plat, poses)
     margin = np.where(check.ok, check.margin, np.nan).reshape(n, n)
+    frequency = None
+    if stiffness is not None:
+        frequency = np.full(n * n, np.nan)
+        rows = np.flatnonzero(check.ok)
+        if rows.size:
+            frequency[rows] = modal_metrics(plat, poses[rows], stiffness)[0]
+        frequency = frequency.reshape(n, n)
     names, unit = KINDS[kind]
     return Slice(axes=(names[first], names[second]), unit=unit, u=u, v=v, at=(names[third], at), fixed=fixed,
-                 margin=margin, flags=check.flags.reshape(n, n), platform=params.name or "unnamed")
+                 margin=margin, flags=check.flags.reshape(n, n), platform=params.name or "unnamed",
+                 stiffness=stiffness, frequency=frequency)

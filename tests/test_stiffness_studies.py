@@ -1,0 +1,78 @@
+"""The modal metrics of the studies: the lowest frequency and largest compliance over a
+workspace, on a slice and per design of a sweep, locally and on a Dask LocalCluster."""
+
+import numpy as np
+import pytest
+
+import stewart
+from stewart.model.presets import LEG_STIFFNESS
+from stewart.model.stiffness import modal_metrics
+from stewart.studies import sweep, workspace
+from test_sweep import SMALL
+
+K = LEG_STIFFNESS["motion_simulator"]
+
+
+def test_workspace_frequency_and_compliance_are_the_extremes_over_the_reachable_grid():
+    """On a grid the poses are known: the study's lowest frequency and largest compliance are
+    those of modal_metrics over the reachable cells, at the same poses."""
+    params = stewart.PlatformParams.preset("motion_simulator")
+    plat = stewart.Platform(params)
+    result = workspace.translational_workspace(params, grid=12, stiffness=K, progress=False)
+    lo, hi = result.region[:, 0], result.region[:, 1]
+    cells = np.stack(np.meshgrid(*[(np.arange(12) + 0.5) / 12] * 3, indexing="ij"), axis=-1).reshape(-1, 3)
+    poses = np.hstack([lo + (hi - lo) * cells, np.zeros((len(cells), 3))])
+    ok = workspace.reachability(plat, poses).ok
+    frequency, compliance, held = modal_metrics(plat, poses[ok], K)
+    assert result.reachable == ok.sum() > 50 and result.unheld == np.count_nonzero(~held) == 0
+    assert result.frequency_min == frequency.min()
+    np.testing.assert_array_equal(result.frequency_min_pose, poses[ok][np.argmin(frequency)])
+    assert result.compliance_max == compliance.max()
+    np.testing.assert_array_equal(result.compliance_max_pose, poses[ok][np.argmax(compliance)])
+    plain = workspace.translational_workspace(params, grid=12, progress=False)
+    assert np.isnan(plain.frequency_min) and plain.stiffness is None and plain.volume == result.volume
+
+
+def test_the_slice_carries_the_lowest_frequency():
+    plat = stewart.Platform.preset("motion_simulator")
+    cut = workspace.workspace_slice(plat, "xy", resolution=21, stiffness=K)
+    reachable = np.isfinite(cut.margin)
+    assert np.array_equal(np.isfinite(cut.frequency), reachable) and reachable.sum() > 50
+    row, col = np.argwhere(reachable)[0]
+    pose = np.r_[cut.u[col], cut.v[row], cut.at[1], 0.0, 0.0, 0.0]
+    assert cut.frequency[row, col] == pytest.approx(plat.modes(pose, K).frequencies[0], rel=1e-13)
+    assert workspace.workspace_slice(plat, "xy", resolution=5).frequency is None
+
+
+def test_a_sweep_gives_each_designs_modal_metrics_and_needs_the_stiffness_to_rank_by_them():
+    spec = sweep.parse({**SMALL, "modes": {"stiffness": 1e6}, "pareto": {"x": "workspace_volume",
+                                                                          "y": "lowest_frequency"}})
+    result = sweep.sweep(spec, progress=False)
+    for k, design in enumerate(spec.designs):
+        work = workspace.translational_workspace(sweep.design_params(spec.base, design), samples=2000,
+                                                 seed=spec.seed, stiffness=1e6, progress=False)
+        assert result.metrics["lowest_frequency"][k] == work.frequency_min
+        assert result.metrics["largest_compliance"][k] == work.compliance_max
+        assert result.metrics["unheld"][k] == work.unheld
+    assert np.isnan(sweep.sweep(sweep.parse(SMALL), progress=False).metrics["lowest_frequency"]).all()
+    with pytest.raises(ValueError, match=r"^pareto.y: lowest_frequency needs the legs' stiffness"):
+        sweep.parse({**SMALL, "pareto": {"y": "lowest_frequency"}})
+    with pytest.raises(ValueError, match=r"^modes.stiffness: must be finite and > 0"):
+        sweep.parse({**SMALL, "modes": {"stiffness": 0}})
+
+
+def test_dask_cluster_gives_the_local_frequency_map_and_sweep():
+    distributed = pytest.importorskip("distributed")
+    params = stewart.PlatformParams.preset("motion_simulator")
+    study = dict(samples=4000, seed=3, chunk_size=1000, stiffness=K, progress=False)
+    local = workspace.translational_workspace(params, **study).summary()
+    spec = sweep.parse({**SMALL, "modes": {"stiffness": 1e6}})
+    local_sweep = sweep.sweep(spec, progress=False)
+    with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        remote = workspace.translational_workspace(params, **study, client=client).summary()
+        remote_sweep = sweep.sweep(spec, client=client, progress=False)
+    assert np.isfinite(local["frequency_min"])
+    assert remote == local
+    for name in sweep.MODAL_METRICS:
+        assert np.array_equal(local_sweep.metrics[name], remote_sweep.metrics[name])
