@@ -1,6 +1,8 @@
 """The modal metrics of the studies: the lowest frequency and largest compliance over a
 workspace, on a slice and per design of a sweep, locally and on a Dask LocalCluster."""
 
+import json
+
 import numpy as np
 import pytest
 
@@ -76,3 +78,20 @@ def test_dask_cluster_gives_the_local_frequency_map_and_sweep():
     assert remote == local
     for name in sweep.MODAL_METRICS:
         assert np.array_equal(local_sweep.metrics[name], remote_sweep.metrics[name])
+
+
+def test_workspace_command_reports_the_frequency_and_draws_its_map(tmp_path, capsys):
+    pytest.importorskip("matplotlib")
+    from stewart.cli import main
+
+    main(["workspace", "--preset", "motion_simulator", "--samples", "3000", "--stiffness", "2e7", "--slices",
+          str(tmp_path), "--resolution", "15", "--json"])
+    summary = json.loads(capsys.readouterr().out)
+    params = stewart.PlatformParams.preset("motion_simulator")
+    local = workspace.translational_workspace(params, samples=3000, stiffness=2e7, progress=False)
+    assert summary["frequency_min"] == local.frequency_min and summary["compliance_max"] == local.compliance_max
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["frequency_translational.png", "workspace_translational.png"]
+    main(["workspace", "--preset", "motion_simulator", "--samples", "3000", "--stiffness", "2e7"])
+    out = capsys.readouterr().out
+    assert f"lowest natural frequency {local.frequency_min:.4g} Hz" in out
+    assert "limits: stroke 1.15-1.85 m; joint cones unlimited; legs of no thickness" in out

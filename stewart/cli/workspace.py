@@ -12,6 +12,7 @@ import numpy as np
 
 from ..io import csvfile
 from ..model.kinematics import POSE_AXES, POSE_UNITS
+from ..model.reachability import limits_in_force
 from .common import (
     EXIT_WORKSPACE,
     UserError,
@@ -31,7 +32,8 @@ from .options import add_chunk_size, add_file, add_json, add_params, add_progres
 _WORKSPACE_FLAGS = {"region": "--region", "orientation": "--orientation", "position": "--position",
                     "samples": "--samples", "grid": "--grid", "seed": "--seed", "chunk_size": "--chunk-size",
                     "resolution": "--resolution", "universal_joint_max_angle": "--universal-max-angle",
-                    "spherical_joint_max_angle": "--spherical-max-angle", "leg_diameter": "--leg-diameter"}
+                    "spherical_joint_max_angle": "--spherical-max-angle", "leg_diameter": "--leg-diameter",
+                    "stiffness": "--stiffness"}
 
 #: The slices drawn by ``stewart workspace --slices``: the three coordinate planes through home.
 _SLICES = {"translational": tuple("".join(pair) for pair in itertools.combinations(POSE_AXES[:3], 2)),
@@ -68,9 +70,9 @@ def cmd_workspace(args) -> int:
         with scheduler(args.scheduler) as client:
             result = study(params, **fixed, region=region, samples=None if args.grid else args.samples,
                            grid=args.grid, seed=args.seed, client=client, progress=progress(args),
-                           **chunking(args))
+                           stiffness=args.stiffness, **chunking(args))
         slices = [workspace.workspace_slice(params, axes, **fixed, region=_zoom(result, axes),
-                                            resolution=args.resolution)
+                                            resolution=args.resolution, stiffness=args.stiffness)
                   for axes in _SLICES[args.kind]] if args.slices else []
     except ValueError as exc:
         raise UserError(flag_names(str(exc), _WORKSPACE_FLAGS)) from None
@@ -79,8 +81,11 @@ def cmd_workspace(args) -> int:
         from ..io.plots import plot_workspace_slices
 
         os.makedirs(args.slices, exist_ok=True)
-        files.append(plot_workspace_slices(slices, os.path.join(args.slices, f"workspace_{args.kind}.png"),
-                                           f"{params.name or 'unnamed'}: {args.kind} workspace slices through home"))
+        title = f"{params.name or 'unnamed'}: {args.kind} workspace slices through home\n{limits_in_force(params)}"
+        files.append(plot_workspace_slices(slices, os.path.join(args.slices, f"workspace_{args.kind}.png"), title))
+        if args.stiffness is not None:
+            files.append(plot_workspace_slices(slices, os.path.join(args.slices, f"frequency_{args.kind}.png"),
+                                               title, quantity="frequency"))
     summary = {"command": "workspace", "platform_source": label, **result.summary()}
     code = 0 if result.reachable else EXIT_WORKSPACE
     if args.csv:
@@ -92,7 +97,7 @@ def cmd_workspace(args) -> int:
     if args.json:
         print(json.dumps(summary))
     else:
-        _workspace_report(result, label, files)
+        _workspace_report(result, label, files, limits_in_force(params))
     if not result.reachable:
         excluded = ", ".join(f"{name} {n}" for name, n in result.excluded.items())
         raise UserError(f"no sampled pose is reachable ({result.samples} samples; excluded: {excluded})",
@@ -113,12 +118,13 @@ def _zoom(result, axes: str):
     return np.column_stack([np.maximum(box[:, 0] - pad, region[:, 0]), np.minimum(box[:, 1] + pad, region[:, 1])])
 
 
-def _workspace_report(result, label: str, files: list[str]) -> None:
+def _workspace_report(result, label: str, files: list[str], limits: str) -> None:
     unit = result.unit
     axes = ", ".join(result.axes)
     held = "orientation" if result.kind == "translational" else "position"
     print(f"platform {label}: {result.kind} workspace ({axes}) at {held} "
           f"{' '.join(f'{v:.6g}' for v in result.fixed)}")
+    print(f"limits: {limits}")
     print(f"{result.method}: {result.reachable} of {result.samples} poses reachable"
           + (f" (seed {result.seed})" if result.seed is not None else ""))
     print(f"volume {result.volume:.6g} +- {result.volume_error:.2g} {unit}^3")
@@ -127,6 +133,10 @@ def _workspace_report(result, label: str, files: list[str]) -> None:
             print(f"  {name:<6} {lo:+.5g} .. {hi:+.5g} {unit}")
         print(f"singularity margin (1/cond J_C): min {result.margin_min:.3g}, mean {result.margin_mean:.3g}, "
               f"max {result.margin_max:.3g}")
+    if result.stiffness is not None:
+        print(f"on legs of {' '.join(f'{k:g}' for k in np.unique(result.stiffness))} N/m: lowest natural frequency "
+              f"{result.frequency_min:.4g} Hz, largest compliance {result.compliance_max:.3g} m/N"
+              + (f"; {result.unheld} reachable poses the legs cannot hold" if result.unheld else ""))
     if result.clipped:
         print(f"warning: the workspace reaches the --region faces on {', '.join(result.clipped)}; widen --region")
     if result.excluded:
@@ -163,6 +173,9 @@ def add_workspace(sub) -> None:
     add_file(p, "--slices", "write PNG heat maps of the margin on the three coordinate planes through home, around "
              "the reachable samples, into DIR (needs matplotlib)", metavar="DIR")
     p.add_argument("--resolution", type=count, default=121, help="cells per axis of each slice")
+    p.add_argument("--stiffness", nargs="+", type=positive, metavar="K",
+                   help="leg stiffness [N/m], one value or six: adds the lowest natural frequency and the largest "
+                        "compliance on the preloaded legs (and, with --slices, heat maps of the frequency)")
     add_progress(p)
     add_file(p, "--csv", "write the summary's numbers as a one-row CSV file")
     add_json(p)

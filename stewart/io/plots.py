@@ -195,26 +195,37 @@ def plot_bars(labels, series: dict[str, np.ndarray], ylabel: str, title: str, pa
     return path
 
 
-def plot_workspace_slices(slices, path: str, title: str = "") -> str:
-    """One heat map per :class:`stewart.studies.workspace.Slice` of the singularity margin, side by
-    side with one colour scale; unreachable cells are grey. Angles are drawn in degrees."""
+def plot_workspace_slices(slices, path: str, title: str = "", quantity: str = "margin") -> str:
+    """One heat map per :class:`stewart.studies.workspace.Slice` side by side with one colour
+    scale: of the singularity margin (``quantity="margin"``) or of the lowest natural frequency
+    on the preloaded leg springs (``"frequency"``, slices with a stiffness); unreachable cells (and
+    for the frequency, cells the legs cannot hold) are grey. Angles are drawn in degrees."""
     plt = _pyplot()
     from matplotlib.patches import Patch
 
     fig, axes = plt.subplots(1, len(slices), figsize=(5.2 * len(slices) + 1.2, 4.8), constrained_layout=True,
                              squeeze=False)
     cmap = plt.get_cmap("viridis").with_extremes(bad="0.85")
-    top = max([float(np.nanmax(s.margin)) for s in slices if np.isfinite(s.margin).any()] or [1.0])
-    for ax, s in zip(axes[0], slices):
+    maps = [getattr(s, quantity) for s in slices]
+    finite = [m[np.isfinite(m)] for m in maps if np.isfinite(m).any()]
+    low = 0.0 if quantity == "margin" or not finite else min(float(f.min()) for f in finite)
+    top = max([float(f.max()) for f in finite] or [1.0])
+    for ax, s, values in zip(axes[0], slices, maps):
         scale, unit = (180.0 / np.pi, "deg") if s.unit == "rad" else (1.0, s.unit)
-        mesh = ax.pcolormesh(scale * s.u, scale * s.v, np.ma.masked_invalid(s.margin), cmap=cmap, vmin=0.0,
+        mesh = ax.pcolormesh(scale * s.u, scale * s.v, np.ma.masked_invalid(values), cmap=cmap, vmin=low,
                              vmax=top, shading="nearest")
         ax.set_xlabel(f"{s.axes[0]} [{unit}]")
         ax.set_ylabel(f"{s.axes[1]} [{unit}]")
         ax.set_title(f"{s.at[0]} = {np.round(scale * s.at[1], 9):.4g} {unit}", fontsize=10)  # 1e-16 shows as 0
         ax.set_aspect("equal")
-    fig.colorbar(mesh, ax=axes[0].tolist(), label="singularity margin, 1 / cond(J_C) (unit-free)")
-    axes[0][0].legend(handles=[Patch(color="0.85", label="unreachable")], loc="upper right", fontsize=8)
+    if quantity == "margin":
+        label, grey = "singularity margin, 1 / cond(J_C) (unit-free)", "unreachable"
+    else:
+        stiffness = slices[0].stiffness
+        legs = f"{stiffness[0]:.3g} N/m" if np.all(stiffness == stiffness[0]) else "the legs' stiffness"
+        label, grey = f"lowest natural frequency [Hz], legs of {legs}", "unreachable or not held"
+    fig.colorbar(mesh, ax=axes[0].tolist(), label=label)
+    axes[0][0].legend(handles=[Patch(color="0.85", label=grey)], loc="upper right", fontsize=8)
     fig.suptitle(title or f"{slices[0].platform}: workspace slices")
     fig.savefig(path, dpi=90)
     plt.close(fig)

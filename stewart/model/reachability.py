@@ -39,7 +39,7 @@ from .arguments import platform_params
 from .params import PlatformParams
 
 __all__ = ["WorkspaceError", "Reachability", "reachability", "assembly_mode", "margins", "CONDITION_LIMIT",
-           "joint_angles", "segment_distances", "FLAGS"]
+           "joint_angles", "segment_distances", "FLAGS", "limits_in_force"]
 
 #: Largest unit-free condition number of ``J_C`` (and of the Euler-angle map) accepted.
 CONDITION_LIMIT = 1e3
@@ -159,6 +159,20 @@ class Reachability:
 #: The flags of :attr:`Reachability.flags`, in the order their counts are reported.
 FLAGS = (OUT_OF_RANGE, LEG_TOO_SHORT, LEG_TOO_LONG, BELOW_BASE, SINGULAR, EULER_SINGULAR, OTHER_ASSEMBLY_MODE,
          UNIVERSAL_JOINT_LIMIT, SPHERICAL_JOINT_LIMIT, LEG_COLLISION)
+
+
+def limits_in_force(params: PlatformParams) -> str:
+    """The limits :func:`reachability` applies to ``params``, in words, for the maps and figures
+    of a study: the stroke, the joints' cone half-angles and the leg diameter (or "none" for
+    each the parameters leave out), besides the platform above the base and the conditioning."""
+    params = platform_params(params)
+    stroke = params.leg_length_limits
+    cones = [f"{name} {np.degrees(angle):.0f} deg" for name, angle in
+             (("universal", params.universal_joint_max_angle), ("spherical", params.spherical_joint_max_angle))
+             if angle is not None]
+    return (f"stroke {f'{stroke[0]:g}-{stroke[1]:g} m' if stroke else 'unlimited'}; joint cones "
+            f"{', '.join(cones) if cones else 'unlimited'}; legs "
+            f"{f'{params.leg_diameter:g} m thick' if params.leg_diameter is not None else 'of no thickness'}")
 
 
 def _platform_radius(params: PlatformParams) -> float:
