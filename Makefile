@@ -104,6 +104,7 @@ docs: build
 	$(PY) -m benchmarks.docs
 	MPLBACKEND=Agg $(PY) -m stewart simulate $(DOCS_MOVE) --plot docs/images/
 	MPLBACKEND=Agg $(PY) -m stewart cueing examples/cueing/hard_braking.csv --method mpc --simulate --output out/mpc_braking.csv --plot docs/images/mpc/
+	MPLBACKEND=Agg $(PY) -m stewart.cli.demo --modes-only --out docs/images/
 	$(PY) -m mkdocs build --strict
 
 # The site, rebuilt as its pages change, at http://127.0.0.1:8000.

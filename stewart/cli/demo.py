@@ -9,9 +9,12 @@ figures as PNG; repeats the paper's leg-inertia study; runs an identification st
 with friction in its legs, follows a designed excitation trajectory; its logged leg lengths
 and forces, with noise, give back the base parameters; and ends with a sizing study
 (:func:`sizing_run`): workspace slices, the force and joint-load envelope of the move and of
-a box around it with a 20 % margin, and a small sweep of the joint radii; and a cueing study
+a box around it with a 20 % margin, and a small sweep of the joint radii; a cueing study
 (:func:`cueing_run`): washout against MPC cueing on the shipped maneuvers, closed loop, on
-the seed paper's platform and on ``motion_simulator``.
+the seed paper's platform and on ``motion_simulator``; and a modal study
+(:func:`modal_run`) of the ``motion_simulator`` preset on legs of a realistic stiffness: its
+frequencies at home, a map of the lowest frequency over the workspace, and how much the
+payload's preload and the legs' inertia move each frequency.
 """
 
 from __future__ import annotations
@@ -24,7 +27,7 @@ import numpy as np
 
 import stewart
 from stewart.oracles import reference
-from stewart.model.presets import narayan2017_target_pose
+from stewart.model.presets import LEG_STIFFNESS, narayan2017_target_pose
 
 MOVE_DURATION = 5.0
 #: Widening of the box around the move for the sizing envelope (each range and rate bound).
@@ -69,7 +72,13 @@ def main(argv=None) -> None:
     parser = argparse.ArgumentParser(prog="python -m stewart.cli.demo", description=__doc__)
     parser.add_argument("--out", default=os.path.join("out", "demo"), help="directory for the figures")
     parser.add_argument("--no-plots", action="store_true", help="skip the figures")
+    parser.add_argument("--modes-only", action="store_true", help="only the modal study (and its figures)")
     args = parser.parse_args(argv)
+    if args.modes_only:
+        modal = modal_run()
+        if not args.no_plots:
+            _written(args.out, plot_modal(modal, args.out))
+        return
 
     plat = stewart.Platform.preset("narayan2017")
     params = plat.params
@@ -128,6 +137,7 @@ def main(argv=None) -> None:
     ident = identification_run(params, move, short=True)
     sizing = sizing_run(params, move)
     cueing_rows = cueing_run([params.name, "motion_simulator"])
+    modal = modal_run()
 
     if not args.no_plots:
         from stewart.io.plots import plot_bars, plot_run, plot_workspace_slices
@@ -153,9 +163,83 @@ def main(argv=None) -> None:
         for preset, rows in cueing_rows.items():
             braking = next(r for r in rows if r["name"] == "hard_braking")
             paths.append(comparison.plot(braking, preset, os.path.join(args.out, f"cueing_{preset}.png")))
-        print(f"\nFigures written to {os.path.abspath(args.out)}:")
-        for path in paths:
-            print(f"  {os.path.basename(path)}")
+        _written(args.out, paths + plot_modal(modal, args.out))
+
+
+def _written(out: str, paths: list[str]) -> None:
+    print(f"\nFigures written to {os.path.abspath(out)}:")
+    for path in paths:
+        print(f"  {os.path.basename(path)}")
+
+
+#: The preset of the modal study and its legs' stiffness [N/m] (:data:`LEG_STIFFNESS`).
+MODAL_PRESET = "motion_simulator"
+
+
+def _matched(modes: stewart.Modes, reference_modes: stewart.Modes, mass: np.ndarray) -> np.ndarray:
+    """The frequencies of ``modes`` in the order of ``reference_modes``: each reference mode
+    takes the mode of the largest mass-weighted overlap ``|phi_ref^T M_t phi|``."""
+    overlap = np.abs(reference_modes.shapes.T @ mass @ modes.shapes)
+    return modes.frequencies[np.argmax(overlap, axis=1)]
+
+
+def modal_run() -> dict:
+    """The modes of :data:`MODAL_PRESET` at home on legs of its :data:`LEG_STIFFNESS`: the
+    frequencies and dominant motions, the same modes without the payload's preload (no gravity:
+    the legs unloaded, the masses kept) and with massless legs, and the lowest frequency over the
+    translational workspace and its slices through home; prints the tables, returns the results."""
+    from stewart.model.reachability import limits_in_force
+    from stewart.studies import workspace
+
+    plat = stewart.Platform.preset(MODAL_PRESET)
+    k = LEG_STIFFNESS[MODAL_PRESET]
+    home = plat.home_pose
+    full = plat.modes(home, k)
+    variants = {
+        "no preload (legs unloaded)": stewart.Platform(plat.params.replace(gravity=0.0)),
+        "massless legs": stewart.Platform(plat.params.replace(cylinder_mass=0.0, piston_mass=0.0,
+                                                              cylinder_inertia=(0, 0, 0), piston_inertia=(0, 0, 0))),
+    }
+    mass = plat.twist_mass_matrix(home)
+    frequencies = {"full model": full.frequencies}
+    frequencies.update({name: _matched(v.modes(v.home_pose, k), full, mass) for name, v in variants.items()})
+    print(f"\nModal study: {MODAL_PRESET} at home on legs of {k:g} N/m, preloaded to hold its "
+          f"{plat.params.platform_mass:g} kg (stewart.Platform.modes)")
+    print(f"  {'mode':<6}{'dominant motion':<24}" + "".join(f"{name:>30}" for name in frequencies))
+    for j, motion in enumerate(full.motions()):
+        cells = [f"{frequencies['full model'][j]:.3f} Hz"]
+        for name in variants:
+            change = frequencies[name][j] / full.frequencies[j] - 1
+            cells.append(f"{frequencies[name][j]:.3f} Hz ({100 * change:+.2f} %)")
+        print(f"  {j + 1:<6}{motion:<24}" + "".join(f"{cell:>30}" for cell in cells))
+    work = workspace.translational_workspace(plat, samples=20_000, seed=0, stiffness=k, progress=False)
+    print(f"  over the translational workspace ({work.reachable} reachable of {work.samples:,} samples; "
+          f"{limits_in_force(plat.params)}):")
+    print(f"  lowest frequency {work.frequency_min:.2f} Hz at {np.round(work.frequency_min_pose[:3], 3).tolist()} m, "
+          f"largest compliance {work.compliance_max:.3g} m/N at {np.round(work.compliance_max_pose[:3], 3).tolist()} m")
+    slices = [workspace.workspace_slice(plat, axes, resolution=81, stiffness=k) for axes in ("xy", "xz", "yz")]
+    return {"modes": full, "frequencies": frequencies, "workspace": work, "slices": slices, "stiffness": k,
+            "limits": limits_in_force(plat.params)}
+
+
+def plot_modal(run: dict, out: str) -> list[str]:
+    """The figures of :func:`modal_run`: the frequencies of the three models of the legs, and the
+    lowest frequency on the slices through home."""
+    from stewart.io.plots import plot_bars, plot_workspace_slices
+
+    os.makedirs(out, exist_ok=True)
+    labels = [f"{j + 1}: {m.replace('translation along', 'along').replace('rotation about', 'about')}"
+              for j, m in enumerate(run["modes"].motions())]
+    return [
+        plot_bars(labels, run["frequencies"], "natural frequency [Hz]",
+                  f"{MODAL_PRESET}: natural frequencies at home on legs of {run['stiffness']:g} N/m",
+                  os.path.join(out, "modes_at_home.png"), xlabel="mode (dominant motion)",
+                  caption="the full model; without the payload's preload (no gravity); with massless legs",
+                  value_format="{:.2f}"),
+        plot_workspace_slices(run["slices"], os.path.join(out, "modes_frequency_slices.png"),
+                              f"{MODAL_PRESET}: lowest natural frequency on slices through home\n{run['limits']}",
+                              quantity="frequency"),
+    ]
 
 
 def cueing_run(presets) -> dict[str, list[dict]]:
