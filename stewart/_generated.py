@@ -98,6 +98,8 @@ PARAMS_LEFT_OUT = {
     'name': 'a label, not a model input',
     'viscous_friction': 'actuator friction: a column of the regressor (stewart_regressor), not in the rigid-body model',
     'coulomb_friction': 'actuator friction: a column of the regressor (stewart_regressor), not in the rigid-body model',
+    'leg_stiffness': 'the legs as springs: the stiffness and modes (stewart.model.stiffness), not in the rigid-body model',
+    'leg_damping': 'the legs as dampers: the damping ratios (stewart.model.stiffness), not in the rigid-body model',
 }
 
 #: {status code: (name, message, tolerance or None)} of every status code of the C model: the

@@ -53,3 +53,15 @@ def test_modes_errors_are_one_line_with_their_exit_code(capsys, argv, code, star
     assert got == code
     lines = err.strip().splitlines()
     assert len(lines) == 1 and lines[0].startswith(f"stewart modes: error: {start}"), err
+
+
+def test_modes_takes_the_stiffness_of_the_parameter_file(tmp_path, capsys):
+    params = stewart.PlatformParams.preset("motion_simulator")
+    params.replace(leg_stiffness=2e7).save(tmp_path / "p.toml")
+    code, out, _ = _run(["modes", "--params", str(tmp_path / "p.toml"), "--json"], capsys)
+    assert code == 0
+    np.testing.assert_array_equal(json.loads(out)["frequencies"], stewart.Platform(params).modes(
+        stewart.Platform(params).home_pose, 2e7).frequencies)
+    code, _, err = _run(["modes", "--preset", "motion_simulator"], capsys)
+    assert code == 2 and err.strip() == ("stewart modes: error: --stiffness: none given, and the parameters have "
+                                         "no leg_stiffness (N/m)")

@@ -274,3 +274,25 @@ def test_a_singular_pose_and_a_pose_that_cannot_be_held():
         plat.compliance(plat.home_pose, K_LEG, point=[0, 0])
     with pytest.raises(ValueError, match="coordinates: expected 'pose' or 'twist'"):
         plat.stiffness_matrix(plat.home_pose, K_LEG, coordinates="euler")
+
+
+def test_the_legs_stiffness_and_damping_as_parameters(tmp_path):
+    """``leg_stiffness`` and ``leg_damping`` of the parameters are the defaults (one value or six,
+    through a parameter file); without them the functions need a stiffness."""
+    params = stewart.PlatformParams.preset("motion_simulator")
+    assert params.leg_stiffness is None and params.leg_damping is None
+    springy = params.replace(leg_stiffness=K_LEG, leg_damping=[C_LEG] * 6)
+    springy.save(tmp_path / "p.toml")
+    loaded = stewart.PlatformParams.load(tmp_path / "p.toml")
+    np.testing.assert_array_equal(loaded.leg_stiffness, np.full(6, K_LEG))
+    plat, x = stewart.Platform(loaded), stewart.Platform(loaded).home_pose
+    own, given = plat.modes(x), stewart.Platform(params).modes(x, K_LEG, C_LEG)
+    np.testing.assert_array_equal(own.frequencies, given.frequencies)
+    np.testing.assert_array_equal(own.damping_ratios, given.damping_ratios)
+    np.testing.assert_array_equal(plat.compliance(x), stewart.Platform(params).compliance(x, K_LEG))
+    with pytest.raises(ValueError, match=r"^stiffness: none given, and the parameters have no leg_stiffness"):
+        stewart.Platform(params).modes(x)
+    with pytest.raises(ValueError, match=r"^leg_stiffness: must be finite and > 0"):
+        params.replace(leg_stiffness=[1e7] * 5 + [0.0])
+    with pytest.raises(ValueError, match=r"^leg_damping: expected one value or one per leg"):
+        params.replace(leg_damping=[1.0, 2.0])

@@ -25,6 +25,11 @@ def _per_leg(flag: str, values):
     raise UserError(f"{flag}: give one value or six (one per leg), got {len(values)}")
 
 
+def _legs(values: list) -> str:
+    """Six per-leg values for the table's header: one number when they are all equal."""
+    return f"{values[0]:g}" if len(set(values)) == 1 else " ".join(f"{v:g}" for v in values)
+
+
 def cmd_modes(args) -> int:
     params, label = platform_params(args)
     plat = Platform(params)
@@ -41,6 +46,9 @@ def cmd_modes(args) -> int:
     except ValueError as exc:
         raise UserError(flag_names(str(exc), FLAGS)) from None
     motions, share = modes.motions(), modes.participation()
+    stiffness = (plat.params.leg_stiffness if stiffness is None else np.broadcast_to(stiffness, (6,))).tolist()
+    damping = None if modes.damping_ratios is None else (
+        plat.params.leg_damping if damping is None else np.broadcast_to(damping, (6,))).tolist()
     if args.json:
         print(json.dumps({
             "platform": label, "pose": pose.tolist(), "stiffness": stiffness, "damping": damping,
@@ -49,9 +57,8 @@ def cmd_modes(args) -> int:
             "damping_ratios": None if modes.damping_ratios is None else modes.damping_ratios.tolist(),
         }))
         return 0
-    print(f"# {label}; pose {' '.join(f'{v:g}' for v in pose)}; leg stiffness "
-          f"{' '.join(f'{v:g}' for v in stiffness)} N/m"
-          + ("" if damping is None else f"; leg damping {' '.join(f'{v:g}' for v in damping)} N s/m"))
+    print(f"# {label}; pose {' '.join(f'{v:g}' for v in pose)}; leg stiffness {_legs(stiffness)} N/m"
+          + ("" if damping is None else f"; leg damping {_legs(damping)} N s/m"))
     print(f"{'mode':>4}  {'frequency [Hz]':>14}  {'damping ratio':>13}  dominant motion")
     for j in range(6):
         ratio = "-" if modes.damping_ratios is None else f"{modes.damping_ratios[j]:.4f}"
@@ -64,8 +71,10 @@ def add_modes(sub) -> None:
     p = subcommand(sub, "modes", "natural frequencies and mode shapes on preloaded leg springs", cmd_modes)
     add_params(p)
     add_six(p, "--pose", f"{AXES} [{UNITS}] (default: home)")
-    p.add_argument("--stiffness", nargs="+", type=positive, required=True, metavar="K",
-                   help="leg stiffness [N/m]: one value, or six (one per leg)")
+    p.add_argument("--stiffness", nargs="+", type=positive, metavar="K",
+                   help="leg stiffness [N/m]: one value, or six (one per leg) (default: the parameters' "
+                        "leg_stiffness)")
     p.add_argument("--damping", nargs="+", type=non_negative, metavar="C",
-                   help="leg damping [N s/m]: one value, or six; adds the damping ratios")
+                   help="leg damping [N s/m]: one value, or six; adds the damping ratios (default: the "
+                        "parameters' leg_damping, if any)")
     add_json(p)

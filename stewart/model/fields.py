@@ -146,6 +146,20 @@ def _friction(name: str, value: Any) -> np.ndarray | None:
     return arr
 
 
+def leg_coefficients(name: str, value: Any, *, positive: bool) -> np.ndarray:
+    """``value`` (one number, or one per leg) as six finite floats, each > 0 (``positive``) or
+    >= 0; ``ValueError`` naming ``name`` otherwise: the legs' stiffness and damping."""
+    arr = arguments.reals(name, value)
+    if arr.shape not in ((), (1,), (6,)):
+        raise ValueError(f"{name}: expected one value or one per leg (6), got shape {arr.shape}")
+    arr = np.broadcast_to(arr, (6,)).astype(float)
+    bad = ~np.isfinite(arr) | ((arr <= 0.0) if positive else (arr < 0.0))
+    if bad.any():
+        raise ValueError(f"{name}: must be finite and {'> 0' if positive else '>= 0'} on every leg, "
+                         f"got {arr.tolist()}")
+    return arr
+
+
 def _positive(name: str, value: Any) -> float:
     val = arguments.real(name, value)
     if not 0.0 < val < np.inf:

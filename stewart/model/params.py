@@ -19,7 +19,7 @@ import numpy as np
 from . import arguments, paramfile
 from .._generated import INERTIAL_NAMES as _inertial_names_of_the_model
 from .fields import TOLERANCE, _BOUNDS, _friction, _inertia, _inertia_tensor, _joint_axes  # the checks of each field
-from .fields import _optional_bound, _points, _positive, _readonly, _scalar, _vector3
+from .fields import _optional_bound, _points, _positive, _readonly, _scalar, _vector3, leg_coefficients
 from .presets import fields as _preset_fields
 
 __all__ = ["PlatformParams", "NonAxisymmetricLegWarning", "TOLERANCE"]
@@ -77,6 +77,11 @@ class PlatformParams:
         :func:`stewart.simulate` (whose :class:`stewart.motion.control.Actuators` default to them) do.
     coulomb_velocity : v_c > 0 in m/s, the speed scale of the smooth sign of the Coulomb
         friction.
+    leg_stiffness : optional axial stiffness ``k_i`` > 0 of each leg in N/m (actuator, screw and
+        leg in series; one value or six), the default of the stiffness and modes
+        (:meth:`stewart.Platform.modes`); ``None`` is none: those then need it given.
+    leg_damping : optional axial damping ``c_i`` >= 0 of each leg in N s/m (one value or six),
+        the default damping of :meth:`stewart.Platform.modes`; ``None`` is none.
 
     Arrays are stored read-only. Construction validates every field and raises
     ``ValueError`` naming the field; without ``universal_joint_axes``, leg inertias with
@@ -106,6 +111,8 @@ class PlatformParams:
     viscous_friction: np.ndarray | None = None
     coulomb_friction: np.ndarray | None = None
     coulomb_velocity: float = 1e-3
+    leg_stiffness: np.ndarray | None = None
+    leg_damping: np.ndarray | None = None
 
     def __post_init__(self) -> None:
         fields = {
@@ -128,6 +135,10 @@ class PlatformParams:
             "viscous_friction": _friction("viscous_friction", self.viscous_friction),
             "coulomb_friction": _friction("coulomb_friction", self.coulomb_friction),
             "coulomb_velocity": _positive("coulomb_velocity", self.coulomb_velocity),
+            "leg_stiffness": None if self.leg_stiffness is None else leg_coefficients(
+                "leg_stiffness", self.leg_stiffness, positive=True),
+            "leg_damping": None if self.leg_damping is None else leg_coefficients(
+                "leg_damping", self.leg_damping, positive=False),
         }
         for key, val in fields.items():
             if isinstance(val, np.ndarray):

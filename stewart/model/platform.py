@@ -283,7 +283,7 @@ class Platform:
                           return_mask)
         return _named(Step, self._call("rk4_step", (x, xd, tau), return_mask, dt), return_mask)
 
-    def stiffness_matrix(self, x, stiffness, *, coordinates="pose", return_mask=False):
+    def stiffness_matrix(self, x, stiffness=None, *, coordinates="pose", return_mask=False):
         """The stiffness of the platform on leg springs of ``stiffness`` [N/m] (one value or one
         per leg) preloaded to hold it at ``x``: the Hessian of the potential (springs and
         gravity) ``K_q = J_E^T (diag(k) J_E + dtau_s/dx)`` in the pose coordinates, or in the
@@ -291,7 +291,7 @@ class Platform:
         (:func:`stewart.model.stiffness.stiffness_matrix`)."""
         return _stiffness.stiffness_matrix(self, x, stiffness, coordinates=coordinates, return_mask=return_mask)
 
-    def modes(self, x, stiffness, damping=None, *, return_mask=False):
+    def modes(self, x, stiffness=None, damping=None, *, return_mask=False):
         """The natural frequencies [Hz] (ascending), mass-normalized mode shapes as twists
         ``[dp; dtheta]`` in {B} and, with leg dampers ``damping`` [N s/m], the damping ratios of
         the platform on preloaded leg springs of ``stiffness`` [N/m] at ``x``, legs' inertia
@@ -299,7 +299,7 @@ class Platform:
         (:func:`stewart.model.stiffness.modes`)."""
         return _stiffness.modes(self, x, stiffness, damping, return_mask=return_mask)
 
-    def compliance(self, x, stiffness, point=None, *, return_mask=False):
+    def compliance(self, x, stiffness=None, point=None, *, return_mask=False):
         """The Cartesian compliance at ``x``: the small displacement ``[dp; dtheta]`` of
         ``point`` (in {P}, default its origin) under a unit wrench ``[f; m]`` there, all in {B},
         shape ``(..., 6, 6)`` (:func:`stewart.model.stiffness.compliance`)."""

@@ -36,6 +36,7 @@ import numpy as np
 from . import arguments, conditions
 from .._kernel import UNSTABLE, modal_terms
 from .errors import SingularityError, UnstableError, row_list
+from .fields import leg_coefficients
 from .kinematics import rotation, twist_transform
 
 __all__ = ["Modes", "MOTION_AXES", "leg_coefficients", "stiffness_matrix", "modes", "compliance",
@@ -76,20 +77,6 @@ class Modes(NamedTuple):
         return names.tolist()
 
 
-def leg_coefficients(name: str, value, *, positive: bool) -> np.ndarray:
-    """``value`` (one number, or one per leg) as six finite floats, each > 0 (``positive``) or
-    >= 0; ``ValueError`` naming ``name`` otherwise."""
-    arr = arguments.reals(name, value)
-    if arr.shape not in ((), (1,), (6,)):
-        raise ValueError(f"{name}: expected one value or one per leg (6), got shape {arr.shape}")
-    arr = np.broadcast_to(arr, (6,)).astype(float)
-    bad = ~np.isfinite(arr) | ((arr <= 0.0) if positive else (arr < 0.0))
-    if bad.any():
-        raise ValueError(f"{name}: must be finite and {'> 0' if positive else '>= 0'} on every leg, "
-                         f"got {arr.tolist()}")
-    return arr
-
-
 def _radius(platform) -> float:
     """The platform's radius: the largest distance of a spherical joint from {P}'s origin (kept on
     the platform once computed)."""
@@ -100,11 +87,24 @@ def _radius(platform) -> float:
     return radius
 
 
-def _stiffnesses(stiffness) -> np.ndarray:
-    """:func:`leg_coefficients` of ``stiffness``, with a fast path for one positive float."""
+def _stiffnesses(platform, stiffness) -> np.ndarray:
+    """:func:`leg_coefficients` of ``stiffness`` (with a fast path for one positive float), or
+    the parameters' ``leg_stiffness`` for None; ``ValueError`` if they have none."""
     if type(stiffness) is float and 0.0 < stiffness < np.inf:
         return np.full(6, stiffness)
+    if stiffness is None:
+        stiffness = platform.params.leg_stiffness
+        if stiffness is None:
+            raise ValueError("stiffness: none given, and the parameters have no leg_stiffness (N/m)")
+        return stiffness
     return leg_coefficients("stiffness", stiffness, positive=True)
+
+
+def _dampings(platform, damping) -> np.ndarray | None:
+    """:func:`leg_coefficients` of ``damping``, or the parameters' ``leg_damping`` for None."""
+    if damping is None:
+        return platform.params.leg_damping
+    return leg_coefficients("damping", damping, positive=False)
 
 
 def _poses(x) -> np.ndarray:
@@ -173,7 +173,7 @@ def _mask(terms: _Terms):
     return bool(good[0]) if terms.one else good
 
 
-def stiffness_matrix(platform, x, stiffness, *, coordinates: str = "pose", return_mask: bool = False):
+def stiffness_matrix(platform, x, stiffness=None, *, coordinates: str = "pose", return_mask: bool = False):
     """The stiffness at the pose(s) ``x`` of the platform on legs of ``stiffness`` [N/m] (one
     value or one per leg, each > 0), preloaded to hold it there: the Hessian of the potential
     ``K_q = J_E^T (diag(k) J_E + dtau_s/dx)`` in the pose coordinates ``[x, y, z, psi, theta,
@@ -181,7 +181,7 @@ def stiffness_matrix(platform, x, stiffness, *, coordinates: str = "pose", retur
     twist coordinates ``[dp; dtheta]`` of {B} (``coordinates="twist"``); shape ``(..., 6, 6)``.
     See the module docstring; exact, symmetric to round-off (not symmetrized). It is given where
     the legs cannot hold the pose too (it is not positive definite there)."""
-    k = _stiffnesses(stiffness)
+    k = _stiffnesses(platform, stiffness)
     if coordinates not in ("pose", "twist"):
         raise ValueError(f"coordinates: expected 'pose' or 'twist', got {coordinates!r}")
     terms = _terms(platform, "stiffness_matrix", x, k, return_mask, stable=False)
@@ -219,17 +219,19 @@ def _damping_ratios(values: np.ndarray, shapes: np.ndarray, c: np.ndarray, jac: 
     return ratios
 
 
-def modes(platform, x, stiffness, damping=None, *, return_mask: bool = False):
+def modes(platform, x, stiffness=None, damping=None, *, return_mask: bool = False):
     """The natural frequencies and mode shapes (:class:`Modes`) at the pose(s) ``x`` of the
     platform on legs of ``stiffness`` [N/m] (each > 0) preloaded to hold it there, with
-    ``damping`` [N s/m] (each >= 0) the damping ratios; one value or one per leg each.
+    ``damping`` [N s/m] (each >= 0) the damping ratios; one value or one per leg each, by
+    default the parameters' ``leg_stiffness`` (``ValueError`` without one) and ``leg_damping``
+    (no damping ratios without one); so for every function here.
 
     :class:`~stewart.SingularityError` where the model is undefined (a singular ``J_C``,
     ``theta = +-90 deg``), :class:`~stewart.model.errors.UnstableError` where the stiffness is
     not positive definite (the preload buckles the legs: the pose cannot be held); with
     ``return_mask`` those rows are NaN and ``(modes, ok)`` is returned."""
-    k = _stiffnesses(stiffness)
-    c = None if damping is None else leg_coefficients("damping", damping, positive=False)
+    k = _stiffnesses(platform, stiffness)
+    c = _dampings(platform, damping)
     terms = _terms(platform, "modes", x, k, return_mask)
     ratios = None
     if c is not None:
@@ -244,10 +246,10 @@ def modes(platform, x, stiffness, damping=None, *, return_mask: bool = False):
     return (result, _mask(terms)) if return_mask else result
 
 
-def lowest_frequency(platform, x, stiffness, *, return_mask: bool = False):
+def lowest_frequency(platform, x, stiffness=None, *, return_mask: bool = False):
     """The lowest natural frequency [Hz] at the pose(s) ``x`` (:func:`modes` without the
     shapes), shape ``(...)``."""
-    terms = _terms(platform, "lowest_frequency", x, _stiffnesses(stiffness), return_mask)
+    terms = _terms(platform, "lowest_frequency", x, _stiffnesses(platform, stiffness), return_mask)
     return _shaped(terms, terms.frequencies[:, 0], return_mask)
 
 
@@ -274,27 +276,27 @@ def _compliances(terms: _Terms, point: np.ndarray, good: np.ndarray) -> np.ndarr
     return result
 
 
-def compliance(platform, x, stiffness, point=None, *, return_mask: bool = False):
+def compliance(platform, x, stiffness=None, point=None, *, return_mask: bool = False):
     """The Cartesian compliance at the pose(s) ``x`` of the platform on preloaded legs of
     ``stiffness`` [N/m]: the matrix ``(..., 6, 6)`` that maps a small wrench ``[f (N); m (N m)]``
     applied at ``point`` (in {P}, m; default {P}'s origin) to the small displacement
     ``[dp (m); dtheta (rad)]`` of that point and of the platform, all in {B}:
     ``A K_t^-1 A^T`` with ``A = [[I, -[r]x], [0, I]]``, ``r = R point``. Errors as :func:`modes`."""
-    k = _stiffnesses(stiffness)
+    k = _stiffnesses(platform, stiffness)
     point = _point(point)
     terms = _terms(platform, "compliance", x, k, return_mask)
     good = np.ones(len(terms.x), bool) if terms.good is None else terms.good
     return _shaped(terms, _compliances(terms, point, good), return_mask)
 
 
-def modal_metrics(platform, x, stiffness, point=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def modal_metrics(platform, x, stiffness=None, point=None) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """The workspace metrics of the modes at the poses ``x`` ``(N, 6)`` in one pass: the lowest
     natural frequency [Hz] (:func:`modes`), the largest translational compliance [m/N] at
     ``point`` (the deflection under a unit force in the weakest direction, the largest
     eigenvalue of the translational block of :func:`compliance`), both NaN where the model is
     undefined or the legs cannot hold the pose, and the mask of the poses where they are given."""
     point = _point(point)
-    terms = _terms(platform, "modal_metrics", x, _stiffnesses(stiffness), True)
+    terms = _terms(platform, "modal_metrics", x, _stiffnesses(platform, stiffness), True)
     good = np.ones(len(terms.x), bool) if terms.good is None else terms.good
     translational = _compliances(terms, point, good)[:, :3, :3]
     largest = np.linalg.eigvalsh(np.where(good[:, None, None], translational, 0.0))[:, -1]

@@ -44,7 +44,8 @@ The metrics of each design (:data:`METRICS`): the volume of the translational wo
 (:func:`stewart.studies.workspace.translational_workspace`) with its sampling error, the mean
 singularity margin over it (Gosselin & Angeles' global conditioning index) and the margin at
 the home pose; the peaks over all legs of the envelope (:mod:`stewart.studies.envelope`) of the box
-around the home pose; with ``[modes] stiffness``, the lowest natural frequency over the
+around the home pose; with ``[modes] stiffness`` (or the parameters' ``leg_stiffness``), the
+lowest natural frequency over the
 workspace's reachable samples and the largest translational compliance there (the reachable
 samples the preloaded legs cannot hold are counted in ``unheld``); without it these three
 are NaN, and a Pareto axis that names one is an error. Every design draws the same samples
@@ -269,8 +270,9 @@ def parse(data: dict, where: str = "") -> SweepSpec:
     for key, name in zip(("x", "y"), axes):
         if not isinstance(name, str) or name not in METRICS:
             raise ValueError(f"pareto.{key}: unknown metric {name!r}; known: {', '.join(METRICS)}")
-        if name in MODAL_METRICS and stiffness is None:
-            raise ValueError(f"pareto.{key}: {name} needs the legs' stiffness: [modes] stiffness = K (N/m)")
+        if name in MODAL_METRICS and stiffness is None and base.leg_stiffness is None:
+            raise ValueError(f"pareto.{key}: {name} needs the legs' stiffness: [modes] stiffness = K (N/m), or "
+                             "leg_stiffness in the parameters")
     return SweepSpec(base, designs, _offsets(env), _whole("envelope.samples", env.get("samples", 100_000)),
                      _whole("workspace.samples", work.get("samples", 20_000)), seed, axes, stiffness)
 

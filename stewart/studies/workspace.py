@@ -265,8 +265,7 @@ def _job(params, kind, fixed, region, samples, grid, stiffness=None) -> tuple[Wo
         raise ValueError("samples, grid: give exactly one (random samples, or grid points per axis)")
     resolution = 0 if grid is None else arguments.count("grid", grid, 1000)
     total = resolution ** 3 if grid is not None else arguments.count("samples", samples, 10 ** 12)
-    if stiffness is not None:
-        stiffness = leg_coefficients("stiffness", stiffness, positive=True)
+    stiffness = params.leg_stiffness if stiffness is None else leg_coefficients("stiffness", stiffness, positive=True)
     return WorkspaceJob(params, kind, fixed, region, resolution, stiffness), total
 
 
@@ -331,8 +330,9 @@ def translational_workspace(platform, orientation=(0.0, 0.0, 0.0), *, region=Non
     poses are checked in chunks of ``chunk_size`` by :func:`stewart.studies.execution.run`: on the
     local cores, or with ``client`` (a ``dask.distributed.Client``) on its cluster, with the
     same result. ``progress`` shows a bar with an ETA (default: when stderr is a terminal).
-    With ``stiffness`` [N/m] (legs as preloaded springs, one value or one per leg) the lowest
-    natural frequency and the largest compliance over the workspace are found too.
+    With ``stiffness`` [N/m] (legs as preloaded springs, one value or one per leg; default the
+    parameters' ``leg_stiffness``, if any) the lowest natural frequency and the largest
+    compliance over the workspace are found too.
     Returns a :class:`Workspace`.
     """
     params = platform_params(platform, "platform")
@@ -404,8 +404,9 @@ def workspace_slice(platform, axes="xy", at=None, *, orientation=(0.0, 0.0, 0.0)
     Translational slices hold ``orientation`` [rad], orientation slices ``position`` [m]
     (default: home). ``region`` ``(2, 2)`` bounds the two axes (default: those of
     :func:`position_bounds` or :data:`ORIENTATION_REGION`); ``resolution`` is the number
-    of cell centres per axis. ``stiffness`` [N/m] (one value or one per leg) adds the lowest
-    natural frequency on the preloaded leg springs.
+    of cell centres per axis. ``stiffness`` [N/m] (one value or one per leg; default the
+    parameters' ``leg_stiffness``, if any) adds the lowest natural frequency on the preloaded
+    leg springs.
     """
     plat = as_platform(platform)
     params = plat.params
@@ -434,8 +435,7 @@ def workspace_slice(platform, axes="xy", at=None, *, orientation=(0.0, 0.0, 0.0)
     coords[:, first], coords[:, second], coords[:, third] = uu.ravel(), vv.ravel(), at
     fixed_rows = np.broadcast_to(fixed, (n * n, 3))
     poses = np.hstack([coords, fixed_rows] if kind == "translational" else [fixed_rows, coords])
-    if stiffness is not None:
-        stiffness = leg_coefficients("stiffness", stiffness, positive=True)
+    stiffness = params.leg_stiffness if stiffness is None else leg_coefficients("stiffness", stiffness, positive=True)
     check = reachability(plat, poses)
     margin = np.where(check.ok, check.margin, np.nan).reshape(n, n)
     frequency = None
