@@ -13,18 +13,21 @@ where ``dtau_s/dx`` is the exact Jacobian of the static forces
 (:meth:`stewart.Platform.inverse_dynamics_derivatives`). ``J_E^T diag(k) J_E`` is the elastic
 term; ``J_E^T dtau_s/dx = T^T R_x`` with ``R_x = d(G - J_C^T tau)/dx`` at fixed ``tau`` holds
 the preload's geometric term ``-d(J_C^T)/dx . tau`` and gravity's own term ``dG/dx``
-(Gosselin 1990 and Klimchik 2011 keep the first only; with no preload it is ``J^T k J``).
+(the Cartesian stiffness of Gosselin 1990 is the first alone; with no preload the second
+vanishes).
 ``R_x`` is the partial of the residual of the equation of motion, so
 ``K_q = T^T R_x + J_E^T k J_E`` is the Hessian of ``U`` wherever ``J_C^T tau_s = G``.
 
-Small motions obey ``M_t d(xi)/dt + C_t xi + K_t dxi = 0`` in the twist coordinates
+Small motions obey ``M_t dxi'' + C_t dxi' + K_t dxi = 0`` in the twist coordinates
 ``dxi = T dq = [dp; dtheta]`` (a small translation of {P}'s origin and a small rotation vector,
 both in {B}), with the symmetric twist-space mass matrix ``M_t`` (eqs. 19, 39, 51, 61, 69,
 legs included), ``K_t = T^-T K_q T^-1 = J_C^T (diag(k) J_C + dtau_s/dx T^-1)`` and
 ``C_t = J_C^T diag(c) J_C``. The modes are those of the generalized eigenproblem
 ``K_t phi = w^2 M_t phi`` (the same frequencies as in pose coordinates, since ``T`` is
 invertible away from ``theta = +-90 deg``), the damping ratios those of the quadratic
-eigenproblem ``(s^2 M_t + s C_t + K_t) phi = 0``.
+eigenproblem ``(s^2 M_t + s C_t + K_t) phi = 0``. Each pose's stiffness and undamped modes are
+computed in compiled code (``stewart/_modes.pxi``: the model's functions and LAPACK's
+``dsygv``); the damping ratios and the compliance in numpy.
 """
 
 from __future__ import annotations

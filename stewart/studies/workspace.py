@@ -127,8 +127,10 @@ class Workspace:
         return KINDS[self.kind][1]
 
     def summary(self) -> dict:
-        """Plain-Python form (for JSON)."""
+        """Plain-Python form (for JSON); the modal metrics are None without a stiffness."""
         out = {key: getattr(self, key) for key in self.__dataclass_fields__}
+        if self.stiffness is None:  # no modal metrics: None, not NaN (JSON has no NaN)
+            out.update(frequency_min=None, compliance_max=None)
         for key in ("fixed", "region", "bounding_box", "margin_min_pose", "stiffness", "frequency_min_pose",
                     "compliance_max_pose"):
             out[key] = None if out[key] is None else np.asarray(out[key]).tolist()
