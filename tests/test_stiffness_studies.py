@@ -94,4 +94,4 @@ def test_workspace_command_reports_the_frequency_and_draws_its_map(tmp_path, cap
     main(["workspace", "--preset", "motion_simulator", "--samples", "3000", "--stiffness", "2e7"])
     out = capsys.readouterr().out
     assert f"lowest natural frequency {local.frequency_min:.4g} Hz" in out
-    assert "limits: stroke 1.15-1.85 m; joint cones unlimited; legs of no thickness" in out
+    assert "limits: stroke 1.15-1.85 m; joint cones universal 45 deg, spherical 30 deg; legs 0.16 m thick" in out

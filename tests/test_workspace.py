@@ -31,7 +31,8 @@ def _uniform(rng, box, n):
 def test_membership_agrees_with_inverse_kinematics():
     """Random positions and orientations: the stroke bits are set exactly where the numpy
     leg lengths leave the limits, and the margin is the inverse of numpy's condition number."""
-    params = stewart.PlatformParams.preset("narayan2017")
+    params = stewart.PlatformParams.preset("narayan2017").replace(universal_joint_max_angle=None,
+                                                                  spherical_joint_max_angle=None)
     rng = np.random.default_rng(7)
     poses = np.hstack([_uniform(rng, workspace.position_bounds(params), 3000), rng.uniform(-0.4, 0.4, (3000, 3))])
     check = stewart.reachability(params, poses)
@@ -170,7 +171,9 @@ def test_volume_converges_as_the_samples_grow(figures):
 
 
 def test_chunks_and_seeds_give_reproducible_results(simd_path):
-    params = stewart.PlatformParams.preset("narayan2017")
+    # Without the preset's joint cones, inside which few orientations are reachable.
+    params = stewart.PlatformParams.preset("narayan2017").replace(universal_joint_max_angle=None,
+                                                                  spherical_joint_max_angle=None)
     one = workspace.orientation_workspace(params, samples=3000, seed=4, chunk_size=1000)
     again = workspace.orientation_workspace(params, samples=3000, seed=4, chunk_size=1000)
     other = workspace.orientation_workspace(params, samples=3000, seed=5, chunk_size=1000)
@@ -258,9 +261,11 @@ def test_cli_reports_the_volume_and_writes_slices(tmp_path, capsys):
 
 
 def test_cli_joint_limits_shrink_the_workspace(capsys):
-    main(["workspace", "--kind", "orientation", "--grid", "12", "--json"])
+    main(["workspace", "--kind", "orientation", "--grid", "12", "--json", "--spherical-max-angle", "90",
+          "--universal-max-angle", "90"])
     free = json.loads(capsys.readouterr().out)
-    main(["workspace", "--kind", "orientation", "--grid", "12", "--json", "--spherical-max-angle", "30"])
+    main(["workspace", "--kind", "orientation", "--grid", "12", "--json", "--spherical-max-angle", "30",
+          "--universal-max-angle", "90"])
     limited = json.loads(capsys.readouterr().out)
     assert 0 < limited["reachable"] < free["reachable"] and limited["excluded"]["spherical_joint_limit"] > 0
 

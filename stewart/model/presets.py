@@ -9,7 +9,11 @@
     uniform tube with its centre of mass at mid-length, so b_C = 50 mm from B_i and
     b_S = 45 mm from P_i. The top plate is taken as a uniform steel disc of the paper's
     600 mm diameter and the paper's mass (hence 3.05 mm thick). Leg lengths run from the
-    0.19 m nominal length to that plus the paper's 190 mm expansion.
+    0.19 m nominal length to that plus the paper's 190 mm expansion. The paper names no
+    joints: the joint cones are those of :data:`UNIVERSAL_JOINT_MAX_ANGLE` and
+    :data:`SPHERICAL_JOINT_MAX_ANGLE`. It sets no leg diameter: its neighbouring base joints
+    are 38 mm apart, closer than its 50 mm cylinders, so its legs must narrow at the joints
+    and the leg-leg check of a 50 mm leg would refuse even the home pose.
 
 ``motion_simulator``
     A full-size motion base of the proportions common in driving and flight simulators
@@ -19,7 +23,14 @@
     occupant) modelled as a uniform 2.6 m x 2.6 m x 0.8 m box centred on {P}; steel
     electric actuators whose body is a 1.0 m tube of 160/140 mm OD/ID and whose rod is a
     1.0 m tube of 80/60 mm OD/ID, each with its centre of mass at mid-length; 0.7 m of
-    stroke between 1.15 m and 1.85 m.
+    stroke between 1.15 m and 1.85 m; the joint cones of :data:`UNIVERSAL_JOINT_MAX_ANGLE`
+    and :data:`SPHERICAL_JOINT_MAX_ANGLE`, and legs of the cylinders' 160 mm diameter for
+    the leg-leg clearance.
+
+The joint cones (:class:`stewart.PlatformParams` ``universal_joint_max_angle``,
+``spherical_joint_max_angle``, the angle between a leg and its direction at home) bound the
+workspace of both presets (:mod:`stewart.model.reachability`), so that their maps do not reach
+poses where the legs lie nearly flat.
 """
 
 from __future__ import annotations
@@ -32,6 +43,12 @@ import numpy as np
 __all__ = ["presets", "fields", "narayan2017_target_pose"]
 
 STEEL_DENSITY = 7850.0  # kg/m^3
+#: The universal joints' cone half-angle [rad]: 45 degrees, the largest working angle of a
+#: single cardan joint (DIN 808).
+UNIVERSAL_JOINT_MAX_ANGLE = math.radians(45.0)
+#: The spherical joints' cone half-angle [rad]: 30 degrees, that of a wide-angle ball joint made
+#: for parallel mechanisms (plain rod ends tilt only 6-15 degrees).
+SPHERICAL_JOINT_MAX_ANGLE = math.radians(30.0)
 
 
 def tube(outer_diameter: float, inner_diameter: float, length: float, density: float = STEEL_DENSITY):
@@ -72,6 +89,8 @@ def _narayan2017() -> dict[str, Any]:
         piston_com_distance=0.045,
         gravity=9.81,
         leg_length_limits=(0.19, 0.38),
+        universal_joint_max_angle=UNIVERSAL_JOINT_MAX_ANGLE,
+        spherical_joint_max_angle=SPHERICAL_JOINT_MAX_ANGLE,
         name="narayan2017",
     )
 
@@ -126,6 +145,9 @@ def _motion_simulator() -> dict[str, Any]:
         piston_com_distance=0.5,
         gravity=9.81,
         leg_length_limits=(1.15, 1.85),
+        universal_joint_max_angle=UNIVERSAL_JOINT_MAX_ANGLE,
+        spherical_joint_max_angle=SPHERICAL_JOINT_MAX_ANGLE,
+        leg_diameter=0.160,
         name="motion_simulator",
     )
 
