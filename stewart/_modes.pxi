@@ -118,17 +118,17 @@ cdef void _modal_rows(const stewart_params *p, const double *x, const double *k,
 
 
 def modal_terms(Kernel kernel, x, k):
-    """The stiffness and modes at the states ``x`` (float64, C-contiguous ``(n, 6)``) of the
+    """The stiffness and modes at the states ``x`` (float64, C-contiguous ``(6,)`` or ``(n, 6)``) of the
     platform on preloaded leg springs ``k`` (``(6,)`` N/m): ``(K_t, J_C, M_t, frequencies [Hz],
     shapes, status, failures)``, shapes ``(n, 6, 6)``, ``(n, 6, 6)``, ``(n, 6, 6)``, ``(n, 6)``,
     ``(n, 6, 6)``, ``(n,)`` and an int; ``status`` per row ``STEWART_OK`` (0), a status of the model
     (its outputs NaN), or :data:`UNSTABLE` (``K_t``, ``J_C`` and ``M_t`` given, the rest NaN);
     ``failures`` the rows not OK. See :mod:`stewart.model.stiffness`."""
-    cdef cnp.ndarray cx = _c_array("x", x, cnp.NPY_DOUBLE, 2, False)
+    cdef cnp.ndarray cx = _c_array("x", x, cnp.NPY_DOUBLE, 1 if np.ndim(x) == 1 else 2, False)
     cdef cnp.ndarray ck = _c_array("k", k, cnp.NPY_DOUBLE, 1, False)
-    cdef Py_ssize_t n = cx.shape[0]
-    if cx.shape[1] != 6 or ck.shape[0] != 6:
-        raise ValueError(f"x, k: need (n, 6) states and (6,) stiffnesses, got {np.shape(x)}, {np.shape(k)}")
+    cdef Py_ssize_t n = cx.shape[0] if cx.ndim == 2 else 1
+    if cx.shape[cx.ndim - 1] != 6 or ck.shape[0] != 6:
+        raise ValueError(f"x, k: need (6,) or (n, 6) states and (6,) stiffnesses, got {np.shape(x)}, {np.shape(k)}")
     cdef cnp.ndarray stiff = np.empty((n, 6, 6)), jac = np.empty((n, 6, 6)), mass = np.empty((n, 6, 6))
     cdef cnp.ndarray shapes = np.empty((n, 6, 6)), values = np.empty((n, 6)), status = np.empty(n, dtype=np.intc)
     cdef double *pstiff = <double *>cnp.PyArray_DATA(stiff)

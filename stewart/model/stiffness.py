@@ -110,15 +110,6 @@ def _dampings(platform, damping) -> np.ndarray | None:
     return leg_coefficients("damping", damping, positive=False)
 
 
-def _poses(x) -> np.ndarray:
-    """``x`` as C-contiguous float64 ``(N, 6)``: an array that is one as it is, else checked by
-    :func:`stewart.model.arguments.states` (which names ``x``)."""
-    if not (type(x) is np.ndarray and x.dtype == np.float64 and x.flags.c_contiguous and 1 <= x.ndim <= 2
-            and x.shape[-1] == 6):
-        x = np.ascontiguousarray(arguments.states("x", x))
-    return x.reshape(-1, 6)
-
-
 #: {status code: condition} of the compiled model (:data:`stewart.model.conditions.CONDITIONS`).
 _CONDITIONS = {condition.code: condition for condition in conditions.CONDITIONS.values()}
 
@@ -143,9 +134,13 @@ def _terms(platform, function: str, x, k, return_mask: bool, stable: bool = True
     (``euler_singular`` at ``theta = +-90 deg``, where ``T^-1`` is undefined), and with ``stable``
     one the legs cannot hold :class:`~stewart.model.errors.UnstableError`; with ``return_mask``
     they are left out of ``good`` instead."""
-    one = np.ndim(x) == 1
-    poses = _poses(x)
-    stiff, jac, mass, freqs, shapes, status, failures = modal_terms(platform.kernel, poses, k)
+    try:  # a C-contiguous float64 array of one or N poses as it is (the C checks that each is finite)
+        stiff, jac, mass, freqs, shapes, status, failures = modal_terms(platform.kernel, x, k)
+    except ValueError:  # anything else, checked and converted (ValueError naming x)
+        x = np.ascontiguousarray(arguments.states("x", x))
+        stiff, jac, mass, freqs, shapes, status, failures = modal_terms(platform.kernel, x, k)
+    one = x.ndim == 1
+    poses = x.reshape(-1, 6)
     if not failures:
         return _Terms(poses, stiff, jac, mass, freqs, shapes, None, one)
     failed = (status != 0) & ((status != UNSTABLE) | stable)
