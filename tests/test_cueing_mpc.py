@@ -122,9 +122,9 @@ def test_one_step_qp_against_dense_solver(simulator, monkeypatch):
     monkeypatch.setitem(predictive.SOLVER_SETTINGS, "eps_rel", 1e-10)
     monkeypatch.setitem(predictive.SOLVER_SETTINGS, "max_iter", 400000)
     qp = _qp(simulator, steps=5, duration=0.5)
-    vehicle = np.tile([-6.0, 0.0, 9.81, 0.0, 0.0, 0.0], (qp.n, 1))
+    vehicle = np.tile([-3.0, 0.0, 9.81, 0.0, 0.0, 0.0], (qp.n, 1))
     z0 = np.zeros(qp.vestibular.n)
-    x0, v0 = qp.home + [-0.4, 0, 0, 0, 0, 0], np.array([-0.5, 0, 0, 0, 0.03, 0])
+    x0, v0 = qp.home + [-0.3, 0, 0, 0, 0, 0], np.array([-0.6, 0, 0, 0, 0.03, 0])
     H, q, M, lo, hi, _, _ = qp.condensed(x0, v0, z0, vehicle)
     u, *_ = qp.solve(x0, v0, z0, vehicle)
     scaled = M / qp.row_scale[:, None]
