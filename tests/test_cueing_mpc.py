@@ -49,6 +49,23 @@ def test_signals_and_jacobians_against_platform_signals():
             assert np.max(np.abs(_richardson(signals, [x, v, u][arg], j) - jac[:, :, j])) < 1e-9
 
 
+def test_joint_cosines_and_gradients_against_reachability(simulator):
+    """The cone constraints' cosines against stewart.model.reachability.joint_angles, their
+    gradients against Richardson differences."""
+    from stewart.model.reachability import joint_angles, neutral_axes
+
+    p = simulator.params
+    x = simulator.home_pose + np.random.default_rng(4).normal(size=(6, 6)) * 0.08
+    neutral = neutral_axes(simulator)
+    cos, grad = prediction.joint_cosines_and_gradients(x, p.base_points, p.platform_points, neutral)
+    universal, spherical = joint_angles(p, x)
+    assert np.max(np.abs(cos - np.cos(np.concatenate([universal, spherical], axis=1)))) < 1e-14
+    for j in range(6):
+        numeric = _richardson(lambda y: prediction.joint_cosines_and_gradients(
+            y, p.base_points, p.platform_points, neutral)[0], x, j)
+        assert np.max(np.abs(numeric - grad[:, :, j])) < 1e-9
+
+
 def test_vestibular_sections_match_transfer_functions():
     states = prediction.VestibularStates()
     w = np.logspace(-3, 3, 200)

@@ -20,6 +20,9 @@ error scaled by its perception threshold or the pose box) subject to
   force``, linearized with :meth:`~stewart.Platform.inverse_dynamics_derivatives` (exact in
   ``u``: the dynamics are affine in the accelerations);
 * the tilt rate: roll and pitch rates differ from the vehicle's by at most ``tilt_rate``;
+* the joints' cones (:class:`~stewart.PlatformParams` ``universal_joint_max_angle``,
+  ``spherical_joint_max_angle``, less :data:`CONE_MARGIN`), the cosine of each joint angle
+  linearized with its exact gradient (:func:`~stewart.cueing.prediction.joint_cosines_and_gradients`);
 * the platform at rest at the horizon's end, ``v_N = 0`` (so every plan can stop).
 
 All but the box and the rest are soft: each row has a slack whose square, in units of its limit,
@@ -42,6 +45,7 @@ from scipy import sparse
 from threadpoolctl import threadpool_limits
 
 from ..model.platform import as_platform
+from ..model.reachability import neutral_axes
 from . import prediction, vestibular
 from .settings import MPCParams
 
@@ -56,7 +60,9 @@ SOFT_WEIGHT = 1e6
 
 _P, _V, _NS = slice(0, 6), slice(6, 12), 12  # the state's pose and rate, the vestibular states' start
 #: The constraint groups in the order of the QP's rows.
-GROUPS = ("box", "tilt", "stroke", "speed", "force", "rest")
+GROUPS = ("box", "tilt", "stroke", "speed", "force", "cones", "rest")
+#: Kept from each joint's cone half-angle [rad] (the QP holds it to first order).
+CONE_MARGIN = 0.005
 
 
 @dataclass
@@ -102,11 +108,18 @@ class CueingQP:
         self.stroke = (lo + params.stroke_margin, hi - params.stroke_margin)
         self.force_limit = (1.0 - params.margin) * params.force
         self.speed_limit = (1.0 - params.margin) * params.leg_velocity
+        pp = self.platform.params
+        # the joints' cones as a lower bound on the cosine of each joint angle (none: -inf)
+        self.cone_cosines = np.array([np.cos(limit - CONE_MARGIN) if limit is not None else -np.inf
+                                      for limit in (pp.universal_joint_max_angle, pp.spherical_joint_max_angle)
+                                      for _ in range(6)])
+        self.neutral = neutral_axes(self.platform)
         box = np.asarray(params.box)
-        sizes = {"box": 6 * n, "tilt": 2 * n, "stroke": 6 * n, "speed": 6 * n, "force": 6 * n, "rest": 6}
+        sizes = {"box": 6 * n, "tilt": 2 * n, "stroke": 6 * n, "speed": 6 * n, "force": 6 * n, "cones": 12 * n,
+                 "rest": 6}
         scales = {"box": np.tile(box, n), "tilt": np.full(2 * n, params.tilt_rate),
                   "stroke": np.full(6 * n, hi - lo), "speed": np.full(6 * n, params.leg_velocity),
-                  "force": np.full(6 * n, params.force), "rest": np.ones(6)}
+                  "force": np.full(6 * n, params.force), "cones": np.ones(12 * n), "rest": np.ones(6)}
         edges = np.cumsum([0] + [sizes[g] for g in GROUPS])
         self.rows = {g: slice(edges[i], edges[i + 1]) for i, g in enumerate(GROUPS)}
         self.m = int(edges[-1])
@@ -115,7 +128,7 @@ class CueingQP:
         self.soft = np.arange(self.rows["tilt"].start, self.rows["rest"].start)
         # which inputs each row depends on: a state s_k on u_0..u_{k-1}, the force at k also on u_k
         depends = np.zeros((self.m, n), dtype=bool)
-        for g in GROUPS[:4]:
+        for g in (*GROUPS[:4], "cones"):
             per = sizes[g] // n
             for k in range(n):
                 depends[self.rows[g].start + per * k: self.rows[g].start + per * (k + 1), : k + 1] = True
@@ -227,6 +240,8 @@ class CueingQP:
                                       np.zeros((12 * n, 6))).reshape(n, 12, 6)
         hl = np.transpose(0.25 * (quad[:, :6] - quad[:, 6:]), (0, 2, 1))           # dLdot/dx along v
         deriv = plat.inverse_dynamics_derivatives(xs, vs, us)
+        cones, cone_grad = prediction.joint_cosines_and_gradients(x_next, plat.params.base_points,
+                                                                  plat.params.platform_points, self.neutral)
         sp, sv, dp, dv = s_mat[1:, _P], s_mat[1:, _V], d[1:, _P], d[1:, _V]
         inputs = self._inputs
         p_bar, box = x_next - self.home, np.asarray(prm.box)
@@ -246,6 +261,8 @@ class CueingQP:
             "force": (t_dx @ s_mat[:-1, _P] + t_dv @ s_mat[:-1, _V] + deriv.dtau_dxdd @ inputs,
                       np.einsum("nij,nj->ni", t_dx, d[:-1, _P]) + np.einsum("nij,nj->ni", t_dv, d[:-1, _V])
                       + tau_shift, -self.force_limit, self.force_limit),
+            "cones": (cone_grad @ sp, np.einsum("nij,nj->ni", cone_grad, dp),
+                      self.cone_cosines - cones + np.einsum("nij,nj->ni", cone_grad, p_bar), np.inf),
             "rest": (sv[-1:], dv[-1:], 0.0, 0.0),
         }
         rows, lo, hi = np.empty((self.m, 6 * n)), np.empty(self.m), np.empty(self.m)

@@ -23,8 +23,8 @@ A TOML file has three sections, each key optional::
     stroke_margin = 0.01  # m, kept from each end of the stroke
     tilt_rate = 3.0       # deg/s, |roll or pitch rate - the vehicle's| (the rotation a rider
                           # would feel that the vehicle does not have)
-    box = [0.3, 0.3, 0.3, 0.3, 0.3, 0.3]   # m, m, m, rad, rad, rad from home (default: the
-                                           # platform's free excursion along each axis)
+    box = [0.3, 0.3, 0.3, 0.3, 0.3, 0.3]   # m, m, m, rad, rad, rad from home (default: 90 % of
+                                           # the platform's free excursion along each axis)
 """
 
 from __future__ import annotations
@@ -39,12 +39,15 @@ import numpy as np
 from ..model.platform import as_platform
 from . import vestibular
 
-__all__ = ["MPCParams", "FORCE_LIMIT_PER_STATIC", "LEG_VELOCITY_PER_STROKE"]
+__all__ = ["MPCParams", "FORCE_LIMIT_PER_STATIC", "LEG_VELOCITY_PER_STROKE", "BOX_SHARE"]
 
 #: Default force limit: this many times the largest static leg force at home.
 FORCE_LIMIT_PER_STATIC = 2.0
 #: Default leg speed limit: strokes per second.
 LEG_VELOCITY_PER_STROKE = 1.0
+#: Default pose box: this share of the free excursion along each axis (the joints' cones
+#: and the legs' clearance, which the QP does not constrain, bind first on combined motions).
+BOX_SHARE = 0.9
 
 _SECTIONS = {
     "horizon": ("duration", "steps", "preview"),
@@ -133,8 +136,8 @@ class MPCParams:
         """The settings with the limits left open filled from ``platform``: ``force`` at
         :data:`FORCE_LIMIT_PER_STATIC` times its largest static leg force at home,
         ``leg_velocity`` at :data:`LEG_VELOCITY_PER_STROKE` strokes per second (the stroke of
-        ``leg_length_limits``), ``box`` the free excursion along each pose axis
-        (:func:`stewart.cueing.washout.axis_excursions`)."""
+        ``leg_length_limits``), ``box`` :data:`BOX_SHARE` of the free excursion along each
+        pose axis (:func:`stewart.cueing.washout.axis_excursions`)."""
         from .washout import axis_excursions
 
         plat = as_platform(platform)
@@ -150,7 +153,7 @@ class MPCParams:
         if base.leg_velocity is None:
             changes["leg_velocity"] = LEG_VELOCITY_PER_STROKE * (limits[1] - limits[0])
         if base.box is None:
-            changes["box"] = tuple(axis_excursions(plat))
+            changes["box"] = tuple(BOX_SHARE * axis_excursions(plat))
         if 2 * base.stroke_margin >= limits[1] - limits[0]:
             raise ValueError(f"{base.source}: limits.stroke_margin: {base.stroke_margin:g} m leaves no stroke "
                              f"of {limits[1] - limits[0]:g} m")

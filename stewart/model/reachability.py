@@ -39,7 +39,7 @@ from .arguments import platform_params
 from .params import PlatformParams
 
 __all__ = ["WorkspaceError", "Reachability", "reachability", "assembly_mode", "margins", "CONDITION_LIMIT",
-           "joint_angles", "segment_distances", "FLAGS", "limits_in_force"]
+           "joint_angles", "neutral_axes", "segment_distances", "FLAGS", "limits_in_force"]
 
 #: Largest unit-free condition number of ``J_C`` (and of the Euler-angle map) accepted.
 CONDITION_LIMIT = 1e3
@@ -204,7 +204,7 @@ def reachability(platform, poses, *, mode: float | None = None, name: str = "pos
         raise ValueError(f"{name}: expected real poses")
     if mode is None:
         mode = assembly_mode(plat, plat.home_pose)
-    neutral = _neutral_axes(plat)
+    neutral = neutral_axes(plat)
     # (no pose: one empty block)
     blocks = [_block(plat, x[i:i + _BLOCK], mode, neutral) for i in range(0, max(len(x), 1), _BLOCK)]
     parts = {key: np.concatenate([b[key] for b in blocks]) if blocks[0][key] is not None else None
@@ -215,7 +215,7 @@ def reachability(platform, poses, *, mode: float | None = None, name: str = "pos
 _BLOCK = 50_000  # poses checked at a time (bounds the memory of long trajectories)
 
 
-def _neutral_axes(plat) -> np.ndarray:
+def neutral_axes(plat) -> np.ndarray:
     """The joints' neutral axes: the unit leg vectors at the home pose (in {B}, and equally
     in {P}, whose orientation at home is the identity), ``(6, 3)``."""
     return plat.jacobian(plat.home_pose)[:, :3]
@@ -237,7 +237,7 @@ def joint_angles(params: PlatformParams, poses) -> tuple[np.ndarray, np.ndarray]
     plat = as_platform(params, "params")
     x = arguments.states("poses", poses)
     units = kinematics._jacobian_at(plat.params, x)[..., :3]
-    return _joint_angles(units, kinematics.rotation(x), _neutral_axes(plat))
+    return _joint_angles(units, kinematics.rotation(x), neutral_axes(plat))
 
 
 def _joint_angles(units, rotations, neutral):
