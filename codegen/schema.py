@@ -84,6 +84,7 @@ LEFT_OUT = {
     'name': 'a label, not a model input',
     'viscous_friction': 'actuator friction: a column of the regressor (stewart_regressor), not in the rigid-body model',
     'coulomb_friction': 'actuator friction: a column of the regressor (stewart_regressor), not in the rigid-body model',
+    'leg_length_offsets': 'encoder zero offsets: the C model takes true leg lengths (encoder reading + offset)',
 }
 
 #: The inertial parameters pi of the regressor (tau = Y pi, `model.regressor_kernel`), in its

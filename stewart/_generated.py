@@ -98,6 +98,7 @@ PARAMS_LEFT_OUT = {
     'name': 'a label, not a model input',
     'viscous_friction': 'actuator friction: a column of the regressor (stewart_regressor), not in the rigid-body model',
     'coulomb_friction': 'actuator friction: a column of the regressor (stewart_regressor), not in the rigid-body model',
+    'leg_length_offsets': 'encoder zero offsets: the C model takes true leg lengths (encoder reading + offset)',
 }
 
 #: {status code: (name, message, tolerance or None)} of every status code of the C model: the

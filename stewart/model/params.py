@@ -19,7 +19,7 @@ import numpy as np
 from . import arguments, paramfile
 from .._generated import INERTIAL_NAMES as _inertial_names_of_the_model
 from .fields import TOLERANCE, _BOUNDS, _friction, _inertia, _inertia_tensor, _joint_axes  # the checks of each field
-from .fields import _optional_bound, _points, _positive, _readonly, _scalar, _vector3
+from .fields import _offsets, _optional_bound, _points, _positive, _readonly, _scalar, _vector3
 from .presets import fields as _preset_fields
 
 __all__ = ["PlatformParams", "NonAxisymmetricLegWarning", "TOLERANCE"]
@@ -77,6 +77,12 @@ class PlatformParams:
         :func:`stewart.simulate` (whose :class:`stewart.motion.control.Actuators` default to them) do.
     coulomb_velocity : v_c > 0 in m/s, the speed scale of the smooth sign of the Coulomb
         friction.
+    leg_length_offsets : (6,) each leg's encoder zero offset in metres: the true leg length
+        ``|l_i|`` is the encoder reading plus the offset (default zeros, left out of
+        :meth:`to_dict` and the parameter files when all zero). The model takes true lengths;
+        the functions that take a machine's readings apply them
+        (:meth:`stewart.Platform.encoder_readings`, :func:`stewart.forward_kinematics` with
+        ``encoder=True``, :mod:`stewart.identification.identify`'s logs, :mod:`stewart.calibration`).
 
     Arrays are stored read-only. Construction validates every field and raises
     ``ValueError`` naming the field; without ``universal_joint_axes``, leg inertias with
@@ -106,6 +112,7 @@ class PlatformParams:
     viscous_friction: np.ndarray | None = None
     coulomb_friction: np.ndarray | None = None
     coulomb_velocity: float = 1e-3
+    leg_length_offsets: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(6))
 
     def __post_init__(self) -> None:
         fields = {
@@ -128,6 +135,7 @@ class PlatformParams:
             "viscous_friction": _friction("viscous_friction", self.viscous_friction),
             "coulomb_friction": _friction("coulomb_friction", self.coulomb_friction),
             "coulomb_velocity": _positive("coulomb_velocity", self.coulomb_velocity),
+            "leg_length_offsets": _offsets("leg_length_offsets", self.leg_length_offsets),
         }
         for key, val in fields.items():
             if isinstance(val, np.ndarray):
@@ -388,10 +396,13 @@ class PlatformParams:
         return dataclasses.replace(self, **changes)
 
     def to_dict(self) -> dict[str, Any]:
-        """Plain-Python form (lists and floats), the layout of the TOML and JSON files."""
+        """Plain-Python form (lists and floats), the layout of the TOML and JSON files; the
+        fields that are ``None``, and ``leg_length_offsets`` when all zero, are left out."""
         out: dict[str, Any] = {}
         for field in dataclasses.fields(self):
             val = getattr(self, field.name)
+            if field.name == "leg_length_offsets" and not np.any(val):
+                continue
             if isinstance(val, np.ndarray):
                 val = val.tolist()
             elif isinstance(val, tuple):
@@ -412,7 +423,7 @@ class PlatformParams:
         missing = sorted(
             f.name
             for f in dataclasses.fields(cls)
-            if f.default is dataclasses.MISSING and f.name not in data
+            if f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING and f.name not in data
         )
         if missing:
             raise ValueError(f"missing parameter field(s): {', '.join(missing)}")
