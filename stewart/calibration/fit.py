@@ -170,7 +170,7 @@ class _Problem:
                                  "platform's: forward kinematics finds no pose") from None
         reach = reachability(nominal, poses, name=data.source)
         if not np.all(reach.ok):
-            raise WorkspaceError(reach.message("measured pose"), reach)
+            raise WorkspaceError(f"{data.source}: {reach.message('measured pose')}", reach)
         self.count = len(poses)
         self.gauge = _gauge(nominal, data.target_offsets) if data.points is not None else np.zeros((0, 42))
         self.gauges = len(self.gauge)

@@ -5,7 +5,9 @@ condition number and its named null space.
 Each column of the weighted Jacobian is divided by its norm, so that the condition number
 does not depend on the units or the scale of a parameter. A singular value below
 :data:`RANK_TOLERANCE` times the largest leaves a direction of the parameters that changes
-no residual: the data cannot determine it. The null space is written in a readable basis:
+no residual, or so little that its standard error is more than ``1 / RANK_TOLERANCE`` times
+that of the best-determined combination (measurement noise then decides it, as when nearly
+level poses carry the noise of a tracker's angles): the data cannot determine it. The null space is written in a readable basis:
 column-pivoted QR picks one parameter per direction, and each direction is the change of the
 others that compensates a unit change of that one (a reduced row-echelon form of the basis).
 """
@@ -19,8 +21,9 @@ import scipy.linalg
 
 __all__ = ["Identifiability", "UnidentifiableError", "identifiability", "RANK_TOLERANCE"]
 
-#: Singular values of the column-scaled Jacobian at most this fraction of the largest are zero.
-RANK_TOLERANCE = 1e-9
+#: Singular values of the column-scaled Jacobian at most this fraction of the largest are zero:
+#: a condition number above 1e5 (well-spread poses give a few thousand) is unidentifiable data.
+RANK_TOLERANCE = 1e-5
 #: Terms shown per combination, and the smallest coefficient shown (relative to the largest).
 _TERMS, _SMALLEST = 6, 1e-3
 
