@@ -23,7 +23,7 @@ import time
 import stewart
 from stewart.cli import bench
 
-from . import batch_loop, identification, report, studies
+from . import batch_loop, calibration, identification, report, studies
 from .peers.common import peer_available
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
@@ -152,6 +152,8 @@ def main(argv=None) -> None:
         print("[bench] studies: skipped, dask.distributed not installed (pip install '.[cluster]')", flush=True)
     print("[bench] identification from a long log ...", flush=True)
     results["identification"] = identification.figures("narayan2017")
+    print("[bench] kinematic calibration from 200 poses ...", flush=True)
+    results["calibration"] = calibration.figures("narayan2017")
     if not args.skip_build:
         print("[bench] generation and clean build ...", flush=True)
         results["generation"] = generation_figures()
@@ -168,6 +170,8 @@ def main(argv=None) -> None:
         print(studies.format_rows(results["studies"]))
     print()
     print(identification.format_rows(results["identification"]))
+    print()
+    print(calibration.format_rows(results["calibration"]))
     if results["peers"]:
         ops = results["code"]["operation_counts"]
         ours = {"ops": {"inverse_dynamics": ops.get("inverse_dynamics_axisym"),

@@ -42,7 +42,7 @@ from ..model.params import PlatformParams
 from ..model.reachability import WorkspaceError, reachability
 from . import geometry
 from .geometry import NUM_PARAMETERS, PARAMETER_NAMES
-from .identifiability import Identifiability, UnidentifiableError, identifiability
+from .identifiability import Identifiability, UnidentifiableError, identifiability, scaled_svd
 from .measurements import CalibrationData
 
 __all__ = ["calibrate", "Calibration", "DEFAULT_POSITION_STD", "DEFAULT_ANGLE_STD", "DEFAULT_LENGTH_STD"]
@@ -131,13 +131,14 @@ def calibrate(platform, data: CalibrationData, *, position_std: float = DEFAULT_
     ident = identifiability(problem.jacobian(problem.theta0), PARAMETER_NAMES)
     if not ident.identifiable:
         raise UnidentifiableError(_unidentifiable_message(ident, problem), ident)
-    fit = scipy.optimize.least_squares(problem.residuals, problem.theta0, jac=problem.jacobian, method="trf",
+    fit = scipy.optimize.least_squares(problem.residuals, problem.theta0, jac=problem.jacobian, method="lm",
                                        x_scale="jac", ftol=1e-12, xtol=1e-12, gtol=1e-12)
     jac = problem.jacobian(fit.x)
     dof = len(fit.fun) - problem.unknowns
     sigma = float(np.sqrt(2.0 * fit.cost / dof))
-    _, sv, vt = scipy.linalg.svd(jac, full_matrices=False)
-    covariance = (vt.T / sv**2) @ vt * sigma**2
+    norms = np.sqrt(np.sum(jac * jac, axis=0))
+    sv, vt = scaled_svd(jac / norms)  # identifiable: every column and singular value is nonzero
+    covariance = ((vt.T / sv**2) @ vt) / np.outer(norms, norms) * sigma**2
     theta = fit.x[:NUM_PARAMETERS]
     return Calibration(
         nominal=nominal, params=geometry.with_parameters(nominal, theta).replace(
