@@ -103,6 +103,8 @@ DOCS_MOVE := --target 0.04565 -0.0102 0.192 -0.0863 0.1046 0.0960 --controller p
 docs: build
 	$(PY) -m benchmarks.docs
 	MPLBACKEND=Agg $(PY) -m stewart simulate $(DOCS_MOVE) --plot docs/images/
+	MPLBACKEND=Agg $(PY) -m stewart calibrate examples/calibration/measurements.csv \
+		--validate examples/calibration/held_out.csv --plot docs/images/
 	$(PY) -m mkdocs build --strict
 
 # The site, rebuilt as its pages change, at http://127.0.0.1:8000.
