@@ -253,3 +253,9 @@ def test_point_data_without_target_offsets_says_which_flag(tmp_path, capsys, des
     simulate_measurements(NOMINAL, designed.poses[:10], target_offsets=[[0, 0, 0.02]]).to_csv(tmp_path / "p.csv")
     code, _, err = _run(["calibrate", str(tmp_path / "p.csv")], capsys)
     assert code == 2 and err.strip().endswith("need their targets' offsets in {P} (--target-offset X Y Z)")
+
+
+def test_target_offsets_with_pose_data_are_an_error(campaign, capsys):
+    folder, _ = campaign
+    code, _, err = _run(["calibrate", str(folder / "meas.csv"), "--target-offset", "0", "0", "0.02"], capsys)
+    assert code == 2 and err.startswith("stewart calibrate: error: --target-offset: ") and "holds poses" in err

@@ -50,6 +50,9 @@ def cmd_calibrate(args) -> int:
     nominal, label = platform_params(args)
     offsets = np.array(args.target_offset) if args.target_offset else None
     data = _data("", args.measurements, offsets)
+    if offsets is not None and data.kind == "poses":
+        raise UserError(f"--target-offset: {args.measurements} holds poses, not tracked points (px, py, pz); "
+                        "leave --target-offset out")
     held = _data("--validate ", args.validate, offsets) if args.validate else None
     try:
         result = fit.calibrate(nominal, data, position_std=args.pose_std[0], angle_std=args.pose_std[1],
