@@ -128,23 +128,26 @@ def calibrate(platform, data: CalibrationData, *, position_std: float = DEFAULT_
         if not 0.0 < value < np.inf:
             raise ValueError(f"{name}: must be a positive finite number, got {value}")
     problem = _Problem(nominal, data, **stds)
-    ident = identifiability(problem.jacobian(problem.theta0), PARAMETER_NAMES)
+    free = problem.free_directions
+    gauged = free if problem.gauges else None
+    ident = identifiability(problem.data_jacobian(problem.theta0), PARAMETER_NAMES, gauged)
     if not ident.identifiable:
         raise UnidentifiableError(_unidentifiable_message(ident, problem), ident)
+    # The gauge rows of point data are met exactly at the solution, whatever their weight.
     fit = scipy.optimize.least_squares(problem.residuals, problem.theta0, jac=problem.jacobian, method="lm",
                                        x_scale="jac", ftol=1e-12, xtol=1e-12, gtol=1e-12)
-    jac = problem.jacobian(fit.x)
-    dof = len(fit.fun) - problem.unknowns
+    jac = problem.data_jacobian(fit.x) @ free
+    dof = len(jac) - problem.unknowns
     sigma = float(np.sqrt(2.0 * fit.cost / dof))
     norms = np.sqrt(np.sum(jac * jac, axis=0))
     sv, vt = scaled_svd(jac / norms)  # identifiable: every column and singular value is nonzero
-    covariance = ((vt.T / sv**2) @ vt) / np.outer(norms, norms) * sigma**2
-    theta = fit.x[:NUM_PARAMETERS]
+    covariance = free @ (((vt.T / sv**2) @ vt) / np.outer(norms, norms)) @ free.T * sigma**2
+    theta = fit.x
     return Calibration(
         nominal=nominal, params=geometry.with_parameters(nominal, theta).replace(
             name=f"{nominal.name or 'platform'} (calibrated)"),
         kind=data.kind, estimates=theta, standard_errors=np.sqrt(np.diag(covariance)[:NUM_PARAMETERS]),
-        identifiability=identifiability(jac, PARAMETER_NAMES), rms_before=problem.rms(problem.theta0),
+        identifiability=identifiability(problem.data_jacobian(fit.x), PARAMETER_NAMES, gauged), rms_before=problem.rms(problem.theta0),
         rms_after=problem.rms(fit.x), sigma=sigma, dof=int(dof), poses=problem.poses_at(fit.x)[problem.pose_of_row],
         evaluations=int(fit.nfev), residual_names=problem.residual_names)
 
@@ -173,14 +176,18 @@ class _Problem:
         if not np.all(reach.ok):
             raise WorkspaceError(f"{data.source}: {reach.message('measured pose')}", reach)
         self.count = len(poses)
-        self.gauge = _gauge(nominal, data.target_offsets) if data.points is not None else np.zeros((0, 42))
+        self.gauge = _gauge(nominal, data.target_offsets) if data.points is not None else np.zeros((0, NUM_PARAMETERS))
         self.gauges = len(self.gauge)
+        #: The parameter directions the gauge leaves free, (42, 42 - gauges): the covariance
+        #: and identifiability are those of the data in these directions (a hard constraint).
+        self.free_directions = scipy.linalg.null_space(self.gauge) if self.gauges else np.eye(NUM_PARAMETERS)
         unknowns = NUM_PARAMETERS + (0 if data.poses is not None else 6 * self.count) - self.gauges
         equations = 6 * self.count + (0 if data.points is None else 3 * len(data.points))
         if equations <= unknowns:
-            per, what = (6, "poses") if data.points is None else (3, "target measurements")
+            per, what, given = (6, "poses", self.count) if data.points is None else \
+                (3, "target measurements", len(data.points))
             raise ValueError(f"{data.source}: too few measurements: {equations} equations for {unknowns} unknowns; "
-                             f"measure at least {int(np.ceil((unknowns + 1 - equations) / per)) + (len(data.points) if data.points is not None else self.count)} {what}")
+                             f"measure at least {given + int(np.ceil((unknowns + 1 - equations) / per))} {what}")
         self.unknowns = unknowns
         self.residual_names = tuple(f"L{i}" for i in range(6)) + (() if data.points is None else ("target",))
         self.weight_legs = np.full((self.count, 6), 1.0 / length_std)
@@ -247,13 +254,17 @@ class _Problem:
         return np.concatenate([rows, self.weight_gauge * (self.gauge @ (theta - self.theta0))])
 
     def jacobian(self, theta) -> np.ndarray:
+        return np.concatenate([self.data_jacobian(theta), self.weight_gauge * self.gauge])
+
+    def data_jacobian(self, theta) -> np.ndarray:
+        """The weighted Jacobian of the data's residuals (without the gauge rows)."""
         poses = self.poses_at(theta)
         _, cols = self._data_parts(theta, poses)
         if self.data.points is not None:
             pose_cols = self._pose_columns(theta, poses)
             solved = np.linalg.solve(self._per_pose(pose_cols, pose_cols), self._per_pose(pose_cols, cols))
             cols = cols - np.einsum("ra,rap->rp", pose_cols, solved[self.row_pose])
-        return np.concatenate([cols, self.weight_gauge * self.gauge])
+        return cols
 
     def rms(self, theta) -> np.ndarray:
         """The RMS residual of each leg, and of the target distance for point data [m]."""

@@ -54,9 +54,16 @@ class Identifiability:
         return not self.combinations
 
 
-def identifiability(jacobian: np.ndarray, names) -> Identifiability:
+def identifiability(jacobian: np.ndarray, names, free: np.ndarray | None = None) -> Identifiability:
     """The :class:`Identifiability` of the weighted Jacobian ``(rows, columns)`` whose columns
-    are the parameters ``names``."""
+    are the parameters ``names``, in the parameter directions ``free`` (columns x k, an
+    orthonormal basis; default all), those a gauge constraint leaves free."""
+    if free is not None:
+        report = identifiability(jacobian @ free, [f"direction {k}" for k in range(free.shape[1])])
+        if report.identifiable:
+            return report
+        directions = free @ report.directions
+        return _named(report.singular_values, report.condition, directions, names)
     norms = np.sqrt(np.sum(jacobian * jacobian, axis=0))
     scale = np.where(norms > 0.0, 1.0 / np.where(norms > 0.0, norms, 1.0), 0.0)
     sv, vt = scaled_svd(jacobian * scale)
@@ -66,6 +73,12 @@ def identifiability(jacobian: np.ndarray, names) -> Identifiability:
         return Identifiability(sv, condition, (), np.zeros((jacobian.shape[1], 0)))
     basis = (vt[null].T * scale[:, None])  # the directions in the parameters' own units
     basis[norms == 0.0] = vt[null].T[norms == 0.0]  # a parameter nothing depends on
+    return _named(sv, condition, basis, names)
+
+
+def _named(sv, condition, basis: np.ndarray, names) -> Identifiability:
+    """The :class:`Identifiability` whose null space is spanned by the columns of ``basis``,
+    written in the readable basis of the module's docstring."""
     _, _, pivots = scipy.linalg.qr(basis.T, pivoting=True)
     lead = pivots[:basis.shape[1]]
     directions = basis @ np.linalg.inv(basis[lead])
