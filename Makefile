@@ -105,6 +105,7 @@ docs: build
 	MPLBACKEND=Agg $(PY) -m stewart simulate $(DOCS_MOVE) --plot docs/images/
 	MPLBACKEND=Agg $(PY) -m stewart calibrate examples/calibration/measurements.csv \
 		--validate examples/calibration/held_out.csv --plot docs/images/
+	MPLBACKEND=Agg $(PY) -m stewart cueing examples/cueing/hard_braking.csv --method mpc --simulate --output out/mpc_braking.csv --plot docs/images/mpc/
 	$(PY) -m mkdocs build --strict
 
 # The site, rebuilt as its pages change, at http://127.0.0.1:8000.

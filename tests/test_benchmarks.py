@@ -277,3 +277,11 @@ def test_calibration_rows_mark_the_target():
     slow = calibration.rows({"poses": 200, "calibrate_s": 1.5})
     assert fast[0][1:] == ("120 ms", "<= 1 s", "met") and slow[0][-1] == "MISSED"
     assert "200 measured poses" in fast[0][0]
+
+
+def test_cueing_rows_mark_the_target():
+    from benchmarks import cueing
+
+    fig = {"preset": "motion_simulator", "horizon_s": 1.0, "steps": 10, "step_max_ms": 9.0, "qp_median_ms": 1.0}
+    assert cueing.rows({**fig, "step_median_ms": 1.9})[0][3] == "met"
+    assert cueing.rows({**fig, "step_median_ms": 2.1})[0][3] == "MISSED"

@@ -178,8 +178,15 @@ def test_cli_negative_limit_and_mpc(tmp_path):
     run = _cli("cueing", log, "--cueing", cfg, "--output", str(tmp_path / "ref.csv"))
     assert run.returncode == 2 and "rate_limit: must be a number >= 0" in run.stderr, run.stderr
     assert "Traceback" not in run.stderr and len(run.stderr.strip().splitlines()) == 1
-    run = _cli("cueing", log, "--method", "mpc", "--output", str(tmp_path / "ref.csv"))
-    assert run.returncode == 2 and "not available yet" in run.stderr
+    for body, message in (("[limits]\nforce = -1.0\n", "limits.force: must be a number > 0"),
+                          ("[horizon]\nduration = 0.05\nsteps = 10\n", "horizon.duration: 0.05 s with 10 steps"),
+                          ("[horizon]\nsteps = 1\n", "horizon.steps: must be an integer >= 2"),
+                          ("[limits]\nmargin = 1.5\n", "limits.margin: must be below 1")):
+        cfg = _write(tmp_path / "m.toml", body)
+        run = _cli("cueing", log, "--method", "mpc", "--cueing", cfg, "--output", str(tmp_path / "ref.csv"))
+        assert run.returncode == 2 and message in run.stderr, run.stderr
+        assert "Traceback" not in run.stderr and len(run.stderr.strip().splitlines()) == 1, run.stderr
+    assert not (tmp_path / "ref.csv").exists()
 
 
 def test_cli_reference_outside_workspace_has_its_own_exit_code(tmp_path):

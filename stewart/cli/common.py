@@ -25,7 +25,8 @@ exit codes:
   1    a check failed (stewart validate)
   2    usage or input error: bad flag, conflicting flags, bad or missing file, bad value
   3    the target, trajectory or pose is outside the workspace (stroke limits, singular
-       or unreachable poses), found before any run
+       or unreachable poses), or a cueing reference passes the leg-speed or force limits,
+       found before any run
   4    the run failed: the platform left its assembly mode or passed a singularity, hit a
        stroke limit, the state became non-finite or the solver used its step budget
   5    the run finished but the final tracking error is above --tolerance

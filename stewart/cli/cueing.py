@@ -1,12 +1,13 @@
-"""``stewart cueing``: a platform reference from a vehicle log by classical washout, checked
-against the workspace and optionally run through the closed loop (``--simulate``)."""
+"""``stewart cueing``: a platform reference from a vehicle log by classical washout or
+model-predictive cueing, checked against the platform's limits and optionally run through
+the closed loop (``--simulate``)."""
 
 from __future__ import annotations
 
 import json
 import sys
 
-from ..cueing import WashoutParams, read_log, washout
+from ..cueing import MPCParams, WashoutParams, mpc, read_log, washout
 from ..model.platform import Platform
 from .common import (
     EXIT_USAGE,
@@ -16,13 +17,12 @@ from .common import (
     check_plotting,
     platform_params,
     print_written,
+    progress,
 )
-from .options import add_file, add_json, add_params, subcommand
+from .options import add_file, add_json, add_params, add_progress, subcommand
 
 
 def _usage_error(args) -> str | None:
-    if args.method == "mpc":
-        return "--method mpc: not available yet; use --method washout"
     if not args.output:
         return "give --output FILE for the reference"
     return None
@@ -39,13 +39,19 @@ def cmd_cueing(args) -> int:
         log = read_log(args.log)
     except ValueError as exc:
         raise UserError(str(exc)) from None
+    kind = MPCParams if args.method == "mpc" else WashoutParams
     try:
-        settings = (WashoutParams.load(args.cueing, plat) if args.cueing else WashoutParams.for_platform(plat))
+        settings = kind.load(args.cueing, plat) if args.cueing else kind.for_platform(plat)
+        if args.method == "mpc":
+            settings.intervals(log.dt)
     except ValueError as exc:
         raise UserError(f"--cueing {exc}", EXIT_USAGE) from None
-    result = washout(log, plat, settings, simulate=args.simulate)
+    if args.method == "mpc":
+        result = mpc(log, plat, settings, simulate=args.simulate, progress=progress(args))
+    else:
+        result = washout(log, plat, settings, simulate=args.simulate)
     files = []
-    if result.inside:
+    if result.inside and not result.beyond_limits:
         result.to_csv(args.output)
         files.append(args.output)
     if args.report:
@@ -57,7 +63,12 @@ def cmd_cueing(args) -> int:
     if args.json:
         print(json.dumps({"command": "cueing", "platform_source": label, **report, "files": files}))
     else:
-        print(f"platform {label}, washout of {log.name} ({len(log.t)} samples at {1 / log.dt:g} Hz)")
+        print(f"platform {label}, {args.method} of {log.name} ({len(log.t)} samples at {1 / log.dt:g} Hz)")
+        if result.solver is not None:
+            step = report["solve_time_s"]
+            print(f"MPC: {settings.duration:g} s horizon in {settings.steps} steps, "
+                  f"{'preview of the log' if settings.preview else 'no preview'}; time per step median "
+                  f"{1e3 * step['median']:.2f} ms, max {1e3 * step['max']:.2f} ms")
         print("perceived error RMS: " + "  ".join(f"{k} {v:.3g}" for k, v in report["perceived_error_rms"].items()))
         if result.simulation is not None:
             sim = report["simulation"]
@@ -68,8 +79,8 @@ def cmd_cueing(args) -> int:
         print_written(files)
     for problem in result.problems:
         print(f"stewart cueing: problem: {problem}", file=sys.stderr)
-    if not result.inside:
-        print(f"stewart cueing: error: the reference leaves the workspace; {args.output} not written",
+    if not result.inside or result.beyond_limits:
+        print(f"stewart cueing: error: the reference leaves the platform's limits; {args.output} not written",
               file=sys.stderr)
     return result.exit_code
 
@@ -82,7 +93,8 @@ def add_cueing(sub) -> None:
     p.add_argument("--method", choices=["washout", "mpc"], default="washout", help="cueing algorithm")
     add_params(p)
     p.set_defaults(preset="motion_simulator", usage_error=_usage_error)
-    p.add_argument("--cueing", metavar="C.toml", help="washout settings (default: scaled to the platform)")
+    p.add_argument("--cueing", metavar="C.toml", help="washout or MPC settings (default: scaled to the platform; "
+                   "see docs/cueing.md)")
     add_file(p, "--output", "write the reference t, pose, rates, accelerations as CSV (stewart simulate "
              "--trajectory reads it)")
     add_file(p, "--report", "write the metrics and outcome as JSON")
@@ -90,3 +102,4 @@ def add_cueing(sub) -> None:
     p.add_argument("--simulate", action="store_true", help="run the reference through the closed loop "
                    "(computed torque) and report the achieved motion's perceived error and problems")
     add_json(p)
+    add_progress(p)

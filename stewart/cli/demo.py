@@ -7,11 +7,13 @@ move with computed torque; prints peak forces and tracking errors; writes the pa
 figures as PNG; repeats the paper's leg-inertia study; runs an identification study
 (:func:`identification_run`): the platform carrying a payload the identifier does not know,
 with friction in its legs, follows a designed excitation trajectory; its logged leg lengths
-and forces, with noise, give back the base parameters; a sizing study (:func:`sizing_run`): workspace
-slices, the force and joint-load envelope of the move and of a box around it with a 20 %
-margin, and a small sweep of the joint radii; and ends with a calibration study
-(:func:`calibration_run`): the platform as built, with a hidden geometry error, measured by a
-tracker at designed poses, calibrated, and checked on held-out poses.
+and forces, with noise, give back the base parameters; a sizing study (:func:`sizing_run`):
+workspace slices, the force and joint-load envelope of the move and of a box around it with a
+20 % margin, and a small sweep of the joint radii; a cueing study (:func:`cueing_run`):
+washout against MPC cueing on the shipped maneuvers, closed loop, on the seed paper's platform
+and on ``motion_simulator``; and ends with a calibration study (:func:`calibration_run`): the
+platform as built, with a hidden geometry error, measured by a tracker at designed poses,
+calibrated, and checked on held-out poses.
 """
 
 from __future__ import annotations
@@ -43,7 +45,10 @@ NOISE_FORCE = 0.2
 CALIBRATION_ERRORS = (1e-3, 2e-3)
 CALIBRATION_POSES, HELD_OUT_POSES = 40, 20
 TRACKER_NOISE = (1e-5, 1e-4)
-SWEEP_FILE = os.path.join(os.path.dirname(os.path.dirname(os.path.abspath(__file__))), "examples", "sweep.toml")
+#: The checkout's examples/ (make demo runs from a checkout or an unpacked sdist).
+EXAMPLES = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "examples")
+SWEEP_FILE = os.path.join(EXAMPLES, "sweep.toml")
+MANEUVER_DIR = os.path.join(EXAMPLES, "cueing")
 
 
 def _row(label: str, values, fmt: str = "{:>10.4f}", width: int = 34) -> str:
@@ -129,6 +134,7 @@ def main(argv=None) -> None:
 
     ident = identification_run(params, move, short=True)
     sizing = sizing_run(params, move)
+    cueing_rows = cueing_run([params.name, "motion_simulator"])
     calibration = calibration_run(params)
 
     if not args.no_plots:
@@ -150,12 +156,39 @@ def main(argv=None) -> None:
         paths.append(sizing["box"].plot(os.path.join(args.out, "envelope_margin_box.png")))
         if sizing["sweep"] is not None:
             paths.append(sizing["sweep"].plot(os.path.join(args.out, "sweep_pareto.png")))
+        from stewart.cueing import comparison
+
+        for preset, rows in cueing_rows.items():
+            braking = next(r for r in rows if r["name"] == "hard_braking")
+            paths.append(comparison.plot(braking, preset, os.path.join(args.out, f"cueing_{preset}.png")))
         from stewart.calibration.figures import plot_calibration
 
         paths += plot_calibration(calibration["result"], args.out, calibration["held_out"])
         print(f"\nFigures written to {os.path.abspath(args.out)}:")
         for path in paths:
             print(f"  {os.path.basename(path)}")
+
+
+def cueing_run(presets) -> dict[str, list[dict]]:
+    """Washout against MPC cueing, closed loop under computed torque, on every maneuver of
+    ``examples/cueing/`` for each preset (:func:`stewart.cueing.comparison.compare`)."""
+    from stewart.cueing import comparison
+
+    if not os.path.isdir(MANEUVER_DIR):
+        print(f"\nCueing: skipped, {MANEUVER_DIR} not found (make demo runs from a checkout)")
+        return {}
+    logs = sorted(os.path.join(MANEUVER_DIR, f) for f in os.listdir(MANEUVER_DIR) if f.endswith(".csv"))
+    out = {}
+    for preset in presets:
+        print(f"\nCueing on {preset}: washout (W) against MPC, closed loop; perceived-error RMS of the main "
+              "channel [m/s^2 or rad/s], correlation, false cues, RMS of all channels' errors in perception "
+              "thresholds, MPC's peak force over its limit, exit codes", flush=True)
+        rows = comparison.compare(stewart.Platform.preset(preset), logs)
+        print(comparison.format_table(rows))
+        time = np.median([r["solve_time_ms"] for r in rows])
+        print(f"  MPC: 1 s horizon in 10 intervals, no preview, median time per step {time:.2f} ms")
+        out[preset] = rows
+    return out
 
 
 def sizing_run(params: stewart.PlatformParams, move) -> dict:
@@ -183,7 +216,9 @@ def sizing_run(params: stewart.PlatformParams, move) -> dict:
             print(_row(f"{quantity.replace('_', ' ')} [{unit}]", result.value(quantity), "{:>10.3f}"))
 
     result = None
-    if os.path.exists(SWEEP_FILE):
+    if not os.path.exists(SWEEP_FILE):
+        print(f"\nSweep of the joint radii: skipped, {SWEEP_FILE} not found (make demo runs from a checkout)")
+    else:
         spec = sweep.load(SWEEP_FILE)
         result = sweep.sweep(spec, progress=False)
         front = result.front()

@@ -1,8 +1,9 @@
 """Motion cueing: a vehicle's motion (:mod:`~stewart.cueing.log`) turned into a platform
 reference that a rider perceives (:mod:`~stewart.cueing.vestibular`) as close to the
 vehicle's as the platform's limits allow. :func:`washout` is the classical washout
-(:mod:`~stewart.cueing.washout`); :func:`perceived` the vestibular model's view of a log
-or a platform motion; :mod:`~stewart.cueing.metrics` compares the two."""
+(:mod:`~stewart.cueing.washout`), :func:`mpc` model-predictive cueing within the legs'
+stroke, speed and force (:mod:`~stewart.cueing.predictive`); :func:`perceived` the vestibular
+model's view of a log or a platform motion; :mod:`~stewart.cueing.metrics` compares the two."""
 
 from __future__ import annotations
 
@@ -13,11 +14,14 @@ from ..model.reachability import reachability
 from ..motion.trajectory import SampledTrajectory
 from . import log as log_module
 from . import metrics, vestibular
+from . import predictive
 from .log import VehicleLog
 from .result import CueingResult
+from .settings import MPCParams
 from .washout import WashoutParams, reference_poses
 
-__all__ = ["VehicleLog", "WashoutParams", "CueingResult", "read_log", "washout", "perceived", "simulate_reference"]
+__all__ = ["VehicleLog", "WashoutParams", "MPCParams", "CueingResult", "read_log", "washout", "mpc", "perceived",
+           "simulate_reference"]
 
 read_log = log_module.read
 
@@ -51,15 +55,71 @@ def washout(log, platform, params: WashoutParams | None = None, *, simulate: boo
     poses, _ = reference_poses(log, params, plat.home_pose)
     reference = SampledTrajectory(log.t, poses)
     _, velocities, accelerations = reference.sample(log.t)
+    return _finish(_result("washout", log, plat, params, reference, poses, velocities, accelerations), plat,
+                   simulate)
+
+
+def mpc(log, platform, params: MPCParams | None = None, *, simulate: bool = False,
+        progress: bool = False) -> CueingResult:
+    """Model-predictive cueing (:mod:`stewart.cueing.predictive`) of ``log`` (a :class:`VehicleLog`
+    or a CSV path) on ``platform`` with ``params`` (default :meth:`MPCParams.for_platform`;
+    ``params.preview`` says whether the log's future is used). The reference is the
+    receding horizon's motion, checked pose by pose with :func:`stewart.reachability` and
+    against the leg-speed and force limits with the exact kinematics and inverse dynamics;
+    the report adds the time per step (``solve_time_s``). ``simulate`` as for
+    :func:`washout`."""
+    if not isinstance(log, VehicleLog):
+        log = log_module.read(log)
+    plat = as_platform(platform)
+    if params is None:
+        params = MPCParams.for_platform(plat)
+    elif params.force is None or params.leg_velocity is None or params.box is None:
+        params = MPCParams.for_platform(plat, **{k: getattr(params, k) for k in params.__dataclass_fields__
+                                                 if getattr(params, k) is not None})
+    run = predictive.plan(log, plat, params, progress=progress)
+    result = _result("mpc", log, plat, params, SampledTrajectory(log.t, run.x, run.v), run.x, run.v, run.u)
+    result.solver = {"preview": params.preview, "steps": params.steps, "horizon_s": params.duration,
+                     "solve_time_s": _stats(run.step_time), "qp_time_s": _stats(run.solve_time),
+                     "qp_iterations": _stats(run.iterations), "qp_failures": run.failures}
+    if run.failures:
+        result.problems.append(f"OSQP found no solution at {run.failures} of {len(run.step_time)} steps "
+                               "(the last plan's input was kept)")
+    _check_limits(result, plat, params.leg_velocity, params.force)
+    return _finish(result, plat, simulate)
+
+
+def _stats(values) -> dict:
+    values = np.asarray(values, dtype=float)
+    return {"median": float(np.median(values)), "max": float(np.max(values))}
+
+
+def _result(method, log, plat, params, reference, poses, velocities, accelerations) -> CueingResult:
     seen_vehicle = vestibular.vehicle(log)
     seen_platform = vestibular.platform_motion(log.t, poses, velocities, accelerations, params.gravity)
     reach = reachability(plat, poses, name="reference")
-    result = CueingResult("washout", plat.params.name or "unnamed", log, params, reference, poses, velocities,
+    _, leg_speeds = plat.leg_rates(poses, velocities)
+    forces = plat.inverse_dynamics(poses, velocities, accelerations)
+    result = CueingResult(method, plat.params.name or "unnamed", log, params, reference, poses, velocities,
                           accelerations, seen_vehicle, seen_platform, metrics.compare(seen_vehicle, seen_platform),
                           reach)
+    result.peaks = {"leg_velocity": float(np.max(np.abs(leg_speeds))), "force": float(np.max(np.abs(forces)))}
     if not result.inside:
         result.problems.append("the reference leaves the workspace: " + reach.message("pose", log.t))
-    elif simulate:
+    return result
+
+
+def _check_limits(result: CueingResult, plat, leg_velocity: float, force: float) -> None:
+    """Note in ``result`` a reference whose exact leg speeds or forces pass the limits."""
+    result.limits = {"leg_velocity": leg_velocity, "force": force}
+    for name, unit in (("leg_velocity", "m/s"), ("force", "N")):
+        if result.peaks[name] > result.limits[name]:
+            result.beyond_limits = True
+            result.problems.append(f"the reference's {name.replace('_', ' ')} reaches {result.peaks[name]:.4g} {unit}, "
+                                   f"above the limit {result.limits[name]:.4g} {unit}")
+
+
+def _finish(result: CueingResult, plat, simulate: bool) -> CueingResult:
+    if simulate and result.inside and not result.beyond_limits:
         simulate_reference(result, plat)
     return result
 
@@ -68,18 +128,29 @@ def simulate_reference(result: CueingResult, platform, bandwidth_hz: float = 5.0
     """Run ``result.reference`` through :func:`stewart.simulate` with
     :meth:`ComputedTorque.tuned(bandwidth_hz) <stewart.motion.control.ComputedTorque.tuned>`
     (RK4, ``steps_per_sample`` steps per log sample) and fill ``result.simulation``,
-    ``result.achieved`` (perceived, at the log's times) and ``result.achieved_metrics``;
-    the run's problems (stroke, force, assembly mode) join ``result.problems``."""
-    from ..motion.control import ComputedTorque
+    ``result.achieved`` (perceived, at the log's times), ``result.achieved_metrics`` and
+    ``result.simulation_peaks``; the actuators saturate at ``result.limits["force"]`` (when
+    the method has limits); the run's problems (stroke, force, assembly mode, leg speed above
+    the limit) join ``result.problems``."""
+    from ..motion.control import Actuators, ComputedTorque
     from ..motion.simulation import simulate
 
     plat = as_platform(platform)
     log = result.log
-    sim = simulate(plat, result.reference, ComputedTorque.tuned(bandwidth_hz),
+    limits = result.limits or {}
+    actuators = Actuators(force_limit=limits.get("force", np.inf))
+    sim = simulate(plat, result.reference, ComputedTorque.tuned(bandwidth_hz), actuators=actuators,
                    dt=log.dt / steps_per_sample, duration=float(log.t[-1]))
     result.simulation = sim
     result.problems += [f"simulation: {p}" for p in sim.problems]
     if sim.completed and len(sim.t) > 2:
+        _, speeds = plat.leg_rates(sim.x, sim.xd)
+        result.simulation_peaks = {"leg_velocity": float(np.max(np.abs(speeds))),
+                                   "force": float(np.max(np.abs(sim.forces)))}
+        if "leg_velocity" in limits and result.simulation_peaks["leg_velocity"] > limits["leg_velocity"]:
+            result.simulation_beyond_limits = True
+            result.problems.append(f"simulation: the leg velocity reaches {result.simulation_peaks['leg_velocity']:.4g} "
+                                   f"m/s, above the limit {limits['leg_velocity']:.4g} m/s")
         seen = perceived(sim, result.params.gravity)
         inside = log.t <= sim.t[-1]
         at = lambda a: np.column_stack([np.interp(log.t, sim.t, a[:, j]) for j in range(3)])  # noqa: E731

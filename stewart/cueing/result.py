@@ -11,14 +11,14 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..io import csvfile
-from ..model.kinematics import POSE_AXES
+from ..model.kinematics import POSE_ACCELERATIONS, POSE_AXES, POSE_RATES
 from .vestibular import CHANNELS, Perceived
 
 __all__ = ["CueingResult", "REFERENCE_COLUMNS"]
 
 #: The columns of :meth:`CueingResult.to_csv`: time, pose, pose rates and accelerations
-#: (``stewart simulate --trajectory`` picks ``t`` and the pose by name).
-REFERENCE_COLUMNS = ("t", *POSE_AXES, *(f"{a}_dot" for a in POSE_AXES), *(f"{a}_ddot" for a in POSE_AXES))
+#: (``stewart simulate --trajectory`` picks ``t``, the pose and its rates by name).
+REFERENCE_COLUMNS = ("t", *POSE_AXES, *POSE_RATES, *POSE_ACCELERATIONS)
 
 
 @dataclass
@@ -27,7 +27,10 @@ class CueingResult:
     through ``poses`` at the log's times (what :func:`~stewart.motion.simulation.simulate`
     takes); ``velocities`` and ``accelerations`` are its rates at those times; ``vehicle``,
     ``platform`` and ``achieved`` are :class:`~stewart.cueing.vestibular.Perceived`;
-    ``reachability`` checks every pose; ``problems`` says in words what is wrong."""
+    ``reachability`` checks every pose; ``peaks`` holds the reference's largest leg speed
+    [m/s] and actuator force [N] (exact kinematics and inverse dynamics), ``limits`` the
+    limits they were held to (MPC) and ``beyond_limits`` whether they passed them;
+    ``solver`` the MPC's timing and QP statistics; ``problems`` says in words what is wrong."""
 
     method: str
     platform_name: str
@@ -45,6 +48,12 @@ class CueingResult:
     achieved: Perceived | None = None
     achieved_metrics: dict | None = None
     problems: list = field(default_factory=list)
+    peaks: dict = field(default_factory=dict)
+    limits: dict | None = None
+    beyond_limits: bool = False
+    solver: dict | None = None
+    simulation_peaks: dict | None = None
+    simulation_beyond_limits: bool = False
 
     @property
     def t(self) -> np.ndarray:
@@ -57,11 +66,17 @@ class CueingResult:
 
     @property
     def exit_code(self) -> int:
-        """0 on success; 3 (``EXIT_WORKSPACE``) for a reference outside the workspace; else the
-        simulation's own code (4 a run that failed, 6 forces above the limit, ...)."""
-        if not self.inside:
+        """0 on success; 3 (``EXIT_WORKSPACE``) for a reference outside the workspace or beyond
+        the leg-speed or force limits; else the simulation's own code (4 a run that failed, 6
+        forces above the limit, ...), or 4 for a closed loop whose legs pass the speed limit."""
+        if not self.inside or self.beyond_limits:
             return 3
-        return 0 if self.simulation is None else int(self.simulation.exit_code)
+        if self.simulation is None:
+            return 0
+        code = int(self.simulation.exit_code)
+        if code == 0 and self.simulation_beyond_limits:
+            return 4
+        return code
 
     @property
     def ok(self) -> bool:
@@ -71,7 +86,7 @@ class CueingResult:
         """Write ``t``, the pose, its rates and accelerations (SI units, rad)."""
         rows = np.column_stack([self.t, self.poses, self.velocities, self.accelerations])
         csvfile.write(path, list(REFERENCE_COLUMNS), rows,
-                      f"cueing reference ({self.method}) of {self.log.name} for {self.platform_name}", fmt="%.12g")
+                      f"cueing reference ({self.method}) of {self.log.name} for {self.platform_name}", fmt="%.17g")
 
     def report(self) -> dict:
         """The report: method, platform, inputs, outcome, problems, settings and metrics."""
@@ -79,12 +94,19 @@ class CueingResult:
                "duration_s": float(self.t[-1] - self.t[0]), "dt_s": self.log.dt, "ok": self.ok,
                "exit_code": self.exit_code, "inside_workspace": self.inside, "problems": list(self.problems),
                "settings": self.params.to_dict(), **self.metrics,
-               "peak_excursion": dict(zip(POSE_AXES, np.max(np.abs(self.poses - self.poses[0]), axis=0).tolist()))}
+               "peak_excursion": dict(zip(POSE_AXES, np.max(np.abs(self.poses - self.poses[0]), axis=0).tolist())),
+               "peak_leg_velocity": self.peaks.get("leg_velocity"), "peak_force": self.peaks.get("force")}
+        if self.limits is not None:
+            out["limits"] = dict(self.limits)
+        if self.solver is not None:
+            out.update(self.solver)
         if self.simulation is not None:
             sim = self.simulation
             out["simulation"] = {"outcome": sim.outcome, "ok": sim.ok, "exit_code": int(sim.exit_code),
                                  "problems": list(sim.problems),
                                  "peak_force": np.max(np.abs(sim.forces), axis=0).tolist()}
+            if self.simulation_peaks is not None:
+                out["simulation"]["peak_leg_velocity"] = self.simulation_peaks["leg_velocity"]
             if self.achieved_metrics is not None:
                 out["simulation"].update(self.achieved_metrics)
         return out

@@ -34,7 +34,7 @@ from scipy import signal
 
 from ..model import kinematics
 
-__all__ = ["CANAL", "OTOLITH", "THRESHOLDS", "CHANNELS", "Perceived", "canal", "otolith", "perceive",
+__all__ = ["CANAL", "OTOLITH", "THRESHOLDS", "TILT_RATE_LIMIT", "CHANNELS", "Perceived", "canal", "otolith", "perceive",
            "vehicle", "platform_motion", "platform_signals"]
 
 #: Semicircular canal time constants [s] (Telban & Cardullo 2005).
@@ -46,6 +46,9 @@ CHANNELS = ("fx", "fy", "fz", "wx", "wy", "wz")
 #: Perception thresholds per channel: m/s^2 for fx, fy, fz (Reid & Nahon 1985), rad/s for
 #: wx, wy, wz (3.0, 3.6, 2.6 deg/s, Telban & Cardullo 2005).
 THRESHOLDS = dict(zip(CHANNELS, (0.17, 0.17, 0.28, *np.radians([3.0, 3.6, 2.6]))))
+#: The tilt rate [rad/s] below which a rider feels a tilt's force but not its rotation, 3 deg/s
+#: (the roll threshold above; Reid & Nahon 1985 limit tilt coordination to it).
+TILT_RATE_LIMIT = float(np.radians(3.0))
 
 
 def canal() -> signal.TransferFunction:
@@ -76,22 +79,26 @@ class Perceived(NamedTuple):
         return np.column_stack([self.f, self.w])
 
 
-def _filter(system: signal.TransferFunction, t: np.ndarray, u: np.ndarray) -> np.ndarray:
-    """Each column of ``u`` through ``system``, starting from the steady state of its first value."""
+def _filter(system: signal.TransferFunction, t: np.ndarray, u: np.ndarray, before=None) -> np.ndarray:
+    """Each column of ``u`` through ``system``, starting from the steady state of ``before``
+    (one value per column; default: the first row)."""
     ss = system.to_ss()
     out = np.empty_like(u)
+    before = u[0] if before is None else np.asarray(before, dtype=float)
     for j in range(u.shape[1]):
-        x0 = -np.linalg.solve(ss.A, ss.B[:, 0] * u[0, j])
+        x0 = -np.linalg.solve(ss.A, ss.B[:, 0] * before[j])
         _, y, _ = signal.lsim(ss, u[:, j], t - t[0], X0=x0)
         out[:, j] = y
     return out
 
 
-def perceive(t, f, w) -> Perceived:
-    """The perceived specific force and angular velocity of ``f`` and ``w`` sampled at ``t``."""
+def perceive(t, f, w, before=None) -> Perceived:
+    """The perceived specific force and angular velocity of ``f`` and ``w`` sampled at ``t``,
+    after the signals ``before = (f0, w0)`` held long (default: the first samples)."""
     t = np.asarray(t, dtype=float)
-    return Perceived(t, _filter(otolith(), t, np.asarray(f, dtype=float)),
-                     _filter(canal(), t, np.asarray(w, dtype=float)))
+    f0, w0 = (None, None) if before is None else before
+    return Perceived(t, _filter(otolith(), t, np.asarray(f, dtype=float), f0),
+                     _filter(canal(), t, np.asarray(w, dtype=float), w0))
 
 
 def vehicle(log) -> Perceived:
@@ -117,6 +124,7 @@ def platform_signals(poses, velocities, accelerations, gravity: float = 9.81) ->
 
 def platform_motion(t, poses, velocities, accelerations, gravity: float = 9.81) -> Perceived:
     """What a rider at {P}'s origin perceives of a platform motion (:func:`platform_signals`
-    through the vestibular model)."""
+    through the vestibular model) that starts from rest at its first pose."""
     f, w = platform_signals(poses, velocities, accelerations, gravity)
-    return perceive(t, f, w)
+    rest = platform_signals(np.asarray(poses, dtype=float)[:1], np.zeros((1, 6)), np.zeros((1, 6)), gravity)
+    return perceive(t, f, w, (rest[0][0], rest[1][0]))

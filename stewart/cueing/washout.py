@@ -35,6 +35,7 @@ from scipy import optimize, signal
 
 from ..model.platform import as_platform
 from ..model.reachability import reachability
+from . import vestibular
 
 __all__ = ["WashoutParams", "filters", "reference_poses", "axis_excursions", "DESIGN_ACCELERATION"]
 
@@ -68,7 +69,7 @@ class WashoutParams:
     rotation_damping: float = 1.0
     tilt_cutoff: float = 1.5
     tilt_damping: float = 1.0
-    tilt_rate_limit: float = math.radians(3.0)
+    tilt_rate_limit: float = vestibular.TILT_RATE_LIMIT
     tilt_max_angle: float = math.radians(10.0)
     gravity: float = 9.81
     source: str = field(default="defaults", compare=False)

@@ -78,6 +78,21 @@ def read(path, columns: list[str]) -> np.ndarray:
     return np.array(rows, dtype=float)
 
 
+def header(path) -> list[str] | None:
+    """The lower-case column names of the CSV file ``path``'s header, or None without one
+    (or for a file that cannot be read: :func:`read` says why)."""
+    try:
+        with open(os.fspath(path), encoding="utf-8") as fh:
+            for line in fh:
+                line = line.strip()
+                if line and not line.startswith("#"):
+                    fields = [f.strip().lower() for f in line.split(",")]
+                    return None if _numeric(fields[0]) else fields
+    except (OSError, UnicodeDecodeError):
+        return None
+    return None
+
+
 def _numeric(text: str) -> bool:
     try:
         float(text)

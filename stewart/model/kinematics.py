@@ -22,8 +22,13 @@ from .params import TOLERANCE, PlatformParams
 POSE_AXES = ("x", "y", "z", "psi", "theta", "phi")
 #: The unit of each coordinate of :data:`POSE_AXES`.
 POSE_UNITS = ("m", "m", "m", "rad", "rad", "rad")
+#: The names of the pose rates and accelerations in files (``x_dot``, ..., ``phi_ddot``).
+POSE_RATES = tuple(f"{a}_dot" for a in POSE_AXES)
+POSE_ACCELERATIONS = tuple(f"{a}_ddot" for a in POSE_AXES)
 
 __all__ = [
+    "POSE_RATES",
+    "POSE_ACCELERATIONS",
     "POSE_AXES",
     "POSE_UNITS",
     "rotation",

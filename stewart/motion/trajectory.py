@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model.kinematics import POSE_AXES
+from ..model.kinematics import POSE_AXES, POSE_RATES
 from ..model import arguments
 
 __all__ = ["PointToPoint", "SampledTrajectory", "FourierTrajectory", "PROFILES", "load"]
@@ -102,16 +102,23 @@ class PointToPoint:
 
 
 class SampledTrajectory:
-    """A trajectory through poses given at increasing times, interpolated by a cubic spline
-    with zero velocity at both ends (a C2 path, so the reference acceleration exists)."""
+    """A trajectory through poses given at increasing times: a cubic spline with zero
+    velocity at both ends (a C2 path, so the reference acceleration exists), or, with the
+    pose rates ``velocities`` at those times too, the cubic Hermite spline through poses and
+    rates (C1; a motion of constant acceleration between samples, such as
+    :func:`stewart.cueing.mpc`'s, exactly)."""
 
-    def __init__(self, times, poses):
-        from scipy.interpolate import CubicSpline
+    def __init__(self, times, poses, velocities=None):
+        from scipy.interpolate import CubicHermiteSpline, CubicSpline
 
         times = _times(times, "times")
         poses = arguments.states("poses", poses)
         if times.ndim != 1 or poses.ndim != 2 or len(times) != len(poses):
             raise ValueError(f"times, poses: need N times and (N, 6) poses, got {times.shape} and {poses.shape}")
+        if velocities is not None:
+            velocities = arguments.states("velocities", velocities)
+            if velocities.shape != poses.shape:
+                raise ValueError(f"velocities: need {poses.shape} like poses, got {velocities.shape}")
         with np.errstate(over="ignore"):
             steps = np.diff(times)
         if len(times) < 2 or np.any(steps <= 0):
@@ -121,7 +128,8 @@ class SampledTrajectory:
         self.duration = float(times[-1])
         try:
             with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-                spline = CubicSpline(times, poses, axis=0, bc_type="clamped")
+                spline = (CubicSpline(times, poses, axis=0, bc_type="clamped") if velocities is None
+                          else CubicHermiteSpline(times, poses, velocities, axis=0))
         except ValueError:  # scipy's own check of the slopes: they overflowed
             spline = None
         if spline is None or not np.all(np.isfinite(spline.c)):
@@ -133,12 +141,16 @@ class SampledTrajectory:
     def from_csv(cls, path) -> "SampledTrajectory":
         """Read ``t, x, y, z, psi, theta, phi`` rows from a CSV file (:mod:`stewart.io.csvfile`:
         a header line and ``#`` comments are allowed; a header naming these columns picks
-        them from a wider file, such as a simulation's output)."""
+        them from a wider file, such as a simulation's output). A header that also names the
+        rates ``x_dot, ..., phi_dot`` (a cueing reference) gives the Hermite spline through
+        poses and rates."""
         from ..io import csvfile
 
-        data = csvfile.read(path, ["t", *POSE_AXES])
+        names = csvfile.header(path) or []
+        rates = all(name in names for name in POSE_RATES)
+        data = csvfile.read(path, ["t", *POSE_AXES, *(POSE_RATES if rates else ())])
         try:
-            return cls(data[:, 0], data[:, 1:])
+            return cls(data[:, 0], data[:, 1:7], data[:, 7:13] if rates else None)
         except ValueError as exc:
             raise ValueError(f"{os.fspath(path)}: {exc}") from None
 

@@ -1,0 +1,278 @@
+"""MPC cueing (stewart.cueing.predictive): the rider's signals and their Jacobians against
+the independent numpy implementation, the vestibular sections against the transfer
+functions, one step's QP against a dense solver, the linearized force constraint against
+the exact inverse dynamics, convergence to the vehicle's perception as the horizon grows,
+and the closed loop within every limit on shipped maneuvers."""
+
+import os
+from dataclasses import replace
+
+import numpy as np
+import pytest
+from scipy import signal
+
+import stewart
+from stewart.cueing import MPCParams, VehicleLog, mpc, prediction, predictive, read_log, vestibular
+from stewart.motion.trajectory import SampledTrajectory
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+EXAMPLES = os.path.join(ROOT, "examples", "cueing")
+
+
+@pytest.fixture(scope="module")
+def simulator():
+    return stewart.Platform.preset("motion_simulator")
+
+
+def _richardson(f, x, j, h=1e-3):
+    """d f / d x_j by Richardson-extrapolated central differences (error ~h^4)."""
+    def central(step):
+        a, b = x.copy(), x.copy()
+        a[:, j] += step
+        b[:, j] -= step
+        return (f(a) - f(b)) / (2 * step)
+    return (4 * central(h / 2) - central(h)) / 3
+
+
+def test_signals_and_jacobians_against_platform_signals():
+    rng = np.random.default_rng(3)
+    x, v, u = rng.normal(size=(3, 8, 6)) * [[0.2] * 3 + [0.4] * 3]
+    y, dx, dv, du = prediction.signals_and_jacobians(x, v, u, 9.81)
+    f, w = vestibular.platform_signals(x, v, u, 9.81)
+    assert np.max(np.abs(y - np.column_stack([f, w]))) < 1e-14
+    for arg, jac in ((0, dx), (1, dv), (2, du)):
+        def signals(value, arg=arg):
+            args = [x, v, u]
+            args[arg] = value
+            return np.column_stack(vestibular.platform_signals(*args, 9.81))
+        for j in range(6):
+            assert np.max(np.abs(_richardson(signals, [x, v, u][arg], j) - jac[:, :, j])) < 1e-9
+
+
+def test_vestibular_sections_match_transfer_functions():
+    states = prediction.VestibularStates()
+    w = np.logspace(-3, 3, 200)
+    for channel, tf in ((0, vestibular.otolith()), (3, vestibular.canal())):
+        _, expected = signal.freqresp(tf, w)
+        got = np.array([states.C[channel] @ np.linalg.solve(1j * s * np.eye(states.n) - states.A, states.B[:, channel])
+                        for s in w])
+        assert np.max(np.abs(got - expected) / np.abs(expected)) < 1e-9
+    ad, bd = states.discrete(0.05)
+    ref = signal.cont2discrete((states.A, states.B, states.C, np.zeros((6, 6))), 0.05, method="zoh")
+    assert np.max(np.abs(ad - ref[0])) < 1e-14 and np.max(np.abs(bd - ref[1])) < 1e-14
+
+
+def _qp(platform, **settings):
+    params = MPCParams.for_platform(platform, **settings)
+    return predictive.CueingQP(platform, params, 0.01)
+
+
+def _dense_soft_qp(H, q, rows, lo, hi, soft, equal):
+    """The QP ``min u^T H u / 2 + q^T u + SOFT_WEIGHT/2 sum_soft dist(r_i, [lo_i, hi_i])^2``
+    (``r = rows u``) with the rows ``equal`` equalities ``r_i = lo_i`` and the others hard
+    bounds, by a dense active-set method: solve the KKT system with the soft rows outside
+    their bounds penalized and the active hard bounds as equalities; add violated hard
+    bounds, drop those whose multiplier has the wrong sign; until nothing changes."""
+    weight = predictive.SOFT_WEIGHT
+    bounds = np.setdiff1d(np.setdiff1d(np.arange(len(lo)), soft), equal)
+    upper, lower = np.zeros(len(lo), bool), np.zeros(len(lo), bool)
+    u = np.zeros(H.shape[0])
+    for _ in range(200):
+        r = rows @ u
+        below, above = (r < lo)[soft], (r > hi)[soft]
+        act = below | above
+        target = np.where(below, lo[soft], hi[soft])[act]
+        a = rows[soft][act]
+        k = H + weight * a.T @ a
+        g = -q + weight * a.T @ target
+        fixed = np.concatenate([equal, np.flatnonzero(upper), np.flatnonzero(lower)])
+        e = rows[fixed]
+        rhs = np.concatenate([lo[equal], hi[upper], lo[lower]])
+        kkt = np.block([[k, e.T], [e, np.zeros((len(fixed), len(fixed)))]])
+        sol = np.linalg.solve(kkt, np.concatenate([g, rhs]))
+        u_new, lam = sol[: H.shape[0]], sol[H.shape[0]:]
+        lam_upper = lam[len(equal): len(equal) + upper.sum()]
+        lam_lower = lam[len(equal) + upper.sum():]
+        r = rows @ u_new
+        changed = False
+        for mask, lams, wrong in ((upper, lam_upper, lambda x: x < -1e-12), (lower, lam_lower, lambda x: x > 1e-12)):
+            drop = np.flatnonzero(mask)[wrong(lams)]
+            if drop.size:
+                mask[drop] = False
+                changed = True
+        free = ~upper[bounds] & ~lower[bounds]
+        violated_hi = bounds[(r[bounds] > hi[bounds] + 1e-12) & free]
+        violated_lo = bounds[(r[bounds] < lo[bounds] - 1e-12) & free]
+        if violated_hi.size or violated_lo.size:
+            upper[violated_hi] = True
+            lower[violated_lo] = True
+            changed = True
+        soft_changed = np.any(((rows @ u_new < lo) | (rows @ u_new > hi))[soft] != act)
+        u = u_new
+        if not changed and not soft_changed:
+            return u
+    raise AssertionError("active set did not settle")
+
+
+def test_one_step_qp_against_dense_solver(simulator, monkeypatch):
+    """Braking held over the horizon from a platform already moving back pushes the plan
+    onto its limits; OSQP (tight tolerances) against a dense active-set solution of the
+    same soft-constrained QP."""
+    monkeypatch.setitem(predictive.SOLVER_SETTINGS, "eps_abs", 1e-10)
+    monkeypatch.setitem(predictive.SOLVER_SETTINGS, "eps_rel", 1e-10)
+    monkeypatch.setitem(predictive.SOLVER_SETTINGS, "max_iter", 400000)
+    qp = _qp(simulator, steps=5, duration=0.5)
+    vehicle = np.tile([-6.0, 0.0, 9.81, 0.0, 0.0, 0.0], (qp.n, 1))
+    z0 = np.zeros(qp.vestibular.n)
+    x0, v0 = qp.home + [-0.4, 0, 0, 0, 0, 0], np.array([-0.5, 0, 0, 0, 0.03, 0])
+    H, q, M, lo, hi, _, _ = qp.condensed(x0, v0, z0, vehicle)
+    u, *_ = qp.solve(x0, v0, z0, vehicle)
+    scaled = M / qp.row_scale[:, None]
+    rest = np.arange(qp.rows["rest"].start, qp.rows["rest"].stop)
+    dense = _dense_soft_qp(H, q, scaled, lo / qp.row_scale, hi / qp.row_scale, qp.soft, rest)
+    r = scaled[qp.soft] @ dense
+    assert np.any((r < lo[qp.soft] / qp.row_scale[qp.soft]) | (r > hi[qp.soft] / qp.row_scale[qp.soft]))  # limits bind
+    assert np.max(np.abs(u.ravel() - dense)) <= 1e-6 * max(1.0, np.max(np.abs(dense)))
+
+
+def test_linearized_force_is_exact_to_second_order(simulator):
+    """The force rows of the condensed QP, linearized at rest, against the exact inverse
+    dynamics along the planned states: the error falls 4x when the step halves."""
+    qp = _qp(simulator, steps=5, duration=0.5)
+    vehicle = np.tile([0.0, 0.0, 9.81, 0.0, 0.0, 0.0], (qp.n, 1))
+    x0, v0 = qp.home.copy(), np.zeros(6)
+    _, _, M, lo, hi, S, d = qp.condensed(x0, v0, np.zeros(qp.vestibular.n), vehicle)
+    rows = qp.rows["force"]
+    direction = np.random.default_rng(5).normal(size=6 * qp.n) * np.tile([1.0, 1.0, 1.0, 0.5, 0.5, 0.5], qp.n)
+    errors = []
+    for eps in (0.4, 0.2, 0.1):
+        u = eps * direction
+        states = np.einsum("kaj,j->ka", S, u) + d
+        x = np.vstack([x0, states[:-1, :6] + qp.home])
+        v = np.vstack([v0, states[:-1, 6:12]])
+        exact = simulator.inverse_dynamics(x, v, u.reshape(qp.n, 6)).ravel()
+        # rows are lo <= M u <= hi with lo = -limit - m: the linear force is M u + m
+        linear = M[rows] @ u - (lo[rows] + qp.force_limit)
+        errors.append(np.max(np.abs(exact - linear)))
+    assert errors[0] > 1e-6  # a real nonlinearity, not round-off
+    assert 3.5 < errors[0] / errors[1] < 4.5 and 3.5 < errors[1] / errors[2] < 4.5
+
+
+def test_long_horizon_reproduces_a_slow_small_maneuver(simulator):
+    """No position or velocity weights, limits far away, the log's future known, intervals
+    of one sample: the perceived error falls as the horizon grows (0.1, 0.4, 0.8 s), to a
+    few per cent of the signal."""
+    t = np.arange(0, 4.0, 0.02)
+    fx = 0.3 * np.sin(2 * np.pi * 0.5 * t) * np.minimum(t, 1.0)
+    log = VehicleLog(t, np.column_stack([fx, 0 * t, 9.81 + 0 * t]), np.zeros((len(t), 3)), "slow")
+    wide = replace(simulator.params, leg_length_limits=(0.5, 3.0))
+    errors = []
+    for steps in (5, 20, 40):
+        params = MPCParams(duration=0.02 * steps, steps=steps, preview=True, position=0.0, velocity=0.0,
+                           acceleration=1e-3, box=(10.0,) * 6, force=1e6, leg_velocity=10.0, tilt_rate=1.0)
+        result = mpc(log, wide, params)
+        assert result.ok and result.solver["qp_failures"] == 0
+        errors.append(result.metrics["perceived_error_rms"]["fx"])
+    scale = np.sqrt(np.mean(vestibular.vehicle(log).f[:, 0] ** 2))
+    assert errors[0] > errors[1] > errors[2]
+    assert errors[2] < 0.5 * errors[0] and errors[2] < 0.05 * scale
+
+
+@pytest.mark.parametrize("name", ["hard_braking", "double_lane_change"])
+def test_closed_loop_stays_within_limits(simulator, name):
+    result = mpc(os.path.join(EXAMPLES, f"{name}.csv"), simulator, simulate=True)
+    assert result.ok, result.problems
+    assert result.solver["qp_failures"] == 0
+    limits = result.limits
+    _, speeds = simulator.leg_rates(result.simulation.x, result.simulation.xd)
+    assert np.max(np.abs(speeds)) <= limits["leg_velocity"]
+    assert np.max(np.abs(result.simulation.forces)) <= limits["force"]
+    lengths = simulator.leg_lengths(result.simulation.x)
+    lo, hi = simulator.params.leg_length_limits
+    assert lengths.min() >= lo and lengths.max() <= hi
+    # the reference is the plan itself: its samples are the MPC's states
+    x, v, a = result.reference.sample(result.t)
+    assert np.max(np.abs(x - result.poses)) < 1e-12 and np.max(np.abs(v - result.velocities)) < 1e-12
+
+
+def test_mpc_beats_washout_on_the_braking_and_take_off_channels(simulator):
+    """The maneuvers' main channel (fx): MPC's perceived error below washout's."""
+    from stewart.cueing import washout
+
+    for name in ("hard_braking", "takeoff_roll"):
+        log = read_log(os.path.join(EXAMPLES, f"{name}.csv"))
+        a = mpc(log, simulator).metrics["perceived_error_rms"]["fx"]
+        b = washout(log, simulator).metrics["perceived_error_rms"]["fx"]
+        assert a < b, (name, a, b)
+
+
+def test_reference_file_gives_the_plan_back(simulator, tmp_path):
+    """The reference CSV read by stewart simulate --trajectory (poses and rates: a Hermite
+    spline) is the MPC's motion: constant acceleration between samples, the plan's."""
+    log = read_log(os.path.join(EXAMPLES, "hard_braking.csv"))
+    keep = log.t <= 2.0
+    result = mpc(type(log)(log.t[keep], log.f[keep], log.w[keep]), simulator)
+    result.to_csv(tmp_path / "ref.csv")
+    trajectory = SampledTrajectory.from_csv(tmp_path / "ref.csv")
+    mid = 0.5 * (result.t[1:] + result.t[:-1])
+    x, v, a = trajectory.sample(mid)
+    h = 0.5 * np.diff(result.t)[:, None]
+    u = result.accelerations[:-1]
+    assert np.max(np.abs(a - u)) < 1e-6 * max(1.0, np.max(np.abs(u)))
+    assert np.max(np.abs(v - (result.velocities[:-1] + h * u))) < 1e-9
+    assert np.max(np.abs(x - (result.poses[:-1] + h * result.velocities[:-1] + 0.5 * h * h * u))) < 1e-9
+
+
+def test_cli_mpc_report_plot_and_closed_loop(tmp_path):
+    """stewart cueing --method mpc on the first 2.5 s of the braking: the report names the
+    method, the time per step, the limits and peaks, the closed loop's outcome and peaks;
+    the written reference is the report's motion; the figures exist."""
+    import json
+    import subprocess
+    import sys
+
+    log = read_log(os.path.join(EXAMPLES, "hard_braking.csv"))
+    short = tmp_path / "braking.csv"
+    keep = log.t <= 2.5
+    type(log)(log.t[keep], log.f[keep], log.w[keep]).to_csv(short)
+    pytest.importorskip("matplotlib")
+    run = subprocess.run([sys.executable, "-m", "stewart", "cueing", str(short), "--method", "mpc", "--simulate",
+                          "--output", str(tmp_path / "ref.csv"), "--report", str(tmp_path / "r.json"),
+                          "--plot", str(tmp_path / "figs")], capture_output=True, text=True)
+    assert run.returncode == 0, run.stderr
+    report = json.loads((tmp_path / "r.json").read_text())
+    assert report["method"] == "mpc" and report["ok"] and report["preview"] is False
+    assert 0 < report["solve_time_s"]["median"] <= report["solve_time_s"]["max"]
+    assert report["qp_failures"] == 0
+    assert report["peak_force"] <= report["limits"]["force"]
+    assert report["peak_leg_velocity"] <= report["limits"]["leg_velocity"]
+    sim = report["simulation"]
+    assert sim["outcome"] == "completed" and max(sim["peak_force"]) <= report["limits"]["force"]
+    assert sim["peak_leg_velocity"] <= report["limits"]["leg_velocity"]
+    assert report["perceived_error_rms"]["fx"] > 0 and set(sim["perceived_error_rms"]) == set(vestibular.CHANNELS)
+    ref = np.genfromtxt(tmp_path / "ref.csv", delimiter=",", names=True)
+    assert len(ref) == int(keep.sum())
+    for name in ("cueing_perceived.png", "cueing_reference.png"):
+        assert (tmp_path / "figs" / name).stat().st_size > 10_000
+
+
+def test_no_feasible_motion_is_reported_not_written(simulator, tmp_path):
+    """A force limit below the static load: no motion holds it; the exact check of the
+    reference says so, the exit code is 3 and the CLI writes no reference."""
+    import subprocess
+    import sys
+
+    log = read_log(os.path.join(EXAMPLES, "hard_braking.csv"))
+    keep = log.t <= 1.0
+    short = type(log)(log.t[keep], log.f[keep], log.w[keep], "short")
+    static = np.max(simulator.inverse_dynamics(simulator.home_pose, np.zeros(6), np.zeros(6)))
+    result = mpc(short, simulator, MPCParams.for_platform(simulator, force=0.5 * static))
+    assert result.exit_code == 3 and not result.ok and result.beyond_limits
+    assert any("force reaches" in p for p in result.problems), result.problems
+    short.to_csv(tmp_path / "short.csv")
+    (tmp_path / "c.toml").write_text(f"[limits]\nforce = {0.5 * static}\n")
+    run = subprocess.run([sys.executable, "-m", "stewart", "cueing", str(tmp_path / "short.csv"), "--method", "mpc",
+                          "--cueing", str(tmp_path / "c.toml"), "--output", str(tmp_path / "ref.csv")],
+                         capture_output=True, text=True)
+    assert run.returncode == 3 and "force reaches" in run.stderr and "Traceback" not in run.stderr, run.stderr
+    assert not (tmp_path / "ref.csv").exists()
