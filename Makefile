@@ -103,6 +103,8 @@ DOCS_MOVE := --target 0.04565 -0.0102 0.192 -0.0863 0.1046 0.0960 --controller p
 docs: build
 	$(PY) -m benchmarks.docs
 	MPLBACKEND=Agg $(PY) -m stewart simulate $(DOCS_MOVE) --plot docs/images/
+	MPLBACKEND=Agg $(PY) -m stewart calibrate examples/calibration/measurements.csv \
+		--validate examples/calibration/held_out.csv --plot docs/images/
 	MPLBACKEND=Agg $(PY) -m stewart cueing examples/cueing/hard_braking.csv --method mpc --simulate --output out/mpc_braking.csv --plot docs/images/mpc/
 	MPLBACKEND=Agg $(PY) -m stewart.cli.demo --modes-only --out docs/images/
 	$(PY) -m mkdocs build --strict

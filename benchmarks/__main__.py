@@ -23,7 +23,7 @@ import time
 import stewart
 from stewart.cli import bench
 
-from . import batch_loop, cueing, identification, report, studies
+from . import batch_loop, calibration, cueing, identification, report, studies
 from .peers.common import peer_available
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
@@ -154,6 +154,8 @@ def main(argv=None) -> None:
         print("[bench] studies: skipped, dask.distributed not installed (pip install '.[cluster]')", flush=True)
     print("[bench] identification from a long log ...", flush=True)
     results["identification"] = identification.figures("narayan2017")
+    print("[bench] kinematic calibration from 200 poses ...", flush=True)
+    results["calibration"] = calibration.figures("narayan2017")
     print("[bench] MPC cueing, time per step ...", flush=True)
     results["cueing"] = cueing.figures("motion_simulator")
     if not args.skip_build:
@@ -172,6 +174,8 @@ def main(argv=None) -> None:
         print(studies.format_rows(results["studies"]))
     print()
     print(identification.format_rows(results["identification"]))
+    print()
+    print(calibration.format_rows(results["calibration"]))
     print()
     print(cueing.format_rows(results["cueing"]))
     if results["peers"]:

@@ -167,11 +167,12 @@ def performance_block(path: pathlib.Path) -> str:
     results = json.loads(path.read_text())
     if "date" not in results or "machine" not in results:
         raise SystemExit(f"{path}: no date or machine; rerun make bench")
-    from . import cueing, identification, studies
+    from . import calibration, cueing, identification, studies
 
     rows = our_rows(results)
-    # The studies (envelopes in process and on Dask), the identification and MPC cueing.
-    rows += [row for name, module in (("studies", studies), ("identification", identification), ("cueing", cueing))
+    # The studies (envelopes in process and on Dask), the identification, the calibration and MPC cueing.
+    rows += [row for name, module in (("studies", studies), ("identification", identification),
+                                      ("calibration", calibration), ("cueing", cueing))
              if name in results for row in module.rows(results[name])]
     prefix = f"[{PERFORMANCE_PRESET}] "
     shown = [(m[len(prefix):], *rest) for m, *rest in rows if m.startswith(prefix)]

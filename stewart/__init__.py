@@ -13,7 +13,8 @@ the compiled model was built and which of its instruction-set paths runs
 
 The package is organised by job: :mod:`stewart.model` (parameters, kinematics, the
 :class:`Platform` facade, reachability), :mod:`stewart.motion` (trajectories, control,
-simulation, optimization), :mod:`stewart.identification`, :mod:`stewart.studies`
+simulation, optimization), :mod:`stewart.identification`, :mod:`stewart.calibration`
+(the geometry of a built machine), :mod:`stewart.studies`
 (workspaces, envelopes, sweeps), :mod:`stewart.io` (files, plots, the C export, MuJoCo),
 :mod:`stewart.oracles` (the independent models and checks the tests use) and
 :mod:`stewart.cli`. The names below are imported on first use, so that ``import stewart``
@@ -32,11 +33,12 @@ if TYPE_CHECKING:  # the public names: what `__getattr__` imports on first use
     from .model import conditions, kinematics, stiffness
     from .oracles import exactness, newton_euler, reference
     from .studies import workspace
-    from . import cueing
+    from . import calibration, cueing
     from .io.capi import c_include_dir, c_sources
     from ._kernel import build_info, set_simd
     from .model.errors import ConvergenceError, SimdPathError, SingularityError, UnstableError, WrongTypeError
     from .model.kinematics import (
+        encoder_readings,
         euler_jacobian,
         euler_rate_jacobian,
         forward_kinematics,

@@ -100,6 +100,7 @@ PARAMS_LEFT_OUT = {
     'coulomb_friction': 'actuator friction: a column of the regressor (stewart_regressor), not in the rigid-body model',
     'leg_stiffness': 'the legs as springs: the stiffness and modes (stewart.model.stiffness), not in the rigid-body model',
     'leg_damping': 'the legs as dampers: the damping ratios (stewart.model.stiffness), not in the rigid-body model',
+    'leg_length_offsets': 'encoder zero offsets: the C model takes true leg lengths (encoder reading + offset)',
 }
 
 #: {status code: (name, message, tolerance or None)} of every status code of the C model: the

@@ -270,6 +270,15 @@ def test_identification_rows_mark_the_target():
     assert "100,000 samples" in fast[0][0] and fast[1][1] == "160 ms"
 
 
+def test_calibration_rows_mark_the_target():
+    from benchmarks import calibration
+
+    fast = calibration.rows({"poses": 200, "calibrate_s": 0.12})
+    slow = calibration.rows({"poses": 200, "calibrate_s": 1.5})
+    assert fast[0][1:] == ("120 ms", "<= 1 s", "met") and slow[0][-1] == "MISSED"
+    assert "200 measured poses" in fast[0][0]
+
+
 def test_cueing_rows_mark_the_target():
     from benchmarks import cueing
 

@@ -125,8 +125,8 @@ def expected_numbers(argv) -> np.ndarray | None:
     else:
         extra = {"ik": [], "id": ["--vel", "--acc"], "fd": ["--vel", "--force"]}[command]
         data = np.atleast_2d(np.concatenate([option(argv, f, 6) for f in ["--pose", *extra]]))
-    if command == "ik":
-        return plat.leg_lengths(data)
+    if command == "ik":  # the encoder readings: leg lengths less the offsets
+        return plat.leg_lengths(data) - plat.params.leg_length_offsets
     if command == "id":
         return plat.inverse_dynamics(data[:, :6], data[:, 6:12], data[:, 12:])
     return plat.forward_dynamics(data[:, :6], data[:, 6:12], data[:, 12:])

@@ -9,7 +9,7 @@ import argparse
 import sys
 
 from .. import __version__, build_info
-from . import checks, cueing, export, identification, model, modes, motion, sizing, workspace
+from . import calibration, checks, cueing, export, identification, model, modes, motion, sizing, workspace
 from .common import EXIT_CHECK_FAILED, EXIT_CODES, EXIT_INTERRUPTED, EXIT_USAGE, EXIT_WORKSPACE, UserError
 from .options import Formatter
 
@@ -29,6 +29,8 @@ COMMANDS = (
     modes.add_modes,
     sizing.add_sweep,
     identification.add_identify,
+    calibration.add_calibrate,
+    calibration.add_calibration_poses,
     checks.add_validate,
     checks.add_exactness,
     export.add_c_export,

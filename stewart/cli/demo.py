@@ -7,14 +7,16 @@ move with computed torque; prints peak forces and tracking errors; writes the pa
 figures as PNG; repeats the paper's leg-inertia study; runs an identification study
 (:func:`identification_run`): the platform carrying a payload the identifier does not know,
 with friction in its legs, follows a designed excitation trajectory; its logged leg lengths
-and forces, with noise, give back the base parameters; and ends with a sizing study
-(:func:`sizing_run`): workspace slices, the force and joint-load envelope of the move and of
-a box around it with a 20 % margin, and a small sweep of the joint radii; a cueing study
-(:func:`cueing_run`): washout against MPC cueing on the shipped maneuvers, closed loop, on
-the seed paper's platform and on ``motion_simulator``; and a modal study
-(:func:`modal_run`) of the ``motion_simulator`` preset on legs of a realistic stiffness: its
-frequencies at home, a map of the lowest frequency over the workspace, and how much the
-payload's preload and the legs' inertia move each frequency.
+and forces, with noise, give back the base parameters; a sizing study (:func:`sizing_run`):
+workspace slices, the force and joint-load envelope of the move and of a box around it with a
+20 % margin, and a small sweep of the joint radii; a cueing study (:func:`cueing_run`):
+washout against MPC cueing on the shipped maneuvers, closed loop, on the seed paper's platform
+and on ``motion_simulator``; a calibration study (:func:`calibration_run`): the platform as
+built, with a hidden geometry error, measured by a tracker at designed poses, calibrated, and
+checked on held-out poses; and a modal study (:func:`modal_run`) of the ``motion_simulator``
+preset on legs of a realistic stiffness: its frequencies at home, a map of the lowest frequency
+over the workspace, and how much the payload's preload and the legs' inertia move each
+frequency.
 """
 
 from __future__ import annotations
@@ -41,6 +43,11 @@ COULOMB_FRICTION = (1.5, 2.0, 1.2, 1.8, 1.6, 1.4)         # N
 #: Measurement noise of the log: a linear encoder's [m] and a load cell's [N] standard deviation.
 NOISE_LENGTH = 1e-6
 NOISE_FORCE = 0.2
+#: The calibration study: the built machine's joint error [m] and offset error [m] (uniform
+#: bounds), the poses measured and held out, a tracker's noise [m, rad] and an encoder's [m].
+CALIBRATION_ERRORS = (1e-3, 2e-3)
+CALIBRATION_POSES, HELD_OUT_POSES = 40, 20
+TRACKER_NOISE = (1e-5, 1e-4)
 #: The checkout's examples/ (make demo runs from a checkout or an unpacked sdist).
 EXAMPLES = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "examples")
 SWEEP_FILE = os.path.join(EXAMPLES, "sweep.toml")
@@ -137,6 +144,7 @@ def main(argv=None) -> None:
     ident = identification_run(params, move, short=True)
     sizing = sizing_run(params, move)
     cueing_rows = cueing_run([params.name, "motion_simulator"])
+    calibration = calibration_run(params)
     modal = modal_run()
 
     if not args.no_plots:
@@ -163,6 +171,9 @@ def main(argv=None) -> None:
         for preset, rows in cueing_rows.items():
             braking = next(r for r in rows if r["name"] == "hard_braking")
             paths.append(comparison.plot(braking, preset, os.path.join(args.out, f"cueing_{preset}.png")))
+        from stewart.calibration.figures import plot_calibration
+
+        paths += plot_calibration(calibration["result"], args.out, calibration["held_out"])
         _written(args.out, paths + plot_modal(modal, args.out))
 
 
@@ -349,6 +360,47 @@ def identification_run(params: stewart.PlatformParams, held_out, *, short: bool 
     print(_row("held-out RMS error, true model [N]", floor, "{:>10.3f}"))
     return {"design": design, "result": result, "z": z, "t": t, "predicted": predicted, "measured": measured,
             "rms": rms, "floor": floor}
+
+
+def calibration_run(params: stewart.PlatformParams, seed: int = 0) -> dict:
+    """Calibrate the geometry of ``params`` as built: every joint coordinate off by up to
+    1 mm and every leg's encoder zero by up to 2 mm (:data:`CALIBRATION_ERRORS`, hidden from
+    the calibration), measured by a tracker (:data:`TRACKER_NOISE`) and encoders
+    (:data:`NOISE_LENGTH`) at designed poses; prints the estimates' errors in standard
+    errors and the held-out pose error of forward kinematics before and after; returns
+    the results."""
+    from stewart.calibration import calibrate, geometry, perturbed_geometry, simulate_measurements
+    from stewart.calibration.design import design_poses
+    from stewart.calibration.validation import pose_errors
+
+    built = perturbed_geometry(params, joint_error=CALIBRATION_ERRORS[0], offset_error=CALIBRATION_ERRORS[1],
+                               seed=seed)
+    noise = {"position_std": TRACKER_NOISE[0], "angle_std": TRACKER_NOISE[1], "length_std": NOISE_LENGTH}
+    design = design_poses(params, CALIBRATION_POSES + HELD_OUT_POSES, seed=seed)
+    measured = simulate_measurements(built, design.poses[:CALIBRATION_POSES], seed=seed, **noise)
+    held = simulate_measurements(built, design.poses[CALIBRATION_POSES:], seed=seed + 1, **noise)
+    result = calibrate(params, measured, **noise)
+    print(f"\nCalibration: {params.name} as built (joints off by up to {CALIBRATION_ERRORS[0] * 1e3:g} mm, encoder "
+          f"zeros by up to {CALIBRATION_ERRORS[1] * 1e3:g} mm), {CALIBRATION_POSES} designed poses measured by a "
+          f"tracker ({TRACKER_NOISE[0] * 1e6:g} um, {TRACKER_NOISE[1] * 1e6:g} urad) and the encoders "
+          f"({NOISE_LENGTH * 1e6:g} um); condition number {result.identifiability.condition:.0f}")
+    truth = geometry.parameter_vector(built)
+    z = (result.estimates - truth) / result.standard_errors
+    for label, part in (("base_points", slice(0, 18)), ("platform_points", slice(18, 36)),
+                        ("leg_length_offsets", slice(36, 42))):
+        print(f"  {label:<20} largest error {1e6 * np.max(np.abs(result.nominal_values - truth)[part]):7.0f} um "
+              f"nominal, {1e6 * np.max(np.abs(result.estimates - truth)[part]):6.1f} um calibrated "
+              f"(standard errors {1e6 * np.min(result.standard_errors[part]):.1f}-"
+              f"{1e6 * np.max(result.standard_errors[part]):.1f} um)")
+    print(f"  {int(np.sum(np.abs(z) <= 2))} of {len(z)} estimates within 2 standard errors of the truth; a leg's "
+          "offset and its base joint along the leg are only weakly separable on this small platform (their "
+          "large standard errors), a combination that barely moves the platform:")
+    held_out = {"nominal": pose_errors(params, held), "calibrated": pose_errors(result.params, held)}
+    for kind, unit in (("position", "um"), ("orientation", "urad")):
+        rms = [1e6 * np.sqrt(np.mean(held_out[g][kind] ** 2)) for g in ("nominal", "calibrated")]
+        print(f"  held-out RMS {kind} error of forward kinematics: {rms[0]:.1f} {unit} nominal, "
+              f"{rms[1]:.1f} {unit} calibrated (the tracker's noise: the measured held-out poses carry it)")
+    return {"result": result, "held_out": held_out, "z": z}
 
 
 def plot_identification(run: dict, path: str) -> str:

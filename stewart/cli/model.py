@@ -67,6 +67,7 @@ def cmd_state(args) -> int:
     check = reachability(plat, poses, name=source)
     if args.command == "ik":
         values, computed = plat.leg_lengths(poses, return_mask=True)
+        values = values - params.leg_length_offsets  # the machine's encoder readings
     elif args.command == "id":
         values, computed = plat.inverse_dynamics(poses, data[:, 6:12], data[:, 12:], return_mask=True)
     else:
@@ -105,7 +106,8 @@ def add_state_commands(sub) -> None:
     first, last = POSE[0], POSE[-1]
     rates = ("--vel", f"pose rates [{RATE_UNITS}]")
     state_commands = [
-        ("ik", "leg lengths of poses (inverse kinematics)", [], f"poses, one per row: {','.join(POSE)}"),
+        ("ik", "encoder readings of poses: the leg lengths (inverse kinematics) less the parameters' "
+         "leg_length_offsets", [], f"poses, one per row: {','.join(POSE)}"),
         ("id", "actuator forces for a motion (inverse dynamics)",
          [rates, ("--acc", f"pose accelerations [{ACCELERATION_UNITS}]")],
          f"rows of pose, velocity, acceleration (18 columns; a header {first},...,{last},{first}_dot,...,{last}_dot,"

@@ -5,7 +5,10 @@ The forces are linear in the inertial parameters (:meth:`stewart.Platform.regres
 measurements determine the base parameters ``beta`` (:mod:`stewart.identification.base_parameters`). From a
 log of leg lengths and forces sampled at a known rate, :func:`identify`
 
-1. finds the poses by forward kinematics (Newton-Raphson from the home pose);
+1. finds the poses by forward kinematics (Newton-Raphson from the home pose) from the logged
+   leg lengths, which are the machine's encoder readings: the parameters'
+   ``leg_length_offsets`` are added to them (:func:`stewart.forward_kinematics` with
+   ``encoder=True``);
 2. differentiates them with a zero-phase filter: a Savitzky-Golay filter whose window spans
    about one period of the cut-off (``filter="savgol"``, polynomial order 4), or a 4th-order
    Butterworth low-pass run forwards and backwards (``filtfilt``) followed by central
@@ -66,7 +69,8 @@ SAMPLES_PER_PARAMETER = 10
 
 @dataclasses.dataclass(frozen=True)
 class Measurements:
-    """A log of a platform's legs: times ``t`` ``(n,)`` [s], leg lengths ``(n, 6)`` [m] and
+    """A log of a platform's legs: times ``t`` ``(n,)`` [s], leg lengths ``(n, 6)`` [m] (the
+    encoder readings: true lengths less the parameters' ``leg_length_offsets``) and
     actuator forces ``(n, 6)`` [N]; checked (finite, time strictly increasing at a constant rate)."""
 
     t: np.ndarray
@@ -283,7 +287,7 @@ def _poses(platform, measurements: Measurements) -> np.ndarray:
     """The poses of the logged leg lengths (forward kinematics from home); a
     :class:`~stewart.ConvergenceError` naming ``measurements`` where none is found."""
     try:
-        return platform.forward_kinematics(measurements.lengths, platform.home_pose)
+        return platform.forward_kinematics(measurements.lengths, platform.home_pose, encoder=True)
     except ConvergenceError as exc:
         raise ConvergenceError(f"measurements: the leg lengths are not this platform's ({exc})", exc.rows) from None
 
@@ -325,7 +329,7 @@ def synthetic_measurements(platform, trajectory, *, rate: float = 500.0, noise_l
                            noise_force: float = 0.0, seed: int = 0) -> Measurements:
     """A simulated log of ``platform`` following ``trajectory`` (anything with ``duration``
     and ``sample(t) -> (x, xd, xdd)``) for its duration at ``rate`` samples per second: leg
-    lengths by inverse kinematics and the forces its actuators deliver (rigid body plus
+    lengths by inverse kinematics as the encoders read them (less the leg length offsets) and the forces its actuators deliver (rigid body plus
     friction), with Gaussian noise of standard deviation ``noise_length`` [m] and
     ``noise_force`` [N] (seeded)."""
     platform = as_platform(platform)
@@ -338,6 +342,6 @@ def synthetic_measurements(platform, trajectory, *, rate: float = 500.0, noise_l
     t = np.arange(int(np.floor(trajectory.duration * rate)) + 1) / rate
     x, xd, xdd = trajectory.sample(t)
     rng = np.random.default_rng(arguments.seed(seed))
-    lengths = platform.leg_lengths(x) + noise_length * rng.standard_normal((len(t), 6))
+    lengths = platform.encoder_readings(x) + noise_length * rng.standard_normal((len(t), 6))
     forces = platform.actuator_forces(x, xd, xdd) + noise_force * rng.standard_normal((len(t), 6))
     return Measurements(t, lengths, forces)

@@ -160,6 +160,16 @@ def leg_coefficients(name: str, value: Any, *, positive: bool) -> np.ndarray:
     return arr
 
 
+def _offsets(name: str, value: Any) -> np.ndarray:
+    """Six finite lengths in metres, one per leg (any sign)."""
+    arr = arguments.reals(name, value)
+    if arr.shape != (6,):
+        raise ValueError(f"{name}: expected 6 values (one per leg), got shape {arr.shape}")
+    if not np.all(np.isfinite(arr)):
+        raise ValueError(f"{name}: values must be finite, got {arr.tolist()}")
+    return arr.astype(float, copy=True)
+
+
 def _positive(name: str, value: Any) -> float:
     val = arguments.real(name, value)
     if not 0.0 < val < np.inf:

@@ -44,6 +44,7 @@ __all__ = [
     "home_pose",
     "check_universal_joint_axes",
     "forward_kinematics",
+    "encoder_readings",
 ]
 
 
@@ -286,6 +287,13 @@ def _check_universal_joint_axes(params: PlatformParams, home: np.ndarray | None 
         )
 
 
+def encoder_readings(params: PlatformParams, x) -> np.ndarray:
+    """The machine's encoder readings at ``x``: the true leg lengths ``|l_i|`` less
+    ``params.leg_length_offsets``, shape ``(..., 6)``."""
+    params = platform_params(params)
+    return _leg_lengths(params, x) - params.leg_length_offsets
+
+
 def forward_kinematics(
     params: PlatformParams,
     lengths,
@@ -293,10 +301,12 @@ def forward_kinematics(
     *,
     tol: float = 1e-12,
     max_iter: int = 50,
+    encoder: bool = False,
 ) -> np.ndarray:
     """Pose(s) with the given leg lengths, by Newton-Raphson on ``L(x) = lengths``.
 
-    ``lengths`` is ``(6,)`` or ``(N, 6)``. The iteration starts from ``guess`` (one pose,
+    ``lengths`` is ``(6,)`` or ``(N, 6)``: true leg lengths ``|l_i|``, or with ``encoder=True``
+    a machine's encoder readings, to which ``params.leg_length_offsets`` are added. The iteration starts from ``guess`` (one pose,
     or one per row; default :func:`home_pose`) and uses ``J_E`` (eq. 4) as the Jacobian,
     halving a step that does not reduce the residual; a row stops where ``J_E`` is singular
     by the model's test for ``J_C`` (:func:`stewart.model.conditions.jacobian_codes`). Raises
@@ -306,6 +316,8 @@ def forward_kinematics(
     """
     params = platform_params(params)
     lengths = arguments.states("lengths", lengths)
+    if encoder:
+        lengths = lengths + params.leg_length_offsets
     if np.any(lengths <= 0.0):
         raise ValueError("lengths: leg lengths must be positive")
     tol = arguments.real("tol", tol)

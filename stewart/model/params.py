@@ -19,7 +19,7 @@ import numpy as np
 from . import arguments, paramfile
 from .._generated import INERTIAL_NAMES as _inertial_names_of_the_model
 from .fields import TOLERANCE, _BOUNDS, _friction, _inertia, _inertia_tensor, _joint_axes  # the checks of each field
-from .fields import _optional_bound, _points, _positive, _readonly, _scalar, _vector3, leg_coefficients
+from .fields import _offsets, _optional_bound, _points, _positive, _readonly, _scalar, _vector3, leg_coefficients
 from .presets import fields as _preset_fields
 
 __all__ = ["PlatformParams", "NonAxisymmetricLegWarning", "TOLERANCE"]
@@ -82,6 +82,12 @@ class PlatformParams:
         (:meth:`stewart.Platform.modes`); ``None`` is none: those then need it given.
     leg_damping : optional axial damping ``c_i`` >= 0 of each leg in N s/m (one value or six),
         the default damping of :meth:`stewart.Platform.modes`; ``None`` is none.
+    leg_length_offsets : (6,) each leg's encoder zero offset in metres: the true leg length
+        ``|l_i|`` is the encoder reading plus the offset (default zeros, left out of
+        :meth:`to_dict` and the parameter files when all zero). The model takes true lengths;
+        the functions that take a machine's readings apply them
+        (:meth:`stewart.Platform.encoder_readings`, :func:`stewart.forward_kinematics` with
+        ``encoder=True``, :mod:`stewart.identification.identify`'s logs, :mod:`stewart.calibration`).
 
     Arrays are stored read-only. Construction validates every field and raises
     ``ValueError`` naming the field; without ``universal_joint_axes``, leg inertias with
@@ -113,6 +119,7 @@ class PlatformParams:
     coulomb_velocity: float = 1e-3
     leg_stiffness: np.ndarray | None = None
     leg_damping: np.ndarray | None = None
+    leg_length_offsets: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(6))
 
     def __post_init__(self) -> None:
         fields = {
@@ -139,6 +146,7 @@ class PlatformParams:
                 "leg_stiffness", self.leg_stiffness, positive=True),
             "leg_damping": None if self.leg_damping is None else leg_coefficients(
                 "leg_damping", self.leg_damping, positive=False),
+            "leg_length_offsets": _offsets("leg_length_offsets", self.leg_length_offsets),
         }
         for key, val in fields.items():
             if isinstance(val, np.ndarray):
@@ -399,10 +407,13 @@ class PlatformParams:
         return dataclasses.replace(self, **changes)
 
     def to_dict(self) -> dict[str, Any]:
-        """Plain-Python form (lists and floats), the layout of the TOML and JSON files."""
+        """Plain-Python form (lists and floats), the layout of the TOML and JSON files; the
+        fields that are ``None``, and ``leg_length_offsets`` when all zero, are left out."""
         out: dict[str, Any] = {}
         for field in dataclasses.fields(self):
             val = getattr(self, field.name)
+            if field.name == "leg_length_offsets" and not np.any(val):
+                continue
             if isinstance(val, np.ndarray):
                 val = val.tolist()
             elif isinstance(val, tuple):
@@ -423,7 +434,7 @@ class PlatformParams:
         missing = sorted(
             f.name
             for f in dataclasses.fields(cls)
-            if f.default is dataclasses.MISSING and f.name not in data
+            if f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING and f.name not in data
         )
         if missing:
             raise ValueError(f"missing parameter field(s): {', '.join(missing)}")

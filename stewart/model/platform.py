@@ -136,6 +136,11 @@ class Platform:
         """Leg lengths ``|l_i|``, ``l_i = p + R p_i - b_i`` (eq. 26)."""
         return self._call("leg_lengths", (x,), return_mask)
 
+    def encoder_readings(self, x):
+        """The encoder readings at ``x``: the leg lengths less ``params.leg_length_offsets``
+        (:func:`stewart.model.kinematics.encoder_readings`)."""
+        return kinematics.encoder_readings(self._params, x)
+
     def jacobian(self, x, *, return_mask=False):
         """``J_C`` (eq. 5): ``Ldot = J_C [v; omega]``, shape ``(..., 6, 6)``."""
         return self._call("jacobian", (x,), return_mask)
@@ -244,7 +249,7 @@ class Platform:
 
     def forward_kinematics(self, lengths, guess=None, **options):
         """Pose(s) from leg lengths by Newton-Raphson (:func:`stewart.forward_kinematics`),
-        starting from ``guess`` or the home pose."""
+        starting from ``guess`` or the home pose; ``encoder=True`` takes encoder readings."""
         return kinematics.forward_kinematics(
             self._params, lengths, self._home if guess is None else guess, **options
         )

@@ -1,0 +1,313 @@
+"""Kinematic calibration: the 42 geometric parameters of a built machine by weighted least
+squares on inverse-kinematics residuals (Zhuang & Roth 1993; Masory, Wang & Zhuang 1993),
+solved by ``scipy.optimize.least_squares`` with the exact Jacobian of
+:mod:`stewart.calibration.geometry`.
+
+**Pose data.** The unknowns are the 42 parameters. Each residual ``e + delta - |l(x)|`` is
+divided by its standard deviation, that of the encoder reading and of the measured pose
+carried to the leg length to first order (effective variance):
+``sigma^2 = sigma_L^2 + g diag(sigma_x^2) g^T``, with ``g = d|l|/dx`` at the nominal geometry.
+
+**Point data.** The platform's poses are not measured, so they join the unknowns (six per
+pose, started from forward kinematics of the nominal geometry); the residuals are the legs'
+(weight ``1/sigma_L``) and the targets' positions ``q - (t + R c)`` (weight ``1/sigma_p``).
+{P} is then fixed only by the targets: with one target, or targets on one line, turning
+{P} about the target (the line) and every pose back leaves every residual unchanged. That
+gauge is fixed by requiring that the platform joints do not turn about the targets relative
+to the nominal, ``sum_i (p0_i - c) x (p_i - p0_i) . w = 0`` for each such axis ``w``:
+equations the solution satisfies exactly, so they change no estimate of a determined
+quantity. With three targets not on one line there is no gauge.
+
+**Standard errors** come from the covariance ``s^2 (J^T J)^-1`` of the weighted Jacobian
+``J`` at the solution, ``s^2`` the weighted sum of squares over the degrees of freedom
+(Bard 1974, ch. 7); ``s`` near 1 says the standard deviations given were right. Data that
+leaves a combination undetermined (:mod:`stewart.calibration.identifiability`) is an
+:class:`~stewart.calibration.identifiability.UnidentifiableError`, never a fit.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+import scipy.linalg
+import scipy.optimize
+import scipy.sparse
+
+from ..model import arguments
+from ..model.arguments import platform_params
+from ..model.errors import ConvergenceError
+from ..model.kinematics import forward_kinematics
+from ..model.params import PlatformParams
+from ..model.reachability import WorkspaceError, reachability
+from . import geometry
+from .geometry import NUM_PARAMETERS, PARAMETER_NAMES
+from .identifiability import Identifiability, UnidentifiableError, identifiability, scaled_svd
+from .measurements import CalibrationData
+
+__all__ = ["calibrate", "Calibration", "DEFAULT_POSITION_STD", "DEFAULT_ANGLE_STD", "DEFAULT_LENGTH_STD"]
+
+#: Default standard deviations: a laser tracker's position [m] and orientation [rad], an encoder [m].
+DEFAULT_POSITION_STD = 1e-5
+DEFAULT_ANGLE_STD = 1e-4
+DEFAULT_LENGTH_STD = 1e-6
+
+
+@dataclass(frozen=True)
+class Calibration:
+    """The result of :func:`calibrate`.
+
+    ``nominal`` and ``params`` are the parameter sets before and after (the calibrated one
+    differs in ``base_points``, ``platform_points`` and ``leg_length_offsets`` only);
+    ``names``, ``nominal_values``, ``estimates`` and ``standard_errors`` are the 42
+    parameters (:data:`~stewart.calibration.geometry.PARAMETER_NAMES`) [m];
+    ``identifiability`` that of the weighted Jacobian at the solution; ``rms_before`` and
+    ``rms_after`` the RMS residual of each leg [m] (and, for point data, of the target
+    distance [m]) with the nominal and with the calibrated geometry; ``sigma`` the
+    estimated scale ``s`` of the weighted residuals (near 1 when the standard deviations
+    given were right) on ``dof`` degrees of freedom; ``poses`` the poses of the
+    measurements (measured, or estimated for point data)."""
+
+    nominal: PlatformParams
+    params: PlatformParams
+    kind: str
+    estimates: np.ndarray
+    standard_errors: np.ndarray
+    identifiability: Identifiability
+    rms_before: np.ndarray
+    rms_after: np.ndarray
+    sigma: float
+    dof: int
+    poses: np.ndarray
+    evaluations: int
+    names: tuple[str, ...] = PARAMETER_NAMES
+    residual_names: tuple[str, ...] = field(default=tuple(f"L{i}" for i in range(6)))
+
+    @property
+    def nominal_values(self) -> np.ndarray:
+        return geometry.parameter_vector(self.nominal)
+
+    def summary(self) -> dict:
+        """The JSON report: every parameter's nominal value, estimate and standard error, the
+        condition number and the residuals."""
+        return {
+            "kind": self.kind, "measurements": int(len(self.poses)), "condition_number": self.identifiability.condition,
+            "sigma": self.sigma, "dof": self.dof, "function_evaluations": self.evaluations,
+            "parameters": [{"name": n, "nominal": float(a), "estimate": float(b), "standard_error": float(c)}
+                           for n, a, b, c in zip(self.names, self.nominal_values, self.estimates,
+                                                 self.standard_errors)],
+            "rms_before": dict(zip(self.residual_names, self.rms_before.tolist())),
+            "rms_after": dict(zip(self.residual_names, self.rms_after.tolist())),
+        }
+
+    def table(self) -> str:
+        """The parameters as a text table [mm]: nominal, estimate, change, standard error."""
+        lines = [f"{'parameter':<24}{'nominal':>12}{'estimate':>12}{'change':>10}{'std err':>10}  [mm]"]
+        for name, nom, est, err in zip(self.names, self.nominal_values, self.estimates, self.standard_errors):
+            lines.append(f"{name:<24}{1e3 * nom:>12.4f}{1e3 * est:>12.4f}{1e3 * (est - nom):>10.4f}{1e3 * err:>10.4f}")
+        return "\n".join(lines)
+
+
+def calibrate(platform, data: CalibrationData, *, position_std: float = DEFAULT_POSITION_STD,
+              angle_std: float = DEFAULT_ANGLE_STD, length_std: float = DEFAULT_LENGTH_STD) -> Calibration:
+    """Calibrate the geometry of ``platform`` (a :class:`~stewart.Platform` or
+    :class:`~stewart.PlatformParams`, the nominal) from the :class:`CalibrationData`
+    ``data``, whose poses or points have the standard deviations ``position_std`` [m] and
+    ``angle_std`` [rad] per coordinate and whose encoder readings ``length_std`` [m].
+
+    ``ValueError`` naming the problem for too few measurements or poses the nominal machine
+    cannot reach (a :class:`~stewart.WorkspaceError`); an
+    :class:`~stewart.calibration.identifiability.UnidentifiableError` saying what to measure
+    when the data cannot determine every parameter."""
+    nominal = platform_params(platform, "platform")
+    if not isinstance(data, CalibrationData):
+        raise ValueError(f"data: expected a stewart.calibration.CalibrationData, got {type(data).__name__}")
+    stds = {name: arguments.real(name, value) for name, value in
+            (("position_std", position_std), ("angle_std", angle_std), ("length_std", length_std))}
+    for name, value in stds.items():
+        if not 0.0 < value < np.inf:
+            raise ValueError(f"{name}: must be a positive finite number, got {value}")
+    problem = _Problem(nominal, data, **stds)
+    free = problem.free_directions
+    gauged = free if problem.gauges else None
+    ident = identifiability(problem.data_jacobian(problem.theta0), PARAMETER_NAMES, gauged)
+    if not ident.identifiable:
+        raise UnidentifiableError(_unidentifiable_message(ident, problem), ident)
+    # The gauge rows of point data are met exactly at the solution, whatever their weight.
+    fit = scipy.optimize.least_squares(problem.residuals, problem.theta0, jac=problem.jacobian, method="lm",
+                                       x_scale="jac", ftol=1e-12, xtol=1e-12, gtol=1e-12)
+    jac = problem.data_jacobian(fit.x) @ free
+    dof = len(jac) - problem.unknowns
+    sigma = float(np.sqrt(2.0 * fit.cost / dof))
+    norms = np.sqrt(np.sum(jac * jac, axis=0))
+    sv, vt = scaled_svd(jac / norms)  # identifiable: every column and singular value is nonzero
+    covariance = free @ (((vt.T / sv**2) @ vt) / np.outer(norms, norms)) @ free.T * sigma**2
+    theta = fit.x
+    return Calibration(
+        nominal=nominal, params=geometry.with_parameters(nominal, theta).replace(
+            name=f"{nominal.name or 'platform'} (calibrated)"),
+        kind=data.kind, estimates=theta, standard_errors=np.sqrt(np.diag(covariance)[:NUM_PARAMETERS]),
+        identifiability=identifiability(problem.data_jacobian(fit.x), PARAMETER_NAMES, gauged), rms_before=problem.rms(problem.theta0),
+        rms_after=problem.rms(fit.x), sigma=sigma, dof=int(dof), poses=problem.poses_at(fit.x)[problem.pose_of_row],
+        evaluations=int(fit.nfev), residual_names=problem.residual_names)
+
+
+class _Problem:
+    """The weighted residuals of ``data`` as a function of the 42 parameters ``theta`` and
+    their exact Jacobian. For point data the poses are eliminated (variable projection,
+    Golub & Pereyra 2003): at each ``theta`` every pose is solved by Gauss-Newton on its own
+    residuals, and the Jacobian is that of the parameters with each pose's columns projected
+    out, ``(I - B_k B_k^+) A_k`` (Kaufman's form), whose normal matrix is the parameters'
+    Schur complement: the same identifiability and covariance as the full problem."""
+
+    def __init__(self, nominal: PlatformParams, data: CalibrationData, position_std, angle_std, length_std):
+        self.nominal, self.data = nominal, data
+        self.theta0 = theta0 = geometry.parameter_vector(nominal)
+        self.readings, self.pose_of_row = data.pose_index()
+        if data.poses is not None:
+            poses = data.poses
+        else:
+            try:
+                poses = forward_kinematics(nominal, self.readings, encoder=True)
+            except ConvergenceError as exc:
+                raise ValueError(f"{data.source}: the encoder readings of pose(s) {exc.rows[:10]} are not this "
+                                 "platform's: forward kinematics finds no pose") from None
+        reach = reachability(nominal, poses, name=data.source)
+        if not np.all(reach.ok):
+            raise WorkspaceError(f"{data.source}: {reach.message('measured pose')}", reach)
+        self.count = len(poses)
+        self.gauge = _gauge(nominal, data.target_offsets) if data.points is not None else np.zeros((0, NUM_PARAMETERS))
+        self.gauges = len(self.gauge)
+        #: The parameter directions the gauge leaves free, (42, 42 - gauges): the covariance
+        #: and identifiability are those of the data in these directions (a hard constraint).
+        self.free_directions = scipy.linalg.null_space(self.gauge) if self.gauges else np.eye(NUM_PARAMETERS)
+        unknowns = NUM_PARAMETERS + (0 if data.poses is not None else 6 * self.count) - self.gauges
+        equations = 6 * self.count + (0 if data.points is None else 3 * len(data.points))
+        if equations <= unknowns:
+            per, what, given = (6, "poses", self.count) if data.points is None else \
+                (3, "target measurements", len(data.points))
+            raise ValueError(f"{data.source}: too few measurements: {equations} equations for {unknowns} unknowns; "
+                             f"measure at least {given + int(np.ceil((unknowns + 1 - equations) / per))} {what}")
+        self.unknowns = unknowns
+        self.residual_names = tuple(f"L{i}" for i in range(6)) + (() if data.points is None else ("target",))
+        self.weight_legs = np.full((self.count, 6), 1.0 / length_std)
+        if data.poses is not None:
+            pose_var = np.array([position_std**2] * 3 + [angle_std**2] * 3)
+            g = geometry.leg_pose_jacobian(theta0, poses)
+            self.weight_legs = 1.0 / np.sqrt(length_std**2 + np.einsum("kij,j->ki", g * g, pose_var))
+        self.weight_points = 1.0 / position_std
+        self.weight_gauge = 1.0 / length_std
+        self.poses = poses
+        self._solved = (None, poses)
+        if data.points is not None:
+            # The pose of each data row of the Jacobian (legs, then targets).
+            self.row_pose = np.concatenate([np.repeat(np.arange(self.count), 6), np.repeat(self.pose_of_row, 3)])
+            self.sum_per_pose = scipy.sparse.csr_matrix(
+                (np.ones(len(self.row_pose)), (self.row_pose, np.arange(len(self.row_pose)))),
+                shape=(self.count, len(self.row_pose)))
+
+    def poses_at(self, theta) -> np.ndarray:
+        """The poses (K, 6): measured, or for point data those that fit best at ``theta``."""
+        if self.data.poses is not None:
+            return self.data.poses
+        if self._solved[0] is not None and np.array_equal(self._solved[0], theta):
+            return self._solved[1]
+        poses = self._solved[1].copy()
+        for _ in range(_POSE_ITERATIONS):
+            data_rows = self._data_parts(theta, poses, columns=False)
+            pose_cols = self._pose_columns(theta, poses)
+            normal, gradient = self._per_pose(pose_cols, pose_cols), self._per_pose(pose_cols, data_rows[:, None])
+            step = -np.linalg.solve(normal, gradient)[..., 0]
+            poses = poses + step
+            if np.max(np.abs(step)) <= _POSE_TOLERANCE:
+                break
+        self._solved = (np.array(theta, copy=True), poses)
+        return poses
+
+    def _per_pose(self, left, right) -> np.ndarray:
+        """``sum over pose k's rows of left^T right``, (K, 6, columns of right)."""
+        products = (left[:, :, None] * right[:, None, :]).reshape(len(left), -1)
+        return (self.sum_per_pose @ products).reshape(self.count, 6, right.shape[1])
+
+    def _data_parts(self, theta, poses, columns=True):
+        """The weighted residuals of the data (legs, then targets) and, with ``columns``, their
+        parameter columns ``A`` (rows, 42)."""
+        rows = (geometry.leg_residuals(theta, poses, self.readings) * self.weight_legs).ravel()
+        if self.data.points is not None:
+            offsets = self.data.target_offsets[self.data.targets]
+            points = self.data.points - geometry.target_positions(poses[self.pose_of_row], offsets)
+            rows = np.concatenate([rows, self.weight_points * points.ravel()])
+        if not columns:
+            return rows
+        cols = np.zeros((len(rows), NUM_PARAMETERS))
+        cols[:6 * self.count] = (geometry.leg_jacobian(theta, poses) * self.weight_legs[..., None]).reshape(-1, NUM_PARAMETERS)
+        return rows, cols
+
+    def _pose_columns(self, theta, poses) -> np.ndarray:
+        """The columns ``B`` (rows, 6) of each data row's pose (point data)."""
+        legs = geometry.leg_pose_jacobian(theta, poses) * self.weight_legs[..., None]
+        points = geometry.target_pose_jacobian(poses[self.pose_of_row], self.data.target_offsets[self.data.targets])
+        return np.concatenate([legs.reshape(-1, 6), self.weight_points * points.reshape(-1, 6)])
+
+    def residuals(self, theta) -> np.ndarray:
+        rows = self._data_parts(theta, self.poses_at(theta), columns=False)
+        return np.concatenate([rows, self.weight_gauge * (self.gauge @ (theta - self.theta0))])
+
+    def jacobian(self, theta) -> np.ndarray:
+        return np.concatenate([self.data_jacobian(theta), self.weight_gauge * self.gauge])
+
+    def data_jacobian(self, theta) -> np.ndarray:
+        """The weighted Jacobian of the data's residuals (without the gauge rows)."""
+        poses = self.poses_at(theta)
+        _, cols = self._data_parts(theta, poses)
+        if self.data.points is not None:
+            pose_cols = self._pose_columns(theta, poses)
+            solved = np.linalg.solve(self._per_pose(pose_cols, pose_cols), self._per_pose(pose_cols, cols))
+            cols = cols - np.einsum("ra,rap->rp", pose_cols, solved[self.row_pose])
+        return cols
+
+    def rms(self, theta) -> np.ndarray:
+        """The RMS residual of each leg, and of the target distance for point data [m]."""
+        rows = self._data_parts(theta, self.poses_at(theta), columns=False)
+        legs = rows[:6 * self.count].reshape(-1, 6) / self.weight_legs
+        out = np.sqrt(np.mean(legs * legs, axis=0))
+        if self.data.points is None:
+            return out
+        points = rows[6 * self.count:] / self.weight_points
+        return np.append(out, np.sqrt(3.0 * np.mean(points * points)))
+
+
+#: Gauss-Newton iterations of the poses of point data at one parameter vector (at most).
+_POSE_ITERATIONS = 30
+#: ... until no coordinate of a pose moves by more than this [m or rad].
+_POSE_TOLERANCE = 1e-12
+
+
+def _gauge(nominal: PlatformParams, offsets: np.ndarray) -> np.ndarray:
+    """The rows (g, 42) of the gauge equations of point data: for each axis ``w`` about which
+    turning {P} moves no target, ``sum_i w . ((p0_i - c) x (p_i - p0_i)) = 0`` (linear in the
+    parameters; ``c`` the targets' centroid), the residual ``G (theta - theta0)``."""
+    centre = offsets.mean(axis=0)
+    spread = offsets - centre
+    skew = np.concatenate([np.array([[0.0, -s[2], s[1]], [s[2], 0.0, -s[0]], [-s[1], s[0], 0.0]]) for s in spread])
+    axes = scipy.linalg.null_space(skew, rcond=1e-9).T if np.any(spread) else np.eye(3)
+    arms = nominal.platform_points - centre
+    rows = np.zeros((len(axes), NUM_PARAMETERS))
+    for k, w in enumerate(axes):
+        rows[k, 18:36] = np.cross(w, arms).ravel()  # w . (a x dp) = (w x a) . dp
+    return rows
+
+
+def _unidentifiable_message(ident: Identifiability, problem: _Problem) -> str:
+    data = problem.data
+    combos = ident.combinations
+    shown = "; ".join(combos[:3]) + (f"; and {len(combos) - 3} more" if len(combos) > 3 else "")
+    poses = problem.poses
+    if len(np.unique(problem.readings, axis=0)) < 7:
+        advice = "measure at least 7 distinct poses spread over the workspace"
+    elif np.ptp(poses[:, 3:], axis=0).max() < 1e-3:
+        advice = "measure poses that also turn the platform about all three axes (these only translate it)"
+    else:
+        advice = "measure more poses spread over the workspace's positions and orientations (stewart calibration-poses designs them)"
+    return (f"{data.source}: the measurements cannot determine {len(combos)} parameter combination(s), e.g. "
+            f"{shown}; {advice}")

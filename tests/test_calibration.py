@@ -1,0 +1,261 @@
+"""Kinematic calibration (stewart.calibration): the exact Jacobians against complex-step
+derivatives, the estimates against a simulated built machine at the rate their standard
+errors promise, the held-out pose error, the named unidentifiable combinations against
+their hand derivation, the designed poses against random ones, and the command line."""
+
+import json
+
+import numpy as np
+import pytest
+
+import stewart
+from stewart.calibration import (
+    CalibrationData,
+    UnidentifiableError,
+    calibrate,
+    geometry,
+    perturbed_geometry,
+    simulate_measurements,
+)
+from stewart.calibration.design import design_poses, observability
+from stewart.calibration.validation import pose_errors
+from stewart.cli import main
+
+NOMINAL = stewart.PlatformParams.preset("narayan2017")
+# The issue's campaign: +-1 mm per joint coordinate, +-2 mm per offset; a 10 um tracker, a 1 um encoder.
+POSITION_STD, ANGLE_STD, LENGTH_STD = 1e-5, 1e-4, 1e-6
+
+
+@pytest.fixture(scope="module")
+def designed():
+    return design_poses(NOMINAL, 30, seed=1)
+
+
+def _random_poses(n, seed):
+    rng = np.random.default_rng(seed)
+    home = stewart.home_pose(NOMINAL)
+    poses = home + rng.uniform(-1, 1, (4 * n, 6)) * np.array([0.02] * 3 + [0.2] * 3)
+    return poses[stewart.reachability(NOMINAL, poses).ok][:n]
+
+
+def _complex_step(function, point, h=1e-30):
+    columns = []
+    for k in range(point.size):
+        z = point.astype(complex)
+        z.flat[k] += 1j * h
+        columns.append(np.imag(function(z)) / h)
+    return np.stack(columns, axis=-1)
+
+
+def test_the_jacobians_match_complex_step_derivatives(figures):
+    theta = geometry.parameter_vector(perturbed_geometry(NOMINAL, seed=4))
+    poses = _random_poses(5, 0)
+    readings = stewart.leg_lengths(NOMINAL, poses)
+    exact = geometry.leg_jacobian(theta, poses)
+    numeric = _complex_step(lambda z: geometry.leg_residuals(z, poses, readings), theta)
+    figures("calibration dr/dtheta against complex step", np.max(np.abs(exact - numeric)), 1e-10)
+    per_pose = _complex_step(lambda z: geometry.leg_residuals(theta, z[None], readings[:1])[0], poses[0])
+    figures("calibration dr/dx against complex step",
+            np.max(np.abs(geometry.leg_pose_jacobian(theta, poses[:1])[0] - per_pose)), 1e-10)
+    offsets = np.array([[0.01, -0.02, 0.03]])
+    target = _complex_step(lambda z: -geometry.target_positions(z[None], offsets)[0], poses[0])
+    figures("calibration target dq/dx against complex step",
+            np.max(np.abs(geometry.target_pose_jacobian(poses[:1], offsets)[0] - target)), 1e-10)
+
+
+def test_estimates_lie_within_their_standard_errors_at_the_expected_rate(designed):
+    """Over 12 built machines and campaigns, the share of the 42 estimates within 2 standard
+    errors of the truth is that of a normal distribution, 95.4 % (binomial spread ~1 %)."""
+    within = []
+    for seed in range(12):
+        truth = perturbed_geometry(NOMINAL, seed=100 + seed)
+        data = simulate_measurements(truth, designed.poses, position_std=POSITION_STD, angle_std=ANGLE_STD,
+                                     length_std=LENGTH_STD, seed=seed)
+        result = calibrate(NOMINAL, data, position_std=POSITION_STD, angle_std=ANGLE_STD, length_std=LENGTH_STD)
+        within.append(np.abs(result.estimates - geometry.parameter_vector(truth)) <= 2 * result.standard_errors)
+        assert 0.8 < result.sigma < 1.2
+    share = np.mean(within)
+    print(f"calibration: {100 * share:.1f} % of {np.size(within)} estimates within 2 standard errors")
+    assert 0.92 <= share <= 0.985
+
+
+def test_point_data_recovers_the_geometry_and_fixes_the_gauge_of_one_target(designed):
+    truth = perturbed_geometry(NOMINAL, seed=7)
+    offsets = [[0.0, 0.0, 0.02], [0.05, 0.0, 0.02], [0.0, 0.05, 0.02]]
+    data = simulate_measurements(truth, designed.poses, target_offsets=offsets, seed=3)
+    result = calibrate(NOMINAL, data)
+    z = (result.estimates - geometry.parameter_vector(truth)) / result.standard_errors
+    assert np.mean(np.abs(z) <= 2) >= 0.85 and np.max(np.abs(z)) < 5
+    assert result.rms_after[-1] < 3 * POSITION_STD < result.rms_before[-1]
+    # One target: {P} may turn about it; the base points and offsets do not depend on that gauge.
+    single = simulate_measurements(truth, designed.poses, target_offsets=offsets[:1], seed=3)
+    result = calibrate(NOMINAL, single)
+    invariant = np.r_[0:18, 36:42]
+    z = (result.estimates - geometry.parameter_vector(truth))[invariant] / result.standard_errors[invariant]
+    assert np.max(np.abs(z)) < 5
+    arms = NOMINAL.platform_points - offsets[0]
+    turn = np.sum(np.cross(arms, result.params.platform_points - NOMINAL.platform_points), axis=0)
+    assert np.max(np.abs(turn)) < 1e-12
+
+
+def test_held_out_pose_error_falls_from_millimetres_to_the_noise(designed):
+    truth = perturbed_geometry(NOMINAL, seed=11)
+    result = calibrate(NOMINAL, simulate_measurements(truth, designed.poses, seed=1))
+    held = simulate_measurements(truth, _random_poses(20, 5), position_std=1e-12, angle_std=1e-12, seed=2)
+    before, after = (np.sqrt(np.mean(pose_errors(p, held)["position"] ** 2)) for p in (NOMINAL, result.params))
+    print(f"held-out RMS position error: {1e6 * before:.0f} um nominal, {1e6 * after:.2f} um calibrated")
+    assert before > 5e-4 and after < POSITION_STD
+
+
+def test_translations_alone_leave_each_legs_joints_undetermined_together():
+    """With R = I for every pose, l_i = t + p_i - b_i: moving b_i and p_i by the same vector
+    changes nothing, 18 combinations, and nothing else. With the tracker's angle noise
+    (1e-4 rad, all that turns the measured poses) some remain beyond its condition limit."""
+    poses = stewart.home_pose(NOMINAL) + np.random.default_rng(0).uniform(-0.02, 0.02, (30, 6)) * [1, 1, 1, 0, 0, 0]
+    with pytest.raises(UnidentifiableError, match="parameter combination.*turn the platform"):
+        calibrate(NOMINAL, simulate_measurements(NOMINAL, poses))
+    with pytest.raises(UnidentifiableError, match="18 parameter combination.*turn the platform") as info:
+        calibrate(NOMINAL, simulate_measurements(NOMINAL, poses, angle_std=0.0))
+    ident = info.value.identifiability
+    assert ident.condition == np.inf and len(ident.combinations) == 18
+    expected = np.zeros((42, 18))
+    for i in range(6):
+        for a in range(3):
+            expected[3 * i + a, 3 * i + a] = expected[18 + 3 * i + a, 3 * i + a] = 1.0
+    _same_span(ident.directions, expected, 1e-3)
+    pairs = {frozenset(c.split(" + 1 ")) for c in ident.combinations}
+    assert pairs == {frozenset((f"base_points[{i}].{a}", f"platform_points[{i}].{a}")) for i in range(6) for a in "xyz"}
+
+
+def test_one_set_of_leg_lengths_names_each_offset_with_its_joints():
+    """Every pose with the same readings is one pose: among what it cannot determine, each
+    leg's offset traded against its base joint along the leg, (delta_i, b_i) = (1, -u_i)."""
+    pose = stewart.home_pose(NOMINAL) + [0.005, 0, 0, 0, 0.05, 0]
+    with pytest.raises(UnidentifiableError, match="at least 7 distinct poses") as info:
+        calibrate(NOMINAL, simulate_measurements(NOMINAL, np.tile(pose, (10, 1)), position_std=0.0, angle_std=0.0,
+                                                 length_std=0.0))
+    directions = info.value.identifiability.directions
+    units = stewart.leg_unit_vectors(NOMINAL, pose)
+    for i in range(6):
+        trade = np.zeros(42)
+        trade[36 + i], trade[3 * i:3 * i + 3] = 1.0, -units[i]
+        coefficients = np.linalg.lstsq(directions, trade, rcond=None)[0]
+        assert np.max(np.abs(directions @ coefficients - trade)) < 1e-9
+
+
+def _same_span(a, b, tolerance):
+    """The columns of ``a`` and ``b`` span the same space (to ``tolerance``)."""
+    assert a.shape == b.shape
+    qa, qb = np.linalg.qr(a)[0], np.linalg.qr(b)[0]
+    assert np.max(np.abs(qa @ (qa.T @ qb) - qb)) < tolerance
+
+
+def test_designed_poses_are_better_conditioned_than_random_ones(designed):
+    """The design's condition number against random reachable poses of the same box."""
+    print(f"calibration poses: condition number {designed.designed['condition']:.0f} designed, "
+          f"{designed.random['condition']:.0f} random (O1 {designed.designed['O1']:.4f} against "
+          f"{designed.random['O1']:.4f})")
+    assert designed.designed["condition"] < 0.8 * designed.random["condition"]
+    assert designed.designed["O1"] > designed.random["O1"]
+    assert observability(NOMINAL, designed.poses) == designed.designed
+    assert np.all(stewart.reachability(NOMINAL, designed.poses).ok)
+    np.testing.assert_allclose(designed.readings, stewart.leg_lengths(NOMINAL, designed.poses), atol=0)
+
+
+def test_offsets_flow_through_forward_kinematics_files_and_identification(tmp_path):
+    built = NOMINAL.replace(leg_length_offsets=[1e-3, -2e-3, 0.0, 5e-4, 0.0, 3e-3])
+    pose = stewart.home_pose(NOMINAL) + [0.01, -0.005, 0.01, 0.05, -0.03, 0.1]
+    readings = stewart.encoder_readings(built, pose)
+    np.testing.assert_array_equal(readings, stewart.leg_lengths(built, pose) - built.leg_length_offsets)
+    assert np.max(np.abs(stewart.forward_kinematics(built, readings, encoder=True) - pose)) < 1e-12
+    for name in ("p.toml", "p.json"):
+        built.save(tmp_path / name)
+        assert stewart.PlatformParams.load(tmp_path / name) == built
+    assert "leg_length_offsets" not in NOMINAL.to_dict()
+    from stewart.identification import identify
+
+    log = identify.Measurements(np.arange(20) / 100, np.tile(readings, (20, 1)), np.zeros((20, 6)))
+    assert np.max(np.abs(identify._poses(stewart.Platform(built), log) - pose)) < 1e-12
+    simulated = identify.synthetic_measurements(built, stewart.PointToPoint(pose, pose, 0.1), rate=100)
+    np.testing.assert_allclose(simulated.lengths, np.tile(readings, (11, 1)), rtol=1e-14)
+    main(["ik", "--params", str(tmp_path / "p.toml"), "--pose", *(str(float(v)) for v in pose), "--csv", str(tmp_path / "ik.csv")])
+    np.testing.assert_allclose(np.loadtxt(tmp_path / "ik.csv", delimiter=",", skiprows=2), readings, rtol=1e-11)
+
+
+# ---- the command line ---------------------------------------------------------------------
+
+def _run(argv, capsys):
+    try:
+        main(argv)
+        code = 0
+    except SystemExit as exc:
+        code = exc.code or 0
+    out, err = capsys.readouterr()
+    assert "Traceback" not in out + err
+    return code, out, err
+
+
+@pytest.fixture(scope="module")
+def campaign(tmp_path_factory, designed):
+    folder = tmp_path_factory.mktemp("calibration")
+    truth = perturbed_geometry(NOMINAL, seed=21)
+    simulate_measurements(truth, designed.poses, seed=1).to_csv(folder / "meas.csv")
+    simulate_measurements(truth, _random_poses(10, 3), seed=2).to_csv(folder / "held.csv")
+    NOMINAL.save(folder / "nominal.toml")
+    return folder, truth
+
+
+@pytest.mark.slow
+def test_calibrate_writes_the_parameters_report_and_figures(campaign, capsys):
+    folder, truth = campaign
+    code, out, err = _run(["calibrate", str(folder / "meas.csv"), "--params", str(folder / "nominal.toml"),
+                           "--output", str(folder / "cal.toml"), "--report", str(folder / "r.json"),
+                           "--plot", str(folder / "figs"), "--validate", str(folder / "held.csv")], capsys)
+    assert code == 0, err
+    calibrated = stewart.PlatformParams.load(folder / "cal.toml")
+    report = json.loads((folder / "r.json").read_text())
+    estimates = np.array([p["estimate"] for p in report["parameters"]])
+    np.testing.assert_array_equal(estimates, geometry.parameter_vector(calibrated))
+    errors = np.array([p["standard_error"] for p in report["parameters"]])
+    assert np.max(np.abs(estimates - geometry.parameter_vector(truth)) / errors) < 5
+    assert report["validation"]["calibrated_rms_position"] < 0.1 * report["validation"]["nominal_rms_position"]
+    assert sorted(p.name for p in (folder / "figs").iterdir()) == [
+        "calibration_estimates.png", "calibration_held_out.png", "calibration_residuals.png"]
+    assert "held-out" in out
+
+
+def test_calibration_poses_writes_a_campaign_calibrate_reads(tmp_path, capsys):
+    code, out, _ = _run(["calibration-poses", "--count", "12", "--csv", str(tmp_path / "d.csv"), "--no-progress"],
+                        capsys)
+    assert code == 0 and "12 random poses" in out
+    data = CalibrationData.from_csv(tmp_path / "d.csv")
+    assert data.kind == "poses" and len(data.readings) == 12
+
+
+@pytest.mark.parametrize("edit, code, start", [
+    (lambda rows: rows.replace(rows.splitlines()[3].split(",")[2], "nan", 1), 2, "{file}: line 4, column 3"),
+    (lambda rows: "\n".join(rows.splitlines()[:6]), 2, "{file}: too few measurements: 24 equations for 42"),
+    (lambda rows: rows.replace(rows.splitlines()[3].split(",")[2], "0.9", 1), 3, "{file}: 1 of 30 measured pose(s) outside the workspace"),
+    (lambda rows: rows.replace("x,y,z", "px,py,pz").replace(",psi,theta,phi", ""), 2, "{file}: "),
+    (lambda rows: rows.replace("psi,theta,phi,", ""), 2, "{file}: line 1: the header has 9"),
+])
+def test_bad_measurements_are_one_line_errors(campaign, tmp_path, capsys, edit, code, start):
+    folder, _ = campaign
+    path = tmp_path / "bad.csv"
+    path.write_text(edit((folder / "meas.csv").read_text()))
+    got, _, err = _run(["calibrate", str(path)], capsys)
+    lines = err.strip().splitlines()
+    assert got == code and len(lines) == 1, err
+    assert lines[0].startswith(f"stewart calibrate: error: {start.format(file=path)}"), lines[0]
+
+
+def test_point_data_without_target_offsets_says_which_flag(tmp_path, capsys, designed):
+    simulate_measurements(NOMINAL, designed.poses[:10], target_offsets=[[0, 0, 0.02]]).to_csv(tmp_path / "p.csv")
+    code, _, err = _run(["calibrate", str(tmp_path / "p.csv")], capsys)
+    assert code == 2 and err.strip().endswith("need their targets' offsets in {P} (--target-offset X Y Z)")
+
+
+def test_target_offsets_with_pose_data_are_an_error(campaign, capsys):
+    folder, _ = campaign
+    code, _, err = _run(["calibrate", str(folder / "meas.csv"), "--target-offset", "0", "0", "0.02"], capsys)
+    assert code == 2 and err.startswith("stewart calibrate: error: --target-offset: ") and "holds poses" in err
