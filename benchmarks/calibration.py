@@ -13,6 +13,8 @@ import stewart
 from stewart.calibration import calibrate, perturbed_geometry, simulate_measurements
 from stewart.calibration.design import design_poses
 
+from .report import target_table
+
 #: Poses measured, and the most seconds their calibration may take.
 POSES = 200
 SECONDS = 1.0
@@ -37,9 +39,7 @@ def rows(fig: dict) -> list[tuple[str, str, str, str]]:
 
 
 def format_rows(fig: dict) -> str:
-    table = [("measure", "figure", "target", "")] + rows(fig)
-    widths = [max(len(r[k]) for r in table) for k in range(4)]
-    return "\n".join("| " + " | ".join(c.ljust(w) for c, w in zip(r, widths)) + " |" for r in table)
+    return target_table(rows(fig))
 
 
 if __name__ == "__main__":

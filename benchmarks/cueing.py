@@ -13,6 +13,8 @@ import numpy as np
 import stewart
 from stewart.cueing import MPCParams, predictive, read_log
 
+from .report import target_table
+
 #: The most milliseconds a step's median may take.
 STEP_MS = 2.0
 #: The maneuvers timed, from examples/cueing/.
@@ -47,9 +49,7 @@ def rows(fig: dict) -> list[tuple[str, str, str, str]]:
 
 
 def format_rows(fig: dict) -> str:
-    table = [("measure", "figure", "target", "")] + rows(fig)
-    widths = [max(len(r[k]) for r in table) for k in range(4)]
-    return "\n".join("| " + " | ".join(c.ljust(w) for c, w in zip(r, widths)) + " |" for r in table)
+    return target_table(rows(fig))
 
 
 if __name__ == "__main__":

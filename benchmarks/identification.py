@@ -13,6 +13,8 @@ from stewart.identification.base_parameters import base_parameters
 from stewart.identification.excitation import design_excitation
 from stewart.identification.identify import identify, synthetic_measurements
 
+from .report import target_table
+
 #: Samples of the log, and the most seconds their identification may take.
 SAMPLES = 100_000
 SECONDS = 3.0
@@ -46,9 +48,7 @@ def rows(fig: dict) -> list[tuple[str, str, str, str]]:
 
 
 def format_rows(fig: dict) -> str:
-    table = [("measure", "figure", "target", "")] + rows(fig)
-    widths = [max(len(r[k]) for r in table) for k in range(4)]
-    return "\n".join("| " + " | ".join(c.ljust(w) for c, w in zip(r, widths)) + " |" for r in table)
+    return target_table(rows(fig))
 
 
 if __name__ == "__main__":

@@ -233,6 +233,13 @@ def _optimization_rows(opt: dict | None) -> list[tuple[str, str, str, str]]:
     ]
 
 
+def target_table(rows) -> str:
+    """``(measure, figure, target, met)`` rows as a Markdown table under a header."""
+    table = [("measure", "figure", "target", "")] + list(rows)
+    widths = [max(len(r[k]) for r in table) for k in range(4)]
+    return "\n".join("| " + " | ".join(c.ljust(w) for c, w in zip(r, widths)) + " |" for r in table)
+
+
 def format_rows(table_rows) -> str:
     widths = [max(len(r[k]) for r in table_rows) for k in range(4)]
     head = ("peer comparison (same run, same states)", "ours", "peer", "peer/ours")

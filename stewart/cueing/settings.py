@@ -39,7 +39,7 @@ import numpy as np
 from ..model.platform import as_platform
 from . import vestibular
 
-__all__ = ["MPCParams", "FORCE_LIMIT_PER_STATIC", "LEG_VELOCITY_PER_STROKE", "BOX_SHARE"]
+__all__ = ["MPCParams", "read_sections", "FORCE_LIMIT_PER_STATIC", "LEG_VELOCITY_PER_STROKE", "BOX_SHARE"]
 
 #: Default force limit: this many times the largest static leg force at home.
 FORCE_LIMIT_PER_STATIC = 2.0
@@ -55,6 +55,28 @@ _SECTIONS = {
     "limits": ("force", "margin", "leg_velocity", "stroke_margin", "tilt_rate", "box"),
 }
 _PER_AXIS = {"specific_force": 3, "angular_velocity": 3, "position": 6, "velocity": 6, "acceleration": 6, "box": 6}
+
+
+def read_sections(path, sections: dict[str, tuple]) -> dict[tuple[str, str], object]:
+    """The settings of the TOML file ``path`` by ``(section, key)``, each section and key one
+    of ``sections``; a missing, unreadable or unknown one is a ``ValueError`` naming the file."""
+    path = os.fspath(path)
+    if not os.path.isfile(path):
+        raise ValueError(f"{path}: no such file")
+    try:
+        with open(path, "rb") as fh:
+            data = tomllib.load(fh)
+    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
+        raise ValueError(f"{path}: not a valid TOML file ({exc})") from None
+    out = {}
+    for section, table in data.items():
+        if section not in sections or not isinstance(table, dict):
+            raise ValueError(f"{path}: unknown section [{section}]; expected {', '.join(sections)}")
+        for key, value in table.items():
+            if key not in sections[section]:
+                raise ValueError(f"{path}: [{section}] {key}: unknown setting; expected {', '.join(sections[section])}")
+            out[section, key] = value
+    return out
 
 
 @dataclass(frozen=True)
@@ -164,26 +186,13 @@ class MPCParams:
         """Settings from a TOML file (module docstring); what it leaves out comes from
         :meth:`for_platform` (or the plain defaults without ``platform``)."""
         path = os.fspath(path)
-        if not os.path.isfile(path):
-            raise ValueError(f"{path}: no such file")
-        try:
-            with open(path, "rb") as fh:
-                data = tomllib.load(fh)
-        except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-            raise ValueError(f"{path}: not a valid TOML file ({exc})") from None
         overrides = {}
-        for section, table in data.items():
-            if section not in _SECTIONS or not isinstance(table, dict):
-                raise ValueError(f"{path}: unknown section [{section}]; expected {', '.join(_SECTIONS)}")
-            for key, value in table.items():
-                if key not in _SECTIONS[section]:
-                    raise ValueError(f"{path}: [{section}] {key}: unknown setting; expected "
-                                     f"{', '.join(_SECTIONS[section])}")
-                if key == "tilt_rate":
-                    if not isinstance(value, (int, float)) or isinstance(value, bool) or value <= 0:
-                        raise ValueError(f"{path}: [limits] tilt_rate: must be a number > 0 (deg/s), got {value!r}")
-                    value = math.radians(value)
-                overrides[key] = value
+        for (_, key), value in read_sections(path, _SECTIONS).items():
+            if key == "tilt_rate":
+                if not isinstance(value, (int, float)) or isinstance(value, bool) or value <= 0:
+                    raise ValueError(f"{path}: [limits] tilt_rate: must be a number > 0 (deg/s), got {value!r}")
+                value = math.radians(value)
+            overrides[key] = value
         overrides["source"] = path
         if platform is not None:
             return cls.for_platform(platform, **overrides)

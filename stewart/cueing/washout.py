@@ -27,7 +27,6 @@ from __future__ import annotations
 
 import math
 import os
-import tomllib
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -36,6 +35,7 @@ from scipy import optimize, signal
 from ..model.platform import as_platform
 from ..model.reachability import reachability
 from . import vestibular
+from .settings import read_sections
 
 __all__ = ["WashoutParams", "filters", "reference_poses", "axis_excursions", "DESIGN_ACCELERATION"]
 
@@ -125,26 +125,13 @@ class WashoutParams:
         ``tilt.max_angle`` in deg); what it leaves out comes from :meth:`for_platform` (or
         the plain defaults without ``platform``)."""
         path = os.fspath(path)
-        if not os.path.isfile(path):
-            raise ValueError(f"{path}: no such file")
-        try:
-            with open(path, "rb") as fh:
-                data = tomllib.load(fh)
-        except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-            raise ValueError(f"{path}: not a valid TOML file ({exc})") from None
         overrides = {}
-        for section, table in data.items():
-            if section not in _SECTIONS or not isinstance(table, dict):
-                raise ValueError(f"{path}: unknown section [{section}]; expected {', '.join(_SECTIONS)}")
-            for key, value in table.items():
-                if key not in _SECTIONS[section]:
-                    raise ValueError(f"{path}: [{section}] {key}: unknown setting; expected "
-                                     f"{', '.join(_SECTIONS[section])}")
-                if section == "tilt" and key in ("rate_limit", "max_angle"):
-                    if not isinstance(value, (int, float)) or value < 0:
-                        raise ValueError(f"{path}: [tilt] {key}: must be a number >= 0, got {value!r}")
-                    value = math.radians(value)
-                overrides[f"{section}_{key}"] = value
+        for (section, key), value in read_sections(path, _SECTIONS).items():
+            if section == "tilt" and key in ("rate_limit", "max_angle"):
+                if not isinstance(value, (int, float)) or value < 0:
+                    raise ValueError(f"{path}: [tilt] {key}: must be a number >= 0, got {value!r}")
+                value = math.radians(value)
+            overrides[f"{section}_{key}"] = value
         overrides["source"] = path
         try:
             if platform is not None:
