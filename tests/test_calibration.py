@@ -7,6 +7,7 @@ import json
 
 import numpy as np
 import pytest
+from cli_run import run as _run
 
 import stewart
 from stewart.calibration import (
@@ -183,16 +184,6 @@ def test_offsets_flow_through_forward_kinematics_files_and_identification(tmp_pa
 
 
 # ---- the command line ---------------------------------------------------------------------
-
-def _run(argv, capsys):
-    try:
-        main(argv)
-        code = 0
-    except SystemExit as exc:
-        code = exc.code or 0
-    out, err = capsys.readouterr()
-    assert "Traceback" not in out + err
-    return code, out, err
 
 
 @pytest.fixture(scope="module")

@@ -6,13 +6,15 @@ import sys
 
 import numpy as np
 import pytest
-from hypothesis import HealthCheck, event, given, settings, strategies as st
+from cli_run import run as _run
+from hypothesis import HealthCheck, event, given, settings
+from hypothesis import strategies as st
+from interrupt import press_ctrl_c_after
 
 import stewart
-from interrupt import press_ctrl_c_after
-from stewart.oracles import exactness
 from stewart.cli import main
 from stewart.model.presets import narayan2017_target_pose
+from stewart.oracles import exactness
 
 
 def _numbers(text):
@@ -111,18 +113,6 @@ def test_bad_input_is_an_error_naming_the_argument(capsys):
 
 # `stewart bench --json` (its JSON on stdout, the same figures in its table on stderr) is
 # tested by tests/test_readme.py, which runs the bench command of docs/cli.md: the one run of it.
-
-
-def _run(argv, capsys):
-    """Exit code, stdout and stderr of one command."""
-    try:
-        main(argv)
-        code = 0
-    except SystemExit as exc:
-        code = exc.code or 0
-    out, err = capsys.readouterr()
-    assert "Traceback" not in out + err
-    return code, out, err
 
 
 def _one_error_line(err, command, start):

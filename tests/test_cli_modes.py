@@ -4,21 +4,9 @@ import json
 
 import numpy as np
 import pytest
+from cli_run import run as _run
 
 import stewart
-from stewart.cli import main
-
-
-def _run(argv, capsys):
-    """Exit code, stdout and stderr of one command."""
-    try:
-        main(argv)
-        code = 0
-    except SystemExit as exc:
-        code = exc.code or 0
-    out, err = capsys.readouterr()
-    assert "Traceback" not in out + err
-    return code, out, err
 
 
 def test_modes_prints_the_frequencies_and_dominant_motions(capsys):
