@@ -14,6 +14,8 @@ from hypothesis import given, settings
 from hypothesis import strategies as st
 from scipy import signal
 
+from cli_run import call
+
 from stewart.cueing import VehicleLog, WashoutParams, read_log, vestibular, washout
 from stewart.cueing import washout as washout_module  # noqa: F401
 from stewart.cueing.washout import filters
@@ -145,8 +147,8 @@ def test_tilt_rate_is_limited():
     assert parts["tilt"][-1, 1] == pytest.approx(-math.asin(0.5 * 4.0 / 9.81), rel=1e-3)
 
 
-def _cli(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "stewart", *args], capture_output=True, text=True, cwd=cwd)
+def _cli(*args):
+    return call(*args)
 
 
 def _write(path, text):

@@ -9,6 +9,7 @@ from dataclasses import replace
 
 import numpy as np
 import pytest
+from cli_run import call
 from scipy import signal
 
 import stewart
@@ -212,14 +213,14 @@ def test_closed_loop_stays_within_limits(simulator, name):
     assert np.max(np.abs(x - result.poses)) < 1e-12 and np.max(np.abs(v - result.velocities)) < 1e-12
 
 
-def test_mpc_beats_washout_on_the_braking_and_take_off_channels(simulator):
-    """The maneuvers' main channel (fx): MPC's perceived error below washout's."""
+def test_mpc_beats_washout_on_the_braking_and_lane_change_channels(simulator):
+    """The maneuvers' main channel (fx, fy): MPC's perceived error below washout's."""
     from stewart.cueing import washout
 
-    for name in ("hard_braking", "takeoff_roll"):
+    for name, channel in (("hard_braking", "fx"), ("double_lane_change", "fy")):
         log = read_log(os.path.join(EXAMPLES, f"{name}.csv"))
-        a = mpc(log, simulator).metrics["perceived_error_rms"]["fx"]
-        b = washout(log, simulator).metrics["perceived_error_rms"]["fx"]
+        a = mpc(log, simulator).metrics["perceived_error_rms"][channel]
+        b = washout(log, simulator).metrics["perceived_error_rms"][channel]
         assert a < b, (name, a, b)
 
 
@@ -245,17 +246,13 @@ def test_cli_mpc_report_plot_and_closed_loop(tmp_path):
     method, the time per step, the limits and peaks, the closed loop's outcome and peaks;
     the written reference is the report's motion; the figures exist."""
     import json
-    import subprocess
-    import sys
-
     log = read_log(os.path.join(EXAMPLES, "hard_braking.csv"))
     short = tmp_path / "braking.csv"
     keep = log.t <= 2.5
     type(log)(log.t[keep], log.f[keep], log.w[keep]).to_csv(short)
     pytest.importorskip("matplotlib")
-    run = subprocess.run([sys.executable, "-m", "stewart", "cueing", str(short), "--method", "mpc", "--simulate",
-                          "--output", str(tmp_path / "ref.csv"), "--report", str(tmp_path / "r.json"),
-                          "--plot", str(tmp_path / "figs")], capture_output=True, text=True)
+    run = call("cueing", short, "--method", "mpc", "--simulate", "--output", tmp_path / "ref.csv",
+               "--report", tmp_path / "r.json", "--plot", tmp_path / "figs")
     assert run.returncode == 0, run.stderr
     report = json.loads((tmp_path / "r.json").read_text())
     assert report["method"] == "mpc" and report["ok"] and report["preview"] is False
@@ -276,9 +273,6 @@ def test_cli_mpc_report_plot_and_closed_loop(tmp_path):
 def test_no_feasible_motion_is_reported_not_written(simulator, tmp_path):
     """A force limit below the static load: no motion holds it; the exact check of the
     reference says so, the exit code is 3 and the CLI writes no reference."""
-    import subprocess
-    import sys
-
     log = read_log(os.path.join(EXAMPLES, "hard_braking.csv"))
     keep = log.t <= 1.0
     short = type(log)(log.t[keep], log.f[keep], log.w[keep], "short")
@@ -288,8 +282,7 @@ def test_no_feasible_motion_is_reported_not_written(simulator, tmp_path):
     assert any("force reaches" in p for p in result.problems), result.problems
     short.to_csv(tmp_path / "short.csv")
     (tmp_path / "c.toml").write_text(f"[limits]\nforce = {0.5 * static}\n")
-    run = subprocess.run([sys.executable, "-m", "stewart", "cueing", str(tmp_path / "short.csv"), "--method", "mpc",
-                          "--cueing", str(tmp_path / "c.toml"), "--output", str(tmp_path / "ref.csv")],
-                         capture_output=True, text=True)
+    run = call("cueing", tmp_path / "short.csv", "--method", "mpc", "--cueing", tmp_path / "c.toml",
+               "--output", tmp_path / "ref.csv")
     assert run.returncode == 3 and "force reaches" in run.stderr and "Traceback" not in run.stderr, run.stderr
     assert not (tmp_path / "ref.csv").exists()
