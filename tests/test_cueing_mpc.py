@@ -10,6 +10,8 @@ from dataclasses import replace
 import numpy as np
 import pytest
 from cli_run import call
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from scipy import signal
 
 import stewart
@@ -286,3 +288,44 @@ def test_no_feasible_motion_is_reported_not_written(simulator, tmp_path):
                "--output", tmp_path / "ref.csv")
     assert run.returncode == 3 and "force reaches" in run.stderr and "Traceback" not in run.stderr, run.stderr
     assert not (tmp_path / "ref.csv").exists()
+
+
+_SETTING = st.one_of(st.none(), st.booleans(), st.integers(-3, 30), st.floats(allow_nan=True, allow_infinity=True),
+                     st.text(max_size=3), st.lists(st.floats(-2, 2), max_size=7))
+
+
+@settings(max_examples=200, deadline=None)
+@given(values=st.fixed_dictionaries({}, optional={
+    name: _SETTING for name in ("duration", "steps", "preview", "specific_force", "angular_velocity", "position",
+                                "velocity", "acceleration", "force", "margin", "leg_velocity", "stroke_margin",
+                                "tilt_rate", "box")}))
+def test_fuzz_mpc_settings_are_valid_or_a_named_value_error(values):
+    """Any values of the settings: MPCParams takes them, or raises one ValueError naming the
+    setting (section.key) it refuses."""
+    try:
+        params = MPCParams(**values)
+    except ValueError as exc:
+        assert any(f".{name}:" in str(exc) for name in values), str(exc)
+        return
+    for name in ("duration", "force", "leg_velocity", "tilt_rate"):
+        value = getattr(params, name)
+        assert value is None or (np.isfinite(value) and value > 0)
+    assert params.steps >= 2 and 0 <= params.margin < 1
+    for name in ("specific_force", "angular_velocity", "position", "velocity", "acceleration"):
+        assert np.all(np.isfinite(getattr(params, name)))
+
+
+@settings(max_examples=4, deadline=None)
+@given(scale=st.floats(0.0, 1.5), seed=st.integers(0, 2**16))
+def test_fuzz_mpc_is_within_limits_or_says_so(simulator, scale, seed):
+    """A random smooth log: MPC's reference is finite and either inside every limit with exit
+    0, or reported beyond them with exit 3 (never NaN, never a silent success)."""
+    rng = np.random.default_rng(seed)
+    t = np.arange(151) * 0.02
+    f = np.column_stack([scale * 9.81 * np.sin(rng.uniform(0.2, 3) * t) for _ in range(3)]) + [0, 0, 9.81]
+    w = np.column_stack([scale * np.sin(rng.uniform(0.2, 3) * t) for _ in range(3)])
+    result = mpc(VehicleLog(t, f, w, name="random"), simulator)
+    assert np.all(np.isfinite(result.poses)) and np.all(np.isfinite(result.accelerations))
+    within = result.inside and not result.beyond_limits
+    assert result.exit_code == (0 if within else 3)
+    assert within or result.problems

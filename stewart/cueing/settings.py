@@ -106,7 +106,7 @@ class MPCParams:
         where = self.source
         for name, size in _PER_AXIS.items():
             value = getattr(self, name)
-            if value is None:
+            if value is None and name == "box":  # filled by for_platform
                 continue
             try:
                 arr = np.broadcast_to(np.asarray(value, dtype=float), (size,))
