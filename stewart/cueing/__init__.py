@@ -71,11 +71,7 @@ def mpc(log, platform, params: MPCParams | None = None, *, simulate: bool = Fals
     if not isinstance(log, VehicleLog):
         log = log_module.read(log)
     plat = as_platform(platform)
-    if params is None:
-        params = MPCParams.for_platform(plat)
-    elif params.force is None or params.leg_velocity is None or params.box is None:
-        params = MPCParams.for_platform(plat, **{k: getattr(params, k) for k in params.__dataclass_fields__
-                                                 if getattr(params, k) is not None})
+    params = MPCParams.for_platform(plat) if params is None else params.for_platform_of(plat)
     run = predictive.plan(log, plat, params, progress=progress)
     result = _result("mpc", log, plat, params, SampledTrajectory(log.t, run.x, run.v), run.x, run.v, run.u)
     result.solver = {"preview": params.preview, "steps": params.steps, "horizon_s": params.duration,

@@ -90,10 +90,7 @@ class CueingQP:
 
     def __init__(self, platform, params: MPCParams, dt: float):
         self.platform = as_platform(platform)
-        if params.force is None or params.leg_velocity is None or params.box is None:
-            params = MPCParams.for_platform(self.platform, **{
-                k: getattr(params, k) for k in params.__dataclass_fields__ if getattr(params, k) is not None})
-        self.params = params
+        self.params = params = params.for_platform_of(self.platform)
         self.dt = float(dt)
         self.h = params.intervals(self.dt)
         self.home = self.platform.home_pose

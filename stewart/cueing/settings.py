@@ -181,6 +181,14 @@ class MPCParams:
                              f"of {limits[1] - limits[0]:g} m")
         return replace(base, **changes)
 
+    def for_platform_of(self, platform) -> "MPCParams":
+        """These settings with the limits they leave open filled from ``platform``
+        (:meth:`for_platform`); themselves when none is open."""
+        if self.force is not None and self.leg_velocity is not None and self.box is not None:
+            return self
+        return MPCParams.for_platform(platform, **{k: getattr(self, k) for k in self.__dataclass_fields__
+                                                   if getattr(self, k) is not None})
+
     @classmethod
     def load(cls, path, platform=None) -> "MPCParams":
         """Settings from a TOML file (module docstring); what it leaves out comes from
