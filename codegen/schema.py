@@ -81,6 +81,8 @@ LEFT_OUT = {
     'universal_joint_max_angle': 'a workspace bound, checked in Python (stewart.model.reachability)',
     'spherical_joint_max_angle': 'a workspace bound, checked in Python (stewart.model.reachability)',
     'leg_diameter': 'a workspace bound, checked in Python (stewart.model.reachability)',
+    'plate_radius': 'a workspace bound, checked in Python (stewart.model.reachability)',
+    'base_clearance': 'a workspace bound, checked in Python (stewart.model.reachability)',
     'name': 'a label, not a model input',
     'viscous_friction': 'actuator friction: a column of the regressor (stewart_regressor), not in the rigid-body model',
     'coulomb_friction': 'actuator friction: a column of the regressor (stewart_regressor), not in the rigid-body model',

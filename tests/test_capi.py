@@ -101,7 +101,8 @@ def test_params_header_sets_every_member_by_name(tmp_path):
     # Every field reaches the struct except those the header names as left out.
     fields = {f.name for f in dataclasses.fields(stewart.PlatformParams)}
     assert fields - set(PARAM_INPUTS) == set(PARAMS_LEFT_OUT) == {
-        "leg_length_limits", "universal_joint_max_angle", "spherical_joint_max_angle", "leg_diameter", "name",
+        "leg_length_limits", "universal_joint_max_angle", "spherical_joint_max_angle", "leg_diameter",
+        "plate_radius", "base_clearance", "name",
         "viscous_friction", "coulomb_friction", "leg_stiffness", "leg_damping", "leg_length_offsets"}
     header = capi.params_header(params)
     assert "leg_length_limits = (0.1, 3.0)" in header and "'test * / platform\\n\\xe9'" in header

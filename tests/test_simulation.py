@@ -275,8 +275,9 @@ def _det_signs(plat, poses):
 
 
 def test_a_move_beyond_a_singularity_is_refused_before_the_run(plat):
-    # Without the preset's joint cones, which the move leaves first.
-    plat = stewart.Platform(plat.params.replace(universal_joint_max_angle=None, spherical_joint_max_angle=None))
+    # Without the preset's joint cones and plate, which the move leaves first.
+    plat = stewart.Platform(plat.params.replace(universal_joint_max_angle=None, spherical_joint_max_angle=None,
+                                                plate_radius=None))
     move = stewart.PointToPoint(plat.home_pose, ISSUE_TARGET, 5.0)
     with pytest.raises(stewart.WorkspaceError, match=r"^trajectory: \d+ of 5001 reference pose") as info:
         stewart.simulate(plat, move)

@@ -173,9 +173,11 @@ class _Problem:
                 raise ValueError(f"{data.source}: the encoder readings of pose(s) {exc.rows[:10]} are not this "
                                  "platform's: forward kinematics finds no pose") from None
         # A measured pose is where the machine was: the nominal's stroke, singularities and
-        # assembly mode reject it, not its design limits on the joints' cones and leg clearance
-        # (which the built machine, off the nominal, may pass by its geometry error).
-        bounds = nominal.replace(universal_joint_max_angle=None, spherical_joint_max_angle=None, leg_diameter=None)
+        # assembly mode reject it, not its design limits on the joints' cones and the legs' and
+        # the plate's clearance (which the built machine, off the nominal, may pass by its
+        # geometry error).
+        bounds = nominal.replace(universal_joint_max_angle=None, spherical_joint_max_angle=None, leg_diameter=None,
+                                plate_radius=None, base_clearance=None)
         reach = reachability(bounds, poses, name=data.source)
         if not np.all(reach.ok):
             raise WorkspaceError(f"{data.source}: {reach.message('measured pose')}", reach)

@@ -33,7 +33,7 @@ _WORKSPACE_FLAGS = {"region": "--region", "orientation": "--orientation", "posit
                     "samples": "--samples", "grid": "--grid", "seed": "--seed", "chunk_size": "--chunk-size",
                     "resolution": "--resolution", "universal_joint_max_angle": "--universal-max-angle",
                     "spherical_joint_max_angle": "--spherical-max-angle", "leg_diameter": "--leg-diameter",
-                    "stiffness": "--stiffness"}
+                    "plate_radius": "--plate-radius", "base_clearance": "--base-clearance", "stiffness": "--stiffness"}
 
 #: The slices drawn by ``stewart workspace --slices``: the three coordinate planes through home.
 _SLICES = {"translational": tuple("".join(pair) for pair in itertools.combinations(POSE_AXES[:3], 2)),
@@ -59,7 +59,8 @@ def cmd_workspace(args) -> int:
             raise UserError(f"{flag}: a cone half-angle needs 0 < DEG <= 90, got {value:g}")
     params, label = platform_params(args)
     bounds = {"universal_joint_max_angle": args.universal_max_angle, "spherical_joint_max_angle":
-              args.spherical_max_angle, "leg_diameter": args.leg_diameter}
+              args.spherical_max_angle, "leg_diameter": args.leg_diameter, "plate_radius": args.plate_radius,
+              "base_clearance": args.base_clearance}
     region = None if args.region is None else np.reshape(args.region, (3, 2))
     fixed = ({"orientation": args.orientation or (0.0, 0.0, 0.0)} if args.kind == "translational"
              else {"position": args.position})
@@ -168,6 +169,10 @@ def add_workspace(sub) -> None:
                    help="spherical-joint cone half-angle [deg] (overrides the parameters')")
     p.add_argument("--leg-diameter", type=positive, metavar="M", help="leg diameter for the leg-leg clearance [m] "
                    "(overrides the parameters')")
+    p.add_argument("--plate-radius", type=positive, metavar="M", help="radius of the platform's plate, kept above "
+                   "the base and clear of the legs [m] (overrides the parameters')")
+    p.add_argument("--base-clearance", type=positive, metavar="M", help="smallest gap between the platform and the "
+                   "base plane [m] (overrides the parameters')")
     add_chunk_size(p)
     add_scheduler(p)
     add_file(p, "--slices", "write PNG heat maps of the margin on the three coordinate planes through home, around "

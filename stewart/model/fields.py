@@ -74,7 +74,8 @@ def _moments(name: str, arr: np.ndarray) -> np.ndarray:
 
 
 #: Optional workspace bounds and their largest values (the smallest is always > 0).
-_BOUNDS = {"universal_joint_max_angle": np.pi / 2, "spherical_joint_max_angle": np.pi / 2, "leg_diameter": np.inf}
+_BOUNDS = {"universal_joint_max_angle": np.pi / 2, "spherical_joint_max_angle": np.pi / 2, "leg_diameter": np.inf,
+           "plate_radius": np.inf, "base_clearance": np.inf}
 
 
 def _optional_bound(name: str, value: Any, maximum: float) -> float | None:

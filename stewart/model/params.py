@@ -62,6 +62,13 @@ class PlatformParams:
         joints and in {P} for the spherical joints (:mod:`stewart.studies.workspace`).
     leg_diameter : optional outer diameter of the legs in metres; two legs (segments B_i P_i)
         closer than it collide (:mod:`stewart.studies.workspace`).
+    plate_radius : optional radius in metres of the platform's plate, a disc centred on the
+        z axis of {P} lying on the spherical joints (in the plane of {P} through the highest of
+        them); given, the plate must stay above the base and no leg may pass through it
+        (:mod:`stewart.model.reachability`).
+    base_clearance : optional smallest gap in metres between the platform (its spherical
+        joints, and its plate when ``plate_radius`` is given) and the base, the plane of the
+        highest universal joint; ``None``: the platform need only be above that plane.
     name : optional label.
     universal_joint_axes : optional (6, 3) first (base-fixed) axis a_i of each universal joint
         in {B}, unit vectors (within :data:`TOLERANCE`). Given, the legs turn with their
@@ -111,6 +118,8 @@ class PlatformParams:
     universal_joint_max_angle: float | None = None
     spherical_joint_max_angle: float | None = None
     leg_diameter: float | None = None
+    plate_radius: float | None = None
+    base_clearance: float | None = None
     name: str | None = None
     universal_joint_axes: np.ndarray | None = None
     platform_com: np.ndarray | None = None

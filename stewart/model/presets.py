@@ -13,7 +13,10 @@
     joints: the joint cones are those of :data:`UNIVERSAL_JOINT_MAX_ANGLE` and
     :data:`SPHERICAL_JOINT_MAX_ANGLE`. It sets no leg diameter: its neighbouring base joints
     are 38 mm apart, closer than its 50 mm cylinders, so its legs must narrow at the joints
-    and the leg-leg check of a 50 mm leg would refuse even the home pose.
+    and the leg-leg check of a 50 mm leg would refuse even the home pose. Its plate, 300 mm
+    in radius and three times wider than the joints' circle, is checked against the base
+    and the legs (``plate_radius``): tilted by 38 degrees at home height, its rim meets the
+    base.
 
 ``motion_simulator``
     A full-size motion base of the proportions common in driving and flight simulators
@@ -24,8 +27,9 @@
     electric actuators whose body is a 1.0 m tube of 160/140 mm OD/ID and whose rod is a
     1.0 m tube of 80/60 mm OD/ID, each with its centre of mass at mid-length; 0.7 m of
     stroke between 1.15 m and 1.85 m; the joint cones of :data:`UNIVERSAL_JOINT_MAX_ANGLE`
-    and :data:`SPHERICAL_JOINT_MAX_ANGLE`, and legs of the cylinders' 160 mm diameter for
-    the leg-leg clearance.
+    and :data:`SPHERICAL_JOINT_MAX_ANGLE`; legs of the cylinders' 160 mm diameter for
+    the leg-leg clearance; a platform frame reaching 0.1 m beyond its joints, a plate of 1.2 m
+    radius for the plate's clearance of the base and the legs (``plate_radius``).
 
 The joint cones (:class:`stewart.PlatformParams` ``universal_joint_max_angle``,
 ``spherical_joint_max_angle``, the angle between a leg and its direction at home) bound the
@@ -91,6 +95,7 @@ def _narayan2017() -> dict[str, Any]:
         leg_length_limits=(0.19, 0.38),
         universal_joint_max_angle=UNIVERSAL_JOINT_MAX_ANGLE,
         spherical_joint_max_angle=SPHERICAL_JOINT_MAX_ANGLE,
+        plate_radius=plate_radius,
         name="narayan2017",
     )
 
@@ -148,6 +153,7 @@ def _motion_simulator() -> dict[str, Any]:
         universal_joint_max_angle=UNIVERSAL_JOINT_MAX_ANGLE,
         spherical_joint_max_angle=SPHERICAL_JOINT_MAX_ANGLE,
         leg_diameter=0.160,
+        plate_radius=1.2,
         name="motion_simulator",
     )
 

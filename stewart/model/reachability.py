@@ -6,7 +6,11 @@ A pose is reachable when
 
 * every leg length is finite (a pose like ``z = 1e308`` overflows) and lies within
   ``params.leg_length_limits`` (when the set has limits);
-* every spherical joint lies above the highest universal joint (the platform is above the base);
+* the platform is above the base: its lowest point, the lowest spherical joint or, when
+  ``params.plate_radius`` is set, the lowest point of its plate's rim (a disc of that radius
+  about the z axis of {P}, lying on the spherical joints: in the plane of {P} through the
+  highest of them), lies above the base plane, the horizontal plane through the highest
+  universal joint, by more than nothing or by ``params.base_clearance`` (when set);
 * ``J_C`` (eq. 5) is well conditioned: its condition number, with the rotational columns
   divided by the platform radius so that it does not depend on the units, is at most
   :data:`CONDITION_LIMIT` (the actuator forces that hold a load grow with it). Its
@@ -20,6 +24,12 @@ A pose is reachable when
   centred in its range at home, as it is mounted);
 * no two legs, taken as the segments ``B_i P_i``, come closer than
   ``params.leg_diameter`` (when set), axis to axis;
+* no leg passes through the platform's plate (when ``params.plate_radius`` is set): a leg
+  whose base joint lies above the plate's plane crosses that plane once, and must do so
+  outside the plate, farther than ``plate_radius`` plus half the ``leg_diameter`` from its
+  centre. With the joints in the plate's plane that is any leg rising above the plate; the
+  legs' interference with the plate right at their own joints is the spherical joints'
+  cone's to bound;
 * the ZYX Euler angles are regular: ``|cos theta|`` is at least ``1 / CONDITION_LIMIT``
   (``T`` of eq. 18 is singular at ``theta = +-90 deg``);
 * ``det J_C`` has the sign of the assembly mode the platform is in (by default the home
@@ -39,7 +49,8 @@ from .arguments import platform_params
 from .params import PlatformParams
 
 __all__ = ["WorkspaceError", "Reachability", "reachability", "assembly_mode", "margins", "CONDITION_LIMIT",
-           "joint_angles", "neutral_axes", "segment_distances", "FLAGS", "limits_in_force"]
+           "joint_angles", "neutral_axes", "segment_distances", "FLAGS", "limits_in_force", "base_gaps",
+           "plate_crossings"]
 
 #: Largest unit-free condition number of ``J_C`` (and of the Euler-angle map) accepted.
 CONDITION_LIMIT = 1e3
@@ -54,6 +65,7 @@ OUT_OF_RANGE = 64
 UNIVERSAL_JOINT_LIMIT = 128
 SPHERICAL_JOINT_LIMIT = 256
 LEG_COLLISION = 512
+LEG_THROUGH_PLATE = 1024
 
 #: The 15 pairs of legs whose clearance is checked, ``(i, j)`` with ``i < j``.
 LEG_PAIRS = np.array([(i, j) for i in range(6) for j in range(i + 1, 6)])
@@ -83,7 +95,11 @@ class Reachability:
     ``spherical_angles`` the joint angles from their neutral axes ``(N, 6)`` [rad];
     ``clearance`` the smallest distance between two leg axes [m] and ``closest_legs``
     the index into :data:`LEG_PAIRS` of that pair (both None unless the parameters set
-    ``leg_diameter``); ``params`` the parameter set checked.
+    ``leg_diameter``); ``base_gap`` the height of the platform's lowest point above the base
+    plane [m] (:func:`base_gaps`); ``plate_crossings`` ``(N, 6)`` the distance from the plate's
+    centre at which each leg crosses the plate's plane, NaN for a leg below it
+    (:func:`plate_crossings`; None unless the parameters set ``plate_radius``); ``params`` the
+    parameter set checked.
     """
 
     flags: np.ndarray
@@ -94,6 +110,8 @@ class Reachability:
     spherical_angles: np.ndarray | None = None
     clearance: np.ndarray | None = None
     closest_legs: np.ndarray | None = None
+    base_gap: np.ndarray | None = None
+    plate_crossings: np.ndarray | None = None
     params: PlatformParams | None = None
 
     @property
@@ -129,12 +147,26 @@ class Reachability:
             return (f"legs {i} and {j} collide: their axes are {self.clearance[row]:.4g} m apart, less than "
                     f"the leg diameter {self.params.leg_diameter:g} m")
         if bit == BELOW_BASE:
-            return "the platform is not above the base"
+            part = "its plate" if self.params.plate_radius is not None else "its lowest spherical joint"
+            need = (f"less than the base clearance {self.params.base_clearance:g} m"
+                    if self.params.base_clearance is not None else "not above it")
+            return f"the platform is not above the base: {part} is at a height of {self.base_gap[row]:.4g} m over the base plane, {need}"
+        if bit == LEG_THROUGH_PLATE:
+            legs = np.flatnonzero(self._through_plate(row)).tolist()
+            return (f"leg(s) {legs} pass through the platform's plate: they cross its plane "
+                    f"{', '.join(f'{self.plate_crossings[row, i]:.4g}' for i in legs)} m from its centre, within "
+                    f"its radius {self.params.plate_radius:g} m{self._leg_radius_words()}")
         if bit == SINGULAR:
             return f"J_C is singular or nearly so (condition number {self.condition[row]:.3g} > {CONDITION_LIMIT:g})"
         if bit == EULER_SINGULAR:
             return "theta = +-90 deg, where the Euler angles are singular"
         return "det J_C has the other sign: the pose is in another assembly mode, beyond a singularity"
+
+    def _through_plate(self, row) -> np.ndarray:
+        return _through_plate(self.plate_crossings[row], self.params)
+
+    def _leg_radius_words(self) -> str:
+        return "" if self.params.leg_diameter is None else f" plus the legs' radius {_leg_radius(self.params):g} m"
 
     def reasons(self, row: int) -> list[str]:
         """Human sentences for the problems of one row."""
@@ -158,13 +190,14 @@ class Reachability:
 
 #: The flags of :attr:`Reachability.flags`, in the order their counts are reported.
 FLAGS = (OUT_OF_RANGE, LEG_TOO_SHORT, LEG_TOO_LONG, BELOW_BASE, SINGULAR, EULER_SINGULAR, OTHER_ASSEMBLY_MODE,
-         UNIVERSAL_JOINT_LIMIT, SPHERICAL_JOINT_LIMIT, LEG_COLLISION)
+         UNIVERSAL_JOINT_LIMIT, SPHERICAL_JOINT_LIMIT, LEG_COLLISION, LEG_THROUGH_PLATE)
 
 
 def limits_in_force(params: PlatformParams) -> str:
     """The limits :func:`reachability` applies to ``params``, in words, for the maps and figures
-    of a study: the stroke, the joints' cone half-angles and the leg diameter (or "none" for
-    each the parameters leave out), besides the platform above the base and the conditioning."""
+    of a study: the stroke, the joints' cone half-angles, the leg diameter, the plate and the
+    base clearance (or "none" for each the parameters leave out), besides the platform above
+    the base and the conditioning."""
     params = platform_params(params)
     stroke = params.leg_length_limits
     cones = [f"{name} {np.degrees(angle):.0f} deg" for name, angle in
@@ -172,7 +205,9 @@ def limits_in_force(params: PlatformParams) -> str:
              if angle is not None]
     return (f"stroke {f'{stroke[0]:g}-{stroke[1]:g} m' if stroke else 'unlimited'}; joint cones "
             f"{', '.join(cones) if cones else 'unlimited'}; legs "
-            f"{f'{params.leg_diameter:g} m thick' if params.leg_diameter is not None else 'of no thickness'}")
+            f"{f'{params.leg_diameter:g} m thick' if params.leg_diameter is not None else 'of no thickness'}; plate "
+            f"{f'of radius {params.plate_radius:g} m' if params.plate_radius is not None else 'not checked'}; base "
+            f"clearance {f'{params.base_clearance:g} m' if params.base_clearance is not None else 'none'}")
 
 
 def _platform_radius(params: PlatformParams) -> float:
@@ -325,16 +360,14 @@ def _block(plat, x: np.ndarray, mode: float, neutral: np.ndarray) -> dict:
     if limits is not None:
         flags |= np.where(np.any(lengths < limits[0], axis=1), LEG_TOO_SHORT, 0)
         flags |= np.where(np.any(lengths > limits[1], axis=1), LEG_TOO_LONG, 0)
-    # Height of each spherical joint, p_z + (R p_i)_z, with the last row of R (eq. 3).
-    sth, cth = np.sin(x[:, 4:5]), np.cos(x[:, 4:5])
-    sph, cph = np.sin(x[:, 5:6]), np.cos(x[:, 5:6])
-    p = params.platform_points
-    joint_heights = x[:, 2:3] - sth * p[:, 0] + cth * sph * p[:, 1] + cth * cph * p[:, 2]
-    flags |= np.where(np.min(joint_heights, axis=1) <= np.max(params.base_points[:, 2]), BELOW_BASE, 0)
+    rotations = kinematics.rotation(x)
+    gap = base_gaps(params, x, rotations)
+    clearance = params.base_clearance
+    flags |= np.where(~(gap > 0.0) if clearance is None else ~(gap >= clearance), BELOW_BASE, 0)
     with np.errstate(all="ignore"):
         jac = plat.jacobian(x, return_mask=True)[0]
         units = jac[..., :3].copy()
-        universal, spherical = _joint_angles(units, kinematics.rotation(x), neutral)
+        universal, spherical = _joint_angles(units, rotations, neutral)
         jac[..., 3:] /= _platform_radius(params)
         det = np.linalg.det(np.nan_to_num(jac))
         condition = 1.0 / _margin(jac)
@@ -345,7 +378,7 @@ def _block(plat, x: np.ndarray, mode: float, neutral: np.ndarray) -> dict:
                                (spherical, params.spherical_joint_max_angle, SPHERICAL_JOINT_LIMIT)):
         if limit is not None:
             flags |= np.where(np.any(~(angles <= limit), axis=1), bit, 0)
-    clearance = closest = None
+    clearance = closest = crossings = None
     if params.leg_diameter is not None:
         ends = params.base_points + lengths[..., None] * units  # P_i = B_i + L_i u_i
         i, j = LEG_PAIRS.T
@@ -354,5 +387,64 @@ def _block(plat, x: np.ndarray, mode: float, neutral: np.ndarray) -> dict:
         closest = np.argmin(np.nan_to_num(pairs, nan=-1.0), axis=1)
         clearance = pairs[np.arange(len(x)), closest]
         flags |= np.where(~(clearance >= params.leg_diameter), LEG_COLLISION, 0)
+    if params.plate_radius is not None:
+        crossings = plate_crossings(params, x, rotations)
+        flags |= np.where(np.any(_through_plate(crossings, params), axis=1), LEG_THROUGH_PLATE, 0)
     return dict(flags=flags, lengths=lengths, condition=condition, universal_angles=universal,
-                spherical_angles=spherical, clearance=clearance, closest_legs=closest)
+                spherical_angles=spherical, clearance=clearance, closest_legs=closest, base_gap=gap,
+                plate_crossings=crossings)
+
+
+def _through_plate(crossings: np.ndarray, params: PlatformParams) -> np.ndarray:
+    """The legs of :func:`plate_crossings` ``crossings`` that pass through the plate (NaN, a leg
+    below it: False)."""
+    return crossings < params.plate_radius + _leg_radius(params)
+
+
+def _plate_height(params: PlatformParams) -> float:
+    """The height of the plate's plane in {P}: that of the highest spherical joint."""
+    return float(np.max(params.platform_points[:, 2]))
+
+
+def _leg_radius(params: PlatformParams) -> float:
+    return 0.0 if params.leg_diameter is None else 0.5 * params.leg_diameter
+
+
+def base_gaps(params: PlatformParams, poses, rotations=None) -> np.ndarray:
+    """The height [m] of the platform's lowest point above the base plane (the horizontal
+    plane through the highest universal joint) at ``poses`` ``(N, 6)``: of the lowest spherical
+    joint, ``p_z + (R p_i)_z`` (eq. 3), and with ``params.plate_radius`` ``r`` of the lowest
+    point of the plate's rim, ``c_z - r sqrt(1 - (R e_z)_z^2)`` with ``c`` the plate's centre
+    (the rim's lowest point lies along the plate's steepest descent); ``(N,)``. ``rotations``
+    are the poses' ``R`` if known."""
+    x = np.atleast_2d(poses)
+    rot = kinematics.rotation(x) if rotations is None else rotations
+    heights = x[:, 2:3] + np.einsum("ik,nk->ni", params.platform_points, rot[:, 2, :])
+    lowest = np.min(heights, axis=1)
+    if params.plate_radius is not None:
+        tilt = np.sqrt(np.maximum(0.0, 1.0 - rot[:, 2, 2] ** 2))  # sine of the plate's tilt
+        centre = x[:, 2] + rot[:, 2, 2] * _plate_height(params)
+        lowest = np.minimum(lowest, centre - params.plate_radius * tilt)
+    return lowest - np.max(params.base_points[:, 2])
+
+
+def plate_crossings(params: PlatformParams, poses, rotations=None) -> np.ndarray:
+    """Where each leg's axis ``B_i P_i`` crosses the plane of the platform's plate (the plane of
+    {P} through its highest spherical joint), at ``poses`` ``(N, 6)``: the distance [m] from the
+    plate's centre of the crossing point, ``(N, 6)``, NaN for a leg that stays below the plane
+    (its base joint below it). In {P}, with heights measured from the plate's plane, the leg runs
+    from its joint ``p_i`` (``p_iz <= 0``) to ``b_i' = R^T (b_i - p)``; when ``b_i'`` lies on or
+    above the plane it crosses at ``p_i + s (b_i' - p_i)``, ``s = p_iz / (p_iz - b_iz')``
+    (``s = 0`` when both lie in it)."""
+    x = np.atleast_2d(poses)
+    rot = kinematics.rotation(x) if rotations is None else rotations
+    plane = np.array([0.0, 0.0, _plate_height(params)])
+    joints = params.platform_points - plane
+    bases = np.einsum("nkj,nik->nij", rot, params.base_points[None, :, :] - x[:, None, :3]) - plane  # R^T (b_i - p)
+    rise = bases[..., 2]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        drop = joints[:, 2] - rise
+        s = np.where(drop < 0.0, joints[:, 2] / drop, 0.0)
+    point = joints + s[..., None] * (bases - joints)
+    distance = np.hypot(point[..., 0], point[..., 1])
+    return np.where(rise >= 0.0, distance, np.nan)

@@ -22,6 +22,7 @@ from ..model.reachability import (
     EULER_SINGULAR,
     FLAGS,
     LEG_COLLISION,
+    LEG_THROUGH_PLATE,
     LEG_TOO_LONG,
     LEG_TOO_SHORT,
     OTHER_ASSEMBLY_MODE,
@@ -56,7 +57,8 @@ CHUNK_SIZE = 20_000
 _NAMES = {OUT_OF_RANGE: "out_of_range", LEG_TOO_SHORT: "leg_too_short", LEG_TOO_LONG: "leg_too_long",
           BELOW_BASE: "below_base", SINGULAR: "singular", EULER_SINGULAR: "euler_singular",
           OTHER_ASSEMBLY_MODE: "other_assembly_mode", UNIVERSAL_JOINT_LIMIT: "universal_joint_limit",
-          SPHERICAL_JOINT_LIMIT: "spherical_joint_limit", LEG_COLLISION: "leg_collision"}
+          SPHERICAL_JOINT_LIMIT: "spherical_joint_limit", LEG_COLLISION: "leg_collision",
+          LEG_THROUGH_PLATE: "leg_through_plate"}
 
 
 @dataclass(frozen=True)
