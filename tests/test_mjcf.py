@@ -39,6 +39,18 @@ def test_text_and_file(tmp_path):
     assert text.count("<joint ") == 18 and text.count("<connect ") == 6 and text.count("<motor ") == 6
 
 
+def test_visual_geometry_is_the_clearance_geometry():
+    """The platform's disc is the plate the workspace checks, the legs' capsules as thick as
+    ``leg_diameter``."""
+    import xml.etree.ElementTree as ET
+
+    params = stewart.PlatformParams.preset("motion_simulator")
+    root = ET.fromstring(stewart.to_mjcf(params))
+    plate = root.find(".//body[@name='platform']/geom")
+    assert float(plate.get("size").split()[0]) == params.plate_radius == 1.2
+    assert float(root.find(".//body[@name='cylinder0']/geom").get("size")) == params.leg_diameter / 2 == 0.08
+
+
 @pytest.mark.parametrize("kwargs, field", [({"solver": "fast"}, "solver"), ({"pose": [0, 0, 1]}, "pose"),
                                            ({"pose": [0, 0, np.nan, 0, 0, 0]}, "pose")])
 def test_errors_name_the_argument(kwargs, field):

@@ -26,8 +26,9 @@
   ``joint{i}`` on the platform (the two ends of each ball joint), the platform's position
   and orientation (``platform_position``, ``platform_orientation``) and the leg lengths
   (``leg_length{i}``);
-- visual geometry only: capsules for the legs, discs for the base and the platform, none
-  of them colliding and none carrying mass (the ``inertial`` elements do).
+- visual geometry only: capsules for the legs (of ``leg_diameter`` when given), discs for
+  the base and the platform (its plate of ``plate_radius`` when given), none of them
+  colliding and none carrying mass (the ``inertial`` elements do).
 
 Parameters without ``universal_joint_axes`` (the paper's model, eq. 29, where the legs
 never spin) get the realistic default of
@@ -78,7 +79,7 @@ SOLVERS: dict[str, dict[str, Any]] = {
 #: this one, in kg or kg m^2.
 MOMENT_FLOOR = 1e-14
 
-#: Visual capsule radius of the legs, as a fraction of the base radius.
+#: Visual capsule radius of the legs, as a fraction of the base radius, without a ``leg_diameter``.
 _LEG_RADIUS = 0.02
 
 
@@ -185,7 +186,8 @@ def to_mjcf(platform_or_params, path=None, *, pose=None, solver="default") -> st
     settings = _solver(solver)
     _, frames, lengths, _ = _legs(params, pose, "pose")
     rot = rotation(pose)
-    radius = _LEG_RADIUS * float(np.max(np.linalg.norm(params.base_points[:, :2], axis=1)))
+    radius = (_LEG_RADIUS * float(np.max(np.linalg.norm(params.base_points[:, :2], axis=1)))
+              if params.leg_diameter is None else 0.5 * params.leg_diameter)
     eq_opts = "".join(f' {key}="{_fmt(settings[key])}"' for key in ("solref", "solimp") if settings[key] is not None)
     limits = "" if params.leg_length_limits is None else f' range="{_fmt(params.leg_length_limits)}"'
     legs = []
@@ -209,7 +211,10 @@ def to_mjcf(platform_or_params, path=None, *, pose=None, solver="default") -> st
     com = np.zeros(3) if params.platform_com is None else params.platform_com
     tensor = params.platform_inertia_tensor
     full = [tensor[0, 0], tensor[1, 1], tensor[2, 2], tensor[0, 1], tensor[0, 2], tensor[1, 2]]
-    top = float(np.max(np.linalg.norm(params.platform_points[:, :2], axis=1)))
+    # The plate as the workspace checks it (stewart.model.reachability), else a disc through the joints.
+    top = (float(np.max(np.linalg.norm(params.platform_points[:, :2], axis=1))) if params.plate_radius is None
+           else params.plate_radius)
+    plate = np.max(params.platform_points[:, 2]) if params.plate_radius is not None else np.mean(params.platform_points[:, 2])
     bottom = float(np.max(np.linalg.norm(params.base_points[:, :2], axis=1)))
     eqs = "".join(f'\n    <connect name="ball{i}" body1="piston{i}" body2="platform" anchor="{_fmt([lengths[i], 0, 0])}"'
                   f'{eq_opts}/>' for i in range(6))
@@ -229,7 +234,7 @@ def to_mjcf(platform_or_params, path=None, *, pose=None, solver="default") -> st
     <body name="platform" pos="{_fmt(pose[:3])}" xyaxes="{_xyaxes(rot)}">
       <freejoint name="platform"/>
       <inertial pos="{_fmt(com)}" mass="{_moments(params.platform_mass)}" fullinertia="{_fmt(full)}"/>
-      <geom type="cylinder" pos="0 0 {_fmt(np.mean(params.platform_points[:, 2]))}" size="{_fmt([top, radius / 2])}" rgba="0.8 0.5 0.2 1"/>{sites}
+      <geom type="cylinder" pos="0 0 {_fmt(plate)}" size="{_fmt([top, radius / 2])}" rgba="0.8 0.5 0.2 1"/>{sites}
     </body>
   </worldbody>
   <equality>{eqs}
