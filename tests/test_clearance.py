@@ -167,3 +167,21 @@ def test_cli_clearance_flags(capsys):
     out = capsys.readouterr().out
     assert "limits: stroke 0.19-0.38 m; joint cones universal 45 deg, spherical 30 deg; legs of no thickness; " \
            "plate of radius 0.3 m; base clearance 0.05 m" in out
+
+
+def test_slices_and_their_figures_name_the_limits_in_force(tmp_path, monkeypatch):
+    pytest.importorskip("matplotlib")
+    import matplotlib.figure
+
+    from stewart.io.plots import plot_workspace_slices
+    from stewart.studies import workspace
+
+    params = stewart.PlatformParams.preset("narayan2017").replace(base_clearance=0.01)
+    cut = workspace.workspace_slice(params, "xz", resolution=11)
+    assert cut.limits == reachability.limits_in_force(params) and "base clearance 0.01 m" in cut.limits
+    titles = []
+    save = matplotlib.figure.Figure.savefig
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig",
+                        lambda fig, *a, **k: (titles.append(fig._suptitle.get_text()), save(fig, *a, **k))[1])
+    plot_workspace_slices([cut], str(tmp_path / "slice.png"), "a study")
+    assert titles == [f"a study\nlimits: {cut.limits}"]

@@ -82,7 +82,7 @@ def cmd_workspace(args) -> int:
         from ..io.plots import plot_workspace_slices
 
         os.makedirs(args.slices, exist_ok=True)
-        title = f"{params.name or 'unnamed'}: {args.kind} workspace slices through home\n{limits_in_force(params)}"
+        title = f"{params.name or 'unnamed'}: {args.kind} workspace slices through home"
         files.append(plot_workspace_slices(slices, os.path.join(args.slices, f"workspace_{args.kind}.png"), title))
         if args.stiffness is not None:
             files.append(plot_workspace_slices(slices, os.path.join(args.slices, f"frequency_{args.kind}.png"),

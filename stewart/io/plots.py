@@ -199,7 +199,8 @@ def plot_workspace_slices(slices, path: str, title: str = "", quantity: str = "m
     """One heat map per :class:`stewart.studies.workspace.Slice` side by side with one colour
     scale: of the singularity margin (``quantity="margin"``) or of the lowest natural frequency
     on the preloaded leg springs (``"frequency"``, slices with a stiffness); unreachable cells (and
-    for the frequency, cells the legs cannot hold) are grey. Angles are drawn in degrees."""
+    for the frequency, cells the legs cannot hold) are grey. Angles are drawn in degrees. Under
+    ``title`` the figure names the slices' limits in force (``Slice.limits``)."""
     plt = _pyplot()
     from matplotlib.patches import Patch
 
@@ -226,7 +227,8 @@ def plot_workspace_slices(slices, path: str, title: str = "", quantity: str = "m
         label, grey = f"lowest natural frequency [Hz], legs of {legs}", "unreachable or not held"
     fig.colorbar(mesh, ax=axes[0].tolist(), label=label)
     axes[0][0].legend(handles=[Patch(color="0.85", label=grey)], loc="upper right", fontsize=8)
-    fig.suptitle(title or f"{slices[0].platform}: workspace slices")
+    limits = slices[0].limits
+    fig.suptitle((title or f"{slices[0].platform}: workspace slices") + (f"\nlimits: {limits}" if limits else ""))
     fig.savefig(path, dpi=90)
     plt.close(fig)
     return path

@@ -35,6 +35,7 @@ from ..model.reachability import (
     assembly_mode,
     joint_angles,
     margins,
+    limits_in_force,
     reachability,
     segment_distances,
 )
@@ -372,7 +373,8 @@ class Slice:
     ``margin`` ``(len(v), len(u))`` is NaN where the pose is unreachable and ``flags`` the
     problem bits of :func:`reachability` there. With legs of ``stiffness`` [N/m], ``frequency``
     ``(len(v), len(u))`` is the lowest natural frequency [Hz] (NaN where the pose is unreachable
-    or the preloaded legs cannot hold it); None without."""
+    or the preloaded legs cannot hold it); None without. ``limits`` names the limits in force
+    (:func:`~stewart.model.reachability.limits_in_force`), which its figures print."""
 
     axes: tuple[str, str]
     unit: str
@@ -385,6 +387,7 @@ class Slice:
     platform: str
     stiffness: np.ndarray | None = None
     frequency: np.ndarray | None = None
+    limits: str = ""
 
 
 def _axes(value) -> tuple[str, tuple[int, int, int]]:
@@ -452,4 +455,4 @@ def workspace_slice(platform, axes="xy", at=None, *, orientation=(0.0, 0.0, 0.0)
     names, unit = KINDS[kind]
     return Slice(axes=(names[first], names[second]), unit=unit, u=u, v=v, at=(names[third], at), fixed=fixed,
                  margin=margin, flags=check.flags.reshape(n, n), platform=params.name or "unnamed",
-                 stiffness=stiffness, frequency=frequency)
+                 stiffness=stiffness, frequency=frequency, limits=limits_in_force(params))
