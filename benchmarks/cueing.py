@@ -1,7 +1,7 @@
 """MPC cueing's time per step: the receding horizon of :func:`stewart.cueing.mpc` at 100 Hz
 with a 1 s horizon (10 intervals) on ``motion_simulator``, over shipped maneuvers. A step is
 everything between a new log sample and the new command: linearize about the last plan,
-condense, update OSQP, solve. The target is faster than real time with room to spare: a
+condense, solve the QP (DAQP). The target is faster than real time with room to spare: a
 median of 2 ms (one core; the run's BLAS on one thread)."""
 
 from __future__ import annotations
@@ -45,7 +45,7 @@ def rows(fig: dict) -> list[tuple[str, str, str, str]]:
     what = f"MPC cueing step ({fig['preset']}, 100 Hz, {fig['horizon_s']:g} s horizon in {fig['steps']} intervals)"
     return [(what + ", median", f"{fig['step_median_ms']:.2f} ms", f"<= {STEP_MS:g} ms", "met" if ok else "MISSED"),
             ("MPC cueing step, max", f"{fig['step_max_ms']:.1f} ms", "", ""),
-            ("MPC cueing step, OSQP's own solve time, median", f"{fig['qp_median_ms']:.2f} ms", "", "")]
+            ("MPC cueing step, the QP solver's own time, median", f"{fig['qp_median_ms']:.2f} ms", "", "")]
 
 
 def format_rows(fig: dict) -> str:

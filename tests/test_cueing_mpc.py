@@ -88,12 +88,15 @@ def _qp(platform, **settings):
 
 
 def _dense_soft_qp(H, q, rows, lo, hi, soft, equal):
-    """The QP ``min u^T H u / 2 + q^T u + SOFT_WEIGHT/2 sum_soft dist(r_i, [lo_i, hi_i])^2``
-    (``r = rows u``) with the rows ``equal`` equalities ``r_i = lo_i`` and the others hard
-    bounds, by a dense active-set method: solve the KKT system with the soft rows outside
-    their bounds penalized and the active hard bounds as equalities; add violated hard
-    bounds, drop those whose multiplier has the wrong sign; until nothing changes."""
-    weight = predictive.SOFT_WEIGHT
+    """The QP ``min u^T H u / 2 + q^T u + SOFT_WEIGHT/2 sum_soft dist(r_i, [lo_i, hi_i])^2 / n_i``
+    (``r = rows u``, ``n_i = a_i H^-1 a_i^T`` for row ``a_i``: the violation in the cost's
+    metric, as DAQP's soft constraints weigh it) with the rows ``equal`` equalities
+    ``r_i = lo_i`` and the others hard bounds, by a dense active-set method: solve the KKT
+    system with the soft rows outside their bounds penalized and the active hard bounds as
+    equalities; add violated hard bounds, drop those whose multiplier has the wrong sign;
+    until nothing changes."""
+    metric = np.einsum("ij,ji->i", rows[soft], np.linalg.solve(H, rows[soft].T))
+    weight = (predictive.SOFT_WEIGHT / metric)[:, None]
     bounds = np.setdiff1d(np.setdiff1d(np.arange(len(lo)), soft), equal)
     upper, lower = np.zeros(len(lo), bool), np.zeros(len(lo), bool)
     u = np.zeros(H.shape[0])
@@ -103,8 +106,8 @@ def _dense_soft_qp(H, q, rows, lo, hi, soft, equal):
         act = below | above
         target = np.where(below, lo[soft], hi[soft])[act]
         a = rows[soft][act]
-        k = H + weight * a.T @ a
-        g = -q + weight * a.T @ target
+        k = H + a.T @ (weight[act] * a)
+        g = -q + a.T @ (weight[act][:, 0] * target)
         fixed = np.concatenate([equal, np.flatnonzero(upper), np.flatnonzero(lower)])
         e = rows[fixed]
         rhs = np.concatenate([lo[equal], hi[upper], lo[lower]])
@@ -134,25 +137,44 @@ def _dense_soft_qp(H, q, rows, lo, hi, soft, equal):
     raise AssertionError("active set did not settle")
 
 
-def test_one_step_qp_against_dense_solver(simulator, monkeypatch):
+def test_one_step_qp_against_dense_solver(simulator):
     """Braking held over the horizon from a platform already moving back pushes the plan
-    onto its limits; OSQP (tight tolerances) against a dense active-set solution of the
-    same soft-constrained QP."""
-    monkeypatch.setitem(predictive.SOLVER_SETTINGS, "eps_abs", 1e-10)
-    monkeypatch.setitem(predictive.SOLVER_SETTINGS, "eps_rel", 1e-10)
-    monkeypatch.setitem(predictive.SOLVER_SETTINGS, "max_iter", 400000)
+    onto its limits; the step's solution against a dense active-set solution of the same
+    soft-constrained QP, written here from its KKT conditions."""
     qp = _qp(simulator, steps=5, duration=0.5)
     vehicle = np.tile([-3.0, 0.0, 9.81, 0.0, 0.0, 0.0], (qp.n, 1))
     z0 = np.zeros(qp.vestibular.n)
     x0, v0 = qp.home + [-0.3, 0, 0, 0, 0, 0], np.array([-0.6, 0, 0, 0, 0.03, 0])
     H, q, M, lo, hi, _, _ = qp.condensed(x0, v0, z0, vehicle)
-    u, *_ = qp.solve(x0, v0, z0, vehicle)
+    u, _, _, info = qp.solve(x0, v0, z0, vehicle)
+    soft, rest = np.flatnonzero(qp.sense == predictive.SOFT), np.flatnonzero(qp.sense == predictive.EQUALITY)
+    assert rest.tolist() == list(range(qp.rows["rest"].start, qp.rows["rest"].stop))
     scaled = M / qp.row_scale[:, None]
-    rest = np.arange(qp.rows["rest"].start, qp.rows["rest"].stop)
-    dense = _dense_soft_qp(H, q, scaled, lo / qp.row_scale, hi / qp.row_scale, qp.soft, rest)
-    r = scaled[qp.soft] @ dense
-    assert np.any((r < lo[qp.soft] / qp.row_scale[qp.soft]) | (r > hi[qp.soft] / qp.row_scale[qp.soft]))  # limits bind
+    dense = _dense_soft_qp(H, q, scaled, lo / qp.row_scale, hi / qp.row_scale, soft, rest)
+    r = scaled[soft] @ dense
+    assert np.any((r < lo[soft] / qp.row_scale[soft]) | (r > hi[soft] / qp.row_scale[soft]))  # limits bind
+    assert info["exitflag"] == 2  # DAQP: optimal with soft constraints violated
     assert np.max(np.abs(u.ravel() - dense)) <= 1e-6 * max(1.0, np.max(np.abs(dense)))
+
+
+def test_a_soft_limit_is_overstepped_by_its_documented_share():
+    """One soft row of a random strictly convex QP, solved with the steps' settings: a plan whose
+    unconstrained optimum oversteps the row by delta oversteps it by delta / (1 + SOFT_WEIGHT),
+    whatever the row's scale (the penalty of stewart.cueing.predictive's docstring)."""
+    import daqp
+
+    rng = np.random.default_rng(4)
+    factor = rng.normal(size=(8, 8))
+    H, q = factor @ factor.T + np.eye(8), rng.normal(size=8)
+    free = np.linalg.solve(H, -q)
+    for scale in (1e-3, 1.0, 1e3):
+        row = scale * rng.normal(size=8)
+        delta = 0.5 * scale
+        bound = row @ free - delta
+        u, _, exitflag, _ = daqp.solve(H, q, row[None, :], np.array([bound]), np.array([-1e30]),
+                                       np.array([predictive.SOFT], dtype=np.intc), **predictive.SOLVER_SETTINGS)
+        assert exitflag in predictive.SOLVED
+        np.testing.assert_allclose(row @ u - bound, delta / (1.0 + predictive.SOFT_WEIGHT), rtol=1e-6)
 
 
 def test_linearized_force_is_exact_to_second_order(simulator):

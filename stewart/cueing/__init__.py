@@ -78,8 +78,9 @@ def mpc(log, platform, params: MPCParams | None = None, *, simulate: bool = Fals
                      "solve_time_s": _stats(run.step_time), "qp_time_s": _stats(run.solve_time),
                      "qp_iterations": _stats(run.iterations), "qp_failures": run.failures}
     if run.failures:
-        result.problems.append(f"OSQP found no solution at {run.failures} of {len(run.step_time)} steps "
-                               "(the last plan's input was kept)")
+        flags = sorted({flag for flag in run.status if flag not in predictive.SOLVED})
+        result.problems.append(f"the QP solver (DAQP) found no solution at {run.failures} of {len(run.step_time)} "
+                               f"steps, exit flag(s) {flags} (the last plan's input was kept)")
     _check_limits(result, plat, params.leg_velocity, params.force)
     return _finish(result, plat, simulate)
 

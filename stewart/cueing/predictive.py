@@ -1,6 +1,7 @@
 """Model-predictive motion cueing: at every log sample, the platform's pose accelerations over
 a receding horizon that minimize the rider's perceived-motion error within the platform's
-limits, one QP solved by OSQP (Stellato et al. 2020), warm-started from the last.
+limits, one dense QP solved exactly by DAQP's dual active-set method (Arnström, Bemporad &
+Axehill 2022), warm-started from the last step's active set.
 
 The prediction (:mod:`stewart.cueing.prediction`) carries per interval ``k`` the state
 ``s_k = [p_k, v_k, z_k]``: the pose from home, its rates and the difference of the platform's
@@ -25,8 +26,12 @@ error scaled by its perception threshold or the pose box) subject to
   linearized with its exact gradient (:func:`~stewart.cueing.prediction.joint_cosines_and_gradients`);
 * the platform at rest at the horizon's end, ``v_N = 0`` (so every plan can stop).
 
-All but the box and the rest are soft: each row has a slack whose square, in units of its limit,
-costs :data:`SOFT_WEIGHT`, so a QP always has a solution and a violation (reported by
+All but the box and the rest are soft (DAQP's soft constraints, which keep the slacks out of
+the problem's size): a row's squared violation ``v_i^2`` costs ``SOFT_WEIGHT / 2 v_i^2 / n_i``,
+``n_i = a_i H^-1 a_i^T`` for the row ``a_i`` and the cost's Hessian ``H`` (the violation in the
+cost's metric), so that a plan that alone would overstep one row by ``delta`` oversteps it by
+``delta / (1 + SOFT_WEIGHT)`` whatever the row's units. A QP always has a solution and a
+violation (reported by
 :func:`stewart.cueing.mpc` from the exact kinematics and dynamics) is paid for far above any
 cue. The linearization point is the last plan, shifted by one sample. The intervals are
 equal; the first input is applied for one log sample, the state advanced exactly, and the
@@ -39,9 +44,8 @@ from __future__ import annotations
 import time
 from dataclasses import dataclass
 
+import daqp
 import numpy as np
-import osqp
-from scipy import sparse
 from threadpoolctl import threadpool_limits
 
 from ..model.platform import as_platform
@@ -51,12 +55,19 @@ from .settings import MPCParams
 
 __all__ = ["CueingQP", "Plan", "plan"]
 
-#: OSQP's settings: tolerances of the scaled QP, warm start on, no polishing, 4 scaling passes.
-SOLVER_SETTINGS = {"eps_abs": 1e-3, "eps_rel": 1e-3, "max_iter": 4000, "polishing": False,
-                   "warm_starting": True, "verbose": False, "check_termination": 5, "scaling": 4}
-#: Weight of a constraint's squared violation, in units of its limit (the constraints are
-#: soft: a QP always has a solution, and a violation is paid for far above any cue).
+#: Weight of a soft constraint's squared violation in the cost's metric (see the module's
+#: docstring): a QP always has a solution, and a violation is paid for far above any cue.
 SOFT_WEIGHT = 1e6
+#: DAQP's settings: its soft constraints' penalty ``1 / (2 rho_soft) s^2`` is :data:`SOFT_WEIGHT`'s,
+#: and an iteration cap far above the few iterations a warm-started step takes.
+SOLVER_SETTINGS = {"rho_soft": 1.0 / SOFT_WEIGHT, "iter_limit": 2000}
+#: DAQP's exit flags of a solution: optimal, and optimal with soft constraints violated.
+SOLVED = (1, 2)
+#: DAQP's constraint kinds (:attr:`CueingQP.sense`): an inequality, a soft one, an equality
+#: (active and immutable).
+HARD, SOFT, EQUALITY = 0, 8, 5
+#: DAQP's infinite bound.
+_INFINITE = 1e30
 
 _P, _V, _NS = slice(0, 6), slice(6, 12), 12  # the state's pose and rate, the vestibular states' start
 #: The constraint groups in the order of the QP's rows.
@@ -69,8 +80,9 @@ CONE_MARGIN = 0.005
 class Plan:
     """A receding-horizon run: the applied pose accelerations ``u`` ``(T, 6)``, the pose
     ``x`` and rates ``v`` ``(T, 6)`` at the log's samples, per step the wall time of the whole
-    step (linearize, condense, update, solve) ``step_time`` and OSQP's ``solve_time`` [s],
-    its ``iterations`` and ``status``; ``failures`` counts steps without a solution."""
+    step (linearize, condense, solve) ``step_time`` and the QP solver's own ``solve_time`` [s],
+    its ``iterations`` and exit flag ``status`` (:data:`SOLVED`, or DAQP's failure);
+    ``failures`` counts steps without a solution."""
 
     x: np.ndarray
     v: np.ndarray
@@ -85,7 +97,7 @@ class Plan:
 class CueingQP:
     """The QP of one MPC step for ``platform`` and ``params`` (:class:`MPCParams`, filled by
     :meth:`~MPCParams.for_platform`) at log samples ``dt`` apart, condensed to the inputs
-    ``u_0..u_{N-1}`` (the states are affine in them) plus one slack per constraint row.
+    ``u_0..u_{N-1}`` (the states are affine in them), its rows scaled to units of their limits.
     :meth:`solve` takes the present state and the vehicle's signals over the horizon."""
 
     def __init__(self, platform, params: MPCParams, dt: float):
@@ -121,33 +133,10 @@ class CueingQP:
         self.rows = {g: slice(edges[i], edges[i + 1]) for i, g in enumerate(GROUPS)}
         self.m = int(edges[-1])
         self.row_scale = np.concatenate([scales[g] for g in GROUPS])
-        # every row but the pose box (linear in the inputs: always met exactly) and v_N = 0
-        self.soft = np.arange(self.rows["tilt"].start, self.rows["rest"].start)
-        # which inputs each row depends on: a state s_k on u_0..u_{k-1}, the force at k also on u_k
-        depends = np.zeros((self.m, n), dtype=bool)
-        for g in (*GROUPS[:4], "cones"):
-            per = sizes[g] // n
-            for k in range(n):
-                depends[self.rows[g].start + per * k: self.rows[g].start + per * (k + 1), : k + 1] = True
-        for k in range(n):
-            depends[self.rows["force"].start + 6 * k: self.rows["force"].start + 6 * (k + 1), : k + 1] = True
-        depends[self.rows["rest"]] = True
-        nu, nsoft = 6 * n, len(self.soft)
-        self.nv = nu + nsoft
-        mask = np.zeros((self.m, self.nv), dtype=bool)
-        mask[:, :nu] = np.repeat(depends, 6, axis=1)
-        mask[self.soft, nu + np.arange(nsoft)] = True
-        self._a_cols, self._a_rows = np.nonzero(mask.T)                  # CSC order: by column, then row
-        self._a_input = self._a_cols < nu
-        self._a_rows_u, self._a_cols_u = self._a_rows[self._a_input], self._a_cols[self._a_input]
-        self._a_values = np.full(len(self._a_rows), -1.0)                # the slacks' entries stay -1
-        pmask = np.zeros((self.nv, self.nv), dtype=bool)
-        pmask[:nu, :nu] = np.triu(np.ones((nu, nu), dtype=bool))
-        pmask[np.arange(nu, self.nv), np.arange(nu, self.nv)] = True
-        self._p_cols, self._p_rows = np.nonzero(pmask.T)
-        self._p_input = self._p_cols < nu
-        self._p_rows_u, self._p_cols_u = self._p_rows[self._p_input], self._p_cols[self._p_input]
-        self._p_values = np.full(len(self._p_rows), SOFT_WEIGHT)
+        # every row but the pose box (linear in the inputs: always met exactly) and v_N = 0 is soft
+        self.sense = np.full(self.m, SOFT, dtype=np.intc)
+        self.sense[self.rows["box"]] = HARD
+        self.sense[self.rows["rest"]] = EQUALITY
         self.Q, self.R = self._weights()
         self._starts = np.concatenate([[0.0], np.cumsum(self.h)[:-1]])
         self._weight = self.h[:, None, None] * self.Q
@@ -156,7 +145,7 @@ class CueingQP:
         for k in range(n):
             self._inputs[k, :, 6 * k: 6 * k + 6] = np.eye(6)
         self._unit = np.tile(np.eye(6), (n, 1))
-        self.solver = None
+        self.multipliers = None  # the last solution's, whose signs give the next step's active set
         self.last = None
 
     def _weights(self):
@@ -274,38 +263,24 @@ class CueingQP:
     def solve(self, x0, v0, z0, vehicle):
         """The plan from pose ``x0``, rates ``v0`` and vestibular error states ``z0`` for the
         vehicle's signals ``vehicle`` ``(N, 6)`` at the intervals' midpoints: ``(u (N, 6),
-        x (N+1, 6), v (N+1, 6), info)`` with OSQP's ``info``; ``u`` is None when OSQP found
-        no solution."""
-        n, nu = self.n, 6 * self.n
+        x (N+1, 6), v (N+1, 6), info)`` with ``info`` the solver's (``exitflag``,
+        ``iterations``, ``solve_time`` [s]); ``u`` is None when it found no solution."""
+        n = self.n
         H, q, M, lo, hi, s_mat, d = self.condensed(x0, v0, z0, vehicle)
-        a_data = self._a_values
-        a_data[self._a_input] = (M * (1.0 / self.row_scale)[:, None])[self._a_rows_u, self._a_cols_u]
-        lo, hi = lo / self.row_scale, hi / self.row_scale
-        p_data = self._p_values
-        p_data[self._p_input] = H[self._p_rows_u, self._p_cols_u]
-        qfull = np.concatenate([q, np.zeros(self.nv - nu)])
-        if self.solver is None:
-            self.solver = osqp.OSQP()
-            self.solver.setup(sparse.csc_matrix((p_data, self._p_rows, _indptr(self._p_cols, self.nv)),
-                                                shape=(self.nv, self.nv)),
-                              qfull, sparse.csc_matrix((a_data, self._a_rows, _indptr(self._a_cols, self.nv)),
-                                                       shape=(self.m, self.nv)),
-                              lo, hi, **SOLVER_SETTINGS)
-        else:
-            self.solver.update(q=qfull, Px=p_data, Ax=a_data, l=lo, u=hi)
-        res = self.solver.solve(raise_error=False)
-        if res.info.status_val not in (osqp.SolverStatus.OSQP_SOLVED, osqp.SolverStatus.OSQP_SOLVED_INACCURATE):
-            return None, None, None, res.info
-        u = res.x[:nu]
+        scale = 1.0 / self.row_scale
+        u, _, exitflag, info = daqp.solve(H, q, M * scale[:, None], np.minimum(hi * scale, _INFINITE),
+                                          np.maximum(lo * scale, -_INFINITE), self.sense,
+                                          dual_start=self.multipliers, **SOLVER_SETTINGS)
+        info["exitflag"] = exitflag
+        if exitflag not in SOLVED:
+            self.multipliers = None
+            return None, None, None, info
+        self.multipliers = info["lam"]
         states = np.einsum("kaj,j->ka", s_mat, u) + d
         x = np.vstack([x0, states[:, _P] + self.home])
         v = np.vstack([v0, states[:, _V]])
         self.last = (np.concatenate([[0.0], np.cumsum(self.h)]), x, v, u.reshape(n, 6))
-        return u.reshape(n, 6), x, v, res.info
-
-
-def _indptr(cols, ncols):
-    return np.searchsorted(cols, np.arange(ncols + 1)).astype(np.int64)
+        return u.reshape(n, 6), x, v, info
 
 
 def _vehicle_at(times, t, y, preview: bool, now: float):
@@ -353,9 +328,9 @@ def _plan(log, platform, params, progress):
         vehicle = _vehicle_at(t[k] + mid_offsets, t, y_log, prm.preview, t[k])
         sol, _, _, info = qp.solve(x[k], v[k], z_platform - z_vehicle, vehicle)
         step_time[k] = time.perf_counter() - start
-        solve_time[k] = info.run_time
-        iterations[k] = info.iter
-        status.append(info.status)
+        solve_time[k] = info["solve_time"]
+        iterations[k] = info["iterations"]
+        status.append(int(info["exitflag"]))
         if sol is None:
             failures += 1
             applied = fallback[0] if fallback is not None and len(fallback) else np.zeros(6)
