@@ -576,6 +576,38 @@ def gravity_kernel(variant):
                       [('x', X)], [('G', list(G))] + _leg_checks(kin))
 
 
+def static_residual(g, P, kin, tau):
+    """The residual of the equation of motion at rest (xd = xdd = 0), r = G - J_C^T tau
+    (eqs. 5, 72-76): the platform's weight (`platform_force`) and per leg the force at P_i
+    equivalent to its weights (`leg_force`) less tau_i u_i, contributing [f_i; r_i x f_i]
+    (`generalized_force`)."""
+    w_P, w_C, w_S = _gravity_forces(P, True)
+    r = platform_force(kin, sp.Matrix.vstack(w_P, sp.zeros(3, 1)))
+    for i, leg in enumerate(kin.legs):
+        f = g.vector(f'st{i}', leg_force(g, P, leg, w_C, w_S, sp.zeros(3, 1), f's{i}') - tau[i] * leg.u)
+        r += sp.Matrix.vstack(f, _cross(leg.r, f))
+    return r
+
+
+def static_forces_kernel(variant):
+    g = Graph({})
+    kin = kinematics_of(g, variant)
+    return _variant_spec(variant, 'static_forces', 'W = G (eqs. 72-76) and J_C (eq. 5), to solve J_C^T tau_s = G.',
+                         g, [('x', X)],
+                         [('W', list(gravity_force(g, PARAMS, kin))), ('JC', list(jacobian_rows(kin)))] + _leg_checks(kin))
+
+
+def static_derivatives_kernel(variant):
+    """Z = R_x = d(G - J_C^T tau)/dx at fixed tau (6 x 6, row-major), the partials of the
+    residual at rest (`static_residual`) by forward mode along each coordinate of x: no
+    velocity or acceleration enters the derivation.  J_C^T dtau_s/dx = Z."""
+    g = Graph({})
+    kin = kinematics_of(g, variant)
+    Z = g.partials(list(static_residual(g, PARAMS, kin, TAU)), X, 'Dx')
+    return _variant_spec(variant, 'static_derivatives', static_derivatives_kernel.__doc__, g,
+                         [('x', X), ('tau', TAU)], [('Z', [e for row in Z for e in row])])
+
+
 def euler_maps_kernel():
     """J_A (eq. 8), J_A^-1 and cos(theta), by which J_A^-1 divides: T = blockdiag(E, J_A)
     (eq. 18) maps the pose rates to the twist."""
@@ -997,6 +1029,8 @@ LEG_DERIVATIVES = _variants(leg_derivatives_kernel)
 LEG_POINTS = _variants(leg_points_kernel, variants=MODELS)
 REGRESSOR = _variants(regressor_kernel, variants=REGRESSOR_VARIANTS)
 JOINT_REACTIONS = _variants(joint_reactions_kernel)
+STATIC_FORCES = _variants(static_forces_kernel, variants=MODELS)
+STATIC_DERIVATIVES = _variants(static_derivatives_kernel, variants=MODELS)
 
 
 
@@ -1074,6 +1108,16 @@ FUNCTIONS = (
                     ('split_jacobians', ('Y', 'dtau_dxdd', 'dtau_dx', 'dtau_dxd'))),
              scratch=(_BAREISS_FACTORS, ('Y', 108)),
              result_type='InverseDynamicsDerivatives'),
+    Function('static_force_derivatives',
+             'The static forces tau_s = J_C^-T G, which hold the platform at rest at x, and their Jacobian'
+             ' dtau_s/dx = J_C^-T R_x, R_x = d(G - J_C^T tau)/dx at fixed tau: inverse_dynamics_derivatives at'
+             ' xd = xdd = 0 (its tau and dtau_dx), derived without the velocity and acceleration terms.',
+             ('x',), (('tau', (6,)), ('dtau_dx', (6, 6))), STATIC_FORCES,
+             steps=(('bareiss_factor', ('JC', 'FJ')), ('bareiss_solve', ('FJ', '1', '1', 'W', 'tau')),
+                    Kernels(STATIC_DERIVATIVES, ('x', 'tau')),
+                    ('bareiss_solve', ('FJ', '6', '6', 'Z', 'dtau_dx'))),
+             scratch=(_BAREISS_FACTORS,),
+             result_type='StaticForceDerivatives'),
     Function('forward_dynamics_derivatives',
              'xdd and its Jacobians (row = output, column = input): dxdd/dx = -M^-1 R_x,'
              ' dxdd/dxd = -M^-1 R_xd, dxdd/dtau = M^-1 J_C^T, R = partials of M xdd + V xd + G - J_C^T tau;'

@@ -3,7 +3,7 @@
 # stewart.model.stiffness).
 #
 # A few dozen rows at a time, the model's batch functions give the static forces' exact Jacobian
-# dtau_s/dx (inverse_dynamics_derivatives at rest), J_C and the twist-space mass matrix M_t into
+# dtau_s/dx (static_force_derivatives), J_C and the twist-space mass matrix M_t into
 # buffers on the stack; per row the twist-space stiffness
 #     K_t = J_C^T (diag(k) J_C + dtau_s/dx T^-1),   T^-1 = blockdiag(I, J_A^-1),
 # is formed and LAPACK's dsygv (scipy.linalg.cython_lapack) solves K_t phi = w^2 M_t phi for
@@ -16,7 +16,7 @@ from scipy.linalg.cython_lapack cimport dsygv
 cdef enum:
     # The status of a row whose stiffness is not positive definite: the legs cannot hold the pose.
     MODAL_UNSTABLE = -1
-    # Rows per call of the batch functions: their outputs (150 doubles a row) stay in L1/L2.
+    # Rows per call of the batch functions: their outputs (114 doubles a row) stay in L1/L2.
     MODAL_ROWS = 32
     # The workspace of dsygv (at least 3 n - 1 = 17).
     MODAL_WORK = 64
@@ -82,26 +82,21 @@ cdef void _modal_rows(const stewart_params *p, const double *x, const double *k,
                       double *mass, double *values, double *shapes, int *status) noexcept nogil:
     """Up to MODAL_ROWS states; a failed row's outputs are NaN but for the stiffness of an
     unstable one."""
-    cdef double rest[MODAL_ROWS * 6]
     cdef double tau[MODAL_ROWS * 6]
     cdef double dtau_dx[MODAL_ROWS * 36]
-    cdef double dtau_dxd[MODAL_ROWS * 36]
-    cdef double dtau_dxdd[MODAL_ROWS * 36]
     cdef int jac_status[MODAL_ROWS]
     cdef int mass_status[MODAL_ROWS]
     cdef Py_ssize_t r, i
-    for i in range(6 * n):
-        rest[i] = 0.0
     if n == 1:  # one state: the model's own functions, not a batch padded to the vector width
-        status[0] = T.inverse_dynamics_derivatives(p, x, rest, rest, tau, dtau_dx, dtau_dxd, dtau_dxdd)
+        status[0] = T.static_force_derivatives(p, x, tau, dtau_dx)
         jac_status[0] = T.jacobian(p, x, jac)
         mass_status[0] = T.twist_mass_matrix(p, x, mass)
     else:
-        T.batch_inverse_dynamics_derivatives(p, n, x, rest, rest, tau, dtau_dx, dtau_dxd, dtau_dxdd, status)
+        T.batch_static_force_derivatives(p, n, x, tau, dtau_dx, status)
         T.batch_jacobian(p, n, x, jac, jac_status)
         T.batch_twist_mass_matrix(p, n, x, mass, mass_status)
     for r in range(n):
-        if status[r] == STEWART_OK and mass_status[r] != STEWART_OK:
+        if mass_status[r] != STEWART_OK:  # the legs' tests of the model's variant come first
             status[r] = mass_status[r]
         if status[r] == STEWART_OK and not fabs(cos(x[6 * r + 4])) >= STEWART_EULER_TOL:
             status[r] = STEWART_ERR_EULER_SINGULAR
