@@ -114,18 +114,35 @@ cdef void _modal_rows(const stewart_params *p, const double *x, const double *k,
 
 def modal_terms(Kernel kernel, x, k):
     """The stiffness and modes at the states ``x`` (float64, C-contiguous ``(6,)`` or ``(n, 6)``) of the
-    platform on preloaded leg springs ``k`` (``(6,)`` N/m): ``(K_t, J_C, M_t, frequencies [Hz],
-    shapes, status, failures)``, shapes ``(n, 6, 6)``, ``(n, 6, 6)``, ``(n, 6, 6)``, ``(n, 6)``,
-    ``(n, 6, 6)``, ``(n,)`` and an int; ``status`` per row ``STEWART_OK`` (0), a status of the model
-    (its outputs NaN), or :data:`UNSTABLE` (``K_t``, ``J_C`` and ``M_t`` given, the rest NaN);
-    ``failures`` the rows not OK. See :mod:`stewart.model.stiffness`."""
-    cdef cnp.ndarray cx = _c_array("x", x, cnp.NPY_DOUBLE, 1 if np.ndim(x) == 1 else 2, False)
-    cdef cnp.ndarray ck = _c_array("k", k, cnp.NPY_DOUBLE, 1, False)
+    platform on preloaded leg springs ``k`` (``(6,)`` N/m, or one float for every leg): ``(K_t, J_C,
+    M_t, frequencies [Hz], shapes, status, failures)``, shapes ``(n, 6, 6)``, ``(n, 6, 6)``,
+    ``(n, 6, 6)``, ``(n, 6)``, ``(n, 6, 6)``, ``(n,)`` and an int; ``status`` per row ``STEWART_OK``
+    (0), a status of the model (its outputs NaN), or :data:`UNSTABLE` (``K_t``, ``J_C`` and ``M_t``
+    given, the rest NaN); ``failures`` the rows not OK. See :mod:`stewart.model.stiffness`."""
+    cdef int ndim = (<cnp.ndarray>x).ndim if type(x) is cnp.ndarray else np.ndim(x)
+    cdef cnp.ndarray cx = _c_array("x", x, cnp.NPY_DOUBLE, 1 if ndim == 1 else 2, False)
+    cdef cnp.ndarray ck = None
+    cdef double each[6]
+    cdef const double *pk = each
+    cdef int i
+    if type(k) is float:
+        for i in range(6):
+            each[i] = k
+    else:
+        ck = _c_array("k", k, cnp.NPY_DOUBLE, 1, False)
+        pk = <const double *>cnp.PyArray_DATA(ck)
     cdef Py_ssize_t n = cx.shape[0] if cx.ndim == 2 else 1
-    if cx.shape[cx.ndim - 1] != 6 or ck.shape[0] != 6:
+    if cx.shape[cx.ndim - 1] != 6 or (ck is not None and ck.shape[0] != 6):
         raise ValueError(f"x, k: need (6,) or (n, 6) states and (6,) stiffnesses, got {np.shape(x)}, {np.shape(k)}")
-    cdef cnp.ndarray stiff = np.empty((n, 6, 6)), jac = np.empty((n, 6, 6)), mass = np.empty((n, 6, 6))
-    cdef cnp.ndarray shapes = np.empty((n, 6, 6)), values = np.empty((n, 6)), status = np.empty(n, dtype=np.intc)
+    # The outputs through numpy's C API (np.empty's Python call costs as much as a kernel here).
+    cdef cnp.npy_intp dims[3]
+    dims[0], dims[1], dims[2] = n, 6, 6
+    cdef cnp.ndarray stiff = cnp.PyArray_EMPTY(3, dims, cnp.NPY_DOUBLE, 0)
+    cdef cnp.ndarray jac = cnp.PyArray_EMPTY(3, dims, cnp.NPY_DOUBLE, 0)
+    cdef cnp.ndarray mass = cnp.PyArray_EMPTY(3, dims, cnp.NPY_DOUBLE, 0)
+    cdef cnp.ndarray shapes = cnp.PyArray_EMPTY(3, dims, cnp.NPY_DOUBLE, 0)
+    cdef cnp.ndarray values = cnp.PyArray_EMPTY(2, dims, cnp.NPY_DOUBLE, 0)
+    cdef cnp.ndarray status = cnp.PyArray_EMPTY(1, dims, cnp.NPY_INT, 0)
     cdef double *pstiff = <double *>cnp.PyArray_DATA(stiff)
     cdef double *pjac = <double *>cnp.PyArray_DATA(jac)
     cdef double *pmass = <double *>cnp.PyArray_DATA(mass)
@@ -133,7 +150,6 @@ def modal_terms(Kernel kernel, x, k):
     cdef double *pshapes = <double *>cnp.PyArray_DATA(shapes)
     cdef int *pstatus = <int *>cnp.PyArray_DATA(status)
     cdef const double *px = <const double *>cnp.PyArray_DATA(cx)
-    cdef const double *pk = <const double *>cnp.PyArray_DATA(ck)
     cdef Py_ssize_t b, first, nblocks = (n + MODAL_ROWS - 1) // MODAL_ROWS
     cdef const stewart_params *params = &kernel.p
     cdef int threads = kernel.threads if nblocks > 1 else 1

@@ -90,11 +90,12 @@ def _radius(platform) -> float:
     return radius
 
 
-def _stiffnesses(platform, stiffness) -> np.ndarray:
-    """:func:`leg_coefficients` of ``stiffness`` (with a fast path for one positive float), or
-    the parameters' ``leg_stiffness`` for None; ``ValueError`` if they have none."""
+def _stiffnesses(platform, stiffness) -> np.ndarray | float:
+    """:func:`leg_coefficients` of ``stiffness``, or the parameters' ``leg_stiffness`` for None
+    (``ValueError`` if they have none); one positive finite float as it is, the stiffness of every
+    leg (:func:`~stewart._kernel.modal_terms` takes it so)."""
     if type(stiffness) is float and 0.0 < stiffness < np.inf:
-        return np.full(6, stiffness)
+        return stiffness
     if stiffness is None:
         stiffness = platform.params.leg_stiffness
         if stiffness is None:
