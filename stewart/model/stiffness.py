@@ -10,7 +10,7 @@ pose coordinates ``q = [x, y, z, psi, theta, phi]`` is, exactly (no differences)
     K_q = J_E^T (diag(k) J_E + dtau_s/dx),       J_E = J_C T   (eqs. 4, 5, 18),
 
 where ``dtau_s/dx`` is the exact Jacobian of the static forces
-(:meth:`stewart.Platform.inverse_dynamics_derivatives`). ``J_E^T diag(k) J_E`` is the elastic
+(:meth:`stewart.Platform.static_force_derivatives`). ``J_E^T diag(k) J_E`` is the elastic
 term; ``J_E^T dtau_s/dx = T^T R_x`` with ``R_x = d(G - J_C^T tau)/dx`` at fixed ``tau`` holds
 the preload's geometric term ``-d(J_C^T)/dx . tau`` and gravity's own term ``dG/dx``
 (the Cartesian stiffness of Gosselin 1990 is the first alone; with no preload the second
