@@ -576,19 +576,6 @@ def gravity_kernel(variant):
                       [('x', X)], [('G', list(G))] + _leg_checks(kin))
 
 
-def static_residual(g, P, kin, tau):
-    """The residual of the equation of motion at rest (xd = xdd = 0), r = G - J_C^T tau
-    (eqs. 5, 72-76): the platform's weight (`platform_force`) and per leg the force at P_i
-    equivalent to its weights (`leg_force`) less tau_i u_i, contributing [f_i; r_i x f_i]
-    (`generalized_force`)."""
-    w_P, w_C, w_S = _gravity_forces(P, True)
-    r = platform_force(kin, sp.Matrix.vstack(w_P, sp.zeros(3, 1)))
-    for i, leg in enumerate(kin.legs):
-        f = g.vector(f'st{i}', leg_force(g, P, leg, w_C, w_S, sp.zeros(3, 1), f's{i}') - tau[i] * leg.u)
-        r += sp.Matrix.vstack(f, _cross(leg.r, f))
-    return r
-
-
 def static_forces_kernel(variant):
     g = Graph({})
     kin = kinematics_of(g, variant)
@@ -599,13 +586,34 @@ def static_forces_kernel(variant):
 
 def static_derivatives_kernel(variant):
     """Z = R_x = d(G - J_C^T tau)/dx at fixed tau (6 x 6, row-major), the partials of the
-    residual at rest (`static_residual`) by forward mode along each coordinate of x: no
-    velocity or acceleration enters the derivation.  J_C^T dtau_s/dx = Z."""
+    residual of the equation of motion at rest (xd = xdd = 0; eqs. 5, 72-76), with no velocity
+    or acceleration in the derivation.  The residual is the platform's weight (`platform_force`)
+    plus per leg [f_i; r_i x f_i] with f_i the force at P_i equivalent to the leg's weights
+    (`leg_force`) less tau_i u_i.  f_i depends on x only through the leg vector l_i, so its
+    3 x 3 Jacobian F_i = df_i/dl_i (forward mode along each component of l_i) is chained to x:
+    dl_i/dp_k = e_k, and along theta_k dr_i = dl_i = (J_A e_k) x r_i (likewise for R c)."""
+    P = PARAMS
     g = Graph({})
     kin = kinematics_of(g, variant)
-    Z = g.partials(list(static_residual(g, PARAMS, kin, TAU)), X, 'Dx')
+    w_P, w_C, w_S = _gravity_forces(P, True)
+    legs = []
+    for i, leg in enumerate(kin.legs):
+        f = g.vector(f'st{i}', leg_force(g, P, leg, w_C, w_S, sp.zeros(3, 1), f's{i}') - TAU[i] * leg.u)
+        F = [Tangent(g, {leg.l[c]: sp.S.One}, f'Dl{i}{c}')(f[a]) for a in range(3) for c in range(3)]
+        legs.append((leg, f, sp.Matrix(3, 3, [g.define(f'F{i}_{k}', e) for k, e in enumerate(F)])))
+    columns = []
+    for j in range(6):
+        turn = kin.J_A[:, j - 3] if j >= 3 else None  # the angular velocity of a unit rate of theta_{j-3}
+        column = sp.zeros(6, 1)
+        if turn is not None and kin.rho is not None:
+            column[3:, 0] = _cross(g.vector(f'sdrho{j}', _cross(turn, kin.rho)), w_P)
+        for i, (leg, f, F) in enumerate(legs):
+            dr = g.vector(f'sdr{i}_{j}', _cross(turn, leg.r)) if turn is not None else sp.zeros(3, 1)
+            df = g.vector(f'sdf{i}_{j}', F[:, j] if turn is None else F * dr)
+            column += sp.Matrix.vstack(df, _cross(leg.r, df) + _cross(dr, f))
+        columns.append(column)
     return _variant_spec(variant, 'static_derivatives', static_derivatives_kernel.__doc__, g,
-                         [('x', X), ('tau', TAU)], [('Z', [e for row in Z for e in row])])
+                         [('x', X), ('tau', TAU)], [('Z', [columns[j][i] for i in range(6) for j in range(6)])])
 
 
 def euler_maps_kernel():

@@ -321,8 +321,8 @@ int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const 
  *   residual_derivatives_inverse_general    2260
  *   static_forces                            457
  *   static_forces_general                    555
- *   static_derivatives                      2994
- *   static_derivatives_general              3033
+ *   static_derivatives                      2130
+ *   static_derivatives_general              2167
  *   leg_chain_forward                        847
  *   residual_derivatives_forward            1381
  *   residual_derivatives_forward_general    2003
