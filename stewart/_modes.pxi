@@ -96,7 +96,9 @@ cdef void _modal_rows(const stewart_params *p, const double *x, const double *k,
         T.batch_jacobian(p, n, x, jac, jac_status)
         T.batch_twist_mass_matrix(p, n, x, mass, mass_status)
     for r in range(n):
-        if mass_status[r] != STEWART_OK:  # the legs' tests of the model's variant come first
+        # M_t's status first: its legs' tests are those of the variant for the legs' inertia (the
+        # leg frames of the paper's model), which the statics alone do not need.
+        if mass_status[r] != STEWART_OK:
             status[r] = mass_status[r]
         if status[r] == STEWART_OK and not fabs(cos(x[6 * r + 4])) >= STEWART_EULER_TOL:
             status[r] = STEWART_ERR_EULER_SINGULAR
