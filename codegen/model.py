@@ -576,6 +576,46 @@ def gravity_kernel(variant):
                       [('x', X)], [('G', list(G))] + _leg_checks(kin))
 
 
+def static_forces_kernel(variant):
+    g = Graph({})
+    kin = kinematics_of(g, variant)
+    return _variant_spec(variant, 'static_forces', 'W = G (eqs. 72-76) and J_C (eq. 5), to solve J_C^T tau_s = G.',
+                         g, [('x', X)],
+                         [('W', list(gravity_force(g, PARAMS, kin))), ('JC', list(jacobian_rows(kin)))] + _leg_checks(kin))
+
+
+def static_derivatives_kernel(variant):
+    """Z = R_x = d(G - J_C^T tau)/dx at fixed tau (6 x 6, row-major), the partials of the
+    residual of the equation of motion at rest (xd = xdd = 0; eqs. 5, 72-76), with no velocity
+    or acceleration in the derivation.  The residual is the platform's weight (`platform_force`)
+    plus per leg [f_i; r_i x f_i] with f_i the force at P_i equivalent to the leg's weights
+    (`leg_force`) less tau_i u_i.  f_i depends on x only through the leg vector l_i, so its
+    3 x 3 Jacobian F_i = df_i/dl_i (forward mode along each component of l_i) is chained to x:
+    dl_i/dp_k = e_k, and along theta_k dr_i = dl_i = (J_A e_k) x r_i (likewise for R c)."""
+    P = PARAMS
+    g = Graph({})
+    kin = kinematics_of(g, variant)
+    w_P, w_C, w_S = _gravity_forces(P, True)
+    legs = []
+    for i, leg in enumerate(kin.legs):
+        f = g.vector(f'st{i}', leg_force(g, P, leg, w_C, w_S, sp.zeros(3, 1), f's{i}') - TAU[i] * leg.u)
+        F = [Tangent(g, {leg.l[c]: sp.S.One}, f'Dl{i}{c}')(f[a]) for a in range(3) for c in range(3)]
+        legs.append((leg, f, sp.Matrix(3, 3, [g.define(f'F{i}_{k}', e) for k, e in enumerate(F)])))
+    columns = []
+    for j in range(6):
+        turn = kin.J_A[:, j - 3] if j >= 3 else None  # the angular velocity of a unit rate of theta_{j-3}
+        column = sp.zeros(6, 1)
+        if turn is not None and kin.rho is not None:
+            column[3:, 0] = _cross(g.vector(f'sdrho{j}', _cross(turn, kin.rho)), w_P)
+        for i, (leg, f, F) in enumerate(legs):
+            dr = g.vector(f'sdr{i}_{j}', _cross(turn, leg.r)) if turn is not None else sp.zeros(3, 1)
+            df = g.vector(f'sdf{i}_{j}', F[:, j] if turn is None else F * dr)
+            column += sp.Matrix.vstack(df, _cross(leg.r, df) + _cross(dr, f))
+        columns.append(column)
+    return _variant_spec(variant, 'static_derivatives', static_derivatives_kernel.__doc__, g,
+                         [('x', X), ('tau', TAU)], [('Z', [columns[j][i] for i in range(6) for j in range(6)])])
+
+
 def euler_maps_kernel():
     """J_A (eq. 8), J_A^-1 and cos(theta), by which J_A^-1 divides: T = blockdiag(E, J_A)
     (eq. 18) maps the pose rates to the twist."""
@@ -997,6 +1037,8 @@ LEG_DERIVATIVES = _variants(leg_derivatives_kernel)
 LEG_POINTS = _variants(leg_points_kernel, variants=MODELS)
 REGRESSOR = _variants(regressor_kernel, variants=REGRESSOR_VARIANTS)
 JOINT_REACTIONS = _variants(joint_reactions_kernel)
+STATIC_FORCES = _variants(static_forces_kernel, variants=MODELS)
+STATIC_DERIVATIVES = _variants(static_derivatives_kernel, variants=MODELS)
 
 
 
@@ -1074,6 +1116,16 @@ FUNCTIONS = (
                     ('split_jacobians', ('Y', 'dtau_dxdd', 'dtau_dx', 'dtau_dxd'))),
              scratch=(_BAREISS_FACTORS, ('Y', 108)),
              result_type='InverseDynamicsDerivatives'),
+    Function('static_force_derivatives',
+             'The static forces tau_s = J_C^-T G, which hold the platform at rest at x, and their Jacobian'
+             ' dtau_s/dx = J_C^-T R_x, R_x = d(G - J_C^T tau)/dx at fixed tau: inverse_dynamics_derivatives at'
+             ' xd = xdd = 0 (its tau and dtau_dx), derived without the velocity and acceleration terms.',
+             ('x',), (('tau', (6,)), ('dtau_dx', (6, 6))), STATIC_FORCES,
+             steps=(('bareiss_factor', ('JC', 'FJ')), ('bareiss_solve', ('FJ', '1', '1', 'W', 'tau')),
+                    Kernels(STATIC_DERIVATIVES, ('x', 'tau')),
+                    ('bareiss_solve', ('FJ', '6', '6', 'Z', 'dtau_dx'))),
+             scratch=(_BAREISS_FACTORS,),
+             result_type='StaticForceDerivatives'),
     Function('forward_dynamics_derivatives',
              'xdd and its Jacobians (row = output, column = input): dxdd/dx = -M^-1 R_x,'
              ' dxdd/dxd = -M^-1 R_xd, dxdd/dtau = M^-1 J_C^T, R = partials of M xdd + V xd + G - J_C^T tau;'

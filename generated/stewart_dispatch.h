@@ -22,13 +22,14 @@
  *   10  inverse_dynamics
  *   11  forward_dynamics
  *   12  inverse_dynamics_derivatives
- *   13  forward_dynamics_derivatives
- *   14  joint_reactions
- *   15  regressor
- *   16  rk4_step
- *   17  rk4_step_derivatives
+ *   13  static_force_derivatives
+ *   14  forward_dynamics_derivatives
+ *   15  joint_reactions
+ *   16  regressor
+ *   17  rk4_step
+ *   18  rk4_step_derivatives
  */
-#define STEWART_FUNCTIONS 18
+#define STEWART_FUNCTIONS 19
 /* The most input arrays and output arrays a public function has. */
 #define STEWART_MAX_INPUTS 3
 #define STEWART_MAX_OUTPUTS 4
@@ -65,6 +66,7 @@ typedef struct {
     int (*inverse_dynamics)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *tau);
     int (*forward_dynamics)(const stewart_params *p, const double *x, const double *xd, const double *tau, double *xdd);
     int (*inverse_dynamics_derivatives)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd);
+    int (*static_force_derivatives)(const stewart_params *p, const double *x, double *tau, double *dtau_dx);
     int (*forward_dynamics_derivatives)(const stewart_params *p, const double *x, const double *xd, const double *tau, double *xdd, double *dxdd_dx, double *dxdd_dxd, double *dxdd_dtau);
     int (*joint_reactions)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *tau, double *f_base, double *f_platform, double *n_base);
     int (*regressor)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *Y);
@@ -83,6 +85,7 @@ typedef struct {
     int (*batch_inverse_dynamics)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, int *status);
     int (*batch_forward_dynamics)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, int *status);
     int (*batch_inverse_dynamics_derivatives)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd, int *status);
+    int (*batch_static_force_derivatives)(const stewart_params *p, size_t n, const double *x, double *tau, double *dtau_dx, int *status);
     int (*batch_forward_dynamics_derivatives)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, double *dxdd_dx, double *dxdd_dxd, double *dxdd_dtau, int *status);
     int (*batch_joint_reactions)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, double *f_base, double *f_platform, double *n_base, int *status);
     int (*batch_regressor)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Y, int *status);

@@ -38,6 +38,7 @@
 #define stewart_inverse_dynamics STEWART_LOCAL(inverse_dynamics)
 #define stewart_forward_dynamics STEWART_LOCAL(forward_dynamics)
 #define stewart_inverse_dynamics_derivatives STEWART_LOCAL(inverse_dynamics_derivatives)
+#define stewart_static_force_derivatives STEWART_LOCAL(static_force_derivatives)
 #define stewart_forward_dynamics_derivatives STEWART_LOCAL(forward_dynamics_derivatives)
 #define stewart_joint_reactions STEWART_LOCAL(joint_reactions)
 #define stewart_regressor STEWART_LOCAL(regressor)
@@ -56,6 +57,7 @@
 #define stewart_batch_inverse_dynamics STEWART_LOCAL(batch_inverse_dynamics)
 #define stewart_batch_forward_dynamics STEWART_LOCAL(batch_forward_dynamics)
 #define stewart_batch_inverse_dynamics_derivatives STEWART_LOCAL(batch_inverse_dynamics_derivatives)
+#define stewart_batch_static_force_derivatives STEWART_LOCAL(batch_static_force_derivatives)
 #define stewart_batch_forward_dynamics_derivatives STEWART_LOCAL(batch_forward_dynamics_derivatives)
 #define stewart_batch_joint_reactions STEWART_LOCAL(batch_joint_reactions)
 #define stewart_batch_regressor STEWART_LOCAL(batch_regressor)
@@ -88,6 +90,10 @@
 #define vkernel_leg_chain_inverse STEWART_LOCAL(vkernel_leg_chain_inverse)
 #define vkernel_residual_derivatives_inverse STEWART_LOCAL(vkernel_residual_derivatives_inverse)
 #define vkernel_residual_derivatives_inverse_general STEWART_LOCAL(vkernel_residual_derivatives_inverse_general)
+#define vkernel_static_forces STEWART_LOCAL(vkernel_static_forces)
+#define vkernel_static_forces_general STEWART_LOCAL(vkernel_static_forces_general)
+#define vkernel_static_derivatives STEWART_LOCAL(vkernel_static_derivatives)
+#define vkernel_static_derivatives_general STEWART_LOCAL(vkernel_static_derivatives_general)
 #define vkernel_leg_chain_forward STEWART_LOCAL(vkernel_leg_chain_forward)
 #define vkernel_residual_derivatives_forward STEWART_LOCAL(vkernel_residual_derivatives_forward)
 #define vkernel_residual_derivatives_forward_general STEWART_LOCAL(vkernel_residual_derivatives_forward_general)
@@ -1132,6 +1138,10 @@ STEWART_HIDDEN void vkernel_leg_derivatives_general(const stewart_params *p, con
 STEWART_HIDDEN void vkernel_leg_chain_inverse(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *lwa, const stewart_vd *legs, stewart_vd *chain);
 STEWART_HIDDEN void vkernel_residual_derivatives_inverse(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *chain, stewart_vd *Z);
 STEWART_HIDDEN void vkernel_residual_derivatives_inverse_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *chain, stewart_vd *Z);
+STEWART_HIDDEN void vkernel_static_forces(const stewart_params *p, const stewart_vd *x, stewart_vd *W, stewart_vd *JC, stewart_vd *L2);
+STEWART_HIDDEN void vkernel_static_forces_general(const stewart_params *p, const stewart_vd *x, stewart_vd *W, stewart_vd *JC, stewart_vd *L2, stewart_vd *n2);
+STEWART_HIDDEN void vkernel_static_derivatives(const stewart_params *p, const stewart_vd *x, const stewart_vd *tau, stewart_vd *Z);
+STEWART_HIDDEN void vkernel_static_derivatives_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *tau, stewart_vd *Z);
 STEWART_HIDDEN void vkernel_leg_chain_forward(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *lwa, const stewart_vd *legs, stewart_vd *chain);
 STEWART_HIDDEN void vkernel_residual_derivatives_forward(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *chain, const stewart_vd *lwa, const stewart_vd *legs, stewart_vd *Z);
 STEWART_HIDDEN void vkernel_residual_derivatives_forward_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *chain, const stewart_vd *lwa, const stewart_vd *legs, stewart_vd *Z);

@@ -498,6 +498,39 @@ int stewart_batch_inverse_dynamics_derivatives(const stewart_params *p, size_t n
     return batch_rows(params_finite(p), p, vblock_inverse_dynamics_derivatives, 0.0, n, 3, (const double *const []){x, xd, xdd}, (stewart_vd *const []){in0, in1, in2}, 4, (double *const []){tau, dtau_dx, dtau_dxd, dtau_dxdd}, (stewart_vd *const []){out0, out1, out2, out3}, (const int []){6, 36, 36, 36}, status);
 }
 
+/* stewart_static_force_derivatives over a block of states (batch_rows). */
+static stewart_vl vblock_static_force_derivatives(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    stewart_vd *tau = out[0];
+    stewart_vd *dtau_dx = out[1];
+    stewart_vd W[6], JC[36], L2[6], n2[6], Z[36], FJ[57];
+    stewart_vl status = vnone();
+    if (stewart_is_paper_model(p)) {
+        vkernel_static_forces(p, x, W, JC, L2);
+        status = vmerge(status, vcheck_legs(L2, NULL, NULL));
+    } else {
+        vkernel_static_forces_general(p, x, W, JC, L2, n2);
+        status = vmerge(status, vcheck_legs(L2, NULL, n2));
+    }
+    status = vmerge(status, vbareiss_factor(JC, FJ));
+    status = vmerge(status, vbareiss_solve(FJ, 1, 1, W, tau));
+    if (stewart_is_paper_model(p)) {
+        vkernel_static_derivatives(p, x, tau, Z);
+    } else {
+        vkernel_static_derivatives_general(p, x, tau, Z);
+    }
+    status = vmerge(status, vbareiss_solve(FJ, 6, 6, Z, dtau_dx));
+    return status;
+}
+
+int stewart_batch_static_force_derivatives(const stewart_params *p, size_t n, const double *x, double *tau, double *dtau_dx, int *status)
+{
+    stewart_vd in0[6], out0[6], out1[36];
+    return batch_rows(params_finite(p), p, vblock_static_force_derivatives, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 2, (double *const []){tau, dtau_dx}, (stewart_vd *const []){out0, out1}, (const int []){6, 36}, status);
+}
+
 /* stewart_forward_dynamics_derivatives over a block of states (batch_rows). */
 static stewart_vl vblock_forward_dynamics_derivatives(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
 {
@@ -721,6 +754,11 @@ int stewart_forward_dynamics(const stewart_params *p, const double x[6], const d
 int stewart_inverse_dynamics_derivatives(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6], double dtau_dx[36], double dtau_dxd[36], double dtau_dxdd[36])
 {
     return stewart_batch_inverse_dynamics_derivatives(p, 1, x, xd, xdd, tau, dtau_dx, dtau_dxd, dtau_dxdd, NULL);
+}
+
+int stewart_static_force_derivatives(const stewart_params *p, const double x[6], double tau[6], double dtau_dx[36])
+{
+    return stewart_batch_static_force_derivatives(p, 1, x, tau, dtau_dx, NULL);
 }
 
 int stewart_forward_dynamics_derivatives(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double xdd[6], double dxdd_dx[36], double dxdd_dxd[36], double dxdd_dtau[36])

@@ -148,6 +148,8 @@ int stewart_inverse_dynamics(const stewart_params *p, const double x[6], const d
 int stewart_forward_dynamics(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double xdd[6]);
 /* tau and its Jacobians (row = output, column = input): dtau/dx = J_C^-T R_x, dtau/dxd = J_C^-T R_xd, dtau/dxdd = J_C^-T M, R = partials of M xdd + V xd + G - J_C^T tau. */
 int stewart_inverse_dynamics_derivatives(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6], double dtau_dx[36], double dtau_dxd[36], double dtau_dxdd[36]);
+/* The static forces tau_s = J_C^-T G, which hold the platform at rest at x, and their Jacobian dtau_s/dx = J_C^-T R_x, R_x = d(G - J_C^T tau)/dx at fixed tau: inverse_dynamics_derivatives at xd = xdd = 0 (its tau and dtau_dx), derived without the velocity and acceleration terms. */
+int stewart_static_force_derivatives(const stewart_params *p, const double x[6], double tau[6], double dtau_dx[36]);
 /* xdd and its Jacobians (row = output, column = input): dxdd/dx = -M^-1 R_x, dxdd/dxd = -M^-1 R_xd, dxdd/dtau = M^-1 J_C^T, R = partials of M xdd + V xd + G - J_C^T tau; needs cos(theta) != 0. */
 int stewart_forward_dynamics_derivatives(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double xdd[6], double dxdd_dx[36], double dxdd_dxd[36], double dxdd_dtau[36]);
 /* tau and the joint reactions of each leg i (3 doubles per leg, leg-major, in {B}): f_base, the force the base exerts on the leg at its universal joint B_i; f_platform, the force the leg exerts on the platform at its spherical joint P_i; n_base, the moment the base exerts on the leg through its universal joint. */
@@ -285,6 +287,7 @@ int stewart_batch_all_terms(const stewart_params *p, size_t n, const double *x, 
 int stewart_batch_inverse_dynamics(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, int *status);
 int stewart_batch_forward_dynamics(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, int *status);
 int stewart_batch_inverse_dynamics_derivatives(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd, int *status);
+int stewart_batch_static_force_derivatives(const stewart_params *p, size_t n, const double *x, double *tau, double *dtau_dx, int *status);
 int stewart_batch_forward_dynamics_derivatives(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, double *dxdd_dx, double *dxdd_dxd, double *dxdd_dtau, int *status);
 int stewart_batch_joint_reactions(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, double *f_base, double *f_platform, double *n_base, int *status);
 int stewart_batch_regressor(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Y, int *status);
@@ -316,6 +319,10 @@ int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const 
  *   leg_chain_inverse                        793
  *   residual_derivatives_inverse            1567
  *   residual_derivatives_inverse_general    2260
+ *   static_forces                            457
+ *   static_forces_general                    555
+ *   static_derivatives                      2130
+ *   static_derivatives_general              2167
  *   leg_chain_forward                        847
  *   residual_derivatives_forward            1381
  *   residual_derivatives_forward_general    2003

@@ -52,6 +52,7 @@ cdef extern from "stewart_model.h" nogil:
     int stewart_inverse_dynamics(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *tau)
     int stewart_forward_dynamics(const stewart_params *p, const double *x, const double *xd, const double *tau, double *xdd)
     int stewart_inverse_dynamics_derivatives(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd)
+    int stewart_static_force_derivatives(const stewart_params *p, const double *x, double *tau, double *dtau_dx)
     int stewart_forward_dynamics_derivatives(const stewart_params *p, const double *x, const double *xd, const double *tau, double *xdd, double *dxdd_dx, double *dxdd_dxd, double *dxdd_dtau)
     int stewart_joint_reactions(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *tau, double *f_base, double *f_platform, double *n_base)
     int stewart_regressor(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *Y)
@@ -71,6 +72,7 @@ cdef extern from "stewart_model.h" nogil:
     int stewart_batch_inverse_dynamics(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, int *status)
     int stewart_batch_forward_dynamics(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, int *status)
     int stewart_batch_inverse_dynamics_derivatives(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd, int *status)
+    int stewart_batch_static_force_derivatives(const stewart_params *p, size_t n, const double *x, double *tau, double *dtau_dx, int *status)
     int stewart_batch_forward_dynamics_derivatives(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, double *dxdd_dx, double *dxdd_dxd, double *dxdd_dtau, int *status)
     int stewart_batch_joint_reactions(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, double *f_base, double *f_platform, double *n_base, int *status)
     int stewart_batch_regressor(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Y, int *status)
@@ -129,6 +131,7 @@ cdef extern from "stewart_dispatch.h" nogil:
         int (*inverse_dynamics)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *tau) noexcept nogil
         int (*forward_dynamics)(const stewart_params *p, const double *x, const double *xd, const double *tau, double *xdd) noexcept nogil
         int (*inverse_dynamics_derivatives)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd) noexcept nogil
+        int (*static_force_derivatives)(const stewart_params *p, const double *x, double *tau, double *dtau_dx) noexcept nogil
         int (*forward_dynamics_derivatives)(const stewart_params *p, const double *x, const double *xd, const double *tau, double *xdd, double *dxdd_dx, double *dxdd_dxd, double *dxdd_dtau) noexcept nogil
         int (*joint_reactions)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *tau, double *f_base, double *f_platform, double *n_base) noexcept nogil
         int (*regressor)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *Y) noexcept nogil
@@ -147,12 +150,13 @@ cdef extern from "stewart_dispatch.h" nogil:
         int (*batch_inverse_dynamics)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, int *status) noexcept nogil
         int (*batch_forward_dynamics)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, int *status) noexcept nogil
         int (*batch_inverse_dynamics_derivatives)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd, int *status) noexcept nogil
+        int (*batch_static_force_derivatives)(const stewart_params *p, size_t n, const double *x, double *tau, double *dtau_dx, int *status) noexcept nogil
         int (*batch_forward_dynamics_derivatives)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, double *dxdd_dx, double *dxdd_dxd, double *dxdd_dtau, int *status) noexcept nogil
         int (*batch_joint_reactions)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, double *f_base, double *f_platform, double *n_base, int *status) noexcept nogil
         int (*batch_regressor)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Y, int *status) noexcept nogil
         int (*batch_rk4_step)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status) noexcept nogil
         int (*batch_rk4_step_derivatives)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B, int *status) noexcept nogil
-        stewart_call call[18]
+        stewart_call call[19]
 
 
 cdef inline int stewart_params_fill(stewart_params *p, object params, frozenset expected) except -1:

@@ -102,6 +102,12 @@ static int call_inverse_dynamics_derivatives(const stewart_params *p, size_t n, 
     return stewart_batch_inverse_dynamics_derivatives(p, n, in[0], in[1], in[2], out[0], out[1], out[2], out[3], status);
 }
 
+static int call_static_force_derivatives(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_static_force_derivatives(p, n, in[0], out[0], out[1], status);
+}
+
 static int call_forward_dynamics_derivatives(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
 {
     (void)scalar;
@@ -153,6 +159,7 @@ const stewart_table STEWART_JOIN(stewart_table, STEWART_TARGET) = {
     stewart_inverse_dynamics,
     stewart_forward_dynamics,
     stewart_inverse_dynamics_derivatives,
+    stewart_static_force_derivatives,
     stewart_forward_dynamics_derivatives,
     stewart_joint_reactions,
     stewart_regressor,
@@ -171,10 +178,11 @@ const stewart_table STEWART_JOIN(stewart_table, STEWART_TARGET) = {
     stewart_batch_inverse_dynamics,
     stewart_batch_forward_dynamics,
     stewart_batch_inverse_dynamics_derivatives,
+    stewart_batch_static_force_derivatives,
     stewart_batch_forward_dynamics_derivatives,
     stewart_batch_joint_reactions,
     stewart_batch_regressor,
     stewart_batch_rk4_step,
     stewart_batch_rk4_step_derivatives,
-    {call_leg_lengths, call_jacobian, call_leg_rates, call_leg_accelerations, call_mass_matrix, call_twist_mass_matrix, call_coriolis_matrix, call_coriolis_vector, call_gravity_vector, call_all_terms, call_inverse_dynamics, call_forward_dynamics, call_inverse_dynamics_derivatives, call_forward_dynamics_derivatives, call_joint_reactions, call_regressor, call_rk4_step, call_rk4_step_derivatives},
+    {call_leg_lengths, call_jacobian, call_leg_rates, call_leg_accelerations, call_mass_matrix, call_twist_mass_matrix, call_coriolis_matrix, call_coriolis_vector, call_gravity_vector, call_all_terms, call_inverse_dynamics, call_forward_dynamics, call_inverse_dynamics_derivatives, call_static_force_derivatives, call_forward_dynamics_derivatives, call_joint_reactions, call_regressor, call_rk4_step, call_rk4_step_derivatives},
 };

@@ -58,6 +58,7 @@ if TYPE_CHECKING:  # the public names: what `__getattr__` imports on first use
         ForwardDynamicsDerivatives,
         InverseDynamicsDerivatives,
         Platform,
+        StaticForceDerivatives,
         Step,
         StepDerivatives,
     )

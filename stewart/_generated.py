@@ -288,8 +288,18 @@ FUNCTIONS = {
         method='inverse_dynamics_derivatives',
         option='',
     ),
-    'forward_dynamics_derivatives': Function(
+    'static_force_derivatives': Function(
         index=13,
+        inputs=('x',),
+        scalar='',
+        outputs=(('tau', 6), ('dtau_dx', 36)),
+        results=(('tau', 0, 0, (6,)), ('dtau_dx', 1, 0, (6, 6))),
+        result_type='StaticForceDerivatives',
+        method='static_force_derivatives',
+        option='',
+    ),
+    'forward_dynamics_derivatives': Function(
+        index=14,
         inputs=('x', 'xd', 'tau'),
         scalar='',
         outputs=(('xdd', 6), ('dxdd_dx', 36), ('dxdd_dxd', 36), ('dxdd_dtau', 36)),
@@ -299,7 +309,7 @@ FUNCTIONS = {
         option='',
     ),
     'joint_reactions': Function(
-        index=14,
+        index=15,
         inputs=('x', 'xd', 'xdd'),
         scalar='',
         outputs=(('tau', 6), ('f_base', 18), ('f_platform', 18), ('n_base', 18)),
@@ -309,7 +319,7 @@ FUNCTIONS = {
         option='',
     ),
     'regressor': Function(
-        index=15,
+        index=16,
         inputs=('x', 'xd', 'xdd'),
         scalar='',
         outputs=(('Y', 192),),
@@ -319,7 +329,7 @@ FUNCTIONS = {
         option='',
     ),
     'rk4_step': Function(
-        index=16,
+        index=17,
         inputs=('x', 'xd', 'tau'),
         scalar='dt',
         outputs=(('xn', 6), ('xdn', 6)),
@@ -329,7 +339,7 @@ FUNCTIONS = {
         option='',
     ),
     'rk4_step_derivatives': Function(
-        index=17,
+        index=18,
         inputs=('x', 'xd', 'tau'),
         scalar='dt',
         outputs=(('xn', 6), ('xdn', 6), ('A', 144), ('B', 72)),

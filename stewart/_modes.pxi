@@ -3,7 +3,7 @@
 # stewart.model.stiffness).
 #
 # A few dozen rows at a time, the model's batch functions give the static forces' exact Jacobian
-# dtau_s/dx (inverse_dynamics_derivatives at rest), J_C and the twist-space mass matrix M_t into
+# dtau_s/dx (static_force_derivatives), J_C and the twist-space mass matrix M_t into
 # buffers on the stack; per row the twist-space stiffness
 #     K_t = J_C^T (diag(k) J_C + dtau_s/dx T^-1),   T^-1 = blockdiag(I, J_A^-1),
 # is formed and LAPACK's dsygv (scipy.linalg.cython_lapack) solves K_t phi = w^2 M_t phi for
@@ -16,7 +16,7 @@ from scipy.linalg.cython_lapack cimport dsygv
 cdef enum:
     # The status of a row whose stiffness is not positive definite: the legs cannot hold the pose.
     MODAL_UNSTABLE = -1
-    # Rows per call of the batch functions: their outputs (150 doubles a row) stay in L1/L2.
+    # Rows per call of the batch functions: their outputs (114 doubles a row) stay in L1/L2.
     MODAL_ROWS = 32
     # The workspace of dsygv (at least 3 n - 1 = 17).
     MODAL_WORK = 64
@@ -82,26 +82,23 @@ cdef void _modal_rows(const stewart_params *p, const double *x, const double *k,
                       double *mass, double *values, double *shapes, int *status) noexcept nogil:
     """Up to MODAL_ROWS states; a failed row's outputs are NaN but for the stiffness of an
     unstable one."""
-    cdef double rest[MODAL_ROWS * 6]
     cdef double tau[MODAL_ROWS * 6]
     cdef double dtau_dx[MODAL_ROWS * 36]
-    cdef double dtau_dxd[MODAL_ROWS * 36]
-    cdef double dtau_dxdd[MODAL_ROWS * 36]
     cdef int jac_status[MODAL_ROWS]
     cdef int mass_status[MODAL_ROWS]
     cdef Py_ssize_t r, i
-    for i in range(6 * n):
-        rest[i] = 0.0
     if n == 1:  # one state: the model's own functions, not a batch padded to the vector width
-        status[0] = T.inverse_dynamics_derivatives(p, x, rest, rest, tau, dtau_dx, dtau_dxd, dtau_dxdd)
+        status[0] = T.static_force_derivatives(p, x, tau, dtau_dx)
         jac_status[0] = T.jacobian(p, x, jac)
         mass_status[0] = T.twist_mass_matrix(p, x, mass)
     else:
-        T.batch_inverse_dynamics_derivatives(p, n, x, rest, rest, tau, dtau_dx, dtau_dxd, dtau_dxdd, status)
+        T.batch_static_force_derivatives(p, n, x, tau, dtau_dx, status)
         T.batch_jacobian(p, n, x, jac, jac_status)
         T.batch_twist_mass_matrix(p, n, x, mass, mass_status)
     for r in range(n):
-        if status[r] == STEWART_OK and mass_status[r] != STEWART_OK:
+        # M_t's status first: its legs' tests are those of the variant for the legs' inertia (the
+        # leg frames of the paper's model), which the statics alone do not need.
+        if mass_status[r] != STEWART_OK:
             status[r] = mass_status[r]
         if status[r] == STEWART_OK and not fabs(cos(x[6 * r + 4])) >= STEWART_EULER_TOL:
             status[r] = STEWART_ERR_EULER_SINGULAR
@@ -119,18 +116,35 @@ cdef void _modal_rows(const stewart_params *p, const double *x, const double *k,
 
 def modal_terms(Kernel kernel, x, k):
     """The stiffness and modes at the states ``x`` (float64, C-contiguous ``(6,)`` or ``(n, 6)``) of the
-    platform on preloaded leg springs ``k`` (``(6,)`` N/m): ``(K_t, J_C, M_t, frequencies [Hz],
-    shapes, status, failures)``, shapes ``(n, 6, 6)``, ``(n, 6, 6)``, ``(n, 6, 6)``, ``(n, 6)``,
-    ``(n, 6, 6)``, ``(n,)`` and an int; ``status`` per row ``STEWART_OK`` (0), a status of the model
-    (its outputs NaN), or :data:`UNSTABLE` (``K_t``, ``J_C`` and ``M_t`` given, the rest NaN);
-    ``failures`` the rows not OK. See :mod:`stewart.model.stiffness`."""
-    cdef cnp.ndarray cx = _c_array("x", x, cnp.NPY_DOUBLE, 1 if np.ndim(x) == 1 else 2, False)
-    cdef cnp.ndarray ck = _c_array("k", k, cnp.NPY_DOUBLE, 1, False)
+    platform on preloaded leg springs ``k`` (``(6,)`` N/m, or one float for every leg): ``(K_t, J_C,
+    M_t, frequencies [Hz], shapes, status, failures)``, shapes ``(n, 6, 6)``, ``(n, 6, 6)``,
+    ``(n, 6, 6)``, ``(n, 6)``, ``(n, 6, 6)``, ``(n,)`` and an int; ``status`` per row ``STEWART_OK``
+    (0), a status of the model (its outputs NaN), or :data:`UNSTABLE` (``K_t``, ``J_C`` and ``M_t``
+    given, the rest NaN); ``failures`` the rows not OK. See :mod:`stewart.model.stiffness`."""
+    cdef int ndim = (<cnp.ndarray>x).ndim if type(x) is cnp.ndarray else np.ndim(x)
+    cdef cnp.ndarray cx = _c_array("x", x, cnp.NPY_DOUBLE, 1 if ndim == 1 else 2, False)
+    cdef cnp.ndarray ck = None
+    cdef double each[6]
+    cdef const double *pk = each
+    cdef int i
+    if type(k) is float:
+        for i in range(6):
+            each[i] = k
+    else:
+        ck = _c_array("k", k, cnp.NPY_DOUBLE, 1, False)
+        pk = <const double *>cnp.PyArray_DATA(ck)
     cdef Py_ssize_t n = cx.shape[0] if cx.ndim == 2 else 1
-    if cx.shape[cx.ndim - 1] != 6 or ck.shape[0] != 6:
+    if cx.shape[cx.ndim - 1] != 6 or (ck is not None and ck.shape[0] != 6):
         raise ValueError(f"x, k: need (6,) or (n, 6) states and (6,) stiffnesses, got {np.shape(x)}, {np.shape(k)}")
-    cdef cnp.ndarray stiff = np.empty((n, 6, 6)), jac = np.empty((n, 6, 6)), mass = np.empty((n, 6, 6))
-    cdef cnp.ndarray shapes = np.empty((n, 6, 6)), values = np.empty((n, 6)), status = np.empty(n, dtype=np.intc)
+    # The outputs through numpy's C API (np.empty's Python call costs as much as a kernel here).
+    cdef cnp.npy_intp dims[3]
+    dims[0], dims[1], dims[2] = n, 6, 6
+    cdef cnp.ndarray stiff = cnp.PyArray_EMPTY(3, dims, cnp.NPY_DOUBLE, 0)
+    cdef cnp.ndarray jac = cnp.PyArray_EMPTY(3, dims, cnp.NPY_DOUBLE, 0)
+    cdef cnp.ndarray mass = cnp.PyArray_EMPTY(3, dims, cnp.NPY_DOUBLE, 0)
+    cdef cnp.ndarray shapes = cnp.PyArray_EMPTY(3, dims, cnp.NPY_DOUBLE, 0)
+    cdef cnp.ndarray values = cnp.PyArray_EMPTY(2, dims, cnp.NPY_DOUBLE, 0)
+    cdef cnp.ndarray status = cnp.PyArray_EMPTY(1, dims, cnp.NPY_INT, 0)
     cdef double *pstiff = <double *>cnp.PyArray_DATA(stiff)
     cdef double *pjac = <double *>cnp.PyArray_DATA(jac)
     cdef double *pmass = <double *>cnp.PyArray_DATA(mass)
@@ -138,7 +152,6 @@ def modal_terms(Kernel kernel, x, k):
     cdef double *pshapes = <double *>cnp.PyArray_DATA(shapes)
     cdef int *pstatus = <int *>cnp.PyArray_DATA(status)
     cdef const double *px = <const double *>cnp.PyArray_DATA(cx)
-    cdef const double *pk = <const double *>cnp.PyArray_DATA(ck)
     cdef Py_ssize_t b, first, nblocks = (n + MODAL_ROWS - 1) // MODAL_ROWS
     cdef const stewart_params *params = &kernel.p
     cdef int threads = kernel.threads if nblocks > 1 else 1

@@ -188,6 +188,7 @@ PLATFORM_METHODS = {
     "inverse_dynamics": ("x", "xd", "xdd"),
     "forward_dynamics": ("x", "xd", "tau"),
     "inverse_dynamics_derivatives": ("x", "xd", "xdd"),
+    "static_force_derivatives": ("x",),
     "forward_dynamics_derivatives": ("x", "xd", "tau"),
     "joint_reactions": ("x", "xd", "xdd"),
     "forward_kinematics": ("lengths", "guess"),

@@ -51,6 +51,7 @@ def calls(plat, x, xd, xdd, tau):
         "inverse_dynamics": lambda m: plat.inverse_dynamics(x, xd, xdd, return_mask=m),
         "forward_dynamics": lambda m: plat.forward_dynamics(x, xd, tau, return_mask=m),
         "inverse_dynamics_derivatives": lambda m: plat.inverse_dynamics_derivatives(x, xd, xdd, return_mask=m),
+        "static_force_derivatives": lambda m: plat.static_force_derivatives(x, return_mask=m),
         "forward_dynamics_derivatives": lambda m: plat.forward_dynamics_derivatives(x, xd, tau, return_mask=m),
         "rk4_step": lambda m: plat.rk4_step(x, xd, tau, 1e-3, return_mask=m),
         "rk4_step_jacobians": lambda m: plat.rk4_step(x, xd, tau, 1e-3, jacobians=True, return_mask=m),

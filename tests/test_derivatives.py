@@ -252,6 +252,39 @@ def test_kernel_identities(name, figures):
     )
 
 
+#: States per case of the static forces' checks (the oracle at rest costs as much as elsewhere).
+STATIC_STATES = 50
+
+
+@pytest.mark.parametrize("name", CASES)
+def test_static_force_derivatives_match_the_oracle(name, figures):
+    """``static_force_derivatives`` against the reference's inverse dynamics at ``xdot = xddot =
+    0`` and its complex-step ``dtau/dx`` there."""
+    c = case(name)
+    x = c.x[:STATIC_STATES]
+    rest = np.zeros_like(x)
+    out = platform(name).static_force_derivatives(x)
+    assert out._fields == ("tau", "dtau_dx") and out.dtau_dx.shape == (len(x), 6, 6)
+    figures(f"kernel static forces vs reference ({name})",
+            relative_error(out.tau, ref.inverse_dynamics(c.params, x, rest, rest)), 1e-12)
+    figures(f"kernel static dtau/dx vs oracle ({name})",
+            relative_error(out.dtau_dx, reference_inverse_dynamics_jacobians(c.params, x, rest, rest)[0]), 1e-12)
+
+
+@pytest.mark.parametrize("name", CASES)
+def test_static_force_derivatives_are_the_inverse_dynamics_at_rest(name, figures):
+    """The same numbers as ``inverse_dynamics_derivatives`` at ``xdot = xddot = 0`` to round-off,
+    not bit for bit: G comes from its own kernel rather than the inverse dynamics' ``W`` at rest,
+    and ``R_x`` by forward mode through the whole static derivation rather than the per-leg
+    chain rule with the velocity terms, so the same sums are taken in other orders."""
+    c = case(name)
+    rest = np.zeros_like(c.x)
+    static = platform(name).static_force_derivatives(c.x)
+    dynamic = platform(name).inverse_dynamics_derivatives(c.x, rest, rest)
+    figures(f"kernel static forces vs inverse dynamics at rest ({name})",
+            max(relative_error(static.tau, dynamic.tau), relative_error(static.dtau_dx, dynamic.dtau_dx)), 1e-13)
+
+
 @pytest.mark.parametrize("name", CASES)
 def test_rk4_step_and_jacobians_match_the_oracle(name, figures):
     """The compiled step and its ``A``, ``B`` against the same RK4 step written with the
@@ -335,6 +368,19 @@ def test_singular_rows_raise_or_come_back_masked(method):
         assert np.all(np.isnan(part[1])) and np.all(np.isfinite(part[[0, 2]]))
     one, ok_one = call(x[1], xd[1], third[1], *extra, return_mask=True, **options)
     assert ok_one is False and all(np.all(np.isnan(part)) for part in one)
+
+
+def test_static_force_derivatives_singular_rows_raise_or_come_back_masked():
+    """The platform in the base plane (J_C singular) in the middle of three poses."""
+    plat = platform("narayan2017")
+    x = np.stack([plat.home_pose, np.zeros(6), plat.home_pose])
+    with pytest.raises(stewart.SingularityError, match=r"static_force_derivatives.*row\(s\) \[1\]") as info:
+        plat.static_force_derivatives(x)
+    assert info.value.rows == [1]
+    result, ok = plat.static_force_derivatives(x, return_mask=True)
+    assert ok.tolist() == [True, False, True]
+    for part in result:
+        assert np.all(np.isnan(part[1])) and np.all(np.isfinite(part[[0, 2]]))
 
 
 @pytest.mark.parametrize("method", ["inverse_dynamics_derivatives", "forward_dynamics_derivatives", "rk4_step"])

@@ -114,6 +114,25 @@ def test_derivative_kernels_match_complex_step_of_the_reference(figures):
     assert worst <= 1e-9
 
 
+def test_static_force_derivatives_match_complex_step_of_the_reference(figures):
+    """The static forces of the general model and their ``dtau/dx``: the reference's inverse
+    dynamics at ``xdot = xddot = 0`` complex-stepped, and the kernel's inverse dynamics derivatives
+    there (the same to round-off: other orders of the same sums)."""
+    params = random_general(4)
+    plat = stewart.Platform(params)
+    x = random_states(params, 20, np.random.default_rng(4))[0]
+    rest = np.zeros_like(x)
+    static = plat.static_force_derivatives(x)
+    dynamic = plat.inverse_dynamics_derivatives(x, rest, rest)
+    oracle = max(relative_error(static.tau, ref.inverse_dynamics(params, x, rest, rest)),
+                 relative_error(static.dtau_dx, physics.reference_inverse_dynamics_jacobians(params, x, rest, rest)[0]))
+    figures("general kernel static force derivatives vs complex step of the reference", oracle, 1e-12)
+    assert oracle <= 1e-12
+    kernel = max(relative_error(static.tau, dynamic.tau), relative_error(static.dtau_dx, dynamic.dtau_dx))
+    figures("general kernel static force derivatives vs inverse dynamics at rest", kernel, 1e-13)
+    assert kernel <= 1e-13
+
+
 @pytest.mark.parametrize("seed", [0, 1, 2])
 def test_inverse_dynamics_obeys_lagrange(seed, figures):
     params = random_general(seed)

@@ -2,12 +2,14 @@
 against the potential's complex-step Hessian, free oscillations simulated by stewart.simulate,
 hand formulas and the textbook J^T k J model."""
 
+import warnings
+
 import numpy as np
 import pytest
 from scipy.optimize import least_squares
 
 import stewart
-from conftest import make_general
+from conftest import make_general, random_params
 from stewart.model.kinematics import euler_jacobian, leg_lengths, twist_transform
 from stewart.oracles import reference
 
@@ -254,6 +256,25 @@ def test_bad_coefficients_are_one_line_errors(kwargs, message):
     with pytest.raises(ValueError, match=message) as info:
         plat.modes(plat.home_pose, **kwargs)
     assert "\n" not in str(info.value)
+
+
+def test_an_undefined_pose_names_the_condition_of_the_model_at_rest():
+    """Where the model is undefined, modes names the condition that inverse_dynamics_derivatives
+    at rest names: a leg of zero length, and a vertical leg of the paper's model with legs of
+    I_yy != I_zz, whose leg frames are undefined there (the statics alone are defined: the
+    condition comes from M_t, which holds the legs' inertia)."""
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", stewart.NonAxisymmetricLegWarning)
+        params = random_params(np.random.default_rng(5), axisymmetric=False)
+    plat = stewart.Platform(params)
+    leg = params.base_points[0] - params.platform_points[0]
+    poses = {"leg_degenerate": np.r_[leg, 0, 0, 0], "leg_vertical": np.r_[leg + [0, 0, plat.home_pose[2]], 0, 0, 0]}
+    for condition, x in poses.items():
+        with pytest.raises(stewart.SingularityError) as dynamics:
+            plat.inverse_dynamics_derivatives(x, np.zeros(6), np.zeros(6))
+        with pytest.raises(stewart.SingularityError, match="^modes: ") as modes:
+            plat.modes(x, K_LEG)
+        assert dynamics.value.condition == modes.value.condition == condition
 
 
 def test_a_singular_pose_and_a_pose_that_cannot_be_held():

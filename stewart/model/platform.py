@@ -15,7 +15,7 @@ from .params import PlatformParams
 from .results import JointReactions
 
 __all__ = ["Platform", "AllTerms", "InverseDynamicsDerivatives", "ForwardDynamicsDerivatives",
-           "Step", "StepDerivatives", "as_platform"]
+           "StaticForceDerivatives", "Step", "StepDerivatives", "as_platform"]
 
 
 def _result_type(function, doc):
@@ -46,6 +46,10 @@ InverseDynamicsDerivatives = _result_type("inverse_dynamics_derivatives", """Act
 ForwardDynamicsDerivatives = _result_type("forward_dynamics_derivatives", """Accelerations and their Jacobians
     (:meth:`Platform.forward_dynamics_derivatives`): row = output, column = input,
     ``dxdd_dx[..., i, j] = d xddot_i / d x_j``.""")
+
+StaticForceDerivatives = _result_type("static_force_derivatives", """The static forces and their Jacobian
+    (:meth:`Platform.static_force_derivatives`): row = output, column = input,
+    ``dtau_dx[..., i, j] = d tau_i / d x_j``.""")
 
 Step = _result_type("rk4_step", """The state after one RK4 step (:meth:`Platform.rk4_step`).""")
 
@@ -263,6 +267,15 @@ class Platform:
         return _named(InverseDynamicsDerivatives,
                       self._call("inverse_dynamics_derivatives", (x, xd, xdd), return_mask),
                       return_mask)
+
+    def static_force_derivatives(self, x, *, return_mask=False):
+        """The static forces, which hold the platform at rest at ``x``, and their exact Jacobian, a
+        :class:`StaticForceDerivatives` ``(tau, dtau_dx)``: ``tau = J_C^-T G`` and ``dtau/dx =
+        J_C^-T R_x`` with ``R_x = d(G - J_C^T tau)/dx`` at that ``tau`` (eqs. 5, 72-76), what
+        :meth:`inverse_dynamics_derivatives` gives at ``xdot = xddot = 0``, derived without the
+        velocity and acceleration terms (the preload of :meth:`stiffness_matrix`). Row = output,
+        column = input; ``dtau_dx`` of shape ``(..., 6, 6)``."""
+        return _named(StaticForceDerivatives, self._call("static_force_derivatives", (x,), return_mask), return_mask)
 
     def forward_dynamics_derivatives(self, x, xd, tau, *, return_mask=False):
         """Euler accelerations and their exact Jacobians, a :class:`ForwardDynamicsDerivatives`

@@ -10,7 +10,7 @@ pose coordinates ``q = [x, y, z, psi, theta, phi]`` is, exactly (no differences)
     K_q = J_E^T (diag(k) J_E + dtau_s/dx),       J_E = J_C T   (eqs. 4, 5, 18),
 
 where ``dtau_s/dx`` is the exact Jacobian of the static forces
-(:meth:`stewart.Platform.inverse_dynamics_derivatives`). ``J_E^T diag(k) J_E`` is the elastic
+(:meth:`stewart.Platform.static_force_derivatives`). ``J_E^T diag(k) J_E`` is the elastic
 term; ``J_E^T dtau_s/dx = T^T R_x`` with ``R_x = d(G - J_C^T tau)/dx`` at fixed ``tau`` holds
 the preload's geometric term ``-d(J_C^T)/dx . tau`` and gravity's own term ``dG/dx``
 (the Cartesian stiffness of Gosselin 1990 is the first alone; with no preload the second
@@ -90,11 +90,12 @@ def _radius(platform) -> float:
     return radius
 
 
-def _stiffnesses(platform, stiffness) -> np.ndarray:
-    """:func:`leg_coefficients` of ``stiffness`` (with a fast path for one positive float), or
-    the parameters' ``leg_stiffness`` for None; ``ValueError`` if they have none."""
+def _stiffnesses(platform, stiffness) -> np.ndarray | float:
+    """:func:`leg_coefficients` of ``stiffness``, or the parameters' ``leg_stiffness`` for None
+    (``ValueError`` if they have none); one positive finite float as it is, the stiffness of every
+    leg (:func:`~stewart._kernel.modal_terms` takes it so)."""
     if type(stiffness) is float and 0.0 < stiffness < np.inf:
-        return np.full(6, stiffness)
+        return stiffness
     if stiffness is None:
         stiffness = platform.params.leg_stiffness
         if stiffness is None:

@@ -166,6 +166,22 @@ BATCHED_3(regressor)
 BATCHED_DERIVATIVES(inverse_dynamics_derivatives)
 BATCHED_DERIVATIVES(forward_dynamics_derivatives)
 
+/* The static forces and their Jacobian, [tau_s (6); dtau_s/dx (36)] (42 doubles) a row. */
+static int row_static_force_derivatives(const stewart_params *p, const double *const *in, double *out) {
+    return stewart_static_force_derivatives(p, in[0], out, out + 6);
+}
+
+static int batch_static_force_derivatives(const stewart_params *p, size_t n, const double *const *in, double *out,
+                                          int *status) {
+    static double tau[MAX_ROWS * 6], dtau[MAX_ROWS * 36];
+    int first = stewart_batch_static_force_derivatives(p, n, in[0], tau, dtau, status);
+    for (size_t r = 0; r < n; ++r) {
+        memcpy(out + 42 * r, tau + 6 * r, sizeof(double[6]));
+        memcpy(out + 42 * r + 6, dtau + 36 * r, sizeof(double[36]));
+    }
+    return first;
+}
+
 /* The RK4 step of RK4_DT with its Jacobians, [xn; xdn; A; B] (228 doubles) a row. */
 static int row_rk4_step_derivatives(const stewart_params *p, const double *const *in, double *out) {
     return stewart_rk4_step_derivatives(p, in[0], in[1], in[2], RK4_DT, out, out + 6, out + 12, out + 156);
@@ -256,6 +272,7 @@ static const struct {
     {"joint_reactions", row_joint_reactions, batch_joint_reactions, 60},
     {"inverse_dynamics_derivatives", row_inverse_dynamics_derivatives, batch_inverse_dynamics_derivatives, 114},
     {"forward_dynamics_derivatives", row_forward_dynamics_derivatives, batch_forward_dynamics_derivatives, 114},
+    {"static_force_derivatives", row_static_force_derivatives, batch_static_force_derivatives, 42},
     {"rk4_step_derivatives", row_rk4_step_derivatives, batch_rk4_step_derivatives, 228},
 };
 
