@@ -9,6 +9,12 @@ INSTALLED := $(VENV)/.installed
 KERNEL := build/.kernel-built
 KERNEL_SOURCES := stewart/_kernel.pyx stewart/_kernel.pxd stewart/_simulate.pxi stewart/_envelope.pxi stewart/_modes.pxi \
 	$(wildcard generated/*) setup.py
+# Python keeps the bytecode of what it imports (in .venv and the checkout's __pycache__/, both
+# ignored by git), whatever the environment says: the test suite starts some thirty interpreters
+# (its workers, the examples, the isolated fuzzers, the import and SIMD-path checks), and without
+# the cache each compiles scipy's, matplotlib's and the package's sources anew (the tests that
+# start them take a third longer).
+unexport PYTHONDONTWRITEBYTECODE
 # The build's first copy of the model (setup.py's MODEL_LIBRARY), which the C test links.
 MODEL_LIBRARY := build/libstewart_model.a
 C_TEST := tests/c/test_model
