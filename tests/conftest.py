@@ -43,10 +43,10 @@ def pytest_terminal_summary(terminalreporter):
 
 
 #: The tests that must share one worker process (pytest-xdist, ``--dist loadgroup`` in the
-#: pyproject's addopts), by the start of ``<file>::<test>``: those of a file whose tests share
-#: a costly result computed once per process (a module-scoped fixture, a cache), and the
-#: commands of the README and the docs, which run in order in one directory. Every other test goes on its own
-#: to whichever worker is free.
+#: pyproject's addopts), by the start of ``<file>::<test>`` (or a tuple of such starts, one
+#: group): those of a file whose tests share a costly result computed once per process (a
+#: module-scoped fixture, a cache), and the commands of the README and the docs, which run in
+#: order in one directory. Every other test goes on its own to whichever worker is free.
 XDIST_GROUPS = {
     "test_generated.py": "one generator run, which every file's freshness check reads",
     "test_derivatives.py": "the complex-step oracle of each case, computed once",
@@ -56,6 +56,8 @@ XDIST_GROUPS = {
     "test_build.py": "the baseline path's results, computed once in a subprocess",
     "test_bitwise.py": "the results of the path that runs everywhere, computed once",
     "test_readme.py::test_readme_command_runs": "a shell session: a command reads what an earlier one wrote",
+    ("test_cueing_mpc.py::test_closed_loop_stays_within_limits",
+     "test_cueing_mpc.py::test_mpc_beats_washout"): "MPC on each shipped maneuver, planned once",
 }
 
 
@@ -63,7 +65,7 @@ def xdist_group(nodeid: str) -> str | None:
     """The group of :data:`XDIST_GROUPS` the test ``nodeid`` belongs to, or None."""
     path, _, name = nodeid.partition("::")
     key = f"{path.rsplit('/', 1)[-1]}::{name}"
-    return next((prefix for prefix in XDIST_GROUPS if key.startswith(prefix)), None)
+    return next((str(prefix) for prefix in XDIST_GROUPS if key.startswith(prefix)), None)
 
 
 @pytest.hookimpl(optionalhook=True)
