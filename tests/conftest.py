@@ -5,6 +5,7 @@ in worker processes too."""
 
 from __future__ import annotations
 
+import os
 import warnings
 
 import numpy as np
@@ -12,6 +13,22 @@ import pytest
 
 import stewart
 from stewart.oracles.physics import random_states  # noqa: F401  (re-exported for the tests)
+
+
+def pytest_configure(config):
+    """In a pytest-xdist worker, BLAS (OpenBLAS, numpy's and scipy's) runs on the worker's share
+    of the cores, and so do the interpreters its tests start (``OPENBLAS_NUM_THREADS``, unless
+    set): with every worker's BLAS on every core, their threads spin against each other on the
+    small matrices of the tests (the identification, calibration and derivative tests take half
+    as long again). The kernel's own threads are each Platform's ``threads``, as always."""
+    workers = int(os.environ.get("PYTEST_XDIST_WORKER_COUNT", "1"))
+    if workers > 1 and "OPENBLAS_NUM_THREADS" not in os.environ:
+        from threadpoolctl import threadpool_limits
+
+        share = max(1, (os.cpu_count() or 1) // workers)
+        os.environ["OPENBLAS_NUM_THREADS"] = str(share)
+        threadpool_limits(share, user_api="blas")
+
 
 _FIGURES: list[tuple[str, float, float]] = []
 _FIGURE = "figure"
