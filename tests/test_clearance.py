@@ -42,8 +42,9 @@ def test_base_gap_of_a_hand_worked_tilt():
     assert ("its plate is at a height of 0.5 m over the base plane, less than the base clearance 0.5 m"
             in check.reasons(2)[0])
     # Without the plate, the lowest spherical joint: 1 - 0.5 sin theta for the joints on the x axis's side.
-    joints = stewart.reachability(_vertical_legs(), np.array([_pitched(t) for t in thetas]))
-    heights = 1.0 + (stewart.rotation(np.array([_pitched(t) for t in thetas])) @ _vertical_legs().platform_points.T)[:, 2]
+    poses = np.array([_pitched(t) for t in thetas])
+    joints = stewart.reachability(_vertical_legs(), poses)
+    heights = 1.0 + (stewart.rotation(poses) @ _vertical_legs().platform_points.T)[:, 2]
     np.testing.assert_allclose(joints.base_gap, heights.min(axis=1), rtol=1e-14)
 
 

@@ -49,6 +49,7 @@ import stewart
 import stewart.motion.trajectory
 from stewart import ConvergenceError, PlatformParams, SingularityError, reference, workspace
 from stewart.identification import excitation
+from stewart.model import reachability as workspace_reachability
 from stewart.studies import envelope, sweep
 from stewart.motion.control import leg_masses
 from stewart.model.paramfile import dumps_toml
@@ -772,6 +773,34 @@ TOML_VALUES = st.recursive(
         inner, max_size=3)),
     max_leaves=6)
 
+
+
+@fuzz_settings(150)
+@given(st.data())
+def test_clearances_keep_the_contract(data):
+    """Any plate radius, base clearance and leg diameter, any platform and poses: the platform's
+    gaps above the base (finite) and the legs' crossings of the plate (NaN below it, else
+    finite and >= 0), and the workspace check of them; or an error naming the field or
+    argument."""
+    draw = data.draw
+    fields = ("plate_radius", "base_clearance", "leg_diameter")
+    changes = {name: draw(st.one_of(st.none(), st.floats(0.01, 1.0), scalars())) for name in fields}
+    outcome = kept_contract(lambda: PARAMS.replace(**changes), fields)
+    if outcome[0] != "ok":
+        return
+    platform = _platform(draw, outcome[1], PLAT)
+    poses = draw(st.one_of(st.just(BATCH["x"]), st.just(SINGLE["x"]), junk(BATCH["x"]), perturbed(BATCH["x"])))
+
+    def measured():
+        crossings = workspace_reachability.plate_crossings(platform, poses)
+        assert np.all(np.isnan(crossings) | (crossings >= 0.0))
+        return workspace_reachability.base_gaps(platform, poses), np.nan_to_num(crossings, nan=-1.0, posinf=np.inf)
+
+    kept_contract(measured, ("params", "poses"))
+    checked = kept_contract(lambda: workspace.reachability(platform, poses).flags, ("platform", "poses"))
+    if checked[0] == "ok" and outcome[1].base_clearance is not None and platform is outcome[1]:
+        gaps = workspace_reachability.base_gaps(platform, np.atleast_2d(poses))
+        assert np.all((checked[1] & workspace_reachability.BELOW_BASE != 0) == (gaps < outcome[1].base_clearance))
 
 @fuzz_settings(40)
 @given(st.lists(st.tuples(st.sampled_from([("preset",), ("method",), ("designs",), ("seed",), ("params",), ("bogus",),

@@ -150,7 +150,8 @@ class Reachability:
             part = "its plate" if self.params.plate_radius is not None else "its lowest spherical joint"
             need = (f"less than the base clearance {self.params.base_clearance:g} m"
                     if self.params.base_clearance is not None else "not above it")
-            return f"the platform is not above the base: {part} is at a height of {self.base_gap[row]:.4g} m over the base plane, {need}"
+            return (f"the platform is not above the base: {part} is at a height of {self.base_gap[row]:.4g} m over "
+                    f"the base plane, {need}")
         if bit == LEG_THROUGH_PLATE:
             legs = np.flatnonzero(self._through_plate(row)).tolist()
             return (f"leg(s) {legs} pass through the platform's plate: they cross its plane "
@@ -361,7 +362,7 @@ def _block(plat, x: np.ndarray, mode: float, neutral: np.ndarray) -> dict:
         flags |= np.where(np.any(lengths < limits[0], axis=1), LEG_TOO_SHORT, 0)
         flags |= np.where(np.any(lengths > limits[1], axis=1), LEG_TOO_LONG, 0)
     rotations = kinematics.rotation(x)
-    gap = base_gaps(params, x, rotations)
+    gap = _base_gaps(params, x, rotations)
     clearance = params.base_clearance
     flags |= np.where(~(gap > 0.0) if clearance is None else ~(gap >= clearance), BELOW_BASE, 0)
     with np.errstate(all="ignore"):
@@ -388,7 +389,7 @@ def _block(plat, x: np.ndarray, mode: float, neutral: np.ndarray) -> dict:
         clearance = pairs[np.arange(len(x)), closest]
         flags |= np.where(~(clearance >= params.leg_diameter), LEG_COLLISION, 0)
     if params.plate_radius is not None:
-        crossings = plate_crossings(params, x, rotations)
+        crossings = _plate_crossings(params, x, rotations)
         flags |= np.where(np.any(_through_plate(crossings, params), axis=1), LEG_THROUGH_PLATE, 0)
     return dict(flags=flags, lengths=lengths, condition=condition, universal_angles=universal,
                 spherical_angles=spherical, clearance=clearance, closest_legs=closest, base_gap=gap,
@@ -410,15 +411,21 @@ def _leg_radius(params: PlatformParams) -> float:
     return 0.0 if params.leg_diameter is None else 0.5 * params.leg_diameter
 
 
-def base_gaps(params: PlatformParams, poses, rotations=None) -> np.ndarray:
+def base_gaps(params, poses) -> np.ndarray:
     """The height [m] of the platform's lowest point above the base plane (the horizontal
-    plane through the highest universal joint) at ``poses`` ``(N, 6)``: of the lowest spherical
+    plane through the highest universal joint) at ``poses`` (``(6,)`` or ``(N, 6)``) of
+    ``params`` (a :class:`~stewart.PlatformParams` or :class:`~stewart.Platform`): of the lowest spherical
     joint, ``p_z + (R p_i)_z`` (eq. 3), and with ``params.plate_radius`` ``r`` of the lowest
     point of the plate's rim, ``c_z - r sqrt(1 - (R e_z)_z^2)`` with ``c`` the plate's centre
-    (the rim's lowest point lies along the plate's steepest descent); ``(N,)``. ``rotations``
-    are the poses' ``R`` if known."""
-    x = np.atleast_2d(poses)
-    rot = kinematics.rotation(x) if rotations is None else rotations
+    (the rim's lowest point lies along the plate's steepest descent); ``(...)``."""
+    x = arguments.states("poses", poses)
+    rows = np.atleast_2d(x)
+    with np.errstate(all="ignore"):
+        gaps = _base_gaps(platform_params(params), rows, kinematics.rotation(rows))
+    return arguments.finite_result("base_gaps", gaps[0] if x.ndim == 1 else gaps, x)
+
+
+def _base_gaps(params: PlatformParams, x: np.ndarray, rot: np.ndarray) -> np.ndarray:
     heights = x[:, 2:3] + np.einsum("ik,nk->ni", params.platform_points, rot[:, 2, :])
     lowest = np.min(heights, axis=1)
     if params.plate_radius is not None:
@@ -428,16 +435,25 @@ def base_gaps(params: PlatformParams, poses, rotations=None) -> np.ndarray:
     return lowest - np.max(params.base_points[:, 2])
 
 
-def plate_crossings(params: PlatformParams, poses, rotations=None) -> np.ndarray:
+def plate_crossings(params, poses) -> np.ndarray:
     """Where each leg's axis ``B_i P_i`` crosses the plane of the platform's plate (the plane of
-    {P} through its highest spherical joint), at ``poses`` ``(N, 6)``: the distance [m] from the
-    plate's centre of the crossing point, ``(N, 6)``, NaN for a leg that stays below the plane
+    {P} through its highest spherical joint), at ``poses`` (``(6,)`` or ``(N, 6)``) of ``params``
+    (a :class:`~stewart.PlatformParams` or :class:`~stewart.Platform`): the distance [m] from the
+    plate's centre of the crossing point, ``(..., 6)``, NaN for a leg that stays below the plane
     (its base joint below it). In {P}, with heights measured from the plate's plane, the leg runs
     from its joint ``p_i`` (``p_iz <= 0``) to ``b_i' = R^T (b_i - p)``; when ``b_i'`` lies on or
     above the plane it crosses at ``p_i + s (b_i' - p_i)``, ``s = p_iz / (p_iz - b_iz')``
     (``s = 0`` when both lie in it)."""
-    x = np.atleast_2d(poses)
-    rot = kinematics.rotation(x) if rotations is None else rotations
+    x = arguments.states("poses", poses)
+    rows = np.atleast_2d(x)
+    with np.errstate(all="ignore"):
+        crossings = _plate_crossings(platform_params(params), rows, kinematics.rotation(rows))
+    crossings = crossings[0] if x.ndim == 1 else crossings
+    arguments.finite_result("plate_crossings", np.where(np.isnan(crossings), 0.0, crossings), x)  # NaN: below
+    return crossings
+
+
+def _plate_crossings(params: PlatformParams, x: np.ndarray, rot: np.ndarray) -> np.ndarray:
     plane = np.array([0.0, 0.0, _plate_height(params)])
     joints = params.platform_points - plane
     bases = np.einsum("nkj,nik->nij", rot, params.base_points[None, :, :] - x[:, None, :3]) - plane  # R^T (b_i - p)
