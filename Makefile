@@ -6,6 +6,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 UV := $(VENV)/bin/uv
 INSTALLED := $(VENV)/.installed
+BUILD_REQUIRES := $(VENV)/build-requires.txt
 KERNEL := build/.kernel-built
 KERNEL_SOURCES := stewart/_kernel.pyx stewart/_kernel.pxd stewart/_simulate.pxi stewart/_envelope.pxi stewart/_modes.pxi \
 	$(wildcard generated/*) setup.py
@@ -31,10 +32,16 @@ $(PY):
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install -q uv
 
+# pyproject.toml's [build-system] requires, one a line: the editable install builds without
+# isolation (in .venv, where it is fast and sees the same numpy and scipy), and uv installs
+# no build requirements then, so the bootstrap installs them first, from this one list.
+$(BUILD_REQUIRES): pyproject.toml | $(PY)
+	$(PY) -c "import tomllib; print(*tomllib.load(open('pyproject.toml', 'rb'))['build-system']['requires'], sep='\n')" > $@
+
 # The editable install compiles the extensions into the checkout (it builds them afresh
 # each time it runs: on a fresh checkout, and when pyproject.toml changes).
-$(INSTALLED): $(PY) pyproject.toml
-	$(UV) pip install -q --python $(PY) "setuptools>=77" wheel "Cython>=3.0" "numpy>=1.24"
+$(INSTALLED): $(BUILD_REQUIRES)
+	$(UV) pip install -q --python $(PY) -r $(BUILD_REQUIRES)
 	$(UV) pip install -q --python $(PY) --no-build-isolation -e ".[dev]"
 	touch $@
 
