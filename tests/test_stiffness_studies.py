@@ -56,7 +56,12 @@ def test_a_sweep_gives_each_designs_modal_metrics_and_needs_the_stiffness_to_ran
         assert result.metrics["lowest_frequency"][k] == work.frequency_min
         assert result.metrics["largest_compliance"][k] == work.compliance_max
         assert result.metrics["unheld"][k] == work.unheld
-    assert np.isnan(sweep.sweep(sweep.parse(SMALL), progress=False).metrics["lowest_frequency"]).all()
+    bare = sweep.sweep(sweep.parse(SMALL), progress=False)
+    assert set(bare.metrics) == set(sweep.METRICS) - set(sweep.MODAL_METRICS)
+    assert all(np.isfinite(values).all() for values in bare.metrics.values())
+    assert all(np.isfinite(result.metrics[name]).all() for name in sweep.MODAL_METRICS)
+    rows = bare.rows()
+    assert not any(name in row for row in rows for name in sweep.MODAL_METRICS)
     with pytest.raises(ValueError, match=r"^pareto.y: lowest_frequency needs the legs' stiffness"):
         sweep.parse({**SMALL, "pareto": {"y": "lowest_frequency"}})
     with pytest.raises(ValueError, match=r"^modes.stiffness: must be finite and > 0"):

@@ -152,6 +152,13 @@ class SweepSpec:
     pareto: tuple[str, str]
     stiffness: np.ndarray | None = None
 
+    @property
+    def metric_names(self) -> tuple[str, ...]:
+        """The :data:`METRICS` this sweep gives: the :data:`MODAL_METRICS` only with the legs'
+        stiffness (``[modes] stiffness``, or ``leg_stiffness`` in the parameters)."""
+        modal = self.stiffness is not None or self.base.leg_stiffness is not None
+        return tuple(name for name in METRICS if modal or name not in MODAL_METRICS)
+
 
 def _number(field: str, value) -> float:
     if isinstance(value, bool) or not isinstance(value, (int, float)) or not np.isfinite(value):
@@ -304,8 +311,9 @@ def _studies(spec: SweepSpec, k: int) -> tuple[PlatformParams, np.ndarray, list[
                           execution.Study(work_job, work_states, spec.seed, workspace.CHUNK_SIZE)]
 
 
-def _metrics(params: PlatformParams, home: np.ndarray, env_total: dict, work_total: dict, studies) -> list[float]:
-    """The :data:`METRICS` of one design from its studies' combined partials."""
+def _metrics(params: PlatformParams, home: np.ndarray, env_total: dict, work_total: dict, studies) -> dict:
+    """The :data:`METRICS` of one design from its studies' combined partials (the modal ones
+    NaN without a stiffness: :attr:`SweepSpec.metric_names` leaves them out)."""
     env = envelope_module._envelope(env_total, params)
     work_study = studies[1]
     work = workspace._workspace(work_study.job, work_total, work_study.n_states, True, work_study.seed)
@@ -317,13 +325,14 @@ def _metrics(params: PlatformParams, home: np.ndarray, env_total: dict, work_tot
                "unheld": float(work.unheld) if work.stiffness is not None else float("nan")}
     for quantity, _ in envelope_module.QUANTITIES:
         metrics[f"peak_{quantity}"] = float(np.max(env.value(quantity)))
-    return [metrics[name] for name in METRICS]
+    return metrics
 
 
 @dataclass(frozen=True)
 class Sweep:
     """The result of a sweep: ``designs`` (dicts of parameter values) and ``metrics`` (one
-    array per name of :data:`METRICS`, one entry per design), with the Pareto axes."""
+    array per name of :attr:`SweepSpec.metric_names`, one entry per design), with the Pareto
+    axes."""
 
     designs: tuple
     metrics: dict
@@ -344,7 +353,7 @@ class Sweep:
         rows = self.rows()
         with open(path, "w", newline="") as fh:
             fh.write(f"# design sweep of {self.platform}; units: " + ", ".join(
-                f"{k} [{u}]" for k, u in {**PARAMETERS, **{m: u for m, (u, _) in METRICS.items()}}.items() if u)
+                f"{k} [{u}]" for k, u in {**PARAMETERS, **{m: METRICS[m][0] for m in self.metrics}}.items() if u)
                 + "\n")
             writer = csv.DictWriter(fh, fieldnames=list(rows[0]))
             writer.writeheader()
@@ -399,7 +408,7 @@ def sweep(spec: SweepSpec, *, client=None, progress: bool = True) -> Sweep:
     designs = [_studies(spec, k) for k in range(len(spec.designs))]
     totals = execution.run_studies([study for *_, studies in designs for study in studies], client=client,
                                    progress=progress, desc="sweep")
-    table = np.array([_metrics(params, home, *totals[2 * k:2 * k + 2], studies)
-                      for k, (params, home, studies) in enumerate(designs)]).reshape(len(designs), len(METRICS))
-    metrics = {name: table[:, j] for j, name in enumerate(METRICS)}
+    rows = [_metrics(params, home, *totals[2 * k:2 * k + 2], studies) for k, (params, home, studies) in
+            enumerate(designs)]
+    metrics = {name: np.array([row[name] for row in rows], dtype=float) for name in spec.metric_names}
     return Sweep(spec.designs, metrics, spec.pareto, spec.base.name or "")
