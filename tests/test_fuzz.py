@@ -672,6 +672,53 @@ def test_identification_keeps_the_contract(data):
         assert _finite((result.estimates, result.standard_errors, result.residual_rms, result.condition_number))
 
 
+#: A half-second vehicle log at 50 Hz: a braking and a turn setting in.
+_T = np.arange(26) * 0.02
+CUEING_LOG = (_T, np.column_stack([-3.0 * np.tanh(4 * _T), 2.0 * _T, np.full(26, 9.81)]),
+              np.column_stack([np.zeros(26), 0.1 * _T, 0.3 * _T]))
+
+
+@settings(fuzz_settings(150), deadline=10_000)  # the first example imports stewart.cueing (scipy.signal)
+@given(st.data())
+def test_vehicle_logs_keep_the_contract(data):
+    """A VehicleLog from any columns and name: finite columns with time rising at one rate, or a
+    ValueError naming the log and the column (or the name)."""
+    draw = data.draw
+    t, f, w = (_pick(draw, value) for value in CUEING_LOG)
+    name = draw(st.sampled_from(["fuzz log"] * 3 + [None, 3, b"log"]))
+    outcome = kept_contract(lambda: stewart.cueing.VehicleLog(t, f, w, name=name), ("fuzz log", "name"))
+    if outcome[0] == "ok":
+        log = outcome[1]
+        assert log.t.shape == (len(log.t),) and log.f.shape == log.w.shape == (len(log.t), 3)
+        steps = np.diff(log.t)
+        assert np.all(steps > 0) and np.allclose(steps, log.dt, rtol=1e-6, atol=0)
+
+
+@settings(fuzz_settings(40), deadline=10_000)  # an MPC run takes about a tenth of a second
+@given(st.sampled_from(["washout", "mpc"]), st.data())
+def test_cueing_keeps_the_contract(method, data):
+    """Washout and MPC cueing of any log (a VehicleLog of any columns, a path, or no log), on any
+    platform with any settings and flags: a finite reference, or an error naming the argument;
+    a reference reported inside every limit is inside."""
+    draw, cueing = data.draw, stewart.cueing
+    columns = tuple(_pick(draw, value) for value in CUEING_LOG)
+    made = kept_contract(lambda: cueing.VehicleLog(*columns, name="fuzz log"), ("fuzz log",))
+    log = made[1] if made[0] == "ok" else draw(st.sampled_from(OBJECTS + ["no-such-log.csv", Path("no-such-log.csv")]))
+    settings_type = cueing.WashoutParams if method == "washout" else cueing.MPCParams
+    params = None if _mostly(draw) else draw(st.sampled_from([settings_type(), *OBJECTS, PARAMS]))
+    flags = {"simulate": draw(st.sampled_from([False] * 3 + [True, None, "yes", 1]))}
+    if method == "mpc":
+        flags["progress"] = draw(st.sampled_from([False] * 3 + [None, "no"]))
+    function = getattr(cueing, method)
+    outcome = kept_contract(lambda: function(log, _platform(draw), params, **flags),
+                            ("log", "platform", "params", "simulate", "progress", "no-such-log.csv"))
+    if outcome[0] == "ok":
+        result = outcome[1]
+        assert _finite((result.poses, result.velocities, result.accelerations))
+        if result.exit_code == 0:
+            assert result.inside and not result.beyond_limits and not result.problems
+
+
 MOVE = stewart.PointToPoint(HOME, HOME + [0.01, 0, 0, 0, 0.02, 0], 0.002)
 BOX = {"lower": HOME - 0.01, "upper": HOME + 0.01, "velocity": np.full(6, 0.1), "acceleration": np.full(6, 1.0)}
 

@@ -7,8 +7,11 @@ model's view of a log or a platform motion; :mod:`~stewart.cueing.metrics` compa
 
 from __future__ import annotations
 
+import os
+
 import numpy as np
 
+from ..model.errors import WrongTypeError
 from ..model.platform import as_platform
 from ..model.reachability import reachability
 from ..motion.trajectory import SampledTrajectory
@@ -47,9 +50,7 @@ def washout(log, platform, params: WashoutParams | None = None, *, simulate: boo
     :func:`stewart.reachability`; with ``simulate`` (and a reference inside the workspace)
     the reference is run through :func:`stewart.simulate` under computed torque
     (:func:`simulate_reference`) and the achieved motion's perception is compared too."""
-    if not isinstance(log, VehicleLog):
-        log = log_module.read(log)
-    plat = as_platform(platform)
+    log, plat = _arguments(log, platform, params, WashoutParams, simulate=simulate)
     if params is None:
         params = WashoutParams.for_platform(plat)
     poses, _ = reference_poses(log, params, plat.home_pose)
@@ -68,9 +69,7 @@ def mpc(log, platform, params: MPCParams | None = None, *, simulate: bool = Fals
     against the leg-speed and force limits with the exact kinematics and inverse dynamics;
     the report adds the time per step (``solve_time_s``). ``simulate`` as for
     :func:`washout`."""
-    if not isinstance(log, VehicleLog):
-        log = log_module.read(log)
-    plat = as_platform(platform)
+    log, plat = _arguments(log, platform, params, MPCParams, simulate=simulate, progress=progress)
     params = MPCParams.for_platform(plat) if params is None else params.for_platform_of(plat)
     run = predictive.plan(log, plat, params, progress=progress)
     result = _result("mpc", log, plat, params, SampledTrajectory(log.t, run.x, run.v), run.x, run.v, run.u)
@@ -83,6 +82,25 @@ def mpc(log, platform, params: MPCParams | None = None, *, simulate: bool = Fals
                                f"steps, exit flag(s) {flags} (the last plan's input was kept)")
     _check_limits(result, plat, params.leg_velocity, params.force)
     return _finish(result, plat, simulate)
+
+
+def _arguments(log, platform, params, settings: type, **flags) -> tuple[VehicleLog, object]:
+    """The log (read when ``log`` is a path) and the platform of a cueing call, its
+    ``params`` (``settings`` or ``None``) and boolean ``flags`` checked:
+    :class:`~stewart.WrongTypeError` naming the argument otherwise."""
+    for name, value in flags.items():
+        if not isinstance(value, (bool, np.bool_)):
+            raise WrongTypeError(f"{name}: expected True or False, got {type(value).__name__} {value!r:.40}")
+    if params is not None and not isinstance(params, settings):
+        raise WrongTypeError(f"params: expected a stewart.cueing.{settings.__name__} or None, got "
+                             f"{type(params).__name__}")
+    plat = as_platform(platform)
+    if isinstance(log, (str, os.PathLike)):
+        log = log_module.read(log)
+    elif not isinstance(log, VehicleLog):
+        raise WrongTypeError(f"log: expected a stewart.cueing.VehicleLog or the path of a CSV log, got "
+                             f"{type(log).__name__}")
+    return log, plat
 
 
 def _stats(values) -> dict:

@@ -15,6 +15,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..io import csvfile
+from ..model import arguments
+from ..model.errors import WrongTypeError
 
 __all__ = ["COLUMNS", "VehicleLog", "read"]
 
@@ -35,11 +37,10 @@ class VehicleLog:
     name: str = "log"
 
     def __post_init__(self):
+        if not isinstance(self.name, str):
+            raise WrongTypeError(f"name: expected a string, got {type(self.name).__name__}")
         where = self.name
-        try:
-            t, f, w = (np.asarray(value, dtype=float) for value in (self.t, self.f, self.w))
-        except (TypeError, ValueError) as exc:
-            raise ValueError(f"{where}: t, f and w must be arrays of numbers ({exc})") from None
+        t, f, w = (arguments.reals(f"{where}: {name}", getattr(self, name)) for name in ("t", "f", "w"))
         if t.ndim != 1 or f.shape != (len(t), 3) or w.shape != (len(t), 3):
             raise ValueError(f"{where}: need t (N,), f (N, 3) and w (N, 3), got {t.shape}, {f.shape}, {w.shape}")
         if len(t) < 3:
@@ -78,6 +79,8 @@ class VehicleLog:
 def read(path) -> VehicleLog:
     """The vehicle log in the CSV file ``path`` (a header naming the columns picks them
     from a wider file; without a header the file has exactly the seven columns)."""
+    if not isinstance(path, (str, os.PathLike)):
+        raise WrongTypeError(f"path: expected the path of a CSV log, got {type(path).__name__}")
     path = os.fspath(path)
     data = csvfile.read(path, list(COLUMNS))
     return VehicleLog(data[:, 0], data[:, 1:4], data[:, 4:7], name=path)
