@@ -22,7 +22,7 @@ C_TEST := tests/c/test_model
 # The model's rounding flags (STEWART_ROUNDING_FLAGS of the generated header).
 ROUNDING = $(shell sed -n 's/^\#define STEWART_ROUNDING_FLAGS "\(.*\)"/\1/p' generated/stewart_model.h)
 
-.PHONY: all test coverage test-peers test-ports test-wheels demo generate build bench validate docs serve-docs clean
+.PHONY: all test coverage test-peers test-ports test-wheels demo generate build dist bench validate docs serve-docs clean
 
 all: build
 
@@ -95,6 +95,12 @@ test-ports: build
 test-wheels: build
 	STEWART_TARGETS=all STEWART_WHEEL_PYTHONS=all $(PY) -m pytest -n 0 -v -rs --durations=0 --durations-min=1 -m packaging tests/test_packaging.py
 
+# The sdist and the wheel for this machine's kind (built from the sdist, with build isolation),
+# in dist/: what the README's install section installs without a checkout.
+dist: $(INSTALLED)
+	rm -rf dist
+	$(PY) -m build --installer uv --outdir dist .
+
 demo: build
 	$(PY) -m stewart.cli.demo
 
@@ -127,4 +133,4 @@ serve-docs: build
 	$(PY) -m mkdocs serve
 
 clean:
-	rm -rf build *.egg-info stewart/*.so stewart/_kernel.c .pytest_cache site $(C_TEST)
+	rm -rf build dist *.egg-info stewart/*.so stewart/_kernel.c .pytest_cache site $(C_TEST)

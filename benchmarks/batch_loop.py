@@ -55,7 +55,7 @@ def paths() -> dict:
     ``stewart.build_info()``), and of a ``-march=native`` build."""
     info = stewart.build_info()
     out = {name: info["flags"][name].split() for name in info["supported"]}
-    out.setdefault(NATIVE, ["-O3", *stewart.capi.c_flags(), "-march=native"])
+    out.setdefault(NATIVE, ["-O3", *stewart.io.capi.c_flags(), "-march=native"])
     return out
 
 

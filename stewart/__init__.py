@@ -19,21 +19,27 @@ simulation, optimization), :mod:`stewart.identification`, :mod:`stewart.calibrat
 :mod:`stewart.oracles` (the independent models and checks the tests use) and
 :mod:`stewart.cli`. The names below are imported on first use, so that ``import stewart``
 is fast and :mod:`stewart.model`'s data model imports without the compiled extension.
+
+**The namespace's rule.** The top level holds the public functions, classes and errors and
+the sub-packages, nothing else; a module is reached through its sub-package (``from
+stewart.studies import envelope``, or ``stewart.studies.envelope`` after ``import stewart``:
+each sub-package imports its modules on first use). The flat module paths of 0.1.0
+(:data:`MOVED`) are deprecated aliases of their new paths until 0.3.0. A public name that
+changes goes through the same deprecation, recorded in CHANGELOG.md.
 """
 
 import ast
 import importlib
+import importlib.abc
+import importlib.util
+import sys
+import warnings
 from typing import TYPE_CHECKING
 
-__version__ = "0.1.0"
+__version__ = "0.2.0"
 
 if TYPE_CHECKING:  # the public names: what `__getattr__` imports on first use
-    from .io import capi, mjcf
-    from .motion import casadi_functions, optimize
-    from .model import conditions, kinematics, stiffness
-    from .oracles import exactness, newton_euler, reference
-    from .studies import workspace
-    from . import calibration, cueing
+    from . import calibration, cueing, identification, io, model, motion, oracles, studies
     from .io.capi import c_include_dir, c_sources
     from ._kernel import build_info, set_simd
     from .model.errors import ConvergenceError, SimdPathError, SingularityError, UnstableError, WrongTypeError
@@ -83,8 +89,54 @@ _PUBLIC = _public_names()
 __all__ = list(_PUBLIC)
 
 
+#: The module paths of 0.1.0 that 0.2.0 moved into the sub-packages: deprecated aliases of
+#: their new paths until 0.3.0 (``import stewart.envelope`` and ``stewart.envelope`` work,
+#: with a ``DeprecationWarning`` naming the new path).
+MOVED = {
+    **{name: f"stewart.model.{name}" for name in ("conditions", "errors", "kinematics", "paramfile", "params",
+                                                   "platform", "stiffness")},
+    **{name: f"stewart.motion.{name}" for name in ("casadi_functions", "control", "optimize", "simulation",
+                                                    "trajectory")},
+    **{name: f"stewart.identification.{name}" for name in ("base_parameters", "excitation", "identify")},
+    **{name: f"stewart.io.{name}" for name in ("capi", "csvfile", "mjcf", "plots")},
+    **{name: f"stewart.oracles.{name}" for name in ("exactness", "newton_euler", "reference", "validation")},
+    "checks": "stewart.oracles.physics",
+    **{name: f"stewart.studies.{name}" for name in ("envelope", "execution", "sweep", "workspace")},
+}
+
+
+def _moved(name: str, stacklevel: int):
+    """The module that ``stewart.<name>`` moved to, with the warning that says where."""
+    new = MOVED[name]
+    warnings.warn(f"stewart.{name} is deprecated: it moved to {new} in 0.2.0 (use `from {new.rpartition('.')[0]} "
+                  f"import {new.rpartition('.')[2]}`); the old path goes in 0.3.0", DeprecationWarning,
+                  stacklevel=stacklevel + 1)
+    return importlib.import_module(new)
+
+
+class _MovedModules(importlib.abc.MetaPathFinder, importlib.abc.Loader):
+    """``import stewart.<old path>``: the moved module itself, with the deprecation warning."""
+
+    def find_spec(self, fullname, path=None, target=None):
+        package, _, name = fullname.rpartition(".")
+        if package != __name__ or name not in MOVED:
+            return None
+        return importlib.util.spec_from_loader(fullname, self)
+
+    def create_module(self, spec):
+        return _moved(spec.name.rpartition(".")[2], 2)
+
+    def exec_module(self, module):
+        pass
+
+
+sys.meta_path.append(_MovedModules())
+
+
 def __getattr__(name: str):
-    """Import a public name on first use (a function, class or submodule of the package)."""
+    """Import a public name on first use (a function, class or sub-package of the package)."""
+    if name in MOVED:
+        return _moved(name, 2)
     if name not in _PUBLIC:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
     module, attribute = _PUBLIC[name]

@@ -21,7 +21,7 @@ ROOT = Path(__file__).resolve().parent.parent
 SCRIPT = ROOT / "tests" / "simd_paths.py"
 INFO = stewart.build_info()
 #: The model's rounding flags (STEWART_ROUNDING_FLAGS of the generated header), in every path's flags.
-ROUNDING = " ".join(stewart.capi.c_flags())
+ROUNDING = " ".join(stewart.io.capi.c_flags())
 
 
 def run_python(args, env, cwd=None) -> str:

@@ -1,4 +1,4 @@
-"""stewart.capi: the generated C files for C programs, and the parameter header."""
+"""stewart.io.capi: the generated C files for C programs, and the parameter header."""
 
 import dataclasses
 import os

@@ -412,7 +412,7 @@ def test_input_columns_are_picked_by_header_name(tmp_path, capsys):
                                      + "\n" + ",".join(f"{v:.17g}" for v in row[order]) + ",7\n")
     code, out, _ = _run(["id", "--input", str(tmp_path / "in.csv")], capsys)
     assert code == 0
-    np.testing.assert_allclose(_numbers(out)[0], stewart.reference.inverse_dynamics(plat.params, x, xd, xdd),
+    np.testing.assert_allclose(_numbers(out)[0], stewart.oracles.reference.inverse_dynamics(plat.params, x, xd, xdd),
                                rtol=1e-9)
 
 
@@ -431,7 +431,7 @@ def test_c_export_writes_the_model_and_the_platform_header(tmp_path, capsys):
     sources = [pathlib.Path(path) for path in stewart.c_sources()]
     for source in [pathlib.Path(stewart.c_include_dir()) / "stewart_model.h"] + sources:
         assert (tmp_path / "c" / source.name).read_bytes() == source.read_bytes()
-    assert (tmp_path / "c" / "stewart_platform_params.h").read_text() == stewart.capi.params_header(params)
+    assert (tmp_path / "c" / "stewart_platform_params.h").read_text() == stewart.io.capi.params_header(params)
     (tmp_path / "file").write_text("")
     code, _, err = _run(["c-export", str(tmp_path / "file")], capsys)
     assert code == 2 and "not a directory" in _one_error_line(err, "c-export", f"DIR {tmp_path / 'file'}: ")

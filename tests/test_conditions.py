@@ -225,7 +225,7 @@ def kernel_call(params, function, x, *args):
 
 
 def reference_call(params, function, x, *args):
-    module = stewart.kinematics if function == "jacobian" else reference
+    module = stewart.model.kinematics if function == "jacobian" else reference
     return lambda: getattr(module, function)(params, x, *args)
 
 

@@ -47,7 +47,9 @@ from hypothesis.extra import numpy as hnp
 
 import stewart
 import stewart.motion.trajectory
-from stewart import ConvergenceError, PlatformParams, SingularityError, reference, workspace
+from stewart import ConvergenceError, PlatformParams, SingularityError
+from stewart.oracles import reference
+from stewart.studies import workspace
 from stewart.identification import excitation
 from stewart.model import reachability as workspace_reachability
 from stewart.studies import envelope, sweep
@@ -381,8 +383,8 @@ KINEMATICS = {
     "reference.body_terms": (reference.body_terms, ("params", "x", "xd")),
     "reference.partial_velocity_jacobians": (reference.partial_velocity_jacobians, ("params", "x")),
     "reference.rotational_inertias": (reference.rotational_inertias, ("params", "x")),
-    "newton_euler.inverse_dynamics": (stewart.newton_euler.inverse_dynamics, ("params", "x", "xd", "xdd")),
-    "newton_euler.joint_reactions": (stewart.newton_euler.joint_reactions, ("params", "x", "xd", "xdd")),
+    "newton_euler.inverse_dynamics": (stewart.oracles.newton_euler.inverse_dynamics, ("params", "x", "xd", "xdd")),
+    "newton_euler.joint_reactions": (stewart.oracles.newton_euler.joint_reactions, ("params", "x", "xd", "xdd")),
 }
 NOT_PARAMS = [None, {}, PARAMS.to_dict(), PLAT, "narayan2017", 1.0]
 

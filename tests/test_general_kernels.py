@@ -215,7 +215,7 @@ def test_gimbal_lock_is_flagged_per_state():
     assert err.value.condition == "gimbal_lock"
     tau, ok = locked.inverse_dynamics(x, xd, xdd, return_mask=True)
     assert ok.tolist() == [True, False, True] and np.isnan(tau[1]).all() and np.isfinite(tau[[0, 2]]).all()
-    # The numpy test of stewart.conditions agrees, row by row.
+    # The numpy test of stewart.model.conditions agrees, row by row.
     legs = kinematics.leg_vectors(params, x)
     codes = conditions.leg_codes(np.sum(legs * legs, axis=-1), None,
                                  np.sum(np.cross(axes, legs) ** 2, axis=-1))

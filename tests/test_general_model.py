@@ -148,7 +148,7 @@ def test_gimbal_lock_is_a_singularity():
 
 
 def test_leg_spin_effect_against_newton_euler():
-    """stewart.exactness measures with the reference; Newton-Euler, an independent
+    """stewart.oracles.exactness measures with the reference; Newton-Euler, an independent
     formulation, gives the same changes of the actuator forces."""
     from stewart.oracles import exactness
     from stewart.oracles.physics import random_states as states

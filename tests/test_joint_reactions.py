@@ -1,5 +1,5 @@
 """The compiled joint reactions (``Platform.joint_reactions``, generated C) against the
-Newton-Euler solution in numpy (stewart.newton_euler, an independent formulation), and, for
+Newton-Euler solution in numpy (stewart.oracles.newton_euler, an independent formulation), and, for
 the paper's legs with I_yy != I_zz that Newton-Euler does not model, against the platform's
 own Newton and Euler equations."""
 

@@ -23,7 +23,7 @@ FUNCTIONS = [
 
 
 def _reference(params, name, args):
-    source = ref if hasattr(ref, name) else stewart.kinematics
+    source = ref if hasattr(ref, name) else stewart.model.kinematics
     return getattr(source, name)(params, *args)
 
 
@@ -58,8 +58,8 @@ def test_leg_rates_match_the_numpy_kinematics(figures):
         x, xd, _ = random_states(params, 300, rng)
         plat = stewart.Platform(params)
         L, Ld = plat.leg_rates(x, xd)
-        worst = max(worst, relative_error(L, stewart.kinematics.leg_lengths(params, x)),
-                    relative_error(Ld, stewart.kinematics.leg_velocities(params, x, xd)))
+        worst = max(worst, relative_error(L, stewart.model.kinematics.leg_lengths(params, x)),
+                    relative_error(Ld, stewart.model.kinematics.leg_velocities(params, x, xd)))
         # One state at a time gives the rows of the batch.
         single = plat.leg_rates(x[0], xd[0])
         np.testing.assert_array_equal(single[0], L[0])
@@ -69,7 +69,7 @@ def test_leg_rates_match_the_numpy_kinematics(figures):
 
 def test_leg_accelerations_match_the_numpy_kinematics(figures):
     """Platform.leg_accelerations (forward mode along time in the generated C) against the numpy
-    closed form u_i . a_i + (|v_i|^2 - Ldot_i^2) / L_i of stewart.kinematics."""
+    closed form u_i . a_i + (|v_i|^2 - Ldot_i^2) / L_i of stewart.model.kinematics."""
     rng = np.random.default_rng(27)
     worst = 0.0
     for label, params in _param_sets():
@@ -77,7 +77,7 @@ def test_leg_accelerations_match_the_numpy_kinematics(figures):
         plat = stewart.Platform(params)
         Ldd = plat.leg_accelerations(x, xd, xdd)
         assert Ldd.shape == (300, 6)
-        worst = max(worst, relative_error(Ldd, stewart.kinematics.leg_accelerations(params, x, xd, xdd)))
+        worst = max(worst, relative_error(Ldd, stewart.model.kinematics.leg_accelerations(params, x, xd, xdd)))
         # One state at a time gives the rows of the batch.
         np.testing.assert_array_equal(plat.leg_accelerations(x[0], xd[0], xdd[0]), Ldd[0])
     figures("kernel leg_accelerations vs numpy leg_accelerations (all parameter sets)", worst, 1e-12)
@@ -112,7 +112,7 @@ def test_leg_accelerations_fail_where_the_numpy_kinematics_fail():
     with pytest.raises(stewart.SingularityError) as kernel:
         stewart.Platform(params).leg_accelerations(collapsed, rates, rates)
     with pytest.raises(stewart.SingularityError) as numpy:
-        stewart.kinematics.leg_accelerations(params, collapsed, rates, rates)
+        stewart.model.kinematics.leg_accelerations(params, collapsed, rates, rates)
     assert kernel.value.condition == numpy.value.condition == "leg_degenerate"
 
 

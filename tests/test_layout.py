@@ -44,7 +44,7 @@ def test_the_data_model_works_without_the_compiled_extension(tmp_path):
     assert proc.returncode == 0, proc.stderr
     out = json.loads(proc.stdout)
     assert out["presets"] == stewart.presets() and out["same"]
-    assert out["conditions"] == sorted(stewart.conditions.CONDITIONS)
+    assert out["conditions"] == sorted(stewart.model.conditions.CONDITIONS)
     params = stewart.PlatformParams.preset("narayan2017")
     home = stewart.Platform(params).home_pose
     np.testing.assert_allclose(out["home"], home, rtol=0, atol=1e-15)

@@ -140,7 +140,7 @@ def test_model_is_the_platform(general):
                                       tips[i] - params.piston_com_distance * units[i])):
             b = body[f"{part}{i}"]
             assert data.xipos[b] == pytest.approx(where, abs=1e-15)
-            expected = leg_frame @ np.diag(np.maximum(inertia, stewart.mjcf.MOMENT_FLOOR)) @ leg_frame.T
+            expected = leg_frame @ np.diag(np.maximum(inertia, stewart.io.mjcf.MOMENT_FLOOR)) @ leg_frame.T
             np.testing.assert_allclose(tensor_in_base(b), expected, rtol=0, atol=1e-14 * max(inertia))
         first, second = (mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, f"u{i}{k}") for k in "ab")
         assert data.xaxis[first] == pytest.approx(jointed.universal_joint_axes[i], abs=1e-15)
@@ -150,7 +150,7 @@ def test_model_is_the_platform(general):
 
 
 def test_massless_legs_and_any_name_compile():
-    """Massless legs (written as :data:`stewart.mjcf.MOMENT_FLOOR`, MuJoCo refusing zero) keep
+    """Massless legs (written as :data:`stewart.io.mjcf.MOMENT_FLOOR`, MuJoCo refusing zero) keep
     the paper's dynamics; the name is quoted as XML."""
     pytest.importorskip("mujoco")
     from benchmarks.peers import mujoco_model
@@ -166,11 +166,11 @@ def test_massless_legs_and_any_name_compile():
 
 def test_joint_velocities_keep_the_ball_joints_closed():
     """MuJoCo's constraint velocities ``J qvel`` vanish at the velocities of
-    :func:`stewart.mjcf.joint_velocities` and its platform velocity is the state's."""
+    :func:`stewart.io.mjcf.joint_velocities` and its platform velocity is the state's."""
     params = _general_params()
     x, xd, _ = bench.states(params, 1, seed=4)
     mujoco, model, data = _compiled(params, x[0])
-    data.qvel[:] = stewart.mjcf.joint_velocities(params, x[0], xd[0])
+    data.qvel[:] = stewart.io.mjcf.joint_velocities(params, x[0], xd[0])
     mujoco.mj_forward(model, data)
     scale = np.linalg.norm(xd[0])
     assert np.max(np.abs(data.efc_vel)) < 1e-14 * scale

@@ -1,4 +1,4 @@
-"""The Newton-Euler formulation (stewart.newton_euler) against the compiled kernel and the
+"""The Newton-Euler formulation (stewart.oracles.newton_euler) against the compiled kernel and the
 numeric reference, and its joint forces against statics and against the bodies' motion
 differentiated numerically, independently of the module."""
 
@@ -159,7 +159,7 @@ def test_reactions_follow_the_bodies_motion(any_params, figures):
     """Newton's and Euler's laws for each leg and for the platform, with the momenta
     computed from the bodies' positions along x + xd t + xdd t^2/2 (complex step for
     velocities, a fourth-order stencil for their time derivatives), not from
-    stewart.newton_euler:
+    stewart.oracles.newton_euler:
 
     * leg force: f_B - f_P - (m_C + m_S) g e_z = m_C a_C + m_S a_S;
     * leg moment about B_i: l x (-f_P) + (c - b) x m_C g_vec + (s - b) x m_S g_vec

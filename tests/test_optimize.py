@@ -92,7 +92,7 @@ def test_undefined_states_give_nan_not_an_exception(plat):
 
 @pytest.fixture(scope="module")
 def move(plat):
-    return stewart.optimize.minimum_effort_move(plat, TARGET, 5.0, 20, force_limit=60.0)
+    return stewart.motion.optimize.minimum_effort_move(plat, TARGET, 5.0, 20, force_limit=60.0)
 
 
 def test_minimum_effort_move_solves_within_its_limits(plat, move, figures):
@@ -142,13 +142,13 @@ def test_casadis_own_model_finds_the_same_optimum(plat, move, figures):
 
 def test_unreachable_target_and_bad_arguments(plat):
     with pytest.raises(stewart.WorkspaceError, match="target: .*longer than the maximum length"):
-        stewart.optimize.minimum_effort_move(plat, [0, 0, 0.5, 0, 0, 0], 5.0)
+        stewart.motion.optimize.minimum_effort_move(plat, [0, 0, 0.5, 0, 0, 0], 5.0)
     with pytest.raises(ValueError, match="duration: must be > 0"):
-        stewart.optimize.minimum_effort_move(plat, TARGET, -1.0)
+        stewart.motion.optimize.minimum_effort_move(plat, TARGET, -1.0)
     with pytest.raises(ValueError, match="force_limit: must be > 0"):
-        stewart.optimize.minimum_effort_move(plat, TARGET, 5.0, force_limit=0.0)
+        stewart.motion.optimize.minimum_effort_move(plat, TARGET, 5.0, force_limit=0.0)
     with pytest.raises(ValueError, match="intervals: must be from 1"):
-        stewart.optimize.minimum_effort_move(plat, TARGET, 5.0, 0)
+        stewart.motion.optimize.minimum_effort_move(plat, TARGET, 5.0, 0)
 
 
 @pytest.mark.slow

@@ -120,12 +120,12 @@ def test_non_axisymmetric_legs_with_joint_axes_do_not_warn():
 
 def test_joint_axis_parallel_to_its_leg_at_home_names_the_field():
     params = PlatformParams.preset("narayan2017")
-    home = stewart.kinematics.home_pose(params)
+    home = stewart.model.kinematics.home_pose(params)
     axes = np.array(params.with_universal_joints().universal_joint_axes)
-    axes[2] = stewart.kinematics.leg_unit_vectors(params, home)[2]
+    axes[2] = stewart.model.kinematics.leg_unit_vectors(params, home)[2]
     with pytest.raises(ValueError, match="^universal_joint_axes: axis 2 is parallel to leg 2 at the home pose"):
         stewart.Platform(params.with_universal_joints(axes))
-    stewart.kinematics.check_universal_joint_axes(params.with_universal_joints())
+    stewart.model.kinematics.check_universal_joint_axes(params.with_universal_joints())
 
 
 def test_default_joint_axes_are_horizontal_and_tangential(preset_params):

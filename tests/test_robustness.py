@@ -166,7 +166,7 @@ ZERO = np.zeros(6)
         (lambda: reference.mass_matrix(None, X), "params: expected a stewart.PlatformParams"),
         (lambda: reference.rotational_inertias({}, X), "params: expected a stewart.PlatformParams"),
         (lambda: reference.forward_dynamics("narayan2017", X, ZERO, ZERO), "params: expected a stewart.PlatformParams, got str"),
-        (lambda: stewart.newton_euler.joint_reactions(None, X, ZERO, ZERO), "params: expected a stewart.PlatformParams"),
+        (lambda: stewart.oracles.newton_euler.joint_reactions(None, X, ZERO, ZERO), "params: expected a stewart.PlatformParams"),
         (lambda: stewart.Actuators(force_limit="abc"), "force_limit: expected a number"),
         (lambda: stewart.Actuators(viscous="abc"), "viscous: expected a number"),
         (lambda: stewart.Actuators(coulomb_velocity="fast"), "coulomb_velocity: expected a number"),
@@ -244,7 +244,7 @@ def _public_calls(bad):
     yield "lengths", lambda: stewart.forward_kinematics(PARAMS, bad), False
     yield "x", lambda: reference.mass_matrix(PARAMS, bad), False
     yield "tau", lambda: reference.forward_dynamics(PARAMS, x, z, bad), True
-    yield "xdd", lambda: stewart.newton_euler.inverse_dynamics(PARAMS, x, z, bad), False
+    yield "xdd", lambda: stewart.oracles.newton_euler.inverse_dynamics(PARAMS, x, z, bad), False
     yield "start", lambda: stewart.PointToPoint(bad, x, 1.0), False
     yield "poses", lambda: stewart.SampledTrajectory([0.0, 1.0], np.stack([bad, bad])), False
     yield "kp", lambda: stewart.PID(bad, 1.0, 1.0), False
@@ -289,7 +289,7 @@ def _zero_leg_pose():
         lambda x: reference.mass_matrix(PARAMS, x),
         lambda x: reference.partial_velocity_jacobians(PARAMS, x),
         lambda x: reference.forward_dynamics(PARAMS, x, ZERO, ZERO),
-        lambda x: stewart.newton_euler.joint_reactions(PARAMS, x, ZERO, ZERO),
+        lambda x: stewart.oracles.newton_euler.joint_reactions(PARAMS, x, ZERO, ZERO),
         lambda x: PLAT.mass_matrix(x),
     ],
 )
@@ -305,8 +305,8 @@ def test_zero_length_legs_raise_singularity_error(call):
     [
         lambda: stewart.leg_unit_vectors(PARAMS, X * 1e308),
         lambda: stewart.leg_lengths(PARAMS, X * 1e308),
-        lambda: stewart.newton_euler.joint_reactions(PARAMS, X, np.full(6, 1e200), ZERO),
-        lambda: stewart.newton_euler.inverse_dynamics(PARAMS, X, np.full(6, 1e200), ZERO),
+        lambda: stewart.oracles.newton_euler.joint_reactions(PARAMS, X, np.full(6, 1e200), ZERO),
+        lambda: stewart.oracles.newton_euler.inverse_dynamics(PARAMS, X, np.full(6, 1e200), ZERO),
         lambda: reference.forward_dynamics(PARAMS, X, ZERO, np.full(6, 1e308)),
         lambda: reference.inverse_dynamics(PARAMS, X, ZERO, np.full(6, 1e308)),
         lambda: reference.coriolis_vector(PARAMS, X, np.full(6, 1e200)),

@@ -31,7 +31,7 @@ def test_computed_torque_on_the_general_model(general_params, figures):
     figures(f"general model, computed torque: max tracking error ({general_params.name}) [m]",
             np.max(np.abs(run.tracking_error[:, :3])), 1e-6 * plat.home_pose[2])
     x, xd, xdd = move.sample(run.t)
-    np.testing.assert_allclose(run.forces, stewart.reference.inverse_dynamics(general_params, x, xd, xdd),
+    np.testing.assert_allclose(run.forces, stewart.oracles.reference.inverse_dynamics(general_params, x, xd, xdd),
                                rtol=1e-6, atol=1e-6 * np.max(np.abs(run.forces)))
 
 
@@ -59,7 +59,7 @@ def test_pid_starts_bumpless(plat):
     hold = stewart.PointToPoint(plat.home_pose, plat.home_pose, 1.0)
     run = stewart.simulate(plat, hold, duration=1.0)
     assert run.ok, run.problems
-    static = stewart.reference.inverse_dynamics(plat.params, plat.home_pose, np.zeros(6), np.zeros(6))
+    static = stewart.oracles.reference.inverse_dynamics(plat.params, plat.home_pose, np.zeros(6), np.zeros(6))
     np.testing.assert_allclose(run.forces[0], static, rtol=1e-9)
     assert np.all(np.abs(static) > 1.0)  # the legs do carry the weight
     np.testing.assert_allclose(run.x, np.broadcast_to(plat.home_pose, run.x.shape), rtol=0, atol=1e-9)
@@ -74,7 +74,7 @@ def test_pid_integral_removes_an_offset(plat, figures):
     assert run.ok, run.problems
     error = np.linalg.norm(run.tracking_error[:, :3], axis=1)
     figures("PID from a 2 mm offset: final position error [m]", error[-1], 1e-7)
-    static = stewart.reference.inverse_dynamics(plat.params, plat.home_pose, np.zeros(6), np.zeros(6))
+    static = stewart.oracles.reference.inverse_dynamics(plat.params, plat.home_pose, np.zeros(6), np.zeros(6))
     np.testing.assert_allclose(run.forces[-1], static, rtol=1e-4)
 
 

@@ -1,10 +1,10 @@
-"""The minimum-effort move of :mod:`stewart.optimize`, solved over CasADi's own model.
+"""The minimum-effort move of :mod:`stewart.motion.optimize`, solved over CasADi's own model.
 
 The RK4 step and the leg lengths are CasADi SX expressions built from the model of
 :mod:`benchmarks.peers.casadi_model` (the parameters baked in as constants), so CasADi
 differentiates them by its own algorithmic differentiation. The NLP, its initial guess and
-IPOPT's options are exactly those of :func:`stewart.optimize.minimum_effort_move`
-(:func:`stewart.optimize.solve_move`), so the two optima must agree.
+IPOPT's options are exactly those of :func:`stewart.motion.optimize.minimum_effort_move`
+(:func:`stewart.motion.optimize.solve_move`), so the two optima must agree.
 """
 
 from __future__ import annotations
@@ -46,8 +46,8 @@ def casadi_functions(params, dt: float):
 
 
 def minimum_effort_move(platform, target, duration: float, intervals: int, force_limit=None):
-    """:func:`stewart.optimize.solve_move` over CasADi's model: ``(states, forces, effort,
-    stats, seconds)``, with the initial guess of :func:`stewart.optimize.initial_guess`."""
+    """:func:`stewart.motion.optimize.solve_move` over CasADi's model: ``(states, forces, effort,
+    stats, seconds)``, with the initial guess of :func:`stewart.motion.optimize.initial_guess`."""
     from stewart.motion import optimize
 
     step, lengths = casadi_functions(platform.params, duration / intervals)

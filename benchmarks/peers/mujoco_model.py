@@ -1,14 +1,14 @@
 """The same platform in MuJoCo (the package's MJCF export, :func:`stewart.to_mjcf`),
 replaying our forces, and MuJoCo's accelerations at single states.
 
-The model (see :mod:`stewart.mjcf`): per leg a cylinder on a universal joint (two hinges)
+The model (see :mod:`stewart.io.mjcf`): per leg a cylinder on a universal joint (two hinges)
 and a piston on a slide joint driven by a motor; the piston tips are tied to the free
 platform by equality ``connect`` constraints. Contacts play no part (no colliding geoms).
 
 Comparability with the paper's model: its legs never spin (eq. 29), so their axial
 inertia has no effect; a MuJoCo leg on a universal joint does spin about its axis as it
 swings, and its axial inertia then carries energy. :func:`comparable` therefore sets the
-legs' axial moments to zero (the export raises them to ``stewart.mjcf.MOMENT_FLOOR`` of
+legs' axial moments to zero (the export raises them to ``stewart.io.mjcf.MOMENT_FLOOR`` of
 the transverse ones, as MuJoCo needs positive moments); with it both describe the same
 mechanics, whatever the joints' axes. Parameters of the general model (exact legs,
 payload) are exported as they are.
@@ -77,7 +77,7 @@ def general_variant(params: stewart.PlatformParams, seed: int = 3) -> stewart.Pl
 
 def model(params: stewart.PlatformParams, pose=None, setting: str = "tight"):
     """The compiled MJCF of ``params`` assembled at ``pose`` with the ``setting`` of
-    :data:`stewart.mjcf.SOLVERS`, and sensors of both ends of each ball joint appended
+    :data:`stewart.io.mjcf.SOLVERS`, and sensors of both ends of each ball joint appended
     (``tip{i}`` then ``joint{i}``, after the export's own sensors)."""
     import mujoco
 
@@ -233,7 +233,7 @@ def figures(window: float = 1.0) -> dict:
     plat, run = our_run()
     ours_ol = our_open_loop(plat, run)
     ol_self = _differences(ours_ol.t, ours_ol.x[:, :3], rotation(ours_ol.x), run.t, run.x, window)
-    out = {"mujoco_version": mujoco.__version__, "axial_fraction": stewart.mjcf.MOMENT_FLOOR, "window_s": window,
+    out = {"mujoco_version": mujoco.__version__, "axial_fraction": stewart.io.mjcf.MOMENT_FLOOR, "window_s": window,
            "ours_rk4_ct_wall_ms": run.wall_time * 1e3, "ours_steps": len(run.t) - 1,
            "ours_step_us": run.wall_time / (len(run.t) - 1) * 1e6,
            "our_open_loop_replay": {"timestep_s": 1e-4, "completed": ours_ol.completed, "reason": ours_ol.reason,

@@ -5,9 +5,12 @@ inverse-kinematics residuals (:mod:`~stewart.calibration.fit`), with the identif
 the data (:mod:`~stewart.calibration.identifiability`) and measurement poses designed for
 it (:mod:`~stewart.calibration.design`)."""
 
+from .._modules import on_first_use
 from .fit import Calibration, calibrate
 from .identifiability import Identifiability, UnidentifiableError
 from .measurements import CalibrationData, perturbed_geometry, simulate_measurements
+
+__getattr__ = on_first_use(__name__, __path__)
 
 __all__ = ["calibrate", "Calibration", "CalibrationData", "Identifiability", "UnidentifiableError",
            "perturbed_geometry", "simulate_measurements"]

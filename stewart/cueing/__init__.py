@@ -11,6 +11,7 @@ import os
 
 import numpy as np
 
+from .._modules import on_first_use
 from ..model.errors import WrongTypeError
 from ..model.platform import as_platform
 from ..model.reachability import reachability
@@ -22,6 +23,8 @@ from .log import VehicleLog
 from .result import CueingResult
 from .settings import MPCParams
 from .washout import WashoutParams, reference_poses
+
+__getattr__ = on_first_use(__name__, __path__)
 
 __all__ = ["VehicleLog", "WashoutParams", "MPCParams", "CueingResult", "read_log", "washout", "mpc", "perceived",
            "simulate_reference"]

@@ -16,3 +16,7 @@ a ``Platform``), a function that works on the parameters alone (the kinematics o
 (a ``Platform`` gives its :attr:`~stewart.Platform.params`). Anything else raises
 :class:`~stewart.WrongTypeError` naming the argument. The functions they call inside
 take the converted value and do not check it again."""
+
+from .._modules import on_first_use
+
+__getattr__ = on_first_use(__name__, __path__)

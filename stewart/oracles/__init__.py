@@ -5,3 +5,7 @@ Newton–Euler formulation (:mod:`~stewart.oracles.newton_euler`), the physics c
 how much the complete model changes the forces (:mod:`~stewart.oracles.exactness`) and the
 report of ``stewart validate`` (:mod:`~stewart.oracles.validation`). Only ``validate`` and
 the tests import them."""
+
+from .._modules import on_first_use
+
+__getattr__ = on_first_use(__name__, __path__)

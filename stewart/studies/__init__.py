@@ -2,3 +2,7 @@
 (:mod:`~stewart.studies.execution`): workspaces (:mod:`~stewart.studies.workspace`), force
 and joint-load envelopes (:mod:`~stewart.studies.envelope`) and design sweeps
 (:mod:`~stewart.studies.sweep`)."""
+
+from .._modules import on_first_use
+
+__getattr__ = on_first_use(__name__, __path__)

@@ -57,7 +57,7 @@ def main() -> None:
             ]
             cases.append(f"    {{\"{name}\",\n     " + ",\n     ".join(fields) + "}")
     text = (
-        "/* Values from the numeric reference (stewart.reference) for tests/c/test_model.c.\n"
+        "/* Values from the numeric reference (stewart.oracles.reference) for tests/c/test_model.c.\n"
         " * Written by tests/c/make_reference_values.py; do not edit. */\n"
         "typedef struct {\n"
         "    const char *name;\n    stewart_params params;\n"

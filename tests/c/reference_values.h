@@ -1,4 +1,4 @@
-/* Values from the numeric reference (stewart.reference) for tests/c/test_model.c.
+/* Values from the numeric reference (stewart.oracles.reference) for tests/c/test_model.c.
  * Written by tests/c/make_reference_values.py; do not edit. */
 typedef struct {
     const char *name;
