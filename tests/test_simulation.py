@@ -570,7 +570,11 @@ def test_a_model_error_ends_the_run_at_the_sample_before_it(plat, method):
     held = stewart.simulate(plat, stewart.PointToPoint(home, home, 0.5), method=method)
     assert run.outcome == "failed" and not run.completed
     assert run.reason == "a leg has zero length at t = 0.1990 s" and run.t[-1] == pytest.approx(0.199)
-    np.testing.assert_allclose(run.x, held.x[:len(run.t)], rtol=0, atol=1e-12)
+    if method == "rk4":  # the same steps
+        np.testing.assert_array_equal(run.x, held.x[:len(run.t)])
+    else:  # the step the solver shortened to end before the undefined state is integrated anew,
+        # with other stages than the held run's: the two agree to DOP853's tolerance (rtol 1e-9)
+        np.testing.assert_allclose(run.x, held.x[:len(run.t)], rtol=1e-9, atol=1e-12)
 
 
 def test_feedforward_may_return_a_read_only_view(plat):
