@@ -30,8 +30,9 @@ own poses once it is back inside. ``s`` comes in three steps:
    by :data:`TIGHTEN` and the envelope is made again (at most :data:`MAX_PASSES` passes;
    a reference still outside after them is reported outside, as without the limiter).
 
-The vectorized batch calls check every row's ray at once; a 28 s log at 100 Hz takes
-about a second.
+Every row's ray is checked in one batch call of :func:`stewart.reachability` (``RAY_POINTS``
+poses a sample; 8 to 15 us a pose): the shipped 28 s take-off roll at 100 Hz is limited in
+0.3 s on ``narayan2017`` and 0.5 s on ``motion_simulator``.
 """
 
 from __future__ import annotations
@@ -48,7 +49,7 @@ __all__ = ["Limiting", "limit", "RAY_POINTS", "RAY_TOLERANCE", "TIGHTEN", "MAX_P
 
 #: Points of each ray from home checked before the bisection (a workspace that leaves and
 #: re-enters the ray between two of them is caught by the final check).
-RAY_POINTS = 16
+RAY_POINTS = 8
 #: The bisection's width of the crossing, as a share of the stretched excursion.
 RAY_TOLERANCE = 1e-6
 #: Factor applied to the need of a limited pose the final check finds outside.
