@@ -152,3 +152,26 @@ def test_limiter_keeps_a_sustained_excursion_inside(platforms):
     first = np.flatnonzero(result.limiting.active)[0]
     np.testing.assert_array_equal(result.poses[:first], free[:first])
     assert result.limiting.report()["limited_s"] > 1.0
+
+
+def test_a_pose_the_ray_check_stepped_over_is_tightened(monkeypatch):
+    """A workspace ``|x| <= 1`` with a gap at ``0.50 < x < 0.52`` that the ray's points step
+    over: the poses sweeping through it are found by the final check and their need tightened
+    until the limited reference avoids it; elsewhere it is untouched."""
+    from stewart.cueing import limiter
+
+    class Check:
+        def __init__(self, poses):
+            x = np.atleast_2d(poses)[:, 0]
+            self.flags = np.where((np.abs(x) > 1.0) | ((x > 0.50) & (x < 0.52)), 2, 0)
+            self.ok = self.flags == 0
+
+    monkeypatch.setattr(limiter, "reachability", lambda platform, poses, name: Check(poses))
+    t = np.arange(1001) * 0.01
+    poses = np.zeros((len(t), 6))
+    poses[:, 0] = 0.6 * np.sin(np.pi * t / 10.0) ** 2
+    limited, lim = limiter.limit(t, poses, np.zeros(6), None, margin=0.1, ramp_time=1.0)
+    assert lim.passes > 1 and Check(limited).ok.all()
+    assert np.max(limited[:, 0]) <= 0.50
+    np.testing.assert_array_equal(limited[lim.scale == 1.0], poses[lim.scale == 1.0])
+    assert np.any(lim.scale == 1.0) and np.all(poses[lim.scale == 1.0, 0] < 0.5)

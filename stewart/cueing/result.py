@@ -125,7 +125,8 @@ class CueingResult:
 
     def plot(self, directory) -> list[str]:
         """Write ``cueing_perceived.png`` (per channel: vehicle, reference and achieved
-        perceived signals) and ``cueing_reference.png`` (the pose from home) into
+        perceived signals) and ``cueing_reference.png`` (the pose from home, the washout
+        limiter's intervals shaded) into
         ``directory``; returns their paths. Needs matplotlib."""
         import matplotlib
 
@@ -160,7 +161,10 @@ class CueingResult:
         axes[0].set_ylabel("position from home [m]")
         axes[1].set_ylabel("angle [deg]")
         axes[1].set_xlabel("t [s]")
+        spans = self.limiting.intervals() if self.limiting is not None else []
         for ax in axes:
+            for k, span in enumerate(spans):
+                ax.axvspan(span["start_s"], span["end_s"], color="0.9", label=None if k else "limited")
             ax.legend()
             ax.grid(True, alpha=0.3)
         fig.tight_layout()
