@@ -172,6 +172,7 @@ def test_a_pose_the_ray_check_stepped_over_is_tightened(monkeypatch):
     poses[:, 0] = 0.6 * np.sin(np.pi * t / 10.0) ** 2
     limited, lim = limiter.limit(t, poses, np.zeros(6), None, margin=0.1, ramp_time=1.0)
     assert lim.passes > 1 and Check(limited).ok.all()
+    assert [span["limits"] for span in lim.intervals()] == [["leg_too_long"]]
     assert np.max(limited[:, 0]) <= 0.50
     np.testing.assert_array_equal(limited[lim.scale == 1.0], poses[lim.scale == 1.0])
     assert np.any(lim.scale == 1.0) and np.all(poses[lim.scale == 1.0, 0] < 0.5)

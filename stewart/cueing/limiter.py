@@ -64,7 +64,7 @@ class Limiting:
     ``s(t)`` applied to the excursion from home (1 where the poses are untouched), ``need``
     ``(N,)`` the largest scale each pose allowed, ``limits`` ``(N,)`` the
     :attr:`~stewart.Reachability.flags` of the workspace's boundary where each ray crosses
-    it (0 inside the margin), ``shift`` ``(N, 6)`` the limited poses minus the washout's,
+    it, or where the final check found a limited pose outside (0 inside the margin), ``shift`` ``(N, 6)`` the limited poses minus the washout's,
     ``margin`` and ``ramp_time`` the settings and ``passes`` the envelopes made."""
 
     t: np.ndarray
@@ -167,7 +167,9 @@ def limit(t, poses, home, platform, *, margin: float, ramp_time: float) -> tuple
         # a deficit below round-off of 1 is none: the pose stays the washout's own
         scale = np.where(deficit > 0, np.minimum(1.0 - deficit, need), 1.0)
         limited = np.where((scale < 1.0)[:, None], home + scale[:, None] * excursion, poses)
-        outside = ~reachability(platform, limited, name="limited reference").ok
+        check = reachability(platform, limited, name="limited reference")
+        outside = ~check.ok
+        limits[outside] |= check.flags[outside]
         if not outside.any() or passes == MAX_PASSES:
             break
         need[outside] = np.minimum(need[outside], TIGHTEN * scale[outside])
