@@ -17,7 +17,7 @@ from cli_run import call
 
 from stewart.cueing import VehicleLog, WashoutParams, read_log, vestibular, washout
 from stewart.cueing import washout as washout_module  # noqa: F401
-from stewart.cueing.washout import filters
+from stewart.cueing.washout import filters, reference_poses
 from stewart.model.params import PlatformParams
 from stewart.motion.trajectory import SampledTrajectory
 
@@ -113,21 +113,35 @@ def test_maneuvers_are_reproduced(tmp_path):
         np.testing.assert_allclose(made, shipped, rtol=1e-9, atol=0, err_msg=name)
 
 
-@pytest.fixture(scope="module")
-def simulator():
+def _washout_setup(preset):
     from stewart import Platform
 
-    plat = Platform(PlatformParams.preset("motion_simulator"))
+    plat = Platform(PlatformParams.preset(preset))
     return plat, WashoutParams.for_platform(plat)
 
 
+@pytest.fixture(scope="module")
+def simulator():
+    return _washout_setup("motion_simulator")
+
+
+@pytest.fixture(scope="module")
+def paper_platform():
+    return _washout_setup("narayan2017")
+
+
+@pytest.mark.parametrize("preset", ["paper_platform", "simulator"])
 @pytest.mark.parametrize("name", MANEUVERS)
-def test_shipped_maneuvers_stay_inside_motion_simulator(simulator, name):
-    plat, params = simulator
+def test_shipped_maneuvers_stay_inside_unlimited(request, preset, name):
+    """Each shipped maneuver's washout stays inside the limiter's margin on both presets:
+    the limiter changes no pose, bit for bit."""
+    plat, params = request.getfixturevalue(preset)
     log = read_log(os.path.join(EXAMPLES, f"{name}.csv"))
     result = washout(log, plat, params)
     assert result.inside, result.problems
     assert result.exit_code == 0
+    assert not result.limiting.active.any() and result.report()["limiter"]["limited"] is False
+    np.testing.assert_array_equal(result.poses, reference_poses(log, params, plat.home_pose)[0])
     tilt = np.abs(np.diff(result.poses[:, 3:], axis=0)) / log.dt
     assert result.metrics["perceived_error_rms"]["fx"] >= 0
     # the reference starts at home, at rest
@@ -140,8 +154,6 @@ def test_tilt_rate_is_limited():
     f = np.tile([0.0, 0.0, 9.81], (len(t), 1))
     f[t >= 1, 0] = 4.0  # sustained acceleration: tilt coordination pitches nose up
     log = VehicleLog(t, f, np.zeros((len(t), 3)))
-    from stewart.cueing.washout import reference_poses
-
     params = WashoutParams(tilt_max_angle=math.radians(15))
     poses, parts = reference_poses(log, params, np.zeros(6))
     rate = np.abs(np.diff(parts["tilt"][:, 1])) / log.dt
@@ -195,9 +207,10 @@ def test_cli_negative_limit_and_mpc(tmp_path):
 
 
 def test_cli_reference_outside_workspace_has_its_own_exit_code(tmp_path):
+    """Without the limiter (tests/test_washout_limiter.py brings this braking back inside)."""
     cfg = _write(tmp_path / "c.toml", "[translation]\ngain = 1.0\ncutoff = 0.1\norder = 2\n")
     log = os.path.join(EXAMPLES, "hard_braking.csv")
-    run = _cli("cueing", log, "--cueing", cfg, "--output", str(tmp_path / "ref.csv"),
+    run = _cli("cueing", log, "--cueing", cfg, "--no-limiter", "--output", str(tmp_path / "ref.csv"),
                "--report", str(tmp_path / "r.json"))
     assert run.returncode == 3, run.stderr
     assert "leaves the workspace" in run.stderr
@@ -245,9 +258,10 @@ def test_fuzz_vehicle_log_is_valid_or_a_named_value_error(n, rows, ragged, junk)
 
 @settings(max_examples=8, deadline=None)
 @given(scale=st.floats(0.0, 3.0), seed=st.integers(0, 2**16))
-def test_fuzz_washout_is_finite_or_reports_the_workspace(simulator, scale, seed):
-    """A random smooth log gives a finite reference inside the workspace, or one reported as
-    outside it (never NaN, never a silent success)."""
+def test_fuzz_washout_is_finite_and_limited_into_the_workspace(simulator, scale, seed):
+    """A random smooth log of up to 3 g and 3 rad/s gives a finite reference that the limiter
+    keeps inside the workspace; reported inside exactly when it is (never NaN, never a
+    silent success)."""
     rng = np.random.default_rng(seed)
     t = np.arange(301) * 0.01
     f = np.column_stack([scale * 9.81 * np.sin(rng.uniform(0.2, 3) * t) for _ in range(3)]) + [0, 0, 9.81]
@@ -255,4 +269,4 @@ def test_fuzz_washout_is_finite_or_reports_the_workspace(simulator, scale, seed)
     plat, params = simulator
     result = washout(VehicleLog(t, f, w, name="random"), plat, params)
     assert np.all(np.isfinite(result.poses))
-    assert result.inside == (not result.problems) and result.exit_code == (0 if result.inside else 3)
+    assert result.inside and not result.problems and result.exit_code == 0

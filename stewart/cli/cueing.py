@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import json
 import sys
+from dataclasses import replace
 
 from ..cueing import MPCParams, WashoutParams, mpc, read_log, washout
 from ..model.platform import Platform
@@ -40,12 +41,16 @@ def cmd_cueing(args) -> int:
     except ValueError as exc:
         raise UserError(str(exc)) from None
     kind = MPCParams if args.method == "mpc" else WashoutParams
+    if args.no_limiter and args.method != "washout":
+        raise UserError("--no-limiter: the limiter is the washout's; give it with --method washout", EXIT_USAGE)
     try:
         settings = kind.load(args.cueing, plat) if args.cueing else kind.for_platform(plat)
         if args.method == "mpc":
             settings.intervals(log.dt)
     except ValueError as exc:
         raise UserError(f"--cueing {exc}", EXIT_USAGE) from None
+    if args.no_limiter:
+        settings = replace(settings, limiter_enabled=False)
     if args.method == "mpc":
         result = mpc(log, plat, settings, simulate=args.simulate, progress=progress(args))
     else:
@@ -69,6 +74,8 @@ def cmd_cueing(args) -> int:
             print(f"MPC: {settings.duration:g} s horizon in {settings.steps} steps, "
                   f"{'preview of the log' if settings.preview else 'no preview'}; time per step median "
                   f"{1e3 * step['median']:.2f} ms, max {1e3 * step['max']:.2f} ms")
+        if result.limiting is not None:
+            print(result.limiting.summary())
         print("perceived error RMS: " + "  ".join(f"{k} {v:.3g}" for k, v in report["perceived_error_rms"].items()))
         if result.simulation is not None:
             sim = report["simulation"]
@@ -99,6 +106,8 @@ def add_cueing(sub) -> None:
              "--trajectory reads it)")
     add_file(p, "--report", "write the metrics and outcome as JSON")
     add_file(p, "--plot", "write PNG figures into DIR (needs matplotlib)", metavar="DIR")
+    p.add_argument("--no-limiter", action="store_true", help="washout: leave the reference unlimited (one that "
+                   "leaves the workspace is refused, exit 3) instead of scaling it back smoothly (see docs/cueing.md)")
     p.add_argument("--simulate", action="store_true", help="run the reference through the closed loop "
                    "(computed torque) and report the achieved motion's perceived error and problems")
     add_json(p)

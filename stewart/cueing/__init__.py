@@ -17,7 +17,7 @@ from ..model.platform import as_platform
 from ..model.reachability import reachability
 from ..motion.trajectory import SampledTrajectory
 from . import log as log_module
-from . import metrics, vestibular
+from . import limiter, metrics, vestibular
 from . import predictive
 from .log import VehicleLog
 from .result import CueingResult
@@ -49,7 +49,9 @@ def perceived(motion, gravity: float = 9.81) -> vestibular.Perceived:
 def washout(log, platform, params: WashoutParams | None = None, *, simulate: bool = False) -> CueingResult:
     """The classical washout's reference for ``log`` (a :class:`VehicleLog` or a CSV path) on
     ``platform`` (a :class:`~stewart.Platform` or :class:`~stewart.PlatformParams`) with
-    ``params`` (default :meth:`WashoutParams.for_platform`). Every pose is checked with
+    ``params`` (default :meth:`WashoutParams.for_platform`). Unless ``params.limiter_enabled``
+    is False, the poses are limited to the workspace (:func:`stewart.cueing.limiter.limit`;
+    ``result.limiting`` says where and how much). Every pose is checked with
     :func:`stewart.reachability`; with ``simulate`` (and a reference inside the workspace)
     the reference is run through :func:`stewart.simulate` under computed torque
     (:func:`simulate_reference`) and the achieved motion's perception is compared too."""
@@ -57,10 +59,15 @@ def washout(log, platform, params: WashoutParams | None = None, *, simulate: boo
     if params is None:
         params = WashoutParams.for_platform(plat)
     poses, _ = reference_poses(log, params, plat.home_pose)
+    limiting = None
+    if params.limiter_enabled:
+        poses, limiting = limiter.limit(log.t, poses, plat.home_pose, plat, margin=params.limiter_margin,
+                                        ramp_time=params.limiter_ramp_time)
     reference = SampledTrajectory(log.t, poses)
     _, velocities, accelerations = reference.sample(log.t)
-    return _finish(_result("washout", log, plat, params, reference, poses, velocities, accelerations), plat,
-                   simulate)
+    result = _result("washout", log, plat, params, reference, poses, velocities, accelerations)
+    result.limiting = limiting
+    return _finish(result, plat, simulate)
 
 
 def mpc(log, platform, params: MPCParams | None = None, *, simulate: bool = False,

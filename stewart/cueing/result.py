@@ -30,7 +30,9 @@ class CueingResult:
     ``reachability`` checks every pose; ``peaks`` holds the reference's largest leg speed
     [m/s] and actuator force [N] (exact kinematics and inverse dynamics), ``limits`` the
     limits they were held to (MPC) and ``beyond_limits`` whether they passed them;
-    ``solver`` the MPC's timing and QP statistics; ``problems`` says in words what is wrong."""
+    ``solver`` the MPC's timing and QP statistics; ``limiting`` what the washout's limiter did
+    (:class:`~stewart.cueing.limiter.Limiting`; None without it); ``problems`` says in words
+    what is wrong."""
 
     method: str
     platform_name: str
@@ -54,6 +56,7 @@ class CueingResult:
     solver: dict | None = None
     simulation_peaks: dict | None = None
     simulation_beyond_limits: bool = False
+    limiting: object = None
 
     @property
     def t(self) -> np.ndarray:
@@ -89,7 +92,8 @@ class CueingResult:
                       f"cueing reference ({self.method}) of {self.log.name} for {self.platform_name}", fmt="%.17g")
 
     def report(self) -> dict:
-        """The report: method, platform, inputs, outcome, problems, settings and metrics."""
+        """The report: method, platform, inputs, outcome, problems, settings and metrics (and
+        the washout limiter's ``limiter`` entry, :meth:`~stewart.cueing.limiter.Limiting.report`)."""
         out = {"method": self.method, "platform": self.platform_name, "log": self.log.name,
                "duration_s": float(self.t[-1] - self.t[0]), "dt_s": self.log.dt, "ok": self.ok,
                "exit_code": self.exit_code, "inside_workspace": self.inside, "problems": list(self.problems),
@@ -100,6 +104,8 @@ class CueingResult:
             out["limits"] = dict(self.limits)
         if self.solver is not None:
             out.update(self.solver)
+        if self.limiting is not None:
+            out["limiter"] = self.limiting.report()
         if self.simulation is not None:
             sim = self.simulation
             out["simulation"] = {"outcome": sim.outcome, "ok": sim.ok, "exit_code": int(sim.exit_code),
@@ -119,7 +125,8 @@ class CueingResult:
 
     def plot(self, directory) -> list[str]:
         """Write ``cueing_perceived.png`` (per channel: vehicle, reference and achieved
-        perceived signals) and ``cueing_reference.png`` (the pose from home) into
+        perceived signals) and ``cueing_reference.png`` (the pose from home, the washout
+        limiter's intervals shaded) into
         ``directory``; returns their paths. Needs matplotlib."""
         import matplotlib
 
@@ -154,7 +161,10 @@ class CueingResult:
         axes[0].set_ylabel("position from home [m]")
         axes[1].set_ylabel("angle [deg]")
         axes[1].set_xlabel("t [s]")
+        spans = self.limiting.intervals() if self.limiting is not None else []
         for ax in axes:
+            for k, span in enumerate(spans):
+                ax.axvspan(span["start_s"], span["end_s"], color="0.9", label=None if k else "limited")
             ax.legend()
             ax.grid(True, alpha=0.3)
         fig.tight_layout()

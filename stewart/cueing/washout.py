@@ -17,6 +17,10 @@ From the vehicle's specific force ``f`` and angular velocity ``w`` (vehicle fram
   ``max_angle`` and its rate to ``rate_limit`` (about 3 deg/s, below the canals' threshold,
   Reid & Nahon 1985; Telban & Cardullo 2005), so the rider feels the force, not the rotation.
 
+The filters are linear: a glitch in the log or a maneuver harder than their design can take
+the reference out of the workspace. The limiter (:mod:`stewart.cueing.limiter`, on by
+default) then scales the excursion from home smoothly, so that the reference stays inside.
+
 The settings (:class:`WashoutParams`) come from a TOML file or from
 :meth:`WashoutParams.for_platform`, which scales the translational cut-offs to the
 platform's workspace. The filters are :mod:`scipy.signal` transfer functions
@@ -50,6 +54,7 @@ _SECTIONS = {
     "translation": ("gain", "cutoff", "damping", "order", "break_frequency"),
     "rotation": ("gain", "cutoff", "damping"),
     "tilt": ("cutoff", "damping", "rate_limit", "max_angle"),
+    "limiter": ("enabled", "margin", "ramp_time"),
 }
 
 
@@ -57,7 +62,9 @@ _SECTIONS = {
 class WashoutParams:
     """Washout settings. Per-axis values are ``(x, y, z)`` (translation) or ``(roll, pitch,
     yaw)`` (rotation); cut-offs in rad/s; ``tilt_rate_limit`` in rad/s and ``tilt_max_angle``
-    in rad (the TOML file gives these two in degrees)."""
+    in rad (the TOML file gives these two in degrees). ``limiter_enabled``,
+    ``limiter_margin`` (a share of the excursion from home) and ``limiter_ramp_time`` [s] set
+    the limiter that keeps the reference in the workspace (:mod:`stewart.cueing.limiter`)."""
 
     translation_gain: tuple = (0.5, 0.5, 0.5)
     translation_cutoff: tuple = (1.0, 1.0, 1.0)
@@ -72,6 +79,9 @@ class WashoutParams:
     tilt_rate_limit: float = vestibular.TILT_RATE_LIMIT
     tilt_max_angle: float = math.radians(10.0)
     gravity: float = 9.81
+    limiter_enabled: bool = True
+    limiter_margin: float = 0.1
+    limiter_ramp_time: float = 1.0
     source: str = field(default="defaults", compare=False)
 
     def __post_init__(self):
@@ -83,10 +93,15 @@ class WashoutParams:
                                  f"{'> 0' if strict else '>= 0'}, got {value.tolist()}")
             object.__setattr__(self, name, tuple(float(v) for v in value))
         for name in ("translation_damping", "rotation_damping", "tilt_cutoff", "tilt_damping",
-                     "tilt_rate_limit", "translation_break_frequency", "gravity"):
+                     "tilt_rate_limit", "translation_break_frequency", "gravity", "limiter_ramp_time"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and value > 0):
                 raise ValueError(f"{self.source}: {name.replace('_', '.', 1)}: must be a number > 0, got {value!r}")
+        if not isinstance(self.limiter_enabled, bool):
+            raise ValueError(f"{self.source}: limiter.enabled: must be true or false, got {self.limiter_enabled!r}")
+        margin = self.limiter_margin
+        if not (isinstance(margin, (int, float)) and not isinstance(margin, bool) and 0 <= margin < math.inf):
+            raise ValueError(f"{self.source}: limiter.margin: must be a number >= 0, got {margin!r}")
         if not (isinstance(self.tilt_max_angle, (int, float)) and 0 <= self.tilt_max_angle < math.pi / 2):
             raise ValueError(f"{self.source}: tilt.max_angle: must be in [0, 90) deg, "
                              f"got {math.degrees(self.tilt_max_angle)!r}")
@@ -120,8 +135,8 @@ class WashoutParams:
 
     @classmethod
     def load(cls, path, platform=None) -> "WashoutParams":
-        """Settings from a TOML file with sections ``[translation]``, ``[rotation]`` and
-        ``[tilt]`` (keys as in :data:`_SECTIONS`; ``tilt.rate_limit`` in deg/s and
+        """Settings from a TOML file with sections ``[translation]``, ``[rotation]``, ``[tilt]``
+        and ``[limiter]`` (keys as in :data:`_SECTIONS`; ``tilt.rate_limit`` in deg/s and
         ``tilt.max_angle`` in deg); what it leaves out comes from :meth:`for_platform` (or
         the plain defaults without ``platform``)."""
         path = os.fspath(path)

@@ -49,7 +49,7 @@ from .arguments import platform_params
 from .params import PlatformParams
 
 __all__ = ["WorkspaceError", "Reachability", "reachability", "assembly_mode", "margins", "CONDITION_LIMIT",
-           "joint_angles", "neutral_axes", "segment_distances", "FLAGS", "limits_in_force", "base_gaps",
+           "FLAG_NAMES", "joint_angles", "neutral_axes", "segment_distances", "FLAGS", "limits_in_force", "base_gaps",
            "plate_crossings"]
 
 #: Largest unit-free condition number of ``J_C`` (and of the Euler-angle map) accepted.
@@ -192,6 +192,12 @@ class Reachability:
 #: The flags of :attr:`Reachability.flags`, in the order their counts are reported.
 FLAGS = (OUT_OF_RANGE, LEG_TOO_SHORT, LEG_TOO_LONG, BELOW_BASE, SINGULAR, EULER_SINGULAR, OTHER_ASSEMBLY_MODE,
          UNIVERSAL_JOINT_LIMIT, SPHERICAL_JOINT_LIMIT, LEG_COLLISION, LEG_THROUGH_PLATE)
+#: The name of each flag in reports (a workspace study's exclusions, the washout limiter's bounds).
+FLAG_NAMES = {OUT_OF_RANGE: "out_of_range", LEG_TOO_SHORT: "leg_too_short", LEG_TOO_LONG: "leg_too_long",
+              BELOW_BASE: "below_base", SINGULAR: "singular", EULER_SINGULAR: "euler_singular",
+              OTHER_ASSEMBLY_MODE: "other_assembly_mode", UNIVERSAL_JOINT_LIMIT: "universal_joint_limit",
+              SPHERICAL_JOINT_LIMIT: "spherical_joint_limit", LEG_COLLISION: "leg_collision",
+              LEG_THROUGH_PLATE: "leg_through_plate"}
 
 
 def limits_in_force(params: PlatformParams) -> str:

@@ -20,6 +20,7 @@ from ..model.reachability import (
     BELOW_BASE,
     CONDITION_LIMIT,
     EULER_SINGULAR,
+    FLAG_NAMES,
     FLAGS,
     LEG_COLLISION,
     LEG_THROUGH_PLATE,
@@ -54,12 +55,6 @@ KINDS = {"translational": (POSE_AXES[:3], "m"), "orientation": (POSE_AXES[3:], "
 
 #: Poses checked per chunk (one task of :mod:`stewart.studies.execution`).
 CHUNK_SIZE = 20_000
-
-_NAMES = {OUT_OF_RANGE: "out_of_range", LEG_TOO_SHORT: "leg_too_short", LEG_TOO_LONG: "leg_too_long",
-          BELOW_BASE: "below_base", SINGULAR: "singular", EULER_SINGULAR: "euler_singular",
-          OTHER_ASSEMBLY_MODE: "other_assembly_mode", UNIVERSAL_JOINT_LIMIT: "universal_joint_limit",
-          SPHERICAL_JOINT_LIMIT: "spherical_joint_limit", LEG_COLLISION: "leg_collision",
-          LEG_THROUGH_PLATE: "leg_through_plate"}
 
 
 @dataclass(frozen=True)
@@ -319,7 +314,7 @@ def _workspace(job: WorkspaceJob, parts: dict, total: int, complete: bool, seed)
         margin_min=float(-margin[0]) if count else nan, margin_mean=parts["margin_sum"] / count if count else nan,
         margin_max=float(margin[1]) if count else nan,
         margin_min_pose=parts["margin"].state[0] if count else None,
-        excluded={_NAMES[bit]: int(n) for bit, n in zip(FLAGS, parts["excluded"]) if n},
+        excluded={FLAG_NAMES[bit]: int(n) for bit, n in zip(FLAGS, parts["excluded"]) if n},
         seed=None if grid is not None else int(seed), platform=params.name or "unnamed", **modal,
     )
 
