@@ -3,10 +3,12 @@ squares on inverse-kinematics residuals (Zhuang & Roth 1993; Masory, Wang & Zhua
 solved by ``scipy.optimize.least_squares`` with the exact Jacobian of
 :mod:`stewart.calibration.geometry`.
 
-**Pose data.** The unknowns are the 42 parameters. Each residual ``e + delta - |l(x)|`` is
-divided by its standard deviation, that of the encoder reading and of the measured pose
-carried to the leg length to first order (effective variance):
-``sigma^2 = sigma_L^2 + g diag(sigma_x^2) g^T``, with ``g = d|l|/dx`` at the nominal geometry.
+**Pose data.** The unknowns are the 42 parameters. The six residuals ``e + delta - |l(x)|``
+of a pose share the noise of its measured pose, so they are weighted together (generalized
+least squares): by the inverse Cholesky factor of their covariance, the encoders' and the
+measured pose's carried to the leg lengths to first order (effective variance),
+``C = sigma_L^2 I + g diag(sigma_x^2) g^T``, with ``g = d|l|/dx`` (6 x 6) at the nominal
+geometry.
 
 **Point data.** The platform's poses are not measured, so they join the unknowns (six per
 pose, started from forward kinematics of the nominal geometry); the residuals are the legs'
@@ -60,7 +62,8 @@ class Calibration:
     ``nominal`` and ``params`` are the parameter sets before and after (the calibrated one
     differs in ``base_points``, ``platform_points`` and ``leg_length_offsets`` only);
     ``names``, ``nominal_values``, ``estimates`` and ``standard_errors`` are the 42
-    parameters (:data:`~stewart.calibration.geometry.PARAMETER_NAMES`) [m];
+    parameters (:data:`~stewart.calibration.geometry.PARAMETER_NAMES`) [m], ``covariance``
+    (42, 42) [m^2] that of the estimates (module docstring);
     ``identifiability`` that of the weighted Jacobian at the solution; ``rms_before`` and
     ``rms_after`` the RMS residual of each leg [m] (and, for point data, of the target
     distance [m]) with the nominal and with the calibrated geometry; ``sigma`` the
@@ -72,7 +75,7 @@ class Calibration:
     params: PlatformParams
     kind: str
     estimates: np.ndarray
-    standard_errors: np.ndarray
+    covariance: np.ndarray
     identifiability: Identifiability
     rms_before: np.ndarray
     rms_after: np.ndarray
@@ -86,6 +89,11 @@ class Calibration:
     @property
     def nominal_values(self) -> np.ndarray:
         return geometry.parameter_vector(self.nominal)
+
+    @property
+    def standard_errors(self) -> np.ndarray:
+        """The square roots of the diagonal of ``covariance`` (42,) [m]."""
+        return np.sqrt(np.diag(self.covariance))
 
     def summary(self) -> dict:
         """The JSON report: every parameter's nominal value, estimate and standard error, the
@@ -146,7 +154,7 @@ def calibrate(platform, data: CalibrationData, *, position_std: float = DEFAULT_
     return Calibration(
         nominal=nominal, params=geometry.with_parameters(nominal, theta).replace(
             name=f"{nominal.name or 'platform'} (calibrated)"),
-        kind=data.kind, estimates=theta, standard_errors=np.sqrt(np.diag(covariance)[:NUM_PARAMETERS]),
+        kind=data.kind, estimates=theta, covariance=covariance,
         identifiability=identifiability(problem.data_jacobian(fit.x), PARAMETER_NAMES, gauged), rms_before=problem.rms(problem.theta0),
         rms_after=problem.rms(fit.x), sigma=sigma, dof=int(dof), poses=problem.poses_at(fit.x)[problem.pose_of_row],
         evaluations=int(fit.nfev), residual_names=problem.residual_names)
@@ -196,11 +204,15 @@ class _Problem:
                              f"measure at least {given + int(np.ceil((unknowns + 1 - equations) / per))} {what}")
         self.unknowns = unknowns
         self.residual_names = tuple(f"L{i}" for i in range(6)) + (() if data.points is None else ("target",))
-        self.weight_legs = np.full((self.count, 6), 1.0 / length_std)
+        #: Each pose's whitening matrix (K, 6, 6) of its six leg residuals: ``W_k`` with
+        #: ``W_k C_k W_k^T = I`` for their covariance ``C_k``.
+        self.weight_legs = np.broadcast_to(np.eye(6) / length_std, (self.count, 6, 6))
         if data.poses is not None:
+            # The measured pose's noise is common to the six legs: C_k = sigma_L^2 I + g diag(sigma_x^2) g^T.
             pose_var = np.array([position_std**2] * 3 + [angle_std**2] * 3)
             g = geometry.leg_pose_jacobian(theta0, poses)
-            self.weight_legs = 1.0 / np.sqrt(length_std**2 + np.einsum("kij,j->ki", g * g, pose_var))
+            covariance = length_std**2 * np.eye(6) + np.einsum("kia,a,kja->kij", g, pose_var, g)
+            self.weight_legs = np.linalg.inv(np.linalg.cholesky(covariance))
         self.weight_points = 1.0 / position_std
         self.weight_gauge = 1.0 / length_std
         self.poses = poses
@@ -238,7 +250,7 @@ class _Problem:
     def _data_parts(self, theta, poses, columns=True):
         """The weighted residuals of the data (legs, then targets) and, with ``columns``, their
         parameter columns ``A`` (rows, 42)."""
-        rows = (geometry.leg_residuals(theta, poses, self.readings) * self.weight_legs).ravel()
+        rows = np.einsum("kij,kj->ki", self.weight_legs, geometry.leg_residuals(theta, poses, self.readings)).ravel()
         if self.data.points is not None:
             offsets = self.data.target_offsets[self.data.targets]
             points = self.data.points - geometry.target_positions(poses[self.pose_of_row], offsets)
@@ -246,12 +258,13 @@ class _Problem:
         if not columns:
             return rows
         cols = np.zeros((len(rows), NUM_PARAMETERS))
-        cols[:6 * self.count] = (geometry.leg_jacobian(theta, poses) * self.weight_legs[..., None]).reshape(-1, NUM_PARAMETERS)
+        cols[:6 * self.count] = np.einsum("kij,kjp->kip", self.weight_legs,
+                                          geometry.leg_jacobian(theta, poses)).reshape(-1, NUM_PARAMETERS)
         return rows, cols
 
     def _pose_columns(self, theta, poses) -> np.ndarray:
         """The columns ``B`` (rows, 6) of each data row's pose (point data)."""
-        legs = geometry.leg_pose_jacobian(theta, poses) * self.weight_legs[..., None]
+        legs = np.einsum("kij,kjp->kip", self.weight_legs, geometry.leg_pose_jacobian(theta, poses))
         points = geometry.target_pose_jacobian(poses[self.pose_of_row], self.data.target_offsets[self.data.targets])
         return np.concatenate([legs.reshape(-1, 6), self.weight_points * points.reshape(-1, 6)])
 
@@ -274,12 +287,12 @@ class _Problem:
 
     def rms(self, theta) -> np.ndarray:
         """The RMS residual of each leg, and of the target distance for point data [m]."""
-        rows = self._data_parts(theta, self.poses_at(theta), columns=False)
-        legs = rows[:6 * self.count].reshape(-1, 6) / self.weight_legs
+        poses = self.poses_at(theta)
+        legs = geometry.leg_residuals(theta, poses, self.readings)
         out = np.sqrt(np.mean(legs * legs, axis=0))
         if self.data.points is None:
             return out
-        points = rows[6 * self.count:] / self.weight_points
+        points = self._data_parts(theta, poses, columns=False)[6 * self.count:] / self.weight_points
         return np.append(out, np.sqrt(3.0 * np.mean(points * points)))
 
 
