@@ -215,6 +215,48 @@ def test_calibrate_writes_the_parameters_report_and_figures(campaign, capsys):
     assert "held-out" in out
 
 
+def _at_the_stroke_end(excess):
+    """A pose, raised and tilted from home, where the nominal's longest leg is ``excess`` [m]
+    past its maximum length."""
+    from scipy.optimize import brentq
+
+    home, up = stewart.home_pose(NOMINAL), np.array([0.01, 0.0, 1.0, 0.0, 0.05, 0.0])
+    high = NOMINAL.leg_length_limits[1]
+    return home + up * brentq(lambda a: np.max(stewart.leg_lengths(NOMINAL, home + a * up)) - high - excess, 0, 0.3)
+
+
+@pytest.mark.parametrize("excess", [4e-5, 3e-3])
+def test_measured_poses_past_the_nominal_stroke_are_calibrated_and_judged_after_the_fit(
+        campaign, designed, tmp_path, capsys, excess):
+    """A pose whose nominal leg is 40 um past the stroke (the built machine, whose legs are
+    shorter there, inside it) is calibrated like any other, exit 0, its calibrated length
+    within its uncertainty of the stroke; one 3 mm past (the built machine past its stated
+    stroke too) also, with a warning naming the leg, how far past and its uncertainty, and in
+    the report. A pose past by more than 5 % of the stroke is refused (test_bad_measurements)."""
+    folder, truth = campaign
+    pose = _at_the_stroke_end(excess)
+    assert not stewart.reachability(NOMINAL, pose).ok[0]
+    simulate_measurements(truth, np.vstack([designed.poses, pose]), seed=1).to_csv(tmp_path / "m.csv")
+    code, out, err = _run(["calibrate", str(tmp_path / "m.csv"), "--report", str(tmp_path / "r.json")], capsys)
+    assert code == 0, err
+    report = json.loads((tmp_path / "r.json").read_text())
+    beyond = report["beyond_stroke"]
+    true_length = stewart.leg_lengths(truth, pose)
+    assert {e["row"] for e in beyond} <= {30}
+    for e in beyond:
+        assert e["limit"] == NOMINAL.leg_length_limits[1]
+        assert abs(e["length"] - true_length[e["leg"]]) < 3 * e["uncertainty"]
+    if excess < 1e-3:
+        assert all(e["excess"] < 3 * e["uncertainty"] for e in beyond)
+        assert not beyond or "all within their uncertainty" in err
+    else:
+        assert max(e["excess"] for e in beyond) > 1e-3
+        lines = err.strip().splitlines()
+        assert len(lines) == 1 and lines[0].startswith(f"stewart calibrate: warning: {tmp_path / 'm.csv'}: with the "
+                                                       "calibrated geometry")
+        assert "past the stroke 0.19-0.38 m" in lines[0] and "by more than 3 standard uncertainties" in lines[0]
+
+
 def test_calibration_poses_writes_a_campaign_calibrate_reads(tmp_path, capsys):
     code, out, _ = _run(["calibration-poses", "--count", "12", "--csv", str(tmp_path / "d.csv"), "--no-progress"],
                         capsys)
@@ -226,7 +268,9 @@ def test_calibration_poses_writes_a_campaign_calibrate_reads(tmp_path, capsys):
 @pytest.mark.parametrize("edit, code, start", [
     (lambda rows: rows.replace(rows.splitlines()[3].split(",")[2], "nan", 1), 2, "{file}: line 4, column 3"),
     (lambda rows: "\n".join(rows.splitlines()[:6]), 2, "{file}: too few measurements: 24 equations for 42"),
-    (lambda rows: rows.replace(rows.splitlines()[3].split(",")[2], "0.9", 1), 3, "{file}: 1 of 30 measured pose(s) outside the workspace"),
+    (lambda rows: rows.replace(rows.splitlines()[3].split(",")[2], "0.9", 1), 3,
+     "{file}: 1 of 30 measured pose(s) outside the workspace: leg(s) [0, 1, 2, 3, 4, 5] longer than the maximum "
+     "length 0.3895 m"),
     (lambda rows: rows.replace("x,y,z", "px,py,pz").replace(",psi,theta,phi", ""), 2, "{file}: "),
     (lambda rows: rows.replace("psi,theta,phi,", ""), 2, "{file}: line 1: the header has 9"),
 ])

@@ -5,9 +5,9 @@ inverse-kinematics residuals (:mod:`~stewart.calibration.fit`), with the identif
 the data (:mod:`~stewart.calibration.identifiability`) and measurement poses designed for
 it (:mod:`~stewart.calibration.design`)."""
 
-from .fit import Calibration, calibrate
+from .fit import Calibration, StrokeExcess, calibrate
 from .identifiability import Identifiability, UnidentifiableError
 from .measurements import CalibrationData, perturbed_geometry, simulate_measurements
 
-__all__ = ["calibrate", "Calibration", "CalibrationData", "Identifiability", "UnidentifiableError",
+__all__ = ["calibrate", "Calibration", "CalibrationData", "Identifiability", "StrokeExcess", "UnidentifiableError",
            "perturbed_geometry", "simulate_measurements"]

@@ -4,6 +4,7 @@ poses or points) and ``stewart calibration-poses`` (the poses to measure)."""
 from __future__ import annotations
 
 import json
+import sys
 
 import numpy as np
 
@@ -63,6 +64,9 @@ def cmd_calibrate(args) -> int:
         raise UserError(str(exc)) from None
     except ValueError as exc:
         raise UserError(flag_names(str(exc), _FLAGS)) from None
+    warning = result.stroke_warning()
+    if warning:
+        print(f"stewart calibrate: warning: {args.measurements}: {warning}", file=sys.stderr)
     print(f"# platform {label}: calibrated from {args.measurements} ({len(data.readings)} {data.kind} "
           f"measurement(s), {len(data.pose_index()[0])} pose(s))")
     print(result.table())
