@@ -126,7 +126,8 @@ def add_calibrate(sub) -> None:
     p.add_argument("--validate", metavar="FILE", help="held-out measurements: print the pose error of forward "
                    "kinematics from their encoder readings with the nominal and the calibrated geometry")
     add_file(p, "--output", "write the calibrated parameters (.toml or .json), loadable with --params")
-    add_file(p, "--report", "write every parameter's estimate and standard error and the residuals (JSON)")
+    add_file(p, "--report", "write every parameter's estimate and standard error, the residuals and the legs "
+             "past the stroke with the calibrated geometry (JSON)")
     add_file(p, "--plot", "write PNG figures: residuals per leg, estimates with error bars, held-out errors",
              metavar="DIR")
 
