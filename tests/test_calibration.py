@@ -155,6 +155,14 @@ def test_the_covariance_holds_on_tracker_noise_the_fit_did_not_assume(spread, se
     assert abs(share - p) <= 3.0 * np.sqrt(p * (1 - p) / cases)
 
 
+@pytest.mark.parametrize("name, value", [("position_std", 1e200), ("length_std", 1e-170), ("angle_std", -1e-4),
+                                         ("length_std", 0.0)])
+def test_a_standard_deviation_whose_square_is_no_weight_is_an_error_naming_it(designed, name, value):
+    data = simulate_measurements(NOMINAL, designed.poses)
+    with pytest.raises(ValueError, match=f"^{name}: must be a positive number whose square is a finite, nonzero"):
+        calibrate(NOMINAL, data, **{name: value})
+
+
 def test_point_data_recovers_the_geometry_and_fixes_the_gauge_of_one_target(designed):
     truth = perturbed_geometry(NOMINAL, seed=7)
     offsets = [[0.0, 0.0, 0.02], [0.05, 0.0, 0.02], [0.0, 0.05, 0.02]]

@@ -191,8 +191,9 @@ def calibrate(platform, data: CalibrationData, *, position_std: float = DEFAULT_
     stds = {name: arguments.real(name, value) for name, value in
             (("position_std", position_std), ("angle_std", angle_std), ("length_std", length_std))}
     for name, value in stds.items():
-        if not 0.0 < value < np.inf:
-            raise ValueError(f"{name}: must be a positive finite number, got {value}")
+        if not (value > 0.0 and 0.0 < value * value < np.inf):  # its square weighs the residuals
+            raise ValueError(f"{name}: must be a positive number whose square is a finite, nonzero float, "
+                             f"got {value}")
     problem = _Problem(nominal, data, **stds)
     free = problem.free_directions
     gauged = free if problem.gauges else None
