@@ -34,11 +34,15 @@ def designed():
     return design_poses(NOMINAL, 30, seed=1)
 
 
-def _random_poses(n, seed):
+#: The half-widths of the box of random poses about home [m, rad], per preset.
+_BOXES = {"narayan2017": [0.02] * 3 + [0.2] * 3, "motion_simulator": [0.2] * 6}
+
+
+def _random_poses(n, seed, nominal=NOMINAL):
     rng = np.random.default_rng(seed)
-    home = stewart.home_pose(NOMINAL)
-    poses = home + rng.uniform(-1, 1, (4 * n, 6)) * np.array([0.02] * 3 + [0.2] * 3)
-    return poses[stewart.reachability(NOMINAL, poses).ok][:n]
+    home = stewart.home_pose(nominal)
+    poses = home + rng.uniform(-1, 1, (4 * n, 6)) * np.array(_BOXES[nominal.name])
+    return poses[stewart.reachability(nominal, poses).ok][:n]
 
 
 def _complex_step(function, point, h=1e-30):
@@ -102,38 +106,38 @@ def _tracker_campaign(truth, poses, scale, seed):
     return CalibrationData(readings, poses=measured, source="tracker")
 
 
-@pytest.fixture(scope="module")
-def spread():
-    """The issue's campaign: 150 reachable poses over the workspace."""
-    return _random_poses(150, 9)
-
-
-@pytest.mark.parametrize("seed, true", [(300, (1 / 3, 1 / 3, 1 / 3)), (400, (3.0, 3.0, 3.0)), (500, (1.0, 0.1, 1.0))])
-def test_the_covariance_holds_on_tracker_noise_the_fit_did_not_assume(spread, seed, true):
+@pytest.mark.parametrize("preset, seed, true, holds", [
+    ("narayan2017", 300, (1 / 3, 1 / 3, 1 / 3), True), ("narayan2017", 400, (3.0, 3.0, 3.0), True),
+    ("motion_simulator", 500, (3.0, 3.0, 3.0), True), ("narayan2017", 600, (1.0, 0.1, 1.0), True),
+    ("motion_simulator", 700, (1.0, 0.1, 1.0), False)])
+def test_the_covariance_holds_on_tracker_noise_the_fit_did_not_assume(preset, seed, true, holds):
     """The reported covariance is s^2 (J^T J)^-1: it scales with the a-posteriori variance
-    factor s^2, so it holds when the true standard deviations are all a third or three times
-    those given (s near 1/3 or 3) and the tracker's orientation noise is a rotation, not the
-    Euler-angle noise the fit assumes; and, to first order in the misweighting, when the
-    tracker's angles are ten times better than stated (the issue's 10 um / 10 urad tracker
-    with the default --pose-std 1e-5 1e-4; over 100 cases its whitened errors' mean square is
-    1.03, 94.8 % within 2).
+    factor s^2, so it holds when the true standard deviations are all a third of or three
+    times those given (s near 1/3 or 3) and the tracker's orientation noise is a rotation, not
+    the Euler-angle noise the fit assumes. With their ratio off (the issue's 10 um / 10 urad
+    tracker with the default --pose-std 1e-5 1e-4) the weights are wrong and s^2 cannot make
+    up for it: on narayan2017 the covariance still holds within the tolerance below, on
+    motion_simulator it is too small (91 % of the estimates within 2 standard errors, like the
+    issue's 92 %), as the calibration page says.
 
-    Over 20 built machines, the estimates' errors whitened by the reported covariance,
-    z = L^-1 (estimate - truth) with L L^T the covariance, are n = 840 N(0, 1) draws when it
-    is right, independent but for each case's estimated s (s^2 off by sqrt(2 / dof), 4.8 %,
-    common to its 42): the mean z^2 is 1 with a standard deviation sqrt(2 / n + 2 / (dof
-    cases)) = 0.050, asserted within 4 of it; the share with |z| <= 2 is binomial, 95.45 %,
-    with sqrt(p (1 - p) / n + (4 phi(2))^2 / (2 dof cases)) = 0.73 %, asserted within 3.5.
-    Standard errors 1.2 times too large or small put the mean z^2 at 0.69 or 1.44, and 2 times
-    at 0.25 or 4 with 99.99 % or 68 % within 2. The marginal coverage of the reported standard
-    errors, the share of |error| <= 2 standard errors, is of correlated estimates (a case's 42
-    move together): its standard deviation is at most that of 20 cases, 4.7 %, asserted within
-    3 of them (alone, it would not see standard errors 2 times too large: the whitened checks
-    do)."""
+    Over 20 built machines of 150 poses, the estimates' errors whitened by the reported
+    covariance, z = L^-1 (estimate - truth) with L L^T the covariance, are n = 840 N(0, 1)
+    draws when it is right, independent but for each case's estimated s (s^2 off by
+    sqrt(2 / dof), 4.8 %, common to its 42): the mean z^2 is 1 with a standard deviation
+    sqrt(2 / n + 2 / (dof cases)) = 0.050, asserted within 4 of it; the share with |z| <= 2
+    is binomial, 95.45 %, with sqrt(p (1 - p) / n + (4 phi(2))^2 / (2 dof cases)) = 0.73 %,
+    asserted within 3.5. Standard errors 1.2 times too large or small put the mean z^2 at
+    0.69 or 1.44, and 2 times at 0.25 or 4 with 99.99 % or 68 % within 2. The marginal
+    coverage of the reported standard errors, the share of |error| <= 2 standard errors, is
+    of correlated estimates (a case's 42 move together): its standard deviation is at most
+    that of 20 cases, 4.7 %, asserted within 3 of them (alone, it would not see standard
+    errors 2 times too large: the whitened checks do)."""
+    nominal = stewart.PlatformParams.preset(preset)
+    poses = _random_poses(150, 9, nominal)
     whitened, marginal, sigma = [], [], []
     for case in range(20):
-        truth = perturbed_geometry(NOMINAL, seed=seed + case)
-        result = calibrate(NOMINAL, _tracker_campaign(truth, spread, true, seed=seed + case),
+        truth = perturbed_geometry(nominal, seed=seed + case)
+        result = calibrate(nominal, _tracker_campaign(truth, poses, true, seed=seed + case),
                            position_std=POSITION_STD, angle_std=ANGLE_STD, length_std=LENGTH_STD)
         error = result.estimates - geometry.parameter_vector(truth)
         whitened.append(np.linalg.solve(np.linalg.cholesky(result.covariance), error))
@@ -141,15 +145,19 @@ def test_the_covariance_holds_on_tracker_noise_the_fit_did_not_assume(spread, se
         sigma.append(result.sigma)
     np.testing.assert_allclose(result.standard_errors, np.sqrt(np.diag(result.covariance)), rtol=0)
     within, mean_square, share = np.mean(np.abs(whitened) <= 2), np.mean(np.square(whitened)), np.mean(marginal)
-    print(f"calibration, true stds {np.round(true, 3)} x those given: s {min(sigma):.3f}-{max(sigma):.3f}; whitened "
-          f"errors {100 * within:.1f} % within 2, mean z^2 {mean_square:.3f}; {100 * share:.1f} % of the estimates "
-          f"within 2 standard errors (cases {100 * np.min(np.mean(marginal, axis=1)):.0f}-"
+    print(f"calibration, {preset}, true stds {np.round(true, 3)} x those given: s {min(sigma):.3f}-{max(sigma):.3f}; "
+          f"whitened errors {100 * within:.1f} % within 2, mean z^2 {mean_square:.3f}; {100 * share:.1f} % of the "
+          f"estimates within 2 standard errors (cases {100 * np.min(np.mean(marginal, axis=1)):.0f}-"
           f"{100 * np.max(np.mean(marginal, axis=1)):.0f} %)")
     if true[0] == true[1] == true[2]:
         assert 0.8 * true[0] < min(sigma) and max(sigma) < 1.2 * true[0]
     cases, n, p = len(whitened), np.size(whitened), 0.9545
     scale = 2.0 / (result.dof * cases)  # the variance of s^2 / sigma^2 over the cases' mean
-    assert abs(mean_square - 1.0) <= 4.0 * np.sqrt(2.0 / n + scale)
+    tolerance = 4.0 * np.sqrt(2.0 / n + scale)
+    if not holds:
+        assert mean_square > 1.0 + tolerance
+        return
+    assert abs(mean_square - 1.0) <= tolerance
     # d share / d s = 4 phi(2): the share within 2 of the cases' s^2 spread
     assert abs(within - p) <= 3.5 * np.sqrt(p * (1 - p) / n + (4 * 0.05399) ** 2 * scale / 4)
     assert abs(share - p) <= 3.0 * np.sqrt(p * (1 - p) / cases)
