@@ -22,7 +22,7 @@ quantity. With three targets not on one line there is no gauge.
 
 **Measured poses and the stroke.** A measured pose is where the built machine was, and the
 stroke ends are where calibration data says most, so the nominal geometry (the one being
-corrected) refuses no pose a few micrometres past its stroke. Before the fit, a pose is
+corrected) does not judge it by the stroke alone. Before the fit, a pose is
 refused (:class:`~stewart.WorkspaceError`) only when it is grossly outside the nominal
 workspace: a leg past the stroke by more than :data:`GROSS_STROKE_FRACTION` of it (far more
 than the millimetres a built machine's joints and encoder zeros are off by: a wrong row, file
@@ -262,7 +262,7 @@ class _Problem:
         # clearance, which the built machine, off the nominal, may pass by its geometry error.
         stroke = nominal.leg_length_limits
         widen = None if stroke is None else GROSS_STROKE_FRACTION * (stroke[1] - stroke[0])
-        bounds = nominal.replace(
+        bounds = nominal.replace(  # (the widened minimum kept positive, as PlatformParams requires)
             universal_joint_max_angle=None, spherical_joint_max_angle=None, leg_diameter=None, plate_radius=None,
             base_clearance=None,
             leg_length_limits=None if stroke is None else (max(stroke[0] - widen, np.finfo(float).tiny),
