@@ -350,6 +350,20 @@ def test_measured_poses_past_the_nominal_stroke_are_calibrated_and_judged_after_
         assert "past the stroke 0.19-0.38 m" in lines[0] and "by more than 3 standard uncertainties" in lines[0]
 
 
+def test_point_data_past_the_nominal_stroke_names_the_first_row_of_its_pose(designed):
+    """Point data's poses come from the readings (3 targets a pose): a pose whose nominal legs
+    are 1.4-4.1 mm past the stroke is calibrated, and its legs past it with the calibrated
+    geometry name the pose's first row, 90 of 93, within their uncertainty of the truth."""
+    truth = perturbed_geometry(NOMINAL, seed=21)
+    offsets = [[0.0, 0.0, 0.02], [0.05, 0.0, 0.02], [0.0, 0.05, 0.02]]
+    pose = _at_the_stroke_end(3e-3)
+    result = calibrate(NOMINAL, simulate_measurements(truth, np.vstack([designed.poses, pose]),
+                                                      target_offsets=offsets, seed=3))
+    true_length = stewart.leg_lengths(truth, pose)
+    assert result.beyond_stroke and {e.row for e in result.beyond_stroke} == {90}
+    assert all(abs(e.length - true_length[e.leg]) < 3 * e.uncertainty for e in result.beyond_stroke)
+
+
 def test_calibration_poses_writes_a_campaign_calibrate_reads(tmp_path, capsys):
     code, out, _ = _run(["calibration-poses", "--count", "12", "--csv", str(tmp_path / "d.csv"), "--no-progress"],
                         capsys)
