@@ -1,6 +1,8 @@
 """Kinematic calibration (stewart.calibration): the exact Jacobians against complex-step
 derivatives, the estimates against a simulated built machine at the rate their standard
-errors promise, the held-out pose error, the named unidentifiable combinations against
+errors promise (with the noise the fit assumes, and with a tracker's noise it does not at
+stated standard deviations three times too large or small), measured poses at the stroke
+ends, the held-out pose error, the named unidentifiable combinations against
 their hand derivation, the designed poses against random ones, and the command line."""
 
 import json
@@ -32,11 +34,15 @@ def designed():
     return design_poses(NOMINAL, 30, seed=1)
 
 
-def _random_poses(n, seed):
+#: The half-widths of the box of random poses about home [m, rad], per preset.
+_BOXES = {"narayan2017": [0.02] * 3 + [0.2] * 3, "motion_simulator": [0.2] * 6}
+
+
+def _random_poses(n, seed, nominal=NOMINAL):
     rng = np.random.default_rng(seed)
-    home = stewart.home_pose(NOMINAL)
-    poses = home + rng.uniform(-1, 1, (4 * n, 6)) * np.array([0.02] * 3 + [0.2] * 3)
-    return poses[stewart.reachability(NOMINAL, poses).ok][:n]
+    home = stewart.home_pose(nominal)
+    poses = home + rng.uniform(-1, 1, (4 * n, 6)) * np.array(_BOXES[nominal.name])
+    return poses[stewart.reachability(nominal, poses).ok][:n]
 
 
 def _complex_step(function, point, h=1e-30):
@@ -65,8 +71,10 @@ def test_the_jacobians_match_complex_step_derivatives(figures):
 
 
 def test_estimates_lie_within_their_standard_errors_at_the_expected_rate(designed):
-    """Over 12 built machines and campaigns, the share of the 42 estimates within 2 standard
-    errors of the truth is that of a normal distribution, 95.4 % (binomial spread ~1 %)."""
+    """Over 12 built machines and campaigns with the noise the fit assumes, the share of the
+    42 estimates within 2 standard errors of the truth is that of a normal distribution,
+    95.4 % (a binomial spread of ~1 % were the estimates independent; a machine's 42 are
+    correlated, so the band is wider: the whitened test below is the sharp one)."""
     within = []
     for seed in range(12):
         truth = perturbed_geometry(NOMINAL, seed=100 + seed)
@@ -78,6 +86,91 @@ def test_estimates_lie_within_their_standard_errors_at_the_expected_rate(designe
     share = np.mean(within)
     print(f"calibration: {100 * share:.1f} % of {np.size(within)} estimates within 2 standard errors")
     assert 0.92 <= share <= 0.985
+
+
+def _tracker_campaign(truth, poses, scale, seed):
+    """Pose measurements of ``truth`` at ``poses`` with noise the fit is not told of: the
+    tracker's position noise ``scale[0]`` times POSITION_STD per coordinate, its orientation
+    noise a small rotation of {P} about the axes of {B} of ``scale[1]`` times ANGLE_STD per
+    axis (not noise on the Euler angles, which the fit assumes), and ``scale[2]`` times
+    LENGTH_STD on the encoders."""
+    from scipy.spatial.transform import Rotation
+
+    from stewart.model.kinematics import rotation
+
+    rng = np.random.default_rng(seed)
+    readings = stewart.leg_lengths(truth, poses) - truth.leg_length_offsets
+    readings = readings + rng.normal(0.0, scale[2] * LENGTH_STD, readings.shape)
+    turned = Rotation.from_rotvec(rng.normal(0.0, scale[1] * ANGLE_STD, (len(poses), 3))).as_matrix() @ rotation(poses)
+    measured = np.column_stack([poses[:, :3] + rng.normal(0.0, scale[0] * POSITION_STD, (len(poses), 3)),
+                                Rotation.from_matrix(turned).as_euler("ZYX")])  # R = Rz(psi) Ry(theta) Rx(phi)
+    assert np.allclose(rotation(measured), turned, atol=1e-14)
+    return CalibrationData(readings, poses=measured, source="tracker")
+
+
+@pytest.mark.parametrize("preset, seed, true, holds", [
+    ("narayan2017", 300, (1 / 3, 1 / 3, 1 / 3), True), ("narayan2017", 400, (3.0, 3.0, 3.0), True),
+    ("motion_simulator", 500, (3.0, 3.0, 3.0), True), ("narayan2017", 600, (1.0, 0.1, 1.0), True),
+    ("motion_simulator", 700, (1.0, 0.1, 1.0), False)])
+def test_the_covariance_holds_on_tracker_noise_the_fit_did_not_assume(preset, seed, true, holds):
+    """The reported covariance is s^2 (J^T J)^-1: it scales with the a-posteriori variance
+    factor s^2, so it holds when the true standard deviations are all a third of or three
+    times those given (s near 1/3 or 3) and the tracker's orientation noise is a rotation, not
+    the Euler-angle noise the fit assumes. With their ratio off (the issue's 10 um / 10 urad
+    tracker with the default --pose-std 1e-5 1e-4) the weights are wrong and s^2 cannot make
+    up for it: on narayan2017 the covariance still holds within the tolerance below, on
+    motion_simulator it is too small (91 % of the estimates within 2 standard errors, like the
+    issue's 92 %), as the calibration page says.
+
+    Over 20 built machines of 150 poses, the estimates' errors whitened by the reported
+    covariance, z = L^-1 (estimate - truth) with L L^T the covariance, are n = 840 N(0, 1)
+    draws when it is right, independent but for each case's estimated s (s^2 off by
+    sqrt(2 / dof), 4.8 %, common to its 42): the mean z^2 is 1 with a standard deviation
+    sqrt(2 / n + 2 / (dof cases)) = 0.050, asserted within 4 of it; the share with |z| <= 2
+    is binomial, 95.45 %, with sqrt(p (1 - p) / n + (4 phi(2))^2 / (2 dof cases)) = 0.73 %,
+    asserted within 3.5. Standard errors 1.2 times too large or small put the mean z^2 at
+    0.69 or 1.44, and 2 times at 0.25 or 4 with 99.99 % or 68 % within 2. The marginal
+    coverage of the reported standard errors, the share of |error| <= 2 standard errors, is
+    of correlated estimates (a case's 42 move together): its standard deviation is at most
+    that of 20 cases, 4.7 %, asserted within 3 of them (alone, it would not see standard
+    errors 2 times too large: the whitened checks do)."""
+    nominal = stewart.PlatformParams.preset(preset)
+    poses = _random_poses(150, 9, nominal)
+    whitened, marginal, sigma = [], [], []
+    for case in range(20):
+        truth = perturbed_geometry(nominal, seed=seed + case)
+        result = calibrate(nominal, _tracker_campaign(truth, poses, true, seed=seed + case),
+                           position_std=POSITION_STD, angle_std=ANGLE_STD, length_std=LENGTH_STD)
+        error = result.estimates - geometry.parameter_vector(truth)
+        whitened.append(np.linalg.solve(np.linalg.cholesky(result.covariance), error))
+        marginal.append(np.abs(error) <= 2 * result.standard_errors)
+        sigma.append(result.sigma)
+    np.testing.assert_allclose(result.standard_errors, np.sqrt(np.diag(result.covariance)), rtol=0)
+    within, mean_square, share = np.mean(np.abs(whitened) <= 2), np.mean(np.square(whitened)), np.mean(marginal)
+    print(f"calibration, {preset}, true stds {np.round(true, 3)} x those given: s {min(sigma):.3f}-{max(sigma):.3f}; "
+          f"whitened errors {100 * within:.1f} % within 2, mean z^2 {mean_square:.3f}; {100 * share:.1f} % of the "
+          f"estimates within 2 standard errors (cases {100 * np.min(np.mean(marginal, axis=1)):.0f}-"
+          f"{100 * np.max(np.mean(marginal, axis=1)):.0f} %)")
+    if true[0] == true[1] == true[2]:
+        assert 0.8 * true[0] < min(sigma) and max(sigma) < 1.2 * true[0]
+    cases, n, p = len(whitened), np.size(whitened), 0.9545
+    scale = 2.0 / (result.dof * cases)  # the variance of s^2 / sigma^2 over the cases' mean
+    tolerance = 4.0 * np.sqrt(2.0 / n + scale)
+    if not holds:
+        assert mean_square > 1.0 + tolerance
+        return
+    assert abs(mean_square - 1.0) <= tolerance
+    # d share / d s = 4 phi(2): the share within 2 of the cases' s^2 spread
+    assert abs(within - p) <= 3.5 * np.sqrt(p * (1 - p) / n + (4 * 0.05399) ** 2 * scale / 4)
+    assert abs(share - p) <= 3.0 * np.sqrt(p * (1 - p) / cases)
+
+
+@pytest.mark.parametrize("name, value", [("position_std", 1e200), ("length_std", 1e-170), ("angle_std", -1e-4),
+                                         ("length_std", 0.0)])
+def test_a_standard_deviation_whose_square_is_no_weight_is_an_error_naming_it(designed, name, value):
+    data = simulate_measurements(NOMINAL, designed.poses)
+    with pytest.raises(ValueError, match=f"^{name}: must be a positive number whose square is a finite, nonzero"):
+        calibrate(NOMINAL, data, **{name: value})
 
 
 def test_point_data_recovers_the_geometry_and_fixes_the_gauge_of_one_target(designed):
@@ -215,6 +308,62 @@ def test_calibrate_writes_the_parameters_report_and_figures(campaign, capsys):
     assert "held-out" in out
 
 
+def _at_the_stroke_end(excess):
+    """A pose, raised and tilted from home, where the nominal's longest leg is ``excess`` [m]
+    past its maximum length."""
+    from scipy.optimize import brentq
+
+    home, up = stewart.home_pose(NOMINAL), np.array([0.01, 0.0, 1.0, 0.0, 0.05, 0.0])
+    high = NOMINAL.leg_length_limits[1]
+    return home + up * brentq(lambda a: np.max(stewart.leg_lengths(NOMINAL, home + a * up)) - high - excess, 0, 0.3)
+
+
+@pytest.mark.parametrize("excess", [4e-5, 3e-3])
+def test_measured_poses_past_the_nominal_stroke_are_calibrated_and_judged_after_the_fit(
+        campaign, designed, tmp_path, capsys, excess):
+    """A pose whose nominal leg is 40 um past the stroke (the built machine, whose legs are
+    shorter there, inside it) is calibrated like any other, exit 0, its calibrated length
+    within its uncertainty of the stroke; one 3 mm past (the built machine past its stated
+    stroke too) also, with a warning naming the leg, how far past and its uncertainty, and in
+    the report. A pose past by more than 5 % of the stroke is refused (test_bad_measurements)."""
+    folder, truth = campaign
+    pose = _at_the_stroke_end(excess)
+    assert not stewart.reachability(NOMINAL, pose).ok[0]
+    simulate_measurements(truth, np.vstack([designed.poses, pose]), seed=1).to_csv(tmp_path / "m.csv")
+    code, out, err = _run(["calibrate", str(tmp_path / "m.csv"), "--report", str(tmp_path / "r.json")], capsys)
+    assert code == 0, err
+    report = json.loads((tmp_path / "r.json").read_text())
+    beyond = report["beyond_stroke"]
+    true_length = stewart.leg_lengths(truth, pose)
+    assert {e["row"] for e in beyond} <= {30}
+    for e in beyond:
+        assert e["limit"] == NOMINAL.leg_length_limits[1]
+        assert abs(e["length"] - true_length[e["leg"]]) < 3 * e["uncertainty"]
+    if excess < 1e-3:
+        assert all(e["excess"] < 3 * e["uncertainty"] for e in beyond)
+        assert not beyond or "all within their uncertainty" in err
+    else:
+        assert max(e["excess"] for e in beyond) > 1e-3
+        lines = err.strip().splitlines()
+        assert len(lines) == 1 and lines[0].startswith(f"stewart calibrate: warning: {tmp_path / 'm.csv'}: with the "
+                                                       "calibrated geometry")
+        assert "past the stroke 0.19-0.38 m" in lines[0] and "by more than 3 standard uncertainties" in lines[0]
+
+
+def test_point_data_past_the_nominal_stroke_names_the_first_row_of_its_pose(designed):
+    """Point data's poses come from the readings (3 targets a pose): a pose whose nominal legs
+    are 1.4-4.1 mm past the stroke is calibrated, and its legs past it with the calibrated
+    geometry name the pose's first row, 90 of 93, within their uncertainty of the truth."""
+    truth = perturbed_geometry(NOMINAL, seed=21)
+    offsets = [[0.0, 0.0, 0.02], [0.05, 0.0, 0.02], [0.0, 0.05, 0.02]]
+    pose = _at_the_stroke_end(3e-3)
+    result = calibrate(NOMINAL, simulate_measurements(truth, np.vstack([designed.poses, pose]),
+                                                      target_offsets=offsets, seed=3))
+    true_length = stewart.leg_lengths(truth, pose)
+    assert result.beyond_stroke and {e.row for e in result.beyond_stroke} == {90}
+    assert all(abs(e.length - true_length[e.leg]) < 3 * e.uncertainty for e in result.beyond_stroke)
+
+
 def test_calibration_poses_writes_a_campaign_calibrate_reads(tmp_path, capsys):
     code, out, _ = _run(["calibration-poses", "--count", "12", "--csv", str(tmp_path / "d.csv"), "--no-progress"],
                         capsys)
@@ -226,7 +375,9 @@ def test_calibration_poses_writes_a_campaign_calibrate_reads(tmp_path, capsys):
 @pytest.mark.parametrize("edit, code, start", [
     (lambda rows: rows.replace(rows.splitlines()[3].split(",")[2], "nan", 1), 2, "{file}: line 4, column 3"),
     (lambda rows: "\n".join(rows.splitlines()[:6]), 2, "{file}: too few measurements: 24 equations for 42"),
-    (lambda rows: rows.replace(rows.splitlines()[3].split(",")[2], "0.9", 1), 3, "{file}: 1 of 30 measured pose(s) outside the workspace"),
+    (lambda rows: rows.replace(rows.splitlines()[3].split(",")[2], "0.9", 1), 3,
+     "{file}: 1 of 30 measured pose(s) outside the workspace: leg(s) [0, 1, 2, 3, 4, 5] longer than the maximum "
+     "length 0.3895 m"),
     (lambda rows: rows.replace("x,y,z", "px,py,pz").replace(",psi,theta,phi", ""), 2, "{file}: "),
     (lambda rows: rows.replace("psi,theta,phi,", ""), 2, "{file}: line 1: the header has 9"),
 ])

@@ -6,11 +6,11 @@ the data (:mod:`~stewart.calibration.identifiability`) and measurement poses des
 it (:mod:`~stewart.calibration.design`)."""
 
 from .._modules import on_first_use
-from .fit import Calibration, calibrate
+from .fit import Calibration, StrokeExcess, calibrate
 from .identifiability import Identifiability, UnidentifiableError
 from .measurements import CalibrationData, perturbed_geometry, simulate_measurements
 
 __getattr__ = on_first_use(__name__, __path__)
 
-__all__ = ["calibrate", "Calibration", "CalibrationData", "Identifiability", "UnidentifiableError",
+__all__ = ["calibrate", "Calibration", "CalibrationData", "Identifiability", "StrokeExcess", "UnidentifiableError",
            "perturbed_geometry", "simulate_measurements"]

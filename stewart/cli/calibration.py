@@ -4,6 +4,7 @@ poses or points) and ``stewart calibration-poses`` (the poses to measure)."""
 from __future__ import annotations
 
 import json
+import sys
 
 import numpy as np
 
@@ -63,6 +64,9 @@ def cmd_calibrate(args) -> int:
         raise UserError(str(exc)) from None
     except ValueError as exc:
         raise UserError(flag_names(str(exc), _FLAGS)) from None
+    warning = result.stroke_warning()
+    if warning:
+        print(f"stewart calibrate: warning: {args.measurements}: {warning}", file=sys.stderr)
     print(f"# platform {label}: calibrated from {args.measurements} ({len(data.readings)} {data.kind} "
           f"measurement(s), {len(data.pose_index()[0])} pose(s))")
     print(result.table())
@@ -122,7 +126,8 @@ def add_calibrate(sub) -> None:
     p.add_argument("--validate", metavar="FILE", help="held-out measurements: print the pose error of forward "
                    "kinematics from their encoder readings with the nominal and the calibrated geometry")
     add_file(p, "--output", "write the calibrated parameters (.toml or .json), loadable with --params")
-    add_file(p, "--report", "write every parameter's estimate and standard error and the residuals (JSON)")
+    add_file(p, "--report", "write every parameter's estimate and standard error, the residuals and the legs "
+             "past the stroke with the calibrated geometry (JSON)")
     add_file(p, "--plot", "write PNG figures: residuals per leg, estimates with error bars, held-out errors",
              metavar="DIR")
 
