@@ -113,10 +113,10 @@ def test_complex_input_path_matches_the_real_one(name, figures):
     c = case(name)
     rows = slice(0, STATES)
     x, xd, xdd, tau = c.x[rows], c.xd[rows], c.xdd[rows], c.tau[rows]
-    worst = max(
+    worst = np.max([
         relative_error(ref.inverse_dynamics(c.params, x + 0j, xd + 0j, xdd), tau),
         relative_error(ref.forward_dynamics(c.params, x + 0j, xd + 0j, tau), xdd),
-    )
+    ])
     figures(f"oracle: complex-input reference vs real ({name})", worst, 1e-12)
     figures(
         f"oracle: complex-input V xdot vs real ({name})",
@@ -141,10 +141,10 @@ def test_oracle_identities(name, figures):
     c = case(name)
     mass = ref.mass_matrix(c.params, c.x)
     jac = stewart.jacobian(c.params, c.x)
-    worst = max(
+    worst = np.max([
         relative_error(c.inverse[2], _solve_t(jac, mass)),
         relative_error(c.forward[2], np.linalg.solve(mass, np.swapaxes(jac, -1, -2))),
-    )
+    ])
     figures(f"oracle: dtau/dxdd = J_C^-T M, dxdd/dtau = M^-1 J_C^T ({name})", worst, 1e-12)
 
 
@@ -153,7 +153,7 @@ def test_oracle_implicit_function_relation(name, figures):
     """The forward Jacobians from the inverse ones: ``dxddot/d(x, xdot) = -(dtau/dxddot)^-1
     dtau/d(x, xdot)`` (the implicit-function theorem on ``tau(x, xdot, xddot)``)."""
     c = case(name)
-    worst = max(relative_error(c.forward[k], -np.linalg.solve(c.inverse[2], c.inverse[k])) for k in (0, 1))
+    worst = np.max([relative_error(c.forward[k], -np.linalg.solve(c.inverse[2], c.inverse[k])) for k in (0, 1)])
     figures(f"oracle: forward vs implicit function of inverse ({name})", worst, 1e-10)
 
 
@@ -192,7 +192,7 @@ def test_oracle_pose_jacobians_against_central_differences(name, figures):
     step = np.broadcast_to(np.array([1e-5 * scale] * 3 + [1e-5] * 3), x.shape)
     inverse = _central_difference(lambda p: ref.inverse_dynamics(c.params, p, xd, xdd), x, step)
     forward = _central_difference(lambda p: ref.forward_dynamics(c.params, p, xd, tau), x, step)
-    worst = max(relative_error(c.inverse[0][rows], inverse), relative_error(c.forward[0][rows], forward))
+    worst = np.max([relative_error(c.inverse[0][rows], inverse), relative_error(c.forward[0][rows], forward)])
     figures(f"oracle: d/dx vs central difference ({name})", worst, 1e-8)
 
 
@@ -236,18 +236,18 @@ def test_kernel_identities(name, figures):
     mass, jac = plat.mass_matrix(c.x), plat.jacobian(c.x)
     figures(
         f"kernel: dtau/dxdd = J_C^-T M, dxdd/dtau = M^-1 J_C^T ({name})",
-        max(
+        np.max([
             relative_error(inverse.dtau_dxdd, _solve_t(jac, mass)),
             relative_error(forward.dxdd_dtau, np.linalg.solve(mass, np.swapaxes(jac, -1, -2))),
-        ),
+        ]),
         1e-12,
     )
     figures(
         f"kernel: dxdd/d(x, xd) = -(dtau/dxdd)^-1 dtau/d(x, xd) ({name})",
-        max(
+        np.max([
             relative_error(forward.dxdd_dx, -np.linalg.solve(inverse.dtau_dxdd, inverse.dtau_dx)),
             relative_error(forward.dxdd_dxd, -np.linalg.solve(inverse.dtau_dxdd, inverse.dtau_dxd)),
-        ),
+        ]),
         1e-10,
     )
 
@@ -282,7 +282,7 @@ def test_static_force_derivatives_are_the_inverse_dynamics_at_rest(name, figures
     static = platform(name).static_force_derivatives(c.x)
     dynamic = platform(name).inverse_dynamics_derivatives(c.x, rest, rest)
     figures(f"kernel static forces vs inverse dynamics at rest ({name})",
-            max(relative_error(static.tau, dynamic.tau), relative_error(static.dtau_dx, dynamic.dtau_dx)), 1e-13)
+            np.max([relative_error(static.tau, dynamic.tau), relative_error(static.dtau_dx, dynamic.dtau_dx)]), 1e-13)
 
 
 @pytest.mark.parametrize("name", CASES)
@@ -428,7 +428,7 @@ def test_casadi_jacobians_match_the_oracle(name, figures):
         mapped = functions[method].map(n, "serial")
         rows = mapped(c.x[:n].T, c.xd[:n].T, columns[third][:n].T, param_vector(c.params))
         _, jac = casadi_derivatives.unpack(np.asarray(rows).T)
-        worst = max(worst, relative_error(jac, np.concatenate([o[:n] for o in oracle], axis=-1)))
+        worst = np.maximum(worst, relative_error(jac, np.concatenate([o[:n] for o in oracle], axis=-1)))
     figures(f"oracle vs CasADi ca.jacobian of its own model ({name})", worst, 1e-11)
 
 

@@ -88,14 +88,14 @@ def test_kernel_matches_the_reference(general_params, figures):
     plat = stewart.Platform(general_params)
     x, xd, xdd = random_states(general_params, 10, np.random.default_rng(12))
     tau = plat.inverse_dynamics(x, xd, xdd)
-    worst = max(
+    worst = np.max([
         relative_error(tau, ref.inverse_dynamics(general_params, x, xd, xdd)),
         relative_error(plat.forward_dynamics(x, xd, tau), ref.forward_dynamics(general_params, x, xd, tau)),
         relative_error(plat.mass_matrix(x), ref.mass_matrix(general_params, x)),
         relative_error(plat.twist_mass_matrix(x), ref.twist_mass_matrix(general_params, x)),
         relative_error(plat.coriolis_vector(x, xd), ref.coriolis_vector(general_params, x, xd)),
         relative_error(plat.gravity_vector(x), ref.gravity_vector(general_params, x)),
-    )
+    ])
     figures(f"general kernel vs reference ({general_params.name})", worst, 1e-12)
     assert worst <= 1e-12
 
@@ -107,9 +107,9 @@ def test_derivative_kernels_match_complex_step_of_the_reference(figures):
     tau = plat.inverse_dynamics(x, xd, xdd)
     inv = plat.inverse_dynamics_derivatives(x, xd, xdd)
     fwd = plat.forward_dynamics_derivatives(x, xd, tau)
-    worst = max(max(relative_error(got, want) for got, want in zip(out[1:], oracle)) for out, oracle in (
+    worst = np.max([relative_error(got, want) for out, oracle in (
         (inv, physics.reference_inverse_dynamics_jacobians(params, x, xd, xdd)),
-        (fwd, physics.reference_forward_dynamics_jacobians(params, x, xd, tau))))
+        (fwd, physics.reference_forward_dynamics_jacobians(params, x, xd, tau))) for got, want in zip(out[1:], oracle)])
     figures("general kernel derivatives vs complex step of the reference", worst, 1e-9)
     assert worst <= 1e-9
 
@@ -124,11 +124,11 @@ def test_static_force_derivatives_match_complex_step_of_the_reference(figures):
     rest = np.zeros_like(x)
     static = plat.static_force_derivatives(x)
     dynamic = plat.inverse_dynamics_derivatives(x, rest, rest)
-    oracle = max(relative_error(static.tau, ref.inverse_dynamics(params, x, rest, rest)),
-                 relative_error(static.dtau_dx, physics.reference_inverse_dynamics_jacobians(params, x, rest, rest)[0]))
+    oracle = np.max([relative_error(static.tau, ref.inverse_dynamics(params, x, rest, rest)),
+                     relative_error(static.dtau_dx, physics.reference_inverse_dynamics_jacobians(params, x, rest, rest)[0])])
     figures("general kernel static force derivatives vs complex step of the reference", oracle, 1e-12)
     assert oracle <= 1e-12
-    kernel = max(relative_error(static.tau, dynamic.tau), relative_error(static.dtau_dx, dynamic.dtau_dx))
+    kernel = np.max([relative_error(static.tau, dynamic.tau), relative_error(static.dtau_dx, dynamic.dtau_dx)])
     figures("general kernel static force derivatives vs inverse dynamics at rest", kernel, 1e-13)
     assert kernel <= 1e-13
 
@@ -246,16 +246,16 @@ def test_derivative_kernels_match_differences_of_the_values(seed, figures):
     rate, acc, force = (np.std(a, axis=0) for a in (xd, xdd, tau))
     inv = plat.inverse_dynamics_derivatives(x, xd, xdd)
     fwd = plat.forward_dynamics_derivatives(x, xd, tau)
-    exact = max(
+    exact = np.max([
         relative_error(inv.dtau_dxd, _central_difference(lambda v: plat.inverse_dynamics(x, v, xdd), xd, rate)),
         relative_error(inv.dtau_dxdd, _central_difference(lambda a: plat.inverse_dynamics(x, xd, a), xdd, acc)),
         relative_error(fwd.dxdd_dtau, _central_difference(lambda t: plat.forward_dynamics(x, xd, t), tau, force)),
-    )
-    in_pose = max(
+    ])
+    in_pose = np.max([
         relative_error(inv.dtau_dx, _central_difference(lambda p: plat.inverse_dynamics(p, xd, xdd), x, pose)),
         relative_error(fwd.dxdd_dx, _central_difference(lambda p: plat.forward_dynamics(p, xd, tau), x, pose)),
         relative_error(fwd.dxdd_dxd, _central_difference(lambda v: plat.forward_dynamics(x, v, tau), xd, pose)),
-    )
+    ])
     figures("general model: derivative kernels vs exact differences", exact, 1e-10)
     figures("general model: derivative kernels vs differences in x", in_pose, 1e-7)
     assert relative_error(inv.tau, tau) <= 1e-14 and relative_error(fwd.xdd, xdd) <= 1e-12

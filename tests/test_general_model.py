@@ -96,13 +96,13 @@ def test_any_axes_reproduce_the_paper_model_without_axial_inertia(preset_params,
     axes = rng.normal(size=(6, 3))
     general = paper.with_universal_joints(axes / np.linalg.norm(axes, axis=1, keepdims=True))
     x, xd, xdd = random_states(paper, 30, rng)
-    worst = max(
+    worst = np.max([
         relative_error(ref.mass_matrix(general, x), ref.mass_matrix(paper, x)),
         relative_error(ref.coriolis_vector(general, x, xd), ref.coriolis_vector(paper, x, xd)),
         relative_error(ref.gravity_vector(general, x), ref.gravity_vector(paper, x)),
         relative_error(ref.inverse_dynamics(general, x, xd, xdd), ref.inverse_dynamics(paper, x, xd, xdd)),
         relative_error(ne.inverse_dynamics(general, x, xd, xdd), ne.inverse_dynamics(paper, x, xd, xdd)),
-    )
+    ])
     figures(f"general model: any axes, no axial inertia vs paper ({preset_params.name})", worst, 1e-13)
 
 

@@ -45,9 +45,9 @@ def test_kernel_matches_reference(label, params, figures):
     worst = 0.0
     for name, arity in FUNCTIONS:
         got = getattr(plat, name)(*args[:arity])
-        worst = max(worst, relative_error(got, _reference(params, name, args[:arity])))
+        worst = np.maximum(worst, relative_error(got, _reference(params, name, args[:arity])))
     tau = ref.inverse_dynamics(params, x, xd, xdd)
-    worst = max(worst, relative_error(plat.forward_dynamics(x, xd, tau), xdd))
+    worst = np.maximum(worst, relative_error(plat.forward_dynamics(x, xd, tau), xdd))
     figures(f"kernel vs reference, all functions ({label})", worst, 1e-10)
 
 
@@ -58,8 +58,8 @@ def test_leg_rates_match_the_numpy_kinematics(figures):
         x, xd, _ = random_states(params, 300, rng)
         plat = stewart.Platform(params)
         L, Ld = plat.leg_rates(x, xd)
-        worst = max(worst, relative_error(L, stewart.model.kinematics.leg_lengths(params, x)),
-                    relative_error(Ld, stewart.model.kinematics.leg_velocities(params, x, xd)))
+        worst = np.max([worst, relative_error(L, stewart.model.kinematics.leg_lengths(params, x)),
+                        relative_error(Ld, stewart.model.kinematics.leg_velocities(params, x, xd))])
         # One state at a time gives the rows of the batch.
         single = plat.leg_rates(x[0], xd[0])
         np.testing.assert_array_equal(single[0], L[0])
@@ -77,7 +77,7 @@ def test_leg_accelerations_match_the_numpy_kinematics(figures):
         plat = stewart.Platform(params)
         Ldd = plat.leg_accelerations(x, xd, xdd)
         assert Ldd.shape == (300, 6)
-        worst = max(worst, relative_error(Ldd, stewart.model.kinematics.leg_accelerations(params, x, xd, xdd)))
+        worst = np.maximum(worst, relative_error(Ldd, stewart.model.kinematics.leg_accelerations(params, x, xd, xdd)))
         # One state at a time gives the rows of the batch.
         np.testing.assert_array_equal(plat.leg_accelerations(x[0], xd[0], xdd[0]), Ldd[0])
     figures("kernel leg_accelerations vs numpy leg_accelerations (all parameter sets)", worst, 1e-12)
@@ -100,7 +100,7 @@ def test_leg_accelerations_are_the_rate_of_the_leg_rates(figures):
             return (rates(h) - rates(-h)) / (2 * h)
 
         h = 1e-3
-        worst = max(worst, relative_error(plat.leg_accelerations(x, xd, xdd), (4 * central(h / 2) - central(h)) / 3))
+        worst = np.maximum(worst, relative_error(plat.leg_accelerations(x, xd, xdd), (4 * central(h / 2) - central(h)) / 3))
     figures("kernel leg_accelerations vs d/dt of kernel leg_rates (Richardson, all parameter sets)", worst, 1e-9)
 
 
@@ -136,7 +136,7 @@ def test_twist_mass_matrix_is_the_references_m_t_inverse_and_positive_definite(f
     for label, params in _param_sets():
         x, _, _ = random_states(params, 100, rng)
         m_twist = stewart.Platform(params).twist_mass_matrix(x)
-        worst = max(worst, relative_error(m_twist, ref.mass_matrix(params, x) @ np.linalg.inv(stewart.twist_transform(x))))
+        worst = np.maximum(worst, relative_error(m_twist, ref.mass_matrix(params, x) @ np.linalg.inv(stewart.twist_transform(x))))
         np.testing.assert_array_equal(m_twist, np.swapaxes(m_twist, -1, -2))
         assert np.all(np.linalg.eigvalsh(m_twist)[:, 0] > 0), label
     figures("kernel twist_mass_matrix vs reference M T^-1 (all parameter sets)", worst, 1e-12)
@@ -150,10 +150,10 @@ def test_all_terms_equal_the_separate_calls(figures):
         plat = stewart.Platform(params)
         terms = plat.all_terms(x, xd)
         assert terms._fields == ("mass_matrix", "coriolis_vector", "gravity_vector", "jacobian")
-        worst = max(worst, relative_error(terms.mass_matrix, plat.mass_matrix(x)),
-                    relative_error(terms.coriolis_vector, plat.coriolis_vector(x, xd)),
-                    relative_error(terms.gravity_vector, plat.gravity_vector(x)),
-                    relative_error(terms.jacobian, plat.jacobian(x)))
+        worst = np.max([worst, relative_error(terms.mass_matrix, plat.mass_matrix(x)),
+                        relative_error(terms.coriolis_vector, plat.coriolis_vector(x, xd)),
+                        relative_error(terms.gravity_vector, plat.gravity_vector(x)),
+                        relative_error(terms.jacobian, plat.jacobian(x))])
         single = plat.all_terms(x[0], xd[0])  # the single-state function, the batch on one row
         for got, batch in zip(single, terms):
             np.testing.assert_array_equal(got, batch[0])

@@ -53,7 +53,7 @@ def test_jacobian_matches_complex_step_of_leg_lengths(preset_params, figures):
         numeric = _complex_step_columns(lambda z: stewart.leg_lengths(preset_params, z), pose)
         analytic = stewart.jacobian(preset_params, pose) @ stewart.twist_transform(pose)
         np.testing.assert_allclose(stewart.euler_jacobian(preset_params, pose), analytic, rtol=0, atol=0)
-        worst = max(worst, np.max(np.abs(numeric - analytic)) / np.max(np.abs(numeric)))
+        worst = np.maximum(worst, np.max(np.abs(numeric - analytic)) / np.max(np.abs(numeric)))
     figures(f"J_C vs complex step of L ({preset_params.name})", worst, 1e-13)
 
 
@@ -103,7 +103,7 @@ def test_forward_kinematics_round_trip(figures):
     for params in [stewart.PlatformParams.preset(n) for n in stewart.presets()] + [random_params(rng) for _ in range(5)]:
         x, _, _ = random_states(params, 200, rng)
         found = stewart.forward_kinematics(params, stewart.leg_lengths(params, x))
-        worst = max(worst, np.max(np.abs(found - x)))
+        worst = np.maximum(worst, np.max(np.abs(found - x)))
         one = stewart.forward_kinematics(params, stewart.leg_lengths(params, x[0]), guess=x[0] + 0.01)
         np.testing.assert_allclose(one, x[0], atol=1e-10)
     figures("FK(IK(x)) - x [m, rad]", worst, 1e-10)

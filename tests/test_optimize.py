@@ -126,7 +126,7 @@ def test_minimum_effort_move_is_physical(plat, move, figures):
         half = plat.rk4_step(move.x[k], move.xd[k], tau, move.dt / 2)
         half = plat.rk4_step(half.x, half.xd, tau, move.dt / 2)
         shrink = np.max(np.abs(end[:6] - half.x)) / np.max(np.abs(end[:6] - move.x[k + 1]))
-        worst = max(worst, shrink)
+        worst = np.maximum(worst, shrink)
     figures("optimized move: interval error ratio, RK4 at dt/2 vs dt against DOP853", worst, 0.25)
 
 

@@ -32,7 +32,7 @@ def test_forward_inverse_round_trip(figures):
         x, xd, xdd = random_states(params, 200, rng)
         tau = ref.inverse_dynamics(params, x, xd, xdd)
         back = ref.forward_dynamics(params, x, xd, tau)
-        worst = max(worst, relative_error(back, xdd))
+        worst = np.maximum(worst, relative_error(back, xdd))
     figures("reference: FD(ID(xdd)) vs xdd (relative)", worst, 1e-10)
 
 
@@ -43,7 +43,7 @@ def test_power_balance(figures):
     for params in _all_params(rng):
         x, xd, xdd = random_states(params, 40, rng)
         tau = ref.inverse_dynamics(params, x, xd, xdd)
-        worst = max(worst, power_balance(params, x, xd, xdd, tau))
+        worst = np.maximum(worst, power_balance(params, x, xd, xdd, tau))
     figures("reference: power balance |dE/dt - tau.Ldot| (relative)", worst, 1e-10)
 
 
@@ -89,7 +89,7 @@ def test_gravity_matches_eq76(preset_params, figures):
     for pose in x:
         grad = np.array([potential_energy(preset_params, pose + 1j * H * np.eye(6)[k]).imag / H for k in range(6)])
         g76 = np.concatenate([grad[:3], np.linalg.solve(euler_rate_jacobian(pose).T, grad[3:])])
-        worst = max(worst, np.max(np.abs(ref.gravity_vector(preset_params, pose) - g76)) / np.max(np.abs(g76)))
+        worst = np.maximum(worst, np.max(np.abs(ref.gravity_vector(preset_params, pose) - g76)) / np.max(np.abs(g76)))
     figures(f"reference: gravity vs eq. 76 ({preset_params.name})", worst, 1e-12)
 
 

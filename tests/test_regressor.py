@@ -102,9 +102,9 @@ def test_each_column_is_the_change_of_the_inverse_dynamics(label, params, figure
         if name == "cylinder.m" or (name.endswith(".Ixx") and body != "platform"
                                     and params.universal_joint_axes is None):
             assert not np.any(Y[..., k])  # never acts: the forces do not change
-            worst = max(worst, relative_error(moved, tau))
+            worst = np.maximum(worst, relative_error(moved, tau))
         else:
-            worst = max(worst, relative_error(Y[..., k] * signed, moved - tau))
+            worst = np.maximum(worst, relative_error(Y[..., k] * signed, moved - tau))
     figures(f"regressor columns vs the change of the inverse dynamics ({label})", worst, 1e-7)
 
 
