@@ -408,7 +408,6 @@ def test_rk4_step_refuses_a_bad_time_step(dt):
         plat.rk4_step(plat.home_pose, np.zeros(6), np.zeros(6), dt)
 
 
-@pytest.mark.peers
 @pytest.mark.parametrize("name", ["narayan2017", "random-general"])
 def test_casadi_jacobians_match_the_oracle(name, figures):
     """An independent derivative of an independent model: CasADi's ``ca.jacobian`` of its

@@ -1,5 +1,7 @@
-"""Agreement of the peer models (benchmarks/peers) with our kernel. Each test is skipped
-when its peer is not installed (``pip install .[peers]``)."""
+"""Agreement of the peer models (benchmarks/peers) with our kernel. CasADi's (in the dev
+extra) run in ``make test``; the heavy ones, MuJoCo's and the sympy routes' (a minute and a
+half of compiling), are marked ``peers`` (``make test-peers``). Each test is skipped when its
+peer is not installed (``pip install .[peers]``)."""
 
 from __future__ import annotations
 
@@ -18,8 +20,6 @@ if str(ROOT) not in sys.path:
 
 from benchmarks.peers.common import param_vector  # noqa: E402
 from stewart.oracles.physics import relative_error  # noqa: E402
-
-pytestmark = pytest.mark.peers
 
 
 @pytest.mark.parametrize("preset", sorted(stewart.presets()))
@@ -59,6 +59,7 @@ def test_casadi_general_legs_match_reference(figures):
     figures("CasADi tau vs reference, non-axisymmetric legs", relative_error(tau_c, tau_ref), 1e-9)
 
 
+@pytest.mark.peers
 def test_mujoco_model_is_the_same_platform():
     """The MJCF's total mass and the static forces: our gravity-balancing forces hold
     MuJoCo's platform at home to within the soft constraint's regularisation."""
@@ -76,6 +77,7 @@ def test_mujoco_model_is_the_same_platform():
     assert np.max(np.abs(platform_acc)) < 1e-2 * p.gravity
 
 
+@pytest.mark.peers
 @pytest.mark.slow
 def test_sympy_routes_match_kernel(figures, tmp_path):
     """autowrap (and PyDy, when installed) on our generator's expressions; the compile
