@@ -6,11 +6,12 @@ from __future__ import annotations
 
 import dataclasses
 import json
+import warnings
 
 import numpy as np
 import pytest
 
-from stewart import Platform, PlatformParams
+from stewart import NonAxisymmetricLegWarning, Platform, PlatformParams
 from stewart.cli import main
 from stewart.identification.identify import Measurements, estimate, identify, synthetic_measurements, validation
 
@@ -129,10 +130,21 @@ def test_command_line(tmp_path, capsys):
           "--output", str(tmp_path / "id.toml"), "--report", str(tmp_path / "report.json"), "--cutoff", str(CUTOFF)])
     out = capsys.readouterr().out
     assert "platform.m + 6 piston.m" in out and "held-out run" in out
+    # what it wrote is the Python API's identification of the same files
+    result = identify(PRIOR, Measurements.from_csv(tmp_path / "run.csv"), cutoff=CUTOFF)
+    rms = validation(result, PRIOR, Measurements.from_csv(tmp_path / "held.csv"), cutoff=CUTOFF)[3]
     report = json.loads((tmp_path / "report.json").read_text())
     assert report["never_act"] == ["cylinder.m", "cylinder.Ixx", "piston.Ixx"]
-    assert max(report["validation"]["rms"]) < 1.5 * NOISE_FORCE
-    Platform.from_file(tmp_path / "id.toml")
+    np.testing.assert_equal({k: v for k, v in report.items() if k != "validation"},
+                            json.loads(json.dumps(result.summary())))
+    assert report["validation"]["rms"] == rms.tolist() and max(rms) < 1.5 * NOISE_FORCE
+    with warnings.catch_warnings():  # the legs' I_yy and I_zz are identified apart
+        warnings.simplefilter("ignore", NonAxisymmetricLegWarning)
+        written, api = Platform.from_file(tmp_path / "id.toml").params, result.params()
+        np.testing.assert_array_equal(written.inertial_vector(), api.inertial_vector())
+        np.testing.assert_array_equal(written.viscous_friction, api.viscous_friction)
+        np.testing.assert_array_equal(written.coulomb_friction, api.coulomb_friction)
+        assert written.replace(name=api.name) == api
     (tmp_path / "bad.csv").write_text("t,L0\n0,1\n")
     with pytest.raises(SystemExit) as exit_info:
         main(["identify", str(tmp_path / "bad.csv")])
