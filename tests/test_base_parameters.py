@@ -35,7 +35,7 @@ def test_base_regressor_reproduces_the_forces(label, params, figures):
     Y, ok = plat.regressor(x, xd, xdd, return_mask=True)
     pi = plat.params.inertial_vector()
     err = relative_error(base.reduce(Y[ok]) @ base.values(pi), Y[ok] @ pi)
-    figures(f"base parameters: Y_b beta vs Y pi on fresh states ({label})", err, 1e-12)
+    figures(f"base parameters: Y_b beta vs Y pi on fresh states ({label})", err, 5e-13)  # reached 7.9e-15
     # each column is kept or is a combination of those kept; the stacked base regressor has full rank
     stack = base.reduce(Y[ok]).reshape(-1, base.rank)
     assert np.linalg.matrix_rank(stack / np.linalg.norm(stack, axis=0)) == base.rank
