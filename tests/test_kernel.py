@@ -101,7 +101,7 @@ def test_leg_accelerations_are_the_rate_of_the_leg_rates(figures):
 
         h = 1e-3
         worst = np.maximum(worst, relative_error(plat.leg_accelerations(x, xd, xdd), (4 * central(h / 2) - central(h)) / 3))
-    figures("kernel leg_accelerations vs d/dt of kernel leg_rates (Richardson, all parameter sets)", worst, 1e-9)
+    figures("kernel leg_accelerations vs d/dt of kernel leg_rates (Richardson, all parameter sets)", worst, 1e-9)  # reached 2.9e-11
 
 
 def test_leg_accelerations_fail_where_the_numpy_kinematics_fail():
@@ -158,7 +158,7 @@ def test_all_terms_equal_the_separate_calls(figures):
         for got, batch in zip(single, terms):
             np.testing.assert_array_equal(got, batch[0])
     # the same kernels run in one call: the same bits
-    figures("kernel all_terms vs the separate kernels (all parameter sets)", worst, 0.0)
+    figures("kernel all_terms vs the separate kernels (all parameter sets)", worst, 0.0)  # reached 0
 
 
 def test_forward_inverse_round_trip(preset_params, figures):

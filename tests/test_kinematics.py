@@ -36,9 +36,9 @@ def test_paper_worked_example(figures):
     np.testing.assert_allclose(stewart.rotation(x), Y_UP_TO_Z_UP @ PAPER_ROTATION @ Y_UP_TO_Z_UP.T, atol=6e-4)
     legs = stewart.leg_vectors(params, x)
     expected = PAPER_LEG_VECTORS @ Y_UP_TO_Z_UP.T
-    figures("paper example: leg vectors [m]", np.max(np.abs(legs - expected)), 2e-4)
+    figures("paper example: leg vectors [m]", np.max(np.abs(legs - expected)), 2e-4)  # reached 9.0e-05
     extensions = stewart.leg_lengths(params, x) - 0.19
-    figures("paper example: extensions [m]", np.max(np.abs(extensions - PAPER_EXTENSIONS)), 2e-4)
+    figures("paper example: extensions [m]", np.max(np.abs(extensions - PAPER_EXTENSIONS)), 2e-4)  # reached 4.1e-05
 
 
 def _complex_step_columns(fn, x, h=1e-30):
@@ -106,7 +106,7 @@ def test_forward_kinematics_round_trip(figures):
         worst = np.maximum(worst, np.max(np.abs(found - x)))
         one = stewart.forward_kinematics(params, stewart.leg_lengths(params, x[0]), guess=x[0] + 0.01)
         np.testing.assert_allclose(one, x[0], atol=5e-15, rtol=5e-12)  # reached 1/38 of it
-    figures("FK(IK(x)) - x [m, rad]", worst, 1e-10)
+    figures("FK(IK(x)) - x [m, rad]", worst, 1e-10)  # reached 1.5e-12
 
 
 def test_forward_kinematics_reports_unreachable_lengths():

@@ -40,6 +40,7 @@ def test_twist_mass_matrix_is_symmetric_positive_definite(any_params, figures):
     mismatch, cond = twist_mass_matrix_figures(stewart.Platform(any_params), x)
     figures(f"kernel: twist mass matrix M_t T vs M ({any_params.name})", mismatch, 2e-15)  # reached 6.5e-17
     assert np.isfinite(cond), "M_t is not positive definite"
+    # not an error but a verdict: finite and under 1e8, M_t is well inside positive definite (reached 73)
     figures(f"kernel: twist mass matrix condition ({any_params.name})", cond, 1e8)
 
 
@@ -159,7 +160,7 @@ def test_kinetic_energy_is_the_twist_mass_matrix_quadratic_form(any_params, figu
     wrench = np.einsum("nij,nj->ni", stewart.Platform(any_params).mass_matrix(x), xd)
     quadratic = 0.5 * np.einsum("ni,ni->n", twist, wrench)
     worst = relative_error(kinetic[:, None], quadratic[:, None])
-    figures(f"energy: kinetic part vs (T xdot).(M xdot)/2 ({any_params.name})", worst, 1e-12)
+    figures(f"energy: kinetic part vs (T xdot).(M xdot)/2 ({any_params.name})", worst, 1e-12)  # reached 3.9e-14
     assert energy(any_params, x[0], xd[0]).shape == ()
     assert energy(any_params, x[0], xd[0]) == pytest.approx(energy(any_params, x, xd)[0], rel=1e-14)
 

