@@ -59,7 +59,7 @@ build: $(KERNEL)
 $(C_TEST): tests/c/test_model.c tests/c/reference_values.h $(KERNEL)
 	$(CC) -std=c99 -O2 $(ROUNDING) -Wall -Wextra -pedantic -Igenerated -Itests/c tests/c/test_model.c $(MODEL_LIBRARY) -lm -o $@
 
-# Every test but the comparisons with the peer models (make test-peers) and those of make
+# Every test but the comparisons with the heavy peer models (make test-peers) and those of make
 # test-ports (the other builds, and the wheels of make test-wheels). Of the packaging check it
 # runs the sdist's: the complete source and nothing else.
 SUITE := -m "not peers and not ports and not packaging"
@@ -72,9 +72,10 @@ test: build $(C_TEST)
 coverage: build
 	$(PY) -m pytest -q $(SUITE) --cov=stewart --cov-report=term
 
-# The agreement of the benchmarks' peer models with the kernel: the sympy route runs with
-# the dev extra (a minute and a half of compiling); CasADi, PyDy and MuJoCo with the peers
-# extra (.venv/bin/pip install --no-build-isolation -e ".[dev,peers]"), skipped without it.
+# The agreement of the benchmarks' heavy peer models with the kernel: the sympy route (a
+# minute and a half of compiling) and the MuJoCo peer run with the dev extra; PyDy with the
+# peers extra (.venv/bin/pip install --no-build-isolation -e ".[dev,peers]"), skipped without
+# it. The CasADi peers (the dev extra) run in make test.
 test-peers: build
 	$(PY) -m pytest -q -m peers
 

@@ -10,7 +10,8 @@ command that produced it:
     as one table;
 ``checks`` (``docs/checks.md``)
     the table of figures that ``make test`` prints at the end of its pytest run
-    (``tests/conftest.py``), verbatim;
+    (``tests/conftest.py``), verbatim (from a run now, or from ``--pytest-output``, the
+    saved output of one);
 ``mujoco`` (``docs/mujoco.md``)
     how closely the MuJoCo export reproduces the model
     (:func:`benchmarks.peers.mujoco_model.export_figures`; needs MuJoCo);
@@ -132,14 +133,18 @@ def _cell(text: str) -> str:
     return text.replace("|", "\\|")
 
 
-def checks_block() -> str:
+def checks_block(pytest_output: str | None = None) -> str:
     """The figures table that ``make test`` prints, from a pytest run now (the same
-    selection: every test but the peer comparisons of ``make test-peers``)."""
-    run = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-m", "not peers"], cwd=ROOT,
-                         capture_output=True, text=True)
-    if run.returncode != 0:
-        raise SystemExit(f"pytest failed (exit {run.returncode}); the documentation keeps its figures\n{run.stdout[-3000:]}")
-    table = summary_table(run.stdout)
+    selection: every test but the peer comparisons of ``make test-peers``), or from the
+    output of a passing run (``make test``'s) when given."""
+    if pytest_output is None:
+        run = subprocess.run([sys.executable, "-m", "pytest", "-q", "-p", "no:cacheprovider", "-m", "not peers"],
+                             cwd=ROOT, capture_output=True, text=True)
+        if run.returncode != 0:
+            raise SystemExit(f"pytest failed (exit {run.returncode}); the documentation keeps its figures\n"
+                             f"{run.stdout[-3000:]}")
+        pytest_output = run.stdout
+    table = summary_table(pytest_output)
     return "\n".join([f"Sample of the table `make test` prints, {where()} "
                       "(without the optional peers):", "",
                       f"<details><summary>the worst figure each check reached, and its bound ({len(table)} rows)</summary>", "",
@@ -205,6 +210,9 @@ def main(argv=None) -> None:
                              f"the bench figures exist)")
     parser.add_argument("--bench-json", type=pathlib.Path, default=BENCH_JSON,
                         help="figures of a make bench run (default out/benchmarks.json)")
+    parser.add_argument("--pytest-output", type=pathlib.Path, metavar="FILE",
+                        help="the checks block from this saved output of a passing make test instead of a "
+                             "pytest run now")
     args = parser.parse_args(argv)
     unknown = sorted(set(args.sections) - set(SECTIONS))
     if unknown:
@@ -214,7 +222,8 @@ def main(argv=None) -> None:
         parser.error(f"--bench-json: {args.bench_json} does not exist; run make bench first")
     for name in sections:  # in order, each written at once: the test run reads the validate block
         print(f"[docs] {name} ...", flush=True)
-        body = {"validate": validate_block, "checks": checks_block, "mujoco": mujoco_block,
+        body = {"validate": validate_block, "mujoco": mujoco_block,
+                "checks": lambda: checks_block(args.pytest_output and args.pytest_output.read_text()),
                 "exactness": exactness_block,
                 "performance": lambda: performance_block(args.bench_json)}[name]()
         page = DOCS / PAGES[name]

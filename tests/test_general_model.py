@@ -26,7 +26,7 @@ def test_power_balance_of_the_general_reference(general_params, figures):
     x, xd, xdd = random_states(general_params, 30, np.random.default_rng(60))
     tau = ref.inverse_dynamics(general_params, x, xd, xdd)
     figures(f"general reference: power balance ({general_params.name})",
-            power_balance(general_params, x, xd, xdd, tau), 1e-12)
+            power_balance(general_params, x, xd, xdd, tau), 5e-14)  # reached 1.1e-15
 
 
 def test_energy_conserved_by_the_general_reference(general_params, figures):
@@ -38,7 +38,7 @@ def test_energy_conserved_by_the_general_reference(general_params, figures):
     potential = _time_derivative(lambda a, b: energy(general_params, a, 0.0 * b), x, xd, xdd)
     scale = np.abs(total - potential) + np.abs(potential)
     figures(f"general reference: dE/dt with tau = 0 ({general_params.name})", float(np.max(np.abs(total) / scale)),
-            1e-12)
+            1e-13)  # reached 2.5e-15
 
 
 def test_twist_mass_matrix_is_the_kinetic_energy(general_params, figures):
@@ -49,7 +49,7 @@ def test_twist_mass_matrix_is_the_kinetic_energy(general_params, figures):
     m_t = ref.twist_mass_matrix(general_params, x)
     quadratic = 0.5 * np.einsum("ni,nij,nj->n", twist, m_t, twist)
     figures(f"general reference: kinetic energy vs t.M_t t/2 ({general_params.name})",
-            relative_error(kinetic[:, None], quadratic[:, None]), 1e-12)
+            relative_error(kinetic[:, None], quadratic[:, None]), 1e-12)  # reached 5.5e-14
     assert relative_error(m_t, np.swapaxes(m_t, -1, -2)) < 1e-15
 
 
@@ -57,7 +57,7 @@ def test_newton_euler_agrees_with_the_general_reference(general_params, figures)
     x, xd, xdd = random_states(general_params, 50, np.random.default_rng(63))
     worst = relative_error(ne.inverse_dynamics(general_params, x, xd, xdd),
                            ref.inverse_dynamics(general_params, x, xd, xdd))
-    figures(f"general model: newton-euler vs reference, tau ({general_params.name})", worst, 1e-12)
+    figures(f"general model: newton-euler vs reference, tau ({general_params.name})", worst, 5e-14)  # reached 7.2e-16
 
 
 def test_leg_angular_velocity_is_the_frame_rate_in_the_joint_plane(general_params, figures):
@@ -81,7 +81,7 @@ def test_leg_angular_velocity_is_the_frame_rate_in_the_joint_plane(general_param
     for part in ("cylinder_rotation", "piston_rotation"):
         omega = np.einsum("nlij,nj->nli", jacs[part], twist)
         figures(f"general reference: {part} omega vs vee(Rdot R^T) ({general_params.name})",
-                relative_error(omega, vee), 1e-13)
+                relative_error(omega, vee), 2e-14)  # reached 6.0e-16
         normal = np.cross(axes, rot[..., 1])
         off_plane = np.abs(np.sum(omega * normal, axis=-1)) / np.linalg.norm(omega, axis=-1)
         assert np.max(off_plane) < 1e-14
@@ -96,14 +96,14 @@ def test_any_axes_reproduce_the_paper_model_without_axial_inertia(preset_params,
     axes = rng.normal(size=(6, 3))
     general = paper.with_universal_joints(axes / np.linalg.norm(axes, axis=1, keepdims=True))
     x, xd, xdd = random_states(paper, 30, rng)
-    worst = max(
+    worst = np.max([
         relative_error(ref.mass_matrix(general, x), ref.mass_matrix(paper, x)),
         relative_error(ref.coriolis_vector(general, x, xd), ref.coriolis_vector(paper, x, xd)),
         relative_error(ref.gravity_vector(general, x), ref.gravity_vector(paper, x)),
         relative_error(ref.inverse_dynamics(general, x, xd, xdd), ref.inverse_dynamics(paper, x, xd, xdd)),
         relative_error(ne.inverse_dynamics(general, x, xd, xdd), ne.inverse_dynamics(paper, x, xd, xdd)),
-    )
-    figures(f"general model: any axes, no axial inertia vs paper ({preset_params.name})", worst, 1e-13)
+    ])
+    figures(f"general model: any axes, no axial inertia vs paper ({preset_params.name})", worst, 1e-13)  # reached 1.1e-15
 
 
 def test_the_exact_legs_change_the_dynamics(preset_params):
@@ -147,7 +147,7 @@ def test_gimbal_lock_is_a_singularity():
     assert np.all(np.isfinite(ref.inverse_dynamics(params, states, zero, zero)))
 
 
-def test_leg_spin_effect_against_newton_euler():
+def test_leg_spin_effect_against_newton_euler(figures):
     """stewart.oracles.exactness measures with the reference; Newton-Euler, an independent
     formulation, gives the same changes of the actuator forces."""
     from stewart.oracles import exactness
@@ -164,8 +164,9 @@ def test_leg_spin_effect_against_newton_euler():
         ratio = np.linalg.norm(parts[0] - parts[1], axis=-1) / np.linalg.norm(parts[1], axis=-1)
         return np.median(ratio), np.max(ratio)
 
-    np.testing.assert_allclose(effect.dynamic, changes(xd, xdd), rtol=1e-6)
-    np.testing.assert_allclose(effect.velocity, changes(xd, zero), rtol=1e-6)
+    got, want = np.array([*effect.dynamic, *effect.velocity]), np.array([*changes(xd, xdd), *changes(xd, zero)])
+    # reached 1.0e-9: each a difference of forces (the spin's share), which cancels their leading digits
+    figures("leg spin effect (median, max) vs Newton-Euler, relative", np.max(np.abs(got / want - 1)), 5e-8)
     assert effect.assumed_axes and effect.states == 40 and 0.0 < effect.dynamic.max < effect.velocity.max
     no_axial = params.replace(cylinder_inertia=(0.0, *params.cylinder_inertia[1:]),
                               piston_inertia=(0.0, *params.piston_inertia[1:]))

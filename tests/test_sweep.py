@@ -4,6 +4,8 @@ runs, the same result on a 2-worker Dask cluster, and one-line errors naming the
 
 from __future__ import annotations
 
+import json
+
 import numpy as np
 import pytest
 
@@ -26,8 +28,8 @@ def test_spacing_and_radius_rebuild_the_symmetric_layout():
     # motion_simulator: base pairs 20 deg apart around 0, 120, 240 deg on a 1.6 m circle (rolled by one).
     params = sweep.design_params(SIM, {"base_spacing": 30.0, "base_radius": 2.0, "platform_spacing": 40.0})
     expected = np.roll(hexapod_points(2.0, (0.0, 120.0, 240.0), 15.0), -1, axis=0)
-    np.testing.assert_allclose(params.base_points, expected, atol=1e-12)
-    np.testing.assert_allclose(params.platform_points, hexapod_points(1.1, (60.0, 180.0, 300.0), 20.0), atol=1e-12)
+    np.testing.assert_allclose(params.base_points, expected, atol=1e-12, rtol=5e-14)  # reached 1/1206 of it
+    np.testing.assert_allclose(params.platform_points, hexapod_points(1.1, (60.0, 180.0, 300.0), 20.0), atol=1e-15, rtol=1e-13)  # reached 1/56 of it
 
 
 def test_radius_keeps_the_angles_and_payload_scales_the_inertia():
@@ -126,6 +128,17 @@ def test_cli_sweep(tmp_path, capsys):
     main(["sweep", str(path), "--no-progress", "--plot", str(tmp_path / "p.png"), "--json", str(tmp_path / "s.json")])
     out = capsys.readouterr().out
     assert out.count("\n") == 2 + 2 + 2 and (tmp_path / "p.png").stat().st_size > 10_000
+    # the JSON and the printed table are the Python API's sweep of the same file
+    result = sweep.sweep(sweep.load(path), progress=False)
+    written = json.loads((tmp_path / "s.json").read_text())
+    assert written["platform"] == result.platform and written["pareto"] == list(result.pareto_axes)
+    np.testing.assert_equal(written["designs"], result.rows())
+    shown = ["base_radius", "workspace_volume", "margin_mean", "peak_force", "peak_universal_joint",
+             "peak_spherical_joint"]
+    printed = [line.split() for line in out.splitlines()[2:4]]
+    for row, line in zip(result.rows(), printed):
+        assert line[0] == f"{row['design']}{'*' if row['pareto'] else ''}"
+        np.testing.assert_allclose([float(v) for v in line[1:]], [row[name] for name in shown], rtol=5e-6)
     path.write_text('preset = "narayan2017"\n[parameters]\nradius = 1\n')
     with pytest.raises(SystemExit) as exit_info:
         main(["sweep", str(path)])

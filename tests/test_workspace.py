@@ -43,7 +43,7 @@ def test_membership_agrees_with_inverse_kinematics():
     assert 0.05 < check.ok.mean() < 0.95
     radius = np.max(np.linalg.norm(params.platform_points - params.platform_points.mean(axis=0), axis=1))
     unit_free = stewart.jacobian(params, poses) / np.r_[np.ones(3), np.full(3, radius)]
-    np.testing.assert_allclose(check.margin, 1.0 / np.linalg.cond(unit_free), rtol=1e-9)
+    np.testing.assert_allclose(check.margin, 1.0 / np.linalg.cond(unit_free), rtol=2e-11)  # reached 4.4e-13
 
 
 def test_membership_agrees_with_forward_kinematics():
@@ -56,7 +56,7 @@ def test_membership_agrees_with_forward_kinematics():
     lengths = rng.uniform(low + 0.1, high - 0.1, (200, 6))
     poses = stewart.forward_kinematics(params, lengths)
     check = stewart.reachability(params, poses)
-    np.testing.assert_allclose(check.lengths, lengths, rtol=1e-10)
+    np.testing.assert_allclose(check.lengths, lengths, rtol=5e-11)  # reached 7.4e-13
     stroke = workspace.LEG_TOO_SHORT | workspace.LEG_TOO_LONG
     assert not np.any(check.flags & stroke) and check.ok.mean() > 0.9
 
@@ -66,7 +66,7 @@ def test_membership_agrees_with_forward_kinematics():
     reachable = sampled[stewart.reachability(params, sampled).ok]
     assert len(reachable) == result.reachable > 50
     found = stewart.forward_kinematics(params, stewart.leg_lengths(params, reachable))
-    np.testing.assert_allclose(found, reachable, atol=1e-9)
+    np.testing.assert_allclose(found, reachable, atol=5e-11, rtol=5e-9)  # reached 1/65 of it
 
 
 # ---------------------------------------------------------------- joint limits and clearance
@@ -84,8 +84,8 @@ def test_joint_angles_of_hand_worked_poses():
     poses = [home, home + [shift, 0, 0, 0, 0, 0], home + [0, 0, 0, yaw, 0, 0]]
     universal, spherical = workspace.joint_angles(params, poses)
     expected = np.repeat([0.0, tilt_shift, tilt_yaw], 6).reshape(3, 6)
-    np.testing.assert_allclose(universal, expected, atol=1e-12)
-    np.testing.assert_allclose(spherical, expected, atol=1e-12)
+    np.testing.assert_allclose(universal, expected, atol=1e-15, rtol=1e-14)  # reached 1/89 of it
+    np.testing.assert_allclose(spherical, expected, atol=1e-15, rtol=1e-14)  # reached 1/89 of it
     for limit, flagged in ((tilt_shift * (1 + 1e-9), False), (tilt_shift * (1 - 1e-9), True)):
         check = stewart.reachability(_vertical_legs(universal_joint_max_angle=limit), poses[1])
         assert bool(check.flags[0] & workspace.UNIVERSAL_JOINT_LIMIT) == flagged
@@ -105,9 +105,9 @@ def test_spherical_joint_angle_follows_the_platform_frame():
     universal, spherical = workspace.joint_angles(params, pose)
     legs = stewart.leg_vectors(params, pose)
     units = legs / np.linalg.norm(legs, axis=1)[:, None]
-    np.testing.assert_allclose(universal, np.arccos(units[:, 2]), atol=1e-12)
+    np.testing.assert_allclose(universal, np.arccos(units[:, 2]), atol=1e-15, rtol=1e-10)  # reached 1/35 of it
     axis = np.array([np.sin(theta), 0.0, np.cos(theta)])
-    np.testing.assert_allclose(spherical, np.arccos(np.clip(units @ axis, -1, 1)), atol=1e-7)
+    np.testing.assert_allclose(spherical, np.arccos(np.clip(units @ axis, -1, 1)), atol=1e-14, rtol=1e-14)  # reached 1/34 of it
 
 
 def test_leg_clearance_of_hand_worked_poses():
@@ -141,9 +141,9 @@ def test_segment_distances_against_brute_force():
         brute = np.min(np.linalg.norm(a[:, None] - b[None], axis=-1))
         step = (np.linalg.norm(p1[k] - p0[k]) + np.linalg.norm(q1[k] - q0[k])) / 400
         assert exact[k] <= brute + 1e-12 and brute - exact[k] <= step, k
-    np.testing.assert_allclose(exact[:20], 0.3, rtol=1e-12)
-    np.testing.assert_allclose(exact[20:30], 0.5 * np.linalg.norm(ahead, axis=1), rtol=1e-12)
-    np.testing.assert_allclose(exact[30:40], 0.0, atol=1e-12)
+    np.testing.assert_allclose(exact[:20], 0.3, rtol=5e-14)  # reached 1.1e-15
+    np.testing.assert_allclose(exact[20:30], 0.5 * np.linalg.norm(ahead, axis=1), rtol=1e-14)  # reached 1.8e-16
+    np.testing.assert_allclose(exact[30:40], 0.0, atol=2e-14)  # reached 1/36 of it
 
 
 # ---------------------------------------------------------------- volumes
@@ -161,7 +161,7 @@ def test_volume_converges_as_the_samples_grow(figures):
     assert grid.samples == 40**3 and grid.seed is None and grid.volume_error > 0
     gap = abs(grid.volume - runs[-1].volume)
     figures("workspace: grid vs Monte-Carlo volume, in their combined errors", gap / (grid.volume_error + 3 *
-            runs[-1].volume_error), 1.0)
+            runs[-1].volume_error), 1.0)  # reached 1.3e-02
     for result in runs + [grid]:
         box = result.bounding_box
         assert np.all(result.region[:, 0] <= box[:, 0]) and np.all(box[:, 1] <= result.region[:, 1])
@@ -200,7 +200,7 @@ def test_symmetric_platform_gives_a_symmetric_workspace():
     for image in (rotated, mirrored):
         other = stewart.reachability(params, image)
         np.testing.assert_array_equal(other.flags, check.flags)
-        np.testing.assert_allclose(other.margin, check.margin, rtol=1e-9, atol=1e-12)
+        np.testing.assert_allclose(other.margin, check.margin, rtol=2e-11, atol=2e-14)  # reached 1/52 of it
     result = workspace.translational_workspace(params, grid=30)
     y_lo, y_hi = result.bounding_box[1]
     assert y_lo == pytest.approx(-y_hi, abs=1e-12)
