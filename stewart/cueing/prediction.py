@@ -92,6 +92,16 @@ def rotation_and_partials(x) -> np.ndarray:
     return r
 
 
+def joint_cosines(x, base_points, platform_points, neutral):
+    """The cosines of :func:`joint_cosines_and_gradients` alone, ``(N, 12)``."""
+    x = np.atleast_2d(x)
+    r = rotation_and_partials(x)[0]
+    legs = x[:, None, :3] + np.einsum("nab,ib->nia", r, platform_points) - base_points
+    u = legs / np.linalg.norm(legs, axis=-1)[..., None]
+    return np.concatenate([np.einsum("nia,ia->ni", u, neutral),
+                           np.einsum("nia,nab,ib->ni", u, r, neutral)], 1)
+
+
 def joint_cosines_and_gradients(x, base_points, platform_points, neutral):
     """The cosines of the universal- and spherical-joint angles at poses ``x`` ``(N, 6)``
     (:func:`stewart.model.reachability.joint_angles`: the leg's unit vector ``u_i`` against
