@@ -18,11 +18,12 @@ A TOML file has three sections, each key optional::
 
     [limits]
     force = 8000.0        # N, |actuator force| (default: twice the largest static leg force at home)
-    margin = 0.1          # share of the force and leg-speed limits kept for the controller
+    margin = 0.1          # share of the force and leg-speed limits the plan keeps for the
+                          # controller where it can (the limits themselves always hold)
     leg_velocity = 0.7    # m/s, |leg extension rate| (default: one stroke per second)
     stroke_margin = 0.01  # m, kept from each end of the stroke
-    tilt_rate = 3.0       # deg/s, |roll or pitch rate - the vehicle's| (the rotation a rider
-                          # would feel that the vehicle does not have)
+    tilt_rate = 3.0       # deg/s, roll and pitch rates beyond the vehicle's or against them
+                          # (the rotation a rider would feel that the vehicle does not have)
     box = [0.3, 0.3, 0.3, 0.3, 0.3, 0.3]   # m, m, m, rad, rad, rad from home (default: 90 % of
                                            # the platform's free excursion along each axis)
 """
