@@ -163,3 +163,27 @@ def test_brake_step_holds_the_forces_when_no_plan_holds_the_legs(platforms):
     force = platform.inverse_dynamics(x0, v0, u[0])
     assert np.max(np.abs(force)) <= qp.params.force
     assert np.abs(v0 + qp.dt * u[0])[2] < v0[2]  # it brakes
+
+
+def test_next_sample_holds_where_the_linearization_passes_it(platforms, monkeypatch):
+    """At 10 Hz (the first interval one sample long) from a pose 2 cm inside the stroke under a
+    lateral demand of 8 m/s^2 towards it, the plan's linearized legs rows let its next sample
+    pass the cones (or the leg speed); solved again with those rows tightened, the next sample
+    holds the stroke, leg speed and cones by the exact kinematics. Without the tightening it
+    does not."""
+    platform = platforms["narayan2017"]
+
+    def next_sample(tightenings):
+        monkeypatch.setattr(predictive, "TIGHTENINGS", tightenings)
+        qp = predictive.CueingQP(platform, stewart.cueing.MPCParams.for_platform(platform), 0.1)
+        x0 = qp.home.copy()
+        while platform.leg_lengths(x0 + [0, 1e-3, 0, 0, 0, 0]).max() < platform.params.leg_length_limits[1] - 0.02:
+            x0[1] += 1e-3
+        u, _, _, info = qp.solve(x0, np.zeros(6), np.zeros(qp.vestibular.n), np.tile([0, 8.0, G, 0, 0, 0], (qp.n, 1)))
+        values = qp.next_values(x0, np.zeros(6), u[0])
+        low, high = qp.next_limits
+        return info, bool(np.all(values >= low) and np.all(values <= high))
+
+    info, within = next_sample(predictive.TIGHTENINGS)
+    assert info["tightened"] >= 1 and within
+    assert not next_sample(0)[1]

@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 from scipy import signal
 
+from ..model.kinematics import rotation
 from . import vestibular
 
 __all__ = ["VestibularStates", "signals_and_jacobians", "midpoint"]
@@ -95,7 +96,7 @@ def rotation_and_partials(x) -> np.ndarray:
 def joint_cosines(x, base_points, platform_points, neutral):
     """The cosines of :func:`joint_cosines_and_gradients` alone, ``(N, 12)``."""
     x = np.atleast_2d(x)
-    r = rotation_and_partials(x)[0]
+    r = rotation(x)
     legs = x[:, None, :3] + np.einsum("nab,ib->nia", r, platform_points) - base_points
     u = legs / np.linalg.norm(legs, axis=-1)[..., None]
     return np.concatenate([np.einsum("nia,ia->ni", u, neutral),

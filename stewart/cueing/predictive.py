@@ -112,8 +112,9 @@ HARD_GROUPS = {"plan": ("actuators", "legs", "next_tilt", "box", "rest"),
 #: slows the pose rates within the present sample's actuator forces when no plan holds the
 #: machine's limits at the next sample.
 LEVELS = (*HARD_GROUPS, "brake")
-#: The times a step's plan is solved again with its ``legs`` rows tightened by twice the
-#: excess the exact kinematics find at the next sample (their linearization's error).
+#: The times a step's plan is solved again with the ``legs`` rows the exact kinematics find
+#: passed at the next sample bounded by their limits less their linearization's error there
+#: and the excess.
 TIGHTENINGS = 3
 #: Kept from each joint's cone half-angle [rad] over the horizon (the QP holds it to first order).
 CONE_MARGIN = 0.005
@@ -347,8 +348,8 @@ class CueingQP:
 
         Each level's plan is checked at the next sample with the exact kinematics
         (:meth:`next_values`); where a ``legs`` row's linearization let it pass its bound, the
-        row is tightened by twice the excess and the plan solved again (at most
-        :data:`TIGHTENINGS` times). The brake step minimizes the pose rates after one sample,
+        row's bound is moved in by the linearization's error there and the excess, and the plan
+        solved again (at most :data:`TIGHTENINGS` times). The brake step minimizes the pose rates after one sample,
         in pose boxes, subject to the present forces alone."""
         n = self.n
         H, q, M, lo, hi, s_mat, d = self.condensed(x0, v0, z0, vehicle)
@@ -356,11 +357,13 @@ class CueingQP:
         rows = M * scale[:, None]
         legs = self.rows["legs"]
         low, high = self.next_limits
+        with np.errstate(invalid="ignore"):  # (a joint without a cone: no bound either side)
+            constant = np.where(np.isfinite(low), low - lo[legs], high - hi[legs])  # the legs rows' A u + c
         iterations, solve_time, tightened = 0, 0.0, 0
         for level, sense in self.levels.items():
             upper = np.minimum(hi * scale - self._inset, _INFINITE)
             lower = np.maximum(lo * scale + self._inset, -_INFINITE)
-            for _ in range(TIGHTENINGS + 1):
+            for attempt in range(TIGHTENINGS + 1):
                 u, _, exitflag, info = daqp.solve(H, q, rows, upper, lower, sense, dual_start=self.multipliers,
                                                   **SOLVER_SETTINGS)
                 iterations += info["iterations"]
@@ -369,10 +372,15 @@ class CueingQP:
                     break
                 values = self.next_values(x0, v0, u[:6])
                 above, below = np.maximum(values - high, 0.0), np.maximum(low - values, 0.0)
-                if not (np.any(above > 0) or np.any(below > 0)):
-                    break
-                upper[legs] -= 2.0 * above * scale[legs]
-                lower[legs] += 2.0 * below * scale[legs]
+                if not (np.any(above > 0) or np.any(below > 0)) or attempt == TIGHTENINGS:
+                    break  # (what the last attempt leaves, the exact check of the reference reports)
+                # a row passed is bounded by its limit less the linearization's error there and the
+                # excess (the error grows as the plan moves along the row)
+                error = values - (M[legs] @ u + constant)
+                upper[legs] = np.where(above > 0, np.minimum(upper[legs], (hi[legs] - error - above) * scale[legs]
+                                                             - self._inset[legs]), upper[legs])
+                lower[legs] = np.where(below > 0, np.maximum(lower[legs], (lo[legs] - error + below) * scale[legs]
+                                                             + self._inset[legs]), lower[legs])
                 tightened += 1
             if exitflag in SOLVED:
                 break
