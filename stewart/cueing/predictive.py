@@ -349,8 +349,8 @@ class CueingQP:
         Each level's plan is checked at the next sample with the exact kinematics
         (:meth:`next_values`); where a ``legs`` row's linearization let it pass its bound, the
         row's bound is moved in by the linearization's error there and the excess, and the plan
-        solved again (at most :data:`TIGHTENINGS` times). The brake step minimizes the pose rates after one sample,
-        in pose boxes, subject to the present forces alone."""
+        solved again (at most :data:`TIGHTENINGS` times). The brake step minimizes the pose
+        rates after one sample, in pose boxes, subject to the present forces alone."""
         n = self.n
         H, q, M, lo, hi, s_mat, d = self.condensed(x0, v0, z0, vehicle)
         scale = 1.0 / self.row_scale
