@@ -46,8 +46,8 @@ __all__ = ["MPCParams", "read_sections", "FORCE_LIMIT_PER_STATIC", "LEG_VELOCITY
 FORCE_LIMIT_PER_STATIC = 2.0
 #: Default leg speed limit: strokes per second.
 LEG_VELOCITY_PER_STROKE = 1.0
-#: Default pose box: this share of the free excursion along each axis (the joints' cones
-#: and the legs' clearance, which the QP does not constrain, bind first on combined motions).
+#: Default pose box: this share of the free excursion along each axis (the legs' clearance,
+#: the base and the plate, which the QP does not constrain, bind first on combined motions).
 BOX_SHARE = 0.9
 
 _SECTIONS = {
