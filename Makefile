@@ -22,7 +22,7 @@ C_TEST := tests/c/test_model
 # The model's rounding flags (STEWART_ROUNDING_FLAGS of the generated header).
 ROUNDING = $(shell sed -n 's/^\#define STEWART_ROUNDING_FLAGS "\(.*\)"/\1/p' generated/stewart_model.h)
 
-.PHONY: all test coverage test-peers test-ports test-wheels demo generate build dist bench validate docs serve-docs clean
+.PHONY: all test test-cueing-sweep coverage test-peers test-ports test-wheels demo generate build dist bench validate docs serve-docs clean
 
 all: build
 
@@ -67,6 +67,11 @@ test: build $(C_TEST)
 	./$(C_TEST)
 	$(VENV)/bin/lint-imports
 	$(PY) -m pytest -q $(SUITE)
+
+# MPC cueing on 40 random vehicle logs (tests/test_cueing_limits.py; make test runs 4), on the
+# two presets in turn, each reference and closed loop checked against every limit (minutes).
+test-cueing-sweep: build
+	STEWART_CUEING_SWEEP=40 $(PY) -m pytest -q tests/test_cueing_limits.py -k random_logs
 
 # make test's pytest run with the package's line coverage (a third longer: coverage's tracer).
 coverage: build

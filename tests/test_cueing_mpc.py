@@ -93,8 +93,8 @@ def _dense_soft_qp(H, q, rows, lo, hi, soft, equal):
     metric, as DAQP's soft constraints weigh it) with the rows ``equal`` equalities
     ``r_i = lo_i`` and the others hard bounds, by a dense active-set method: solve the KKT
     system with the soft rows outside their bounds penalized and the active hard bounds as
-    equalities; add violated hard bounds, drop those whose multiplier has the wrong sign;
-    until nothing changes."""
+    equalities; drop those whose multiplier has the wrong sign, else add the most violated
+    hard bound; until nothing changes."""
     metric = np.einsum("ij,ji->i", rows[soft], np.linalg.solve(H, rows[soft].T))
     weight = (predictive.SOFT_WEIGHT / metric)[:, None]
     bounds = np.setdiff1d(np.setdiff1d(np.arange(len(lo)), soft), equal)
@@ -124,11 +124,10 @@ def _dense_soft_qp(H, q, rows, lo, hi, soft, equal):
                 mask[drop] = False
                 changed = True
         free = ~upper[bounds] & ~lower[bounds]
-        violated_hi = bounds[(r[bounds] > hi[bounds] + 1e-12) & free]
-        violated_lo = bounds[(r[bounds] < lo[bounds] - 1e-12) & free]
-        if violated_hi.size or violated_lo.size:
-            upper[violated_hi] = True
-            lower[violated_lo] = True
+        excess = np.where(free, np.maximum(r[bounds] - hi[bounds], lo[bounds] - r[bounds]), 0.0)
+        if not changed and np.max(excess, initial=0.0) > 1e-12:  # the most violated bound joins
+            worst = bounds[np.argmax(excess)]
+            (upper if r[worst] > hi[worst] else lower)[worst] = True
             changed = True
         soft_changed = np.any(((rows @ u_new < lo) | (rows @ u_new > hi))[soft] != act)
         u = u_new
@@ -147,8 +146,10 @@ def test_one_step_qp_against_dense_solver(simulator):
     x0, v0 = qp.home + [-0.3, 0, 0, 0, 0, 0], np.array([-0.6, 0, 0, 0, 0.03, 0])
     H, q, M, lo, hi, _, _ = qp.condensed(x0, v0, z0, vehicle)
     u, _, _, info = qp.solve(x0, v0, z0, vehicle)
-    soft, rest = np.flatnonzero(qp.sense == predictive.SOFT), np.flatnonzero(qp.sense == predictive.EQUALITY)
-    assert rest.tolist() == list(range(qp.rows["rest"].start, qp.rows["rest"].stop))
+    assert info["level"] == "plan" and info["tightened"] == 0
+    soft = np.flatnonzero(qp.levels["plan"] == predictive.SOFT)
+    rest = np.arange(qp.rows["rest"].start, qp.rows["rest"].stop)  # hard, lo = hi: equalities
+    assert np.all(qp.levels["plan"][rest] == predictive.HARD) and np.all(lo[rest] == hi[rest])
     scaled = M / qp.row_scale[:, None]
     dense = _dense_soft_qp(H, q, scaled, lo / qp.row_scale, hi / qp.row_scale, soft, rest)
     r = scaled[soft] @ dense
@@ -311,20 +312,24 @@ def test_cli_mpc_report_plot_and_closed_loop(tmp_path):
 
 
 def test_no_feasible_motion_is_reported_not_written(simulator, tmp_path):
-    """A force limit below the static load: no motion holds it; the exact check of the
-    reference says so, the exit code is 3 and the CLI writes no reference."""
+    """A force limit below the static load: no motion holds it. Every step brakes within the
+    forces (held by construction) and the platform falls out of the workspace; the report says
+    so (the brake steps, the exact check of the reference), the exit code is 3 and the CLI
+    writes no reference."""
     log = read_log(os.path.join(EXAMPLES, "hard_braking.csv"))
     keep = log.t <= 1.0
     short = type(log)(log.t[keep], log.f[keep], log.w[keep], "short")
     static = np.max(simulator.inverse_dynamics(simulator.home_pose, np.zeros(6), np.zeros(6)))
     result = mpc(short, simulator, MPCParams.for_platform(simulator, force=0.5 * static))
-    assert result.exit_code == 3 and not result.ok and result.beyond_limits
-    assert any("force reaches" in p for p in result.problems), result.problems
+    assert result.exit_code == 3 and not result.ok and not result.inside
+    assert result.peaks["force"] <= 0.5 * static
+    assert result.solver["qp_levels"]["brake"] > 0, result.solver
+    assert any("no plan held the machine's limits" in p for p in result.problems), result.problems
     short.to_csv(tmp_path / "short.csv")
     (tmp_path / "c.toml").write_text(f"[limits]\nforce = {0.5 * static}\n")
     run = call("cueing", tmp_path / "short.csv", "--method", "mpc", "--cueing", tmp_path / "c.toml",
                "--output", tmp_path / "ref.csv")
-    assert run.returncode == 3 and "force reaches" in run.stderr and "Traceback" not in run.stderr, run.stderr
+    assert run.returncode == 3 and "no plan held" in run.stderr and "Traceback" not in run.stderr, run.stderr
     assert not (tmp_path / "ref.csv").exists()
 
 

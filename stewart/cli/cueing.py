@@ -74,6 +74,10 @@ def cmd_cueing(args) -> int:
             print(f"MPC: {settings.duration:g} s horizon in {settings.steps} steps, "
                   f"{'preview of the log' if settings.preview else 'no preview'}; time per step median "
                   f"{1e3 * step['median']:.2f} ms, max {1e3 * step['max']:.2f} ms")
+            yielded = {level: count for level, count in report["qp_levels"].items() if level != "plan" and count}
+            if yielded:
+                print("MPC steps whose plan yielded (qp_levels): "
+                      + ", ".join(f"{level} {count}" for level, count in yielded.items()))
         if result.limiting is not None:
             print(result.limiting.summary())
         print("perceived error RMS: " + "  ".join(f"{k} {v:.3g}" for k, v in report["perceived_error_rms"].items()))

@@ -85,7 +85,13 @@ def mpc(log, platform, params: MPCParams | None = None, *, simulate: bool = Fals
     result = _result("mpc", log, plat, params, SampledTrajectory(log.t, run.x, run.v), run.x, run.v, run.u)
     result.solver = {"preview": params.preview, "steps": params.steps, "horizon_s": params.duration,
                      "solve_time_s": _stats(run.step_time), "qp_time_s": _stats(run.solve_time),
-                     "qp_iterations": _stats(run.iterations), "qp_failures": run.failures}
+                     "qp_iterations": _stats(run.iterations), "qp_failures": run.failures,
+                     "qp_levels": {level: run.level.count(level) for level in predictive.LEVELS},
+                     "qp_tightened": run.tightened}
+    brakes = result.solver["qp_levels"]["brake"]
+    if brakes:
+        result.problems.append(f"at {brakes} of {len(run.step_time)} steps no plan held the machine's limits: the "
+                               f"platform braked within the present sample's force limits")
     if run.failures:
         flags = sorted({flag for flag in run.status if flag not in predictive.SOLVED})
         result.problems.append(f"the QP solver (DAQP) found no solution at {run.failures} of {len(run.step_time)} "

@@ -11,32 +11,54 @@ condensed to ``u_0..u_{N-1}``. It minimizes ``sum_k h_k (|W_e C z_k|^2 + |W_p p_
 |W_v v_k|^2 + |W_u u_{k-1}|^2)`` (:class:`~stewart.cueing.settings.MPCParams` weights, each
 error scaled by its perception threshold or the pose box) subject to
 
-* the pose box ``|p_k| <= box``;
 * the leg stroke ``L(x_k)``, linearized with ``dL/dx = J_C T`` (eqs. 5, 8);
-* the leg velocity ``Ldot(x_k, v_k)`` within ``(1 - margin) leg_velocity``, linearized with
-  ``dLdot/dv = dL/dx`` and ``dLdot/dx``, the legs' second derivatives contracted with the
-  predicted rates, from :meth:`~stewart.Platform.leg_accelerations` by polarization (exact:
-  a quadratic form);
-* the actuator force ``tau(x_k, v_k, u_k)`` of the inverse dynamics within ``(1 - margin)
-  force``, linearized with :meth:`~stewart.Platform.inverse_dynamics_derivatives` (exact in
-  ``u``: the dynamics are affine in the accelerations);
-* the tilt rate: roll and pitch rates differ from the vehicle's by at most ``tilt_rate``;
+* the leg velocity ``Ldot(x_k, v_k)``, linearized with ``dLdot/dv = dL/dx`` and ``dLdot/dx``,
+  the legs' second derivatives contracted with the predicted rates, from
+  :meth:`~stewart.Platform.leg_accelerations` by polarization (exact: a quadratic form);
+* the actuator force ``tau(x_k, v_k, u_k)`` of the inverse dynamics, linearized with
+  :meth:`~stewart.Platform.inverse_dynamics_derivatives` (exact in ``u``: the dynamics are
+  affine in the accelerations, so the row at the present sample, whose state is known, is
+  exact);
 * the joints' cones (:class:`~stewart.PlatformParams` ``universal_joint_max_angle``,
-  ``spherical_joint_max_angle``, less :data:`CONE_MARGIN`), the cosine of each joint angle
-  linearized with its exact gradient (:func:`~stewart.cueing.prediction.joint_cosines_and_gradients`);
+  ``spherical_joint_max_angle``), the cosine of each joint angle linearized with its exact
+  gradient (:func:`~stewart.cueing.prediction.joint_cosines_and_gradients`);
+* the tilt rate: roll and pitch rates between zero and the vehicle's, widened by
+  ``tilt_rate`` (no rotation the vehicle does not have, beyond ``tilt_rate``);
+* the pose box ``|p_k| <= box``;
 * the platform at rest at the horizon's end, ``v_N = 0`` (so every plan can stop).
 
-All but the box and the rest are soft (DAQP's soft constraints, which keep the slacks out of
-the problem's size): a row's squared violation ``v_i^2`` costs ``SOFT_WEIGHT / 2 v_i^2 / n_i``,
-``n_i = a_i H^-1 a_i^T`` for the row ``a_i`` and the cost's Hessian ``H`` (the violation in the
-cost's metric), so that a plan that alone would overstep one row by ``delta`` oversteps it by
-``delta / (1 + SOFT_WEIGHT)`` whatever the row's units. A QP always has a solution and a
-violation (reported by
-:func:`stewart.cueing.mpc` from the exact kinematics and dynamics) is paid for far above any
-cue. The linearization point is the last plan, shifted by one sample. The intervals are
-equal; the first input is applied for one log sample, the state advanced exactly, and the
-QP solved again (a short first interval would let the plan buy velocity cheaply for the
-long ones).
+The rows come in two kinds (:data:`GROUPS`). The samples a step writes, the present one and
+the next, are held to the platform's own limits: the forces at the present sample
+(``actuators``, exact) within ``force``, and the leg lengths, leg speeds and joint cones at
+the next sample (``legs``; the first input held for one sample ``dt``, linearized about the
+last plan's, an error of second order in ``dt^2/2`` times the change of input) within the
+stroke, ``leg_velocity`` and the cones; the roll and pitch rates there (``next_tilt``, exact)
+within the tilt band. Over the horizon (at the intervals' ends, the forces at their starts)
+the same limits less their margins (``(1 - margin)`` of force and leg speed,
+``stroke_margin``, :data:`CONE_MARGIN`), the tilt band, the box and the rest.
+
+The platform's own limits at the written samples are hard at every level; what yields when
+not everything can hold is ordered (:data:`HARD_GROUPS`, tried in turn): first the box and
+the rest, then the tilt rate; the margins over the horizon are always soft. If no level has
+a plan, the step brakes: the input that brings the pose rates closest to zero after one
+sample within the present sample's forces (:data:`LEVELS` ``brake``, counted in the result).
+Each plan is checked at the next sample with the exact kinematics (:meth:`CueingQP.next_values`)
+and, where the linearization let a ``legs`` row pass its limit, solved again with that row
+tightened (:data:`TIGHTENINGS`). So every sample written holds the stroke, leg speed,
+actuator forces and cones whenever any input can, and the tilt rate whenever the vehicle's
+rotation leaves the platform time to follow; :func:`stewart.cueing.mpc` checks the written
+reference again with the exact kinematics and dynamics.
+
+Soft rows are DAQP's soft constraints, which keep the slacks out of the problem's size: a
+row's squared violation ``v_i^2`` costs ``SOFT_WEIGHT / 2 v_i^2 / n_i``, ``n_i = a_i H^-1
+a_i^T`` for the row ``a_i`` and the cost's Hessian ``H`` (the violation in the cost's metric),
+so that a plan that alone would overstep one row by ``delta`` oversteps it by ``delta / (1 +
+SOFT_WEIGHT)`` whatever the row's units: a margin is given up only where the hard rows leave
+no other plan, and is paid for far above any cue. The linearization point is the last plan,
+shifted by one sample. The intervals are equal; the first input is applied for one log
+sample, the state advanced exactly, and the QP solved again (a short first interval would
+let the plan buy velocity cheaply for the long ones); at the last sample the plan's first
+input is written without being applied.
 """
 
 from __future__ import annotations
@@ -58,31 +80,55 @@ __all__ = ["CueingQP", "Plan", "plan"]
 #: Weight of a soft constraint's squared violation in the cost's metric (see the module's
 #: docstring): a QP always has a solution, and a violation is paid for far above any cue.
 SOFT_WEIGHT = 1e6
+#: DAQP's primal feasibility tolerance, in the rows' units (their limits): the rows at the
+#: platform's own limits (``actuators``, ``legs``) are bounded twice this far inside them.
+PRIMAL_TOLERANCE = 1e-6
 #: DAQP's settings: its soft constraints' penalty ``1 / (2 rho_soft) s^2`` is :data:`SOFT_WEIGHT`'s,
-#: and an iteration cap far above the few iterations a warm-started step takes.
-SOLVER_SETTINGS = {"rho_soft": 1.0 / SOFT_WEIGHT, "iter_limit": 2000}
+#: :data:`PRIMAL_TOLERANCE`, and an iteration cap far above the few iterations a warm-started
+#: step takes.
+SOLVER_SETTINGS = {"rho_soft": 1.0 / SOFT_WEIGHT, "primal_tol": PRIMAL_TOLERANCE, "iter_limit": 2000}
 #: DAQP's exit flags of a solution: optimal, and optimal with soft constraints violated.
 SOLVED = (1, 2)
-#: DAQP's constraint kinds (:attr:`CueingQP.sense`): an inequality, a soft one, an equality
-#: (active and immutable).
-HARD, SOFT, EQUALITY = 0, 8, 5
+#: DAQP's constraint kinds (:attr:`CueingQP.levels`): an inequality, a soft one.
+HARD, SOFT = 0, 8
 #: DAQP's infinite bound.
 _INFINITE = 1e30
 
 _P, _V, _NS = slice(0, 6), slice(6, 12), 12  # the state's pose and rate, the vestibular states' start
-#: The constraint groups in the order of the QP's rows.
-GROUPS = ("box", "tilt", "stroke", "speed", "force", "cones", "rest")
-#: Kept from each joint's cone half-angle [rad] (the QP holds it to first order).
+#: The constraint groups in the order of the QP's rows: the machine's limits at the samples
+#: the step writes (``actuators``: the forces at the present sample; ``legs``: the leg lengths,
+#: leg speeds and joint cones at the next; ``next_tilt``: the roll and pitch rates there), then
+#: over the horizon the same limits less their margins, the tilt rate, the pose box and the
+#: rest at the horizon's end.
+GROUPS = ("actuators", "legs", "next_tilt", "force", "stroke", "speed", "cones", "tilt", "box", "rest")
+#: The groups held hard at each level of :meth:`CueingQP.solve` (the others soft), tried in
+#: turn until one has a plan: ``plan``; ``box`` when the box and the rest must yield to the
+#: machine's limits; ``tilt`` when the tilt rate must yield too (the vehicle's rotation
+#: changed faster than the platform can follow).
+HARD_GROUPS = {"plan": ("actuators", "legs", "next_tilt", "box", "rest"),
+               "box": ("actuators", "legs", "next_tilt"),
+               "tilt": ("actuators", "legs")}
+#: The levels of :meth:`CueingQP.solve`: :data:`HARD_GROUPS`, then ``brake``, one step that
+#: slows the pose rates within the present sample's actuator forces when no plan holds the
+#: machine's limits at the next sample.
+LEVELS = (*HARD_GROUPS, "brake")
+#: The times a step's plan is solved again with the ``legs`` rows the exact kinematics find
+#: passed at the next sample bounded by their limits less their linearization's error there
+#: and the excess.
+TIGHTENINGS = 3
+#: Kept from each joint's cone half-angle [rad] over the horizon (the QP holds it to first order).
 CONE_MARGIN = 0.005
 
 
 @dataclass
 class Plan:
     """A receding-horizon run: the applied pose accelerations ``u`` ``(T, 6)``, the pose
-    ``x`` and rates ``v`` ``(T, 6)`` at the log's samples, per step the wall time of the whole
-    step (linearize, condense, solve) ``step_time`` and the QP solver's own ``solve_time`` [s],
-    its ``iterations`` and exit flag ``status`` (:data:`SOLVED`, or DAQP's failure);
-    ``failures`` counts steps without a solution."""
+    ``x`` and rates ``v`` ``(T, 6)`` at the log's samples, per step (one at each sample) the
+    wall time of the whole step (linearize, condense, solve) ``step_time`` and the QP
+    solver's own ``solve_time`` [s], its ``iterations``, exit flag ``status`` (:data:`SOLVED`,
+    or DAQP's failure) and the :data:`LEVELS` name ``level`` of the plan applied (None
+    without one); ``tightened`` counts the tightenings of :meth:`CueingQP.solve`, ``failures``
+    the steps without a solution."""
 
     x: np.ndarray
     v: np.ndarray
@@ -91,6 +137,8 @@ class Plan:
     solve_time: np.ndarray
     iterations: np.ndarray
     status: list
+    level: list
+    tightened: int
     failures: int
 
 
@@ -124,19 +172,33 @@ class CueingQP:
                                       for _ in range(6)])
         self.neutral = neutral_axes(self.platform)
         box = np.asarray(params.box)
-        sizes = {"box": 6 * n, "tilt": 2 * n, "stroke": 6 * n, "speed": 6 * n, "force": 6 * n, "cones": 12 * n,
-                 "rest": 6}
-        scales = {"box": np.tile(box, n), "tilt": np.full(2 * n, params.tilt_rate),
+        # the platform's own stroke, leg speed and cones: the bounds of next_values
+        cone_limits = [np.cos(limit) if limit is not None else -np.inf
+                       for limit in (pp.universal_joint_max_angle, pp.spherical_joint_max_angle) for _ in range(6)]
+        self.next_limits = (np.concatenate([np.full(6, lo), np.full(6, -params.leg_velocity), cone_limits]),
+                            np.concatenate([np.full(6, hi), np.full(6, params.leg_velocity), np.full(12, np.inf)]))
+        sizes = {"actuators": 6, "legs": 24, "next_tilt": 2, "force": 6 * n, "stroke": 6 * n, "speed": 6 * n,
+                 "cones": 12 * n, "tilt": 2 * n, "box": 6 * n, "rest": 6}
+        scales = {"actuators": np.full(6, params.force),
+                  "legs": np.concatenate([np.full(6, hi - lo), np.full(6, params.leg_velocity), np.ones(12)]),
+                  "next_tilt": np.full(2, params.tilt_rate), "force": np.full(6 * n, params.force),
                   "stroke": np.full(6 * n, hi - lo), "speed": np.full(6 * n, params.leg_velocity),
-                  "force": np.full(6 * n, params.force), "cones": np.ones(12 * n), "rest": np.ones(6)}
+                  "cones": np.ones(12 * n), "tilt": np.full(2 * n, params.tilt_rate), "box": np.tile(box, n),
+                  "rest": np.ones(6)}
         edges = np.cumsum([0] + [sizes[g] for g in GROUPS])
         self.rows = {g: slice(edges[i], edges[i + 1]) for i, g in enumerate(GROUPS)}
         self.m = int(edges[-1])
         self.row_scale = np.concatenate([scales[g] for g in GROUPS])
-        # every row but the pose box (linear in the inputs: always met exactly) and v_N = 0 is soft
-        self.sense = np.full(self.m, SOFT, dtype=np.intc)
-        self.sense[self.rows["box"]] = HARD
-        self.sense[self.rows["rest"]] = EQUALITY
+        self._inset = np.zeros(self.m)
+        for g in ("actuators", "legs"):
+            self._inset[self.rows[g]] = 2.0 * PRIMAL_TOLERANCE
+        self.levels = {}
+        for level, hard in HARD_GROUPS.items():
+            self.levels[level] = np.full(self.m, SOFT, dtype=np.intc)
+            for g in hard:
+                self.levels[level][self.rows[g]] = HARD
+        # the brake step's weight on the pose rates after one sample: per axis, in pose boxes
+        self._brake_weight = np.diag(1.0 / box ** 2)
         self.Q, self.R = self._weights()
         self._starts = np.concatenate([[0.0], np.cumsum(self.h)[:-1]])
         self._weight = self.h[:, None, None] * self.Q
@@ -144,7 +206,7 @@ class CueingQP:
         self._inputs = np.zeros((n, 6, 6 * n))
         for k in range(n):
             self._inputs[k, :, 6 * k: 6 * k + 6] = np.eye(6)
-        self._unit = np.tile(np.eye(6), (n, 1))
+        self._unit = np.tile(np.eye(6), (n + 1, 1))
         self.multipliers = None  # the last solution's, whose signs give the next step's active set
         self.last = None
 
@@ -215,41 +277,47 @@ class CueingQP:
         H = s_mat[1:].reshape(-1, 6 * n).T @ sq
         H[np.diag_indices(6 * n)] += self._input_weight
         q = d[1:].reshape(-1) @ sq
-        # leg geometry at the predicted states s_1..s_N, forces at s_0..s_{N-1}
-        x_next = xs + h[:, None] * vs + (0.5 * h * h)[:, None] * us
-        v_next = vs + h[:, None] * us
-        lengths, rates = plat.leg_rates(np.repeat(x_next, 6, axis=0), self._unit)
+        # leg geometry at the next log sample (the first input held over dt) and at the
+        # predicted states s_1..s_N, each affine in u about the linearization point: ``A u + c``
+        dt = self.dt
+        x_bar = np.vstack([x0 + dt * v0 + 0.5 * dt * dt * us[0], xs + h[:, None] * vs + (0.5 * h * h)[:, None] * us])
+        v_bar = np.vstack([v0 + dt * us[0], vs + h[:, None] * us])
+        sp, sv = np.empty((n + 1, 6, 6 * n)), np.empty((n + 1, 6, 6 * n))
+        sp[0], sv[0] = 0.5 * dt * dt * self._inputs[0], dt * self._inputs[0]
+        sp[1:], sv[1:] = s_mat[1:, _P], s_mat[1:, _V]
+        dp = np.vstack([x0 - self.home + dt * v0, d[1:, _P]]) - (x_bar - self.home)    # from the point
+        dv = np.vstack([v0, d[1:, _V]])
+        lengths, rates = plat.leg_rates(np.repeat(x_bar, 6, axis=0), self._unit)
         lengths = lengths[::6]
-        jl = np.transpose(rates.reshape(n, 6, 6), (0, 2, 1))                       # dL/dx, column j: Ldot at e_j
-        probes = np.concatenate([v_next[:, None, :] + eye, v_next[:, None, :] - eye], axis=1)
-        quad = plat.leg_accelerations(np.repeat(x_next, 12, axis=0), probes.reshape(-1, 6),
-                                      np.zeros((12 * n, 6))).reshape(n, 12, 6)
+        jl = np.transpose(rates.reshape(n + 1, 6, 6), (0, 2, 1))                   # dL/dx, column j: Ldot at e_j
+        probes = np.concatenate([v_bar[:, None, :] + eye, v_bar[:, None, :] - eye], axis=1)
+        quad = plat.leg_accelerations(np.repeat(x_bar, 12, axis=0), probes.reshape(-1, 6),
+                                      np.zeros((12 * (n + 1), 6))).reshape(n + 1, 12, 6)
         hl = np.transpose(0.25 * (quad[:, :6] - quad[:, 6:]), (0, 2, 1))           # dLdot/dx along v
-        deriv = plat.inverse_dynamics_derivatives(xs, vs, us)
-        cones, cone_grad = prediction.joint_cosines_and_gradients(x_next, plat.params.base_points,
+        cones, cone_grad = prediction.joint_cosines_and_gradients(x_bar, plat.params.base_points,
                                                                   plat.params.platform_points, self.neutral)
-        sp, sv, dp, dv = s_mat[1:, _P], s_mat[1:, _V], d[1:, _P], d[1:, _V]
-        inputs = self._inputs
-        p_bar, box = x_next - self.home, np.asarray(prm.box)
-        wv = vehicle[:, [4, 3]]                                    # the vehicle's w_y, w_x: theta', phi'
+        mv = lambda m, x: np.einsum("nij,nj->ni", m, x)  # noqa: E731
+        legs = (np.concatenate([jl @ sp, hl @ sp + jl @ sv, cone_grad @ sp], axis=1),
+                np.concatenate([lengths + mv(jl, dp), mv(jl, dv) + mv(hl, dp), cones + mv(cone_grad, dp)], axis=1))
+        deriv = plat.inverse_dynamics_derivatives(xs, vs, us)
         t_dx, t_dv = deriv.dtau_dx, deriv.dtau_dxd
-        tau_shift = deriv.tau - np.einsum("nij,nj->ni", t_dx, xs - self.home) \
-            - np.einsum("nij,nj->ni", t_dv, vs) - np.einsum("nij,nj->ni", deriv.dtau_dxdd, us)
+        tau = t_dx @ s_mat[:-1, _P] + t_dv @ s_mat[:-1, _V] + deriv.dtau_dxdd @ self._inputs, \
+            deriv.tau + mv(t_dx, d[:-1, _P] - (xs - self.home)) + mv(t_dv, d[:-1, _V] - vs) - mv(deriv.dtau_dxdd, us)
+        box, speed, cone = np.asarray(prm.box), self.speed_limit, self.cone_cosines
+        # roll and pitch rates between zero and the vehicle's (w_y, w_x: theta', phi'), widened by tilt_rate
+        wv = vehicle[:, [4, 3]]
+        band = np.minimum(wv, 0.0) - prm.tilt_rate, np.maximum(wv, 0.0) + prm.tilt_rate
         groups = {
-            "box": (sp, dp, -box, box),
-            "tilt": (sv[:, 4:6], dv[:, 4:6], wv - prm.tilt_rate, wv + prm.tilt_rate),
-            "stroke": (jl @ sp, np.einsum("nij,nj->ni", jl, dp),
-                       self.stroke[0] - lengths + np.einsum("nij,nj->ni", jl, p_bar),
-                       self.stroke[1] - lengths + np.einsum("nij,nj->ni", jl, p_bar)),
-            "speed": (hl @ sp + jl @ sv, np.einsum("nij,nj->ni", hl, dp) + np.einsum("nij,nj->ni", jl, dv),
-                      -self.speed_limit + np.einsum("nij,nj->ni", hl, p_bar),
-                      self.speed_limit + np.einsum("nij,nj->ni", hl, p_bar)),
-            "force": (t_dx @ s_mat[:-1, _P] + t_dv @ s_mat[:-1, _V] + deriv.dtau_dxdd @ inputs,
-                      np.einsum("nij,nj->ni", t_dx, d[:-1, _P]) + np.einsum("nij,nj->ni", t_dv, d[:-1, _V])
-                      + tau_shift, -self.force_limit, self.force_limit),
-            "cones": (cone_grad @ sp, np.einsum("nij,nj->ni", cone_grad, dp),
-                      self.cone_cosines - cones + np.einsum("nij,nj->ni", cone_grad, p_bar), np.inf),
-            "rest": (sv[-1:], dv[-1:], 0.0, 0.0),
+            "actuators": (tau[0][0], tau[1][0], -prm.force, prm.force),
+            "legs": (legs[0][0], legs[1][0], *self.next_limits),
+            "next_tilt": (sv[0, 4:6], dv[0, 4:6], band[0][0], band[1][0]),
+            "force": (tau[0], tau[1], -self.force_limit, self.force_limit),
+            "stroke": (legs[0][1:, :6], legs[1][1:, :6], self.stroke[0], self.stroke[1]),
+            "speed": (legs[0][1:, 6:12], legs[1][1:, 6:12], -speed, speed),
+            "cones": (legs[0][1:, 12:], legs[1][1:, 12:], cone, np.inf),
+            "tilt": (sv[1:, 4:6], dv[1:, 4:6], band[0], band[1]),
+            "box": (s_mat[1:, _P], d[1:, _P], -box, box),
+            "rest": (s_mat[-1:, _V], d[-1:, _V], 0.0, 0.0),
         }
         rows, lo, hi = np.empty((self.m, 6 * n)), np.empty(self.m), np.empty(self.m)
         for g in GROUPS:
@@ -260,26 +328,83 @@ class CueingQP:
             hi[at] = (high - const).reshape(-1)
         return H, q, rows, lo, hi, s_mat[1:], d[1:]
 
+    def next_values(self, x0, v0, u0):
+        """The leg lengths, leg speeds and joint-angle cosines ``(24,)`` at the next log sample
+        after ``u0`` held from pose ``x0`` and rates ``v0``, exact: the ``legs`` rows' values,
+        within :attr:`next_limits` when the platform's limits hold there."""
+        x1, v1 = x0 + self.dt * v0 + 0.5 * self.dt ** 2 * u0, v0 + self.dt * u0
+        lengths, speeds = self.platform.leg_rates(x1, v1)
+        p = self.platform.params
+        cones = prediction.joint_cosines(x1[None], p.base_points, p.platform_points, self.neutral)[0]
+        return np.concatenate([lengths, speeds, cones])
+
     def solve(self, x0, v0, z0, vehicle):
         """The plan from pose ``x0``, rates ``v0`` and vestibular error states ``z0`` for the
         vehicle's signals ``vehicle`` ``(N, 6)`` at the intervals' midpoints: ``(u (N, 6),
         x (N+1, 6), v (N+1, 6), info)`` with ``info`` the solver's (``exitflag``,
-        ``iterations``, ``solve_time`` [s]); ``u`` is None when it found no solution."""
+        ``iterations`` and ``solve_time`` [s] summed over the QPs solved), ``level`` (the first
+        of :data:`LEVELS` with a plan) and ``tightened`` (the times the ``legs`` rows were
+        tightened); ``u`` is None when no QP had a solution.
+
+        Each level's plan is checked at the next sample with the exact kinematics
+        (:meth:`next_values`); where a ``legs`` row's linearization let it pass its bound, the
+        row's bound is moved in by the linearization's error there and the excess, and the plan
+        solved again (at most :data:`TIGHTENINGS` times). The brake step minimizes the pose
+        rates after one sample, in pose boxes, subject to the present forces alone."""
         n = self.n
         H, q, M, lo, hi, s_mat, d = self.condensed(x0, v0, z0, vehicle)
         scale = 1.0 / self.row_scale
-        u, _, exitflag, info = daqp.solve(H, q, M * scale[:, None], np.minimum(hi * scale, _INFINITE),
-                                          np.maximum(lo * scale, -_INFINITE), self.sense,
-                                          dual_start=self.multipliers, **SOLVER_SETTINGS)
-        info["exitflag"] = exitflag
-        if exitflag not in SOLVED:
+        rows = M * scale[:, None]
+        legs = self.rows["legs"]
+        low, high = self.next_limits
+        with np.errstate(invalid="ignore"):  # (a joint without a cone: no bound either side)
+            constant = np.where(np.isfinite(low), low - lo[legs], high - hi[legs])  # the legs rows' A u + c
+        iterations, solve_time, tightened = 0, 0.0, 0
+        for level, sense in self.levels.items():
+            upper = np.minimum(hi * scale - self._inset, _INFINITE)
+            lower = np.maximum(lo * scale + self._inset, -_INFINITE)
+            for attempt in range(TIGHTENINGS + 1):
+                u, _, exitflag, info = daqp.solve(H, q, rows, upper, lower, sense, dual_start=self.multipliers,
+                                                  **SOLVER_SETTINGS)
+                iterations += info["iterations"]
+                solve_time += info["solve_time"]
+                if exitflag not in SOLVED:
+                    break
+                values = self.next_values(x0, v0, u[:6])
+                above, below = np.maximum(values - high, 0.0), np.maximum(low - values, 0.0)
+                if not (np.any(above > 0) or np.any(below > 0)) or attempt == TIGHTENINGS:
+                    break  # (what the last attempt leaves, the exact check of the reference reports)
+                # a row passed is bounded by its limit less the linearization's error there and the
+                # excess (the error grows as the plan moves along the row)
+                error = values - (M[legs] @ u + constant)
+                upper[legs] = np.where(above > 0, np.minimum(upper[legs], (hi[legs] - error - above) * scale[legs]
+                                                             - self._inset[legs]), upper[legs])
+                lower[legs] = np.where(below > 0, np.maximum(lower[legs], (lo[legs] - error + below) * scale[legs]
+                                                             + self._inset[legs]), lower[legs])
+                tightened += 1
+            if exitflag in SOLVED:
+                break
             self.multipliers = None
+        else:
+            level = "brake"
+            force = self.rows["actuators"]
+            brake, _, exitflag, info = daqp.solve(self.dt ** 2 * self._brake_weight, self.dt * self._brake_weight @ v0,
+                                                  rows[force, :6], upper[force], lower[force],
+                                                  np.full(6, HARD, dtype=np.intc), **SOLVER_SETTINGS)
+            iterations += info["iterations"]
+            solve_time += info["solve_time"]
+            u = np.zeros(6 * n)
+            u[:6] = brake
+        info.update(exitflag=exitflag, level=level, iterations=iterations, solve_time=solve_time, tightened=tightened)
+        if exitflag not in SOLVED:
             return None, None, None, info
-        self.multipliers = info["lam"]
         states = np.einsum("kaj,j->ka", s_mat, u) + d
         x = np.vstack([x0, states[:, _P] + self.home])
         v = np.vstack([v0, states[:, _V]])
-        self.last = (np.concatenate([[0.0], np.cumsum(self.h)]), x, v, u.reshape(n, 6))
+        # the next step linearizes about this plan (after a brake step: about the state held)
+        self.last = None if level == "brake" else (np.concatenate([[0.0], np.cumsum(self.h)]), x, v, u.reshape(n, 6))
+        if level != "brake":
+            self.multipliers = info["lam"]
         return u.reshape(n, 6), x, v, info
 
 
@@ -315,10 +440,10 @@ def _plan(log, platform, params, progress):
     y_rest = prediction.signals_and_jacobians(qp.home, np.zeros(6), np.zeros(6), prm.gravity)[0][0]
     z_platform = vs.steady_state(y_rest)
     mid_offsets = np.concatenate([[0.0], np.cumsum(h)[:-1]]) + 0.5 * h
-    step_time, solve_time, iterations, status = np.zeros(steps - 1), np.zeros(steps - 1), np.zeros(steps - 1, int), []
-    failures = 0
-    fallback = None
-    iterator = range(steps - 1)
+    step_time, solve_time, iterations, status, level = np.zeros(steps), np.zeros(steps), np.zeros(steps, int), [], []
+    failures = tightened = 0
+    remaining = None  # the last plan's inputs after the one applied
+    iterator = range(steps)
     if progress:
         from tqdm import tqdm
 
@@ -331,19 +456,22 @@ def _plan(log, platform, params, progress):
         solve_time[k] = info["solve_time"]
         iterations[k] = info["iterations"]
         status.append(int(info["exitflag"]))
+        level.append(info["level"] if sol is not None else None)
+        tightened += info["tightened"]
         if sol is None:
             failures += 1
-            applied = fallback[0] if fallback is not None and len(fallback) else np.zeros(6)
-            fallback = fallback[1:] if fallback is not None else None
+            applied = remaining[0] if remaining is not None and len(remaining) else np.zeros(6)
+            remaining = remaining[1:] if remaining is not None else None
         else:
             applied = sol[0]
-            fallback = sol[1:]
+            remaining = sol[1:]
         u[k] = applied
+        if k + 1 == steps:  # the last sample's input: planned like the others, not applied
+            break
         x[k + 1] = x[k] + dt * v[k] + 0.5 * dt * dt * applied
         v[k + 1] = v[k] + dt * applied
         xm, vm = prediction.midpoint(x[k], v[k], applied, dt)
         y_mid = prediction.signals_and_jacobians(xm, vm, applied, prm.gravity)[0][0]
         z_platform = qp.ad_dt @ z_platform + qp.bd_dt @ y_mid
         z_vehicle = qp.ad_dt @ z_vehicle + qp.bd_dt @ (0.5 * (y_log[k] + y_log[k + 1]))
-    u[-1] = u[-2]
-    return Plan(x, v, u, step_time, solve_time, iterations, status, failures)
+    return Plan(x, v, u, step_time, solve_time, iterations, status, level, tightened, failures)

@@ -18,11 +18,12 @@ A TOML file has three sections, each key optional::
 
     [limits]
     force = 8000.0        # N, |actuator force| (default: twice the largest static leg force at home)
-    margin = 0.1          # share of the force and leg-speed limits kept for the controller
+    margin = 0.1          # share of the force and leg-speed limits the plan keeps for the
+                          # controller where it can (the limits themselves always hold)
     leg_velocity = 0.7    # m/s, |leg extension rate| (default: one stroke per second)
     stroke_margin = 0.01  # m, kept from each end of the stroke
-    tilt_rate = 3.0       # deg/s, |roll or pitch rate - the vehicle's| (the rotation a rider
-                          # would feel that the vehicle does not have)
+    tilt_rate = 3.0       # deg/s, roll and pitch rates beyond the vehicle's or against them
+                          # (the rotation a rider would feel that the vehicle does not have)
     box = [0.3, 0.3, 0.3, 0.3, 0.3, 0.3]   # m, m, m, rad, rad, rad from home (default: 90 % of
                                            # the platform's free excursion along each axis)
 """
@@ -45,8 +46,8 @@ __all__ = ["MPCParams", "read_sections", "FORCE_LIMIT_PER_STATIC", "LEG_VELOCITY
 FORCE_LIMIT_PER_STATIC = 2.0
 #: Default leg speed limit: strokes per second.
 LEG_VELOCITY_PER_STROKE = 1.0
-#: Default pose box: this share of the free excursion along each axis (the joints' cones
-#: and the legs' clearance, which the QP does not constrain, bind first on combined motions).
+#: Default pose box: this share of the free excursion along each axis (the legs' clearance,
+#: the base and the plate, which the QP does not constrain, bind first on combined motions).
 BOX_SHARE = 0.9
 
 _SECTIONS = {
