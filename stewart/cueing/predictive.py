@@ -29,19 +29,17 @@ error scaled by its perception threshold or the pose box) subject to
 
 The rows come in two kinds (:data:`GROUPS`). The samples a step writes, the present one and
 the next, are held to the platform's own limits: the forces at the present sample
-(``actuators``, exact) within ``force``, and within ``(1 - margin) force`` (``force_margin``,
-the headroom the controller tracks the reference with), the leg lengths, leg speeds and joint cones at
+(``actuators``, exact) within ``force``, and the leg lengths, leg speeds and joint cones at
 the next sample (``legs``; the first input held for one sample ``dt``, linearized about the
 last plan's, an error of second order in ``dt^2/2`` times the change of input) within the
 stroke, ``leg_velocity`` and the cones; the roll and pitch rates there (``next_tilt``, exact)
-within the tilt band. Over the rest of the horizon (at the intervals' ends, the forces at
-their starts) the same limits less their margins (``(1 - margin)`` of force and leg speed,
+within the tilt band. Over the horizon (at the intervals' ends, the forces at their starts)
+the same limits less their margins (``(1 - margin)`` of force and leg speed,
 ``stroke_margin``, :data:`CONE_MARGIN`), the tilt band, the box and the rest.
 
 The platform's own limits at the written samples are hard at every level; what yields when
 not everything can hold is ordered (:data:`HARD_GROUPS`, tried in turn): first the box and
-the rest, then the tilt rate, then the present forces' margin; the margins over the rest of
-the horizon are always soft. If no level has
+the rest, then the tilt rate; the margins over the horizon are always soft. If no level has
 a plan, the step brakes: the input that brings the pose rates closest to zero after one
 sample within the present sample's forces (:data:`LEVELS` ``brake``, counted in the result).
 Each plan is checked at the next sample with the exact kinematics (:meth:`CueingQP.next_values`)
@@ -98,22 +96,18 @@ _INFINITE = 1e30
 
 _P, _V, _NS = slice(0, 6), slice(6, 12), 12  # the state's pose and rate, the vestibular states' start
 #: The constraint groups in the order of the QP's rows: the machine's limits at the samples
-#: the step writes (``actuators``: the forces at the present sample; ``force_margin``: the same
-#: forces less the margin the controller tracks the reference with; ``legs``: the leg lengths,
+#: the step writes (``actuators``: the forces at the present sample; ``legs``: the leg lengths,
 #: leg speeds and joint cones at the next; ``next_tilt``: the roll and pitch rates there), then
-#: over the rest of the horizon the same limits less their margins, the tilt rate, the pose box
-#: and the rest at the horizon's end.
-GROUPS = ("actuators", "force_margin", "legs", "next_tilt", "force", "stroke", "speed", "cones", "tilt", "box",
-          "rest")
+#: over the horizon the same limits less their margins, the tilt rate, the pose box and the
+#: rest at the horizon's end.
+GROUPS = ("actuators", "legs", "next_tilt", "force", "stroke", "speed", "cones", "tilt", "box", "rest")
 #: The groups held hard at each level of :meth:`CueingQP.solve` (the others soft), tried in
 #: turn until one has a plan: ``plan``; ``box`` when the box and the rest must yield to the
 #: machine's limits; ``tilt`` when the tilt rate must yield too (the vehicle's rotation
-#: changed faster than the platform can follow); ``margin`` when the present forces must use
-#: the controller's force margin to hold the legs at the next sample.
-HARD_GROUPS = {"plan": ("actuators", "force_margin", "legs", "next_tilt", "box", "rest"),
-               "box": ("actuators", "force_margin", "legs", "next_tilt"),
-               "tilt": ("actuators", "force_margin", "legs"),
-               "margin": ("actuators", "legs")}
+#: changed faster than the platform can follow).
+HARD_GROUPS = {"plan": ("actuators", "legs", "next_tilt", "box", "rest"),
+               "box": ("actuators", "legs", "next_tilt"),
+               "tilt": ("actuators", "legs")}
 #: The levels of :meth:`CueingQP.solve`: :data:`HARD_GROUPS`, then ``brake``, one step that
 #: slows the pose rates within the present sample's actuator forces when no plan holds the
 #: machine's limits at the next sample.
@@ -183,11 +177,11 @@ class CueingQP:
                        for limit in (pp.universal_joint_max_angle, pp.spherical_joint_max_angle) for _ in range(6)]
         self.next_limits = (np.concatenate([np.full(6, lo), np.full(6, -params.leg_velocity), cone_limits]),
                             np.concatenate([np.full(6, hi), np.full(6, params.leg_velocity), np.full(12, np.inf)]))
-        sizes = {"actuators": 6, "force_margin": 6, "legs": 24, "next_tilt": 2, "force": 6 * (n - 1), "stroke": 6 * n, "speed": 6 * n,
+        sizes = {"actuators": 6, "legs": 24, "next_tilt": 2, "force": 6 * n, "stroke": 6 * n, "speed": 6 * n,
                  "cones": 12 * n, "tilt": 2 * n, "box": 6 * n, "rest": 6}
-        scales = {"actuators": np.full(6, params.force), "force_margin": np.full(6, params.force),
+        scales = {"actuators": np.full(6, params.force),
                   "legs": np.concatenate([np.full(6, hi - lo), np.full(6, params.leg_velocity), np.ones(12)]),
-                  "next_tilt": np.full(2, params.tilt_rate), "force": np.full(6 * (n - 1), params.force),
+                  "next_tilt": np.full(2, params.tilt_rate), "force": np.full(6 * n, params.force),
                   "stroke": np.full(6 * n, hi - lo), "speed": np.full(6 * n, params.leg_velocity),
                   "cones": np.ones(12 * n), "tilt": np.full(2 * n, params.tilt_rate), "box": np.tile(box, n),
                   "rest": np.ones(6)}
@@ -315,10 +309,9 @@ class CueingQP:
         band = np.minimum(wv, 0.0) - prm.tilt_rate, np.maximum(wv, 0.0) + prm.tilt_rate
         groups = {
             "actuators": (tau[0][0], tau[1][0], -prm.force, prm.force),
-            "force_margin": (tau[0][0], tau[1][0], -self.force_limit, self.force_limit),
             "legs": (legs[0][0], legs[1][0], *self.next_limits),
             "next_tilt": (sv[0, 4:6], dv[0, 4:6], band[0][0], band[1][0]),
-            "force": (tau[0][1:], tau[1][1:], -self.force_limit, self.force_limit),
+            "force": (tau[0], tau[1], -self.force_limit, self.force_limit),
             "stroke": (legs[0][1:, :6], legs[1][1:, :6], self.stroke[0], self.stroke[1]),
             "speed": (legs[0][1:, 6:12], legs[1][1:, 6:12], -speed, speed),
             "cones": (legs[0][1:, 12:], legs[1][1:, 12:], cone, np.inf),
