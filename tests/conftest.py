@@ -280,3 +280,20 @@ def simd_path(request):
     previous = stewart.set_simd(request.param)
     yield request.param
     stewart.set_simd(previous)
+
+
+def inertial_step(params, k: int, step: float, forces):
+    """``forces`` of ``params`` with inertial parameter ``k`` (of ``inertial_vector``) moved
+    by ``step``, or by ``-step`` where ``step`` leaves the body unphysical: ``(forces,
+    signed step)``. One leg moment changed alone makes the legs non-axisymmetric: that
+    warning is silenced."""
+    for signed in (step, -step):
+        changed = params.inertial_vector()
+        changed[k] += signed
+        try:
+            with warnings.catch_warnings():
+                warnings.simplefilter("ignore", stewart.NonAxisymmetricLegWarning)
+                return forces(params.with_inertial_vector(changed)), signed
+        except ValueError:
+            continue
+    raise AssertionError(f"inertial parameter {k}: neither +-{step:g} keeps the body physical")

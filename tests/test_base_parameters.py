@@ -4,7 +4,6 @@ a hand calculation gives (the pistons' masses move to the spherical joints on th
 
 from __future__ import annotations
 
-import warnings
 
 import numpy as np
 import pytest
@@ -17,6 +16,7 @@ from stewart.oracles import reference as ref
 from stewart.oracles.physics import random_states, relative_error
 from stewart.model.params import INERTIAL_NAMES, NUM_RIGID_BODY
 
+from conftest import inertial_step
 from test_general_kernels import random_general
 
 
@@ -80,16 +80,7 @@ def reference_regressor_rank(params, states=40, seed=7):
         mass = pi[INERTIAL_NAMES.index(f"{body}.m")]
         moments = max(abs(pi[INERTIAL_NAMES.index(f"{body}.I{axis}")]) for axis in ("xx", "yy", "zz"))
         step = 1e-4 * {"m": mass, "I": moments}.get(entry[0], mass * size)
-        for signed in (step, -step):  # a step that keeps the body physical
-            changed = pi.copy()
-            changed[k] += signed
-            try:
-                with warnings.catch_warnings():  # one leg moment changed alone: not axisymmetric
-                    warnings.simplefilter("ignore", stewart.NonAxisymmetricLegWarning)
-                    moved = ref.inverse_dynamics(params.with_inertial_vector(changed), x, xd, xdd)
-            except ValueError:
-                continue
-            break
+        moved, signed = inertial_step(params, k, step, lambda p: ref.inverse_dynamics(p, x, xd, xdd))
         columns.append(((moved - tau) / signed).ravel())
     rates = kinematics.leg_velocities(params, x, xd)
     for law in (rates, np.tanh(rates / params.coulomb_velocity)):
