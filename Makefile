@@ -130,6 +130,7 @@ docs: build
 	MPLBACKEND=Agg $(PY) -m stewart simulate $(DOCS_MOVE) --plot docs/images/
 	MPLBACKEND=Agg $(PY) -m stewart calibrate examples/calibration/measurements.csv \
 		--validate examples/calibration/held_out.csv --plot docs/images/
+	mkdir -p out
 	MPLBACKEND=Agg $(PY) -m stewart cueing examples/cueing/hard_braking.csv --method mpc --simulate --output out/mpc_braking.csv --plot docs/images/mpc/
 	MPLBACKEND=Agg $(PY) -m stewart.cli.demo --modes-only --out docs/images/
 	$(PY) -m mkdocs build --strict
