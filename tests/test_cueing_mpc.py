@@ -216,12 +216,32 @@ def shipped(simulator):
     return run
 
 
+def _platform_limits(plat) -> dict:
+    """The MPC's default limits from the platform's parameters (MPCParams.for_platform's
+    documentation, docs/cueing): the force twice the largest static leg force, which inverse
+    dynamics at home at rest gives, and the leg speed one stroke (``leg_length_limits``) per
+    second. The static forces are checked against statics by hand: at rest the legs' forces
+    along their unit vectors balance the weight of the moving body."""
+    q, home = plat.params, plat.home_pose
+    static = plat.inverse_dynamics(home, np.zeros(6), np.zeros(6))
+    # the legs push up the platform's weight and part of their own (pistons and cylinders hang
+    # between the joints): m_p g <= sum f_i u_i,z <= (m_p + 6 m_piston + 6 m_cylinder) g, and
+    # no net horizontal force (reached 3e-12 N, bound 1e-9 of the weight)
+    push = np.sum(static[:, None] * stewart.leg_unit_vectors(q, home), axis=0)
+    weight = q.platform_mass * q.gravity
+    assert weight <= push[2] <= (q.platform_mass + 6 * q.piston_mass + 6 * q.cylinder_mass) * q.gravity
+    assert np.max(np.abs(push[:2])) <= 1e-9 * weight
+    lo, hi = q.leg_length_limits
+    return {"leg_velocity": 1.0 * (hi - lo), "force": 2.0 * float(np.max(np.abs(static)))}
+
+
 @pytest.mark.parametrize("name", ["hard_braking", "double_lane_change"])
 def test_closed_loop_stays_within_limits(simulator, shipped, name):
     result = shipped(name)
     assert result.ok, result.problems
     assert result.solver["qp_failures"] == 0
-    limits = result.limits
+    limits = _platform_limits(simulator)
+    assert result.limits == pytest.approx(limits, rel=1e-12, abs=0)  # the same arithmetic: reached 0
     _, speeds = simulator.leg_rates(result.simulation.x, result.simulation.xd)
     assert np.max(np.abs(speeds)) <= limits["leg_velocity"]
     assert np.max(np.abs(result.simulation.forces)) <= limits["force"]
