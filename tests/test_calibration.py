@@ -45,6 +45,56 @@ def _random_poses(n, seed, nominal=NOMINAL):
     return poses[stewart.reachability(nominal, poses).ok][:n]
 
 
+def _hand_leg_lengths(params, poses):
+    """Leg lengths ``|t + R p_i - b_i|`` built by hand with numpy, independent of
+    stewart.calibration.geometry and the kernel: ``R = Rz(psi) Ry(theta) Rx(phi)`` of the pose
+    ``(x, y, z, psi, theta, phi)`` written out element by element (Z-Y-X Euler angles)."""
+    out = []
+    for x, y, z, psi, theta, phi in np.atleast_2d(poses):
+        cz, sz, cy, sy, cx, sx = np.cos(psi), np.sin(psi), np.cos(theta), np.sin(theta), np.cos(phi), np.sin(phi)
+        rot = np.array([[cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx],
+                        [sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx],
+                        [-sy, cy * sx, cy * cx]])
+        legs = [np.array([x, y, z]) + rot @ p - b for b, p in zip(params.base_points, params.platform_points)]
+        out.append([np.sqrt(leg @ leg) for leg in legs])
+    return np.array(out)
+
+
+def test_readings_and_residuals_against_a_hand_built_leg():
+    """The encoder reading is the hand-built leg's length less its offset (e = |l| - delta),
+    for simulated measurements, the nominal's designed campaign and encoder_readings; the
+    model's residual ``e + delta - |l|`` of readings off by a known amount is that amount
+    (reached 6e-17 m; bound 1e-14 m)."""
+    built = perturbed_geometry(NOMINAL, seed=5)
+    poses = _random_poses(8, 9)
+    want = _hand_leg_lengths(built, poses) - built.leg_length_offsets
+    assert np.ptp(built.leg_length_offsets) > 1e-3  # the offsets matter at this bound
+    data = simulate_measurements(built, poses, length_std=0.0, position_std=0.0, angle_std=0.0)
+    np.testing.assert_allclose(data.readings, want, rtol=0, atol=1e-14)
+    np.testing.assert_allclose(stewart.encoder_readings(built, poses), want, rtol=0, atol=1e-14)
+    shift = np.linspace(-1e-3, 1e-3, 6)
+    residuals = geometry.leg_residuals(geometry.parameter_vector(built), poses, want + shift)
+    np.testing.assert_allclose(residuals, np.tile(shift, (len(poses), 1)), rtol=0, atol=1e-14)
+
+
+def test_calibration_residuals_are_the_hand_built_legs(designed):
+    """The calibration's RMS residual per leg, before and after, is that of the measured
+    reading plus the offset less the hand-built leg's length at the measured pose, with the
+    nominal and with the calibrated geometry (relative difference reached 5e-13 where the
+    residual, 1e-5 m, is the difference of 0.3 m lengths; bound 1e-10); after, it is the
+    encoders' and tracker's noise, not the millimetres of the build."""
+    truth = perturbed_geometry(NOMINAL, seed=11)
+    data = simulate_measurements(truth, designed.poses, seed=1)
+    result = calibrate(NOMINAL, data)
+    np.testing.assert_array_equal(result.poses, data.poses)
+    for params, rms in ((NOMINAL, result.rms_before), (result.params, result.rms_after)):
+        residual = data.readings + params.leg_length_offsets - _hand_leg_lengths(params, data.poses)
+        np.testing.assert_allclose(rms, np.sqrt(np.mean(residual**2, axis=0)), rtol=1e-10, atol=0)
+    # before: the build's millimetres (0.3-2.8 mm reached); after: the tracker's 1e-5 m and
+    # 1e-4 rad noise (1.1e-5 m reached, bound 3e-5 m)
+    assert np.max(result.rms_before) > 5e-4 and np.max(result.rms_after) < 3e-5
+
+
 def _complex_step(function, point, h=1e-30):
     columns = []
     for k in range(point.size):
@@ -253,14 +303,18 @@ def test_designed_poses_are_better_conditioned_than_random_ones(designed):
     assert designed.designed["O1"] > designed.random["O1"]
     assert observability(NOMINAL, designed.poses) == designed.designed
     assert np.all(stewart.reachability(NOMINAL, designed.poses).ok)
-    np.testing.assert_allclose(designed.readings, stewart.leg_lengths(NOMINAL, designed.poses), atol=0)
+    # the nominal's readings: the hand-built legs' lengths (no offsets); reached 6e-17 m
+    assert not np.any(NOMINAL.leg_length_offsets)
+    np.testing.assert_allclose(designed.readings, _hand_leg_lengths(NOMINAL, designed.poses), rtol=0, atol=1e-14)
 
 
 def test_offsets_flow_through_forward_kinematics_files_and_identification(tmp_path):
     built = NOMINAL.replace(leg_length_offsets=[1e-3, -2e-3, 0.0, 5e-4, 0.0, 3e-3])
     pose = stewart.home_pose(NOMINAL) + [0.01, -0.005, 0.01, 0.05, -0.03, 0.1]
     readings = stewart.encoder_readings(built, pose)
-    np.testing.assert_array_equal(readings, stewart.leg_lengths(built, pose) - built.leg_length_offsets)
+    # the hand-built legs less the offsets (reached 1e-16 m, bound 1e-14 m)
+    np.testing.assert_allclose(readings, _hand_leg_lengths(built, pose)[0] - built.leg_length_offsets, rtol=0,
+                               atol=1e-14)
     assert np.max(np.abs(stewart.forward_kinematics(built, readings, encoder=True) - pose)) < 1e-12
     for name in ("p.toml", "p.json"):
         built.save(tmp_path / name)
