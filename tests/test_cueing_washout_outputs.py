@@ -139,3 +139,19 @@ def test_cli_reference_and_report_are_the_apis(simulator, tmp_path):
     # and the API's numbers are those of the reference it wrote, not only self-consistent
     assert report["peak_excursion"]["theta"] == np.max(np.abs(result.poses[:, 4] - result.poses[0, 4]))
     assert report["settings"]["tilt"]["rate_limit"] == pytest.approx(math.degrees(params.tilt_rate_limit))
+
+
+def test_defaults_are_the_cited_ones(simulator):
+    """The tests above read the gains and limits from WashoutParams; the defaults themselves
+    are the sources': the tilt rate limit 3 deg/s, the roll threshold of Telban & Cardullo
+    (2005, table 2) that Reid & Nahon (1985) hold tilt coordination below; the tilt angle
+    limit at most 10 deg and half the platform's smaller roll or pitch excursion
+    (for_platform's documentation); gravity 9.81 m/s^2, the logs' (examples/cueing)."""
+    plat, params = simulator
+    assert params.tilt_rate_limit == WashoutParams().tilt_rate_limit == math.radians(3.0)
+    assert params.tilt_rate_limit == vestibular.THRESHOLDS["wx"]
+    from stewart.cueing.washout import axis_excursions
+
+    excursions = axis_excursions(plat)
+    assert params.tilt_max_angle == pytest.approx(min(math.radians(10.0), 0.5 * min(excursions[3:5])), rel=1e-15)
+    assert params.gravity == 9.81 and read_log(os.path.join(EXAMPLES, "hard_braking.csv")).f[0, 2] == 9.81
