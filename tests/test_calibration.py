@@ -45,6 +45,56 @@ def _random_poses(n, seed, nominal=NOMINAL):
     return poses[stewart.reachability(nominal, poses).ok][:n]
 
 
+def _hand_leg_lengths(params, poses):
+    """Leg lengths ``|t + R p_i - b_i|`` built by hand with numpy, independent of
+    stewart.calibration.geometry and the kernel: ``R = Rz(psi) Ry(theta) Rx(phi)`` of the pose
+    ``(x, y, z, psi, theta, phi)`` written out element by element (Z-Y-X Euler angles)."""
+    out = []
+    for x, y, z, psi, theta, phi in np.atleast_2d(poses):
+        cz, sz, cy, sy, cx, sx = np.cos(psi), np.sin(psi), np.cos(theta), np.sin(theta), np.cos(phi), np.sin(phi)
+        rot = np.array([[cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx],
+                        [sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx],
+                        [-sy, cy * sx, cy * cx]])
+        legs = [np.array([x, y, z]) + rot @ p - b for b, p in zip(params.base_points, params.platform_points)]
+        out.append([np.sqrt(leg @ leg) for leg in legs])
+    return np.array(out)
+
+
+def test_readings_and_residuals_against_a_hand_built_leg():
+    """The encoder reading is the hand-built leg's length less its offset (e = |l| - delta),
+    for simulated measurements, the nominal's designed campaign and encoder_readings; the
+    model's residual ``e + delta - |l|`` of readings off by a known amount is that amount
+    (reached 6e-17 m; bound 1e-14 m)."""
+    built = perturbed_geometry(NOMINAL, seed=5)
+    poses = _random_poses(8, 9)
+    want = _hand_leg_lengths(built, poses) - built.leg_length_offsets
+    assert np.ptp(built.leg_length_offsets) > 1e-3  # the offsets matter at this bound
+    data = simulate_measurements(built, poses, length_std=0.0, position_std=0.0, angle_std=0.0)
+    np.testing.assert_allclose(data.readings, want, rtol=0, atol=1e-14)
+    np.testing.assert_allclose(stewart.encoder_readings(built, poses), want, rtol=0, atol=1e-14)
+    shift = np.linspace(-1e-3, 1e-3, 6)
+    residuals = geometry.leg_residuals(geometry.parameter_vector(built), poses, want + shift)
+    np.testing.assert_allclose(residuals, np.tile(shift, (len(poses), 1)), rtol=0, atol=1e-14)
+
+
+def test_calibration_residuals_are_the_hand_built_legs(designed):
+    """The calibration's RMS residual per leg, before and after, is that of the measured
+    reading plus the offset less the hand-built leg's length at the measured pose, with the
+    nominal and with the calibrated geometry (relative difference reached 5e-13 where the
+    residual, 1e-5 m, is the difference of 0.3 m lengths; bound 1e-10); after, it is the
+    encoders' and tracker's noise, not the millimetres of the build."""
+    truth = perturbed_geometry(NOMINAL, seed=11)
+    data = simulate_measurements(truth, designed.poses, seed=1)
+    result = calibrate(NOMINAL, data)
+    np.testing.assert_array_equal(result.poses, data.poses)
+    for params, rms in ((NOMINAL, result.rms_before), (result.params, result.rms_after)):
+        residual = data.readings + params.leg_length_offsets - _hand_leg_lengths(params, data.poses)
+        np.testing.assert_allclose(rms, np.sqrt(np.mean(residual**2, axis=0)), rtol=1e-10, atol=0)
+    # before: the build's millimetres (0.3-2.8 mm reached); after: the tracker's 1e-5 m and
+    # 1e-4 rad noise (1.1e-5 m reached, bound 3e-5 m)
+    assert np.max(result.rms_before) > 5e-4 and np.max(result.rms_after) < 3e-5
+
+
 def _complex_step(function, point, h=1e-30):
     columns = []
     for k in range(point.size):
@@ -60,14 +110,16 @@ def test_the_jacobians_match_complex_step_derivatives(figures):
     readings = stewart.leg_lengths(NOMINAL, poses)
     exact = geometry.leg_jacobian(theta, poses)
     numeric = _complex_step(lambda z: geometry.leg_residuals(z, poses, readings), theta)
-    figures("calibration dr/dtheta against complex step", np.max(np.abs(exact - numeric)), 1e-10)
+    # complex step is exact to rounding (h = 1e-30): reached 2.2e-16, 1.1e-16 and 3.5e-18 (the
+    # target's columns are its offsets', centimetres); bounds ~100 times those
+    figures("calibration dr/dtheta against complex step", np.max(np.abs(exact - numeric)), 2e-14)
     per_pose = _complex_step(lambda z: geometry.leg_residuals(theta, z[None], readings[:1])[0], poses[0])
     figures("calibration dr/dx against complex step",
-            np.max(np.abs(geometry.leg_pose_jacobian(theta, poses[:1])[0] - per_pose)), 1e-10)
+            np.max(np.abs(geometry.leg_pose_jacobian(theta, poses[:1])[0] - per_pose)), 2e-14)
     offsets = np.array([[0.01, -0.02, 0.03]])
     target = _complex_step(lambda z: -geometry.target_positions(z[None], offsets)[0], poses[0])
     figures("calibration target dq/dx against complex step",
-            np.max(np.abs(geometry.target_pose_jacobian(poses[:1], offsets)[0] - target)), 1e-10)
+            np.max(np.abs(geometry.target_pose_jacobian(poses[:1], offsets)[0] - target)), 4e-16)
 
 
 def test_estimates_lie_within_their_standard_errors_at_the_expected_rate(designed):
@@ -82,7 +134,8 @@ def test_estimates_lie_within_their_standard_errors_at_the_expected_rate(designe
                                      length_std=LENGTH_STD, seed=seed)
         result = calibrate(NOMINAL, data, position_std=POSITION_STD, angle_std=ANGLE_STD, length_std=LENGTH_STD)
         within.append(np.abs(result.estimates - geometry.parameter_vector(truth)) <= 2 * result.standard_errors)
-        assert 0.8 < result.sigma < 1.2
+        # s^2 is chi^2_dof / dof (dof = 138): s spreads by 1 / sqrt(2 dof) = 0.06; within 3.3 of it
+        assert abs(result.sigma - 1.0) < 3.3 / np.sqrt(2 * result.dof)
     share = np.mean(within)
     print(f"calibration: {100 * share:.1f} % of {np.size(within)} estimates within 2 standard errors")
     assert 0.92 <= share <= 0.985
@@ -179,6 +232,8 @@ def test_point_data_recovers_the_geometry_and_fixes_the_gauge_of_one_target(desi
     data = simulate_measurements(truth, designed.poses, target_offsets=offsets, seed=3)
     result = calibrate(NOMINAL, data)
     z = (result.estimates - geometry.parameter_vector(truth)) / result.standard_errors
+    # 95.4 % of normal z within 2, binomially 3.2 % over 42 (0.85 is 3.2 of it below); |z| >= 5
+    # has odds 42 * 5.7e-7 = 2.4e-5
     assert np.mean(np.abs(z) <= 2) >= 0.85 and np.max(np.abs(z)) < 5
     assert result.rms_after[-1] < 3 * POSITION_STD < result.rms_before[-1]
     # One target: {P} may turn about it; the base points and offsets do not depend on that gauge.
@@ -189,7 +244,7 @@ def test_point_data_recovers_the_geometry_and_fixes_the_gauge_of_one_target(desi
     assert np.max(np.abs(z)) < 5
     arms = NOMINAL.platform_points - offsets[0]
     turn = np.sum(np.cross(arms, result.params.platform_points - NOMINAL.platform_points), axis=0)
-    assert np.max(np.abs(turn)) < 1e-12
+    assert np.max(np.abs(turn)) < 5e-17  # reached 3.7e-19 m^2 (terms of 1e-4 m^2 that cancel)
 
 
 def test_held_out_pose_error_falls_from_millimetres_to_the_noise(designed):
@@ -216,7 +271,7 @@ def test_translations_alone_leave_each_legs_joints_undetermined_together():
     for i in range(6):
         for a in range(3):
             expected[3 * i + a, 3 * i + a] = expected[18 + 3 * i + a, 3 * i + a] = 1.0
-    _same_span(ident.directions, expected, 1e-3)
+    _same_span(ident.directions, expected, 5e-7)  # reached 4.2e-9
     pairs = {frozenset(c.split(" + 1 ")) for c in ident.combinations}
     assert pairs == {frozenset((f"base_points[{i}].{a}", f"platform_points[{i}].{a}")) for i in range(6) for a in "xyz"}
 
@@ -234,7 +289,7 @@ def test_one_set_of_leg_lengths_names_each_offset_with_its_joints():
         trade = np.zeros(42)
         trade[36 + i], trade[3 * i:3 * i + 3] = 1.0, -units[i]
         coefficients = np.linalg.lstsq(directions, trade, rcond=None)[0]
-        assert np.max(np.abs(directions @ coefficients - trade)) < 1e-9
+        assert np.max(np.abs(directions @ coefficients - trade)) < 1e-13  # reached 8.9e-16
 
 
 def _same_span(a, b, tolerance):
@@ -253,14 +308,18 @@ def test_designed_poses_are_better_conditioned_than_random_ones(designed):
     assert designed.designed["O1"] > designed.random["O1"]
     assert observability(NOMINAL, designed.poses) == designed.designed
     assert np.all(stewart.reachability(NOMINAL, designed.poses).ok)
-    np.testing.assert_allclose(designed.readings, stewart.leg_lengths(NOMINAL, designed.poses), atol=0)
+    # the nominal's readings: the hand-built legs' lengths (no offsets); reached 6e-17 m
+    assert not np.any(NOMINAL.leg_length_offsets)
+    np.testing.assert_allclose(designed.readings, _hand_leg_lengths(NOMINAL, designed.poses), rtol=0, atol=1e-14)
 
 
 def test_offsets_flow_through_forward_kinematics_files_and_identification(tmp_path):
     built = NOMINAL.replace(leg_length_offsets=[1e-3, -2e-3, 0.0, 5e-4, 0.0, 3e-3])
     pose = stewart.home_pose(NOMINAL) + [0.01, -0.005, 0.01, 0.05, -0.03, 0.1]
     readings = stewart.encoder_readings(built, pose)
-    np.testing.assert_array_equal(readings, stewart.leg_lengths(built, pose) - built.leg_length_offsets)
+    # the hand-built legs less the offsets (reached 1e-16 m, bound 1e-14 m)
+    np.testing.assert_allclose(readings, _hand_leg_lengths(built, pose)[0] - built.leg_length_offsets, rtol=0,
+                               atol=1e-14)
     assert np.max(np.abs(stewart.forward_kinematics(built, readings, encoder=True) - pose)) < 1e-12
     for name in ("p.toml", "p.json"):
         built.save(tmp_path / name)
@@ -370,6 +429,32 @@ def test_calibration_poses_writes_a_campaign_calibrate_reads(tmp_path, capsys):
     assert code == 0 and "12 random poses" in out
     data = CalibrationData.from_csv(tmp_path / "d.csv")
     assert data.kind == "poses" and len(data.readings) == 12
+    # the file is design_poses' with the same arguments (the command's default preset,
+    # narayan2017, and seed 0), to the file's 12 significant digits (rtol 1e-11)
+    want = design_poses(NOMINAL, 12, seed=0)
+    np.testing.assert_allclose(data.poses, want.poses, rtol=1e-11, atol=1e-14)
+    np.testing.assert_allclose(data.readings, want.readings, rtol=1e-11, atol=0)
+
+
+def test_calibration_poses_prints_design_poses_with_the_same_arguments(capsys):
+    """Every argument reaches design_poses: the listing printed without --csv (12 digits)
+    and the observability indexes (4 digits) are design_poses' with the same preset, count,
+    centre, box and seed."""
+    centre = stewart.home_pose(NOMINAL) + [0.002, 0.0, -0.005, 0.0, 0.01, 0.0]
+    code, out, _ = _run(["calibration-poses", "--preset", "narayan2017", "--count", "8", "--seed", "3",
+                         "--centre", *(repr(float(v)) for v in centre), "--translation", "0.02",
+                         "--rotation", "0.15", "--no-progress"], capsys)
+    assert code == 0
+    want = design_poses(NOMINAL, 8, centre=centre, translation=0.02, rotation=0.15, seed=3)
+    lines = out.splitlines()
+    start = lines.index("x,y,z,psi,theta,phi,L0,L1,L2,L3,L4,L5") + 1
+    listed = np.array([[float(v) for v in line.split(",")] for line in lines[start:start + 9] if "," in line])
+    assert listed.shape == (8, 12)
+    np.testing.assert_allclose(listed, np.column_stack([want.poses, want.readings]), rtol=1e-11, atol=1e-14)
+    for label, index in (("designed", want.designed), ("8 random poses", want.random)):
+        row = next(line for line in lines if line.startswith(label)).split()[-3:]
+        np.testing.assert_allclose([float(v) for v in row], [index["O1"], index["condition"], index["O4"]],
+                                   rtol=5e-4)  # printed to 4 significant digits
 
 
 @pytest.mark.parametrize("edit, code, start", [

@@ -49,7 +49,8 @@ def test_signals_and_jacobians_against_platform_signals():
             args[arg] = value
             return np.column_stack(vestibular.platform_signals(*args, 9.81))
         for j in range(6):
-            assert np.max(np.abs(_richardson(signals, [x, v, u][arg], j) - jac[:, :, j])) < 1e-9
+            # Richardson's h^4 truncation and rounding: reached 3.5e-12 on entries up to 10
+            assert np.max(np.abs(_richardson(signals, [x, v, u][arg], j) - jac[:, :, j])) < 3e-10
 
 
 def test_joint_cosines_and_gradients_against_reachability(simulator):
@@ -66,7 +67,7 @@ def test_joint_cosines_and_gradients_against_reachability(simulator):
     for j in range(6):
         numeric = _richardson(lambda y: prediction.joint_cosines_and_gradients(
             y, p.base_points, p.platform_points, neutral)[0], x, j)
-        assert np.max(np.abs(numeric - grad[:, :, j])) < 1e-9
+        assert np.max(np.abs(numeric - grad[:, :, j])) < 5e-11  # reached 6.3e-13 (Richardson's error)
 
 
 def test_vestibular_sections_match_transfer_functions():
@@ -76,7 +77,7 @@ def test_vestibular_sections_match_transfer_functions():
         _, expected = signal.freqresp(tf, w)
         got = np.array([states.C[channel] @ np.linalg.solve(1j * s * np.eye(states.n) - states.A, states.B[:, channel])
                         for s in w])
-        assert np.max(np.abs(got - expected) / np.abs(expected)) < 1e-9
+        assert np.max(np.abs(got - expected) / np.abs(expected)) < 5e-11  # reached 8.6e-13
     ad, bd = states.discrete(0.05)
     ref = signal.cont2discrete((states.A, states.B, states.C, np.zeros((6, 6))), 0.05, method="zoh")
     assert np.max(np.abs(ad - ref[0])) < 1e-14 and np.max(np.abs(bd - ref[1])) < 1e-14
@@ -154,7 +155,8 @@ def test_a_soft_limit_is_overstepped_by_its_documented_share():
         u, _, exitflag, _ = daqp.solve(H, q, row[None, :], np.array([bound]), np.array([-1e30]),
                                        np.array([predictive.SOFT], dtype=np.intc), **predictive.SOLVER_SETTINGS)
         assert exitflag in predictive.SOLVED
-        np.testing.assert_allclose(row @ u - bound, delta / (1.0 + predictive.SOFT_WEIGHT), rtol=1e-6)
+        # reached 3.8e-10 (DAQP's solution of the one soft row; 5.4e-11 on another machine)
+        np.testing.assert_allclose(row @ u - bound, delta / (1.0 + predictive.SOFT_WEIGHT), rtol=1e-8)
 
 
 def test_linearized_force_is_exact_to_second_order(simulator):
@@ -216,12 +218,36 @@ def shipped(simulator):
     return run
 
 
+def _platform_limits(plat) -> dict:
+    """The MPC's default limits from the platform's parameters (MPCParams.for_platform's
+    documentation, docs/cueing): the force twice the largest static leg force, which inverse
+    dynamics at home at rest gives, and the leg speed one stroke (``leg_length_limits``) per
+    second. The static forces are checked against statics by hand: at rest the legs' forces
+    along their unit vectors balance the weight of the moving body."""
+    q, home = plat.params, plat.home_pose
+    static = plat.inverse_dynamics(home, np.zeros(6), np.zeros(6))
+    # the legs push up the platform's weight and part of their own (pistons and cylinders hang
+    # between the joints): m_p g <= sum f_i u_i,z <= (m_p + 6 m_piston + 6 m_cylinder) g, and
+    # no net horizontal force (reached 3e-12 N, bound 1e-9 of the weight)
+    push = np.sum(static[:, None] * stewart.leg_unit_vectors(q, home), axis=0)
+    weight = q.platform_mass * q.gravity
+    assert weight <= push[2] <= (q.platform_mass + 6 * q.piston_mass + 6 * q.cylinder_mass) * q.gravity
+    assert np.max(np.abs(push[:2])) <= 1e-9 * weight
+    lo, hi = q.leg_length_limits
+    return {"leg_velocity": 1.0 * (hi - lo), "force": 2.0 * float(np.max(np.abs(static)))}
+
+
 @pytest.mark.parametrize("name", ["hard_braking", "double_lane_change"])
 def test_closed_loop_stays_within_limits(simulator, shipped, name):
     result = shipped(name)
     assert result.ok, result.problems
     assert result.solver["qp_failures"] == 0
-    limits = result.limits
+    limits = _platform_limits(simulator)
+    assert result.limits == pytest.approx(limits, rel=1e-12, abs=0)  # the same arithmetic: reached 0
+    # and the pose box 0.9 of the free excursion along each axis (for_platform's documentation)
+    from stewart.cueing.washout import axis_excursions
+
+    np.testing.assert_allclose(result.params.box, 0.9 * axis_excursions(simulator), rtol=1e-15, atol=0)
     _, speeds = simulator.leg_rates(result.simulation.x, result.simulation.xd)
     assert np.max(np.abs(speeds)) <= limits["leg_velocity"]
     assert np.max(np.abs(result.simulation.forces)) <= limits["force"]
@@ -230,7 +256,8 @@ def test_closed_loop_stays_within_limits(simulator, shipped, name):
     assert lengths.min() >= lo and lengths.max() <= hi
     # the reference is the plan itself: its samples are the MPC's states
     x, v, a = result.reference.sample(result.t)
-    assert np.max(np.abs(x - result.poses)) < 1e-12 and np.max(np.abs(v - result.velocities)) < 1e-12
+    # the spline's knots: reached 2.8e-17 m and 2e-31 (a pose's rounding is 2.2e-16 near 1 m)
+    assert np.max(np.abs(x - result.poses)) < 2e-15 and np.max(np.abs(v - result.velocities)) < 2e-15
 
 
 def test_mpc_beats_washout_on_the_braking_and_lane_change_channels(simulator, shipped):
@@ -256,9 +283,11 @@ def test_reference_file_gives_the_plan_back(simulator, tmp_path):
     x, v, a = trajectory.sample(mid)
     h = 0.5 * np.diff(result.t)[:, None]
     u = result.accelerations[:-1]
-    assert np.max(np.abs(a - u)) < 1e-6 * max(1.0, np.max(np.abs(u)))
-    assert np.max(np.abs(v - (result.velocities[:-1] + h * u))) < 1e-9
-    assert np.max(np.abs(x - (result.poses[:-1] + h * result.velocities[:-1] + 0.5 * h * h * u))) < 1e-9
+    # the file's 17 digits and the Hermite spline's rounding: reached 9.8e-15 (relative),
+    # 3.2e-14 and 2.2e-16; bounds ~100 times those
+    assert np.max(np.abs(a - u)) < 1e-12 * max(1.0, np.max(np.abs(u)))
+    assert np.max(np.abs(v - (result.velocities[:-1] + h * u))) < 3e-12
+    assert np.max(np.abs(x - (result.poses[:-1] + h * result.velocities[:-1] + 0.5 * h * h * u))) < 2e-14
 
 
 def test_cli_mpc_report_plot_and_closed_loop(tmp_path):
@@ -278,6 +307,8 @@ def test_cli_mpc_report_plot_and_closed_loop(tmp_path):
     assert report["method"] == "mpc" and report["ok"] and report["preview"] is False
     assert 0 < report["solve_time_s"]["median"] <= report["solve_time_s"]["max"]
     assert report["qp_failures"] == 0
+    # the limits are the platform's (the command's default preset, motion_simulator)
+    assert report["limits"] == pytest.approx(_platform_limits(stewart.Platform.preset("motion_simulator")), rel=1e-12)
     assert report["peak_force"] <= report["limits"]["force"]
     assert report["peak_leg_velocity"] <= report["limits"]["leg_velocity"]
     sim = report["simulation"]
