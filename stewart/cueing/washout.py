@@ -114,7 +114,7 @@ class WashoutParams:
         :data:`DESIGN_ACCELERATION` moves the platform at most :data:`EXCURSION_SHARE` of its
         free stroke along that axis (:func:`axis_excursions`), and the tilt limit at half
         the smaller of the roll and pitch excursions (at most 10 deg)."""
-        base = replace(cls(), **{k: v for k, v in overrides.items() if k != "source"})
+        base = replace(cls(), **overrides)  # (a bad value's error names the settings' source)
         excursions = axis_excursions(platform)
         cutoffs = []
         for i in range(3):
