@@ -10,9 +10,17 @@ import warnings
 
 import numpy as np
 import pytest
+from hypothesis import settings as hypothesis_settings
 
 import stewart
 from stewart.oracles.physics import random_states  # noqa: F401  (re-exported for the tests)
+
+# The property tests draw the same examples on every run (derandomized, no example database
+# carried between runs), so that a run is reproducible; STEWART_HYPOTHESIS=explore draws them
+# at random for a wider search (a failure prints the example to reproduce it).
+hypothesis_settings.register_profile("repeatable", derandomize=True, database=None)
+hypothesis_settings.register_profile("explore", derandomize=False, print_blob=True)
+hypothesis_settings.load_profile(os.environ.get("STEWART_HYPOTHESIS", "repeatable"))
 
 
 def pytest_configure(config):
