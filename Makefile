@@ -22,7 +22,7 @@ C_TEST := tests/c/test_model
 # The model's rounding flags (STEWART_ROUNDING_FLAGS of the generated header).
 ROUNDING = $(shell sed -n 's/^\#define STEWART_ROUNDING_FLAGS "\(.*\)"/\1/p' generated/stewart_model.h)
 
-.PHONY: all test test-cueing-sweep coverage test-peers test-ports test-wheels demo generate build dist bench validate docs serve-docs clean
+.PHONY: all test test-cueing-sweep mutation coverage test-peers test-ports test-wheels demo generate build dist bench validate docs serve-docs clean
 
 all: build
 
@@ -72,6 +72,14 @@ test: build $(C_TEST)
 # two presets in turn, each reference and closed loop checked against every limit (minutes).
 test-cueing-sweep: build
 	STEWART_CUEING_SWEEP=40 $(PY) -m pytest -q tests/test_cueing_limits.py -k random_logs
+
+# Mutation testing of the application packages (cosmic-ray, tests/mutation.py): each
+# package's fast topic tests on a sample of its mutants (fixed seed), in a copy of the checkout
+# under out/mutation/, with the report in out/mutation/report.md (about an hour on 2 cores;
+# not part of make test). MUTATION_ARGS="--packages stiffness,cueing --sample 40" narrows it.
+MUTATION_ARGS ?=
+mutation: build
+	nice $(PY) tests/mutation.py $(MUTATION_ARGS)
 
 # make test's pytest run with the package's line coverage (a third longer: coverage's tracer).
 coverage: build
