@@ -139,6 +139,8 @@ def test_cli_reference_and_report_are_the_apis(simulator, tmp_path):
     # and the API's numbers are those of the reference it wrote, not only self-consistent
     assert report["peak_excursion"]["theta"] == np.max(np.abs(result.poses[:, 4] - result.poses[0, 4]))
     assert report["settings"]["tilt"]["rate_limit"] == pytest.approx(math.degrees(params.tilt_rate_limit))
+    log = np.loadtxt(path, delimiter=",", comments="#", skiprows=1)  # the log's own times
+    assert report["duration_s"] == log[-1, 0] - log[0, 0] and report["dt_s"] == pytest.approx(log[1, 0] - log[0, 0])
 
 
 def test_defaults_are_the_cited_ones(simulator):
