@@ -18,7 +18,6 @@ from __future__ import annotations
 import numpy as np
 from scipy import signal
 
-from ..model.kinematics import rotation
 from . import vestibular
 
 __all__ = ["VestibularStates", "signals_and_jacobians", "midpoint"]
@@ -91,16 +90,6 @@ def rotation_and_partials(x) -> np.ndarray:
     r[3, :, :, 1] = r[0, :, :, 2]
     r[3, :, :, 2] = -r[0, :, :, 1]
     return r
-
-
-def joint_cosines(x, base_points, platform_points, neutral):
-    """The cosines of :func:`joint_cosines_and_gradients` alone, ``(N, 12)``."""
-    x = np.atleast_2d(x)
-    r = rotation(x)
-    legs = x[:, None, :3] + np.einsum("nab,ib->nia", r, platform_points) - base_points
-    u = legs / np.linalg.norm(legs, axis=-1)[..., None]
-    return np.concatenate([np.einsum("nia,ia->ni", u, neutral),
-                           np.einsum("nia,nab,ib->ni", u, r, neutral)], 1)
 
 
 def joint_cosines_and_gradients(x, base_points, platform_points, neutral):

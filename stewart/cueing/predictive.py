@@ -70,6 +70,7 @@ import daqp
 import numpy as np
 from threadpoolctl import threadpool_limits
 
+from ..model.kinematics import rotation
 from ..model.platform import as_platform
 from ..model.reachability import neutral_axes
 from . import prediction, vestibular
@@ -334,8 +335,9 @@ class CueingQP:
         within :attr:`next_limits` when the platform's limits hold there."""
         x1, v1 = x0 + self.dt * v0 + 0.5 * self.dt ** 2 * u0, v0 + self.dt * u0
         lengths, speeds = self.platform.leg_rates(x1, v1)
-        p = self.platform.params
-        cones = prediction.joint_cosines(x1[None], p.base_points, p.platform_points, self.neutral)[0]
+        units = self.platform.jacobian(x1)[:, :3]  # the legs' unit vectors (eq. 5's J_C)
+        cones = np.concatenate([np.einsum("ia,ia->i", units, self.neutral),
+                                np.einsum("ia,ab,ib->i", units, rotation(x1), self.neutral)])
         return np.concatenate([lengths, speeds, cones])
 
     def solve(self, x0, v0, z0, vehicle):
