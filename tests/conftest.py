@@ -68,6 +68,15 @@ def pytest_runtest_logreport(report):
 
 
 def pytest_terminal_summary(terminalreporter):
+    skipped = terminalreporter.stats.get("skipped", [])
+    if skipped:
+        terminalreporter.section("checks not run (skipped), by reason", yellow=True, bold=True)
+        reasons: dict[str, list[str]] = {}
+        for report in skipped:
+            reason = report.longrepr[2] if isinstance(report.longrepr, tuple) else str(report.longrepr)
+            reasons.setdefault(reason.removeprefix("Skipped: "), []).append(report.nodeid)
+        for reason, nodes in sorted(reasons.items()):
+            terminalreporter.write_line(f"{len(nodes):4d}  {reason}  (e.g. {nodes[0]})", yellow=True)
     if not _FIGURES:
         return
     terminalreporter.section("figures reached (worst case per check)")
