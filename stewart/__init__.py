@@ -41,7 +41,7 @@ __version__ = "0.2.0"
 if TYPE_CHECKING:  # the public names: what `__getattr__` imports on first use
     from . import calibration, cueing, identification, io, model, motion, oracles, studies
     from .io.capi import c_include_dir, c_sources
-    from ._kernel import build_info, set_simd
+    from .model.compiled import build_info, set_simd
     from .model.errors import ConvergenceError, SimdPathError, SingularityError, UnstableError, WrongTypeError
     from .model.kinematics import (
         encoder_readings,
@@ -124,10 +124,14 @@ class _MovedModules(importlib.abc.MetaPathFinder, importlib.abc.Loader):
         return importlib.util.spec_from_loader(fullname, self)
 
     def create_module(self, spec):
-        return _moved(spec.name.rpartition(".")[2], 2)
+        module = _moved(spec.name.rpartition(".")[2], 2)
+        self._specs[spec.name] = module.__spec__  # the import system puts the alias's spec on it
+        return module
 
     def exec_module(self, module):
-        pass
+        module.__spec__ = self._specs.pop(module.__spec__.name)
+
+    _specs: dict = {}
 
 
 sys.meta_path.append(_MovedModules())

@@ -245,7 +245,7 @@ def test_closed_loop_stays_within_limits(simulator, shipped, name):
     limits = _platform_limits(simulator)
     assert result.limits == pytest.approx(limits, rel=1e-12, abs=0)  # the same arithmetic: reached 0
     # and the pose box 0.9 of the free excursion along each axis (for_platform's documentation)
-    from stewart.cueing.washout import axis_excursions
+    from stewart.model.reachability import axis_excursions
 
     np.testing.assert_allclose(result.params.box, 0.9 * axis_excursions(simulator), rtol=1e-15, atol=0)
     _, speeds = simulator.leg_rates(result.simulation.x, result.simulation.xd)

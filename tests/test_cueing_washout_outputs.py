@@ -152,7 +152,7 @@ def test_defaults_are_the_cited_ones(simulator):
     plat, params = simulator
     assert params.tilt_rate_limit == WashoutParams().tilt_rate_limit == math.radians(3.0)
     assert params.tilt_rate_limit == vestibular.THRESHOLDS["wx"]
-    from stewart.cueing.washout import axis_excursions
+    from stewart.model.reachability import axis_excursions
 
     excursions = axis_excursions(plat)
     assert params.tilt_max_angle == pytest.approx(min(math.radians(10.0), 0.5 * min(excursions[3:5])), rel=1e-15)

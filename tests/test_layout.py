@@ -1,13 +1,18 @@
-"""The package's structure: the data model works without the compiled extension, and every
-hand-written module stays small enough to read (the import contract between the
-sub-packages is checked by `lint-imports`, configured in pyproject.toml, in `make test`)."""
+"""The package's structure: the data model works without the compiled extension, every
+hand-written module stays small enough to read, one module imports the compiled extension,
+no module reaches into another's private names, and no imports go in circles (the import
+contract between the sub-packages is checked by `lint-imports`, configured in pyproject.toml,
+in `make test`)."""
 
+import ast
 import json
 import subprocess
 import sys
 from pathlib import Path
 
+import grimp
 import numpy as np
+import pytest
 
 import stewart
 
@@ -70,3 +75,95 @@ def test_every_public_name_resolves():
     names = out.pop("@dir")
     assert set(stewart.__all__) <= set(names) and len(out) == len(stewart.__all__) >= 50
     assert all(module.startswith("stewart") for module in out.values()), out
+
+
+#: The one module that imports the compiled extension, re-exporting what the others use.
+KERNEL_DOOR = "stewart.model.compiled"
+#: The package's private modules others may import, and why.
+SHARED_PRIVATE_MODULES = {
+    "stewart._generated": "the generator's table of the compiled model (written by codegen/, read where it is used)",
+    "stewart._modules": "the namespace rule's helper, the module __getattr__ of each sub-package",
+}
+
+
+def module_name(path: Path) -> str:
+    parts = path.relative_to(ROOT).with_suffix("").parts
+    return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
+
+
+def is_module(name: str) -> bool:
+    path = ROOT.joinpath(*name.split("."))
+    return path.with_suffix(".py").is_file() or (path / "__init__.py").is_file() or any(
+        path.parent.glob(f"{path.name}.*.so")) or path.with_suffix(".pyx").is_file()
+
+
+def imports(path: Path) -> list[tuple[int, str, str | None]]:
+    """(line, module, name) of each import of a module, relative imports resolved: ``name`` the
+    imported name of a ``from`` import of a non-module, else None (the module itself)."""
+    here = module_name(path)
+    package = here if path.name == "__init__.py" else here.rpartition(".")[0]
+    out = []
+    for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        if isinstance(node, ast.Import):
+            out += [(node.lineno, alias.name, None) for alias in node.names]
+        elif isinstance(node, ast.ImportFrom):
+            base = node.module or ""
+            if node.level:
+                anchor = package.split(".")[:len(package.split(".")) - node.level + 1]
+                base = ".".join(anchor + ([node.module] if node.module else []))
+            for alias in node.names:
+                if is_module(f"{base}.{alias.name}"):
+                    out.append((node.lineno, f"{base}.{alias.name}", None))
+                else:
+                    out.append((node.lineno, base, alias.name))
+    return out
+
+
+def hand_written(package: str = "stewart") -> list[Path]:
+    return [path for path in sorted((ROOT / package).rglob("*.py")) if path not in GENERATED]
+
+
+def test_only_the_door_imports_the_compiled_extension():
+    """``stewart._kernel`` is imported by :data:`KERNEL_DOOR` alone (import-linter cannot see an
+    extension module, so this test holds the rule)."""
+    importers = {module_name(path) for path in hand_written()
+                 for _, module, _ in imports(path) if module == "stewart._kernel"}
+    assert importers == {KERNEL_DOOR}
+
+
+def test_no_private_name_crosses_a_module():
+    """No module imports another's underscore name, reads one as ``module._name``, or imports a
+    private module of the package other than the compiled extension (through its door) and
+    :data:`SHARED_PRIVATE_MODULES`: each seam between modules is public and documented."""
+    crossings = []
+    for path in hand_written():
+        here = module_name(path)
+        found = imports(path)
+        aliases = set()
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, (ast.Import, ast.ImportFrom)):
+                aliases |= {(alias.asname or alias.name).split(".")[0] for alias in node.names}
+        for line, module, name in found:
+            private = [part for part in module.split(".") if part.startswith("_") and not part.startswith("__")]
+            if name is not None and name.startswith("_") and not name.startswith("__") and module != "__future__":
+                crossings.append(f"{here}:{line} imports {module}.{name}")
+            elif private and module.startswith("stewart.") and module not in SHARED_PRIVATE_MODULES and not (
+                    module == "stewart._kernel" and here == KERNEL_DOOR):
+                crossings.append(f"{here}:{line} imports the private module {module}")
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if (isinstance(node, ast.Attribute) and isinstance(node.value, ast.Name) and node.value.id in aliases
+                    and node.attr.startswith("_") and not node.attr.startswith("__")):
+                crossings.append(f"{here}:{node.lineno} reads {node.value.id}.{node.attr}")
+    assert crossings == []
+
+
+@pytest.mark.parametrize("package", ["stewart", "codegen"])
+def test_no_import_cycles(package, monkeypatch):
+    """No module of ``package`` imports, through any chain, a module that imports it (grimp,
+    which import-linter builds on; imports under ``TYPE_CHECKING`` left out)."""
+    monkeypatch.syspath_prepend(str(ROOT))  # codegen/ is not installed
+    graph = grimp.build_graph(package, include_external_packages=False, exclude_type_checking_imports=True)
+    cycles = sorted({" -> ".join(graph.find_shortest_chain(importer=other, imported=module))
+                     for module in graph.modules for other in graph.find_modules_directly_imported_by(module)
+                     if graph.chain_exists(importer=other, imported=module)})
+    assert cycles == []

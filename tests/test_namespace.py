@@ -29,10 +29,28 @@ def test_a_moved_module_imports_with_a_warning_naming_its_new_path(old):
     _forget(old)
     with pytest.warns(DeprecationWarning, match=f"^stewart.{old} is deprecated: it moved to {new} in 0.2.0"):
         assert importlib.import_module(f"stewart.{old}") is module
+    assert module.__spec__.name == new and module.__spec__.origin.endswith(".py")  # the module keeps its own
     _forget(old)
     with pytest.warns(DeprecationWarning, match=f"moved to {new} "):
         assert getattr(stewart, old) is module
     _forget(old)
+
+
+#: Public names that moved to another module after 0.2.0: (old module, name, new module).
+MOVED_NAMES = [("stewart.cueing.washout", "axis_excursions", "stewart.model.reachability"),
+               ("stewart.cueing.settings", "read_sections", "stewart.io.tomlfile"),
+               ("stewart.model.arguments", "platform_params", "stewart.model.params")]
+
+
+@pytest.mark.parametrize("old, name, new", MOVED_NAMES)
+def test_a_moved_name_works_from_its_old_module_with_a_warning(old, name, new):
+    importlib.import_module(old)
+    module = sys.modules[old]
+    assert name not in vars(module)  # reached through the module's __getattr__, which warns
+    with pytest.warns(DeprecationWarning, match=f"^{old}.{name} is deprecated: it moved to {new}.{name} "):
+        assert getattr(module, name) is getattr(importlib.import_module(new), name)
+    with pytest.raises(AttributeError, match="has no attribute 'nonexistent'"):
+        module.nonexistent
 
 
 def test_the_moved_paths_include_those_the_docs_of_0_1_0_showed():

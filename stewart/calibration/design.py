@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model import arguments
-from ..model.arguments import platform_params
+from ..model.params import platform_params
 from ..model.kinematics import encoder_readings, home_pose
 from ..model.reachability import reachability
 from .geometry import NUM_PARAMETERS, leg_jacobian, parameter_vector

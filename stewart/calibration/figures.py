@@ -9,7 +9,7 @@ import os
 
 import numpy as np
 
-from ..io.plots import _pyplot, plot_bars
+from ..io.plots import plot_bars, pyplot
 from .fit import Calibration
 
 __all__ = ["plot_calibration"]
@@ -27,7 +27,7 @@ def plot_calibration(result: Calibration, directory, held_out: dict | None = Non
                        os.path.join(directory, "calibration_residuals.png"),
                        caption=f"{len(result.poses)} measurements ({result.kind}); condition number "
                                f"{result.identifiability.condition:.4g}", value_format="{:.3g}")]
-    plt = _pyplot()
+    plt = pyplot()
     change = 1e3 * (result.estimates - result.nominal_values)
     error = 1e3 * result.standard_errors
     fig, axes = plt.subplots(3, 1, figsize=(12, 8), constrained_layout=True)

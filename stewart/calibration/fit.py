@@ -50,7 +50,7 @@ import scipy.optimize
 import scipy.sparse
 
 from ..model import arguments
-from ..model.arguments import platform_params
+from ..model.params import platform_params
 from ..model.errors import ConvergenceError
 from ..model.kinematics import forward_kinematics
 from ..model.params import PlatformParams

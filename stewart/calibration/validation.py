@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..model.arguments import platform_params
+from ..model.params import platform_params
 from ..model.errors import ConvergenceError
 from ..model.kinematics import forward_kinematics, rotation
 from .geometry import target_positions

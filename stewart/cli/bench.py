@@ -11,7 +11,7 @@ import numpy as np
 import stewart
 from stewart.model import kinematics
 from stewart.oracles import reference
-from stewart._kernel import LANES
+from stewart.model.compiled import LANES
 from stewart.oracles.physics import relative_error
 from stewart.model.presets import LEG_STIFFNESS
 from stewart.model.stiffness import lowest_frequency

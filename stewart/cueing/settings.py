@@ -32,15 +32,17 @@ from __future__ import annotations
 
 import math
 import os
-import tomllib
 from dataclasses import dataclass, field, replace
 
 import numpy as np
 
+from .._modules import moved_names
+from ..io import tomlfile
 from ..model.platform import as_platform
+from ..model import reachability
 from . import vestibular
 
-__all__ = ["MPCParams", "read_sections", "FORCE_LIMIT_PER_STATIC", "LEG_VELOCITY_PER_STROKE", "BOX_SHARE"]
+__all__ = ["MPCParams", "FORCE_LIMIT_PER_STATIC", "LEG_VELOCITY_PER_STROKE", "BOX_SHARE"]
 
 #: Default force limit: this many times the largest static leg force at home.
 FORCE_LIMIT_PER_STATIC = 2.0
@@ -56,28 +58,6 @@ _SECTIONS = {
     "limits": ("force", "margin", "leg_velocity", "stroke_margin", "tilt_rate", "box"),
 }
 _PER_AXIS = {"specific_force": 3, "angular_velocity": 3, "position": 6, "velocity": 6, "acceleration": 6, "box": 6}
-
-
-def read_sections(path, sections: dict[str, tuple]) -> dict[tuple[str, str], object]:
-    """The settings of the TOML file ``path`` by ``(section, key)``, each section and key one
-    of ``sections``; a missing, unreadable or unknown one is a ``ValueError`` naming the file."""
-    path = os.fspath(path)
-    if not os.path.isfile(path):
-        raise ValueError(f"{path}: no such file")
-    try:
-        with open(path, "rb") as fh:
-            data = tomllib.load(fh)
-    except (tomllib.TOMLDecodeError, UnicodeDecodeError) as exc:
-        raise ValueError(f"{path}: not a valid TOML file ({exc})") from None
-    out = {}
-    for section, table in data.items():
-        if section not in sections or not isinstance(table, dict):
-            raise ValueError(f"{path}: unknown section [{section}]; expected {', '.join(sections)}")
-        for key, value in table.items():
-            if key not in sections[section]:
-                raise ValueError(f"{path}: [{section}] {key}: unknown setting; expected {', '.join(sections[section])}")
-            out[section, key] = value
-    return out
 
 
 @dataclass(frozen=True)
@@ -160,9 +140,7 @@ class MPCParams:
         :data:`FORCE_LIMIT_PER_STATIC` times its largest static leg force at home,
         ``leg_velocity`` at :data:`LEG_VELOCITY_PER_STROKE` strokes per second (the stroke of
         ``leg_length_limits``), ``box`` :data:`BOX_SHARE` of the free excursion along each
-        pose axis (:func:`stewart.cueing.washout.axis_excursions`)."""
-        from .washout import axis_excursions
-
+        pose axis (:func:`stewart.model.reachability.axis_excursions`)."""
         plat = as_platform(platform)
         base = cls(**overrides)
         changes = {}
@@ -176,7 +154,7 @@ class MPCParams:
         if base.leg_velocity is None:
             changes["leg_velocity"] = LEG_VELOCITY_PER_STROKE * (limits[1] - limits[0])
         if base.box is None:
-            changes["box"] = tuple(BOX_SHARE * axis_excursions(plat))
+            changes["box"] = tuple(BOX_SHARE * reachability.axis_excursions(plat))
         if 2 * base.stroke_margin >= limits[1] - limits[0]:
             raise ValueError(f"{base.source}: limits.stroke_margin: {base.stroke_margin:g} m leaves no stroke "
                              f"of {limits[1] - limits[0]:g} m")
@@ -196,7 +174,7 @@ class MPCParams:
         :meth:`for_platform` (or the plain defaults without ``platform``)."""
         path = os.fspath(path)
         overrides = {}
-        for (_, key), value in read_sections(path, _SECTIONS).items():
+        for (_, key), value in tomlfile.read_sections(path, _SECTIONS).items():
             if key == "tilt_rate":
                 if not isinstance(value, (int, float)) or isinstance(value, bool) or value <= 0:
                     raise ValueError(f"{path}: [limits] tilt_rate: must be a number > 0 (deg/s), got {value!r}")
@@ -218,3 +196,7 @@ class MPCParams:
                     value = math.degrees(value)
                 out[section][key] = list(value) if isinstance(value, tuple) else value
         return out
+
+
+#: Moved in 0.2.1, deprecated aliases until 0.3.0.
+__getattr__ = moved_names(__name__, {"read_sections": "stewart.io.tomlfile"})

@@ -36,12 +36,12 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from scipy import optimize, signal
 
-from ..model.platform import as_platform
-from ..model.reachability import reachability
+from .._modules import moved_names
+from ..io import tomlfile
+from ..model import reachability
 from . import vestibular
-from .settings import read_sections
 
-__all__ = ["WashoutParams", "filters", "reference_poses", "axis_excursions", "DESIGN_ACCELERATION"]
+__all__ = ["WashoutParams", "filters", "reference_poses", "DESIGN_ACCELERATION"]
 
 #: The acceleration step [m/s^2] whose translational excursion the defaults fit into
 #: :data:`EXCURSION_SHARE` of the workspace: hard braking, ~9 m/s^2, at the default gain 0.5.
@@ -112,10 +112,10 @@ class WashoutParams:
     def for_platform(cls, platform, **overrides) -> "WashoutParams":
         """The defaults with each translational cut-off ``w_t`` set so that a step of
         :data:`DESIGN_ACCELERATION` moves the platform at most :data:`EXCURSION_SHARE` of its
-        free stroke along that axis (:func:`axis_excursions`), and the tilt limit at half
-        the smaller of the roll and pitch excursions (at most 10 deg)."""
+        free stroke along that axis (:func:`~stewart.model.reachability.axis_excursions`), and
+        the tilt limit at half the smaller of the roll and pitch excursions (at most 10 deg)."""
         base = replace(cls(), **overrides)  # (a bad value's error names the settings' source)
-        excursions = axis_excursions(platform)
+        excursions = reachability.axis_excursions(platform)
         cutoffs = []
         for i in range(3):
             if "translation_cutoff" in overrides:
@@ -141,7 +141,7 @@ class WashoutParams:
         the plain defaults without ``platform``)."""
         path = os.fspath(path)
         overrides = {}
-        for (section, key), value in read_sections(path, _SECTIONS).items():
+        for (section, key), value in tomlfile.read_sections(path, _SECTIONS).items():
             if section == "tilt" and key in ("rate_limit", "max_angle"):
                 if not isinstance(value, (int, float)) or value < 0:
                     raise ValueError(f"{path}: [tilt] {key}: must be a number >= 0, got {value!r}")
@@ -235,20 +235,5 @@ def reference_poses(log, params: WashoutParams, home) -> tuple[np.ndarray, dict]
     return pose, {"translation": position, "angles": angles, "tilt": tilt}
 
 
-def axis_excursions(platform, limit: float = 1.0) -> np.ndarray:
-    """How far the platform moves from home along each pose axis, alone, before a pose leaves
-    the workspace: the smaller of the two directions, ``(6,)`` [m, m, m, rad, rad, rad],
-    on a grid of 2000 steps with :func:`stewart.model.reachability.reachability`."""
-    plat = as_platform(platform)
-    home = plat.home_pose
-    steps = np.linspace(0.0, limit, 2001)[1:]  # 0.5 mm / 0.5 mrad resolution
-    out = np.empty(6)
-    for k in range(6):
-        sides = []
-        for sign in (1.0, -1.0):
-            poses = np.tile(home, (len(steps), 1))
-            poses[:, k] += sign * steps
-            ok = reachability(plat, poses).ok
-            sides.append(steps[np.argmin(ok)] - steps[0] if not np.all(ok) else limit)
-        out[k] = min(sides)
-    return out
+#: Moved in 0.2.1, deprecated aliases until 0.3.0.
+__getattr__ = moved_names(__name__, {"axis_excursions": "stewart.model.reachability"})

@@ -114,7 +114,7 @@ def params_initializer(params: PlatformParams) -> str:
 
     Each struct member is set by name (C99 designated initializers), so it stays right
     whatever the order of the members. The members are the generator's parameter schema
-    (``stewart._kernel.PARAM_FIELDS``); every other field of ``params`` must be one the
+    (``PARAM_FIELDS`` of the generated ``stewart._generated``); every other field of ``params`` must be one the
     schema leaves out (``TypeError`` otherwise).
     """
     for field in dataclasses.fields(params):

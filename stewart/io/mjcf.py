@@ -60,7 +60,7 @@ import numpy as np
 
 from ..model import arguments
 from ..model.kinematics import euler_rate_jacobian, home_pose, rotation
-from ..model.arguments import platform_params
+from ..model.params import platform_params
 from ..model.params import PlatformParams
 
 __all__ = ["SOLVERS", "MOMENT_FLOOR", "to_mjcf", "joint_velocities", "pose_accelerations"]

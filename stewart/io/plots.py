@@ -11,13 +11,16 @@ import numpy as np
 
 from ..model.kinematics import POSE_AXES, POSE_UNITS
 
-__all__ = ["plot_run", "plot_move", "plot_excitation", "plot_bars", "run_title", "plot_workspace_slices",
+__all__ = ["pyplot", "plot_run", "plot_move", "plot_excitation", "plot_bars", "run_title", "plot_workspace_slices",
            "plot_force_prediction"]
 
 _POSE = list(zip(POSE_AXES, POSE_UNITS, strict=True))
 
 
-def _pyplot():
+def pyplot():
+    """matplotlib's ``pyplot`` on the file-writing Agg backend; ``ImportError`` saying how to
+    install it when matplotlib is absent (the ``plot`` extra). Every figure of the package
+    is drawn through it."""
     try:
         import matplotlib
     except ImportError:
@@ -45,7 +48,7 @@ def plot_run(result, directory, prefix: str = "run", title: str | None = None) -
 
     Each figure's title names the platform and the controller (:func:`run_title`) unless
     ``title`` is given."""
-    plt = _pyplot()
+    plt = pyplot()
     os.makedirs(directory, exist_ok=True)
     title = run_title(result) if title is None else title
     label = f"{title}: " if title else ""
@@ -89,7 +92,7 @@ def plot_move(move, directory, limits=None, prefix: str = "optimize") -> list[st
     stroke limits dashed) of a :class:`stewart.motion.optimize.MinimumEffortMove` into
     ``directory``; ``limits`` is ``(force_limit, stroke)``, either may be None. Returns the
     paths."""
-    plt = _pyplot()
+    plt = pyplot()
     os.makedirs(directory, exist_ok=True)
     force_limit, stroke = (None, None) if limits is None else limits
     title = f"{move.platform}: minimum-effort move"
@@ -119,7 +122,7 @@ def plot_excitation(design, platform, path: str, samples: int = 2000) -> str:
     force with their limits dashed. Returns ``path``."""
     from ..model.kinematics import leg_accelerations, leg_velocities
 
-    plt = _pyplot()
+    plt = pyplot()
     traj, lim = design.trajectory, design.limits
     t = np.linspace(0.0, traj.period, samples)
     x, xd, xdd = traj.series(t)
@@ -174,7 +177,7 @@ def plot_bars(labels, series: dict[str, np.ndarray], ylabel: str, title: str, pa
               xlabel: str = "", caption: str = "", value_format: str = "{:.3g}") -> str:
     """A grouped bar chart: one group per label, one bar per series, each bar labelled with
     its value; ``caption`` is printed under the title."""
-    plt = _pyplot()
+    plt = pyplot()
     fig, ax = plt.subplots(figsize=(10, 5), constrained_layout=True)
     width = 0.8 / len(series)
     pos = np.arange(len(labels))
@@ -201,7 +204,7 @@ def plot_workspace_slices(slices, path: str, title: str = "", quantity: str = "m
     on the preloaded leg springs (``"frequency"``, slices with a stiffness); unreachable cells (and
     for the frequency, cells the legs cannot hold) are grey. Angles are drawn in degrees. Under
     ``title`` the figure names the slices' limits in force (``Slice.limits``)."""
-    plt = _pyplot()
+    plt = pyplot()
     from matplotlib.patches import Patch
 
     fig, axes = plt.subplots(1, len(slices), figsize=(5.2 * len(slices) + 1.2, 4.8), constrained_layout=True,
@@ -237,7 +240,7 @@ def plot_workspace_slices(slices, path: str, title: str = "", quantity: str = "m
 def plot_force_prediction(t, predicted, measured, path: str, title: str = "") -> str:
     """Predicted against measured actuator forces of the six legs over time (an identified
     model on a held-out run, :func:`stewart.identification.identify.validation`), with the residual RMS per leg."""
-    plt = _pyplot()
+    plt = pyplot()
     fig, axes = _figure(plt, title or "identified model: predicted and measured actuator forces")
     for leg, ax in enumerate(axes):
         rms = float(np.sqrt(np.mean((predicted[:, leg] - measured[:, leg]) ** 2)))

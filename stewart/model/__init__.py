@@ -12,7 +12,7 @@ accepts either a :class:`~stewart.Platform` or a :class:`~stewart.PlatformParams
 same result, and converts it once, where it enters: a function that evaluates the compiled
 model by :func:`~stewart.model.platform.as_platform` (a ``PlatformParams`` is compiled into
 a ``Platform``), a function that works on the parameters alone (the kinematics of
-:mod:`~stewart.model.kinematics`, the oracles) by :func:`~stewart.model.arguments.platform_params`
+:mod:`~stewart.model.kinematics`, the oracles) by :func:`~stewart.model.params.platform_params`
 (a ``Platform`` gives its :attr:`~stewart.Platform.params`). Anything else raises
 :class:`~stewart.WrongTypeError` naming the argument. The functions they call inside
 take the converted value and do not check it again."""

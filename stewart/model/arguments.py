@@ -13,11 +13,11 @@ from __future__ import annotations
 
 import numbers
 import operator
-import sys
 from typing import Any
 
 import numpy as np
 
+from .._modules import moved_names
 from .errors import SingularityError, WrongTypeError, row_list
 
 #: Most threads a :class:`stewart.Platform` may use.
@@ -132,23 +132,6 @@ def sampled(name: str, trajectory: Any, times: Any) -> tuple[np.ndarray, np.ndar
     return tuple(checked)
 
 
-def platform_params(value: Any, name: str = "params"):
-    """The parameters of ``value``, a :class:`~stewart.PlatformParams` or a
-    :class:`~stewart.Platform` (its :attr:`~stewart.Platform.params`): how a function that
-    works on the parameters takes its platform argument (see :mod:`stewart.model`).
-    :class:`~stewart.WrongTypeError` (a ``TypeError`` and a ``ValueError``) naming ``name``
-    for anything else."""
-    from .params import PlatformParams  # imported here: both modules import this one
-
-    if isinstance(value, PlatformParams):
-        return value
-    # A Platform exists only once its module (which needs the compiled extension) is loaded.
-    platform = sys.modules.get(f"{__package__}.platform")
-    if platform is not None and isinstance(value, platform.Platform):
-        return value.params
-    raise WrongTypeError(f"{name}: expected a stewart.PlatformParams, got {type(value).__name__}")
-
-
 def same_batch(**arrays: np.ndarray) -> None:
     """Raise ``ValueError`` unless the arrays share one leading shape."""
     shapes = {name: arr.shape[:-1] for name, arr in arrays.items()}
@@ -236,3 +219,7 @@ def finite_rows(function: str, values: np.ndarray, ok: Any, return_mask: bool) -
         return values, ok
     values[bad.reshape(values.shape[:-1])] = np.nan
     return values, (ok & ~bad) if values.ndim == 2 else bool(ok and not bad[0])
+
+
+#: Moved in 0.2.1, deprecated aliases until 0.3.0.
+__getattr__ = moved_names(__name__, {"platform_params": "stewart.model.params"})

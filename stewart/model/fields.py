@@ -11,10 +11,11 @@ import numpy as np
 
 from . import arguments
 
-__all__ = ["TOLERANCE"]
+__all__ = ["TOLERANCE", "BOUNDS", "vector3", "scalar", "points", "inertia", "inertia_tensor", "optional_bound",
+           "joint_axes", "friction", "leg_coefficients", "offsets", "positive", "readonly"]
 
 
-def _vector3(name: str, value: Any) -> np.ndarray:
+def vector3(name: str, value: Any) -> np.ndarray:
     arr = arguments.reals(name, value)
     if arr.shape != (3,):
         raise ValueError(f"{name}: expected 3 values, got shape {arr.shape}")
@@ -23,14 +24,14 @@ def _vector3(name: str, value: Any) -> np.ndarray:
     return arr
 
 
-def _scalar(name: str, value: Any, minimum: float | None = 0.0) -> float:
+def scalar(name: str, value: Any, minimum: float | None = 0.0) -> float:
     val = arguments.real(name, value)
     if minimum is not None and val < minimum:
         raise ValueError(f"{name}: must be >= {minimum}, got {val}")
     return val
 
 
-def _points(name: str, value: Any) -> np.ndarray:
+def points(name: str, value: Any) -> np.ndarray:
     arr = arguments.reals(name, value)
     if arr.shape != (6, 3):
         raise ValueError(f"{name}: expected shape (6, 3), got {arr.shape}")
@@ -53,8 +54,8 @@ def _points(name: str, value: Any) -> np.ndarray:
     return arr
 
 
-def _inertia(name: str, value: Any) -> np.ndarray:
-    arr = _vector3(name, value)
+def inertia(name: str, value: Any) -> np.ndarray:
+    arr = vector3(name, value)
     return _moments(name, arr)
 
 
@@ -74,11 +75,11 @@ def _moments(name: str, arr: np.ndarray) -> np.ndarray:
 
 
 #: Optional workspace bounds and their largest values (the smallest is always > 0).
-_BOUNDS = {"universal_joint_max_angle": np.pi / 2, "spherical_joint_max_angle": np.pi / 2, "leg_diameter": np.inf,
+BOUNDS = {"universal_joint_max_angle": np.pi / 2, "spherical_joint_max_angle": np.pi / 2, "leg_diameter": np.inf,
            "plate_radius": np.inf, "base_clearance": np.inf}
 
 
-def _optional_bound(name: str, value: Any, maximum: float) -> float | None:
+def optional_bound(name: str, value: Any, maximum: float) -> float | None:
     if value is None:
         return None
     val = arguments.real(name, value)
@@ -93,12 +94,12 @@ def _optional_bound(name: str, value: Any, maximum: float) -> float | None:
 TOLERANCE = 1e-6
 
 
-def _inertia_tensor(name: str, value: Any) -> np.ndarray:
+def inertia_tensor(name: str, value: Any) -> np.ndarray:
     """Principal moments (3,) as given, or a symmetric positive-semidefinite (3, 3) tensor
     whose eigenvalues (the principal moments) satisfy the triangle inequality."""
     arr = arguments.reals(name, value)
     if arr.shape == (3,):
-        return _inertia(name, arr)
+        return inertia(name, arr)
     if arr.shape != (3, 3):
         raise ValueError(f"{name}: expected 3 principal moments or a (3, 3) tensor, got shape {arr.shape}")
     if not np.all(np.isfinite(arr)):
@@ -117,7 +118,7 @@ def _inertia_tensor(name: str, value: Any) -> np.ndarray:
     return arr
 
 
-def _joint_axes(name: str, value: Any) -> np.ndarray | None:
+def joint_axes(name: str, value: Any) -> np.ndarray | None:
     """Six unit vectors (6, 3), each within :data:`TOLERANCE` of length 1."""
     if value is None:
         return None
@@ -135,7 +136,7 @@ def _joint_axes(name: str, value: Any) -> np.ndarray | None:
     return arr
 
 
-def _friction(name: str, value: Any) -> np.ndarray | None:
+def friction(name: str, value: Any) -> np.ndarray | None:
     """Six coefficients >= 0, one per leg, or None."""
     if value is None:
         return None
@@ -161,7 +162,7 @@ def leg_coefficients(name: str, value: Any, *, positive: bool) -> np.ndarray:
     return arr
 
 
-def _offsets(name: str, value: Any) -> np.ndarray:
+def offsets(name: str, value: Any) -> np.ndarray:
     """Six finite lengths in metres, one per leg (any sign)."""
     arr = arguments.reals(name, value)
     if arr.shape != (6,):
@@ -171,13 +172,13 @@ def _offsets(name: str, value: Any) -> np.ndarray:
     return arr.astype(float, copy=True)
 
 
-def _positive(name: str, value: Any) -> float:
+def positive(name: str, value: Any) -> float:
     val = arguments.real(name, value)
     if not 0.0 < val < np.inf:
         raise ValueError(f"{name}: must be a positive finite number, got {val}")
     return val
 
 
-def _readonly(arr: np.ndarray) -> np.ndarray:
+def readonly(arr: np.ndarray) -> np.ndarray:
     arr.flags.writeable = False
     return arr

@@ -14,7 +14,7 @@ import numpy as np
 
 from . import arguments, conditions
 from .errors import ConvergenceError
-from .arguments import platform_params
+from .params import platform_params
 from .params import TOLERANCE, PlatformParams
 
 #: The coordinates of a pose, in the order of a state: the position of {P}'s origin in {B}
@@ -87,17 +87,12 @@ def twist_transform(x) -> np.ndarray:
 
 def platform_points_in_base(params: PlatformParams, x) -> np.ndarray:
     """``r_i = R p_i``: the platform points rotated into {B} (not translated), ``(..., 6, 3)``."""
-    return _arms(platform_params(params), x)
-
-
-def _arms(params: PlatformParams, x) -> np.ndarray:
-    """:func:`platform_points_in_base` of checked parameters."""
-    return np.einsum("...jk,ik->...ij", rotation(x), params.platform_points)
+    return np.einsum("...jk,ik->...ij", rotation(x), platform_params(params).platform_points)
 
 
 def _legs(params: PlatformParams, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """``r_i = R p_i``, ``l_i`` (eq. 26) and ``|l_i|^2`` for a checked state, unchecked results."""
-    arms = _arms(params, x)
+    arms = platform_points_in_base(params, x)
     legs = x[..., None, :3] + arms - params.base_points
     with np.errstate(over="ignore", invalid="ignore"):
         return arms, legs, np.sum(legs * legs, axis=-1)
@@ -112,50 +107,35 @@ def _jacobian(arms: np.ndarray, legs: np.ndarray, length_sq: np.ndarray) -> np.n
 
 def leg_vectors(params: PlatformParams, x) -> np.ndarray:
     """Leg vectors ``l_i = p + R p_i - b_i`` of eq. 26, shape ``(..., 6, 3)``."""
-    return _leg_vectors(platform_params(params), x)
-
-
-def _leg_vectors(params: PlatformParams, x) -> np.ndarray:
-    """:func:`leg_vectors` of checked parameters."""
     x = arguments.states("x", x, allow_complex=True)
-    return _legs(params, x)[1]
+    return _legs(platform_params(params), x)[1]
 
 
 def leg_lengths(params: PlatformParams, x) -> np.ndarray:
     """Leg lengths ``|l_i|``, shape ``(..., 6)``."""
-    return _leg_lengths(platform_params(params), x)
-
-
-def _leg_lengths(params: PlatformParams, x) -> np.ndarray:
-    """:func:`leg_lengths` of checked parameters."""
     x = arguments.states("x", x, allow_complex=True)
-    return arguments.finite_result("leg_lengths", np.sqrt(_legs(params, x)[2]), x)
+    return arguments.finite_result("leg_lengths", np.sqrt(_legs(platform_params(params), x)[2]), x)
 
 
 def leg_unit_vectors(params: PlatformParams, x) -> np.ndarray:
     """Unit leg vectors ``l_i / |l_i|`` of eq. 25, shape ``(..., 6, 3)``; a zero-length leg
     raises :class:`~stewart.SingularityError`."""
-    return _jacobian_at(platform_params(params), x)[..., :3]
+    return jacobian(params, x)[..., :3]
 
 
 def jacobian(params: PlatformParams, x) -> np.ndarray:
     """Kinematic Jacobian ``J_C`` of eq. 5, ``Ldot = J_C [v; omega]``; row i is
     ``[u_i, (R p_i) x u_i]``. Shape ``(..., 6, 6)``; a zero-length leg raises
     :class:`~stewart.SingularityError`."""
-    return _jacobian_at(platform_params(params), x)
-
-
-def _jacobian_at(params: PlatformParams, x) -> np.ndarray:
-    """:func:`jacobian` of checked parameters."""
     x = arguments.states("x", x, allow_complex=True)
-    arms, legs, length_sq = _legs(params, x)
+    arms, legs, length_sq = _legs(platform_params(params), x)
     conditions.check("jacobian", x, conditions.leg_codes(length_sq))
     return arguments.finite_result("jacobian", _jacobian(arms, legs, length_sq), x)
 
 
 def euler_jacobian(params: PlatformParams, x) -> np.ndarray:
     """Euler-angle Jacobian ``J_E = J_C T`` of eq. 4, ``Ldot = J_E xdot``."""
-    return _jacobian_at(platform_params(params), x) @ twist_transform(x)
+    return jacobian(params, x) @ twist_transform(x)
 
 
 def leg_velocities(params: PlatformParams, x, xd) -> np.ndarray:
@@ -219,11 +199,7 @@ def home_pose(params: PlatformParams, leg_length: float | None = None) -> np.nda
     without limits, to the larger of the base's circumradius and sqrt(2) times the widest
     horizontal leg span at home (so no leg leans more than 45 degrees).
     """
-    return _home_pose(platform_params(params), leg_length)
-
-
-def _home_pose(params: PlatformParams, leg_length: float | None = None) -> np.ndarray:
-    """:func:`home_pose` of checked parameters."""
+    params = platform_params(params)
     offset = params.base_points.mean(axis=0) - params.platform_points.mean(axis=0)
     planar = params.platform_points[:, :2] + offset[:2] - params.base_points[:, :2]
     dz0 = params.platform_points[:, 2] - params.base_points[:, 2]
@@ -269,15 +245,10 @@ def check_universal_joint_axes(params: PlatformParams, home: np.ndarray | None =
     joint's gimbal lock); nothing for the paper's model. ``home`` defaults to
     :func:`home_pose`. (The check needs the home pose, so it runs here and in
     :class:`stewart.Platform`, not in :class:`PlatformParams`.)"""
-    _check_universal_joint_axes(platform_params(params), home)
-
-
-def _check_universal_joint_axes(params: PlatformParams, home: np.ndarray | None = None) -> None:
-    """:func:`check_universal_joint_axes` of checked parameters."""
-    axes = params.universal_joint_axes
+    axes = platform_params(params).universal_joint_axes
     if axes is None:
         return
-    units = _jacobian_at(params, _home_pose(params) if home is None else home)[..., :3]
+    units = leg_unit_vectors(params, home_pose(params) if home is None else home)
     sines = np.linalg.norm(np.cross(axes, units), axis=1) / np.linalg.norm(axes, axis=1)
     if np.any(sines <= TOLERANCE):
         i = int(np.argmin(sines))
@@ -291,7 +262,7 @@ def encoder_readings(params: PlatformParams, x) -> np.ndarray:
     """The machine's encoder readings at ``x``: the true leg lengths ``|l_i|`` less
     ``params.leg_length_offsets``, shape ``(..., 6)``."""
     params = platform_params(params)
-    return _leg_lengths(params, x) - params.leg_length_offsets
+    return leg_lengths(params, x) - params.leg_length_offsets
 
 
 def forward_kinematics(
@@ -326,7 +297,7 @@ def forward_kinematics(
     max_iter = arguments.count("max_iter", max_iter, MAX_ITERATIONS)
     target = np.atleast_2d(lengths)
     if guess is None:
-        x = np.broadcast_to(_home_pose(params), target.shape).copy()
+        x = np.broadcast_to(home_pose(params), target.shape).copy()
     else:
         guess = arguments.states("guess", guess)
         if guess.ndim == 2 and guess.shape != target.shape:

@@ -16,13 +16,13 @@ from typing import Any
 
 import numpy as np
 
-from . import arguments, paramfile
 from .._generated import INERTIAL_NAMES as _inertial_names_of_the_model
-from .fields import TOLERANCE, _BOUNDS, _friction, _inertia, _inertia_tensor, _joint_axes  # the checks of each field
-from .fields import _offsets, _optional_bound, _points, _positive, _readonly, _scalar, _vector3, leg_coefficients
+from . import arguments, fields, paramfile  # fields: the checks of each field
+from .errors import WrongTypeError
+from .fields import TOLERANCE
 from .presets import fields as _preset_fields
 
-__all__ = ["PlatformParams", "NonAxisymmetricLegWarning", "TOLERANCE"]
+__all__ = ["PlatformParams", "NonAxisymmetricLegWarning", "TOLERANCE", "platform_params"]
 
 
 class NonAxisymmetricLegWarning(UserWarning):
@@ -131,35 +131,35 @@ class PlatformParams:
     leg_length_offsets: np.ndarray = dataclasses.field(default_factory=lambda: np.zeros(6))
 
     def __post_init__(self) -> None:
-        fields = {
-            "base_points": _points("base_points", self.base_points),
-            "platform_points": _points("platform_points", self.platform_points),
-            "platform_mass": _scalar("platform_mass", self.platform_mass),
-            "platform_inertia": _inertia_tensor("platform_inertia", self.platform_inertia),
-            "cylinder_mass": _scalar("cylinder_mass", self.cylinder_mass),
-            "cylinder_inertia": _inertia("cylinder_inertia", self.cylinder_inertia),
-            "cylinder_com_distance": _scalar("cylinder_com_distance", self.cylinder_com_distance),
-            "piston_mass": _scalar("piston_mass", self.piston_mass),
-            "piston_inertia": _inertia("piston_inertia", self.piston_inertia),
-            "piston_com_distance": _scalar("piston_com_distance", self.piston_com_distance),
-            "gravity": _scalar("gravity", self.gravity),
+        checked = {
+            "base_points": fields.points("base_points", self.base_points),
+            "platform_points": fields.points("platform_points", self.platform_points),
+            "platform_mass": fields.scalar("platform_mass", self.platform_mass),
+            "platform_inertia": fields.inertia_tensor("platform_inertia", self.platform_inertia),
+            "cylinder_mass": fields.scalar("cylinder_mass", self.cylinder_mass),
+            "cylinder_inertia": fields.inertia("cylinder_inertia", self.cylinder_inertia),
+            "cylinder_com_distance": fields.scalar("cylinder_com_distance", self.cylinder_com_distance),
+            "piston_mass": fields.scalar("piston_mass", self.piston_mass),
+            "piston_inertia": fields.inertia("piston_inertia", self.piston_inertia),
+            "piston_com_distance": fields.scalar("piston_com_distance", self.piston_com_distance),
+            "gravity": fields.scalar("gravity", self.gravity),
             "leg_length_limits": self._checked_limits(self.leg_length_limits),
-            **{key: _optional_bound(key, getattr(self, key), top) for key, top in _BOUNDS.items()},
+            **{key: fields.optional_bound(key, getattr(self, key), top) for key, top in fields.BOUNDS.items()},
             "name": self._checked_name(self.name),
-            "universal_joint_axes": _joint_axes("universal_joint_axes", self.universal_joint_axes),
-            "platform_com": None if self.platform_com is None else _vector3("platform_com", self.platform_com),
-            "viscous_friction": _friction("viscous_friction", self.viscous_friction),
-            "coulomb_friction": _friction("coulomb_friction", self.coulomb_friction),
-            "coulomb_velocity": _positive("coulomb_velocity", self.coulomb_velocity),
-            "leg_stiffness": None if self.leg_stiffness is None else leg_coefficients(
+            "universal_joint_axes": fields.joint_axes("universal_joint_axes", self.universal_joint_axes),
+            "platform_com": None if self.platform_com is None else fields.vector3("platform_com", self.platform_com),
+            "viscous_friction": fields.friction("viscous_friction", self.viscous_friction),
+            "coulomb_friction": fields.friction("coulomb_friction", self.coulomb_friction),
+            "coulomb_velocity": fields.positive("coulomb_velocity", self.coulomb_velocity),
+            "leg_stiffness": None if self.leg_stiffness is None else fields.leg_coefficients(
                 "leg_stiffness", self.leg_stiffness, positive=True),
-            "leg_damping": None if self.leg_damping is None else leg_coefficients(
+            "leg_damping": None if self.leg_damping is None else fields.leg_coefficients(
                 "leg_damping", self.leg_damping, positive=False),
-            "leg_length_offsets": _offsets("leg_length_offsets", self.leg_length_offsets),
+            "leg_length_offsets": fields.offsets("leg_length_offsets", self.leg_length_offsets),
         }
-        for key, val in fields.items():
+        for key, val in checked.items():
             if isinstance(val, np.ndarray):
-                val = _readonly(val)
+                val = fields.readonly(val)
             object.__setattr__(self, key, val)
         self._check_inertial_vector()
         if not self.is_axisymmetric and self.universal_joint_axes is None:
@@ -181,9 +181,9 @@ class PlatformParams:
         if bad.size:
             name = INERTIAL_NAMES[bad[0]]
             body = name.split(".")[0]
-            fields = {"platform": "platform_mass, platform_inertia, platform_com"}.get(
+            named = {"platform": "platform_mass, platform_inertia, platform_com"}.get(
                 body, f"{body}_mass, {body}_inertia, {body}_com_distance")
-            raise ValueError(f"{fields}: too large for double precision: the inertial parameter {name} "
+            raise ValueError(f"{named}: too large for double precision: the inertial parameter {name} "
                              "(inertial_vector) overflows")
 
     @staticmethod
@@ -216,7 +216,7 @@ class PlatformParams:
     def platform_inertia_tensor(self) -> np.ndarray:
         """The platform's (3, 3) inertia tensor in {P} about its centre of mass (read-only)."""
         inertia = self.platform_inertia
-        return _readonly(np.diag(inertia) if inertia.shape == (3,) else inertia.copy())
+        return fields.readonly(np.diag(inertia) if inertia.shape == (3,) else inertia.copy())
 
     @property
     def is_paper_model(self) -> bool:
@@ -235,9 +235,9 @@ class PlatformParams:
         payload's own centre of mass. Masses add, the centre of mass is their mean, and
         each body's tensor moves to the common centre of mass by the parallel-axis
         theorem, I + m (|d|^2 E - d d^T)."""
-        mass = _scalar("mass", mass)
-        com = _vector3("com", com)
-        tensor = _inertia_tensor("inertia", inertia)
+        mass = fields.scalar("mass", mass)
+        com = fields.vector3("com", com)
+        tensor = fields.inertia_tensor("inertia", inertia)
         tensor = np.diag(tensor) if tensor.shape == (3,) else tensor
         bodies = [(self.platform_mass, self._com(), self.platform_inertia_tensor), (mass, com, tensor)]
         total = self.platform_mass + mass
@@ -277,18 +277,18 @@ class PlatformParams:
     def platform_inertia_diagonal(self) -> np.ndarray:
         """(I_xx, I_yy, I_zz), the diagonal of :attr:`platform_inertia_tensor` (the C model's
         ``platform_inertia``)."""
-        return _readonly(np.diag(self.platform_inertia_tensor).copy())
+        return fields.readonly(np.diag(self.platform_inertia_tensor).copy())
 
     @property
     def platform_inertia_products(self) -> np.ndarray:
         """(I_xy, I_xz, I_yz), the entries of :attr:`platform_inertia_tensor` off its diagonal
         (the C model's ``platform_inertia_products``)."""
-        return _readonly(self.platform_inertia_tensor[[0, 0, 1], [1, 2, 2]].copy())
+        return fields.readonly(self.platform_inertia_tensor[[0, 0, 1], [1, 2, 2]].copy())
 
     @property
     def platform_com_in_model(self) -> np.ndarray:
         """The centre of mass in {P} as the C model takes it: the origin for ``None``."""
-        return _readonly(np.zeros(3) if self.platform_com is None else self.platform_com.copy())
+        return fields.readonly(np.zeros(3) if self.platform_com is None else self.platform_com.copy())
 
     @property
     def universal_joint_axes_in_model(self) -> np.ndarray:
@@ -298,7 +298,7 @@ class PlatformParams:
         axial inertia left out (:attr:`cylinder_inertia_in_model`) so that they do not spin."""
         if self.universal_joint_axes is not None:
             return self.universal_joint_axes
-        return _readonly(np.zeros((6, 3)) if self.is_paper_model else np.tile([0.0, 0.0, 1.0], (6, 1)))
+        return fields.readonly(np.zeros((6, 3)) if self.is_paper_model else np.tile([0.0, 0.0, 1.0], (6, 1)))
 
     @property
     def spinless_legs_in_model(self) -> float:
@@ -322,7 +322,7 @@ class PlatformParams:
     def _leg_inertia_in_model(self, inertia: np.ndarray) -> np.ndarray:
         if self.universal_joint_axes is not None:
             return inertia
-        return _readonly(np.array([0.0, inertia[1], inertia[2]]))
+        return fields.readonly(np.array([0.0, inertia[1], inertia[2]]))
 
     @classmethod
     def inertial_names(cls) -> tuple[str, ...]:
@@ -496,6 +496,21 @@ INERTIAL_NAMES: tuple[str, ...] = tuple(_inertial_names_of_the_model)
 NUM_INERTIAL = len(INERTIAL_NAMES)
 NUM_RIGID_BODY = sum(not name.startswith("friction.") for name in INERTIAL_NAMES)
 _TENSOR_ENTRIES = [((a, i), (b, j)) for i, a in enumerate("xyz") for j, b in enumerate("xyz") if j >= i]
+
+
+def platform_params(value: Any, name: str = "params") -> PlatformParams:
+    """The parameters of ``value``, a :class:`~stewart.PlatformParams` or a
+    :class:`~stewart.Platform` (its :attr:`~stewart.Platform.params`, or any object whose
+    ``params`` is a :class:`~stewart.PlatformParams`): how a function that works on the
+    parameters takes its platform argument (see :mod:`stewart.model`).
+    :class:`~stewart.WrongTypeError` (a ``TypeError`` and a ``ValueError``) naming ``name``
+    for anything else."""
+    if isinstance(value, PlatformParams):
+        return value
+    params = getattr(value, "params", None)
+    if isinstance(params, PlatformParams):
+        return params
+    raise WrongTypeError(f"{name}: expected a stewart.PlatformParams, got {type(value).__name__}")
 
 
 def _inertia_of(moments: np.ndarray) -> np.ndarray:

@@ -8,9 +8,9 @@ import numpy as np
 
 from . import arguments, kinematics, stiffness as _stiffness
 from .._generated import FUNCTIONS
-from .._kernel import Kernel
+from .compiled import Kernel
 from .errors import WrongTypeError
-from .arguments import platform_params
+from .params import platform_params
 from .params import PlatformParams
 from .results import JointReactions
 
@@ -87,9 +87,9 @@ class Platform:
 
     def __init__(self, params: PlatformParams, *, threads: int = 1):
         self._params = params = platform_params(params)
-        self._home = kinematics._home_pose(params)
+        self._home = kinematics.home_pose(params)
         self._home.flags.writeable = False
-        kinematics._check_universal_joint_axes(params, self._home)
+        kinematics.check_universal_joint_axes(params, self._home)
         self._kernel = Kernel(params, threads)
         # The kernel's call, bound once: the methods below call it without looking it up.
         self._call = self._kernel.call
@@ -128,8 +128,8 @@ class Platform:
 
     @property
     def kernel(self) -> Kernel:
-        """The compiled model (:class:`stewart._kernel.Kernel`) whose batch functions the
-        methods call, for the compiled reductions that take one (:class:`stewart._kernel.Peaks`
+        """The compiled model (:class:`stewart.model.compiled.Kernel`) whose batch functions the
+        methods call, for the compiled reductions that take one (:class:`stewart.model.compiled.Peaks`
         of the motion envelopes)."""
         return self._kernel
 

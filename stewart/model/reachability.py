@@ -45,10 +45,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import arguments, kinematics
-from .arguments import platform_params
+from .params import platform_params
 from .params import PlatformParams
 
-__all__ = ["WorkspaceError", "Reachability", "reachability", "assembly_mode", "margins", "CONDITION_LIMIT",
+__all__ = ["WorkspaceError", "Reachability", "reachability", "axis_excursions", "assembly_mode", "margins", "CONDITION_LIMIT",
            "FLAG_NAMES", "joint_angles", "neutral_axes", "segment_distances", "FLAGS", "limits_in_force", "base_gaps",
            "plate_crossings"]
 
@@ -226,7 +226,7 @@ def assembly_mode(platform, pose) -> float:
     """The sign of ``det J_C`` at ``pose``: +1 or -1 (0 at a singularity)."""
     params = platform_params(platform, "platform")
     with np.errstate(all="ignore"):
-        jac = kinematics._jacobian_at(params, pose)
+        jac = kinematics.jacobian(params, pose)
         return float(np.nan_to_num(np.sign(np.linalg.det(jac))))
 
 
@@ -254,6 +254,27 @@ def reachability(platform, poses, *, mode: float | None = None, name: str = "pos
     return Reachability(**parts, limits=plat.params.leg_length_limits, params=plat.params)
 
 
+def axis_excursions(platform, limit: float = 1.0) -> np.ndarray:
+    """How far the platform moves from home along each pose axis, alone, before a pose leaves
+    the workspace: the smaller of the two directions, ``(6,)`` [m, m, m, rad, rad, rad],
+    on a grid of 2000 steps with :func:`reachability`."""
+    from .platform import as_platform
+
+    plat = as_platform(platform)
+    home = plat.home_pose
+    steps = np.linspace(0.0, limit, 2001)[1:]  # 0.5 mm / 0.5 mrad resolution
+    out = np.empty(6)
+    for k in range(6):
+        sides = []
+        for sign in (1.0, -1.0):
+            poses = np.tile(home, (len(steps), 1))
+            poses[:, k] += sign * steps
+            ok = reachability(plat, poses).ok
+            sides.append(steps[np.argmin(ok)] - steps[0] if not np.all(ok) else limit)
+        out[k] = min(sides)
+    return out
+
+
 _BLOCK = 50_000  # poses checked at a time (bounds the memory of long trajectories)
 
 
@@ -278,7 +299,7 @@ def joint_angles(params: PlatformParams, poses) -> tuple[np.ndarray, np.ndarray]
 
     plat = as_platform(params, "params")
     x = arguments.states("poses", poses)
-    units = kinematics._jacobian_at(plat.params, x)[..., :3]
+    units = kinematics.jacobian(plat.params, x)[..., :3]
     return _joint_angles(units, kinematics.rotation(x), neutral_axes(plat))
 
 

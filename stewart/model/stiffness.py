@@ -37,7 +37,7 @@ from typing import NamedTuple
 import numpy as np
 
 from . import arguments, conditions
-from .._kernel import UNSTABLE, modal_terms
+from .compiled import UNSTABLE, modal_terms
 from .errors import SingularityError, UnstableError, row_list
 from .fields import leg_coefficients
 from .kinematics import rotation, twist_transform
@@ -81,19 +81,15 @@ class Modes(NamedTuple):
 
 
 def _radius(platform) -> float:
-    """The platform's radius: the largest distance of a spherical joint from {P}'s origin (kept on
-    the platform once computed)."""
-    radius = platform.__dict__.get("_modal_radius")
-    if radius is None:
-        points = platform.params.platform_points
-        radius = platform._modal_radius = float(np.max(np.sqrt(np.sum(points * points, axis=1))))
-    return radius
+    """The platform's radius: the largest distance of a spherical joint from {P}'s origin."""
+    points = platform.params.platform_points
+    return float(np.max(np.sqrt(np.sum(points * points, axis=1))))
 
 
 def _stiffnesses(platform, stiffness) -> np.ndarray | float:
     """:func:`leg_coefficients` of ``stiffness``, or the parameters' ``leg_stiffness`` for None
     (``ValueError`` if they have none); one positive finite float as it is, the stiffness of every
-    leg (:func:`~stewart._kernel.modal_terms` takes it so)."""
+    leg (:func:`~stewart.model.compiled.modal_terms` takes it so)."""
     if type(stiffness) is float and 0.0 < stiffness < np.inf:
         return stiffness
     if stiffness is None:
@@ -116,7 +112,7 @@ _CONDITIONS = {condition.code: condition for condition in conditions.CONDITIONS.
 
 
 class _Terms(NamedTuple):
-    """The compiled loop's results (:func:`stewart._kernel.modal_terms`) at ``(N, 6)`` poses, with
+    """The compiled loop's results (:func:`stewart.model.compiled.modal_terms`) at ``(N, 6)`` poses, with
     ``good`` the rows that did not fail and ``one`` whether a single pose was given."""
 
     x: np.ndarray

@@ -1,7 +1,7 @@
 """Controllers and actuator models for :func:`stewart.simulate`.
 
 The control laws themselves run in the generated C model's closed loop (``stewart_loop_derivative``
-of the C API, through ``stewart._kernel.ClosedLoop``); these classes hold and document their gains, and each tells the loop which law it is
+of the C API, through ``stewart.model.compiled.ClosedLoop``); these classes hold and document their gains, and each tells the loop which law it is
 (:meth:`Controller.loop_settings`) and where its integral starts.
 
 * :class:`PID` — joint-space PID on the leg lengths with actuator forces as output, as in
@@ -23,7 +23,7 @@ from typing import ClassVar
 import numpy as np
 
 from ..model import arguments, conditions
-from .._kernel import Mode
+from ..model.compiled import Mode
 from ..model.params import PlatformParams
 from ..model.platform import Platform, as_platform, friction_law
 

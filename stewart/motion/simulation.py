@@ -18,8 +18,7 @@ from typing import Callable, NamedTuple
 import numpy as np
 
 from ..model import arguments
-from .._kernel import status_message
-from .._kernel import ClosedLoop, Outcome
+from ..model.compiled import ClosedLoop, Outcome, status_message
 from .control import PID, Actuators, Controller
 from ..model.platform import Platform, as_platform
 from ..model.reachability import WorkspaceError, assembly_mode, reachability
@@ -326,7 +325,7 @@ def _set_up(run: _Run, check_workspace: bool) -> tuple[ClosedLoop, _Series, np.n
     # The legs lose the actuators' friction; computed torque adds back the model's own
     # (the platform's parameters, Actuators' defaults).
     params = run.platform.params
-    loop = ClosedLoop(run.platform._kernel, *run.controller.loop_settings(), actuators.force_limit,
+    loop = ClosedLoop(run.platform.kernel, *run.controller.loop_settings(), actuators.force_limit,
                       actuators.friction(params), Actuators().friction(params))
     n = steps + 1
     series = _Series(times, refs, ff, np.zeros((n, 18)), *(np.zeros((n, 6)) for _ in range(3)))

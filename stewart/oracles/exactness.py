@@ -24,7 +24,7 @@ import numpy as np
 from ..model import arguments
 from . import reference
 from .physics import random_states
-from ..model.arguments import platform_params
+from ..model.params import platform_params
 from ..model.params import PlatformParams
 
 __all__ = ["Change", "LegSpinEffect", "leg_spin_effect"]

@@ -79,7 +79,7 @@ import numpy as np
 
 from ..model import arguments, conditions
 from ..model.kinematics import euler_rate_jacobian, rotation
-from ..model.arguments import platform_params
+from ..model.params import platform_params
 from ..model.params import PlatformParams
 from ..model.results import JointReactions
 

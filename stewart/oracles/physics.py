@@ -26,7 +26,7 @@ import numpy as np
 from ..model import kinematics
 from . import newton_euler, reference
 from ..model import reachability
-from ..model.arguments import platform_params
+from ..model.params import platform_params
 from ..model.params import PlatformParams
 from ..model.platform import Platform
 from ..model.sampling import random_states

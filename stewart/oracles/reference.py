@@ -52,8 +52,8 @@ from typing import NamedTuple
 import numpy as np
 
 from ..model import arguments, conditions
-from ..model.kinematics import _arms, _jacobian_at, _leg_lengths, _leg_vectors, rotation, twist_transform
-from ..model.arguments import platform_params
+from ..model.kinematics import jacobian, leg_lengths, leg_vectors, platform_points_in_base, rotation, twist_transform
+from ..model.params import platform_params
 from ..model.params import PlatformParams
 
 __all__ = [
@@ -128,11 +128,11 @@ def partial_velocity_jacobians(params: PlatformParams, x) -> dict[str, np.ndarra
 
 def _partial_velocity_jacobians(params: PlatformParams, x) -> dict[str, np.ndarray]:
     x = arguments.states("x", x, allow_complex=True)
-    units = _jacobian_at(params, x)[..., :3]
-    legs = _leg_vectors(params, x)
+    units = jacobian(params, x)[..., :3]
+    legs = leg_vectors(params, x)
     lbar_x = _skew(units / np.sqrt(np.sum(legs * legs, axis=-1))[..., None])
     u_x = _skew(units)
-    arm_xT = -_skew(_arms(params, x))  # r~^T
+    arm_xT = -_skew(platform_points_in_base(params, x))  # r~^T
     eye = np.broadcast_to(np.eye(3, dtype=x.dtype), arm_xT.shape)
     point = np.concatenate([eye, arm_xT], axis=-1)  # velocity of P_i: [E, r~^T]
     j_d = lbar_x @ point
@@ -168,7 +168,7 @@ def _check_legs(function: str, params: PlatformParams, x: np.ndarray, general: b
     ``x``: the legs' tests (the vertical-leg test only with ``general``, the paper's
     cylinder frames; the gimbal-lock test with ``universal_joint_axes``), then ``steps``
     (see :func:`stewart.model.conditions.check`)."""
-    legs = _leg_vectors(params, np.real(x))
+    legs = leg_vectors(params, np.real(x))
     axes = params.universal_joint_axes
     with np.errstate(over="ignore", invalid="ignore"):
         length_sq = np.sum(legs * legs, axis=-1)
@@ -225,7 +225,7 @@ def _rotational_inertias(params: PlatformParams, x, general: bool | None) -> dic
         general = not params.is_axisymmetric
     _check_legs("rotational_inertias", params, x, general)
     rot = rotation(x)
-    units = _jacobian_at(params, x)[..., :3]
+    units = jacobian(params, x)[..., :3]
     axes = _leg_axes(params, general)
     with np.errstate(over="ignore", invalid="ignore"):
         inertias = {
@@ -285,7 +285,7 @@ def _inertia_rates(params: PlatformParams, x: np.ndarray, xd: np.ndarray, genera
         total = {body: a.imag for body, a in shifted.items()}
     else:
         rates = np.abs(np.real(xd))
-        shortest = np.min(_leg_lengths(params, np.real(x)), axis=-1)
+        shortest = np.min(leg_lengths(params, np.real(x)), axis=-1)
         speed = np.maximum(np.max(rates[..., :3], axis=-1) / shortest, np.max(rates[..., 3:], axis=-1))
         step = _DIFFERENCE_STEP / np.where(speed > 0.0, speed, 1.0)
         total = {}
@@ -423,8 +423,8 @@ def inverse_dynamics(params: PlatformParams, x, xd, xdd) -> np.ndarray:
     rows = np.real(x).reshape(-1, 6)  # definedness is a property of the real point
     params = platform_params(params)
     _check_legs("inverse_dynamics", params, x, _general(params),
-                lambda todo: conditions.jacobian_codes(_jacobian_at(params, rows[todo])))
-    jac = _jacobian_at(params, x)
+                lambda todo: conditions.jacobian_codes(jacobian(params, rows[todo])))
+    jac = jacobian(params, x)
     total = _totals(params, x, xd, "inverse_dynamics")
     with np.errstate(over="ignore", invalid="ignore"):
         wrench = (
@@ -453,7 +453,7 @@ def forward_dynamics(params: PlatformParams, x, xd, tau) -> np.ndarray:
     total = _totals(params, x, xd, "forward_dynamics")
     with np.errstate(over="ignore", invalid="ignore"):
         rhs = (
-            np.einsum("...ji,...j->...i", _jacobian_at(params, x), tau)
+            np.einsum("...ji,...j->...i", jacobian(params, x), tau)
             - np.einsum("...ij,...j->...i", total.coriolis_matrix, xd)
             - total.gravity_vector
         )

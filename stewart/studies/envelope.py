@@ -34,7 +34,7 @@ A motion specification is
 
 The states are generated and reduced chunk by chunk (:mod:`stewart.studies.execution`), locally or
 on a Dask cluster (``client=``), with the same result for the same seed. Within a chunk the
-compiled model evaluates them and keeps the running peaks in C (:class:`stewart._kernel.Peaks`),
+compiled model evaluates them and keeps the running peaks in C (:class:`stewart.model.compiled.Peaks`),
 a box's states generated there too, so that no array is allocated per state.
 """
 
@@ -50,21 +50,21 @@ import numpy as np
 
 from ..model.kinematics import POSE_AXES, POSE_UNITS
 from ..model import arguments
-from .. import _kernel
+from ..model import compiled
 from . import execution
 from ..model.errors import WrongTypeError
 from .execution import Peak
-from ..model.arguments import platform_params
+from ..model.params import platform_params
 from ..model.params import PlatformParams
 
-__all__ = ["Box", "Trajectories", "Envelope", "envelope", "QUANTITIES", "AXES"]
+__all__ = ["Box", "Trajectories", "Envelope", "envelope", "QUANTITIES", "AXES", "study_job", "from_partials"]
 
 #: The pose coordinates, in the order of a state, with their units.
 AXES = tuple(zip(POSE_AXES, POSE_UNITS, strict=True))
 
-#: The enveloped quantities (each one column per leg, in the order stewart._kernel.Peaks
+#: The enveloped quantities (each one column per leg, in the order stewart.model.compiled.Peaks
 #: computes them), with their units.
-QUANTITIES = tuple(zip(_kernel.PEAK_QUANTITIES, ("N", "m/s", "W", "N", "N"), strict=True))
+QUANTITIES = tuple(zip(compiled.PEAK_QUANTITIES, ("N", "m/s", "W", "N", "N"), strict=True))
 
 _LABELS = {"force": "actuator force |tau|", "velocity": "leg velocity |Ldot|", "power": "actuator power |tau Ldot|",
            "universal_joint": "universal-joint force", "spherical_joint": "spherical-joint force"}
@@ -151,11 +151,11 @@ class Box:
 
     def states(self, chunk: execution.Chunk):
         """The chunk's samples ``(x, xd, xdd)``: uniform poses, velocities and accelerations at
-        random vertices (:func:`stewart._kernel.box_states` of :meth:`draws`)."""
-        return _kernel.box_states(*self.draws(chunk), self)
+        random vertices (:func:`stewart.model.compiled.box_states` of :meth:`draws`)."""
+        return compiled.box_states(*self.draws(chunk), self)
 
     def add_to(self, peaks, chunk: execution.Chunk) -> None:
-        """Evaluate the chunk's samples into ``peaks`` (:class:`stewart._kernel.Peaks`),
+        """Evaluate the chunk's samples into ``peaks`` (:class:`stewart.model.compiled.Peaks`),
         generating them as it goes from the draws of :meth:`draws` (the uniform numbers into
         this thread's buffer, :func:`_uniforms`)."""
         rng = chunk.rng()
@@ -258,7 +258,7 @@ class Trajectories:
         return tuple(np.concatenate(arrays) for arrays in zip(*parts))
 
     def add_to(self, peaks, chunk: execution.Chunk) -> None:
-        """Evaluate the chunk's samples into ``peaks`` (:class:`stewart._kernel.Peaks`)."""
+        """Evaluate the chunk's samples into ``peaks`` (:class:`stewart.model.compiled.Peaks`)."""
         peaks.add(*(np.ascontiguousarray(a, dtype=float) for a in self.states(chunk)), chunk.start)
 
 
@@ -271,7 +271,7 @@ class _EnvelopeJob(execution.ModelJob):
     spec: Box | Trajectories
 
     def __call__(self, chunk: execution.Chunk):
-        peaks = _kernel.Peaks(self.platform.kernel, self.params.leg_length_limits)
+        peaks = compiled.Peaks(self.platform.kernel, self.params.leg_length_limits)
         self.spec.add_to(peaks, chunk)
         return {"peak": Peak(peaks.value, peaks.state, peaks.index), "states": chunk.size,
                 "outside_stroke": peaks.outside, "singular": peaks.singular}
@@ -327,9 +327,9 @@ class Envelope:
 
     def plot(self, path) -> str:
         """A figure of the peaks per leg, one panel per quantity."""
-        from ..io.plots import _pyplot
+        from ..io.plots import pyplot
 
-        plt = _pyplot()
+        plt = pyplot()
         fig, axes = plt.subplots(1, len(QUANTITIES), figsize=(15, 3.6), constrained_layout=True)
         legs = np.arange(6)
         for ax, (quantity, unit) in zip(axes, QUANTITIES):
@@ -353,21 +353,23 @@ def envelope(platform, spec, *, samples: int | None = None, seed: int = 0, clien
     :class:`~stewart.PlatformParams`) over ``spec`` (a :class:`Box`, of ``samples`` states,
     default :data:`DEFAULT_SAMPLES`, drawn from ``seed``; or :class:`Trajectories`).
     ``client``, ``chunk_size`` and ``progress`` as in :func:`stewart.studies.execution.run`."""
-    job, n = _job(platform_params(platform, "platform"), spec, samples)
+    job, n = study_job(platform_params(platform, "platform"), spec, samples)
     total = execution.run(job, n, seed=seed, chunk_size=chunk_size, client=client, progress=progress,
                           desc="envelope")
-    return _envelope(total, job.params)
+    return from_partials(total, job.params)
 
 
-def _job(params: PlatformParams, spec, samples: int | None) -> tuple[_EnvelopeJob, int]:
-    """The job of the envelope of ``params`` over ``spec`` and its number of states."""
+def study_job(params: PlatformParams, spec, samples: int | None) -> tuple[_EnvelopeJob, int]:
+    """The job of the envelope of ``params`` over ``spec`` and its number of states: with
+    :func:`from_partials`, the seam through which :mod:`stewart.studies.sweep` runs envelopes
+    of many designs in one :func:`~stewart.studies.execution.run_all`."""
     if not isinstance(spec, (Box, Trajectories)):
         raise ValueError(f"spec: expected a Box or Trajectories, got {type(spec).__name__}")
     return _EnvelopeJob(params, spec), spec.count(samples)
 
 
-def _envelope(total: dict, params: PlatformParams) -> Envelope:
-    """The :class:`Envelope` of the combined partials ``total`` of the jobs of :func:`_job`."""
+def from_partials(total: dict, params: PlatformParams) -> Envelope:
+    """The :class:`Envelope` of the combined partials ``total`` of the jobs of :func:`study_job`."""
     peak = total["peak"]
     overflow = np.flatnonzero(~(np.isfinite(peak.value) | np.isneginf(peak.value)))  # -inf: no state counted
     if overflow.size:

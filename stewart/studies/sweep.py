@@ -303,9 +303,9 @@ def _studies(spec: SweepSpec, k: int) -> tuple[PlatformParams, np.ndarray, list[
     home = kinematics.home_pose(params)
     box = envelope_module.Box(home + spec.offsets.lower, home + spec.offsets.upper, spec.offsets.velocity,
                               spec.offsets.acceleration)
-    env_job, env_states = envelope_module._job(params, box, spec.envelope_samples)
+    env_job, env_states = envelope_module.study_job(params, box, spec.envelope_samples)
     fixed = np.zeros(3)
-    work_job, work_states = workspace._job(params, "translational", fixed, workspace.position_bounds(params, fixed),
+    work_job, work_states = workspace.study_job(params, "translational", fixed, workspace.position_bounds(params, fixed),
                                            spec.workspace_samples, None, spec.stiffness)
     return params, home, [execution.Study(env_job, env_states, spec.seed),
                           execution.Study(work_job, work_states, spec.seed, workspace.CHUNK_SIZE)]
@@ -314,9 +314,9 @@ def _studies(spec: SweepSpec, k: int) -> tuple[PlatformParams, np.ndarray, list[
 def _metrics(params: PlatformParams, home: np.ndarray, env_total: dict, work_total: dict, studies) -> dict:
     """The :data:`METRICS` of one design from its studies' combined partials (the modal ones
     NaN without a stiffness: :attr:`SweepSpec.metric_names` leaves them out)."""
-    env = envelope_module._envelope(env_total, params)
+    env = envelope_module.from_partials(env_total, params)
     work_study = studies[1]
-    work = workspace._workspace(work_study.job, work_total, work_study.n_states, True, work_study.seed)
+    work = workspace.from_partials(work_study.job, work_total, work_study.n_states, True, work_study.seed)
     metrics = {"workspace_volume": work.volume, "workspace_volume_error": work.volume_error,
                "margin_mean": work.margin_mean,
                "home_margin": float(workspace.reachability(params, home).margin[0]),
@@ -366,9 +366,9 @@ class Sweep:
 
     def plot(self, path) -> str:
         """The Pareto-front figure of the two Pareto metrics: every design, the front joined."""
-        from ..io.plots import _pyplot
+        from ..io.plots import pyplot
 
-        plt = _pyplot()
+        plt = pyplot()
         x, y = self.pareto_axes
         xs, ys, front = self.metrics[x], self.metrics[y], self.front()
         fig, ax = plt.subplots(figsize=(7, 5), constrained_layout=True)

@@ -12,7 +12,7 @@ import numpy as np
 
 from ..model.kinematics import POSE_AXES
 from ..model import arguments, kinematics
-from ..model.arguments import platform_params
+from ..model.params import platform_params
 from ..model.params import PlatformParams
 from ..model.platform import as_platform
 from ..model.stiffness import leg_coefficients, modal_metrics
@@ -45,7 +45,7 @@ from .execution import Peak
 
 __all__ = [
     "Workspace", "WorkspaceJob", "translational_workspace", "orientation_workspace", "position_bounds", "Slice",
-    "workspace_slice", "KINDS", "CHUNK_SIZE",
+    "workspace_slice", "KINDS", "CHUNK_SIZE", "study_job", "from_partials",
     # the reachability test the studies are built from (stewart.model.reachability)
     "WorkspaceError", "Reachability", "reachability", "CONDITION_LIMIT", "assembly_mode", "joint_angles", "margins",
     "segment_distances",
@@ -245,7 +245,7 @@ def position_bounds(params: PlatformParams, orientation=(0.0, 0.0, 0.0)) -> np.n
         raise ValueError("region: the parameters have no leg_length_limits; give the region to sample")
     reach = params.leg_length_limits[1]
     orientation = _three("orientation", orientation)
-    arms = kinematics._arms(params, np.r_[0.0, 0.0, 0.0, orientation])
+    arms = kinematics.platform_points_in_base(params, np.r_[0.0, 0.0, 0.0, orientation])
     centres = params.base_points - arms
     box = np.column_stack([np.max(centres - reach, axis=0), np.min(centres + reach, axis=0)])
     box[2, 0] = max(box[2, 0], np.max(params.base_points[:, 2]) - np.min(arms[:, 2]))
@@ -259,8 +259,9 @@ def position_bounds(params: PlatformParams, orientation=(0.0, 0.0, 0.0)) -> np.n
 ORIENTATION_REGION = np.array([[-np.pi, np.pi], [-np.pi / 2, np.pi / 2], [-np.pi, np.pi]])
 
 
-def _job(params, kind, fixed, region, samples, grid, stiffness=None) -> tuple[WorkspaceJob, int]:
-    """The job of a workspace study and its number of poses."""
+def study_job(params, kind, fixed, region, samples, grid, stiffness=None) -> tuple[WorkspaceJob, int]:
+    """The job of a workspace study and its number of poses: with :func:`from_partials`, the
+    seam through which :mod:`stewart.studies.sweep` runs the workspaces of many designs."""
     if (samples is None) == (grid is None):
         raise ValueError("samples, grid: give exactly one (random samples, or grid points per axis)")
     resolution = 0 if grid is None else arguments.count("grid", grid, 1000)
@@ -271,14 +272,14 @@ def _job(params, kind, fixed, region, samples, grid, stiffness=None) -> tuple[Wo
 
 def _study(params, kind, fixed, region, complete, samples, grid, seed, chunk_size, client, progress,
            stiffness) -> Workspace:
-    job, total = _job(params, kind, fixed, region, samples, grid, stiffness)
+    job, total = study_job(params, kind, fixed, region, samples, grid, stiffness)
     progress = sys.stderr.isatty() if progress is None else bool(progress)
     parts = execution.run(job, total, seed=None if grid is not None else seed, chunk_size=chunk_size,
                           client=client, progress=progress, desc=f"{kind} workspace")
-    return _workspace(job, parts, total, complete, seed)
+    return from_partials(job, parts, total, complete, seed)
 
 
-def _workspace(job: WorkspaceJob, parts: dict, total: int, complete: bool, seed) -> Workspace:
+def from_partials(job: WorkspaceJob, parts: dict, total: int, complete: bool, seed) -> Workspace:
     """The :class:`Workspace` of the combined partials ``parts`` of ``job`` over ``total`` poses."""
     params, kind, fixed, region, resolution = job.params, job.kind, job.fixed, job.region, job.resolution
     grid = resolution or None
@@ -353,7 +354,7 @@ def orientation_workspace(platform, position=None, *, region=None, samples=None,
     The volume is measured in Euler-angle coordinates [rad^3].
     """
     params = platform_params(platform, "platform")
-    position = kinematics._home_pose(params)[:3] if position is None else _three("position", position)
+    position = kinematics.home_pose(params)[:3] if position is None else _three("position", position)
     complete = region is None
     region = ORIENTATION_REGION if complete else _region("region", region)
     return _study(params, "orientation", position, region, complete, samples, grid, seed, chunk_size, client,

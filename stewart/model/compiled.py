@@ -1,0 +1,32 @@
+"""The compiled core's one door: the only module of the package that imports the extension
+``stewart._kernel`` (built from ``stewart/_kernel.pyx`` over the generated C), re-exporting
+what the rest of the package uses. ``tests/test_layout.py`` holds every other module to it.
+
+- :class:`Kernel`: the batch model of one platform, every function of the generated
+  ``FUNCTIONS`` table (what :class:`~stewart.Platform` calls).
+- :class:`ClosedLoop`, :class:`Mode`, :class:`Outcome`, :func:`status_message`: the
+  simulator's compiled loop (:mod:`stewart.motion.simulation`, :mod:`stewart.motion.control`).
+- :class:`Peaks`, :func:`box_states`, :data:`PEAK_QUANTITIES`: the envelope's running peaks
+  (:mod:`stewart.studies.envelope`).
+- :func:`modal_terms`, :data:`UNSTABLE`: the modal analysis (:mod:`stewart.model.stiffness`).
+- :func:`build_info`, :func:`set_simd`, :data:`LANES`: the instruction-set path in use.
+"""
+
+from .._kernel import (
+    LANES,
+    PEAK_QUANTITIES,
+    UNSTABLE,
+    ClosedLoop,
+    Kernel,
+    Mode,
+    Outcome,
+    Peaks,
+    box_states,
+    build_info,
+    modal_terms,
+    set_simd,
+    status_message,
+)
+
+__all__ = ["Kernel", "ClosedLoop", "Mode", "Outcome", "status_message", "Peaks", "box_states", "PEAK_QUANTITIES",
+           "modal_terms", "UNSTABLE", "build_info", "set_simd", "LANES"]
