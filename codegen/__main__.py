@@ -12,7 +12,7 @@ import time
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
-from . import csource, emit, model, pxd, pymodule, schema
+from . import csource, emit, kinematics, model, pxd, pymodule, schema
 
 DEFAULT_OUT = Path(__file__).resolve().parent.parent / 'generated'
 DEFAULT_PYTHON = Path(__file__).resolve().parent.parent / 'stewart' / '_generated.py'
@@ -38,7 +38,7 @@ def _kernel(build):
     """Derive and emit one kernel: (its C, its spec without the derivation graph, the
     derivation and emission times)."""
     kernel, t_derive = _timed(build)
-    result, t_emit = _timed(emit.emit_kernel, kernel, model.PARAMS.members())
+    result, t_emit = _timed(emit.emit_kernel, kernel, kinematics.PARAMS.members())
     return result, dataclasses.replace(kernel, graph=None), t_derive, t_emit
 
 

@@ -5,7 +5,7 @@ header they share, stewart_internal.h (the status codes and their tolerances com
 
 The public functions are written from their specs (`model.FUNCTIONS`), over a block of
 states (one per lane of a vector, codegen/templates/vector.c): they check their inputs,
-dispatch between the kernel variants (`model.VARIANTS`), check the legs, run their steps
+dispatch between the kernel variants (`kinematics.VARIANTS`), check the legs, run their steps
 (the small linear solves, unrolled in `linsolve`: pivoted elimination for J_C^T tau = W,
 LDL^T for M_t y = rhs, each factored once and solved for as many right-hand sides as the
 function needs; further kernels) and check their outputs.  A batch function carries its rows
@@ -17,13 +17,14 @@ functions, in control.c).
 
 The table of the public functions (stewart_dispatch.h) and the per-target copy of the model
 that fills it (stewart_target.c, compiled once per instruction set) come from the same list
-of functions; their fixed C is in codegen/templates/dispatch/.
+of functions; their fixed C is in codegen/templates/dispatch/.  The declarations of the
+public functions come from `signatures`.
 """
 
-import textwrap
 from pathlib import Path
 
 from . import conditions, linsolve
+from .signatures import aligned, batch_prototype, loop_header, prototype, table_entries
 
 
 HEADER = r'''/* stewart_model.h -- dynamic model of a 6-DOF Stewart platform.
@@ -158,138 +159,8 @@ PUBLIC = TEMPLATES / 'public.c'
 LANES = TEMPLATES / 'lanes.c'
 #: The fixed C of the evaluation over a block of states.
 VECTOR = TEMPLATES / 'vector.c'
-
-
 #: The fixed C of the actuators and the closed loop, after the public functions in stewart_model.c.
 CONTROL = TEMPLATES / 'control.c'
-
-#: The types of the actuators and the closed loop (codegen/templates/control.c): (name, doc,
-#: members), each member (C type, name, array length or 0 for a scalar, doc).
-LOOP_TYPES = (
-    ('stewart_friction', 'The friction law of the legs: leg i loses F_v,i Ld_i + F_c,i tanh(Ld_i / v_c) at the'
-     ' leg rate Ld_i (a smooth Coulomb law).',
-     (('double', 'viscous', 6, 'F_v of each leg, N s/m'), ('double', 'coulomb', 6, 'F_c of each leg, N'),
-      ('double', 'velocity', 0, 'v_c > 0, m/s'))),
-    ('stewart_loop', 'A controller and its actuators (stewart_loop_derivative): the commanded forces, each'
-     ' saturated at +-force_limit, act on the legs less the legs\' friction.',
-     (('int', 'mode', 0, 'STEWART_OPEN_LOOP, STEWART_PID or STEWART_COMPUTED_TORQUE'),
-      ('double', 'kp', 6, 'PID: N/m per leg; computed torque: 1/s^2 per pose coordinate'),
-      ('double', 'ki', 6, 'PID: N/(m s) per leg'),
-      ('double', 'kd', 6, 'PID: N s/m per leg; computed torque: 1/s per pose coordinate'),
-      ('double', 'force_limit', 6, 'N, > 0 (may be infinite)'),
-      ('stewart_friction', 'friction', 0, 'what the legs lose'),
-      ('stewart_friction', 'model_friction', 0, 'what computed torque adds back at the measured leg rates'))),
-)
-
-#: The constants of the closed loop: (name, value, doc).
-LOOP_CONSTANTS = (
-    ('STEWART_OPEN_LOOP', 0, 'the commanded forces are the feed-forward'),
-    ('STEWART_PID', 1, 'joint-space PID on the leg lengths, plus the feed-forward'),
-    ('STEWART_COMPUTED_TORQUE', 2, 'task-space computed torque with the model\'s friction, plus the feed-forward'),
-    ('STEWART_STOP_LEG_SHORT', -1, 'stewart_loop_rk4: a leg shorter than min_length'),
-    ('STEWART_STOP_LEG_LONG', -2, 'stewart_loop_rk4: a leg longer than max_length'),
-    ('STEWART_STOP_NONFINITE', -3, 'stewart_loop_rk4: a state that is not finite'),
-)
-
-#: The public functions of the actuators and the closed loop (codegen/templates/control.c):
-#: (name, parameter list, doc).
-LOOP_FUNCTIONS = (
-    ('friction_forces', 'const stewart_friction *f, const double *Ld, double *friction',
-     'The force each leg loses to friction at the leg rates Ld (6 doubles): friction_i = F_v,i Ld_i'
-     ' + F_c,i tanh(Ld_i / v_c), summed from +0, the Coulomb term only where F_c,i != 0.'
-     '  STEWART_ERR_NONFINITE if f or a force is not finite.'),
-    ('batch_friction_forces', 'const stewart_friction *f, size_t n, const double *Ld, double *friction, int *status',
-     'stewart_friction_forces on n rows (as the batch functions below).'),
-    ('loop_derivative', 'const stewart_params *p, const stewart_loop *loop, const double *y, const double *ref,'
-     ' const double *feedforward, double *ydot, double *force, double *L, double *Ld',
-     'The closed loop as one ODE: ydot (18) at the state y = [x; xd; e] (18; e the integral of the leg-length'
-     ' error L_r - L of the PID) for the reference ref = [x_r; xd_r; xdd_r] (18) and the feed-forward forces (6),'
-     ' with the commanded forces (before saturation and friction), the leg lengths L and rates Ld at y.'
-     '  PID: force = kp (L_r - L) + ki e + kd (Ld_r - Ld) + feedforward, de/dt = L_r - L; computed torque:'
-     ' force = stewart_inverse_dynamics(x, xd, xdd_r + kd (xd_r - xd) + kp (x_r - x)) + model friction at Ld'
-     ' + feedforward; open loop: force = feedforward.  The legs receive the force saturated at +-force_limit'
-     ' less their friction (stewart_friction_forces); xdd = stewart_forward_dynamics of it.  Returns the status'
-     ' of the first model function that fails (the outputs are then not all set).'),
-    ('loop_rk4', 'const stewart_params *p, const stewart_loop *loop, double *y, const double *refs,'
-     ' const double *feedforward, double dt, size_t start, size_t stop, double min_length, double max_length,'
-     ' double *states, double *forces, double *lengths, double *rates, size_t *step, int *leg',
-     'Classic fixed-step RK4 of stewart_loop_derivative (the stages of stewart_rk4_step), y (18) advanced'
-     ' in place from step start to stop: refs (rows of 18) and feedforward (rows of 6) on the half-step grid'
-     ' (row 2k at t_k, 2k + 1 at t_k + dt/2); row k of states (18), forces, lengths and rates (6) receives'
-     ' y, the commanded forces, L and Ld at t_k.  Stops after a step whose state is not finite'
-     ' (STEWART_STOP_NONFINITE) or has a leg outside [min_length, max_length] (STEWART_STOP_LEG_SHORT,'
-     ' STEWART_STOP_LEG_LONG, *leg that leg, else -1), or at a step whose derivative fails (its status);'
-     ' *step is the step it stopped at (stop when it ran through).  Returns STEWART_OK or the reason.'),
-)
-
-
-def _loop_types():
-    """The C of `LOOP_CONSTANTS` and `LOOP_TYPES`."""
-    width = max(len(name) for name, _, _ in LOOP_CONSTANTS) + 1
-    text = ''.join(f'#define {name:<{width}}{f"({value})" if value < 0 else value:<5}/* {doc} */\n'
-                   for name, value, doc in LOOP_CONSTANTS) + '\n'
-    for name, doc, members in LOOP_TYPES:
-        text += _comment(doc) + 'typedef struct {\n' + _table(
-            [(f'{ctype} {member}{f"[{n}]" if n else ""};', mdoc) for ctype, member, n, mdoc in members])
-        text += f'}} {name};\n\n'
-    return text
-
-
-def _comment(doc):
-    """`doc` as a C comment, wrapped at 100 columns."""
-    return textwrap.fill(f'/* {doc} */', 100, subsequent_indent=' * ', break_on_hyphens=False) + '\n'
-
-
-def loop_header():
-    """The header's section of the actuators and the closed loop: types, constants, functions."""
-    return ('/* ---- actuators and the closed loop (stewart.simulate) ---- */\n\n' + _loop_types()
-            + ''.join(_comment(doc) + f'int stewart_{name}({args});\n' for name, args, doc in LOOP_FUNCTIONS))
-
-
-def loop_pxd():
-    """The Cython declarations of `LOOP_CONSTANTS` and `LOOP_TYPES` (in a `cdef extern` block)."""
-    lines = ['    enum:'] + [f'        {name}' for name, _, _ in LOOP_CONSTANTS]
-    for name, _, members in LOOP_TYPES:
-        lines.append(f'    ctypedef struct {name}:')
-        lines += [f'        {ctype} {member}{f"[{n}]" if n else ""}' for ctype, member, n, _ in members]
-    return '\n'.join(lines)
-
-
-def _table(lines):
-    """C lines (code, comment) with the comments aligned."""
-    width = max(len(code) for code, doc in lines if doc) + 2
-    return ''.join(f'    {code:<{width}}/* {doc} */\n' if doc else f'    {code}\n' for code, doc in lines)
-
-
-def _arguments(function, sizes):
-    """The parameter list of a `model.Function`: its arrays `x[6]`, or `*x` without `sizes`."""
-    array = (lambda name, n: f'{name}[{n}]') if sizes else (lambda name, n: f'*{name}')
-    args = ['const stewart_params *p'] + [f'const double {array(name, 6)}' for name in function.inputs]
-    args += [f'double {name}' for name in function.scalars]
-    args += [f'double {array(name, size)}' for name, size in function.sizes]
-    return ', '.join(args)
-
-
-def prototype(function, sizes=True):
-    """`int stewart_<name>(const stewart_params *p, ...)` of a `model.Function`; its
-    arrays `x[6]`, or `*x` without `sizes`."""
-    return f'int stewart_{function.name}({_arguments(function, sizes)})'
-
-
-#: The table's entries for the fixed public functions (codegen/templates/public.c,
-#: `conditions`, `LOOP_FUNCTIONS`), before those of `model.FUNCTIONS`: (name, pointer declaration).
-FIXED_ENTRIES = (('status_message', 'const char *(*status_message)(int status)'),
-                 ('is_axisymmetric', 'int (*is_axisymmetric)(const stewart_params *p)'),
-                 ('is_paper_model', 'int (*is_paper_model)(const stewart_params *p)'),
-                 ('batch_lanes', 'int (*batch_lanes)(void)')) + tuple(
-    (name, f'int (*{name})({args})') for name, args, _ in LOOP_FUNCTIONS)
-
-
-def table_entries(functions):
-    """(name, pointer declaration `int (*name)(...)`) of every public function: the fixed ones,
-    then the `functions` (`model.Function`s), then their batch functions."""
-    return (list(FIXED_ENTRIES) + [(f.name, f'int (*{f.name})({_arguments(f, False)})') for f in functions]
-            + [(f'batch_{f.name}', f'int (*batch_{f.name})({_batch_arguments(f)})') for f in functions])
 
 
 DISPATCH = r'''/* stewart_dispatch.h -- GENERATED by `python -m codegen` from codegen/; do not edit.
@@ -379,8 +250,8 @@ def header(fields, functions, ops, inertial):
     table = ''.join(f' *   {name:<{width}}  {n:6d}\n' for name, n in ops)
     columns = ''.join(f' *   {k:2d}  {name}: {doc}\n' for k, (name, doc) in enumerate(inertial))
     text = (HEADER.replace('@OPS@', table).replace('@INERTIAL@', columns).replace('@ROUNDING@', ' '.join(ROUNDING_FLAGS))
-            .replace('@STRUCT@', _table([(f.declaration(), f.doc) for f in fields]))
-            .replace('@STATUS@', _table([(f'{c.enum} = {k},', c.doc) for k, c in enumerate(conditions.CONDITIONS)]))
+            .replace('@STRUCT@', aligned([(f.declaration(), f.doc) for f in fields]))
+            .replace('@STATUS@', aligned([(f'{c.enum} = {k},', c.doc) for k, c in enumerate(conditions.CONDITIONS)]))
             .replace('@TOLERANCES@', conditions.tolerances())
             .replace('@FUNCTIONS@', ''.join(f'/* {f.doc} */\n{prototype(f)};\n' for f in functions))
             .replace('@BATCH@', ''.join(f'{batch_prototype(f)};\n' for f in functions))
@@ -391,20 +262,6 @@ def header(fields, functions, ops, inertial):
 #: The block functions of the functions written in C (codegen/templates/vector.c), by name.
 VECTOR_TEMPLATES = {'rk4_step': 'vrk4(p, vblock_forward_dynamics, 0, scalar, in, out)',
                     'rk4_step_derivatives': 'vrk4(p, vblock_forward_dynamics_derivatives, 1, scalar, in, out)'}
-
-
-def _batch_arguments(function):
-    """The parameter list of a batch function: `p`, the row count `n`, the row-major arrays,
-    the scalars and the per-row statuses."""
-    args = (['const stewart_params *p', 'size_t n'] + [f'const double *{name}' for name in function.inputs]
-            + [f'double {name}' for name in function.scalars]
-            + [f'double *{name}' for name, _ in function.sizes] + ['int *status'])
-    return ', '.join(args)
-
-
-def batch_prototype(function):
-    """`int stewart_batch_<name>(const stewart_params *p, size_t n, ..., int *status)`."""
-    return f'int stewart_batch_{function.name}({_batch_arguments(function)})'
 
 
 def params_finite(fields):
@@ -419,7 +276,7 @@ def _call(name, args):
 
 
 def _builds(kernels, builders):
-    """The built `model.KernelSpec`s of `builders` (`kernels`: builder -> spec)."""
+    """The built `graph.KernelSpec`s of `builders` (`kernels`: builder -> spec)."""
     return [kernels[build] for build in builders]
 
 
@@ -432,7 +289,7 @@ def public_function(function):
 
 def batch_function(function, kernels):
     """C text of `stewart_batch_<name>` for a `model.Function`, with `kernels` mapping each of
-    its kernel builders to its built `model.KernelSpec`: its block function `vblock_<name>`
+    its kernel builders to its built `graph.KernelSpec`: its block function `vblock_<name>`
     runs its kernels and steps on a block of states, merging their lanes' statuses (or, for a
     function written in C, its block function in `VECTOR_TEMPLATES`), and `batch_rows`
     (codegen/templates/vector.c) carries the rows through it."""
@@ -506,7 +363,7 @@ def _block_body(function, kernels):
 
 
 def kernel_runs(function, kernels):
-    """The kernels a generated function runs, in order, each as (its built `model.KernelSpec`s,
+    """The kernels a generated function runs, in order, each as (its built `graph.KernelSpec`s,
     the variants in the order `_dispatch` tries them; the C arrays of its inputs; {output:
     C array} where an output goes elsewhere than to the array of its name): its kernel, if it
     has one, then those of its `Kernels` steps."""
@@ -606,7 +463,7 @@ def source(public_sources, batch_sources):
 
 
 def kernel_family(build):
-    """The family of a kernel builder (`model.KernelSpec` builder, or a partial of one): the
+    """The family of a kernel builder (`graph.KernelSpec` builder, or a partial of one): the
     builder's name without `_kernel`; its variants share a unit."""
     return getattr(build, 'func', build).__name__.removesuffix('_kernel')
 

@@ -304,7 +304,7 @@ def _statements(defs, outputs):
 
 
 def emit_kernel(kernel, param_members):
-    """C source of `void vkernel_<name>(...)` for a `model.KernelSpec`, and its prototype
+    """C source of `void vkernel_<name>(...)` for a `graph.KernelSpec`, and its prototype
     (kernels are shared between the model's units): the kernel over a block of STEWART_LANES
     states, every quantity that depends on the state a `stewart_vd` (one state per lane;
     inputs and outputs are arrays of them, entry k of the states in element k), the

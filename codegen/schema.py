@@ -4,7 +4,7 @@ One entry per member of the C struct `stewart_params`, in struct order.  The gen
 derives everything that depends on the layout from this table: the struct in
 `stewart_model.h`, its finiteness check, the Cython declaration and the copy from a
 `PlatformParams` in `stewart_model.pxd`, and the parameter symbols of the derivation
-(`model.PARAMS`).  Adding a parameter means adding a row here (and its use in
+(`kinematics.PARAMS`).  Adding a parameter means adding a row here (and its use in
 `model`), nothing else.
 """
 
@@ -16,7 +16,7 @@ from itertools import product
 class ParamField:
     """One `stewart_params` member: a double, or an array of doubles."""
     name: str        # the `PlatformParams` field and the struct member
-    attr: str        # its attribute of `model.Params` (the symbols of the derivation)
+    attr: str        # its attribute of `kinematics.Params` (the symbols of the derivation)
     shape: tuple     # () for a scalar, (n,) or (n, m) for an array
     doc: str = ''    # its C comment
     symbol: str = None   # prefix of its symbol names in the C (default: `attr`)
@@ -91,7 +91,7 @@ LEFT_OUT = {
     'leg_length_offsets': 'encoder zero offsets: the C model takes true leg lengths (encoder reading + offset)',
 }
 
-#: The inertial parameters pi of the regressor (tau = Y pi, `model.regressor_kernel`), in its
+#: The inertial parameters pi of the regressor (tau = Y pi, `dynamics.regressor_kernel`), in its
 #: column order: per body the mass, the first moments and the second moments about a
 #: point of the body fixed in it (parallel-axis form), then the legs' actuator friction.
 #: (name, meaning).

@@ -1,6 +1,6 @@
 """The regressor: actuator forces linear in the inertial parameters, tau = Y pi.
 
-Y is derived in the parallel-axis form (`codegen.model.inertial_force`), apart from the
+Y is derived in the parallel-axis form (`codegen.dynamics.inertial_force`), apart from the
 momentum form of the inverse dynamics, so ``Y @ pi`` is checked against the kernel's inverse
 dynamics, against the numpy reference, and column by column against the change of the
 inverse dynamics when one parameter changes (the forces are linear in pi).

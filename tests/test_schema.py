@@ -18,7 +18,7 @@ ROOT = pathlib.Path(__file__).resolve().parent.parent
 if str(ROOT) not in sys.path:
     sys.path.insert(0, str(ROOT))
 
-from codegen import csource, model, pxd, pymodule, schema  # noqa: E402
+from codegen import csource, kinematics, model, pxd, pymodule, schema  # noqa: E402
 
 DUMMY = schema.ParamField("dummy_offsets", "d_O", (2, 4), "a field no kernel uses")
 
@@ -42,7 +42,7 @@ def test_a_new_field_reaches_every_generated_artifact(tmp_path):
     assert "p.dummy_offsets[i0][i1] = value[i0, i1]" in text
     tables = pymodule.module(fields, schema.LEFT_OUT, model.FUNCTIONS, schema.INERTIAL_PARAMETERS)
     assert "    ('dummy_offsets', (2, 4)),\n" in tables
-    members = dict((member, symbol) for symbol, member in model.Params(fields).members())
+    members = dict((member, symbol) for symbol, member in kinematics.Params(fields).members())
     assert [members[f"dummy_offsets[{i}][{k}]"].name for i in range(2) for k in range(4)] == [
         f"d_O{i}_{k}" for i in range(2) for k in range(4)]
     # The header with the new member and the finiteness check over it are valid C.

@@ -1,6 +1,6 @@
 """sympy's own route to compiled code, on our generator's expressions.
 
-``codegen/model.py`` derives the model as a graph of named intermediate symbols. Here
+``codegen/`` derives the model as a graph of named intermediate symbols. Here
 the inverse-dynamics outputs (``W = M xdd + V xd + G`` and ``J_C``) and the
 forward-dynamics outputs (upper triangle of ``M_t``, ``rhs = J_C^T tau - V xd - G``,
 ``J_A^-1``) are substituted back into whole sympy expressions (a shared DAG, nothing is
@@ -30,17 +30,18 @@ from .common import CFLAGS, PARAM_COUNT
 ROOT = pathlib.Path(__file__).resolve().parent.parent.parent
 
 
-def _model():
+def _derivation():
+    """codegen's kinematics (the symbols, the Euler maps' kernel) and dynamics (the kernels)."""
     if str(ROOT) not in sys.path:
         sys.path.insert(0, str(ROOT))
-    from codegen import model
+    from codegen import dynamics, kinematics
 
-    return model
+    return kinematics, dynamics
 
 
-def _param_symbols(model):
+def _param_symbols(kinematics):
     """The parameter symbols in ``stewart_params`` order (the flat vector of ``param_vector``)."""
-    syms = [symbol for symbol, _ in model.PARAMS.members()]
+    syms = [symbol for symbol, _ in kinematics.PARAMS.members()]
     assert len(syms) == PARAM_COUNT
     return syms
 
@@ -58,18 +59,18 @@ def _expand_outputs(kernel) -> dict:
 def expressions() -> dict:
     """``{'id': (inputs, [W (6), JC (36)]), 'fd': (inputs, [Mt upper (21), rhs (6), JAinv (9)])}``,
     inputs being four lists of symbols (x, xd, xdd or tau, p). Axisymmetric legs."""
-    model = _model()
-    p = _param_symbols(model)
-    kid = _expand_outputs(model.inverse_dynamics_kernel("axisym"))
-    mt = _expand_outputs(model.twist_mass_matrix_kernel("axisym"))["Mt"]
-    at_rest = {s: 0 for s in model.XDD}  # W at xdd = 0 is V xd + G
+    kinematics, dynamics = _derivation()
+    p = _param_symbols(kinematics)
+    kid = _expand_outputs(dynamics.inverse_dynamics_kernel("axisym"))
+    mt = _expand_outputs(dynamics.twist_mass_matrix_kernel("axisym"))["Mt"]
+    at_rest = {s: 0 for s in kinematics.XDD}  # W at xdd = 0 is V xd + G
     w0 = [e.xreplace(at_rest) for e in kid["W"]]
-    rhs = [sum(kid["JC"][6 * k + i] * model.TAU[k] for k in range(6)) - w0[i] for i in range(6)]
+    rhs = [sum(kid["JC"][6 * k + i] * kinematics.TAU[k] for k in range(6)) - w0[i] for i in range(6)]
     return {
-        "id": ([list(model.X), list(model.XD), list(model.XDD), p], [kid["W"], kid["JC"]]),
-        "fd": ([list(model.X), list(model.XD), list(model.TAU), p],
+        "id": ([list(kinematics.X), list(kinematics.XD), list(kinematics.XDD), p], [kid["W"], kid["JC"]]),
+        "fd": ([list(kinematics.X), list(kinematics.XD), list(kinematics.TAU), p],
                [[mt[6 * i + j] for i in range(6) for j in range(i, 6)], rhs,
-                _expand_outputs(model.euler_maps_kernel())["JAinv"]]),
+                _expand_outputs(kinematics.euler_maps_kernel())["JAinv"]]),
     }
 
 
