@@ -9,6 +9,7 @@ import json
 
 import numpy as np
 import pytest
+from cli_outputs import check_calibration_poses
 from cli_run import run as _run
 
 import stewart
@@ -430,10 +431,8 @@ def test_calibration_poses_writes_a_campaign_calibrate_reads(tmp_path, capsys):
     data = CalibrationData.from_csv(tmp_path / "d.csv")
     assert data.kind == "poses" and len(data.readings) == 12
     # the file is design_poses' with the same arguments (the command's default preset,
-    # narayan2017, and seed 0), to the file's 12 significant digits (rtol 1e-11)
-    want = design_poses(NOMINAL, 12, seed=0)
-    np.testing.assert_allclose(data.poses, want.poses, rtol=1e-11, atol=1e-14)
-    np.testing.assert_allclose(data.readings, want.readings, rtol=1e-11, atol=0)
+    # narayan2017, and seed 0)
+    check_calibration_poses(out, design_poses(NOMINAL, 12, seed=0), 12, tmp_path / "d.csv")
 
 
 def test_calibration_poses_prints_design_poses_with_the_same_arguments(capsys):
@@ -446,15 +445,7 @@ def test_calibration_poses_prints_design_poses_with_the_same_arguments(capsys):
                          "--rotation", "0.15", "--no-progress"], capsys)
     assert code == 0
     want = design_poses(NOMINAL, 8, centre=centre, translation=0.02, rotation=0.15, seed=3)
-    lines = out.splitlines()
-    start = lines.index("x,y,z,psi,theta,phi,L0,L1,L2,L3,L4,L5") + 1
-    listed = np.array([[float(v) for v in line.split(",")] for line in lines[start:start + 9] if "," in line])
-    assert listed.shape == (8, 12)
-    np.testing.assert_allclose(listed, np.column_stack([want.poses, want.readings]), rtol=1e-11, atol=1e-14)
-    for label, index in (("designed", want.designed), ("8 random poses", want.random)):
-        row = next(line for line in lines if line.startswith(label)).split()[-3:]
-        np.testing.assert_allclose([float(v) for v in row], [index["O1"], index["condition"], index["O4"]],
-                                   rtol=5e-4)  # printed to 4 significant digits
+    check_calibration_poses(out, want, 8)
 
 
 @pytest.mark.parametrize("edit, code, start", [

@@ -4,6 +4,7 @@ import json
 
 import numpy as np
 import pytest
+from cli_outputs import check_modes_table
 from cli_run import run as _run
 
 import stewart
@@ -14,10 +15,7 @@ def test_modes_prints_the_frequencies_and_dominant_motions(capsys):
     modes = plat.modes(plat.home_pose, 2e7, 4e4)
     code, out, _ = _run(["modes", "--preset", "motion_simulator", "--stiffness", "2e7", "--damping", "4e4"], capsys)
     assert code == 0
-    rows = [line.split() for line in out.splitlines()[2:]]
-    np.testing.assert_allclose([float(r[1]) for r in rows], modes.frequencies, rtol=1e-5)
-    np.testing.assert_allclose([float(r[2]) for r in rows], modes.damping_ratios, rtol=1e-3)
-    assert [" ".join(r[3:6]) for r in rows] == modes.motions()
+    check_modes_table(out, modes, plat.home_pose)
 
 
 def test_modes_json_at_a_pose(capsys):

@@ -5,6 +5,7 @@ import json
 
 import numpy as np
 import pytest
+from cli_outputs import check_excitation_csv
 
 import stewart
 from stewart.io import csvfile
@@ -225,8 +226,7 @@ def test_excitation_command_writes_files_the_simulator_reads(tmp_path, capsys):
     assert summary["files"] == [str(csv), str(toml)]
     traj = FourierTrajectory.load(toml)
     assert summary["peaks"]["leg_velocity"] <= summary["limits"]["leg_velocity"]
-    table = csvfile.read(csv, ["t", "x", "y", "z", "psi", "theta", "phi"])
-    np.testing.assert_allclose(table[:, 1:], traj.sample(table[:, 0])[0], rtol=1e-11, atol=1e-13)
+    check_excitation_csv(csv, traj, stewart.Platform.preset("narayan2017"), 100.0)  # the command's default preset
     main(["simulate", "--trajectory", str(toml), "--controller", "ct", "--no-progress"])
     assert "outcome: completed" in capsys.readouterr().out
 

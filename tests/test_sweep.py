@@ -8,6 +8,7 @@ import json
 
 import numpy as np
 import pytest
+from cli_outputs import check_sweep_table
 
 import stewart
 from stewart.studies import envelope, sweep, workspace
@@ -133,12 +134,7 @@ def test_cli_sweep(tmp_path, capsys):
     written = json.loads((tmp_path / "s.json").read_text())
     assert written["platform"] == result.platform and written["pareto"] == list(result.pareto_axes)
     np.testing.assert_equal(written["designs"], result.rows())
-    shown = ["base_radius", "workspace_volume", "margin_mean", "peak_force", "peak_universal_joint",
-             "peak_spherical_joint"]
-    printed = [line.split() for line in out.splitlines()[2:4]]
-    for row, line in zip(result.rows(), printed):
-        assert line[0] == f"{row['design']}{'*' if row['pareto'] else ''}"
-        np.testing.assert_allclose([float(v) for v in line[1:]], [row[name] for name in shown], rtol=5e-6)
+    check_sweep_table(out, result.rows())
     path.write_text('preset = "narayan2017"\n[parameters]\nradius = 1\n')
     with pytest.raises(SystemExit) as exit_info:
         main(["sweep", str(path)])
