@@ -263,8 +263,7 @@ def _point(point) -> np.ndarray:
 def _compliances(terms: _Terms, point: np.ndarray, good: np.ndarray) -> np.ndarray:
     """``A K_t^-1 A^T`` ``(N, 6, 6)`` at the rows ``good`` of ``terms`` (NaN elsewhere): see
     :func:`compliance`."""
-    stiff = 0.5 * (terms.stiffness + np.swapaxes(terms.stiffness, -1, -2))
-    stiff[~good] = np.eye(6)
+    stiff = np.where(good[:, None, None], terms.stiffness, np.eye(6))
     arm = rotation(np.where(good[:, None], terms.x, 0.0)) @ point
     shift = np.broadcast_to(np.eye(6), stiff.shape).copy()
     shift[:, 0, 4], shift[:, 0, 5] = arm[:, 2], -arm[:, 1]
