@@ -53,9 +53,11 @@ def test_stiffness_is_the_hessian_of_the_potential(case, figures):
     scale = np.abs(hessian).max()
     figures("stiffness vs complex-step Hessian of the potential (rel.)", np.abs(stiffness - hessian).max() / scale, 1e-14)  # reached 2.3e-16
     figures("stiffness asymmetry (rel.)", np.abs(stiffness - stiffness.T).max() / scale, 5e-15)  # reached 8.1e-17
-    twist = plat.stiffness_matrix(x, k, coordinates="twist")
     t_inv = np.linalg.inv(twist_transform(x))
-    np.testing.assert_allclose(twist, t_inv.T @ stiffness @ t_inv, rtol=0, atol=1e-14 * scale)  # reached 2.2e-16
+    # The coordinates named by a string made at run time (read from a file, say), not a literal.
+    for name, want in (("pose", hessian), ("twist", t_inv.T @ hessian @ t_inv)):
+        got = plat.stiffness_matrix(x, k, coordinates="".join(list(name)))
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-14 * np.abs(want).max())  # reached 2.3e-16
 
 
 def _fit(t, signal, rate, omega):
@@ -230,7 +232,7 @@ def test_compliance_is_the_displacement_under_a_wrench(case):
     twist = twist_transform(x) @ dq
     expected = np.concatenate([twist[:3] + np.cross(twist[3:], arm), twist[3:]])
     np.testing.assert_allclose(matrix @ wrench, expected, rtol=5e-15, atol=5e-15 * np.abs(expected).max())  # reached 1/33 of it
-    np.testing.assert_allclose(matrix, matrix.T, rtol=0, atol=5e-15 * np.abs(matrix).max())  # reached 7.7e-17
+    np.testing.assert_allclose(matrix, matrix.T, rtol=0, atol=5e-15 * np.abs(matrix).max())  # reached 9.7e-17
     assert np.linalg.eigvalsh(matrix).min() > 0
 
 
@@ -248,6 +250,8 @@ def test_named_motions_at_home():
     ({"stiffness": [1e7] * 5 + [-1.0]}, "stiffness: must be finite and > 0"),
     ({"stiffness": [1e7] * 4}, r"stiffness: expected one value or one per leg \(6\)"),
     ({"stiffness": np.nan}, "stiffness: must be finite"),
+    ({"stiffness": np.inf}, r"stiffness: must be finite and > 0 on every leg, got \[inf, "),
+    ({"stiffness": -2e7}, r"stiffness: must be finite and > 0 on every leg, got \[-20000000.0, "),
     ({"stiffness": 1e7, "damping": -1.0}, "damping: must be finite and >= 0"),
     ({"stiffness": "stiff"}, "stiffness: expected"),
 ])
