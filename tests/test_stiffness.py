@@ -152,7 +152,7 @@ def test_vertical_mode_of_a_symmetric_platform_by_hand():
     u_z = (x[2] + params.platform_points[:, 2] - params.base_points[:, 2]) / lengths
     tau = params.platform_mass * params.gravity / (6 * u_z)
     heave = np.sum(K_LEG * u_z**2 - tau * (1 - u_z**2) / lengths)
-    modes = plat.modes(x, K_LEG)
+    modes = plat.modes(x.tolist(), K_LEG)  # a pose as a list too
     j = modes.motions().index("translation along z")
     assert modes.participation()[2, j] > 1 - 1e-12
     assert modes.frequencies[j] == pytest.approx(np.sqrt(heave / params.platform_mass) / (2 * np.pi), rel=1e-13)
@@ -204,6 +204,10 @@ def test_a_batch_gives_each_rows_result_and_a_mask(case):
     plat, x = case
     poses = x + np.random.default_rng(1).uniform(-0.03, 0.03, (5, 6))
     batch = plat.modes(poses, K_LEG, C_LEG)
+    # Each mode's share of each axis: the squares of [dp; r dtheta], r the largest joint radius.
+    radius = np.max(np.linalg.norm(plat.params.platform_points, axis=1))
+    scaled = batch.shapes * np.array([1, 1, 1, radius, radius, radius])[:, None]
+    np.testing.assert_allclose(batch.participation(), scaled**2 / np.sum(scaled**2, axis=1, keepdims=True), rtol=1e-14)  # reached: equal
     for i, pose in enumerate(poses):
         one = plat.modes(pose, K_LEG, C_LEG)
         np.testing.assert_allclose(batch.frequencies[i], one.frequencies, rtol=1e-12)
@@ -283,7 +287,7 @@ def test_an_undefined_pose_names_the_condition_of_the_model_at_rest():
 
 def test_a_singular_pose_and_a_pose_that_cannot_be_held():
     plat = stewart.Platform.preset("motion_simulator")
-    with pytest.raises(stewart.SingularityError, match=r"^modes: leg Jacobian J_C is singular") as info:
+    with pytest.raises(stewart.SingularityError, match=r"^modes: leg Jacobian J_C is singular \(kinematic singularity\)$") as info:
         plat.modes(np.zeros(6), K_LEG)
     assert info.value.condition == "jacobian_singular"
     with pytest.raises(stewart.SingularityError, match=r"^compliance: .*theta") :
@@ -299,6 +303,25 @@ def test_a_singular_pose_and_a_pose_that_cannot_be_held():
         plat.compliance(plat.home_pose, K_LEG, point=[0, 0])
     with pytest.raises(ValueError, match="coordinates: expected 'pose' or 'twist'"):
         plat.stiffness_matrix(plat.home_pose, K_LEG, coordinates="euler")
+
+
+def test_the_stiffness_is_given_where_the_legs_cannot_hold_the_pose():
+    """0.3 m aside on legs of 10 kN/m (above): the stiffness matrix is given there, the potential's
+    complex-step Hessian, with a negative eigenvalue; where the model is undefined it is refused
+    naming the row, or NaN and masked."""
+    plat = stewart.Platform.preset("motion_simulator")
+    x = plat.home_pose + [0.3, 0, 0, 0, 0, 0]
+    tau = plat.inverse_dynamics(x, np.zeros(6), np.zeros(6))
+    h = 1e-30
+    hessian = np.stack([-_static_forces(plat.params, x + 1j * h * e, x, tau, 1e4).imag / h for e in np.eye(6)], axis=1)
+    assert np.linalg.eigvalsh(hessian).min() < 0
+    poses = np.stack([x, np.zeros(6)])
+    stiffness, ok = plat.stiffness_matrix(poses, 1e4, return_mask=True)
+    assert ok.tolist() == [True, False] and np.isnan(stiffness[1]).all()
+    np.testing.assert_allclose(stiffness[0], hessian, rtol=0, atol=1e-14 * np.abs(hessian).max())  # reached 5.9e-16
+    with pytest.raises(stewart.SingularityError, match=r"^stiffness_matrix: leg Jacobian J_C is singular "
+                                                        r"\(kinematic singularity\) at row\(s\) \[1\]$"):
+        plat.stiffness_matrix(poses, 1e4)
 
 
 def test_the_legs_stiffness_and_damping_as_parameters(tmp_path):
