@@ -32,6 +32,7 @@ computed in compiled code (``stewart/_modes.pxi``: the model's functions and LAP
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
@@ -94,7 +95,7 @@ def _stiffnesses(platform, stiffness) -> np.ndarray | float:
     """:func:`leg_coefficients` of ``stiffness``, or the parameters' ``leg_stiffness`` for None
     (``ValueError`` if they have none); one positive finite float as it is, the stiffness of every
     leg (:func:`~stewart._kernel.modal_terms` takes it so)."""
-    if type(stiffness) is float and 0.0 < stiffness < np.inf:
+    if type(stiffness) is float and math.isfinite(stiffness) and stiffness > 0.0:
         return stiffness
     if stiffness is None:
         stiffness = platform.params.leg_stiffness
