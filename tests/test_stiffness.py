@@ -6,6 +6,7 @@ import warnings
 
 import numpy as np
 import pytest
+from scipy.linalg import eigh
 from scipy.optimize import least_squares
 
 import stewart
@@ -322,6 +323,29 @@ def test_the_stiffness_is_given_where_the_legs_cannot_hold_the_pose():
     with pytest.raises(stewart.SingularityError, match=r"^stiffness_matrix: leg Jacobian J_C is singular "
                                                         r"\(kinematic singularity\) at row\(s\) \[1\]$"):
         plat.stiffness_matrix(poses, 1e4)
+
+
+def test_modal_metrics_where_the_legs_hold_the_pose_or_not():
+    """On legs of 10 kN/m (above): at home the lowest frequency of ``K_t phi = w^2 M_t phi``
+    (scipy, the numeric reference's ``M_t``) and the largest deflection per newton of a point
+    under a force there (the spectral norm of the map from force to displacement, from ``K_q`` as
+    in the compliance test); NaN and masked 0.3 m aside, where the legs cannot hold the pose, and
+    where the model is undefined."""
+    plat = stewart.Platform.preset("motion_simulator")
+    x, point = plat.home_pose, np.array([0.2, -0.1, 0.6])
+    lowest, largest, ok = stewart.model.stiffness.modal_metrics(plat, np.stack([x, x + [0.3, 0, 0, 0, 0, 0], np.zeros(6)]),
+                                                                1e4, point)
+    assert ok.tolist() == [True, False, False] and np.isnan(lowest[1:]).all() and np.isnan(largest[1:]).all()
+    omega2 = eigh(plat.stiffness_matrix(x, 1e4, coordinates="twist"), reference.twist_mass_matrix(plat.params, x),
+                  eigvals_only=True)
+    assert lowest[0] == pytest.approx(np.sqrt(omega2[0]) / (2 * np.pi), rel=1e-13)  # reached 4.4e-16
+    arm, transform = stewart.rotation(x) @ point, twist_transform(x)
+    deflections = []
+    for force in np.eye(3):
+        twist = transform @ np.linalg.solve(plat.stiffness_matrix(x, 1e4),
+                                            transform.T @ np.concatenate([force, np.cross(arm, force)]))
+        deflections.append(twist[:3] + np.cross(twist[3:], arm))
+    assert largest[0] == pytest.approx(np.linalg.norm(np.array(deflections), 2), rel=1e-13)  # reached 2.2e-16
 
 
 def test_the_legs_stiffness_and_damping_as_parameters(tmp_path):
