@@ -205,8 +205,7 @@ def _damping_ratios(values: np.ndarray, shapes: np.ndarray, c: np.ndarray, jac: 
     state[:, 6:, :6] = -values[:, :, None] * np.eye(6)
     state[:, 6:, 6:] = -modal
     roots, vecs = np.linalg.eig(state)
-    weight = np.abs(vecs[:, :6, :]) ** 2                           # (n, mode, root)
-    owner = np.argmax(weight, axis=1)                              # (n, root)
+    owner = np.argmax(np.abs(vecs[:, :6, :]), axis=1)             # (n, root): the mode of each root
     ratios = np.full((n, 6), np.nan)
     for mode in range(6):
         mine = owner == mode
