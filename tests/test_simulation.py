@@ -292,8 +292,8 @@ def test_tuned_pid_puts_each_legs_poles_at_the_bandwidth(plat):
     for platform, bandwidth, pid in ((plat, 2.5, stewart.PID.tuned(plat)), (plat, 0.8, stewart.PID.tuned(plat, 0.8)),
                                      (custom, 5.0, stewart.PID.tuned(custom))):
         m, w = _leg_masses(platform.params, platform.home_pose), 2 * np.pi * bandwidth
-        np.testing.assert_allclose(np.stack([pid.kd, pid.kp, pid.ki]) / m, np.outer([3 * w, 3 * w**2, w**3], np.ones(6)),
-                                   rtol=2e-14)  # reached 4.4e-16
+        polynomial = np.outer([3 * w, 3 * w**2, w**3], np.ones(6))  # m (s + w)^3 / m, after s^3
+        np.testing.assert_allclose(np.stack([pid.kd, pid.kp, pid.ki]) / m, polynomial, rtol=2e-14)  # reached 4.4e-16
     with pytest.raises(ValueError, match=r"^x: expected one pose, shape \(6,\), got \(2, 6\)$"):
         leg_masses(plat, np.stack([plat.home_pose, plat.home_pose]))
 

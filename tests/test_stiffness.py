@@ -208,7 +208,8 @@ def test_a_batch_gives_each_rows_result_and_a_mask(case):
     # Each mode's share of each axis: the squares of [dp; r dtheta], r the largest joint radius.
     radius = np.max(np.linalg.norm(plat.params.platform_points, axis=1))
     scaled = batch.shapes * np.array([1, 1, 1, radius, radius, radius])[:, None]
-    np.testing.assert_allclose(batch.participation(), scaled**2 / np.sum(scaled**2, axis=1, keepdims=True), rtol=1e-14)  # reached: equal
+    shares = scaled**2 / np.sum(scaled**2, axis=1, keepdims=True)
+    np.testing.assert_allclose(batch.participation(), shares, rtol=1e-14)  # reached: equal
     for i, pose in enumerate(poses):
         one = plat.modes(pose, K_LEG, C_LEG)
         np.testing.assert_allclose(batch.frequencies[i], one.frequencies, rtol=1e-12)
@@ -288,7 +289,8 @@ def test_an_undefined_pose_names_the_condition_of_the_model_at_rest():
 
 def test_a_singular_pose_and_a_pose_that_cannot_be_held():
     plat = stewart.Platform.preset("motion_simulator")
-    with pytest.raises(stewart.SingularityError, match=r"^modes: leg Jacobian J_C is singular \(kinematic singularity\)$") as info:
+    with pytest.raises(stewart.SingularityError,
+                       match=r"^modes: leg Jacobian J_C is singular \(kinematic singularity\)$") as info:
         plat.modes(np.zeros(6), K_LEG)
     assert info.value.condition == "jacobian_singular"
     with pytest.raises(stewart.SingularityError, match=r"^compliance: .*theta") :
@@ -333,8 +335,8 @@ def test_modal_metrics_where_the_legs_hold_the_pose_or_not():
     where the model is undefined."""
     plat = stewart.Platform.preset("motion_simulator")
     x, point = plat.home_pose, np.array([0.2, -0.1, 0.6])
-    lowest, largest, ok = stewart.model.stiffness.modal_metrics(plat, np.stack([x, x + [0.3, 0, 0, 0, 0, 0], np.zeros(6)]),
-                                                                1e4, point)
+    poses = np.stack([x, x + [0.3, 0, 0, 0, 0, 0], np.zeros(6)])
+    lowest, largest, ok = stewart.model.stiffness.modal_metrics(plat, poses, 1e4, point)
     assert ok.tolist() == [True, False, False] and np.isnan(lowest[1:]).all() and np.isnan(largest[1:]).all()
     omega2 = eigh(plat.stiffness_matrix(x, 1e4, coordinates="twist"), reference.twist_mass_matrix(plat.params, x),
                   eigvals_only=True)
