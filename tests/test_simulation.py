@@ -1,5 +1,9 @@
 """Simulation and control: convergence of the integrator, tracking, stroke limits, export."""
 
+import dataclasses
+import re
+import warnings
+
 import numpy as np
 import pytest
 from hypothesis import HealthCheck, event, given, settings, strategies as st
@@ -7,7 +11,11 @@ from hypothesis import HealthCheck, event, given, settings, strategies as st
 import stewart
 import stewart.motion.simulation
 from interrupt import press_ctrl_c_after
+from stewart._kernel import Mode
+from stewart.model.kinematics import jacobian
 from stewart.model.presets import narayan2017_target_pose
+from stewart.motion.control import leg_masses
+from stewart.oracles import reference
 
 
 @pytest.fixture(scope="module")
@@ -266,6 +274,88 @@ def test_bad_simulation_arguments(plat, move):
         stewart.Actuators(force_limit=0.0)
     with pytest.raises(ValueError, match="duration: must be a positive"):
         stewart.PointToPoint(np.zeros(6), np.ones(6), 0.0)
+
+
+def _leg_masses(params, x):
+    """Each actuator's effective mass at ``x`` from the numeric reference: the diagonal of
+    ``J_C^-T M_t J_C^-1`` with the reference's twist mass matrix and the numpy leg Jacobian."""
+    inverse = np.linalg.inv(jacobian(params, x))
+    return np.diag(inverse.T @ reference.twist_mass_matrix(params, x) @ inverse)
+
+
+def test_tuned_pid_puts_each_legs_poles_at_the_bandwidth(plat):
+    """A leg of effective mass m under PID has the closed-loop characteristic polynomial
+    ``m s^3 + Kd s^2 + Kp s + Ki``; the tuned gains make it ``m (s + w)^3``, ``w = 2 pi f``, with
+    ``f`` the one given or the documented default: 2.5 Hz for narayan2017, 5 Hz for a platform
+    of no preset. The masses from the numeric reference."""
+    custom = stewart.Platform(plat.params.replace(name="custom"))
+    for platform, bandwidth, pid in ((plat, 2.5, stewart.PID.tuned(plat)), (plat, 0.8, stewart.PID.tuned(plat, 0.8)),
+                                     (custom, 5.0, stewart.PID.tuned(custom))):
+        m, w = _leg_masses(platform.params, platform.home_pose), 2 * np.pi * bandwidth
+        polynomial = np.outer([3 * w, 3 * w**2, w**3], np.ones(6))  # m (s + w)^3 / m, after s^3
+        np.testing.assert_allclose(np.stack([pid.kd, pid.kp, pid.ki]) / m, polynomial, rtol=2e-14)  # reached 4.4e-16
+    with pytest.raises(ValueError, match=r"^x: expected one pose, shape \(6,\), got \(2, 6\)$"):
+        leg_masses(plat, np.stack([plat.home_pose, plat.home_pose]))
+
+
+def test_tuned_computed_torque_is_critically_damped():
+    """Under the tuned gains the error dynamics ``e'' + Kd e' + Kp e = 0`` are ``(s + w)^2 e = 0``,
+    ``w = 2 pi f``, ``f`` 5 Hz by default (the gains to the last bit of ``w``)."""
+    for bandwidth, gains in ((5.0, stewart.ComputedTorque.tuned()), (0.3, stewart.ComputedTorque.tuned(0.3))):
+        w = 2 * np.pi * bandwidth
+        np.testing.assert_allclose(np.stack([gains.kd, gains.kp]), np.outer([2 * w, w**2], np.ones(6)), rtol=1e-15)
+
+
+@pytest.mark.parametrize("bandwidth, message", [
+    (0.0, "must be positive, got 0.0"),
+    (-1.0, "must be positive, got -1.0"),
+    (1e300, r"1e\+300 Hz is too high: the gains overflow"),
+])
+def test_a_bandwidth_out_of_range_is_named(plat, bandwidth, message):
+    for tune in (lambda f: stewart.PID.tuned(plat, f), stewart.ComputedTorque.tuned):
+        with pytest.raises(ValueError, match=f"^bandwidth_hz: {message}$"):
+            tune(bandwidth)
+
+
+def test_gains_are_one_value_or_one_per_leg():
+    """One number (a scalar or a sequence of one) is every leg's gain; six are one per leg;
+    other shapes name the gain."""
+    one = stewart.PID(kp=[400.0], ki=(20.0,), kd=np.array([30.0]))
+    np.testing.assert_array_equal(np.stack([one.kp, one.ki, one.kd]), np.outer([400.0, 20.0, 30.0], np.ones(6)))
+    legs = np.arange(1.0, 7.0)
+    np.testing.assert_array_equal(stewart.ComputedTorque(kp=legs, kd=2 * legs).kd, 2 * legs)
+    for bad in ([1.0, 2.0], np.ones((1, 6)), np.ones(7)):
+        shape = re.escape(str(np.shape(bad)))
+        with pytest.raises(ValueError, match=rf"^kp: expected one value or one per leg \(6\), got shape {shape}$"):
+            stewart.PID(kp=bad, ki=0.0, kd=0.0)
+
+
+def test_each_law_gives_the_loop_six_gains_per_leg():
+    """``loop_settings``: the law and its gains ``(kp, ki, kd)``, six per leg, those the law does
+    not use zero; the controllers are immutable."""
+    for controller, mode, gains in ((stewart.PID(1.0, 2.0, 3.0), Mode.PID, [1.0, 2.0, 3.0]),
+                                    (stewart.ComputedTorque(4.0, 5.0), Mode.COMPUTED_TORQUE, [4.0, 0.0, 5.0]),
+                                    (stewart.OpenLoop(), Mode.OPEN_LOOP, [0.0, 0.0, 0.0])):
+        loop = controller.loop_settings()
+        assert loop[0] == mode and [g.shape for g in loop[1:]] == [(6,)] * 3
+        np.testing.assert_array_equal(np.stack(loop[1:]), np.outer(gains, np.ones(6)))
+        with pytest.raises(dataclasses.FrozenInstanceError):
+            controller.kp = 0.0
+
+
+def test_pid_bumpless_integral_leg_by_leg(plat):
+    """``Ki I = tau_static(x0) - feedforward(0)`` on each leg with ``Ki > 0`` (the static forces of
+    the numeric reference); zero on a leg with ``Ki = 0`` and on one whose ``Ki`` is too small for
+    ``I`` to be a float, with no warning."""
+    x0 = plat.home_pose + [0.01, 0.0, -0.01, 0.0, 0.02, 0.0]
+    feedforward = np.array([1.0, -2.0, 3.0, 0.5, 0.0, -1.0])
+    ki = np.array([0.0, 1e-320, 2.0, 30.0, 400.0, 5000.0])
+    static = reference.inverse_dynamics(plat.params, x0, np.zeros(6), np.zeros(6)) - feedforward
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        integral = stewart.PID(kp=1.0, ki=ki, kd=1.0).initial_integral(plat, x0, feedforward)
+    np.testing.assert_array_equal(integral[:2], 0.0)
+    np.testing.assert_allclose(ki[2:] * integral[2:], static[2:], rtol=5e-14)  # reached 1.6e-15
 
 
 # The move of issue 9: to theta = 90 deg, through a singularity of J_C on the way.

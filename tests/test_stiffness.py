@@ -6,6 +6,7 @@ import warnings
 
 import numpy as np
 import pytest
+from scipy.linalg import eigh
 from scipy.optimize import least_squares
 
 import stewart
@@ -53,9 +54,11 @@ def test_stiffness_is_the_hessian_of_the_potential(case, figures):
     scale = np.abs(hessian).max()
     figures("stiffness vs complex-step Hessian of the potential (rel.)", np.abs(stiffness - hessian).max() / scale, 1e-14)  # reached 2.3e-16
     figures("stiffness asymmetry (rel.)", np.abs(stiffness - stiffness.T).max() / scale, 5e-15)  # reached 8.1e-17
-    twist = plat.stiffness_matrix(x, k, coordinates="twist")
     t_inv = np.linalg.inv(twist_transform(x))
-    np.testing.assert_allclose(twist, t_inv.T @ stiffness @ t_inv, rtol=0, atol=1e-14 * scale)  # reached 2.2e-16
+    # The coordinates named by a string made at run time (read from a file, say), not a literal.
+    for name, want in (("pose", hessian), ("twist", t_inv.T @ hessian @ t_inv)):
+        got = plat.stiffness_matrix(x, k, coordinates="".join(list(name)))
+        np.testing.assert_allclose(got, want, rtol=0, atol=1e-14 * np.abs(want).max())  # reached 2.3e-16
 
 
 def _fit(t, signal, rate, omega):
@@ -150,7 +153,7 @@ def test_vertical_mode_of_a_symmetric_platform_by_hand():
     u_z = (x[2] + params.platform_points[:, 2] - params.base_points[:, 2]) / lengths
     tau = params.platform_mass * params.gravity / (6 * u_z)
     heave = np.sum(K_LEG * u_z**2 - tau * (1 - u_z**2) / lengths)
-    modes = plat.modes(x, K_LEG)
+    modes = plat.modes(x.tolist(), K_LEG)  # a pose as a list too
     j = modes.motions().index("translation along z")
     assert modes.participation()[2, j] > 1 - 1e-12
     assert modes.frequencies[j] == pytest.approx(np.sqrt(heave / params.platform_mass) / (2 * np.pi), rel=1e-13)
@@ -202,6 +205,11 @@ def test_a_batch_gives_each_rows_result_and_a_mask(case):
     plat, x = case
     poses = x + np.random.default_rng(1).uniform(-0.03, 0.03, (5, 6))
     batch = plat.modes(poses, K_LEG, C_LEG)
+    # Each mode's share of each axis: the squares of [dp; r dtheta], r the largest joint radius.
+    radius = np.max(np.linalg.norm(plat.params.platform_points, axis=1))
+    scaled = batch.shapes * np.array([1, 1, 1, radius, radius, radius])[:, None]
+    shares = scaled**2 / np.sum(scaled**2, axis=1, keepdims=True)
+    np.testing.assert_allclose(batch.participation(), shares, rtol=1e-14)  # reached: equal
     for i, pose in enumerate(poses):
         one = plat.modes(pose, K_LEG, C_LEG)
         np.testing.assert_allclose(batch.frequencies[i], one.frequencies, rtol=1e-12)
@@ -230,7 +238,7 @@ def test_compliance_is_the_displacement_under_a_wrench(case):
     twist = twist_transform(x) @ dq
     expected = np.concatenate([twist[:3] + np.cross(twist[3:], arm), twist[3:]])
     np.testing.assert_allclose(matrix @ wrench, expected, rtol=5e-15, atol=5e-15 * np.abs(expected).max())  # reached 1/33 of it
-    np.testing.assert_allclose(matrix, matrix.T, rtol=0, atol=5e-15 * np.abs(matrix).max())  # reached 7.7e-17
+    np.testing.assert_allclose(matrix, matrix.T, rtol=0, atol=5e-15 * np.abs(matrix).max())  # reached 9.7e-17
     assert np.linalg.eigvalsh(matrix).min() > 0
 
 
@@ -248,6 +256,8 @@ def test_named_motions_at_home():
     ({"stiffness": [1e7] * 5 + [-1.0]}, "stiffness: must be finite and > 0"),
     ({"stiffness": [1e7] * 4}, r"stiffness: expected one value or one per leg \(6\)"),
     ({"stiffness": np.nan}, "stiffness: must be finite"),
+    ({"stiffness": np.inf}, r"stiffness: must be finite and > 0 on every leg, got \[inf, "),
+    ({"stiffness": -2e7}, r"stiffness: must be finite and > 0 on every leg, got \[-20000000.0, "),
     ({"stiffness": 1e7, "damping": -1.0}, "damping: must be finite and >= 0"),
     ({"stiffness": "stiff"}, "stiffness: expected"),
 ])
@@ -279,7 +289,8 @@ def test_an_undefined_pose_names_the_condition_of_the_model_at_rest():
 
 def test_a_singular_pose_and_a_pose_that_cannot_be_held():
     plat = stewart.Platform.preset("motion_simulator")
-    with pytest.raises(stewart.SingularityError, match=r"^modes: leg Jacobian J_C is singular") as info:
+    with pytest.raises(stewart.SingularityError,
+                       match=r"^modes: leg Jacobian J_C is singular \(kinematic singularity\)$") as info:
         plat.modes(np.zeros(6), K_LEG)
     assert info.value.condition == "jacobian_singular"
     with pytest.raises(stewart.SingularityError, match=r"^compliance: .*theta") :
@@ -295,6 +306,48 @@ def test_a_singular_pose_and_a_pose_that_cannot_be_held():
         plat.compliance(plat.home_pose, K_LEG, point=[0, 0])
     with pytest.raises(ValueError, match="coordinates: expected 'pose' or 'twist'"):
         plat.stiffness_matrix(plat.home_pose, K_LEG, coordinates="euler")
+
+
+def test_the_stiffness_is_given_where_the_legs_cannot_hold_the_pose():
+    """0.3 m aside on legs of 10 kN/m (above): the stiffness matrix is given there, the potential's
+    complex-step Hessian, with a negative eigenvalue; where the model is undefined it is refused
+    naming the row, or NaN and masked."""
+    plat = stewart.Platform.preset("motion_simulator")
+    x = plat.home_pose + [0.3, 0, 0, 0, 0, 0]
+    tau = plat.inverse_dynamics(x, np.zeros(6), np.zeros(6))
+    h = 1e-30
+    hessian = np.stack([-_static_forces(plat.params, x + 1j * h * e, x, tau, 1e4).imag / h for e in np.eye(6)], axis=1)
+    assert np.linalg.eigvalsh(hessian).min() < 0
+    poses = np.stack([x, np.zeros(6)])
+    stiffness, ok = plat.stiffness_matrix(poses, 1e4, return_mask=True)
+    assert ok.tolist() == [True, False] and np.isnan(stiffness[1]).all()
+    np.testing.assert_allclose(stiffness[0], hessian, rtol=0, atol=1e-14 * np.abs(hessian).max())  # reached 5.9e-16
+    with pytest.raises(stewart.SingularityError, match=r"^stiffness_matrix: leg Jacobian J_C is singular "
+                                                        r"\(kinematic singularity\) at row\(s\) \[1\]$"):
+        plat.stiffness_matrix(poses, 1e4)
+
+
+def test_modal_metrics_where_the_legs_hold_the_pose_or_not():
+    """On legs of 10 kN/m (above): at home the lowest frequency of ``K_t phi = w^2 M_t phi``
+    (scipy, the numeric reference's ``M_t``) and the largest deflection per newton of a point
+    under a force there (the spectral norm of the map from force to displacement, from ``K_q`` as
+    in the compliance test); NaN and masked 0.3 m aside, where the legs cannot hold the pose, and
+    where the model is undefined."""
+    plat = stewart.Platform.preset("motion_simulator")
+    x, point = plat.home_pose, np.array([0.2, -0.1, 0.6])
+    poses = np.stack([x, x + [0.3, 0, 0, 0, 0, 0], np.zeros(6)])
+    lowest, largest, ok = stewart.model.stiffness.modal_metrics(plat, poses, 1e4, point)
+    assert ok.tolist() == [True, False, False] and np.isnan(lowest[1:]).all() and np.isnan(largest[1:]).all()
+    omega2 = eigh(plat.stiffness_matrix(x, 1e4, coordinates="twist"), reference.twist_mass_matrix(plat.params, x),
+                  eigvals_only=True)
+    assert lowest[0] == pytest.approx(np.sqrt(omega2[0]) / (2 * np.pi), rel=1e-13)  # reached 4.4e-16
+    arm, transform = stewart.rotation(x) @ point, twist_transform(x)
+    deflections = []
+    for force in np.eye(3):
+        twist = transform @ np.linalg.solve(plat.stiffness_matrix(x, 1e4),
+                                            transform.T @ np.concatenate([force, np.cross(arm, force)]))
+        deflections.append(twist[:3] + np.cross(twist[3:], arm))
+    assert largest[0] == pytest.approx(np.linalg.norm(np.array(deflections), 2), rel=1e-13)  # reached 2.2e-16
 
 
 def test_the_legs_stiffness_and_damping_as_parameters(tmp_path):

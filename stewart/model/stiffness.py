@@ -32,6 +32,7 @@ computed in compiled code (``stewart/_modes.pxi``: the model's functions and LAP
 
 from __future__ import annotations
 
+import math
 from typing import NamedTuple
 
 import numpy as np
@@ -90,7 +91,7 @@ def _stiffnesses(platform, stiffness) -> np.ndarray | float:
     """:func:`leg_coefficients` of ``stiffness``, or the parameters' ``leg_stiffness`` for None
     (``ValueError`` if they have none); one positive finite float as it is, the stiffness of every
     leg (:func:`~stewart.model.compiled.modal_terms` takes it so)."""
-    if type(stiffness) is float and 0.0 < stiffness < np.inf:
+    if type(stiffness) is float and math.isfinite(stiffness) and stiffness > 0.0:
         return stiffness
     if stiffness is None:
         stiffness = platform.params.leg_stiffness
@@ -200,8 +201,7 @@ def _damping_ratios(values: np.ndarray, shapes: np.ndarray, c: np.ndarray, jac: 
     state[:, 6:, :6] = -values[:, :, None] * np.eye(6)
     state[:, 6:, 6:] = -modal
     roots, vecs = np.linalg.eig(state)
-    weight = np.abs(vecs[:, :6, :]) ** 2                           # (n, mode, root)
-    owner = np.argmax(weight, axis=1)                              # (n, root)
+    owner = np.argmax(np.abs(vecs[:, :6, :]), axis=1)             # (n, root): the mode of each root
     ratios = np.full((n, 6), np.nan)
     for mode in range(6):
         mine = owner == mode
@@ -259,8 +259,7 @@ def _point(point) -> np.ndarray:
 def _compliances(terms: _Terms, point: np.ndarray, good: np.ndarray) -> np.ndarray:
     """``A K_t^-1 A^T`` ``(N, 6, 6)`` at the rows ``good`` of ``terms`` (NaN elsewhere): see
     :func:`compliance`."""
-    stiff = 0.5 * (terms.stiffness + np.swapaxes(terms.stiffness, -1, -2))
-    stiff[~good] = np.eye(6)
+    stiff = np.where(good[:, None, None], terms.stiffness, np.eye(6))
     arm = rotation(np.where(good[:, None], terms.x, 0.0)) @ point
     shift = np.broadcast_to(np.eye(6), stiff.shape).copy()
     shift[:, 0, 4], shift[:, 0, 5] = arm[:, 2], -arm[:, 1]

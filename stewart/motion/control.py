@@ -162,7 +162,7 @@ class ComputedTorque(Controller):
 
     @classmethod
     def tuned(cls, bandwidth_hz: float = 5.0) -> "ComputedTorque":
-        """Critically damped error dynamics at ``bandwidth_hz``: ``Kp = w^2``, ``Kd = 2 w``."""
+        """Critically damped error dynamics at ``bandwidth_hz`` (default 5 Hz): ``Kp = w^2``, ``Kd = 2 w``."""
         bandwidth_hz = _bandwidth(bandwidth_hz)
         w = np.float64(2.0 * np.pi * bandwidth_hz)
         with np.errstate(over="ignore"):
