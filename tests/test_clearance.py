@@ -114,6 +114,19 @@ def test_a_leg_rising_above_the_plate_is_flagged_at_its_hand_worked_tilt():
         assert bool(thick.flags[0] & reachability.LEG_THROUGH_PLATE) == flagged
 
 
+def test_legs_lying_in_the_plate_plane_cross_it_at_their_joints():
+    """Platform joints on a 0.3 m circle, base joints on a 0.5 m one, the plate lowered into the
+    base plane (z = 0, yawed or not): every leg lies in the plate's plane, where it meets it at
+    its own joint, 0.3 m from the centre, inside a 0.4 m plate (legs 0.1 m thick: they clear a
+    0.2 m plate by 0.05 m)."""
+    params = _vertical_legs(platform_points=hexapod_points(0.3, (0.0, 120.0, 240.0), 10.0), plate_radius=0.4)
+    poses = np.array([[0.0, 0.0, 0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.4, 0.0, 0.0]])
+    np.testing.assert_allclose(reachability.plate_crossings(params, poses), np.full((2, 6), 0.3), rtol=1e-15)
+    assert np.all(stewart.reachability(params, poses).flags & reachability.LEG_THROUGH_PLATE)
+    thick = params.replace(plate_radius=0.2, leg_diameter=0.1)
+    assert not np.any(stewart.reachability(thick, poses).flags & reachability.LEG_THROUGH_PLATE)
+
+
 def test_presets_name_their_plate_in_the_limits_in_force():
     for name, radius in (("narayan2017", 0.3), ("motion_simulator", 1.2)):
         params = stewart.PlatformParams.preset(name)
