@@ -35,10 +35,13 @@ def test_base_gap_of_a_hand_worked_tilt():
     r, c = 0.8, 0.5
     params = _vertical_legs(plate_radius=r, base_clearance=c)
     threshold = np.arcsin((1.0 - c) / r)
-    thetas = np.array([0.3, threshold * (1 - 1e-9), threshold * (1 + 1e-9), -threshold * (1 + 1e-9)])
+    thetas = np.array([0.3, threshold * (1 - 1e-9), threshold * (1 + 1e-9), -threshold * (1 + 1e-9), 1e-7])
     check = stewart.reachability(params, np.array([_pitched(t) for t in thetas]))
+    # (at 1e-7 rad, a sine from sqrt(1 - cos^2) would be 4e-4 off, the gap 3e-11 m)
     np.testing.assert_allclose(check.base_gap, 1.0 - r * np.abs(np.sin(thetas)), rtol=1e-14, atol=1e-15)
-    assert [bool(f & reachability.BELOW_BASE) for f in check.flags] == [False, False, True, True]
+    assert [bool(f & reachability.BELOW_BASE) for f in check.flags] == [False, False, True, True, False]
+    one = reachability.base_gaps(params, _pitched(0.3))
+    assert one.shape == () and one == pytest.approx(1.0 - r * np.sin(0.3), rel=1e-15)
     assert ("its plate is at a height of 0.5 m over the base plane, less than the base clearance 0.5 m"
             in check.reasons(2)[0])
     # Without the plate, the lowest spherical joint: 1 - 0.5 sin theta for the joints on the x axis's side.
