@@ -35,10 +35,13 @@ def test_base_gap_of_a_hand_worked_tilt():
     r, c = 0.8, 0.5
     params = _vertical_legs(plate_radius=r, base_clearance=c)
     threshold = np.arcsin((1.0 - c) / r)
-    thetas = np.array([0.3, threshold * (1 - 1e-9), threshold * (1 + 1e-9), -threshold * (1 + 1e-9)])
+    thetas = np.array([0.3, threshold * (1 - 1e-9), threshold * (1 + 1e-9), -threshold * (1 + 1e-9), 1e-7])
     check = stewart.reachability(params, np.array([_pitched(t) for t in thetas]))
+    # (at 1e-7 rad, a sine from sqrt(1 - cos^2) would be 4e-4 off, the gap 3e-11 m)
     np.testing.assert_allclose(check.base_gap, 1.0 - r * np.abs(np.sin(thetas)), rtol=1e-14, atol=1e-15)
-    assert [bool(f & reachability.BELOW_BASE) for f in check.flags] == [False, False, True, True]
+    assert [bool(f & reachability.BELOW_BASE) for f in check.flags] == [False, False, True, True, False]
+    one = reachability.base_gaps(params, _pitched(0.3))
+    assert one.shape == () and one == pytest.approx(1.0 - r * np.sin(0.3), rel=1e-15)
     assert ("its plate is at a height of 0.5 m over the base plane, less than the base clearance 0.5 m"
             in check.reasons(2)[0])
     # Without the plate, the lowest spherical joint: 1 - 0.5 sin theta for the joints on the x axis's side.
@@ -112,6 +115,19 @@ def test_a_leg_rising_above_the_plate_is_flagged_at_its_hand_worked_tilt():
     for radius, flagged in ((0.45 - 1e-6, False), (0.45 + 1e-6, True)):
         thick = stewart.reachability(_vertical_legs(plate_radius=radius, leg_diameter=0.1), beyond)
         assert bool(thick.flags[0] & reachability.LEG_THROUGH_PLATE) == flagged
+
+
+def test_legs_lying_in_the_plate_plane_cross_it_at_their_joints():
+    """Platform joints on a 0.3 m circle, base joints on a 0.5 m one, the plate lowered into the
+    base plane (z = 0, yawed or not): every leg lies in the plate's plane, where it meets it at
+    its own joint, 0.3 m from the centre, inside a 0.4 m plate (legs 0.1 m thick: they clear a
+    0.2 m plate by 0.05 m)."""
+    params = _vertical_legs(platform_points=hexapod_points(0.3, (0.0, 120.0, 240.0), 10.0), plate_radius=0.4)
+    poses = np.array([[0.0, 0.0, 0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.4, 0.0, 0.0]])
+    np.testing.assert_allclose(reachability.plate_crossings(params, poses), np.full((2, 6), 0.3), rtol=1e-15)
+    assert np.all(stewart.reachability(params, poses).flags & reachability.LEG_THROUGH_PLATE)
+    thick = params.replace(plate_radius=0.2, leg_diameter=0.1)
+    assert not np.any(stewart.reachability(thick, poses).flags & reachability.LEG_THROUGH_PLATE)
 
 
 def test_presets_name_their_plate_in_the_limits_in_force():

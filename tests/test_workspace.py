@@ -10,6 +10,7 @@ from cli_outputs import check_workspace_json
 import stewart
 from stewart.studies import execution, workspace
 from stewart.cli import main
+from stewart.model import reachability
 from stewart.model.presets import hexapod_points
 
 
@@ -68,6 +69,83 @@ def test_membership_agrees_with_forward_kinematics():
     assert len(reachable) == result.reachable > 50
     found = stewart.forward_kinematics(params, stewart.leg_lengths(params, reachable))
     np.testing.assert_allclose(found, reachable, atol=5e-11, rtol=5e-9)  # reached 1/65 of it
+
+
+def test_margin_and_flags_across_a_singularity_against_numpy(monkeypatch):
+    """The motion simulator yawed through its singularity near 1.575 rad: the margin (of
+    reachability and of margins) is numpy's inverse condition number, from the Gram matrix above
+    1e-2 and from an SVD of exactly the rows below it; the singular bit is set where numpy's
+    condition number passes 1000 and the assembly-mode bit where numpy's det J_C changes sign,
+    each named in the row's reasons."""
+    params = stewart.PlatformParams.preset("motion_simulator")
+    poses = stewart.home_pose(params) + np.outer(np.r_[0.0, np.linspace(1.50, 1.66, 17)], [0, 0, 0, 1, 0, 0])
+    radius = np.max(np.linalg.norm(params.platform_points - params.platform_points.mean(axis=0), axis=1))
+    unit_free = stewart.jacobian(params, poses) / np.r_[np.ones(3), np.full(3, radius)]
+    expected, det = 1.0 / np.linalg.cond(unit_free), np.linalg.det(unit_free)
+    assert np.sum(expected < 1e-2) == 5 and np.sum(expected < 1e-3) == 1 and np.sum(det < 0) == 9
+    decomposed = []
+    svd = np.linalg.svd
+    monkeypatch.setattr(np.linalg, "svd", lambda a, *args, **kw: (decomposed.append(len(a)), svd(a, *args, **kw))[1])
+    check = stewart.reachability(params, poses)
+    assert decomposed == [5]
+    np.testing.assert_allclose(check.margin, expected, rtol=2e-11)  # reached 4.5e-13 (eps / margin^2)
+    np.testing.assert_array_equal(reachability.margins(params, poses), check.margin)
+    np.testing.assert_array_equal(check.flags & workspace.SINGULAR != 0, expected < 1e-3)
+    np.testing.assert_array_equal(check.flags & workspace.OTHER_ASSEMBLY_MODE != 0, det < 0)
+    singular, other = np.flatnonzero(expected < 1e-3)[0], np.flatnonzero(det < 0)[0]
+    assert (f"J_C is singular or nearly so (condition number {1.0 / expected[singular]:.3g} > 1000)"
+            in check.reasons(singular))
+    assert ("det J_C has the other sign: the pose is in another assembly mode, beyond a singularity"
+            in check.reasons(other))
+
+
+def test_reasons_name_the_legs_and_the_message_the_first_row():
+    """Vertical legs (1 m at z = 1, stroke 0.8-1.2 m) rolled by phi: leg i is sqrt((y_i (cos phi
+    - 1))^2 + (1 + y_i sin phi)^2) long, leg 5 too short and leg 2 too long at phi = 0.5; at
+    z = 1.3 all six are 1.3 m. The message reports the first row of each problem and how many
+    more share it; these legs are parallel at home, a singular pose."""
+    params = _vertical_legs().replace(universal_joint_max_angle=None, spherical_joint_max_angle=None,
+                                      leg_diameter=None, plate_radius=None)
+    phi = 0.5
+    y = params.platform_points[:, 1]
+    rolled = np.sqrt((y * (np.cos(phi) - 1)) ** 2 + (1 + y * np.sin(phi)) ** 2)
+    assert np.flatnonzero(rolled < 0.8).tolist() == [5] and np.flatnonzero(rolled > 1.2).tolist() == [2]
+    check = stewart.reachability(params, [[0, 0, 1.0, 0, 0, phi], [0, 0, 1.0, 0, 0, 0], [0, 0, 1.3, 0, 0, 0]])
+    short = f"leg(s) [5] shorter than the minimum length 0.8 m ({rolled[5]:.6g} m)"
+    long = f"leg(s) [2] longer than the maximum length 1.2 m ({rolled[2]:.6g} m)"
+    assert check.reasons(0)[:2] == [short, long]
+    assert check.reasons(2)[0] == "leg(s) [0, 1, 2, 3, 4, 5] longer than the maximum length 1.2 m " \
+                                  "(1.3, 1.3, 1.3, 1.3, 1.3, 1.3 m)"
+    parts = check.message(times=[0.0, 0.5, 1.0]).split("; ")
+    assert parts[0] == f"3 of 3 pose(s) outside the workspace: {short} at t = 0 s"
+    assert parts[1] == f"{long} at t = 0 s and 1 more"
+    assert parts[2].startswith("J_C is singular") and parts[2].endswith("at t = 0 s and 2 more") and len(parts) == 3
+    assert check.message("sample").split("; ")[1] == f"{long} at row 0 and 1 more"
+
+
+def test_euler_singular_poses_from_the_hand_worked_threshold():
+    """theta is refused where |cos theta| < 1e-3: from acos(1e-3) on either side of zero."""
+    params = _vertical_legs().replace(leg_length_limits=None, universal_joint_max_angle=None,
+                                      spherical_joint_max_angle=None, leg_diameter=None, plate_radius=None)
+    edge = np.arccos(1e-3)
+    poses = [[0, 0, 1.0, 0, theta, 0] for theta in (edge * (1 - 1e-9), edge * (1 + 1e-9), -edge * (1 + 1e-9),
+                                                     np.pi / 2, -edge * (1 - 1e-9))]
+    check = stewart.reachability(params, poses)
+    assert [bool(f & workspace.EULER_SINGULAR) for f in check.flags] == [False, True, True, True, False]
+    for row in (1, 2, 3):  # J_C is singular there too
+        first, then = check.reasons(row)
+        assert first.startswith("J_C is singular") and then == "theta = +-90 deg, where the Euler angles are singular"
+
+
+def test_long_trajectories_are_checked_in_blocks(monkeypatch):
+    """Blocks of two poses: every row is still checked, against its hand-worked leg lengths
+    (vertical legs of length z)."""
+    monkeypatch.setattr(reachability, "_BLOCK", 2)
+    z = np.array([0.7, 0.9, 1.0, 1.25, 1.1])
+    check = stewart.reachability(_vertical_legs(), np.column_stack([np.zeros((5, 2)), z, np.zeros((5, 3))]))
+    np.testing.assert_allclose(check.lengths, np.repeat(z[:, None], 6, axis=1), rtol=1e-15)
+    np.testing.assert_array_equal(check.flags & workspace.LEG_TOO_SHORT != 0, z < 0.8)
+    np.testing.assert_array_equal(check.flags & workspace.LEG_TOO_LONG != 0, z > 1.2)
 
 
 # ---------------------------------------------------------------- joint limits and clearance

@@ -443,8 +443,9 @@ def base_gaps(params, poses) -> np.ndarray:
     plane through the highest universal joint) at ``poses`` (``(6,)`` or ``(N, 6)``) of
     ``params`` (a :class:`~stewart.PlatformParams` or :class:`~stewart.Platform`): of the lowest spherical
     joint, ``p_z + (R p_i)_z`` (eq. 3), and with ``params.plate_radius`` ``r`` of the lowest
-    point of the plate's rim, ``c_z - r sqrt(1 - (R e_z)_z^2)`` with ``c`` the plate's centre
-    (the rim's lowest point lies along the plate's steepest descent); ``(...)``."""
+    point of the plate's rim, ``c_z - r sin(tilt)`` with ``c`` the plate's centre and
+    ``sin(tilt) = |e_z x R^T e_z| = sqrt(1 - (R e_z)_z^2)`` (the rim's lowest point lies along the
+    plate's steepest descent); ``(...)``."""
     x = arguments.states("poses", poses)
     rows = np.atleast_2d(x)
     with np.errstate(all="ignore"):
@@ -456,7 +457,7 @@ def _base_gaps(params: PlatformParams, x: np.ndarray, rot: np.ndarray) -> np.nda
     heights = x[:, 2:3] + np.einsum("ik,nk->ni", params.platform_points, rot[:, 2, :])
     lowest = np.min(heights, axis=1)
     if params.plate_radius is not None:
-        tilt = np.sqrt(np.maximum(0.0, 1.0 - rot[:, 2, 2] ** 2))  # sine of the plate's tilt
+        tilt = np.hypot(rot[:, 2, 0], rot[:, 2, 1])  # sine of the plate's tilt: |e_z x R^T e_z|
         centre = x[:, 2] + rot[:, 2, 2] * _plate_height(params)
         lowest = np.minimum(lowest, centre - params.plate_radius * tilt)
     return lowest - np.max(params.base_points[:, 2])
