@@ -398,3 +398,25 @@ def test_a_region_inside_the_workspace_is_all_reachable_and_clipped():
         assert result.reachable == result.samples and result.volume == pytest.approx(1e-3, rel=1e-12)
         assert result.clipped == ("x", "y", "z") and result.excluded == {}
     assert result.volume_error == 0.0
+
+
+def test_axis_excursions_in_heave_against_the_stroke_by_hand():
+    """Along z alone, with the stroke the only limit, the excursion is where the first leg
+    reaches an end of its stroke: l_i(dz) = sqrt(d_i^2 + (h_i + dz)^2) with d_i its horizontal
+    span and h_i its height at home, so up to min_i sqrt(L_max^2 - d_i^2) - h_i and down to
+    min_i h_i - sqrt(L_min^2 - d_i^2); the grid of 2000 steps gives the last step inside."""
+    params = stewart.PlatformParams.preset("narayan2017").replace(
+        universal_joint_max_angle=None, spherical_joint_max_angle=None)
+    home = stewart.home_pose(params)
+    legs = home[:3] + params.platform_points - params.base_points
+    span_sq, height = np.sum(legs[:, :2] ** 2, axis=1), legs[:, 2]
+    low, high = params.leg_length_limits
+    up = np.min(np.sqrt(high ** 2 - span_sq) - height)
+    down = np.min(height - np.sqrt(low ** 2 - span_sq))
+    limit = 0.2
+    step = limit / 2000
+    got = reachability.axis_excursions(params, limit)[2]
+    assert min(up, down) - step < got <= min(up, down)
+    assert got == pytest.approx(np.floor(min(up, down) / step) * step, rel=0, abs=1e-15)
+    # nothing stops a yaw of 0.002 rad: the excursion is the limit itself
+    assert reachability.axis_excursions(params, 0.002)[5] == 0.002
