@@ -382,3 +382,43 @@ def test_fuzz_mpc_is_within_limits_or_says_so(simulator, scale, seed):
     within = result.inside and not result.beyond_limits
     assert result.exit_code == (0 if within else 3)
     assert within or result.problems
+
+
+def test_settings_file_round_trips_through_the_report(tmp_path):
+    """A settings file giving every key (none at its default): MPCParams.load reads each into
+    its field (the tilt rate from deg/s into rad/s), and to_dict, the report's ``settings``,
+    gives the file's sections and values back."""
+    import tomllib
+
+    text = ("[horizon]\nduration = 0.6\nsteps = 4\npreview = true\n\n"
+            "[weights]\nspecific_force = [1.0, 2.0, 3.0]\nangular_velocity = [0.5, 0.25, 0.125]\n"
+            "position = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6]\nvelocity = [0.02, 0.02, 0.02, 0.03, 0.03, 0.03]\n"
+            "acceleration = [0.002, 0.002, 0.002, 0.004, 0.004, 0.004]\n\n"
+            "[limits]\nforce = 5000.0\nmargin = 0.2\nleg_velocity = 0.5\nstroke_margin = 0.02\ntilt_rate = 4.0\n"
+            "box = [0.1, 0.1, 0.1, 0.2, 0.2, 0.2]\n")
+    path = tmp_path / "m.toml"
+    path.write_text(text)
+    params = MPCParams.load(path)
+    assert (params.duration, params.steps, params.preview, params.force) == (0.6, 4, True, 5000.0)
+    assert params.tilt_rate == pytest.approx(4.0 * np.pi / 180, rel=1e-15)
+    assert params.box == (0.1, 0.1, 0.1, 0.2, 0.2, 0.2) and params.source == str(path)
+    written = params.to_dict()
+    assert written["limits"].pop("tilt_rate") == pytest.approx(4.0, rel=1e-15)
+    wanted = tomllib.loads(text)
+    del wanted["limits"]["tilt_rate"]
+    assert written == wanted
+
+
+def test_step_times_are_the_wall_times_of_the_steps(simulator):
+    """Plan.step_time: each step's wall time covers its QP solver's own time, and the steps
+    together take no longer than the whole run, timed here around it."""
+    import time
+
+    t = np.arange(25) * 0.02
+    log = VehicleLog(t, np.column_stack([2.0 * np.sin(3 * t), 0 * t, 9.81 + 0 * t]), np.zeros((len(t), 3)), "short")
+    start = time.perf_counter()
+    run = predictive.plan(log, simulator, MPCParams.for_platform(simulator))
+    wall = time.perf_counter() - start
+    assert run.failures == 0 and np.all(run.solve_time > 0)
+    assert np.all(run.step_time >= run.solve_time)
+    assert np.sum(run.step_time) <= wall
