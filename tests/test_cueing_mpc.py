@@ -422,3 +422,123 @@ def test_step_times_are_the_wall_times_of_the_steps(simulator):
     assert run.failures == 0 and np.all(run.solve_time > 0)
     assert np.all(run.step_time >= run.solve_time)
     assert np.sum(run.step_time) <= wall
+
+
+def _rider_signals(x, v, a, gravity):
+    """Eq. 8 written out, complex-safe for complex-step derivatives: ``f = R^T (a + g e_z)``
+    and ``w = R^T J_A [psi', theta', phi']`` at {P}'s origin."""
+    from stewart.model.kinematics import euler_rate_jacobian, rotation
+
+    r = rotation(x)
+    f = np.einsum("nji,nj->ni", r, a[:, :3] + np.array([0.0, 0.0, gravity]))
+    w = np.einsum("nji,nj->ni", r, np.einsum("nij,nj->ni", euler_rate_jacobian(x), v[:, 3:]))
+    return np.column_stack([f, w])
+
+
+def _integrate(qp, x0, v0, z0, vehicle, u):
+    """The prediction model of stewart.cueing.prediction's docstring, integrated here: per
+    interval ``h`` the input ``u_k`` held (``p+ = p + h v + h^2/2 u``, ``v+ = v + h u``), the
+    rider's signals at the interval's midpoint, and the vestibular error states advanced by
+    the zero-order hold of ``(A, B)`` (scipy's ``cont2discrete``) under the platform's signals
+    less the vehicle's. ``(N, 6)``, ``(N, 6)``, ``(N, nz)`` at the intervals' ends."""
+    vs = qp.vestibular
+    u = u.reshape(qp.n, 6)
+    x, v, z = x0 + 0 * u[0], v0 + 0 * u[0], z0 + 0j * u[0, 0]
+    xs, rates, zs = [], [], []
+    hold = {h: signal.cont2discrete((vs.A, vs.B, np.eye(vs.n), np.zeros((vs.n, 6))), h, method="zoh")[:2]
+            for h in set(qp.h)}
+    for k, h in enumerate(qp.h):
+        ad, bd = hold[h]
+        y = _rider_signals((x + 0.5 * h * v + 0.125 * h * h * u[k])[None], (v + 0.5 * h * u[k])[None], u[k][None],
+                           qp.params.gravity)[0]
+        z = ad @ z + bd @ (y - vehicle[k])
+        x, v = x + h * v + 0.5 * h * h * u[k], v + h * u[k]
+        xs.append(x), rates.append(v), zs.append(z)
+    return np.array(xs), np.array(rates), np.array(zs)
+
+
+def test_qp_rows_are_the_exact_model_at_the_last_plans_inputs(simulator):
+    """Intervals of one log sample: the second step linearizes about the first step's plan
+    shifted by one sample, a motion of the double integrator itself. At those inputs every
+    row of the condensed QP is the exact value (the states by integration here, the
+    vestibular states by simulation here, the legs rows by the exact kinematics and joint
+    angles, the force rows by the inverse dynamics), and the rows' gradients are the exact
+    derivatives (complex step through the integration here for the states, Richardson
+    differences of the exact kinematics and dynamics along the states for the others)."""
+    from stewart.model.reachability import joint_angles
+
+    dt = 0.01
+    qp = predictive.CueingQP(simulator, MPCParams.for_platform(simulator, steps=5, duration=5 * dt), dt)
+    n, home = qp.n, qp.home
+    rng = np.random.default_rng(7)
+    vehicle = np.array([3.0, -2.0, 9.81, 0.2, -0.3, 0.1]) + 0.5 * rng.normal(size=(n, 6))
+    # a first plan from rest, then the state one sample along it
+    u_first, x_first, v_first, _ = qp.solve(home, np.zeros(6), np.zeros(qp.vestibular.n), vehicle)
+    x0, v0, z0 = x_first[1], v_first[1], 0.1 * rng.normal(size=qp.vestibular.n)
+    u_lin = np.vstack([u_first[1:], u_first[-1:]]).ravel()
+    assert np.max(np.abs(u_lin)) > 0.5  # a real motion to linearize about
+    _, _, M, lo, _, S, d = qp.condensed(x0, v0, z0, vehicle)
+
+    def states(u):
+        s = np.einsum("kaj,j->ka", S, u) + d
+        return s[:, :6] + home, s[:, 6:12], s[:, 12:]
+
+    # the poses and rates: linear in u, exact for any u (reached 2.2e-16, bound 1e-14)
+    for u in (u_lin, u_lin + rng.normal(size=6 * n)):
+        x, v, _ = states(u)
+        xi, vi, _ = _integrate(qp, x0, v0, z0, vehicle, u)
+        assert np.max(np.abs(x - xi.real)) < 1e-14 and np.max(np.abs(v - vi.real)) < 1e-14
+    # the vestibular states at u_lin and their derivatives by complex step: reached 5e-16 of
+    # the states' size and 1.6e-15 of the derivatives'
+    _, _, z = states(u_lin)
+    zi = _integrate(qp, x0, v0, z0, vehicle, u_lin)[2].real
+    assert np.max(np.abs(z - zi)) < 5e-14 * np.max(np.abs(zi))
+    dz = np.array([_integrate(qp, x0, v0, z0, vehicle, u_lin + 1e-30j * e)[2].imag / 1e-30
+                   for e in np.eye(6 * n)]).transpose(1, 2, 0)
+    assert np.max(np.abs(S[:, 12:] - dz)) < 1e-13 * np.max(np.abs(dz))
+
+    # the rows' values at u_lin and derivatives along random directions (Richardson, error ~h^4);
+    # the rows are lo <= M u <= hi with lo = the limit less the row's constant: the limits by hand
+    # from the settings' documentation (the machine's at the next sample; over the horizon the
+    # stroke less stroke_margin, (1 - margin) of the leg speed and force, the cones less CONE_MARGIN)
+    legs, force = qp.rows["legs"], qp.rows["force"]
+    prm, pp = qp.params, simulator.params
+    cones = np.repeat([pp.universal_joint_max_angle, pp.spherical_joint_max_angle], 6)
+    next_low = np.concatenate([np.full(6, pp.leg_length_limits[0]), np.full(6, -prm.leg_velocity), np.cos(cones)])
+    horizon_low = {"stroke": pp.leg_length_limits[0] + prm.stroke_margin, "speed": -(1 - prm.margin) * prm.leg_velocity,
+                   "cones": np.tile(np.cos(cones - predictive.CONE_MARGIN), n)}
+
+    def exact(u):
+        """The legs rows at the next sample (u_0 held over dt), the stroke, speed and cone rows
+        at the intervals' ends, and the forces at their starts, from the library's exact
+        kinematics, joint angles and inverse dynamics."""
+        x, v, _ = states(u)
+        u0 = u[:6]
+        x1, v1 = x0 + dt * v0 + 0.5 * dt * dt * u0, v0 + dt * u0
+        ends = np.vstack([x1, x]), np.vstack([v1, v])
+        lengths, speeds = simulator.leg_rates(*ends)
+        cosines = np.cos(np.concatenate(joint_angles(simulator.params, ends[0]), axis=1))
+        starts = np.vstack([x0, x[:-1]]), np.vstack([v0, v[:-1]])
+        forces = simulator.inverse_dynamics(*starts, u.reshape(n, 6))
+        return (np.concatenate([lengths[0], speeds[0], cosines[0]]),
+                np.column_stack([lengths[1:], speeds[1:], cosines[1:]]), forces.ravel())
+
+    def linear(u):
+        horizon = [(M[qp.rows[g]] @ u - (lo[qp.rows[g]] - horizon_low[g])).reshape(n, -1)
+                   for g in ("stroke", "speed", "cones")]
+        return M[legs] @ u - (lo[legs] - next_low), np.column_stack(horizon), \
+            M[force] @ u - (lo[force] + (1 - prm.margin) * prm.force)
+
+    # reached 2.2e-16 (m, m/s, cosines), 4.4e-16 and 2e-12 N (of forces up to 7e3 N)
+    for got, want, bound in zip(linear(u_lin), exact(u_lin), (2e-14, 2e-14, 2e-10)):
+        assert np.max(np.abs(got - want)) < bound
+    for _ in range(2):
+        direction = rng.normal(size=6 * n)
+
+        def along(step):
+            a, b = exact(u_lin + step * direction), exact(u_lin - step * direction)
+            return [(p - m) / (2 * step) for p, m in zip(a, b)]
+        numeric = [(4 * p - m) / 3 for p, m in zip(along(5e-3), along(1e-2))]
+        slopes = [linear(direction)[k] - linear(np.zeros(6 * n))[k] for k in range(3)]
+        for got, want in zip(slopes, numeric):
+            assert np.max(np.abs(got - want)) < 1e-10 * np.max(np.abs(want))  # reached 2.5e-12 (rounding)
