@@ -542,3 +542,38 @@ def test_qp_rows_are_the_exact_model_at_the_last_plans_inputs(simulator):
         slopes = [linear(direction)[k] - linear(np.zeros(6 * n))[k] for k in range(3)]
         for got, want in zip(slopes, numeric):
             assert np.max(np.abs(got - want)) < 1e-10 * np.max(np.abs(want))  # reached 2.5e-12 (rounding)
+
+
+def test_comparison_figure_shows_both_methods_on_one_time_axis(simulator, shipped, tmp_path, monkeypatch):
+    """stewart.cueing.comparison.plot of the braking (MPC with its closed loop, washout without):
+    per channel the vehicle's, washout's and MPC's perceived signals (MPC's achieved by the
+    closed loop), below them each method's leg forces against the force limit +-F, all eight
+    panels on one shared time axis, its tick labels on the bottom row only."""
+    pytest.importorskip("matplotlib")
+    import matplotlib.figure
+
+    from stewart.cueing import comparison, washout
+
+    m = shipped("hard_braking")
+    w = washout(read_log(os.path.join(EXAMPLES, "hard_braking.csv")), simulator)
+    figures = []  # (not rendered)
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", lambda fig, *a, **k: figures.append(fig))
+    row = {"name": "hard_braking", "results": (w, m), "limits": m.limits}
+    comparison.plot(row, "motion_simulator", str(tmp_path / "c.png"))
+    (fig,) = figures
+    axes = np.array(fig.axes).reshape(4, 2)
+    for j, name in enumerate(vestibular.CHANNELS):
+        ax = axes[j % 3, j // 3]
+        lines = {line.get_label(): line.get_ydata() for line in ax.get_lines()}
+        np.testing.assert_array_equal(lines["vehicle"], w.vehicle.channels[:, j])
+        np.testing.assert_array_equal(lines["washout"], w.platform.channels[:, j])
+        np.testing.assert_array_equal(lines["MPC"], m.achieved.channels[:, j])
+    limit = m.limits["force"]
+    for ax in axes[3]:
+        levels = sorted(line.get_ydata()[0] for line in ax.get_lines() if len(set(line.get_ydata())) == 1)
+        assert levels == [-limit, limit]
+    forces = np.column_stack([line.get_ydata() for line in axes[3, 1].get_lines()[:6]])
+    np.testing.assert_array_equal(forces, m.simulation.forces)
+    for ax in axes.ravel():
+        assert ax.get_shared_x_axes().joined(ax, axes[0, 0])
+        assert any(label.get_visible() for label in ax.get_xticklabels()) == (ax in axes[3])
