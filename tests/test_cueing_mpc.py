@@ -577,3 +577,35 @@ def test_comparison_figure_shows_both_methods_on_one_time_axis(simulator, shippe
     for ax in axes.ravel():
         assert ax.get_shared_x_axes().joined(ax, axes[0, 0])
         assert any(label.get_visible() for label in ax.get_xticklabels()) == (ax in axes[3])
+
+
+def test_qp_cost_is_the_documented_weighted_sum(simulator):
+    """The condensed cost ``u^T H u / 2 + q^T u`` is, but for a constant, half the module
+    docstring's ``sum_k h_k (|W_e C z_k|^2 + |W_p p_k|^2 + |W_v v_k|^2 + |W_u u_k|^2)``, each
+    error over its perception threshold (vestibular.THRESHOLDS) or the pose box (per second,
+    per second squared) and weighted by MPCParams' weights, written out here over the
+    predicted states ``S u + d`` (themselves checked against an integration above)."""
+    weights = dict(specific_force=(1.0, 2.0, 3.0), angular_velocity=(0.5, 0.7, 0.9), position=(0.1, 0.2, 0.3, 0.4, 0.5, 0.6),
+                   velocity=(0.01, 0.02, 0.03, 0.04, 0.05, 0.06), acceleration=(1e-3, 2e-3, 3e-3, 4e-3, 5e-3, 6e-3))
+    qp = _qp(simulator, steps=4, duration=0.2, **weights)
+    rng = np.random.default_rng(8)
+    x0 = qp.home + 0.05 * rng.normal(size=6)
+    v0, z0 = 0.1 * rng.normal(size=6), 0.1 * rng.normal(size=qp.vestibular.n)
+    vehicle = np.array([1.0, -1.0, 9.81, 0.1, -0.1, 0.05]) + 0.2 * rng.normal(size=(qp.n, 6))
+    H, q, _, _, _, S, d = qp.condensed(x0, v0, z0, vehicle)
+    thresholds = np.array([vestibular.THRESHOLDS[c] for c in vestibular.CHANNELS])
+    box = np.asarray(qp.params.box)
+
+    def cost(u):
+        s = np.einsum("kaj,j->ka", S, u) + d
+        perceived = s[:, 12:] @ qp.vestibular.C.T / thresholds
+        terms = (np.sum(np.concatenate([weights["specific_force"], weights["angular_velocity"]]) * perceived ** 2, 1)
+                 + np.sum(np.array(weights["position"]) * (s[:, :6] / box) ** 2, 1)
+                 + np.sum(np.array(weights["velocity"]) * (s[:, 6:12] / box) ** 2, 1)
+                 + np.sum(np.array(weights["acceleration"]) * (u.reshape(qp.n, 6) / box) ** 2, 1))
+        return np.sum(qp.h * terms)
+
+    for _ in range(3):
+        u = rng.normal(size=6 * qp.n)
+        want = 0.5 * (cost(u) - cost(np.zeros_like(u)))
+        assert abs(0.5 * u @ H @ u + q @ u - want) <= 1e-14 * cost(u)  # reached 1.3e-16 of the cost
