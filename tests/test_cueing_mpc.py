@@ -609,3 +609,23 @@ def test_qp_cost_is_the_documented_weighted_sum(simulator):
         u = rng.normal(size=6 * qp.n)
         want = 0.5 * (cost(u) - cost(np.zeros_like(u)))
         assert abs(0.5 * u @ H @ u + q @ u - want) <= 1e-14 * cost(u)  # reached 1.3e-16 of the cost
+
+
+@pytest.mark.parametrize("preview", [True, False])
+def test_the_plan_leaves_rest_when_the_vehicles_signals_it_sees_do(simulator, preview):
+    """A vehicle at rest until a step of specific force at T = 0.4 s (log samples 20 ms apart,
+    four intervals of 0.1 s): the plan stays exactly at rest while every signal it predicts
+    with is the rest's (nothing to cue, a zero cost at zero input) and moves at the first
+    sample where one is not. With preview the signals are the log's at the intervals'
+    midpoints, ``t_k + 0.05 ... t_k + 0.35`` s, interpolated between samples: the last
+    midpoint passes the last rest sample (0.38 s) first at t_k = 0.04 s. Without preview the
+    present value is held: the plan moves at T itself."""
+    dt = 0.02
+    t = np.arange(26) * dt
+    f = np.tile([0.0, 0.0, 9.81], (len(t), 1))
+    f[t >= 0.4 - dt / 2, 0] = 2.0
+    log = VehicleLog(t, f, np.zeros((len(t), 3)), "step")
+    run = predictive.plan(log, simulator, MPCParams.for_platform(simulator, duration=0.4, steps=4, preview=preview))
+    first = 2 if preview else 20
+    assert np.all(run.u[:first] == 0.0) and np.all(run.x[:first + 1] == simulator.home_pose)
+    assert np.max(np.abs(run.u[first])) > 1e-3
