@@ -100,7 +100,8 @@ XDIST_GROUPS = {
     "test_bitwise.py": "the results of the path that runs everywhere, computed once",
     "test_readme.py::test_readme_command_runs": "a shell session: a command reads what an earlier one wrote",
     ("test_cueing_mpc.py::test_closed_loop_stays_within_limits",
-     "test_cueing_mpc.py::test_mpc_beats_washout"): "MPC on each shipped maneuver, planned once",
+     "test_cueing_mpc.py::test_mpc_beats_washout",
+     "test_cueing_mpc.py::test_comparison_figure"): "MPC on each shipped maneuver, planned once",
 }
 
 

@@ -311,3 +311,46 @@ def test_fuzz_washout_is_finite_and_limited_into_the_workspace(simulator, scale,
     result = washout(VehicleLog(t, f, w, name="random"), plat, params)
     assert np.all(np.isfinite(result.poses))
     assert result.inside and not result.problems and result.exit_code == 0
+
+
+def test_metrics_against_hand_values():
+    """stewart.cueing.metrics.compare on signals built to known answers: a Gaussian pulse and
+    the same pulse 0.3 s later (delay 0.3 s, the cross-correlation's peak by symmetry), a
+    signal and -2 times it plus a constant (correlation -1), constant channels (no
+    correlation, no delay), and a platform rate above the yaw threshold for 0.25 s while the
+    vehicle's is still (0.25 s of false cue)."""
+    from stewart.cueing import metrics
+    from stewart.cueing.vestibular import THRESHOLDS, Perceived
+
+    dt = 0.01
+    t = np.arange(1000) * dt
+    pulse = lambda centre: np.exp(-(((t - centre) / 0.2) ** 2))  # noqa: E731
+    wave = np.sin(2 * np.pi * 0.3 * t)
+    yaw = np.where((t >= 2.0 - dt / 2) & (t < 2.25 - dt / 2), 2.0 * THRESHOLDS["wz"], 0.0)
+    vehicle = Perceived(t, np.column_stack([pulse(3.0), wave, np.full_like(t, 9.81)]),
+                        np.column_stack([0.1 * wave, 0 * t, 0 * t]))
+    platform = Perceived(t, np.column_stack([pulse(3.3), -2.0 * wave + 0.5, np.full_like(t, 9.81)]),
+                         np.column_stack([0 * t + 0.01, 0 * t, yaw]))
+    m = metrics.compare(vehicle, platform)
+    assert m["delay_s"]["fx"] == pytest.approx(0.3, abs=1e-12)
+    assert m["delay_s"]["fz"] is None and m["delay_s"]["wx"] is None  # a constant signal has no lag
+    assert m["correlation"]["fy"] == pytest.approx(-1.0, abs=1e-12)
+    assert m["correlation"]["fx"] == pytest.approx(np.corrcoef(pulse(3.0), pulse(3.3))[0, 1], rel=1e-12)
+    # either signal constant: no correlation (not NaN)
+    assert m["correlation"]["fz"] is None and m["correlation"]["wx"] is None and m["correlation"]["wz"] is None
+    # RMS of the difference: -3 sin + 0.5 has mean square 9/2 + 1/4 over whole periods (10 s of 0.3 Hz: 3)
+    assert m["perceived_error_rms"]["fy"] == pytest.approx(math.sqrt(4.5 + 0.25), rel=1e-12)
+    assert m["perceived_error_rms"]["fz"] == 0.0
+    # 25 samples of yaw rate twice the threshold while the vehicle's is zero
+    assert m["false_cue_s"]["wz"] == pytest.approx(0.25, abs=1e-12)
+    assert m["false_cue_s"]["fz"] == 0.0 and m["false_cue_s"]["wy"] == 0.0
+
+
+@pytest.mark.parametrize("degrees", [90.0, 120.0, -5.0])
+def test_tilt_angle_limit_outside_0_to_90_degrees_is_refused(degrees):
+    """tilt.max_angle in [0, 90) deg: a tilt of 90 deg or more (gravity no longer a forward
+    force) or below 0 is a ValueError naming the setting and the value in degrees."""
+    with pytest.raises(ValueError, match=r"^defaults: tilt\.max_angle: must be in \[0, 90\) deg, got ") as error:
+        WashoutParams(tilt_max_angle=math.radians(degrees))
+    assert float(str(error.value).rsplit(" ", 1)[1]) == pytest.approx(degrees, rel=1e-14)  # the radians' round trip
+    assert WashoutParams(tilt_max_angle=math.radians(89.9)).tilt_max_angle == math.radians(89.9)

@@ -382,3 +382,250 @@ def test_fuzz_mpc_is_within_limits_or_says_so(simulator, scale, seed):
     within = result.inside and not result.beyond_limits
     assert result.exit_code == (0 if within else 3)
     assert within or result.problems
+
+
+def test_settings_file_round_trips_through_the_report(tmp_path):
+    """A settings file giving every key (none at its default): MPCParams.load reads each into
+    its field (the tilt rate from deg/s into rad/s), and to_dict, the report's ``settings``,
+    gives the file's sections and values back."""
+    import tomllib
+
+    text = ("[horizon]\nduration = 0.6\nsteps = 4\npreview = true\n\n"
+            "[weights]\nspecific_force = [1.0, 2.0, 3.0]\nangular_velocity = [0.5, 0.25, 0.125]\n"
+            "position = [0.1, 0.2, 0.3, 0.4, 0.5, 0.6]\nvelocity = [0.02, 0.02, 0.02, 0.03, 0.03, 0.03]\n"
+            "acceleration = [0.002, 0.002, 0.002, 0.004, 0.004, 0.004]\n\n"
+            "[limits]\nforce = 5000.0\nmargin = 0.2\nleg_velocity = 0.5\nstroke_margin = 0.02\ntilt_rate = 4.0\n"
+            "box = [0.1, 0.1, 0.1, 0.2, 0.2, 0.2]\n")
+    path = tmp_path / "m.toml"
+    path.write_text(text)
+    params = MPCParams.load(path)
+    assert (params.duration, params.steps, params.preview, params.force) == (0.6, 4, True, 5000.0)
+    assert params.tilt_rate == pytest.approx(4.0 * np.pi / 180, rel=1e-15)
+    assert params.box == (0.1, 0.1, 0.1, 0.2, 0.2, 0.2) and params.source == str(path)
+    written = params.to_dict()
+    assert written["limits"].pop("tilt_rate") == pytest.approx(4.0, rel=1e-15)
+    wanted = tomllib.loads(text)
+    del wanted["limits"]["tilt_rate"]
+    assert written == wanted
+
+
+def test_step_times_are_the_wall_times_of_the_steps(simulator):
+    """Plan.step_time: each step's wall time covers its QP solver's own time, and the steps
+    together take no longer than the whole run, timed here around it."""
+    import time
+
+    t = np.arange(25) * 0.02
+    log = VehicleLog(t, np.column_stack([2.0 * np.sin(3 * t), 0 * t, 9.81 + 0 * t]), np.zeros((len(t), 3)), "short")
+    start = time.perf_counter()
+    run = predictive.plan(log, simulator, MPCParams.for_platform(simulator))
+    wall = time.perf_counter() - start
+    assert run.failures == 0 and np.all(run.step_time > 0)
+    assert np.all(run.step_time >= run.solve_time)
+    assert np.sum(run.step_time) <= wall
+
+
+def _rider_signals(x, v, a, gravity):
+    """Eq. 8 written out, complex-safe for complex-step derivatives: ``f = R^T (a + g e_z)``
+    and ``w = R^T J_A [psi', theta', phi']`` at {P}'s origin."""
+    from stewart.model.kinematics import euler_rate_jacobian, rotation
+
+    r = rotation(x)
+    f = np.einsum("nji,nj->ni", r, a[:, :3] + np.array([0.0, 0.0, gravity]))
+    w = np.einsum("nji,nj->ni", r, np.einsum("nij,nj->ni", euler_rate_jacobian(x), v[:, 3:]))
+    return np.column_stack([f, w])
+
+
+def _integrate(qp, x0, v0, z0, vehicle, u):
+    """The prediction model of stewart.cueing.prediction's docstring, integrated here: per
+    interval ``h`` the input ``u_k`` held (``p+ = p + h v + h^2/2 u``, ``v+ = v + h u``), the
+    rider's signals at the interval's midpoint, and the vestibular error states advanced by
+    the zero-order hold of ``(A, B)`` (scipy's ``cont2discrete``) under the platform's signals
+    less the vehicle's. ``(N, 6)``, ``(N, 6)``, ``(N, nz)`` at the intervals' ends."""
+    vs = qp.vestibular
+    u = u.reshape(qp.n, 6)
+    x, v, z = x0 + 0 * u[0], v0 + 0 * u[0], z0 + 0j * u[0, 0]
+    xs, rates, zs = [], [], []
+    hold = {h: signal.cont2discrete((vs.A, vs.B, np.eye(vs.n), np.zeros((vs.n, 6))), h, method="zoh")[:2]
+            for h in set(qp.h)}
+    for k, h in enumerate(qp.h):
+        ad, bd = hold[h]
+        y = _rider_signals((x + 0.5 * h * v + 0.125 * h * h * u[k])[None], (v + 0.5 * h * u[k])[None], u[k][None],
+                           qp.params.gravity)[0]
+        z = ad @ z + bd @ (y - vehicle[k])
+        x, v = x + h * v + 0.5 * h * h * u[k], v + h * u[k]
+        xs.append(x), rates.append(v), zs.append(z)
+    return np.array(xs), np.array(rates), np.array(zs)
+
+
+def test_qp_rows_are_the_exact_model_at_the_last_plans_inputs(simulator):
+    """Intervals of one log sample: the second step linearizes about the first step's plan
+    shifted by one sample, a motion of the double integrator itself. At those inputs every
+    row of the condensed QP is the exact value (the states by integration here, the
+    vestibular states by simulation here, the legs rows by the exact kinematics and joint
+    angles, the force rows by the inverse dynamics), and the rows' gradients are the exact
+    derivatives (complex step through the integration here for the states, Richardson
+    differences of the exact kinematics and dynamics along the states for the others)."""
+    from stewart.model.reachability import joint_angles
+
+    dt = 0.01
+    qp = predictive.CueingQP(simulator, MPCParams.for_platform(simulator, steps=5, duration=5 * dt), dt)
+    n, home = qp.n, qp.home
+    rng = np.random.default_rng(7)
+    vehicle = np.array([3.0, -2.0, 9.81, 0.2, -0.3, 0.1]) + 0.5 * rng.normal(size=(n, 6))
+    # a first plan from rest, then the state one sample along it
+    u_first, x_first, v_first, _ = qp.solve(home, np.zeros(6), np.zeros(qp.vestibular.n), vehicle)
+    x0, v0, z0 = x_first[1], v_first[1], 0.1 * rng.normal(size=qp.vestibular.n)
+    u_lin = np.vstack([u_first[1:], u_first[-1:]]).ravel()
+    assert np.max(np.abs(u_lin)) > 0.5  # a real motion to linearize about
+    _, _, M, lo, _, S, d = qp.condensed(x0, v0, z0, vehicle)
+
+    def states(u):
+        s = np.einsum("kaj,j->ka", S, u) + d
+        return s[:, :6] + home, s[:, 6:12], s[:, 12:]
+
+    # the poses and rates: linear in u, exact for any u (reached 2.2e-16, bound 1e-14)
+    for u in (u_lin, u_lin + rng.normal(size=6 * n)):
+        x, v, _ = states(u)
+        xi, vi, _ = _integrate(qp, x0, v0, z0, vehicle, u)
+        assert np.max(np.abs(x - xi.real)) < 1e-14 and np.max(np.abs(v - vi.real)) < 1e-14
+    # the vestibular states at u_lin and their derivatives by complex step: reached 5e-16 of
+    # the states' size and 1.6e-15 of the derivatives'
+    _, _, z = states(u_lin)
+    zi = _integrate(qp, x0, v0, z0, vehicle, u_lin)[2].real
+    assert np.max(np.abs(z - zi)) < 5e-14 * np.max(np.abs(zi))
+    dz = np.array([_integrate(qp, x0, v0, z0, vehicle, u_lin + 1e-30j * e)[2].imag / 1e-30
+                   for e in np.eye(6 * n)]).transpose(1, 2, 0)
+    assert np.max(np.abs(S[:, 12:] - dz)) < 1e-13 * np.max(np.abs(dz))
+
+    # the rows' values at u_lin and derivatives along random directions (Richardson, error ~h^4);
+    # the rows are lo <= M u <= hi with lo = the limit less the row's constant: the limits by hand
+    # from the settings' documentation (the machine's at the next sample; over the horizon the
+    # stroke less stroke_margin, (1 - margin) of the leg speed and force, the cones less CONE_MARGIN)
+    legs, force = qp.rows["legs"], qp.rows["force"]
+    prm, pp = qp.params, simulator.params
+    cones = np.repeat([pp.universal_joint_max_angle, pp.spherical_joint_max_angle], 6)
+    next_low = np.concatenate([np.full(6, pp.leg_length_limits[0]), np.full(6, -prm.leg_velocity), np.cos(cones)])
+    horizon_low = {"stroke": pp.leg_length_limits[0] + prm.stroke_margin, "speed": -(1 - prm.margin) * prm.leg_velocity,
+                   "cones": np.tile(np.cos(cones - predictive.CONE_MARGIN), n)}
+
+    def exact(u):
+        """The legs rows at the next sample (u_0 held over dt), the stroke, speed and cone rows
+        at the intervals' ends, and the forces at their starts, from the library's exact
+        kinematics, joint angles and inverse dynamics."""
+        x, v, _ = states(u)
+        u0 = u[:6]
+        x1, v1 = x0 + dt * v0 + 0.5 * dt * dt * u0, v0 + dt * u0
+        ends = np.vstack([x1, x]), np.vstack([v1, v])
+        lengths, speeds = simulator.leg_rates(*ends)
+        cosines = np.cos(np.concatenate(joint_angles(simulator.params, ends[0]), axis=1))
+        starts = np.vstack([x0, x[:-1]]), np.vstack([v0, v[:-1]])
+        forces = simulator.inverse_dynamics(*starts, u.reshape(n, 6))
+        return (np.concatenate([lengths[0], speeds[0], cosines[0]]),
+                np.column_stack([lengths[1:], speeds[1:], cosines[1:]]), forces.ravel())
+
+    def linear(u):
+        horizon = [(M[qp.rows[g]] @ u - (lo[qp.rows[g]] - horizon_low[g])).reshape(n, -1)
+                   for g in ("stroke", "speed", "cones")]
+        return M[legs] @ u - (lo[legs] - next_low), np.column_stack(horizon), \
+            M[force] @ u - (lo[force] + (1 - prm.margin) * prm.force)
+
+    # reached 2.2e-16 (m, m/s, cosines), 4.4e-16 and 2e-12 N (of forces up to 7e3 N)
+    for got, want, bound in zip(linear(u_lin), exact(u_lin), (2e-14, 2e-14, 2e-10)):
+        assert np.max(np.abs(got - want)) < bound
+    for _ in range(2):
+        direction = rng.normal(size=6 * n)
+
+        def along(step):
+            a, b = exact(u_lin + step * direction), exact(u_lin - step * direction)
+            return [(p - m) / (2 * step) for p, m in zip(a, b)]
+        numeric = [(4 * p - m) / 3 for p, m in zip(along(5e-3), along(1e-2))]
+        slopes = [linear(direction)[k] - linear(np.zeros(6 * n))[k] for k in range(3)]
+        for got, want in zip(slopes, numeric):
+            assert np.max(np.abs(got - want)) < 1e-10 * np.max(np.abs(want))  # reached 2.5e-12 (rounding)
+
+
+def test_comparison_figure_shows_both_methods_on_one_time_axis(simulator, shipped, tmp_path, monkeypatch):
+    """stewart.cueing.comparison.plot of the braking (MPC with its closed loop, washout without):
+    per channel the vehicle's, washout's and MPC's perceived signals (MPC's achieved by the
+    closed loop), below them each method's leg forces against the force limit +-F, all eight
+    panels on one shared time axis, its tick labels on the bottom row only."""
+    pytest.importorskip("matplotlib")
+    import matplotlib.figure
+
+    from stewart.cueing import comparison, washout
+
+    m = shipped("hard_braking")
+    w = washout(read_log(os.path.join(EXAMPLES, "hard_braking.csv")), simulator)
+    figures = []  # (not rendered)
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", lambda fig, *a, **k: figures.append(fig))
+    row = {"name": "hard_braking", "results": (w, m), "limits": m.limits}
+    comparison.plot(row, "motion_simulator", str(tmp_path / "c.png"))
+    (fig,) = figures
+    axes = np.array(fig.axes).reshape(4, 2)
+    for j, name in enumerate(vestibular.CHANNELS):
+        ax = axes[j % 3, j // 3]
+        lines = {line.get_label(): line.get_ydata() for line in ax.get_lines()}
+        np.testing.assert_array_equal(lines["vehicle"], w.vehicle.channels[:, j])
+        np.testing.assert_array_equal(lines["washout"], w.platform.channels[:, j])
+        np.testing.assert_array_equal(lines["MPC"], m.achieved.channels[:, j])
+    limit = m.limits["force"]
+    for ax in axes[3]:
+        levels = sorted(line.get_ydata()[0] for line in ax.get_lines() if len(set(line.get_ydata())) == 1)
+        assert levels == [-limit, limit]
+    forces = np.column_stack([line.get_ydata() for line in axes[3, 1].get_lines()[:6]])
+    np.testing.assert_array_equal(forces, m.simulation.forces)
+    for ax in axes.ravel():
+        assert ax.get_shared_x_axes().joined(ax, axes[0, 0])
+        assert any(label.get_visible() for label in ax.get_xticklabels()) == (ax in axes[3])
+
+
+def test_qp_cost_is_the_documented_weighted_sum(simulator):
+    """The condensed cost ``u^T H u / 2 + q^T u`` is, but for a constant, half the module
+    docstring's ``sum_k h_k (|W_e C z_k|^2 + |W_p p_k|^2 + |W_v v_k|^2 + |W_u u_k|^2)``, each
+    error over its perception threshold (vestibular.THRESHOLDS) or the pose box (per second,
+    per second squared) and weighted by MPCParams' weights, written out here over the
+    predicted states ``S u + d`` (themselves checked against an integration above)."""
+    weights = dict(specific_force=(1.0, 2.0, 3.0), angular_velocity=(0.5, 0.7, 0.9), position=(0.1, 0.2, 0.3, 0.4, 0.5, 0.6),
+                   velocity=(0.01, 0.02, 0.03, 0.04, 0.05, 0.06), acceleration=(1e-3, 2e-3, 3e-3, 4e-3, 5e-3, 6e-3))
+    qp = _qp(simulator, steps=4, duration=0.2, **weights)
+    rng = np.random.default_rng(8)
+    x0 = qp.home + 0.05 * rng.normal(size=6)
+    v0, z0 = 0.1 * rng.normal(size=6), 0.1 * rng.normal(size=qp.vestibular.n)
+    vehicle = np.array([1.0, -1.0, 9.81, 0.1, -0.1, 0.05]) + 0.2 * rng.normal(size=(qp.n, 6))
+    H, q, _, _, _, S, d = qp.condensed(x0, v0, z0, vehicle)
+    thresholds = np.array([vestibular.THRESHOLDS[c] for c in vestibular.CHANNELS])
+    box = np.asarray(qp.params.box)
+
+    def cost(u):
+        s = np.einsum("kaj,j->ka", S, u) + d
+        perceived = s[:, 12:] @ qp.vestibular.C.T / thresholds
+        terms = (np.sum(np.concatenate([weights["specific_force"], weights["angular_velocity"]]) * perceived ** 2, 1)
+                 + np.sum(np.array(weights["position"]) * (s[:, :6] / box) ** 2, 1)
+                 + np.sum(np.array(weights["velocity"]) * (s[:, 6:12] / box) ** 2, 1)
+                 + np.sum(np.array(weights["acceleration"]) * (u.reshape(qp.n, 6) / box) ** 2, 1))
+        return np.sum(qp.h * terms)
+
+    for _ in range(3):
+        u = rng.normal(size=6 * qp.n)
+        want = 0.5 * (cost(u) - cost(np.zeros_like(u)))
+        assert abs(0.5 * u @ H @ u + q @ u - want) <= 1e-14 * cost(u)  # reached 1.3e-16 of the cost
+
+
+@pytest.mark.parametrize("preview", [True, False])
+def test_the_plan_leaves_rest_when_the_vehicles_signals_it_sees_do(simulator, preview):
+    """A vehicle at rest until a step of specific force at T = 0.4 s (log samples 20 ms apart,
+    four intervals of 0.1 s): the plan stays exactly at rest while every signal it predicts
+    with is the rest's (nothing to cue, a zero cost at zero input) and moves at the first
+    sample where one is not. With preview the signals are the log's at the intervals'
+    midpoints, ``t_k + 0.05 ... t_k + 0.35`` s, interpolated between samples: the last
+    midpoint passes the last rest sample (0.38 s) first at t_k = 0.04 s. Without preview the
+    present value is held: the plan moves at T itself."""
+    dt = 0.02
+    t = np.arange(26) * dt
+    f = np.tile([0.0, 0.0, 9.81], (len(t), 1))
+    f[t >= 0.4 - dt / 2, 0] = 2.0
+    log = VehicleLog(t, f, np.zeros((len(t), 3)), "step")
+    run = predictive.plan(log, simulator, MPCParams.for_platform(simulator, duration=0.4, steps=4, preview=preview))
+    first = 2 if preview else 20
+    assert np.all(run.u[:first] == 0.0) and np.all(run.x[:first + 1] == simulator.home_pose)
+    assert np.max(np.abs(run.u[first])) > 1e-3

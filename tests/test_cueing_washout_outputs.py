@@ -157,3 +157,37 @@ def test_defaults_are_the_cited_ones(simulator):
     excursions = axis_excursions(plat)
     assert params.tilt_max_angle == pytest.approx(min(math.radians(10.0), 0.5 * min(excursions[3:5])), rel=1e-15)
     assert params.gravity == 9.81 and read_log(os.path.join(EXAMPLES, "hard_braking.csv")).f[0, 2] == 9.81
+
+
+def test_figures_plot_each_channel_and_pose_axis_in_its_panel(simulator, tmp_path, monkeypatch):
+    """CueingResult.plot: each perceived channel's panel (fx, fy, fz down the left, wx, wy, wz
+    down the right) holds the vehicle's and the reference's perceived signal; the reference's
+    figure holds the position from home of x, y, z [m] above and the angles from home of psi,
+    theta, phi [deg] below, each its own pose column."""
+    pytest.importorskip("matplotlib")
+    import matplotlib.figure
+
+    plat, params = simulator
+    t = np.arange(0.0, 3.0, 0.02)
+    f = np.column_stack([np.sin(t), 0.5 * np.sin(2 * t), 9.81 + 0.3 * np.sin(3 * t)])
+    w = np.column_stack([0.1 * np.sin(t), 0.05 * np.sin(1.5 * t), 0.2 * np.sin(0.7 * t)])
+    result = washout(VehicleLog(t, f, w, name="sines"), plat, params)
+    figures = []  # (not rendered: the CLI's test checks the files)
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", lambda fig, *a, **k: figures.append(fig))
+    paths = result.plot(tmp_path)
+    assert [os.path.basename(p) for p in paths] == ["cueing_perceived.png", "cueing_reference.png"]
+    perceived, reference = figures
+    for j, name in enumerate(("fx", "fy", "fz", "wx", "wy", "wz")):
+        ax = perceived.axes[2 * (j % 3) + j // 3]  # a 3 x 2 grid, row by row
+        assert name in ax.get_ylabel()
+        lines = {line.get_label(): line.get_ydata() for line in ax.get_lines()}
+        np.testing.assert_array_equal(lines["vehicle"], result.vehicle.channels[:, j])
+        np.testing.assert_array_equal(lines["reference"], result.platform.channels[:, j])
+    positions, angles = reference.axes
+    d = result.poses - result.poses[0]
+    assert np.max(np.abs(d), axis=0).min() > 0  # every axis moves: no panel could pass empty
+    for ax, columns, factor in ((positions, range(3), 1.0), (angles, range(3, 6), 180 / math.pi)):
+        lines = {line.get_label(): line.get_ydata() for line in ax.get_lines()}
+        assert sorted(lines) == sorted(("x", "y", "z") if factor == 1.0 else ("psi", "theta", "phi"))
+        for k, name in zip(columns, ("x", "y", "z", "psi", "theta", "phi")[columns[0]:]):
+            np.testing.assert_allclose(lines[name], d[:, k] * factor, rtol=1e-15, atol=0)

@@ -65,7 +65,7 @@ def test_glitch_is_limited_into_the_workspace_and_reported(tmp_path, preset):
     assert r["ok"] and r["simulation"]["outcome"] == "completed" and r["settings"]["limiter"]["enabled"] is True
     limiter = r["limiter"]
     assert limiter["limited"] and 0 < limiter["min_scale"] < 0.6 and limiter["max_shift"]["x"] > 0.05
-    (span,) = limiter["intervals"]  # one stretch, from half the ramp before the need to half after
+    (span,) = limiter["intervals"]  # one stretch, from the ramp before the need to the ramp after
     assert span["start_s"] < 2.0 < span["at_s"] < span["end_s"] < 4.0
     assert span["min_scale"] == limiter["min_scale"] and span["limits"]
     assert set(span["limits"]) <= {"leg_too_long", "spherical_joint_limit", "universal_joint_limit"}
@@ -177,3 +177,31 @@ def test_a_pose_the_ray_check_stepped_over_is_tightened(monkeypatch):
     assert np.max(limited[:, 0]) <= 0.50
     np.testing.assert_array_equal(limited[lim.scale == 1.0], poses[lim.scale == 1.0])
     assert np.any(lim.scale == 1.0) and np.all(poses[lim.scale == 1.0, 0] < 0.5)
+
+
+def test_the_scale_leaves_1_exactly_ramp_time_around_the_need(monkeypatch):
+    """A workspace ``|x| <= 1`` and a reference at home but for five samples at ``x = 1.5``:
+    the moving maximum spreads the need ``ramp_time / 2`` either side and the Hann window
+    (all of its weights positive) as far again, so the scale is below 1 exactly within
+    ``ramp_time`` of a sample that needs it, and 1, the washout's own pose, everywhere else;
+    it reaches the need at the needing samples (a full Hann average of the spread maximum)."""
+    from stewart.cueing import limiter
+
+    class Check:
+        def __init__(self, poses):
+            self.flags = np.where(np.abs(np.atleast_2d(poses)[:, 0]) > 1.0, 2, 0)
+            self.ok = self.flags == 0
+
+    monkeypatch.setattr(limiter, "reachability", lambda platform, poses, name: Check(poses))
+    dt, ramp = 0.01, 1.0
+    t = np.arange(1001) * dt
+    poses = np.zeros((len(t), 6))
+    poses[500:505, 0] = 1.5
+    limited, lim = limiter.limit(t, poses, np.zeros(6), None, margin=0.1, ramp_time=ramp)
+    reach = round(ramp / dt)  # 100 samples
+    assert np.array_equal(np.flatnonzero(lim.scale < 1.0), np.arange(500 - reach, 505 + reach))
+    # the needing samples' scale is their need, 1 / (1.5 (1 + margin)) to the bisection's width:
+    # reached 9.5e-7 below it (the bisection keeps the end inside)
+    np.testing.assert_allclose(lim.scale[500:505], 1.0 / (1.5 * 1.1), rtol=1e-5)
+    assert np.all(lim.scale <= lim.need) and Check(limited).ok.all()
+    np.testing.assert_array_equal(limited[lim.scale == 1.0], poses[lim.scale == 1.0])

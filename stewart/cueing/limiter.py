@@ -17,13 +17,13 @@ own poses once it is back inside. ``s`` comes in three steps:
    found by bisection to :data:`RAY_TOLERANCE`). Where the ray leaves the workspace at
    ``c (pose - home)``, the pose needs ``s <= c / (1 + margin)``; inside the margin, 1.
 2. **Envelope.** The needed deficit ``1 - s`` is spread by a moving maximum over
-   ``ramp_time`` (centred: the whole log is known, so the scale starts going down
-   ``ramp_time / 2`` ahead of the need and comes back as long after it), then smoothed by
-   a Hann window of the same length. A Hann-weighted mean of maxima whose windows all cover
+   ``ramp_time`` (centred: the whole log is known), then smoothed by a Hann window of the
+   same length, so the scale starts going down ``ramp_time`` ahead of the need (half of it
+   from the maximum, half from the window) and comes back as long after it. A Hann-weighted mean of maxima whose windows all cover
    ``t`` is at least the need at ``t``, so ``s`` never exceeds the need; and a drop ``D`` of
    the scale takes ``s`` a rate of at most about ``2 D / ramp_time`` and a second derivative of
    at most about ``2 pi D / ramp_time^2``: continuous pose rates, bounded accelerations.
-   Where no need lies within ``ramp_time / 2``, the deficit is exactly 0 and the pose is
+   Where no need lies within ``ramp_time``, the deficit is exactly 0 and the pose is
    the washout's own, bit for bit.
 3. **Check.** The limited poses are checked with :func:`stewart.reachability`; a pose still
    outside (a workspace not star-shaped about home along that ray) has its need tightened
@@ -141,7 +141,7 @@ def _ray_need(plat, home: np.ndarray, excursion: np.ndarray, reach: float) -> tu
 
 def _envelope(deficit: np.ndarray, half: int) -> np.ndarray:
     """The moving maximum of ``deficit`` over ``2 half + 1`` samples, smoothed by a Hann
-    window as long; exactly 0 where no deficit lies within ``half`` samples."""
+    window as long; exactly 0 where no deficit lies within ``2 half`` samples."""
     window = signal.windows.hann(2 * half + 3)[1:-1]
     spread = ndimage.maximum_filter1d(deficit, 2 * half + 1, mode="nearest")
     return ndimage.convolve1d(spread, window / window.sum(), mode="nearest")
