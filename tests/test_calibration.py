@@ -6,6 +6,7 @@ ends, the held-out pose error, the named unidentifiable combinations against
 their hand derivation, the designed poses against random ones, and the command line."""
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -348,6 +349,46 @@ def test_designed_poses_are_better_conditioned_than_random_ones(designed):
     # the nominal's readings: the hand-built legs' lengths (no offsets); reached 6e-17 m
     assert not np.any(NOMINAL.leg_length_offsets)
     np.testing.assert_allclose(designed.readings, _hand_leg_lengths(NOMINAL, designed.poses), rtol=0, atol=1e-14)
+
+
+def test_each_designed_pose_is_the_one_that_raises_log_det_most():
+    """The greedy design against the criterion of the module docstring computed directly: at
+    each step, of the candidates not yet chosen, the one whose rows J_c maximize
+    ``log det(M + eps I + J_c^T J_c)`` (numpy's slogdet of the 42 x 42 matrix, eps = 1e-6),
+    ``M`` the information of those chosen; not the matrix determinant lemma the design uses.
+    With eps = 1e-5 the choice differs by the eighth pose."""
+    from stewart.calibration.design import _greedy, _scaled_rows
+
+    rows = _scaled_rows(NOMINAL, _random_poses(40, 2))
+    information, want = 1e-6 * np.eye(42), []
+    for _ in range(10):
+        gain = [-np.inf if c in want else np.linalg.slogdet(information + r.T @ r)[1] for c, r in enumerate(rows)]
+        want.append(int(np.argmax(gain)))
+        information = information + rows[want[-1]].T @ rows[want[-1]]
+    assert _greedy(rows, 10, False) == want
+
+
+@pytest.mark.parametrize("arguments, message", [
+    ({"count": 6}, "count: 42 parameters need at least 7 poses (6 legs each), got 6"),
+    ({"rotation": 0.0}, "rotation: must be a positive finite number, got 0.0"),
+    ({"translation": -0.01}, "translation: must be a positive finite number, got -0.01"),
+    ({"translation": 0.0}, "translation: must be a positive finite number, got 0.0"),
+    ({"centre": np.zeros((2, 6))}, "centre: expected one pose, got shape (2, 6)"),
+])
+def test_design_arguments_out_of_range_are_errors_naming_them(arguments, message):
+    with pytest.raises(ValueError, match=f"^{re.escape(message)}$"):
+        design_poses(NOMINAL, **{"count": 7, **arguments})
+
+
+def test_a_box_with_too_few_reachable_poses_is_an_error_saying_how_many():
+    """A box 1 cm and 0.01 rad wide centred 10.5 cm above home, near the top of the stroke:
+    of the 40 x 7 = 280 candidates for 7 poses only a few are reachable, fewer than the twice
+    7 the design needs, though at least the 7 it would pick (so it is the count that refuses)."""
+    centre = stewart.home_pose(NOMINAL) + [0.0, 0.0, 0.105, 0.0, 0.0, 0.0]
+    with pytest.raises(ValueError, match=r"^centre, translation, rotation: only (\d+) of 280 random poses in the box "
+                                         r"are reachable; need 14 \(move the centre or shrink the box\)$") as info:
+        design_poses(NOMINAL, 7, centre=centre, translation=0.01, rotation=0.01)
+    assert 7 <= int(re.search(r"only (\d+) of", str(info.value)).group(1)) < 14
 
 
 def test_offsets_flow_through_forward_kinematics_files_and_identification(tmp_path):

@@ -88,7 +88,7 @@ def design_poses(platform, count: int, *, centre=None, translation: float | None
     translation = DEFAULT_TRANSLATION * centre[2] if translation is None else arguments.real("translation", translation)
     rotation = arguments.real("rotation", rotation)
     for name, value in (("translation", translation), ("rotation", rotation)):
-        if not 0.0 < value < np.inf:
+        if value <= 0.0:  # (finite: arguments.real)
             raise ValueError(f"{name}: must be a positive finite number, got {value}")
     rng = np.random.default_rng(arguments.seed(seed))
     box = np.array([translation] * 3 + [rotation] * 3)
