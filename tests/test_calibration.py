@@ -305,6 +305,11 @@ def test_translations_alone_leave_each_legs_joints_undetermined_together():
         calibrate(NOMINAL, simulate_measurements(NOMINAL, poses, angle_std=0.0))
     ident = info.value.identifiability
     assert ident.condition == np.inf and len(ident.combinations) == 18
+    # the message names the first three and counts the other 15 (docs/calibration.md)
+    assert str(info.value) == (
+        f"simulated measurements: the measurements cannot determine 18 parameter combination(s), e.g. "
+        f"{'; '.join(ident.combinations[:3])}; and 15 more; measure poses that also turn the platform about all "
+        "three axes (these only translate it)")
     expected = np.zeros((42, 18))
     for i in range(6):
         for a in range(3):
@@ -328,6 +333,18 @@ def test_one_set_of_leg_lengths_names_each_offset_with_its_joints():
         trade[36 + i], trade[3 * i:3 * i + 3] = 1.0, -units[i]
         coefficients = np.linalg.lstsq(directions, trade, rcond=None)[0]
         assert np.max(np.abs(directions @ coefficients - trade)) < 1e-13  # reached 8.9e-16
+
+
+def test_distinct_poses_too_close_together_ask_for_poses_spread_over_the_workspace():
+    """Ten distinct poses that turn the platform (by up to 5 mrad about each axis) but stay
+    within 0.5 mm and 5 mrad of home: too close together to tell the parameters apart (a
+    condition number past 1e5), neither one pose repeated nor translations alone."""
+    rng = np.random.default_rng(0)
+    poses = stewart.home_pose(NOMINAL) + rng.uniform(-1, 1, (10, 6)) * np.array([5e-4] * 3 + [5e-3] * 3)
+    assert np.ptp(poses[:, 3:], axis=0).min() > 5e-3
+    with pytest.raises(UnidentifiableError, match="parameter combination.*; measure more poses spread over the "
+                                                  r"workspace's positions and orientations \(stewart calibration-poses"):
+        calibrate(NOMINAL, simulate_measurements(NOMINAL, poses, position_std=0.0, angle_std=0.0, length_std=0.0))
 
 
 def _same_span(a, b, tolerance):
