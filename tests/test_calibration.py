@@ -245,6 +245,10 @@ def test_point_data_recovers_the_geometry_and_fixes_the_gauge_of_one_target(desi
     # One target: {P} may turn about it; the base points and offsets do not depend on that gauge.
     single = simulate_measurements(truth, designed.poses, target_offsets=offsets[:1], seed=3)
     result = calibrate(NOMINAL, single)
+    # the fit reaches the noise: s near 1 (chi^2 on 51 dof, spread 1 / sqrt(2 dof) = 0.1; within
+    # 3.3 of it; reached 1.04 of it) and the target's RMS distance that of a 1e-5 m tracker
+    assert abs(result.sigma - 1.0) < 3.3 / np.sqrt(2 * result.dof)
+    assert result.rms_after[-1] < 3 * POSITION_STD < result.rms_before[-1]
     invariant = np.r_[0:18, 36:42]
     z = (result.estimates - geometry.parameter_vector(truth))[invariant] / result.standard_errors[invariant]
     assert np.max(np.abs(z)) < 5
