@@ -575,6 +575,39 @@ def test_bad_measurements_are_one_line_errors(campaign, tmp_path, capsys, edit, 
     assert lines[0].startswith(f"stewart calibrate: error: {start.format(file=path)}"), lines[0]
 
 
+def test_one_targets_offset_may_be_given_alone():
+    """One target's offset as a vector (3,) is the offsets (1, 3): the same data as given so."""
+    readings, points = np.full((4, 6), 0.3), np.zeros((4, 3))
+    alone = CalibrationData(readings, points=points, target_offsets=[0.01, -0.02, 0.03])
+    np.testing.assert_array_equal(alone.target_offsets, [[0.01, -0.02, 0.03]])
+    np.testing.assert_array_equal(alone.targets, np.zeros(4, dtype=int))
+    with pytest.raises(ValueError, match=r"^measurements: readings: expected 6 columns, got shape \(6,\)$"):
+        CalibrationData(readings[0], points=points[:1], target_offsets=[0.0, 0.0, 0.02])
+
+
+@pytest.mark.parametrize("kind, targets, message", [
+    ("points", [0, 1, 1], "measurements: target: expected indices 0..1 of the 2 target offset(s) given, one per row"),
+    ("points", [[0], [1], [1], [0]], "measurements: target: expected indices 0..1 of the 2 target offset(s) given, "
+                                     "one per row"),
+    ("points", [0, 1, 2, 0], "measurements: target: expected indices 0..1 of the 2 target offset(s) given, one per row"),
+    ("points", [0, -1, 1, 0], "measurements: target: expected indices 0..1 of the 2 target offset(s) given, one per "
+                              "row"),
+    ("points", [0, 0.5, 1, 0], "measurements: target: expected indices 0..1 of the 2 target offset(s) given, one per "
+                               "row"),
+    ("rows", None, "measurements: points has 3 rows and readings 4"),
+    ("poses", None, "measurements: poses has 5 rows and readings 4"),
+    ("both", None, "measurements: give either poses or points"),
+])
+def test_measurements_that_do_not_fit_together_are_errors_saying_how(kind, targets, message):
+    readings, offsets = np.full((4, 6), 0.3), [[0.0, 0.0, 0.02], [0.05, 0.0, 0.02]]
+    given = {"points": {"points": np.zeros((4, 3)), "targets": targets, "target_offsets": offsets},
+             "rows": {"points": np.zeros((3, 3)), "target_offsets": offsets},
+             "poses": {"poses": np.zeros((5, 6))},
+             "both": {"poses": np.zeros((4, 6)), "points": np.zeros((4, 3)), "target_offsets": offsets}}[kind]
+    with pytest.raises(ValueError, match=f"^{re.escape(message)}$"):
+        CalibrationData(readings, **given)
+
+
 def test_point_data_without_target_offsets_says_which_flag(tmp_path, capsys, designed):
     simulate_measurements(NOMINAL, designed.poses[:10], target_offsets=[[0, 0, 0.02]]).to_csv(tmp_path / "p.csv")
     code, _, err = _run(["calibrate", str(tmp_path / "p.csv")], capsys)
