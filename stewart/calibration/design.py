@@ -56,7 +56,8 @@ class PoseDesign:
 
 def _scaled_rows(params, poses) -> np.ndarray:
     """The identification Jacobian's rows (K, 6, 42) with every column scaled to unit RMS
-    over ``poses`` (so that positions in metres and offsets weigh alike)."""
+    over ``poses`` (the sum of squares of a pose's six rows averaging 1; so that positions in
+    metres and offsets weigh alike)."""
     rows = leg_jacobian(parameter_vector(params), poses)
     scale = np.sqrt(np.mean(np.sum(rows * rows, axis=1), axis=0))
     return rows / scale
