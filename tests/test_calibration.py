@@ -298,6 +298,73 @@ def test_held_out_errors_are_the_distance_and_angle_the_measurements_were_moved_
     np.testing.assert_allclose(errors["position"], np.linalg.norm(shift, axis=1), rtol=0, atol=1e-11)
 
 
+def _hand_calibration(beyond=()):
+    """A Calibration written by hand, no fit: 12 poses, the k-th parameter's estimate
+    0.1 (k + 1) mm above the nominal with the standard error 0.01 (k + 1) mm, RMS residuals of
+    k um before and k / 10 um after for leg k, s = 1.1 on 30 degrees of freedom."""
+    from stewart.calibration import Calibration, Identifiability
+
+    nominal = np.concatenate([NOMINAL.base_points.ravel(), NOMINAL.platform_points.ravel(), NOMINAL.leg_length_offsets])
+    step = 1e-4 * np.arange(1, 43)
+    return Calibration(
+        nominal=NOMINAL, params=geometry.with_parameters(NOMINAL, nominal + step), kind="poses", estimates=nominal + step,
+        covariance=np.diag((step / 10) ** 2), identifiability=Identifiability(np.ones(42), 1234.5, (), np.zeros((42, 0))),
+        rms_before=1e-6 * np.arange(6.0), rms_after=1e-7 * np.arange(6.0), sigma=1.1, dof=30,
+        poses=np.tile(stewart.home_pose(NOMINAL), (12, 1)), evaluations=7, beyond_stroke=beyond)
+
+
+def test_the_parameter_table_and_summary_hold_each_parameters_values():
+    """The text table [mm] and the JSON summary of a hand-written calibration: each row its
+    parameter's nominal (the preset's joints, in the order base, platform, offsets), estimate,
+    change and standard error, to the table's 4 decimals."""
+    result = _hand_calibration()
+    lines = result.table().splitlines()
+    assert lines[0].split() == ["parameter", "nominal", "estimate", "change", "std", "err", "[mm]"]
+    assert len(lines) == 43
+    nominal_mm = 1e3 * np.concatenate([NOMINAL.base_points.ravel(), NOMINAL.platform_points.ravel(), np.zeros(6)])
+    k = np.arange(1, 43)
+    names = [f"{part}[{i}].{a}" for part in ("base_points", "platform_points") for i in range(6) for a in "xyz"] + \
+        [f"leg_length_offsets[{i}]" for i in range(6)]
+    assert [line.split()[0] for line in lines[1:]] == names
+    table = np.array([[float(v) for v in line.split()[1:]] for line in lines[1:]])
+    np.testing.assert_allclose(table, np.column_stack([nominal_mm, nominal_mm + 0.1 * k, 0.1 * k, 0.01 * k]),
+                               rtol=0, atol=5.1e-5)
+    summary = json.loads(json.dumps(result.summary()))
+    assert {key: summary[key] for key in ("kind", "measurements", "condition_number", "sigma", "dof",
+                                          "function_evaluations", "beyond_stroke")} == {
+        "kind": "poses", "measurements": 12, "condition_number": 1234.5, "sigma": 1.1, "dof": 30,
+        "function_evaluations": 7, "beyond_stroke": []}
+    assert [p["name"] for p in summary["parameters"]] == names
+    np.testing.assert_allclose([[p["nominal"], p["estimate"], p["standard_error"]] for p in summary["parameters"]],
+                               np.column_stack([nominal_mm, nominal_mm + 0.1 * k, 0.01 * k]) / 1e3, rtol=1e-14,
+                               atol=1e-18)
+    assert summary["rms_before"] == {f"L{i}": pytest.approx(1e-6 * i, rel=1e-15) for i in range(6)}
+    assert summary["rms_after"] == {f"L{i}": pytest.approx(1e-7 * i, rel=1e-15) for i in range(6)}
+
+
+def test_the_stroke_warning_names_the_worst_leg_and_counts_the_significant_ones():
+    """The one-line warning of legs past the stroke (0.19-0.38 m), written by hand: 3 legs of
+    2 measurements, the worst 3 mm past (3000 um, with its row, leg, length and 250 um
+    uncertainty), 2 of them past by more than 3 standard uncertainties; none past, no warning;
+    none significant, all within their uncertainty."""
+    from stewart.calibration import StrokeExcess
+
+    assert _hand_calibration().stroke_warning() is None
+    beyond = (StrokeExcess(30, 5, 0.383, 0.38, 3e-3, 2.5e-4), StrokeExcess(12, 0, 0.1899, 0.19, 1e-4, 3e-5),
+              StrokeExcess(30, 4, 0.3801, 0.38, 1e-4, 2.5e-4))
+    result = _hand_calibration(beyond)
+    assert result.stroke_warning() == (
+        "with the calibrated geometry 3 leg(s) of 2 measurement(s) lie past the stroke 0.19-0.38 m, by up to 3000 um "
+        "(row 30, leg 5, 0.383 m, standard uncertainty 250 um); 2 of them by more than 3 standard uncertainties: the "
+        "leg_length_limits given may not be the built machine's, or those rows are wrong")
+    assert json.loads(json.dumps(result.summary()))["beyond_stroke"][1] == {
+        "row": 12, "leg": 0, "length": 0.1899, "limit": 0.19, "excess": 1e-4, "uncertainty": 3e-5}
+    within = _hand_calibration((StrokeExcess(7, 2, 0.38001, 0.38, 1e-5, 2e-5),))
+    assert within.stroke_warning() == (
+        "with the calibrated geometry 1 leg(s) of 1 measurement(s) lie past the stroke 0.19-0.38 m, by up to 10 um "
+        "(row 7, leg 2, 0.38001 m, standard uncertainty 20 um); all within their uncertainty")
+
+
 def test_translations_alone_leave_each_legs_joints_undetermined_together():
     """With R = I for every pose, l_i = t + p_i - b_i: moving b_i and p_i by the same vector
     changes nothing, 18 combinations, and nothing else. With the tracker's angle noise
