@@ -365,6 +365,40 @@ def test_the_stroke_warning_names_the_worst_leg_and_counts_the_significant_ones(
         "(row 7, leg 2, 0.38001 m, standard uncertainty 20 um); all within their uncertainty")
 
 
+def test_the_figures_plot_the_residuals_changes_with_two_standard_errors_and_held_out_errors(tmp_path, monkeypatch):
+    """The figures of a hand-written calibration hold its numbers: the RMS residual bars of leg
+    k, k um before and k / 10 um after; per part (base, platform, offsets) the k-th
+    parameter's change, 0.1 k mm, with error bars of 2 standard errors, 0.02 k mm; the held-out
+    errors in um and urad with their RMS in the legend."""
+    pytest.importorskip("matplotlib")
+    import matplotlib.figure
+
+    from stewart.calibration.figures import plot_calibration
+
+    figures = []  # the figures as saved (not drawn: a second of rendering the test does not need)
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", lambda fig, path, **k: figures.append((fig, path)))
+    held = {"nominal": {"position": np.array([3e-4, 4e-4]), "orientation": np.array([1e-3, 1e-3])},
+            "calibrated": {"position": np.array([3e-6, 4e-6]), "orientation": np.array([2e-5, 1e-5])}}
+    paths = plot_calibration(_hand_calibration(), tmp_path / "figs", held)
+    assert paths == [str(tmp_path / "figs" / name) for name in ("calibration_residuals.png",
+                                                                "calibration_estimates.png", "calibration_held_out.png")]
+    assert [str(path) for _, path in figures] == paths
+    residuals, estimates, held_out = (fig for fig, _ in figures)
+    bars = [[bar.get_height() for bar in container] for container in residuals.axes[0].containers]
+    np.testing.assert_allclose(bars, [np.arange(6.0), np.arange(6.0) / 10], rtol=1e-12)
+    k = np.arange(1, 43)
+    for ax, part in zip(estimates.axes, (slice(0, 18), slice(18, 36), slice(36, 42))):
+        (bar,) = ax.containers
+        np.testing.assert_allclose(bar.lines[0].get_ydata(), 0.1 * k[part], rtol=1e-9)
+        segments = np.array(bar.lines[2][0].get_segments())  # each bar from y - yerr to y + yerr
+        np.testing.assert_allclose(segments[:, :, 1], np.column_stack([0.08 * k[part], 0.12 * k[part]]), rtol=1e-9)
+    for ax, kind, unit in zip(held_out.axes, ("position", "orientation"), ("um", "urad")):
+        for line, label in zip(ax.get_lines(), ("nominal", "calibrated")):
+            np.testing.assert_allclose(line.get_ydata(), 1e6 * held[label][kind], rtol=1e-12)
+            rms = np.sqrt(np.mean((1e6 * held[label][kind]) ** 2))
+            assert line.get_label() == f"{label} geometry (RMS {rms:.3g} {unit})"
+
+
 def test_translations_alone_leave_each_legs_joints_undetermined_together():
     """With R = I for every pose, l_i = t + p_i - b_i: moving b_i and p_i by the same vector
     changes nothing, 18 combinations, and nothing else. With the tracker's angle noise
