@@ -452,6 +452,24 @@ def test_distinct_poses_too_close_together_ask_for_poses_spread_over_the_workspa
         calibrate(NOMINAL, simulate_measurements(NOMINAL, poses, position_std=0.0, angle_std=0.0, length_std=0.0))
 
 
+def test_a_parameter_nothing_depends_on_is_named_alone_without_a_warning():
+    """Columns a, b = -2 a, c = 0 and d: c changes no residual, and a + 0.5 b (or b + 2 a)
+    neither, by hand; the zero column is left unscaled, not divided by its zero norm (no
+    RuntimeWarning, an error here)."""
+    import warnings
+
+    from stewart.calibration.identifiability import identifiability
+
+    a, d = np.random.default_rng(0).normal(size=(2, 20))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        ident = identifiability(np.column_stack([a, -2 * a, np.zeros(20), d]), ["a", "b", "c", "d"])
+    assert ident.condition == np.inf and not ident.identifiable
+    assert "c" in ident.combinations and len(ident.combinations) == 2
+    assert {"a + 0.5 b", "b + 2 a"} & set(ident.combinations)
+    _same_span(ident.directions, np.array([[0.0, 0.0, 1.0, 0.0], [1.0, 0.5, 0.0, 0.0]]).T, 1e-14)  # reached 3.3e-16
+
+
 def _same_span(a, b, tolerance):
     """The columns of ``a`` and ``b`` span the same space (to ``tolerance``)."""
     assert a.shape == b.shape
