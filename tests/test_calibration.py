@@ -645,6 +645,26 @@ def test_measured_poses_past_the_nominal_stroke_are_calibrated_and_judged_after_
         assert "past the stroke 0.19-0.38 m" in lines[0] and "by more than 3 standard uncertainties" in lines[0]
 
 
+def test_a_measured_pose_outside_the_workspace_is_refused_saying_why():
+    """Refused before the fit: a pose 20 cm above home, its legs 48 cm, past the stroke (0.19-
+    0.38 m) widened by 5 % of it, 0.0095 m, to 0.3895 m, says so and how it was widened; home
+    mirrored below the base (the same leg lengths, all within the stroke) says it is below the
+    base and in the other assembly mode, and nothing of the stroke."""
+    poses = np.vstack([_random_poses(12, 1), stewart.home_pose(NOMINAL)])
+    start = "measurements: 1 of 13 measured pose(s) outside the workspace: "
+    poses[-1, 2] += 0.2
+    with pytest.raises(stewart.WorkspaceError, match=re.escape(start) + r"leg\(s\) \[0, 1, 2, 3, 4, 5\] longer than the "
+                       r"maximum length 0.3895 m \(0.48[0-9., ]+ m\) at row 12 \(the stroke 0.19-0.38 m widened by 0.05 "
+                       r"of it, 0.0095 m, for the built machine's geometry errors: check the rows, the file and its "
+                       r"units\)$"):
+        calibrate(NOMINAL, CalibrationData(_hand_leg_lengths(NOMINAL, poses), poses=poses))
+    poses[-1, 2] = -stewart.home_pose(NOMINAL)[2]
+    with pytest.raises(stewart.WorkspaceError, match=re.escape(start) + "the platform is not above the base: .* at "
+                       "row 12; det J_C has the other sign: the pose is in another assembly mode, beyond a "
+                       "singularity at row 12$"):
+        calibrate(NOMINAL, CalibrationData(_hand_leg_lengths(NOMINAL, poses), poses=poses))
+
+
 def test_point_data_past_the_nominal_stroke_names_the_first_row_of_its_pose(designed):
     """Point data's poses come from the readings (3 targets a pose): a pose whose nominal legs
     are 1.4-4.1 mm past the stroke is calibrated, and its legs past it with the calibrated
