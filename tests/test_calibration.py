@@ -765,6 +765,26 @@ def test_measurements_that_do_not_fit_together_are_errors_saying_how(kind, targe
         CalibrationData(readings, **given)
 
 
+@pytest.mark.parametrize("kind, count, message", [
+    ("poses", 4, "24 equations for 42 unknowns; measure at least 8 poses"),
+    ("poses", 7, "42 equations for 42 unknowns; measure at least 8 poses"),
+    ("one target", 10, "90 equations for 99 unknowns; measure at least 14 target measurements"),
+    ("three targets", 4, "60 equations for 66 unknowns; measure at least 15 target measurements"),
+])
+def test_too_few_measurements_say_how_many_more(kind, count, message):
+    """By hand: K poses give 6 K leg equations for the 42 parameters (7 poses, 42, are not
+    more); one target a pose adds 3 equations and 6 unknowns (the pose), less the 3 turns about
+    the target that the gauge fixes: 90 for 42 + 60 - 3 = 99 at K = 10, and 14 measurements of
+    the target (102 > 99) suffice; three targets (no gauge) at K = 4, 24 + 36 = 60 for 42 + 24
+    = 66, need 15 (69 > 66)."""
+    poses = _random_poses(count, 3)
+    offsets = {"poses": None, "one target": [[0.0, 0.0, 0.02]],
+               "three targets": [[0.0, 0.0, 0.02], [0.05, 0.0, 0.02], [0.0, 0.05, 0.02]]}[kind]
+    data = simulate_measurements(NOMINAL, poses, target_offsets=offsets)
+    with pytest.raises(ValueError, match=f"^simulated measurements: too few measurements: {message}$"):
+        calibrate(NOMINAL, data)
+
+
 def test_point_data_without_target_offsets_says_which_flag(tmp_path, capsys, designed):
     simulate_measurements(NOMINAL, designed.poses[:10], target_offsets=[[0, 0, 0.02]]).to_csv(tmp_path / "p.csv")
     code, _, err = _run(["calibrate", str(tmp_path / "p.csv")], capsys)
