@@ -470,6 +470,25 @@ def test_a_parameter_nothing_depends_on_is_named_alone_without_a_warning():
     _same_span(ident.directions, np.array([[0.0, 0.0, 1.0, 0.0], [1.0, 0.5, 0.0, 0.0]]).T, 1e-14)  # reached 3.3e-16
 
 
+@pytest.mark.parametrize("others, more", [(5, ""), (6, " (+1 more)"), (8, " (+3 more)")])
+def test_a_long_combination_shows_its_six_largest_terms_and_counts_the_rest(others, more):
+    """Column p_n = sum_i w_i p_i of n others: the one combination is p_n - sum_i w_i p_i,
+    written from whichever parameter leads it (coefficient 1), its others largest first with
+    their signs, five of them and how many more."""
+    from stewart.calibration.identifiability import identifiability
+
+    columns = np.random.default_rng(1).normal(size=(30, others))
+    weights = np.array([0.5, -1.5, 2.0, -0.25, 3.0, 0.75, -1.1, 1.25])[:others]  # no two terms alike (nor 1)
+    names = [f"p{i}" for i in range(others + 1)]
+    (combination,) = identifiability(np.column_stack([columns, columns @ weights]), names).combinations
+    direction = np.append(-weights, 1.0)
+    lead = names.index(combination.split()[0])
+    direction = direction / direction[lead]
+    rest = sorted((i for i in range(others + 1) if i != lead), key=lambda i: -abs(direction[i]))
+    terms = [f"{'+' if direction[i] > 0 else '-'} {abs(direction[i]):.3g} {names[i]}" for i in rest[:5]]
+    assert combination == " ".join([names[lead], *terms]) + more
+
+
 def _same_span(a, b, tolerance):
     """The columns of ``a`` and ``b`` span the same space (to ``tolerance``)."""
     assert a.shape == b.shape
