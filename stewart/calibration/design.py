@@ -68,10 +68,11 @@ def observability(params, poses) -> dict:
     Jacobian of ``poses`` (K, 6) (scaled over those poses)."""
     rows = _scaled_rows(platform_params(params), np.atleast_2d(poses)).reshape(-1, NUM_PARAMETERS)
     sv = np.linalg.svd(rows, compute_uv=False)
-    if len(sv) < NUM_PARAMETERS or sv[-1] <= 0.0:
+    if len(sv) < NUM_PARAMETERS:  # fewer rows than parameters
         return {"O1": 0.0, "condition": float("inf"), "O4": 0.0}
-    return {"O1": float(np.exp(np.mean(np.log(sv))) / np.sqrt(len(rows))), "condition": float(sv[0] / sv[-1]),
-            "O4": float(sv[-1] ** 2 / sv[0])}
+    with np.errstate(divide="ignore"):  # a zero singular value gives the same 0, inf and 0
+        return {"O1": float(np.exp(np.mean(np.log(sv))) / np.sqrt(len(rows))), "condition": float(sv[0] / sv[-1]),
+                "O4": float(sv[-1] ** 2 / sv[0])}
 
 
 def design_poses(platform, count: int, *, centre=None, translation: float | None = None,
