@@ -307,8 +307,9 @@ def _hand_calibration(beyond=()):
     nominal = np.concatenate([NOMINAL.base_points.ravel(), NOMINAL.platform_points.ravel(), NOMINAL.leg_length_offsets])
     step = 1e-4 * np.arange(1, 43)
     return Calibration(
-        nominal=NOMINAL, params=geometry.with_parameters(NOMINAL, nominal + step), kind="poses", estimates=nominal + step,
-        covariance=np.diag((step / 10) ** 2), identifiability=Identifiability(np.ones(42), 1234.5, (), np.zeros((42, 0))),
+        nominal=NOMINAL, params=geometry.with_parameters(NOMINAL, nominal + step), kind="poses",
+        estimates=nominal + step, covariance=np.diag((step / 10) ** 2),
+        identifiability=Identifiability(np.ones(42), 1234.5, (), np.zeros((42, 0))),
         rms_before=1e-6 * np.arange(6.0), rms_after=1e-7 * np.arange(6.0), sigma=1.1, dof=30,
         poses=np.tile(stewart.home_pose(NOMINAL), (12, 1)), evaluations=7, beyond_stroke=beyond)
 
@@ -380,8 +381,8 @@ def test_the_figures_plot_the_residuals_changes_with_two_standard_errors_and_hel
     held = {"nominal": {"position": np.array([3e-4, 4e-4]), "orientation": np.array([1e-3, 1e-3])},
             "calibrated": {"position": np.array([3e-6, 4e-6]), "orientation": np.array([2e-5, 1e-5])}}
     paths = plot_calibration(_hand_calibration(), tmp_path / "figs", held)
-    assert paths == [str(tmp_path / "figs" / name) for name in ("calibration_residuals.png",
-                                                                "calibration_estimates.png", "calibration_held_out.png")]
+    names = ("calibration_residuals.png", "calibration_estimates.png", "calibration_held_out.png")
+    assert paths == [str(tmp_path / "figs" / name) for name in names]
     assert [str(path) for _, path in figures] == paths
     residuals, estimates, held_out = (fig for fig, _ in figures)
     bars = [[bar.get_height() for bar in container] for container in residuals.axes[0].containers]
@@ -447,8 +448,8 @@ def test_distinct_poses_too_close_together_ask_for_poses_spread_over_the_workspa
     rng = np.random.default_rng(0)
     poses = stewart.home_pose(NOMINAL) + rng.uniform(-1, 1, (10, 6)) * np.array([5e-4] * 3 + [5e-3] * 3)
     assert np.ptp(poses[:, 3:], axis=0).min() > 5e-3
-    with pytest.raises(UnidentifiableError, match="parameter combination.*; measure more poses spread over the "
-                                                  r"workspace's positions and orientations \(stewart calibration-poses"):
+    with pytest.raises(UnidentifiableError, match=r"parameter combination.*; measure more poses spread over the "
+                       r"workspace's positions and orientations \(stewart calibration-poses"):
         calibrate(NOMINAL, simulate_measurements(NOMINAL, poses, position_std=0.0, angle_std=0.0, length_std=0.0))
 
 
@@ -672,10 +673,10 @@ def test_a_measured_pose_outside_the_workspace_is_refused_saying_why():
     poses = np.vstack([_random_poses(12, 1), stewart.home_pose(NOMINAL)])
     start = "measurements: 1 of 13 measured pose(s) outside the workspace: "
     poses[-1, 2] += 0.2
-    with pytest.raises(stewart.WorkspaceError, match=re.escape(start) + r"leg\(s\) \[0, 1, 2, 3, 4, 5\] longer than the "
-                       r"maximum length 0.3895 m \(0.48[0-9., ]+ m\) at row 12 \(the stroke 0.19-0.38 m widened by 0.05 "
-                       r"of it, 0.0095 m, for the built machine's geometry errors: check the rows, the file and its "
-                       r"units\)$"):
+    with pytest.raises(stewart.WorkspaceError, match=re.escape(start) + r"leg\(s\) \[0, 1, 2, 3, 4, 5\] longer "
+                       r"than the maximum length 0.3895 m \(0.48[0-9., ]+ m\) at row 12 \(the stroke 0.19-0.38 m "
+                       r"widened by 0.05 of it, 0.0095 m, for the built machine's geometry errors: check the rows, the "
+                       r"file and its units\)$"):
         calibrate(NOMINAL, CalibrationData(_hand_leg_lengths(NOMINAL, poses), poses=poses))
     poses[-1, 2] = -stewart.home_pose(NOMINAL)[2]
     with pytest.raises(stewart.WorkspaceError, match=re.escape(start) + "the platform is not above the base: .* at "
@@ -761,15 +762,12 @@ def test_one_targets_offset_may_be_given_alone():
         CalibrationData(readings[0], points=points[:1], target_offsets=[0.0, 0.0, 0.02])
 
 
+_TARGETS = "measurements: target: expected indices 0..1 of the 2 target offset(s) given, one per row"
+
+
 @pytest.mark.parametrize("kind, targets, message", [
-    ("points", [0, 1, 1], "measurements: target: expected indices 0..1 of the 2 target offset(s) given, one per row"),
-    ("points", [[0], [1], [1], [0]], "measurements: target: expected indices 0..1 of the 2 target offset(s) given, "
-                                     "one per row"),
-    ("points", [0, 1, 2, 0], "measurements: target: expected indices 0..1 of the 2 target offset(s) given, one per row"),
-    ("points", [0, -1, 1, 0], "measurements: target: expected indices 0..1 of the 2 target offset(s) given, one per "
-                              "row"),
-    ("points", [0, 0.5, 1, 0], "measurements: target: expected indices 0..1 of the 2 target offset(s) given, one per "
-                               "row"),
+    ("points", [0, 1, 1], _TARGETS), ("points", [[0], [1], [1], [0]], _TARGETS), ("points", [0, 1, 2, 0], _TARGETS),
+    ("points", [0, -1, 1, 0], _TARGETS), ("points", [0, 0.5, 1, 0], _TARGETS),
     ("rows", None, "measurements: points has 3 rows and readings 4"),
     ("poses", None, "measurements: poses has 5 rows and readings 4"),
     ("both", None, "measurements: give either poses or points"),

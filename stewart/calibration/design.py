@@ -2,9 +2,9 @@
 
 The poses are picked from random reachable candidates (:mod:`stewart.model.reachability`)
 around a centre pose by greedy D-optimal selection: each step adds the candidate that most
-raises ``log det(J^T J + eps I)`` (``eps = 1e-6``) of the column-scaled identification Jacobian of pose
-measurements (:mod:`stewart.calibration.geometry`), a rank-6 update evaluated for every
-candidate at once. The index maximized is Sun & Hollerbach's ``O1 = det(J^T J)^(1/2n) /
+raises ``log det(J^T J + eps I)`` (``eps = 1e-6``) of the column-scaled identification
+Jacobian of pose measurements (:mod:`stewart.calibration.geometry`), a rank-6 update
+evaluated for every candidate at once. The index maximized is Sun & Hollerbach's ``O1 = det(J^T J)^(1/2n) /
 sqrt(m)`` (the geometric mean of the singular values over the square root of the number of
 rows; Sun & Hollerbach 2008, "Observability index selection for robot calibration"); the
 design also reports the condition number ``sigma_max / sigma_min`` (the inverse of ``O3``)

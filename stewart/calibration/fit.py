@@ -18,7 +18,8 @@ pose, started from forward kinematics of the nominal geometry); the residuals ar
 gauge is fixed by requiring that the platform joints do not turn about the targets relative
 to the nominal, ``sum_i (p0_i - c) x (p_i - p0_i) . w = 0`` for each such axis ``w``:
 equations the solution satisfies exactly (the fit moves the parameters only in the
-directions they leave free), so they change no estimate of a determined quantity. With three targets not on one line there is no gauge.
+directions they leave free), so they change no estimate of a determined quantity. With
+three targets not on one line there is no gauge.
 
 **Measured poses and the stroke.** A measured pose is where the built machine was, and the
 stroke ends are where calibration data says most, so the nominal geometry (the one being
