@@ -688,15 +688,24 @@ def test_a_measured_pose_outside_the_workspace_is_refused_saying_why():
 def test_point_data_past_the_nominal_stroke_names_the_first_row_of_its_pose(designed):
     """Point data's poses come from the readings (3 targets a pose): a pose whose nominal legs
     are 1.4-4.1 mm past the stroke is calibrated, and its legs past it with the calibrated
-    geometry name the pose's first row, 90 of 93, within their uncertainty of the truth."""
+    geometry name the pose's first row, 90 of 93, within their uncertainty of the truth. Each
+    is the reading plus the calibrated offset, past the maximum by that less the limit, with
+    the uncertainty of a sum of independent terms: the reading's (the encoder's 1 um scaled
+    by s) and the offset's (its variance in the covariance), largest excess first."""
     truth = perturbed_geometry(NOMINAL, seed=21)
     offsets = [[0.0, 0.0, 0.02], [0.05, 0.0, 0.02], [0.0, 0.05, 0.02]]
     pose = _at_the_stroke_end(3e-3)
-    result = calibrate(NOMINAL, simulate_measurements(truth, np.vstack([designed.poses, pose]),
-                                                      target_offsets=offsets, seed=3))
+    data = simulate_measurements(truth, np.vstack([designed.poses, pose]), target_offsets=offsets, seed=3)
+    result = calibrate(NOMINAL, data)
     true_length = stewart.leg_lengths(truth, pose)
     assert result.beyond_stroke and {e.row for e in result.beyond_stroke} == {90}
     assert all(abs(e.length - true_length[e.leg]) < 3 * e.uncertainty for e in result.beyond_stroke)
+    legs = [e.leg for e in result.beyond_stroke]
+    length = data.readings[90, legs] + result.params.leg_length_offsets[legs]
+    variance = (result.sigma * LENGTH_STD) ** 2 + np.diag(result.covariance)[36:][legs]
+    np.testing.assert_allclose([[e.length, e.excess, e.uncertainty] for e in result.beyond_stroke],
+                               np.column_stack([length, length - 0.38, np.sqrt(variance)]), rtol=1e-12, atol=0)
+    assert all(e.limit == 0.38 for e in result.beyond_stroke) and np.all(np.diff(length) <= 0)
 
 
 def test_calibration_poses_writes_a_campaign_calibrate_reads(tmp_path, capsys):
