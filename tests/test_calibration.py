@@ -6,6 +6,7 @@ ends, the held-out pose error, the named unidentifiable combinations against
 their hand derivation, the designed poses against random ones, and the command line."""
 
 import json
+import re
 
 import numpy as np
 import pytest
@@ -46,16 +47,21 @@ def _random_poses(n, seed, nominal=NOMINAL):
     return poses[stewart.reachability(nominal, poses).ok][:n]
 
 
+def _hand_rotation(psi, theta, phi):
+    """``R = Rz(psi) Ry(theta) Rx(phi)`` written out element by element (Z-Y-X Euler angles),
+    independent of stewart.calibration.geometry and the kernel."""
+    cz, sz, cy, sy, cx, sx = np.cos(psi), np.sin(psi), np.cos(theta), np.sin(theta), np.cos(phi), np.sin(phi)
+    return np.array([[cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx],
+                     [sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx],
+                     [-sy, cy * sx, cy * cx]])
+
+
 def _hand_leg_lengths(params, poses):
-    """Leg lengths ``|t + R p_i - b_i|`` built by hand with numpy, independent of
-    stewart.calibration.geometry and the kernel: ``R = Rz(psi) Ry(theta) Rx(phi)`` of the pose
-    ``(x, y, z, psi, theta, phi)`` written out element by element (Z-Y-X Euler angles)."""
+    """Leg lengths ``|t + R p_i - b_i|`` built by hand with numpy (:func:`_hand_rotation`) at the
+    poses ``(x, y, z, psi, theta, phi)``."""
     out = []
     for x, y, z, psi, theta, phi in np.atleast_2d(poses):
-        cz, sz, cy, sy, cx, sx = np.cos(psi), np.sin(psi), np.cos(theta), np.sin(theta), np.cos(phi), np.sin(phi)
-        rot = np.array([[cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx],
-                        [sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx],
-                        [-sy, cy * sx, cy * cx]])
+        rot = _hand_rotation(psi, theta, phi)
         legs = [np.array([x, y, z]) + rot @ p - b for b, p in zip(params.base_points, params.platform_points)]
         out.append([np.sqrt(leg @ leg) for leg in legs])
     return np.array(out)
@@ -240,12 +246,16 @@ def test_point_data_recovers_the_geometry_and_fixes_the_gauge_of_one_target(desi
     # One target: {P} may turn about it; the base points and offsets do not depend on that gauge.
     single = simulate_measurements(truth, designed.poses, target_offsets=offsets[:1], seed=3)
     result = calibrate(NOMINAL, single)
+    # the fit reaches the noise: s near 1 (chi^2 on 51 dof, spread 1 / sqrt(2 dof) = 0.1; within
+    # 3.3 of it; reached 1.04 of it) and the target's RMS distance that of a 1e-5 m tracker
+    assert abs(result.sigma - 1.0) < 3.3 / np.sqrt(2 * result.dof)
+    assert result.rms_after[-1] < 3 * POSITION_STD < result.rms_before[-1]
     invariant = np.r_[0:18, 36:42]
     z = (result.estimates - geometry.parameter_vector(truth))[invariant] / result.standard_errors[invariant]
     assert np.max(np.abs(z)) < 5
     arms = NOMINAL.platform_points - offsets[0]
     turn = np.sum(np.cross(arms, result.params.platform_points - NOMINAL.platform_points), axis=0)
-    assert np.max(np.abs(turn)) < 5e-17  # reached 3.7e-19 m^2 (terms of 1e-4 m^2 that cancel)
+    assert np.max(np.abs(turn)) < 5e-17  # reached 1.7e-18 m^2 (terms of 1e-4 m^2 that cancel)
 
 
 def test_held_out_pose_error_falls_from_millimetres_to_the_noise(designed):
@@ -255,6 +265,140 @@ def test_held_out_pose_error_falls_from_millimetres_to_the_noise(designed):
     before, after = (np.sqrt(np.mean(pose_errors(p, held)["position"] ** 2)) for p in (NOMINAL, result.params))
     print(f"held-out RMS position error: {1e6 * before:.0f} um nominal, {1e6 * after:.2f} um calibrated")
     assert before > 5e-4 and after < POSITION_STD
+
+
+def test_held_out_errors_are_the_distance_and_angle_the_measurements_were_moved_by():
+    """pose_errors of readings taken at known poses (the hand-built legs) against measurements
+    moved from them by known amounts: the position error is the length of the shift, the
+    orientation error the angle of a rotation (scipy's rotation vector, on every axis, from
+    0.1 to 20 mrad) of the measured {P} relative to the true one; for point data, the distance
+    each measured target was moved, for two targets at their offsets (the hand-built
+    ``t + R c``). The errors are those of forward kinematics from the readings, which solves
+    them to its own tolerance: reached 3.0e-14 m and 2.5e-14 rad from the measured poses as
+    the guess, 2.0e-13 m from the nominal's guess for point data (bounds 2e-12 and 1e-11)."""
+    from scipy.spatial.transform import Rotation
+
+    rng = np.random.default_rng(8)
+    poses = _random_poses(6, 4)
+    readings = _hand_leg_lengths(NOMINAL, poses)
+    shift = rng.normal(size=(6, 3)) * np.array([1e-4, 1e-3, 5e-3, 2e-2, 3e-4, 1e-5])[:, None]
+    turn = rng.normal(size=(6, 3))
+    turn *= np.array([1e-4, 2e-2, 3e-3, 5e-4, 1e-2, 1e-3])[:, None] / np.linalg.norm(turn, axis=1)[:, None]
+    measured_rotation = np.array([_hand_rotation(*p[3:]) for p in poses]) @ Rotation.from_rotvec(turn).as_matrix()
+    measured = np.column_stack([poses[:, :3] + shift, Rotation.from_matrix(measured_rotation).as_euler("ZYX")])
+    errors = pose_errors(NOMINAL, CalibrationData(readings, poses=measured))
+    np.testing.assert_allclose(errors["position"], np.linalg.norm(shift, axis=1), rtol=0, atol=2e-12)
+    np.testing.assert_allclose(errors["orientation"], np.linalg.norm(turn, axis=1), rtol=0, atol=2e-12)
+
+    offsets = np.array([[0.0, 0.0, 0.02], [0.05, -0.01, 0.02]])
+    targets = np.array([0, 1, 1, 0, 1, 0])
+    points = np.array([p[:3] + _hand_rotation(*p[3:]) @ offsets[t] for p, t in zip(poses, targets)])
+    errors = pose_errors(NOMINAL, CalibrationData(readings, points=points + shift, targets=targets,
+                                                  target_offsets=offsets))
+    assert set(errors) == {"position"}
+    np.testing.assert_allclose(errors["position"], np.linalg.norm(shift, axis=1), rtol=0, atol=1e-11)
+
+
+def _hand_calibration(beyond=()):
+    """A Calibration written by hand, no fit: 12 poses, the k-th parameter's estimate
+    0.1 (k + 1) mm above the nominal with the standard error 0.01 (k + 1) mm, RMS residuals of
+    k um before and k / 10 um after for leg k, s = 1.1 on 30 degrees of freedom."""
+    from stewart.calibration import Calibration, Identifiability
+
+    nominal = np.concatenate([NOMINAL.base_points.ravel(), NOMINAL.platform_points.ravel(), NOMINAL.leg_length_offsets])
+    step = 1e-4 * np.arange(1, 43)
+    return Calibration(
+        nominal=NOMINAL, params=geometry.with_parameters(NOMINAL, nominal + step), kind="poses",
+        estimates=nominal + step, covariance=np.diag((step / 10) ** 2),
+        identifiability=Identifiability(np.ones(42), 1234.5, (), np.zeros((42, 0))),
+        rms_before=1e-6 * np.arange(6.0), rms_after=1e-7 * np.arange(6.0), sigma=1.1, dof=30,
+        poses=np.tile(stewart.home_pose(NOMINAL), (12, 1)), evaluations=7, beyond_stroke=beyond)
+
+
+def test_the_parameter_table_and_summary_hold_each_parameters_values():
+    """The text table [mm] and the JSON summary of a hand-written calibration: each row its
+    parameter's nominal (the preset's joints, in the order base, platform, offsets), estimate,
+    change and standard error, to the table's 4 decimals."""
+    result = _hand_calibration()
+    lines = result.table().splitlines()
+    assert lines[0].split() == ["parameter", "nominal", "estimate", "change", "std", "err", "[mm]"]
+    assert len(lines) == 43
+    nominal_mm = 1e3 * np.concatenate([NOMINAL.base_points.ravel(), NOMINAL.platform_points.ravel(), np.zeros(6)])
+    k = np.arange(1, 43)
+    names = [f"{part}[{i}].{a}" for part in ("base_points", "platform_points") for i in range(6) for a in "xyz"] + \
+        [f"leg_length_offsets[{i}]" for i in range(6)]
+    assert [line.split()[0] for line in lines[1:]] == names
+    table = np.array([[float(v) for v in line.split()[1:]] for line in lines[1:]])
+    np.testing.assert_allclose(table, np.column_stack([nominal_mm, nominal_mm + 0.1 * k, 0.1 * k, 0.01 * k]),
+                               rtol=0, atol=5.1e-5)
+    summary = json.loads(json.dumps(result.summary()))
+    assert {key: summary[key] for key in ("kind", "measurements", "condition_number", "sigma", "dof",
+                                          "function_evaluations", "beyond_stroke")} == {
+        "kind": "poses", "measurements": 12, "condition_number": 1234.5, "sigma": 1.1, "dof": 30,
+        "function_evaluations": 7, "beyond_stroke": []}
+    assert [p["name"] for p in summary["parameters"]] == names
+    np.testing.assert_allclose([[p["nominal"], p["estimate"], p["standard_error"]] for p in summary["parameters"]],
+                               np.column_stack([nominal_mm, nominal_mm + 0.1 * k, 0.01 * k]) / 1e3, rtol=1e-14,
+                               atol=1e-18)
+    assert summary["rms_before"] == {f"L{i}": pytest.approx(1e-6 * i, rel=1e-15) for i in range(6)}
+    assert summary["rms_after"] == {f"L{i}": pytest.approx(1e-7 * i, rel=1e-15) for i in range(6)}
+
+
+def test_the_stroke_warning_names_the_worst_leg_and_counts_the_significant_ones():
+    """The one-line warning of legs past the stroke (0.19-0.38 m), written by hand: 3 legs of
+    2 measurements, the worst 3 mm past (3000 um, with its row, leg, length and 250 um
+    uncertainty), 2 of them past by more than 3 standard uncertainties; none past, no warning;
+    none significant, all within their uncertainty."""
+    from stewart.calibration import StrokeExcess
+
+    assert _hand_calibration().stroke_warning() is None
+    beyond = (StrokeExcess(30, 5, 0.383, 0.38, 3e-3, 2.5e-4), StrokeExcess(12, 0, 0.1899, 0.19, 1e-4, 3e-5),
+              StrokeExcess(30, 4, 0.3801, 0.38, 1e-4, 2.5e-4))
+    result = _hand_calibration(beyond)
+    assert result.stroke_warning() == (
+        "with the calibrated geometry 3 leg(s) of 2 measurement(s) lie past the stroke 0.19-0.38 m, by up to 3000 um "
+        "(row 30, leg 5, 0.383 m, standard uncertainty 250 um); 2 of them by more than 3 standard uncertainties: the "
+        "leg_length_limits given may not be the built machine's, or those rows are wrong")
+    assert json.loads(json.dumps(result.summary()))["beyond_stroke"][1] == {
+        "row": 12, "leg": 0, "length": 0.1899, "limit": 0.19, "excess": 1e-4, "uncertainty": 3e-5}
+    within = _hand_calibration((StrokeExcess(7, 2, 0.38001, 0.38, 1e-5, 2e-5),))
+    assert within.stroke_warning() == (
+        "with the calibrated geometry 1 leg(s) of 1 measurement(s) lie past the stroke 0.19-0.38 m, by up to 10 um "
+        "(row 7, leg 2, 0.38001 m, standard uncertainty 20 um); all within their uncertainty")
+
+
+def test_the_figures_plot_the_residuals_changes_with_two_standard_errors_and_held_out_errors(tmp_path, monkeypatch):
+    """The figures of a hand-written calibration hold its numbers: the RMS residual bars of leg
+    k, k um before and k / 10 um after; per part (base, platform, offsets) the k-th
+    parameter's change, 0.1 k mm, with error bars of 2 standard errors, 0.02 k mm; the held-out
+    errors in um and urad with their RMS in the legend."""
+    pytest.importorskip("matplotlib")
+    import matplotlib.figure
+
+    from stewart.calibration.figures import plot_calibration
+
+    figures = []  # the figures as saved (not drawn: a second of rendering the test does not need)
+    monkeypatch.setattr(matplotlib.figure.Figure, "savefig", lambda fig, path, **k: figures.append((fig, path)))
+    held = {"nominal": {"position": np.array([3e-4, 4e-4]), "orientation": np.array([1e-3, 1e-3])},
+            "calibrated": {"position": np.array([3e-6, 4e-6]), "orientation": np.array([2e-5, 1e-5])}}
+    paths = plot_calibration(_hand_calibration(), tmp_path / "figs", held)
+    names = ("calibration_residuals.png", "calibration_estimates.png", "calibration_held_out.png")
+    assert paths == [str(tmp_path / "figs" / name) for name in names]
+    assert [str(path) for _, path in figures] == paths
+    residuals, estimates, held_out = (fig for fig, _ in figures)
+    bars = [[bar.get_height() for bar in container] for container in residuals.axes[0].containers]
+    np.testing.assert_allclose(bars, [np.arange(6.0), np.arange(6.0) / 10], rtol=1e-12)
+    k = np.arange(1, 43)
+    for ax, part in zip(estimates.axes, (slice(0, 18), slice(18, 36), slice(36, 42))):
+        (bar,) = ax.containers
+        np.testing.assert_allclose(bar.lines[0].get_ydata(), 0.1 * k[part], rtol=1e-9)
+        segments = np.array(bar.lines[2][0].get_segments())  # each bar from y - yerr to y + yerr
+        np.testing.assert_allclose(segments[:, :, 1], np.column_stack([0.08 * k[part], 0.12 * k[part]]), rtol=1e-9)
+    for ax, kind, unit in zip(held_out.axes, ("position", "orientation"), ("um", "urad")):
+        for line, label in zip(ax.get_lines(), ("nominal", "calibrated")):
+            np.testing.assert_allclose(line.get_ydata(), 1e6 * held[label][kind], rtol=1e-12)
+            rms = np.sqrt(np.mean((1e6 * held[label][kind]) ** 2))
+            assert line.get_label() == f"{label} geometry (RMS {rms:.3g} {unit})"
 
 
 def test_translations_alone_leave_each_legs_joints_undetermined_together():
@@ -268,6 +412,11 @@ def test_translations_alone_leave_each_legs_joints_undetermined_together():
         calibrate(NOMINAL, simulate_measurements(NOMINAL, poses, angle_std=0.0))
     ident = info.value.identifiability
     assert ident.condition == np.inf and len(ident.combinations) == 18
+    # the message names the first three and counts the other 15 (docs/calibration.md)
+    assert str(info.value) == (
+        f"simulated measurements: the measurements cannot determine 18 parameter combination(s), e.g. "
+        f"{'; '.join(ident.combinations[:3])}; and 15 more; measure poses that also turn the platform about all "
+        "three axes (these only translate it)")
     expected = np.zeros((42, 18))
     for i in range(6):
         for a in range(3):
@@ -293,6 +442,55 @@ def test_one_set_of_leg_lengths_names_each_offset_with_its_joints():
         assert np.max(np.abs(directions @ coefficients - trade)) < 1e-13  # reached 8.9e-16
 
 
+def test_distinct_poses_too_close_together_ask_for_poses_spread_over_the_workspace():
+    """Ten distinct poses that turn the platform (by up to 5 mrad about each axis) but stay
+    within 0.5 mm and 5 mrad of home: too close together to tell the parameters apart (a
+    condition number past 1e5), neither one pose repeated nor translations alone."""
+    rng = np.random.default_rng(0)
+    poses = stewart.home_pose(NOMINAL) + rng.uniform(-1, 1, (10, 6)) * np.array([5e-4] * 3 + [5e-3] * 3)
+    assert np.ptp(poses[:, 3:], axis=0).min() > 5e-3
+    with pytest.raises(UnidentifiableError, match=r"parameter combination.*; measure more poses spread over the "
+                       r"workspace's positions and orientations \(stewart calibration-poses"):
+        calibrate(NOMINAL, simulate_measurements(NOMINAL, poses, position_std=0.0, angle_std=0.0, length_std=0.0))
+
+
+def test_a_parameter_nothing_depends_on_is_named_alone_without_a_warning():
+    """Columns a, b = -2 a, c = 0 and d: c changes no residual, and a + 0.5 b (or b + 2 a)
+    neither, by hand; the zero column is left unscaled, not divided by its zero norm (no
+    RuntimeWarning, an error here)."""
+    import warnings
+
+    from stewart.calibration.identifiability import identifiability
+
+    a, d = np.random.default_rng(0).normal(size=(2, 20))
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        ident = identifiability(np.column_stack([a, -2 * a, np.zeros(20), d]), ["a", "b", "c", "d"])
+    assert ident.condition == np.inf and not ident.identifiable
+    assert "c" in ident.combinations and len(ident.combinations) == 2
+    assert {"a + 0.5 b", "b + 2 a"} & set(ident.combinations)
+    _same_span(ident.directions, np.array([[0.0, 0.0, 1.0, 0.0], [1.0, 0.5, 0.0, 0.0]]).T, 1e-14)  # reached 3.3e-16
+
+
+@pytest.mark.parametrize("others, more", [(5, ""), (6, " (+1 more)"), (8, " (+3 more)")])
+def test_a_long_combination_shows_its_six_largest_terms_and_counts_the_rest(others, more):
+    """Column p_n = sum_i w_i p_i of n others: the one combination is p_n - sum_i w_i p_i,
+    written from whichever parameter leads it (coefficient 1), its others largest first with
+    their signs, five of them and how many more."""
+    from stewart.calibration.identifiability import identifiability
+
+    columns = np.random.default_rng(1).normal(size=(30, others))
+    weights = np.array([0.5, -1.5, 2.0, -0.25, 3.0, 0.75, -1.1, 1.25])[:others]  # no two terms alike (nor 1)
+    names = [f"p{i}" for i in range(others + 1)]
+    (combination,) = identifiability(np.column_stack([columns, columns @ weights]), names).combinations
+    direction = np.append(-weights, 1.0)
+    lead = names.index(combination.split()[0])
+    direction = direction / direction[lead]
+    rest = sorted((i for i in range(others + 1) if i != lead), key=lambda i: -abs(direction[i]))
+    terms = [f"{'+' if direction[i] > 0 else '-'} {abs(direction[i]):.3g} {names[i]}" for i in rest[:5]]
+    assert combination == " ".join([names[lead], *terms]) + more
+
+
 def _same_span(a, b, tolerance):
     """The columns of ``a`` and ``b`` span the same space (to ``tolerance``)."""
     assert a.shape == b.shape
@@ -312,6 +510,64 @@ def test_designed_poses_are_better_conditioned_than_random_ones(designed):
     # the nominal's readings: the hand-built legs' lengths (no offsets); reached 6e-17 m
     assert not np.any(NOMINAL.leg_length_offsets)
     np.testing.assert_allclose(designed.readings, _hand_leg_lengths(NOMINAL, designed.poses), rtol=0, atol=1e-14)
+
+
+def test_observability_indices_against_a_direct_svd():
+    """O1, the condition number and O4 (Sun & Hollerbach 2008; Nahvi & Hollerbach 1996) of
+    the identification Jacobian (the 6 K rows of K poses) whose columns are scaled to a sum of
+    squares of K (a pose's six rows' sum averaging 1), from numpy's SVD: O1 the geometric mean
+    of the singular values over sqrt(6 K), sigma_max / sigma_min, sigma_min^2 / sigma_max
+    (reached 2.9e-14 relative; bound 1e-12). Fewer than 7 poses leave the 42 parameters
+    undetermined: O1 = O4 = 0 and an infinite condition number."""
+    poses = _random_poses(10, 6)
+    jacobian = geometry.leg_jacobian(geometry.parameter_vector(NOMINAL), poses).reshape(60, 42)
+    jacobian = jacobian * np.sqrt(10 / np.sum(jacobian**2, axis=0))
+    sv = np.linalg.svd(jacobian, compute_uv=False)
+    want = {"O1": np.prod(sv ** (1 / 42)) / np.sqrt(60), "condition": sv[0] / sv[-1], "O4": sv[-1] ** 2 / sv[0]}
+    got = observability(NOMINAL, poses)
+    assert set(got) == set(want)
+    np.testing.assert_allclose([got[k] for k in want], list(want.values()), rtol=1e-12)
+    assert observability(NOMINAL, poses[:6]) == {"O1": 0.0, "condition": np.inf, "O4": 0.0}
+
+
+def test_each_designed_pose_is_the_one_that_raises_log_det_most():
+    """The greedy design against the criterion of the module docstring computed directly: at
+    each step, of the candidates not yet chosen, the one whose rows J_c maximize
+    ``log det(M + eps I + J_c^T J_c)`` (numpy's slogdet of the 42 x 42 matrix, eps = 1e-6),
+    ``M`` the information of those chosen; not the matrix determinant lemma the design uses.
+    With eps = 1e-5 the choice differs by the eighth pose."""
+    from stewart.calibration.design import _greedy, _scaled_rows
+
+    rows = _scaled_rows(NOMINAL, _random_poses(40, 2))
+    information, want = 1e-6 * np.eye(42), []
+    for _ in range(10):
+        gain = [-np.inf if c in want else np.linalg.slogdet(information + r.T @ r)[1] for c, r in enumerate(rows)]
+        want.append(int(np.argmax(gain)))
+        information = information + rows[want[-1]].T @ rows[want[-1]]
+    assert _greedy(rows, 10, False) == want
+
+
+@pytest.mark.parametrize("arguments, message", [
+    ({"count": 6}, "count: 42 parameters need at least 7 poses (6 legs each), got 6"),
+    ({"rotation": 0.0}, "rotation: must be a positive finite number, got 0.0"),
+    ({"translation": -0.01}, "translation: must be a positive finite number, got -0.01"),
+    ({"translation": 0.0}, "translation: must be a positive finite number, got 0.0"),
+    ({"centre": np.zeros((2, 6))}, "centre: expected one pose, got shape (2, 6)"),
+])
+def test_design_arguments_out_of_range_are_errors_naming_them(arguments, message):
+    with pytest.raises(ValueError, match=f"^{re.escape(message)}$"):
+        design_poses(NOMINAL, **{"count": 7, **arguments})
+
+
+def test_a_box_with_too_few_reachable_poses_is_an_error_saying_how_many():
+    """A box 1 cm and 0.01 rad wide centred 10.5 cm above home, near the top of the stroke:
+    of the 40 x 7 = 280 candidates for 7 poses only a few are reachable, fewer than the twice
+    7 the design needs, though at least the 7 it would pick (so it is the count that refuses)."""
+    centre = stewart.home_pose(NOMINAL) + [0.0, 0.0, 0.105, 0.0, 0.0, 0.0]
+    with pytest.raises(ValueError, match=r"^centre, translation, rotation: only (\d+) of 280 random poses in the box "
+                                         r"are reachable; need 14 \(move the centre or shrink the box\)$") as info:
+        design_poses(NOMINAL, 7, centre=centre, translation=0.01, rotation=0.01)
+    assert 7 <= int(re.search(r"only (\d+) of", str(info.value)).group(1)) < 14
 
 
 def test_offsets_flow_through_forward_kinematics_files_and_identification(tmp_path):
@@ -410,18 +666,47 @@ def test_measured_poses_past_the_nominal_stroke_are_calibrated_and_judged_after_
         assert "past the stroke 0.19-0.38 m" in lines[0] and "by more than 3 standard uncertainties" in lines[0]
 
 
+def test_a_measured_pose_outside_the_workspace_is_refused_saying_why():
+    """Refused before the fit: a pose 20 cm above home, its legs 48 cm, past the stroke (0.19-
+    0.38 m) widened by 5 % of it, 0.0095 m, to 0.3895 m, says so and how it was widened; home
+    mirrored below the base (the same leg lengths, all within the stroke) says it is below the
+    base and in the other assembly mode, and nothing of the stroke."""
+    poses = np.vstack([_random_poses(12, 1), stewart.home_pose(NOMINAL)])
+    start = "measurements: 1 of 13 measured pose(s) outside the workspace: "
+    poses[-1, 2] += 0.2
+    with pytest.raises(stewart.WorkspaceError, match=re.escape(start) + r"leg\(s\) \[0, 1, 2, 3, 4, 5\] longer "
+                       r"than the maximum length 0.3895 m \(0.48[0-9., ]+ m\) at row 12 \(the stroke 0.19-0.38 m "
+                       r"widened by 0.05 of it, 0.0095 m, for the built machine's geometry errors: check the rows, the "
+                       r"file and its units\)$"):
+        calibrate(NOMINAL, CalibrationData(_hand_leg_lengths(NOMINAL, poses), poses=poses))
+    poses[-1, 2] = -stewart.home_pose(NOMINAL)[2]
+    with pytest.raises(stewart.WorkspaceError, match=re.escape(start) + "the platform is not above the base: .* at "
+                       "row 12; det J_C has the other sign: the pose is in another assembly mode, beyond a "
+                       "singularity at row 12$"):
+        calibrate(NOMINAL, CalibrationData(_hand_leg_lengths(NOMINAL, poses), poses=poses))
+
+
 def test_point_data_past_the_nominal_stroke_names_the_first_row_of_its_pose(designed):
     """Point data's poses come from the readings (3 targets a pose): a pose whose nominal legs
     are 1.4-4.1 mm past the stroke is calibrated, and its legs past it with the calibrated
-    geometry name the pose's first row, 90 of 93, within their uncertainty of the truth."""
+    geometry name the pose's first row, 90 of 93, within their uncertainty of the truth. Each
+    is the reading plus the calibrated offset, past the maximum by that less the limit, with
+    the uncertainty of a sum of independent terms: the reading's (the encoder's 1 um scaled
+    by s) and the offset's (its variance in the covariance), largest excess first."""
     truth = perturbed_geometry(NOMINAL, seed=21)
     offsets = [[0.0, 0.0, 0.02], [0.05, 0.0, 0.02], [0.0, 0.05, 0.02]]
     pose = _at_the_stroke_end(3e-3)
-    result = calibrate(NOMINAL, simulate_measurements(truth, np.vstack([designed.poses, pose]),
-                                                      target_offsets=offsets, seed=3))
+    data = simulate_measurements(truth, np.vstack([designed.poses, pose]), target_offsets=offsets, seed=3)
+    result = calibrate(NOMINAL, data)
     true_length = stewart.leg_lengths(truth, pose)
     assert result.beyond_stroke and {e.row for e in result.beyond_stroke} == {90}
     assert all(abs(e.length - true_length[e.leg]) < 3 * e.uncertainty for e in result.beyond_stroke)
+    legs = [e.leg for e in result.beyond_stroke]
+    length = data.readings[90, legs] + result.params.leg_length_offsets[legs]
+    variance = (result.sigma * LENGTH_STD) ** 2 + np.diag(result.covariance)[36:][legs]
+    np.testing.assert_allclose([[e.length, e.excess, e.uncertainty] for e in result.beyond_stroke],
+                               np.column_stack([length, length - 0.38, np.sqrt(variance)]), rtol=1e-12, atol=0)
+    assert all(e.limit == 0.38 for e in result.beyond_stroke) and np.all(np.diff(length) <= 0)
 
 
 def test_calibration_poses_writes_a_campaign_calibrate_reads(tmp_path, capsys):
@@ -465,6 +750,56 @@ def test_bad_measurements_are_one_line_errors(campaign, tmp_path, capsys, edit, 
     lines = err.strip().splitlines()
     assert got == code and len(lines) == 1, err
     assert lines[0].startswith(f"stewart calibrate: error: {start.format(file=path)}"), lines[0]
+
+
+def test_one_targets_offset_may_be_given_alone():
+    """One target's offset as a vector (3,) is the offsets (1, 3): the same data as given so."""
+    readings, points = np.full((4, 6), 0.3), np.zeros((4, 3))
+    alone = CalibrationData(readings, points=points, target_offsets=[0.01, -0.02, 0.03])
+    np.testing.assert_array_equal(alone.target_offsets, [[0.01, -0.02, 0.03]])
+    np.testing.assert_array_equal(alone.targets, np.zeros(4, dtype=int))
+    with pytest.raises(ValueError, match=r"^measurements: readings: expected 6 columns, got shape \(6,\)$"):
+        CalibrationData(readings[0], points=points[:1], target_offsets=[0.0, 0.0, 0.02])
+
+
+_TARGETS = "measurements: target: expected indices 0..1 of the 2 target offset(s) given, one per row"
+
+
+@pytest.mark.parametrize("kind, targets, message", [
+    ("points", [0, 1, 1], _TARGETS), ("points", [[0], [1], [1], [0]], _TARGETS), ("points", [0, 1, 2, 0], _TARGETS),
+    ("points", [0, -1, 1, 0], _TARGETS), ("points", [0, 0.5, 1, 0], _TARGETS),
+    ("rows", None, "measurements: points has 3 rows and readings 4"),
+    ("poses", None, "measurements: poses has 5 rows and readings 4"),
+    ("both", None, "measurements: give either poses or points"),
+])
+def test_measurements_that_do_not_fit_together_are_errors_saying_how(kind, targets, message):
+    readings, offsets = np.full((4, 6), 0.3), [[0.0, 0.0, 0.02], [0.05, 0.0, 0.02]]
+    given = {"points": {"points": np.zeros((4, 3)), "targets": targets, "target_offsets": offsets},
+             "rows": {"points": np.zeros((3, 3)), "target_offsets": offsets},
+             "poses": {"poses": np.zeros((5, 6))},
+             "both": {"poses": np.zeros((4, 6)), "points": np.zeros((4, 3)), "target_offsets": offsets}}[kind]
+    with pytest.raises(ValueError, match=f"^{re.escape(message)}$"):
+        CalibrationData(readings, **given)
+
+
+@pytest.mark.parametrize("kind, count, message", [
+    ("poses", 4, "24 equations for 42 unknowns; measure at least 8 poses"),
+    ("poses", 7, "42 equations for 42 unknowns; measure at least 8 poses"),
+    ("one target", 10, "90 equations for 99 unknowns; measure at least 14 target measurements"),
+    ("three targets", 4, "60 equations for 66 unknowns; measure at least 15 target measurements"),
+])
+def test_too_few_measurements_say_how_many_more(kind, count, message):
+    """By hand: K poses give 6 K leg equations for the 42 parameters (7 poses, 42, are not
+    more); one target a pose adds 3 equations and 6 unknowns (the pose), less the 3 turns about
+    the target that the gauge fixes: 90 for 42 + 60 - 3 = 99 at K = 10, and 14 measurements of
+    the target (102 > 99) suffice; three targets (no gauge) at K = 4, 24 + 36 = 60 for 42 + 24
+    = 66, need 15 (69 > 66)."""
+    poses = _random_poses(count, 3)
+    offsets = {"poses": None, "one target": [[0.0, 0.0, 0.02]],
+               "three targets": [[0.0, 0.0, 0.02], [0.05, 0.0, 0.02], [0.0, 0.05, 0.02]]}[kind]
+    data = simulate_measurements(NOMINAL, poses, target_offsets=offsets)
+    with pytest.raises(ValueError, match=f"^simulated measurements: too few measurements: {message}$"):
+        calibrate(NOMINAL, data)
 
 
 def test_point_data_without_target_offsets_says_which_flag(tmp_path, capsys, designed):

@@ -2,9 +2,9 @@
 
 The poses are picked from random reachable candidates (:mod:`stewart.model.reachability`)
 around a centre pose by greedy D-optimal selection: each step adds the candidate that most
-raises ``log det(J^T J + eps I)`` of the column-scaled identification Jacobian of pose
-measurements (:mod:`stewart.calibration.geometry`), a rank-6 update evaluated for every
-candidate at once. The index maximized is Sun & Hollerbach's ``O1 = det(J^T J)^(1/2n) /
+raises ``log det(J^T J + eps I)`` (``eps = 1e-6``) of the column-scaled identification
+Jacobian of pose measurements (:mod:`stewart.calibration.geometry`), a rank-6 update
+evaluated for every candidate at once. The index maximized is Sun & Hollerbach's ``O1 = det(J^T J)^(1/2n) /
 sqrt(m)`` (the geometric mean of the singular values over the square root of the number of
 rows; Sun & Hollerbach 2008, "Observability index selection for robot calibration"); the
 design also reports the condition number ``sigma_max / sigma_min`` (the inverse of ``O3``)
@@ -56,7 +56,8 @@ class PoseDesign:
 
 def _scaled_rows(params, poses) -> np.ndarray:
     """The identification Jacobian's rows (K, 6, 42) with every column scaled to unit RMS
-    over ``poses`` (so that positions in metres and offsets weigh alike)."""
+    over ``poses`` (the sum of squares of a pose's six rows averaging 1; so that positions in
+    metres and offsets weigh alike)."""
     rows = leg_jacobian(parameter_vector(params), poses)
     scale = np.sqrt(np.mean(np.sum(rows * rows, axis=1), axis=0))
     return rows / scale
@@ -67,10 +68,11 @@ def observability(params, poses) -> dict:
     Jacobian of ``poses`` (K, 6) (scaled over those poses)."""
     rows = _scaled_rows(platform_params(params), np.atleast_2d(poses)).reshape(-1, NUM_PARAMETERS)
     sv = np.linalg.svd(rows, compute_uv=False)
-    if len(sv) < NUM_PARAMETERS or sv[-1] <= 0.0:
+    if len(sv) < NUM_PARAMETERS:  # fewer rows than parameters
         return {"O1": 0.0, "condition": float("inf"), "O4": 0.0}
-    return {"O1": float(np.exp(np.mean(np.log(sv))) / np.sqrt(len(rows))), "condition": float(sv[0] / sv[-1]),
-            "O4": float(sv[-1] ** 2 / sv[0])}
+    with np.errstate(divide="ignore"):  # a zero singular value gives the same 0, inf and 0
+        return {"O1": float(np.exp(np.mean(np.log(sv))) / np.sqrt(len(rows))), "condition": float(sv[0] / sv[-1]),
+                "O4": float(sv[-1] ** 2 / sv[0])}
 
 
 def design_poses(platform, count: int, *, centre=None, translation: float | None = None,
@@ -88,7 +90,7 @@ def design_poses(platform, count: int, *, centre=None, translation: float | None
     translation = DEFAULT_TRANSLATION * centre[2] if translation is None else arguments.real("translation", translation)
     rotation = arguments.real("rotation", rotation)
     for name, value in (("translation", translation), ("rotation", rotation)):
-        if not 0.0 < value < np.inf:
+        if value <= 0.0:  # (finite: arguments.real)
             raise ValueError(f"{name}: must be a positive finite number, got {value}")
     rng = np.random.default_rng(arguments.seed(seed))
     box = np.array([translation] * 3 + [rotation] * 3)

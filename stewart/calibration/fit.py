@@ -17,8 +17,9 @@ pose, started from forward kinematics of the nominal geometry); the residuals ar
 {P} about the target (the line) and every pose back leaves every residual unchanged. That
 gauge is fixed by requiring that the platform joints do not turn about the targets relative
 to the nominal, ``sum_i (p0_i - c) x (p_i - p0_i) . w = 0`` for each such axis ``w``:
-equations the solution satisfies exactly, so they change no estimate of a determined
-quantity. With three targets not on one line there is no gauge.
+equations the solution satisfies exactly (the fit moves the parameters only in the
+directions they leave free), so they change no estimate of a determined quantity. With
+three targets not on one line there is no gauge.
 
 **Measured poses and the stroke.** A measured pose is where the built machine was, and the
 stroke ends are where calibration data says most, so the nominal geometry (the one being
@@ -200,16 +201,20 @@ def calibrate(platform, data: CalibrationData, *, position_std: float = DEFAULT_
     ident = identifiability(problem.data_jacobian(problem.theta0), PARAMETER_NAMES, gauged)
     if not ident.identifiable:
         raise UnidentifiableError(_unidentifiable_message(ident, problem), ident)
-    # The gauge rows of point data are met exactly at the solution, whatever their weight.
-    fit = scipy.optimize.least_squares(problem.residuals, problem.theta0, jac=problem.jacobian, method="lm",
+    # The fit moves the parameters in the directions the gauge of point data leaves free only:
+    # theta = free x + fixed, ``fixed`` the part of the nominal the gauge equations hold (zero,
+    # and theta = x exactly, without a gauge), so that every theta tried meets them.
+    fixed = problem.theta0 - free @ (free.T @ problem.theta0)
+    fit = scipy.optimize.least_squares(lambda x: problem.residuals(free @ x + fixed), free.T @ problem.theta0,
+                                       jac=lambda x: problem.data_jacobian(free @ x + fixed) @ free, method="lm",
                                        x_scale="jac", ftol=1e-12, xtol=1e-12, gtol=1e-12)
-    jac = problem.data_jacobian(fit.x) @ free
+    theta = free @ fit.x + fixed
+    jac = problem.data_jacobian(theta) @ free
     dof = len(jac) - problem.unknowns
     sigma = float(np.sqrt(2.0 * fit.cost / dof))
     norms = np.sqrt(np.sum(jac * jac, axis=0))
     sv, vt = scaled_svd(jac / norms)  # identifiable: every column and singular value is nonzero
     covariance = free @ (((vt.T / sv**2) @ vt) / np.outer(norms, norms)) @ free.T * sigma**2
-    theta = fit.x
     first_rows = np.unique(problem.pose_of_row, return_index=True)[1]
     beyond = _beyond_stroke(nominal.leg_length_limits, problem.readings + theta[36:42], first_rows,
                             np.sqrt((sigma * stds["length_std"]) ** 2 + np.diag(covariance)[36:42]))
@@ -217,8 +222,8 @@ def calibrate(platform, data: CalibrationData, *, position_std: float = DEFAULT_
         nominal=nominal, params=geometry.with_parameters(nominal, theta).replace(
             name=f"{nominal.name or 'platform'} (calibrated)"),
         kind=data.kind, estimates=theta, covariance=covariance,
-        identifiability=identifiability(problem.data_jacobian(fit.x), PARAMETER_NAMES, gauged), rms_before=problem.rms(problem.theta0),
-        rms_after=problem.rms(fit.x), sigma=sigma, dof=int(dof), poses=problem.poses_at(fit.x)[problem.pose_of_row],
+        identifiability=identifiability(problem.data_jacobian(theta), PARAMETER_NAMES, gauged), rms_before=problem.rms(problem.theta0),
+        rms_after=problem.rms(theta), sigma=sigma, dof=int(dof), poses=problem.poses_at(theta)[problem.pose_of_row],
         evaluations=int(fit.nfev), residual_names=problem.residual_names, beyond_stroke=beyond)
 
 
@@ -298,7 +303,6 @@ class _Problem:
             covariance = length_std**2 * np.eye(6) + np.einsum("kia,a,kja->kij", g, pose_var, g)
             self.weight_legs = np.linalg.inv(np.linalg.cholesky(covariance))
         self.weight_points = 1.0 / position_std
-        self.weight_gauge = 1.0 / length_std
         self.poses = poses
         self._solved = (None, poses)
         if data.points is not None:
@@ -353,14 +357,11 @@ class _Problem:
         return np.concatenate([legs.reshape(-1, 6), self.weight_points * points.reshape(-1, 6)])
 
     def residuals(self, theta) -> np.ndarray:
-        rows = self._data_parts(theta, self.poses_at(theta), columns=False)
-        return np.concatenate([rows, self.weight_gauge * (self.gauge @ (theta - self.theta0))])
-
-    def jacobian(self, theta) -> np.ndarray:
-        return np.concatenate([self.data_jacobian(theta), self.weight_gauge * self.gauge])
+        """The weighted residuals of the data."""
+        return self._data_parts(theta, self.poses_at(theta), columns=False)
 
     def data_jacobian(self, theta) -> np.ndarray:
-        """The weighted Jacobian of the data's residuals (without the gauge rows)."""
+        """The weighted Jacobian of the data's residuals."""
         poses = self.poses_at(theta)
         _, cols = self._data_parts(theta, poses)
         if self.data.points is not None:

@@ -63,7 +63,7 @@ class CalibrationData:
             if self.target_offsets is None:
                 raise ValueError(f"{name}: point measurements need their targets' offsets in {{P}} "
                                  "(target_offsets, --target-offset X Y Z)")
-            offsets = np.atleast_2d(_finite(name, "target_offsets", self.target_offsets, 3))
+            offsets = _finite(name, "target_offsets", self.target_offsets, 3)
             targets = np.zeros(n, dtype=int) if self.targets is None else arguments.reals("targets", self.targets)
             if targets.shape != (n,) or np.any(targets != np.round(targets)) or np.any(targets < 0) \
                     or np.any(targets >= len(offsets)):
@@ -129,7 +129,7 @@ def _header(path: str) -> list[str]:
 
 def _finite(source, name, value, width) -> np.ndarray:
     arr = arguments.reals(name, value)
-    if arr.ndim == 1 and arr.shape == (width,) and name == "target_offsets":
+    if arr.shape == (width,) and name == "target_offsets":  # one target's offset
         arr = arr[None]
     if arr.ndim != 2 or arr.shape[1] != width:
         raise ValueError(f"{source}: {name}: expected {width} columns, got shape {arr.shape}")
