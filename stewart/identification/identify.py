@@ -191,7 +191,7 @@ def excitation_condition(base: BaseParameters, A: np.ndarray) -> float:
     """The condition number of a stacked base regressor ``A`` ``(m, r)`` with each column in
     units of its size over random motion (:attr:`BaseParameters.scale`): large when the
     trajectory leaves a combination of base parameters unexcited."""
-    return _condition(_gram(A / base.scale) / (len(A) / 6))
+    return _condition(_gram(A / base.scale))
 
 
 def _gram(A: np.ndarray) -> np.ndarray:
@@ -227,7 +227,7 @@ def estimate(platform, x, xd, xdd, forces, *, friction: bool = True, base: BaseP
         moments = np.einsum("nlr,nl->lr", A, forces)           # per leg A_i^T f_i
     if not np.all(np.isfinite(moments)):
         raise ValueError("forces: too large for double precision (the least squares overflow)")
-    condition = _condition(grams.sum(axis=0) / n)
+    condition = _condition(grams.sum(axis=0))
     if not condition <= MAX_CONDITION:
         raise ValueError(f"measurements: the trajectory does not excite every base parameter (condition number "
                          f"{condition:.3g} > {MAX_CONDITION:.0e}); move every axis, at several speeds")
