@@ -13,7 +13,7 @@ import pytest
 
 from stewart import NonAxisymmetricLegWarning, Platform, PlatformParams
 from stewart.cli import main
-from stewart.identification.identify import Measurements, estimate, identify, synthetic_measurements, validation
+from stewart.identification.identify import Measurements, differentiate, estimate, identify, synthetic_measurements, validation
 
 NOISE_LENGTH = 1e-6   # m, a linear encoder's
 NOISE_FORCE = 0.2     # N, a load cell's
@@ -58,6 +58,32 @@ def test_exact_states_recover_the_base_parameters(figures):
     beta = result.base.values(true.params.inertial_vector())
     err = np.max(np.abs(result.estimates - beta) / (np.abs(beta) + 1e-6 * np.max(np.abs(beta))))
     figures("identification from exact states: base parameters, relative", err, 5e-9)  # reached 9.2e-11
+
+
+#: Worst error of each filter's pose, rate and acceleration against the exact ones, relative to
+#: their peaks (reached 7.4e-7, 2.0e-4, 1.6e-4 for savgol; 2.1e-5, 1.8e-4, 1.5e-3 for butterworth,
+#: whose end transients reached 0.16 in the accelerations when one window was dropped).
+FILTER_ERRORS = {"savgol": (3e-5, 5e-3, 5e-3), "butterworth": (5e-4, 5e-3, 3e-2)}
+
+
+@pytest.mark.parametrize("name", sorted(FILTER_ERRORS))
+def test_filters_differentiate_the_poses(name, figures):
+    """Exact leg lengths at 500 Hz with an 8 Hz cut-off: the window spans 63 samples (500 / 8,
+    rounded to odd); savgol drops one window at either end and butterworth three. What is left
+    against the sum of sines' exact derivatives, and the forces of the same samples."""
+    true = machine()
+    traj = Sines(PRIOR.home_pose, 1)
+    data = synthetic_measurements(true, traj, rate=RATE)
+    poses = PRIOR.forward_kinematics(data.lengths, PRIOR.home_pose, encoder=True)
+    x, xd, xdd, forces = differentiate(data, poses, filter=name, cutoff=CUTOFF)
+    drop = {"savgol": 63, "butterworth": 189}[name]
+    assert len(x) == len(data.t) - 2 * drop and np.array_equal(forces, data.forces[drop:-drop])
+    exact = traj.sample(data.t[drop:-drop])
+    for label, got, want, peak, bound in zip(("pose", "rate", "acceleration"), (x, xd, xdd), exact,
+                                             (traj.amp.sum(axis=1), *(np.max(np.abs(v), axis=0) for v in exact[1:])),
+                                             FILTER_ERRORS[name]):
+        figures(f"identification: {name} filter's {label}, relative to its peak",
+                np.max(np.abs(got - want) / peak), bound)
 
 
 def test_standard_errors_cover_the_true_values_over_repeated_runs(figures):

@@ -16,7 +16,9 @@ log of leg lengths and forces sampled at a known rate, :func:`identify`
    lengths because the regressor takes pose rates. The forces are not filtered: they enter
    the least squares linearly, so their noise averages out without bias, while smoothing them
    would blur the Coulomb friction's turn at each reversal of a leg into a bias. The samples
-   within one filter window of either end are dropped;
+   within one filter window of either end are dropped, within three for the Butterworth
+   filter: its start-up transients at the ends of the log last longer (its slowest poles, of
+   damping 0.38, decay by e^-2.4 a period of the cut-off);
 3. stacks the base regressor of the remaining samples and solves weighted least squares
    (:func:`estimate`): a first ordinary solve gives each leg's residual variance, and each
    leg's equations are then weighted by its inverse standard deviation (legs with noisier
@@ -252,7 +254,7 @@ def estimate(platform, x, xd, xdd, forces, *, friction: bool = True, base: BaseP
 
 def differentiate(measurements: Measurements, poses: np.ndarray, *, filter: str = "savgol", cutoff: float = 10.0):
     """Zero-phase filtered poses, rates and accelerations, and the measured forces, at the
-    samples farther than one filter window from either end."""
+    samples farther than one filter window from either end (three for the Butterworth filter)."""
     if filter not in FILTERS:
         raise ValueError(f"filter: expected one of {', '.join(FILTERS)}, got {filter!r}")
     cutoff = arguments.real("cutoff", cutoff)
@@ -266,8 +268,9 @@ def differentiate(measurements: Measurements, poses: np.ndarray, *, filter: str 
         raise ValueError(f"cutoff: {cutoff:g} Hz is too low for the sampling rate {rate:g} Hz: the filter window "
                          "overflows; raise the cut-off")
     window = max(7, int(round(period)) | 1)
+    drop = window if filter == "savgol" else 3 * window  # the samples dropped at either end
     n = len(poses)
-    if n < 3 * window:
+    if n < 2 * drop + window:
         raise ValueError(f"measurements: too few samples ({n}) for the filter window of {window} samples; "
                          f"log longer or raise the cut-off")
     if filter == "savgol":
@@ -279,7 +282,7 @@ def differentiate(measurements: Measurements, poses: np.ndarray, *, filter: str 
         x = low(poses)
         xd = np.gradient(x, dt, axis=0)
         xdd = np.gradient(xd, dt, axis=0)
-    keep = slice(window, n - window)
+    keep = slice(drop, n - drop)
     return x[keep], xd[keep], xdd[keep], measurements.forces[keep]
 
 
