@@ -1,6 +1,7 @@
 """Excitation trajectories: the Fourier series and its derivatives, the leg accelerations,
 and the designed excitation checked on grids the optimizer never saw."""
 
+import dataclasses
 import json
 
 import numpy as np
@@ -10,7 +11,8 @@ import stewart
 from stewart.io import csvfile
 from stewart.model import kinematics
 from stewart.cli import main
-from stewart.identification.excitation import condition_number, design_excitation
+from stewart.identification.base_parameters import base_parameters
+from stewart.identification.excitation import Limits, condition_number, design_excitation
 from stewart.motion.trajectory import FourierTrajectory, SampledTrajectory
 from stewart.motion.trajectory import load as load_trajectory
 from stewart.studies.workspace import reachability
@@ -86,6 +88,21 @@ def test_condition_number_is_invariant_to_column_scaling():
     assert condition_number(np.column_stack([matrix, np.zeros(50)])) == np.inf
 
 
+def test_limit_slacks_by_hand():
+    """The relative slack of each kind of limit at two states, worked by hand: lengths 1 to 2 m
+    (half the stroke 0.5 m), 0.4 m/s, 2 m/s^2, 100 N and a singularity margin of 0.2."""
+    lim = Limits((1.0, 2.0), 0.4, 2.0, 100.0, 0.2)
+    lengths = np.array([[1.5, 1.2, 1.9, 1.5, 1.5, 1.5], [1.1, 1.5, 1.5, 1.5, 1.5, 1.95]])
+    rates = np.array([[0.1, -0.3, 0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0, 0.5, 0.0]])
+    accelerations = np.array([[0.0, 0.0, -1.5, 0.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]])
+    forces = np.array([[10.0, -20.0, 0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0, 0.0, -150.0]])
+    slack = lim.slack(lengths, rates, accelerations, forces, np.array([0.3, 0.1]))
+    # stroke: the nearest end 0.1 m (1.9 m) and 0.05 m (1.95 m) away, over 0.5 m
+    np.testing.assert_allclose(slack, [[0.2, 1 - 0.3 / 0.4, 1 - 1.5 / 2.0, 1 - 20 / 100, 0.3 / 0.2 - 1],
+                                       [0.1, 1 - 0.5 / 0.4, 1 - 1.0 / 2.0, 1 - 150 / 100, 0.1 / 0.2 - 1]],
+                               rtol=1e-14, atol=1e-15)  # reached 8.3e-16
+
+
 def test_design_lowers_the_condition_number(design):
     assert design.feasible and not design.problems
     assert np.isfinite(design.condition) and design.condition < design.initial_condition
@@ -93,8 +110,6 @@ def test_design_lowers_the_condition_number(design):
 
 
 def test_design_condition_number_is_that_of_the_stacked_base_regressor(plat, design):
-    from stewart.identification.base_parameters import base_parameters
-
     base = base_parameters(plat)
     assert design.base_names == tuple(base.names)
     t = np.arange(SMALL["samples"]) * SMALL["period"] / SMALL["samples"]
@@ -115,6 +130,21 @@ def test_design_is_periodic_and_starts_at_rest(design):
     assert traj.starts_at_rest
 
 
+def test_design_held_every_limit_at_its_samples_before_the_check(plat, design):
+    """The optimizer sees the limits at its 40 samples only, and a start it leaves outside them
+    is scaled back in there: the amplitudes before the dense grid's scaling (the design's over
+    its ``scaled``) hold every limit at those samples (to SLSQP's 1e-6), with the leg rates from
+    the kinematics and the forces from the platform's own model (with its friction)."""
+    traj = design.trajectory
+    before = FourierTrajectory(traj.centre, traj.period, traj.sine / design.scaled, traj.cosine / design.scaled)
+    x, xd, xdd = before.sample(np.arange(SMALL["samples"]) * SMALL["period"] / SMALL["samples"])
+    slack = design.limits.slack(plat.leg_lengths(x), kinematics.leg_velocities(plat.params, x, xd),
+                                kinematics.leg_accelerations(plat.params, x, xd, xdd),
+                                plat.actuator_forces(x, xd, xdd), reachability(plat, x).margin)
+    assert np.min(slack) >= -1e-6 and reachability(plat, x).ok.all()
+    assert design.scaled < 1.0  # the dense grid found the limits overstepped between the samples
+
+
 def test_design_keeps_every_limit_on_a_dense_grid(plat, design):
     """The limits at 4001 times (the optimizer saw 40), with the leg rates taken by central
     differences of the leg lengths, not by the package's kinematics."""
@@ -128,6 +158,7 @@ def test_design_keeps_every_limit_on_a_dense_grid(plat, design):
     low, high = plat.params.leg_length_limits
     stroke = high - low
     assert np.all(lengths >= low + 0.05 * stroke) and np.all(lengths <= high - 0.05 * stroke)
+    assert lim.lengths == pytest.approx((low + 0.05 * stroke, high - 0.05 * stroke), rel=1e-15, abs=0)
     assert lim.leg_velocity == pytest.approx(stroke) and lim.leg_acceleration == pytest.approx(10 * stroke)
     assert np.max(np.abs(rates)) <= lim.leg_velocity
     assert np.max(np.abs(accelerations)) <= lim.leg_acceleration * (1 + 1e-6)
@@ -160,6 +191,18 @@ def test_machine_csv_round_trips(plat, design, tmp_path):
     again = SampledTrajectory.from_csv(path)
     inner = np.linspace(0.0, design.trajectory.duration, 777)
     np.testing.assert_allclose(again.sample(inner)[0], design.trajectory.sample(inner)[0], atol=2e-9, rtol=2e-9)  # reached 1/44 of it
+
+
+def test_machine_table_needs_two_to_1e8_samples(plat, design):
+    """The 4 s design at 0.5 Hz: 2 samples, the rows at t = 0, 2 and 4 s; at 0.25 Hz one sample
+    and at 1e8 Hz 4e8 are refused, naming the rate."""
+    names, rows = design.machine_table(plat, 0.5)
+    assert names[0] == "t" and rows[:, 0].tolist() == [0.0, 2.0, 4.0]
+    np.testing.assert_allclose(rows[:, 1:7], design.trajectory.sample(rows[:, 0])[0], rtol=1e-15)
+    with pytest.raises(ValueError, match=r"^rate: 0.25 Hz gives 1 samples over 4 s; need 2 to 1e8$"):
+        design.machine_table(plat, 0.25)
+    with pytest.raises(ValueError, match=r"^rate: 1e\+08 Hz gives 400000000 samples over 4 s; need 2 to 1e8$"):
+        design.machine_table(plat, 1e8)
 
 
 @pytest.mark.parametrize("suffix", ["toml", "json"])
@@ -202,6 +245,25 @@ def test_bad_arguments_are_named(plat, change, message):
     with pytest.raises(ValueError, match=message) as info:
         design_excitation(plat, **{**SMALL, **change})
     assert "\n" not in str(info.value)
+
+
+def test_fewest_samples_give_an_equation_per_base_parameter(plat):
+    """Each design sample gives 6 equations (one per leg) and the platform has 26 base
+    parameters (the hand count of test_base_parameters: 20 rigid-body parameters less 3 that
+    never act and 3 lumps, and 2 friction parameters per leg): 4 samples (24 equations) are
+    refused, 5 (30) pass on to the next check (here a force limit the centre pose breaks)."""
+    with pytest.raises(ValueError, match="^samples: 4 samples give 24 equations for 26 base parameters"):
+        design_excitation(plat, **{**SMALL, "samples": 4})
+    with pytest.raises(ValueError, match="^centre: the centre pose at rest is outside the limits"):
+        design_excitation(plat, **{**SMALL, "samples": 5, "force_limit": 5.0})
+    # By default 20 samples per harmonic: 2 harmonics give 240 equations, too few for 260
+    # parameters (the base parameters ten times over), 3 give 360.
+    base = base_parameters(plat)
+    wide = dataclasses.replace(base, names=base.names * 10)
+    with pytest.raises(ValueError, match="^samples: 40 samples give 240 equations for 260 base parameters"):
+        design_excitation(plat, period=4.0, harmonics=2, base=wide)
+    with pytest.raises(ValueError, match="^centre: the centre pose at rest is outside the limits"):
+        design_excitation(plat, period=4.0, harmonics=3, base=wide, force_limit=5.0)
 
 
 def test_bad_trajectory_files_are_named(tmp_path):
