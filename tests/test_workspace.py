@@ -319,3 +319,17 @@ def test_a_region_inside_the_workspace_is_all_reachable_and_clipped():
         assert result.reachable == result.samples and result.volume == pytest.approx(1e-3, rel=1e-12)
         assert result.clipped == ("x", "y", "z") and result.excluded == {}
     assert result.volume_error == 0.0
+
+
+def test_a_region_cut_through_home_is_clipped_on_that_axis_only():
+    """position_bounds holds the motion simulator's whole workspace: given as the region, no axis
+    is clipped; with one face moved to the home pose's coordinate (through the workspace), the
+    reachable cells reach that face, and only that axis is clipped."""
+    params = stewart.PlatformParams.preset("motion_simulator")
+    home, full = stewart.home_pose(params)[:3], workspace.position_bounds(params)
+    assert workspace.translational_workspace(params, region=full, grid=12, progress=False).clipped == ()
+    for axis, name in enumerate("xyz"):
+        for side in (0, 1):
+            region = full.copy()
+            region[axis, side] = home[axis]
+            assert workspace.translational_workspace(params, region=region, grid=12, progress=False).clipped == (name,)
