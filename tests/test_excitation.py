@@ -103,6 +103,25 @@ def test_limit_slacks_by_hand():
                                rtol=1e-14, atol=1e-15)  # reached 8.3e-16
 
 
+def test_the_optimizer_sees_a_state_where_the_model_is_undefined_as_breaking_the_limits(plat):
+    """SLSQP needs finite constraint values: at a state where the forces are undefined (the
+    platform in the base plane, J_C singular) the force limit is broken, with the same value as
+    a limit broken by overflow (a finite force over a limit of 5e-324 N, at the home pose)."""
+    from stewart.identification.excitation import _Problem, _Series
+
+    series = _Series(1, 4.0, np.ones(6), rest=False)  # one harmonic, x = centre + a sin(pi t / 2)
+    centre = plat.home_pose * [1, 1, 0, 1, 1, 1]
+    amplitudes = np.zeros((6, series.width))
+    amplitudes[2, 0] = plat.home_pose[2]  # z from 0 at t = 0 to home at t = 1 s
+    problem = _Problem(plat, base_parameters(plat), Limits((0.0, 1.0), 1e3, 1e5, 5e-324, 1e-3), series, centre,
+                       np.array([0.0, 1.0]), plat.params.inertial_vector())
+    _, slack, ok = problem.evaluate(amplitudes.reshape(1, -1))
+    np.testing.assert_allclose(problem.series.states(centre, amplitudes.reshape(1, -1), np.array([0.0, 1.0]))[0][0],
+                               [centre, plat.home_pose], atol=1e-16)
+    undefined, overflowed = slack[0, :, 3]
+    assert undefined < 0 and undefined == overflowed and not ok[0]
+
+
 def test_design_lowers_the_condition_number(design):
     assert design.feasible and not design.problems
     assert np.isfinite(design.condition) and design.condition < design.initial_condition
