@@ -122,6 +122,27 @@ def test_the_optimizer_sees_a_state_where_the_model_is_undefined_as_breaking_the
     assert undefined < 0 and undefined == overflowed and not ok[0]
 
 
+def test_the_optimizer_derivatives_are_those_of_its_values(plat):
+    """The forward differences SLSQP gets for the objective and the 60 constraint slacks (12
+    samples, 5 limits) against central differences of the values, 18 variables of a 3-harmonic
+    series that starts at rest (reached 1.3e-5 and 3.5e-5, relative to the norms: forward
+    differences are first order)."""
+    from stewart.identification.excitation import _Problem, _Series, limits
+
+    bounds = limits(plat, plat.home_pose, force_limit=FORCE_LIMIT)
+    stroke = bounds.lengths[1] - bounds.lengths[0]
+    radius = np.max(np.linalg.norm(plat.params.platform_points, axis=1))
+    series = _Series(3, 4.0, np.array([stroke] * 3 + [stroke / radius] * 3) / 3, True)
+    problem = _Problem(plat, base_parameters(plat), bounds, series, plat.home_pose, np.arange(12) / 3.0,
+                       plat.params.inertial_vector())
+    z = 0.05 * np.random.default_rng(2).normal(size=6 * series.width)
+    steps = 1e-5 * np.eye(len(z))
+    central = np.array([(problem.constraints(z + e) - problem.constraints(z - e)) / 2e-5 for e in steps]).T
+    slope = np.array([(problem.objective(z + e) - problem.objective(z - e)) / 2e-5 for e in steps])
+    assert np.linalg.norm(problem.constraints_jacobian(z) - central) <= 1e-3 * np.linalg.norm(central)
+    assert np.linalg.norm(problem.objective_gradient(z) - slope) <= 1e-3 * np.linalg.norm(slope)
+
+
 def test_design_lowers_the_condition_number(design):
     assert design.feasible and not design.problems
     assert np.isfinite(design.condition) and design.condition < design.initial_condition

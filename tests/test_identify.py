@@ -124,6 +124,18 @@ def test_filters_differentiate_the_poses(name, figures):
                 np.max(np.abs(got - want) / peak), bound)
 
 
+@pytest.mark.parametrize("name, least", [("savgol", 3 * 63), ("butterworth", 7 * 63)])
+def test_filters_need_the_samples_they_drop_and_a_window(name, least):
+    """At 500 Hz with an 8 Hz cut-off (a window of 63 samples), savgol drops one window at either
+    end and butterworth three: a log needs those and one window more."""
+    data = synthetic_measurements(machine(), Sines(PRIOR.home_pose, 1, duration=(least - 1) / RATE), rate=RATE)
+    poses = PRIOR.forward_kinematics(data.lengths, PRIOR.home_pose, encoder=True)
+    assert len(data.t) == least and len(differentiate(data, poses, filter=name, cutoff=CUTOFF)[0]) == 63
+    short = Measurements(data.t[:-1], data.lengths[:-1], data.forces[:-1])
+    with pytest.raises(ValueError, match=rf"^measurements: too few samples \({least - 1}\) for the filter window of 63 "):
+        differentiate(short, poses[:-1], filter=name, cutoff=CUTOFF)
+
+
 def test_standard_errors_cover_the_true_values_over_repeated_runs(figures):
     true = machine()
     traj = Sines(PRIOR.home_pose, 2)
