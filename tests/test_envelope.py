@@ -127,6 +127,8 @@ def test_bad_requests_name_the_argument():
     box = env.Box(np.zeros(6), np.ones(6), np.ones(6), np.ones(6))
     with pytest.raises(ValueError, match="^samples: "):
         env.envelope(PARAMS, box, samples=0, progress=False)
+    with pytest.raises(TypeError, match="positional argument"):  # the options are keyword-only
+        env.envelope(PARAMS, box, 2000)
     with pytest.raises(ValueError, match="^motions: "):
         env.Trajectories([])
     with pytest.raises(ValueError, match="^dt: "):

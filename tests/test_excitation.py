@@ -1,6 +1,7 @@
 """Excitation trajectories: the Fourier series and its derivatives, the leg accelerations,
 and the designed excitation checked on grids the optimizer never saw."""
 
+import dataclasses
 import json
 
 import numpy as np
@@ -11,7 +12,8 @@ import stewart
 from stewart.io import csvfile
 from stewart.model import kinematics
 from stewart.cli import main
-from stewart.identification.excitation import condition_number, design_excitation
+from stewart.identification.base_parameters import base_parameters
+from stewart.identification.excitation import Limits, condition_number, design_excitation
 from stewart.motion.trajectory import FourierTrajectory, SampledTrajectory
 from stewart.motion.trajectory import load as load_trajectory
 from stewart.studies.workspace import reachability
@@ -87,6 +89,61 @@ def test_condition_number_is_invariant_to_column_scaling():
     assert condition_number(np.column_stack([matrix, np.zeros(50)])) == np.inf
 
 
+def test_limit_slacks_by_hand():
+    """The relative slack of each kind of limit at two states, worked by hand: lengths 1 to 2 m
+    (half the stroke 0.5 m), 0.4 m/s, 2 m/s^2, 100 N and a singularity margin of 0.2."""
+    lim = Limits((1.0, 2.0), 0.4, 2.0, 100.0, 0.2)
+    lengths = np.array([[1.5, 1.2, 1.9, 1.5, 1.5, 1.5], [1.1, 1.5, 1.5, 1.5, 1.5, 1.95]])
+    rates = np.array([[0.1, -0.3, 0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0, 0.5, 0.0]])
+    accelerations = np.array([[0.0, 0.0, -1.5, 0.0, 0.0, 0.0], [1.0, 0.0, 0.0, 0.0, 0.0, 0.0]])
+    forces = np.array([[10.0, -20.0, 0.0, 0.0, 0.0, 0.0], [0.0, 0.0, 0.0, 0.0, 0.0, -150.0]])
+    slack = lim.slack(lengths, rates, accelerations, forces, np.array([0.3, 0.1]))
+    # stroke: the nearest end 0.1 m (1.9 m) and 0.05 m (1.95 m) away, over 0.5 m
+    np.testing.assert_allclose(slack, [[0.2, 1 - 0.3 / 0.4, 1 - 1.5 / 2.0, 1 - 20 / 100, 0.3 / 0.2 - 1],
+                                       [0.1, 1 - 0.5 / 0.4, 1 - 1.0 / 2.0, 1 - 150 / 100, 0.1 / 0.2 - 1]],
+                               rtol=1e-14, atol=1e-15)  # reached 8.3e-16
+
+
+def test_the_optimizer_sees_a_state_where_the_model_is_undefined_as_breaking_the_limits(plat):
+    """SLSQP needs finite constraint values: at a state where the forces are undefined (the
+    platform in the base plane, J_C singular) the force limit is broken, with the same value as
+    a limit broken by overflow (a finite force over a limit of 5e-324 N, at the home pose)."""
+    from stewart.identification.excitation import _Problem, _Series
+
+    series = _Series(1, 4.0, np.ones(6), rest=False)  # one harmonic, x = centre + a sin(pi t / 2)
+    centre = plat.home_pose * [1, 1, 0, 1, 1, 1]
+    amplitudes = np.zeros((6, series.width))
+    amplitudes[2, 0] = plat.home_pose[2]  # z from 0 at t = 0 to home at t = 1 s
+    problem = _Problem(plat, base_parameters(plat), Limits((0.0, 1.0), 1e3, 1e5, 5e-324, 1e-3), series, centre,
+                       np.array([0.0, 1.0]), plat.params.inertial_vector())
+    _, slack, ok = problem.evaluate(amplitudes.reshape(1, -1))
+    np.testing.assert_allclose(problem.series.states(centre, amplitudes.reshape(1, -1), np.array([0.0, 1.0]))[0][0],
+                               [centre, plat.home_pose], atol=1e-16)
+    undefined, overflowed = slack[0, :, 3]
+    assert undefined < 0 and undefined == overflowed and not ok[0]
+
+
+def test_the_optimizer_derivatives_are_those_of_its_values(plat):
+    """The forward differences SLSQP gets for the objective and the 60 constraint slacks (12
+    samples, 5 limits) against central differences of the values, 18 variables of a 3-harmonic
+    series that starts at rest (reached 1.3e-5 and 3.5e-5, relative to the norms: forward
+    differences are first order)."""
+    from stewart.identification.excitation import _Problem, _Series, limits
+
+    bounds = limits(plat, plat.home_pose, force_limit=FORCE_LIMIT)
+    stroke = bounds.lengths[1] - bounds.lengths[0]
+    radius = np.max(np.linalg.norm(plat.params.platform_points, axis=1))
+    series = _Series(3, 4.0, np.array([stroke] * 3 + [stroke / radius] * 3) / 3, True)
+    problem = _Problem(plat, base_parameters(plat), bounds, series, plat.home_pose, np.arange(12) / 3.0,
+                       plat.params.inertial_vector())
+    z = 0.05 * np.random.default_rng(2).normal(size=6 * series.width)
+    steps = 1e-5 * np.eye(len(z))
+    central = np.array([(problem.constraints(z + e) - problem.constraints(z - e)) / 2e-5 for e in steps]).T
+    slope = np.array([(problem.objective(z + e) - problem.objective(z - e)) / 2e-5 for e in steps])
+    assert np.linalg.norm(problem.constraints_jacobian(z) - central) <= 1e-3 * np.linalg.norm(central)
+    assert np.linalg.norm(problem.objective_gradient(z) - slope) <= 1e-3 * np.linalg.norm(slope)
+
+
 def test_design_lowers_the_condition_number(design):
     assert design.feasible and not design.problems
     assert np.isfinite(design.condition) and design.condition < design.initial_condition
@@ -94,8 +151,6 @@ def test_design_lowers_the_condition_number(design):
 
 
 def test_design_condition_number_is_that_of_the_stacked_base_regressor(plat, design):
-    from stewart.identification.base_parameters import base_parameters
-
     base = base_parameters(plat)
     assert design.base_names == tuple(base.names)
     t = np.arange(SMALL["samples"]) * SMALL["period"] / SMALL["samples"]
@@ -116,6 +171,21 @@ def test_design_is_periodic_and_starts_at_rest(design):
     assert traj.starts_at_rest
 
 
+def test_design_held_every_limit_at_its_samples_before_the_check(plat, design):
+    """The optimizer sees the limits at its 40 samples only, and a start it leaves outside them
+    is scaled back in there: the amplitudes before the dense grid's scaling (the design's over
+    its ``scaled``) hold every limit at those samples (to SLSQP's 1e-6), with the leg rates from
+    the kinematics and the forces from the platform's own model (with its friction)."""
+    traj = design.trajectory
+    before = FourierTrajectory(traj.centre, traj.period, traj.sine / design.scaled, traj.cosine / design.scaled)
+    x, xd, xdd = before.sample(np.arange(SMALL["samples"]) * SMALL["period"] / SMALL["samples"])
+    slack = design.limits.slack(plat.leg_lengths(x), kinematics.leg_velocities(plat.params, x, xd),
+                                kinematics.leg_accelerations(plat.params, x, xd, xdd),
+                                plat.actuator_forces(x, xd, xdd), reachability(plat, x).margin)
+    assert np.min(slack) >= -1e-6 and reachability(plat, x).ok.all()
+    assert design.scaled < 1.0  # the dense grid found the limits overstepped between the samples
+
+
 def test_design_keeps_every_limit_on_a_dense_grid(plat, design):
     """The limits at 4001 times (the optimizer saw 40), with the leg rates taken by central
     differences of the leg lengths, not by the package's kinematics."""
@@ -129,6 +199,7 @@ def test_design_keeps_every_limit_on_a_dense_grid(plat, design):
     low, high = plat.params.leg_length_limits
     stroke = high - low
     assert np.all(lengths >= low + 0.05 * stroke) and np.all(lengths <= high - 0.05 * stroke)
+    assert lim.lengths == pytest.approx((low + 0.05 * stroke, high - 0.05 * stroke), rel=1e-15, abs=0)
     assert lim.leg_velocity == pytest.approx(stroke) and lim.leg_acceleration == pytest.approx(10 * stroke)
     assert np.max(np.abs(rates)) <= lim.leg_velocity
     assert np.max(np.abs(accelerations)) <= lim.leg_acceleration * (1 + 1e-6)
@@ -161,6 +232,18 @@ def test_machine_csv_round_trips(plat, design, tmp_path):
     again = SampledTrajectory.from_csv(path)
     inner = np.linspace(0.0, design.trajectory.duration, 777)
     np.testing.assert_allclose(again.sample(inner)[0], design.trajectory.sample(inner)[0], atol=2e-9, rtol=2e-9)  # reached 1/44 of it
+
+
+def test_machine_table_needs_two_to_1e8_samples(plat, design):
+    """The 4 s design at 0.5 Hz: 2 samples, the rows at t = 0, 2 and 4 s; at 0.25 Hz one sample
+    and at 1e8 Hz 4e8 are refused, naming the rate."""
+    names, rows = design.machine_table(plat, 0.5)
+    assert names[0] == "t" and rows[:, 0].tolist() == [0.0, 2.0, 4.0]
+    np.testing.assert_allclose(rows[:, 1:7], design.trajectory.sample(rows[:, 0])[0], rtol=1e-15)
+    with pytest.raises(ValueError, match=r"^rate: 0.25 Hz gives 1 samples over 4 s; need 2 to 1e8$"):
+        design.machine_table(plat, 0.25)
+    with pytest.raises(ValueError, match=r"^rate: 1e\+08 Hz gives 400000000 samples over 4 s; need 2 to 1e8$"):
+        design.machine_table(plat, 1e8)
 
 
 @pytest.mark.parametrize("suffix", ["toml", "json"])
@@ -203,6 +286,25 @@ def test_bad_arguments_are_named(plat, change, message):
     with pytest.raises(ValueError, match=message) as info:
         design_excitation(plat, **{**SMALL, **change})
     assert "\n" not in str(info.value)
+
+
+def test_fewest_samples_give_an_equation_per_base_parameter(plat):
+    """Each design sample gives 6 equations (one per leg) and the platform has 26 base
+    parameters (the hand count of test_base_parameters: 20 rigid-body parameters less 3 that
+    never act and 3 lumps, and 2 friction parameters per leg): 4 samples (24 equations) are
+    refused, 5 (30) pass on to the next check (here a force limit the centre pose breaks)."""
+    with pytest.raises(ValueError, match="^samples: 4 samples give 24 equations for 26 base parameters"):
+        design_excitation(plat, **{**SMALL, "samples": 4})
+    with pytest.raises(ValueError, match="^centre: the centre pose at rest is outside the limits"):
+        design_excitation(plat, **{**SMALL, "samples": 5, "force_limit": 5.0})
+    # By default 20 samples per harmonic: 2 harmonics give 240 equations, too few for 260
+    # parameters (the base parameters ten times over), 3 give 360.
+    base = base_parameters(plat)
+    wide = dataclasses.replace(base, names=base.names * 10)
+    with pytest.raises(ValueError, match="^samples: 40 samples give 240 equations for 260 base parameters"):
+        design_excitation(plat, period=4.0, harmonics=2, base=wide)
+    with pytest.raises(ValueError, match="^centre: the centre pose at rest is outside the limits"):
+        design_excitation(plat, period=4.0, harmonics=3, base=wide, force_limit=5.0)
 
 
 def test_bad_trajectory_files_are_named(tmp_path):

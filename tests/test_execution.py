@@ -3,6 +3,8 @@ the whole study, and the same result on a pool of threads and on a 2-worker Dask
 
 from __future__ import annotations
 
+import re
+import threading
 from dataclasses import dataclass
 
 import numpy as np
@@ -85,6 +87,14 @@ def test_peak_ties_go_to_the_first_state_and_nan_only_columns_are_empty():
         assert np.array_equal(peak.state[0], states[1]) and np.all(np.isnan(peak.state[1]))
 
 
+@pytest.mark.parametrize("values, states", [(np.zeros(4), np.zeros((4, 2))), (np.zeros((4, 1)), np.zeros((4, 2, 2))),
+                                            (np.zeros((4, 1)), np.zeros((3, 2)))])
+def test_peak_of_mismatched_arrays_names_them(values, states):
+    message = f"values, states: need (n, m) and (n, k) arrays, got {values.shape} and {states.shape}"
+    with pytest.raises(ValueError, match=f"^{re.escape(message)}$"):
+        Peak.of(values, states)
+
+
 def test_local_run_equals_brute_force(job):
     n, size = 2500, 400
     result = execution.run(job, n, seed=7, chunk_size=size, progress=False)
@@ -117,6 +127,26 @@ def test_dask_cluster_matches_the_local_run(job, simd_path):
         assert np.array_equal(getattr(remote["peak"], field), getattr(local["peak"], field))
 
 
+class _Meets:
+    """Chunks that wait for each other: they finish only when ``parties`` run at the same time."""
+
+    def __init__(self, parties):
+        self.barrier = threading.Barrier(parties, timeout=10)
+
+    def __call__(self, chunk: Chunk):
+        self.barrier.wait()
+        return chunk.size
+
+
+def test_local_run_uses_a_thread_per_core_by_default(monkeypatch):
+    """workers=None: as many threads as os.cpu_count() says (three chunks that wait for each
+    other at a barrier of three finish only on three threads at once)."""
+    monkeypatch.setattr(execution.os, "cpu_count", lambda: 3)
+    assert execution.run(_Meets(3), 3, chunk_size=1, progress=False) == 3
+    monkeypatch.setattr(execution.os, "cpu_count", lambda: None)  # unknown: one thread
+    assert execution.run(lambda chunk: chunk.size, 2, chunk_size=1, progress=False) == 2
+
+
 class _FailsFirst:
     def __init__(self):
         self.calls = 0
@@ -133,3 +163,31 @@ def test_a_failed_chunk_raises_and_cancels_the_rest():
     with pytest.raises(ValueError, match="chunk 0 failed"):
         execution.run(job, 50, chunk_size=1, workers=1, progress=False)
     assert job.calls <= 2
+
+
+class _Recording:
+    """A Dask client that records the futures it is asked to cancel."""
+
+    def __init__(self, client):
+        self.client, self.cancelled = client, []
+
+    def map(self, *args, **kwargs):
+        self.futures = self.client.map(*args, **kwargs)
+        return self.futures
+
+    def gather(self, futures):
+        return self.client.gather(futures)
+
+    def cancel(self, futures):
+        self.cancelled.extend(futures)
+        self.client.cancel(futures)
+
+
+def test_a_failed_chunk_on_dask_raises_and_cancels_the_tasks():
+    distributed = pytest.importorskip("distributed")
+    with distributed.LocalCluster(n_workers=1, threads_per_worker=1, processes=False,
+                                  dashboard_address=None) as cluster, distributed.Client(cluster) as client:
+        recording = _Recording(client)
+        with pytest.raises(ValueError, match="chunk 0 failed"):
+            execution.run(_FailsFirst(), 50, chunk_size=1, client=recording, progress=False)
+    assert len(recording.futures) == 50 and recording.cancelled == recording.futures

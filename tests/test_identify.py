@@ -11,9 +11,10 @@ import warnings
 import numpy as np
 import pytest
 
-from stewart import NonAxisymmetricLegWarning, Platform, PlatformParams
+from stewart import ConvergenceError, NonAxisymmetricLegWarning, Platform, PlatformParams
 from stewart.cli import main
-from stewart.identification.identify import Measurements, estimate, identify, synthetic_measurements, validation
+from stewart.identification.identify import (Measurements, differentiate, estimate, excitation_condition, identify,
+                                             synthetic_measurements, validation)
 
 NOISE_LENGTH = 1e-6   # m, a linear encoder's
 NOISE_FORCE = 0.2     # N, a load cell's
@@ -58,6 +59,81 @@ def test_exact_states_recover_the_base_parameters(figures):
     beta = result.base.values(true.params.inertial_vector())
     err = np.max(np.abs(result.estimates - beta) / (np.abs(beta) + 1e-6 * np.max(np.abs(beta))))
     figures("identification from exact states: base parameters, relative", err, 5e-9)  # reached 9.2e-11
+
+
+def test_weighted_least_squares_against_numpy(figures):
+    """estimate() against the two-step weighted least squares written out with numpy's lstsq
+    (QR, not the normal equations): an ordinary solve, each leg weighted by the inverse RMS of
+    its residual, the covariance s^2 (A_w^T A_w)^-1; exact states, load cells of six different
+    noise levels (the weighted and the ordinary solutions differ by about 10 standard errors)."""
+    true = machine()
+    traj = Sines(PRIOR.home_pose, 1)
+    t = np.arange(0, traj.duration, 1 / 100)
+    x, xd, xdd = traj.sample(t)
+    sigma = np.array([0.05, 0.1, 0.2, 0.4, 0.8, 1.6])
+    forces = true.actuator_forces(x, xd, xdd) + sigma * np.random.default_rng(5).standard_normal((len(t), 6))
+    result = estimate(PRIOR, x, xd, xdd, forces)
+    base = result.base
+    A = base.reduce(PRIOR.regressor(x, xd, xdd))
+    stack, f = A.reshape(-1, base.rank), forces.ravel()
+    ordinary = np.linalg.lstsq(stack, f, rcond=None)[0]
+    weights = np.tile(1.0 / np.sqrt(np.mean((forces - A @ ordinary) ** 2, axis=0)), len(t))
+    weighted = np.linalg.lstsq(stack * weights[:, None], f * weights, rcond=None)[0]
+    residual = (f - stack @ weighted) * weights
+    covariance = (np.linalg.inv((stack * weights[:, None]).T @ (stack * weights[:, None]))
+                  * (residual @ residual / (len(f) - base.rank)))
+    errors = np.sqrt(np.diag(covariance))
+    figures("identification: estimates vs numpy weighted least squares, in standard errors",
+            np.max(np.abs(result.estimates - weighted) / errors), 1e-8)  # reached 1.7e-10
+    figures("identification: standard errors vs numpy weighted least squares, relative",
+            np.max(np.abs(result.standard_errors / errors - 1.0)), 1e-11)  # reached 2.4e-13
+    rms = np.sqrt(np.mean((forces - A @ weighted) ** 2, axis=0))
+    figures("identification: residual RMS per leg vs numpy, relative", np.max(np.abs(result.residual_rms / rms - 1.0)),
+            1e-12)  # reached 2.6e-14
+    np.testing.assert_allclose(result.residual_rms, sigma, rtol=0.05)  # the noise added: 3.5 % off at most
+    # the condition number: that of the stacked regressor with its columns in units of their scale
+    cond = np.linalg.cond(stack / base.scale)
+    figures("identification: condition numbers vs numpy's cond, relative",
+            np.maximum(abs(result.condition_number / cond - 1.0), abs(excitation_condition(base, stack) / cond - 1.0)),
+            1e-11)  # reached 1.5e-13
+
+
+#: Worst error of each filter's pose, rate and acceleration against the exact ones, relative to
+#: their peaks (reached 7.4e-7, 2.0e-4, 1.6e-4 for savgol; 2.1e-5, 1.8e-4, 1.5e-3 for butterworth,
+#: whose end transients reached 0.16 in the accelerations when one window was dropped).
+FILTER_ERRORS = {"savgol": (3e-5, 5e-3, 5e-3), "butterworth": (5e-4, 5e-3, 3e-2)}
+
+
+@pytest.mark.parametrize("name", sorted(FILTER_ERRORS))
+def test_filters_differentiate_the_poses(name, figures):
+    """Exact leg lengths at 500 Hz with an 8 Hz cut-off: the window spans 63 samples (500 / 8,
+    rounded to odd); savgol drops one window at either end and butterworth three. What is left
+    against the sum of sines' exact derivatives, and the forces of the same samples."""
+    true = machine()
+    traj = Sines(PRIOR.home_pose, 1)
+    data = synthetic_measurements(true, traj, rate=RATE)
+    poses = PRIOR.forward_kinematics(data.lengths, PRIOR.home_pose, encoder=True)
+    x, xd, xdd, forces = differentiate(data, poses, filter=name, cutoff=CUTOFF)
+    drop = {"savgol": 63, "butterworth": 189}[name]
+    assert len(x) == len(data.t) - 2 * drop and np.array_equal(forces, data.forces[drop:-drop])
+    exact = traj.sample(data.t[drop:-drop])
+    for label, got, want, peak, bound in zip(("pose", "rate", "acceleration"), (x, xd, xdd), exact,
+                                             (traj.amp.sum(axis=1), *(np.max(np.abs(v), axis=0) for v in exact[1:])),
+                                             FILTER_ERRORS[name]):
+        figures(f"identification: {name} filter's {label}, relative to its peak",
+                np.max(np.abs(got - want) / peak), bound)
+
+
+@pytest.mark.parametrize("name, least", [("savgol", 3 * 63), ("butterworth", 7 * 63)])
+def test_filters_need_the_samples_they_drop_and_a_window(name, least):
+    """At 500 Hz with an 8 Hz cut-off (a window of 63 samples), savgol drops one window at either
+    end and butterworth three: a log needs those and one window more."""
+    data = synthetic_measurements(machine(), Sines(PRIOR.home_pose, 1, duration=(least - 1) / RATE), rate=RATE)
+    poses = PRIOR.forward_kinematics(data.lengths, PRIOR.home_pose, encoder=True)
+    assert len(data.t) == least and len(differentiate(data, poses, filter=name, cutoff=CUTOFF)[0]) == 63
+    short = Measurements(data.t[:-1], data.lengths[:-1], data.forces[:-1])
+    with pytest.raises(ValueError, match=rf"^measurements: too few samples \({least - 1}\) for the filter window of 63 "):
+        differentiate(short, poses[:-1], filter=name, cutoff=CUTOFF)
 
 
 def test_standard_errors_cover_the_true_values_over_repeated_runs(figures):
@@ -117,8 +193,23 @@ def test_bad_data_is_refused():
     still = synthetic_measurements(true, Sines(PRIOR.home_pose, 6, axes=[2]), rate=250)
     with pytest.raises(ValueError, match="does not excite every base parameter"):
         identify(PRIOR, still)
-    with pytest.raises(ValueError, match="cutoff"):
-        identify(PRIOR, good, cutoff=200.0)
+    with pytest.raises(ValueError, match=r"^cutoff: need 0 < cutoff < 125 Hz \(half the sampling rate\), got 200$"):
+        identify(PRIOR, good, cutoff=200.0)  # sampled at 250 Hz
+    with pytest.raises(ConvergenceError, match=r"^measurements: the leg lengths are not this platform's \(forward_kin"):
+        identify(PRIOR, Measurements(good.t, np.full_like(good.lengths, 0.01), good.forces))  # 1 cm legs
+
+
+def test_synthetic_log_samples_both_ends_of_the_trajectory():
+    """A 2 s run at 250 Hz: 501 samples, from t = 0 to t = 2 s, 4 ms apart (500 steps over 2 s: the
+    rate the measurements give, exactly); the encoder readings are the inverse kinematics' leg
+    lengths less the leg length offsets."""
+    true = Platform(machine().params.replace(leg_length_offsets=[1e-3, -2e-3, 0.0, 5e-4, 3e-3, -1e-3]))
+    traj = Sines(PRIOR.home_pose, 5, duration=2.0)
+    data = synthetic_measurements(true, traj, rate=250.0)
+    assert len(data.t) == 501 and data.t[0] == 0.0 and data.t[-1] == 2.0 and data.rate == 250.0
+    np.testing.assert_allclose(np.diff(data.t), 0.004, rtol=1e-12)  # reached 5.5e-14
+    x = traj.sample(data.t)[0]
+    np.testing.assert_allclose(data.lengths, true.leg_lengths(x) - true.params.leg_length_offsets, rtol=0, atol=1e-15)
 
 
 def test_command_line(tmp_path, capsys):

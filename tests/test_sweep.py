@@ -53,6 +53,10 @@ def test_pareto_front_against_its_definition():
         dominated = any(x[j] >= x[k] and y[j] >= y[k] and (x[j] > x[k] or y[j] > y[k]) for j in range(60))
         assert front[k] == (not dominated)
     assert sweep.pareto_front([1.0, 2.0, 2.0], [3.0, 1.0, 1.0]).tolist() == [True, True, True]
+    # a design with a NaN metric is never on the front (and never dominates): (3, NaN) and (NaN, 10)
+    # would be, one better in x and one in y; (1, 3), (2, 2), (0.5, 4) are, (0.4, 2.5) is not
+    front = sweep.pareto_front([1.0, 2.0, np.nan, 3.0, 0.5, 0.4], [3.0, 2.0, 10.0, np.nan, 4.0, 2.5])
+    assert front.tolist() == [True, True, False, False, True, False]
 
 
 def test_grid_and_random_designs():

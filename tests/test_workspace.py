@@ -420,3 +420,17 @@ def test_axis_excursions_in_heave_against_the_stroke_by_hand():
     assert got == pytest.approx(np.floor(min(up, down) / step) * step, rel=0, abs=1e-15)
     # nothing stops a yaw of 0.002 rad: the excursion is the limit itself
     assert reachability.axis_excursions(params, 0.002)[5] == 0.002
+
+
+def test_a_region_cut_through_home_is_clipped_on_that_axis_only():
+    """position_bounds holds the motion simulator's whole workspace: given as the region, no axis
+    is clipped; with one face moved to the home pose's coordinate (through the workspace), the
+    reachable cells reach that face, and only that axis is clipped."""
+    params = stewart.PlatformParams.preset("motion_simulator")
+    home, full = stewart.home_pose(params)[:3], workspace.position_bounds(params)
+    assert workspace.translational_workspace(params, region=full, grid=12, progress=False).clipped == ()
+    for axis, name in enumerate("xyz"):
+        for side in (0, 1):
+            region = full.copy()
+            region[axis, side] = home[axis]
+            assert workspace.translational_workspace(params, region=region, grid=12, progress=False).clipped == (name,)

@@ -11,8 +11,9 @@ every state.
 (Gautier, "Numerical calculation of the base inertial parameters of robots", 1991): the
 regressors of random states are stacked, their columns scaled to unit norm, and a QR
 factorization with column pivoting picks a set of independent columns (``|R_kk|`` above
-:data:`RANK_TOLERANCE` of ``|R_00|``); every other column is a combination of those, found by
-least squares on the stack, and adds its parameter to theirs with that coefficient.
+:data:`RANK_TOLERANCE`; ``|R_00|``, the norm of the first pivot, is 1); every other column is a
+combination of those, found by least squares on the stack, and adds its parameter to theirs
+with that coefficient.
 """
 
 from __future__ import annotations
@@ -29,8 +30,8 @@ from ..model.platform import as_platform
 
 __all__ = ["BaseParameters", "base_parameters", "RANK_TOLERANCE"]
 
-#: Relative size of ``|R_kk|`` (columns scaled to unit norm) below which a column counts as a
-#: combination of the columns before it.
+#: Size of ``|R_kk|`` (columns scaled to unit norm, so that ``|R_00| = 1``) below which a column
+#: counts as a combination of the columns before it.
 RANK_TOLERANCE = 1e-9
 #: Coefficients within this of an integer are that integer; smaller ones are zero.
 ROUNDING = 1e-9
@@ -123,7 +124,7 @@ def base_parameters(platform, *, samples: int = 200, seed: int = 0, friction: bo
     acting = np.flatnonzero(norms > 0.0)
     _, r, pivots = scipy.linalg.qr(stack[:, acting] / norms[acting], mode="economic", pivoting=True)
     diagonal = np.abs(np.diag(r))
-    rank = int(np.sum(diagonal > RANK_TOLERANCE * diagonal[0]))
+    rank = int(np.sum(diagonal > RANK_TOLERANCE))  # |R_00| = 1: the pivots are unit columns
     independent = np.sort(acting[pivots[:rank]])
     dependent = np.setdiff1d(acting, independent)
     matrix = np.zeros((rank, p))

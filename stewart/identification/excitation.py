@@ -350,7 +350,7 @@ class _Problem:
             cond0, flat0 = self._value(z)
             steps = _STEP * np.maximum(1.0, np.abs(z))
             cond, slack, _ = self.evaluate(z + np.diag(steps), reachable=False)
-            flat = slack.reshape(len(steps), -1)
+            flat = slack.reshape(len(steps), flat0.size)
             self._cache = {key: ((cond - cond0) / steps, ((flat - flat0) / steps[:, None]).T)}
         return self._cache[key]
 

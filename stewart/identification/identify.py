@@ -16,7 +16,9 @@ log of leg lengths and forces sampled at a known rate, :func:`identify`
    lengths because the regressor takes pose rates. The forces are not filtered: they enter
    the least squares linearly, so their noise averages out without bias, while smoothing them
    would blur the Coulomb friction's turn at each reversal of a leg into a bias. The samples
-   within one filter window of either end are dropped;
+   within one filter window of either end are dropped, within three for the Butterworth
+   filter: its start-up transients at the ends of the log last longer (its slowest poles, of
+   damping 0.38, decay by e^-2.4 a period of the cut-off);
 3. stacks the base regressor of the remaining samples and solves weighted least squares
    (:func:`estimate`): a first ordinary solve gives each leg's residual variance, and each
    leg's equations are then weighted by its inverse standard deviation (legs with noisier
@@ -191,7 +193,7 @@ def excitation_condition(base: BaseParameters, A: np.ndarray) -> float:
     """The condition number of a stacked base regressor ``A`` ``(m, r)`` with each column in
     units of its size over random motion (:attr:`BaseParameters.scale`): large when the
     trajectory leaves a combination of base parameters unexcited."""
-    return _condition(_gram(A / base.scale) / (len(A) / 6))
+    return _condition(_gram(A / base.scale))
 
 
 def _gram(A: np.ndarray) -> np.ndarray:
@@ -227,7 +229,7 @@ def estimate(platform, x, xd, xdd, forces, *, friction: bool = True, base: BaseP
         moments = np.einsum("nlr,nl->lr", A, forces)           # per leg A_i^T f_i
     if not np.all(np.isfinite(moments)):
         raise ValueError("forces: too large for double precision (the least squares overflow)")
-    condition = _condition(grams.sum(axis=0) / n)
+    condition = _condition(grams.sum(axis=0))
     if not condition <= MAX_CONDITION:
         raise ValueError(f"measurements: the trajectory does not excite every base parameter (condition number "
                          f"{condition:.3g} > {MAX_CONDITION:.0e}); move every axis, at several speeds")
@@ -252,7 +254,7 @@ def estimate(platform, x, xd, xdd, forces, *, friction: bool = True, base: BaseP
 
 def differentiate(measurements: Measurements, poses: np.ndarray, *, filter: str = "savgol", cutoff: float = 10.0):
     """Zero-phase filtered poses, rates and accelerations, and the measured forces, at the
-    samples farther than one filter window from either end."""
+    samples farther than one filter window from either end (three for the Butterworth filter)."""
     if filter not in FILTERS:
         raise ValueError(f"filter: expected one of {', '.join(FILTERS)}, got {filter!r}")
     cutoff = arguments.real("cutoff", cutoff)
@@ -266,8 +268,9 @@ def differentiate(measurements: Measurements, poses: np.ndarray, *, filter: str 
         raise ValueError(f"cutoff: {cutoff:g} Hz is too low for the sampling rate {rate:g} Hz: the filter window "
                          "overflows; raise the cut-off")
     window = max(7, int(round(period)) | 1)
+    drop = window if filter == "savgol" else 3 * window  # the samples dropped at either end
     n = len(poses)
-    if n < 3 * window:
+    if n < 2 * drop + window:
         raise ValueError(f"measurements: too few samples ({n}) for the filter window of {window} samples; "
                          f"log longer or raise the cut-off")
     if filter == "savgol":
@@ -279,7 +282,7 @@ def differentiate(measurements: Measurements, poses: np.ndarray, *, filter: str 
         x = low(poses)
         xd = np.gradient(x, dt, axis=0)
         xdd = np.gradient(xd, dt, axis=0)
-    keep = slice(window, n - window)
+    keep = slice(drop, n - drop)
     return x[keep], xd[keep], xdd[keep], measurements.forces[keep]
 
 
