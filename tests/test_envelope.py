@@ -5,6 +5,7 @@ specifications."""
 from __future__ import annotations
 
 import itertools
+import re
 
 import numpy as np
 import pytest
@@ -109,6 +110,13 @@ def test_margin_box_holds_the_move():
     x, xd, xdd = move.sample(np.linspace(0, 2, 201))
     assert np.all((x >= box.lower) & (x <= box.upper))
     assert np.all(np.abs(xd) <= box.velocity / 1.2 * (1 + 1e-12)) and np.all(np.abs(xdd) <= box.acceleration)
+    # the margin by hand: each pose range widened by 0.2 of its width on either side, the peak
+    # rates times 1.2 (the box samples every 0.01 s, as linspace does here: reached 0)
+    low, high = x.min(axis=0), x.max(axis=0)
+    np.testing.assert_allclose(box.lower, low - 0.2 * (high - low), rtol=1e-15, atol=0)
+    np.testing.assert_allclose(box.upper, high + 0.2 * (high - low), rtol=1e-15, atol=0)
+    np.testing.assert_allclose(box.velocity, 1.2 * np.abs(xd).max(axis=0), rtol=1e-15, atol=0)
+    np.testing.assert_allclose(box.acceleration, 1.2 * np.abs(xdd).max(axis=0), rtol=1e-15, atol=0)
 
 
 @pytest.mark.parametrize("fields, name", [
@@ -129,6 +137,12 @@ def test_bad_requests_name_the_argument():
         env.envelope(PARAMS, box, samples=0, progress=False)
     with pytest.raises(TypeError, match="positional argument"):  # the options are keyword-only
         env.envelope(PARAMS, box, 2000)
+    for samples in (1.5, True, np.int64(0)):
+        with pytest.raises(ValueError, match=f"^{re.escape(f'samples: expected a whole number >= 1, got {samples!r}')}$"):
+            env.envelope(PARAMS, box, samples=samples, progress=False)
+    assert box.count(10**12) == 10**12 and box.count(np.int64(7)) == 7  # the most a study may draw
+    with pytest.raises(ValueError, match=r"^samples: at most 1e\+12 states, got 1000000000001$"):
+        box.count(10**12 + 1)
     with pytest.raises(ValueError, match="^motions: "):
         env.Trajectories([])
     with pytest.raises(ValueError, match="^dt: "):

@@ -87,6 +87,12 @@ def test_condition_number_is_invariant_to_column_scaling():
     q = np.linalg.qr(matrix)[0] * np.array([2.0, 5.0, 0.1, 7.0])
     assert condition_number(q) == pytest.approx(1.0, rel=1e-12)
     assert condition_number(np.column_stack([matrix, np.zeros(50)])) == np.inf
+    # A batch (..., m, r): each matrix's own, as numpy's cond of its normalized columns.
+    zeroed = matrix * np.array([1.0, 1.0, 0.0, 1.0])
+    batch = condition_number(np.stack([[matrix, scaled], [q, zeroed]]))
+    expected = [np.linalg.cond(m / np.linalg.norm(m, axis=0)) for m in (matrix, scaled, q)]
+    assert batch.shape == (2, 2) and batch[1, 1] == np.inf
+    np.testing.assert_allclose(batch.ravel()[:3], expected, rtol=1e-14)  # reached 0 (both SVDs)
 
 
 def test_limit_slacks_by_hand():
