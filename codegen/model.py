@@ -10,8 +10,8 @@ from dataclasses import dataclass
 from functools import partial
 
 from . import linsolve
-from .derivatives import (leg_chain_kernel, leg_derivatives_kernel, leg_points_kernel, residual_derivatives_kernel,
-                          static_derivatives_kernel)
+from .derivatives import (inverse_dynamics_points_kernel, leg_derivatives_kernel, leg_points_kernel,
+                          residual_derivatives_kernel, static_derivatives_kernel)
 from .dynamics import (REGRESSOR_VARIANTS, RIGID_BODY, coriolis_product_kernel, gravity_kernel,
                        inverse_dynamics_kernel, joint_forces_kernel, joint_reactions_kernel, regressor_kernel,
                        static_forces_kernel, twist_mass_matrix_kernel)
@@ -81,16 +81,16 @@ REGRESSOR = _variants(regressor_kernel, variants=REGRESSOR_VARIANTS)
 JOINT_REACTIONS = _variants(joint_reactions_kernel)
 STATIC_FORCES = _variants(static_forces_kernel, variants=MODELS)
 STATIC_DERIVATIVES = _variants(static_derivatives_kernel, variants=MODELS)
+INVERSE_DYNAMICS_POINTS = _variants(inverse_dynamics_points_kernel)
 
 
 def _residual_steps(forward):
-    """The residual's partials Z at (x, xd, xdd, tau): P_i's motion, the legs, the chain rule
-    per leg, the sum with the platform's terms."""
-    return (Kernels(LEG_POINTS, ('x', 'xd', 'xdd')),
-            Kernels(LEG_DERIVATIVES, ('lwa', 'tau')),
-            Kernels((partial(leg_chain_kernel, forward),), ('x', 'xd', 'xdd', 'lwa', 'legs')),
+    """The residual's partials Z at (x, xd, xdd, tau): P_i's motion (for the inverse dynamics,
+    its kernel's), the legs' shares, the sum with the platform's terms."""
+    return ((Kernels(LEG_POINTS, ('x', 'xd', 'xdd')),) if forward else ()) + (
+            Kernels(LEG_DERIVATIVES, ('lwa', 'tau', 'spin')),
             Kernels(_variants(residual_derivatives_kernel, forward, variants=MODELS),
-                    ('x', 'xd', 'xdd', 'chain') + (('lwa', 'legs') if forward else ())))
+                    ('x', 'xd', 'xdd', 'Zt') + (('JCt',) if forward else ())))
 
 
 #: Scratch arrays of the solves: the factors of J_C^T and of M_t (`linsolve`).
@@ -151,7 +151,7 @@ FUNCTIONS = (
              'tau and its Jacobians (row = output, column = input): dtau/dx = J_C^-T R_x,'
              ' dtau/dxd = J_C^-T R_xd, dtau/dxdd = J_C^-T M, R = partials of M xdd + V xd + G - J_C^T tau.',
              ('x', 'xd', 'xdd'), (('tau', (6,)), ('dtau_dx', (6, 6)), ('dtau_dxd', (6, 6)), ('dtau_dxdd', (6, 6))),
-             INVERSE_DYNAMICS,
+             INVERSE_DYNAMICS_POINTS,
              steps=(('bareiss_factor', ('JC', 'FJ')), ('bareiss_solve', ('FJ', '1', '1', 'W', 'tau')),
                     *_residual_steps(False),
                     ('bareiss_solve', ('FJ', '18', '18', 'Z', 'Y')),

@@ -82,19 +82,20 @@
 #define vkernel_inverse_dynamics_axisym STEWART_LOCAL(vkernel_inverse_dynamics_axisym)
 #define vkernel_inverse_dynamics_frames STEWART_LOCAL(vkernel_inverse_dynamics_frames)
 #define vkernel_inverse_dynamics_general STEWART_LOCAL(vkernel_inverse_dynamics_general)
-#define vkernel_leg_points STEWART_LOCAL(vkernel_leg_points)
-#define vkernel_leg_points_general STEWART_LOCAL(vkernel_leg_points_general)
+#define vkernel_inverse_dynamics_points_axisym STEWART_LOCAL(vkernel_inverse_dynamics_points_axisym)
+#define vkernel_inverse_dynamics_points_frames STEWART_LOCAL(vkernel_inverse_dynamics_points_frames)
+#define vkernel_inverse_dynamics_points_general STEWART_LOCAL(vkernel_inverse_dynamics_points_general)
 #define vkernel_leg_derivatives_axisym STEWART_LOCAL(vkernel_leg_derivatives_axisym)
 #define vkernel_leg_derivatives_frames STEWART_LOCAL(vkernel_leg_derivatives_frames)
 #define vkernel_leg_derivatives_general STEWART_LOCAL(vkernel_leg_derivatives_general)
-#define vkernel_leg_chain_inverse STEWART_LOCAL(vkernel_leg_chain_inverse)
 #define vkernel_residual_derivatives_inverse STEWART_LOCAL(vkernel_residual_derivatives_inverse)
 #define vkernel_residual_derivatives_inverse_general STEWART_LOCAL(vkernel_residual_derivatives_inverse_general)
 #define vkernel_static_forces STEWART_LOCAL(vkernel_static_forces)
 #define vkernel_static_forces_general STEWART_LOCAL(vkernel_static_forces_general)
 #define vkernel_static_derivatives STEWART_LOCAL(vkernel_static_derivatives)
 #define vkernel_static_derivatives_general STEWART_LOCAL(vkernel_static_derivatives_general)
-#define vkernel_leg_chain_forward STEWART_LOCAL(vkernel_leg_chain_forward)
+#define vkernel_leg_points STEWART_LOCAL(vkernel_leg_points)
+#define vkernel_leg_points_general STEWART_LOCAL(vkernel_leg_points_general)
 #define vkernel_residual_derivatives_forward STEWART_LOCAL(vkernel_residual_derivatives_forward)
 #define vkernel_residual_derivatives_forward_general STEWART_LOCAL(vkernel_residual_derivatives_forward_general)
 #define vkernel_joint_reactions_axisym STEWART_LOCAL(vkernel_joint_reactions_axisym)
@@ -1130,21 +1131,22 @@ STEWART_HIDDEN void vkernel_gravity_vector_general(const stewart_params *p, cons
 STEWART_HIDDEN void vkernel_inverse_dynamics_axisym(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JC, stewart_vd *L2);
 STEWART_HIDDEN void vkernel_inverse_dynamics_frames(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JC, stewart_vd *L2, stewart_vd *h2);
 STEWART_HIDDEN void vkernel_inverse_dynamics_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JC, stewart_vd *L2, stewart_vd *n2);
-STEWART_HIDDEN void vkernel_leg_points(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *lwa);
-STEWART_HIDDEN void vkernel_leg_points_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *lwa);
-STEWART_HIDDEN void vkernel_leg_derivatives_axisym(const stewart_params *p, const stewart_vd *lwa, const stewart_vd *tau, stewart_vd *legs);
-STEWART_HIDDEN void vkernel_leg_derivatives_frames(const stewart_params *p, const stewart_vd *lwa, const stewart_vd *tau, stewart_vd *legs);
-STEWART_HIDDEN void vkernel_leg_derivatives_general(const stewart_params *p, const stewart_vd *lwa, const stewart_vd *tau, stewart_vd *legs);
-STEWART_HIDDEN void vkernel_leg_chain_inverse(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *lwa, const stewart_vd *legs, stewart_vd *chain);
-STEWART_HIDDEN void vkernel_residual_derivatives_inverse(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *chain, stewart_vd *Z);
-STEWART_HIDDEN void vkernel_residual_derivatives_inverse_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *chain, stewart_vd *Z);
+STEWART_HIDDEN void vkernel_inverse_dynamics_points_axisym(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JC, stewart_vd *L2, stewart_vd *lwa, stewart_vd *spin);
+STEWART_HIDDEN void vkernel_inverse_dynamics_points_frames(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JC, stewart_vd *L2, stewart_vd *h2, stewart_vd *lwa, stewart_vd *spin);
+STEWART_HIDDEN void vkernel_inverse_dynamics_points_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JC, stewart_vd *L2, stewart_vd *n2, stewart_vd *lwa, stewart_vd *spin);
+STEWART_HIDDEN void vkernel_leg_derivatives_axisym(const stewart_params *p, const stewart_vd *lwa, const stewart_vd *tau, const stewart_vd *spin, stewart_vd *Zt, stewart_vd *JCt);
+STEWART_HIDDEN void vkernel_leg_derivatives_frames(const stewart_params *p, const stewart_vd *lwa, const stewart_vd *tau, const stewart_vd *spin, stewart_vd *Zt, stewart_vd *JCt);
+STEWART_HIDDEN void vkernel_leg_derivatives_general(const stewart_params *p, const stewart_vd *lwa, const stewart_vd *tau, const stewart_vd *spin, stewart_vd *Zt, stewart_vd *JCt);
+STEWART_HIDDEN void vkernel_residual_derivatives_inverse(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *Zt, stewart_vd *Z);
+STEWART_HIDDEN void vkernel_residual_derivatives_inverse_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *Zt, stewart_vd *Z);
 STEWART_HIDDEN void vkernel_static_forces(const stewart_params *p, const stewart_vd *x, stewart_vd *W, stewart_vd *JC, stewart_vd *L2);
 STEWART_HIDDEN void vkernel_static_forces_general(const stewart_params *p, const stewart_vd *x, stewart_vd *W, stewart_vd *JC, stewart_vd *L2, stewart_vd *n2);
 STEWART_HIDDEN void vkernel_static_derivatives(const stewart_params *p, const stewart_vd *x, const stewart_vd *tau, stewart_vd *Z);
 STEWART_HIDDEN void vkernel_static_derivatives_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *tau, stewart_vd *Z);
-STEWART_HIDDEN void vkernel_leg_chain_forward(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *lwa, const stewart_vd *legs, stewart_vd *chain);
-STEWART_HIDDEN void vkernel_residual_derivatives_forward(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *chain, const stewart_vd *lwa, const stewart_vd *legs, stewart_vd *Z);
-STEWART_HIDDEN void vkernel_residual_derivatives_forward_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *chain, const stewart_vd *lwa, const stewart_vd *legs, stewart_vd *Z);
+STEWART_HIDDEN void vkernel_leg_points(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *lwa, stewart_vd *spin);
+STEWART_HIDDEN void vkernel_leg_points_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *lwa, stewart_vd *spin);
+STEWART_HIDDEN void vkernel_residual_derivatives_forward(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *Zt, const stewart_vd *JCt, stewart_vd *Z);
+STEWART_HIDDEN void vkernel_residual_derivatives_forward_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *Zt, const stewart_vd *JCt, stewart_vd *Z);
 STEWART_HIDDEN void vkernel_joint_reactions_axisym(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JC, stewart_vd *legf, stewart_vd *n_base, stewart_vd *L2);
 STEWART_HIDDEN void vkernel_joint_reactions_frames(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JC, stewart_vd *legf, stewart_vd *n_base, stewart_vd *L2, stewart_vd *h2);
 STEWART_HIDDEN void vkernel_joint_reactions_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JC, stewart_vd *legf, stewart_vd *n_base, stewart_vd *L2, stewart_vd *n2);
