@@ -124,28 +124,32 @@ def _block(g, name, matrix):
     return sp.Matrix(3, 3, lambda j, k: g.define(f'{name}_{j}{k}', matrix[j, k]))
 
 
-def _rotation_jacobian(g, leg, motion, weight, l, w, a, F_w, F_a, along):
-    """F_l = df/dl of an axisymmetric leg, f = motion + weight, from F_w and F_a: the leg
-    turned as a whole by a rotation Q moves f(Q l, Q w, Q a) = Q f but for its weight, so
-    F_l [l]x = K = [m]x - F_w [w]x - F_a [a]x for the motion's part m, which gives F_l on the
-    plane normal to u: F_l x = (F_l u)(u . x) - K [u]x x / L.  The motion's F_l u comes by
-    forward mode along l' = u, seeded with what does not change (u) or changes by a power of L
-    (L' = 1, (l . l)' = 2 L, (1 / L)' = -1 / L^2, (1 / L^2)' = -2 / L^3, lbar' = -lbar / L); the
-    weight's df/dl by forward mode along each component of l."""
+def _upper(n):
+    """(j, k) of the upper triangle of an n x n matrix, row by row."""
+    return [(j, k) for j in range(n) for k in range(j, n)]
+
+
+def _rotation_jacobian(g, leg, f, l, w, a, F_w, F_a):
+    """F_l = df/dl of an axisymmetric leg from F_w and F_a: the leg and the gravity turned as
+    a whole by a rotation Q turn its force, f(Q l, Q w, Q a; Q gamma) = Q f, so
+    F_l [l]x = K = [f]x - F_w [w]x - F_a [a]x - G [gamma]x, with gamma = g e_z and
+    G = df/dgamma (its columns the leg's force under a unit gravity along x and along y,
+    `leg_force`); which gives F_l on the plane normal to u: F_l x = (F_l u)(u . x) - K [u]x x
+    / L.  F_l u comes by forward mode along l' = u, seeded with what does not change (u) or
+    changes by a power of L (L' = 1, (l . l)' = 2 L, (1 / L)' = -1 / L^2,
+    (1 / L^2)' = -2 / L^3, lbar' = -lbar / L)."""
+    P = PARAMS
     iL2 = g.known(1 / leg.L2)
     iL = g.known(leg.L * iL2)
     seed = {**dict(zip(l, leg.u)), leg.L: sp.S.One, leg.L2: 2 * leg.L, iL: -iL2, iL2: -2 * iL2 * iL,
             **{c: sp.S.Zero for c in leg.u}, **{c: -c * iL for c in leg.lbar}}
     along_u = Tangent(g, seed, 'Du')
-    radial = g.vector('iDu', [along_u(c) for c in motion])
-    K = _block(g, 'iK', skew(motion) - F_w * skew(w) - F_a * skew(a))
-    weight_l = []
-    for k in range(3):
-        e = [1 if j == k else 0 for j in range(3)]
-        tangent = Tangent(g, {l[k]: sp.S.One, **along(e)}, f'Dw{k}')
-        weight_l.append([tangent(c) for c in weight])
-    F_weight = sp.Matrix(3, 3, lambda c, k: weight_l[k][c])
-    return radial * leg.u.T - K * skew(leg.u) * iL + F_weight
+    radial = g.vector('iDu', [along_u(c) for c in f])
+    G_x, G_y = (leg_force(g, P, leg, P.m_C * e, P.m_S * e, sp.zeros(3, 1), f'iG{axis}')
+                for axis, e in (('x', sp.Matrix([1, 0, 0])), ('y', sp.Matrix([0, 1, 0]))))
+    turned_gravity = P.g * sp.Matrix.hstack(G_y, -G_x, sp.zeros(3, 1))  # G [g e_z]x
+    K = _block(g, 'iK', skew(f) - F_w * skew(w) - F_a * skew(a) - turned_gravity)
+    return radial * leg.u.T - K * skew(leg.u) * iL
 
 
 def leg_derivatives_kernel(variant):
@@ -153,16 +157,20 @@ def leg_derivatives_kernel(variant):
     twist-level coordinates (`TWIST`).  The leg acts on the platform as the force f at P_i
     (r gets [f; r_i x f], see `generalized_force`): the leg momenta (eqs. 27-29, 55-57, 65)
     and their rates by forward mode along l' = w, w' = a, gravity (eqs. 72-76) and the
-    actuator force, f = f_legs - tau_i u_i; and its Jacobians F_l, F_w, F_a = df/d(l, w, a)
-    by forward mode along each of the leg's nine variables.  They are chained to the
-    platform's motion through l = p + r - b, w = v + omega x r, a = v' + A r (`SPIN`), r the
-    platform's point P_i: along p, df = F_l; along delta (dr = delta x r = -[r]x delta),
-    df = -(F_l + F_w [omega]x + F_a A) [r]x, and [0; dr x f] = [0; (r f^T - (r . f) E) delta]
-    more; along v, F_w; along omega, -(F_w [r]x + F_a ([omega]x [r]x + [omega x r]x)); along
-    v', F_a; along omega', -F_a [r]x; each df enters as [df; r x df].  The leg depends on the
+    actuator force, f = f_legs - tau_i u_i; and its Jacobians F_w, F_a (symmetric, the leg's
+    mass at P_i: its upper triangle) and F_l = df/d(w, a, l) by forward mode along each of
+    the leg's variables (for axisymmetric legs F_l from the others, `_rotation_jacobian`).
+    They are chained to the platform's motion through l = p + r - b, w = v + omega x r,
+    a = v' + A r (`SPIN`), r the platform's point P_i: along p, df = F_l; along delta
+    (dr = delta x r = -[r]x delta), df = -(F_l + F_w [omega]x + F_a A) [r]x, and
+    [0; dr x f] = [0; (r f^T - (r . f) E) delta] more; along v, F_w; along omega,
+    -(F_w [r]x + F_a ([omega]x [r]x + [omega x r]x)); each df enters as [df; r x df].  Along
+    the twist's rate the share is the leg's part of M_t, [[F_a, -F_a [r]x], [[r]x F_a,
+    -[r]x F_a [r]x]] (`dynamics.twist_mass_matrix`), symmetric.  The leg depends on the
     platform only through (l, w, a) and r, so one kernel serves the six legs at once
-    (`KernelSpec.lanes`), their shares summed: Zt (6 x 18, row-major); and per leg, its row
-    of J_C, [u; r x u] (eq. 5), interleaved.  |l| and sqrt(l_x^2 + l_y^2) come in with their
+    (`KernelSpec.lanes`), their shares summed: Zt (6 x 12, row-major, the columns of p, delta,
+    v, omega) and Mt (the upper triangle of M_t's part, row by row); and per leg, its row of
+    J_C, [u; r x u] (eq. 5), interleaved.  |l| and sqrt(l_x^2 + l_y^2) come in with their
     derivatives as seeds, so the six legs run with no square root, which would keep the
     compiler from vectorizing them."""
     P = PARAMS
@@ -176,43 +184,44 @@ def leg_derivatives_kernel(variant):
     v_C, v_S, h_L = leg_momenta(g, P, leg, w, variant, 'i')
     _, w_C, w_S = gravity_forces(P, True)
     rate = lambda vec: vec.applyfunc(g.rate)
-    if variant == 'axisym':
-        motion = g.vector('im', leg_force(g, P, leg, P.m_C * rate(v_C), P.m_S * rate(v_S), rate(h_L), 'i')
-                          - LEG_TAU[0] * leg.u)
-        weight = g.vector('ig', leg_force(g, P, leg, w_C, w_S, sp.zeros(3, 1), 'ig'))
-        f = g.vector('ires', motion + weight)
-    else:
-        f = g.vector('ires', leg_force(g, P, leg, P.m_C * rate(v_C) + w_C, P.m_S * rate(v_S) + w_S, rate(h_L), 'i')
-                     - LEG_TAU[0] * leg.u)
-    columns = []
-    for k, s in enumerate(LEG_POINT[:9]):
-        if k < 3 and variant == 'axisym':
-            continue
-        e = [1 if j == k else 0 for j in range(3)]
-        tangent = Tangent(g, {s: sp.S.One, **(along(e) if k < 3 else {})}, f'D{k}')
-        columns.append([tangent(c) for c in f])
-    if variant == 'axisym':
-        F_w, F_a = (sp.Matrix(3, 3, lambda c, k: columns[3 * b + k][c]) for b in range(2))
-        F_l = _rotation_jacobian(g, leg, motion, weight, l, w, a, F_w, F_a, along)
-    else:
-        F_l, F_w, F_a = (sp.Matrix(3, 3, lambda c, k: columns[3 * b + k][c]) for b in range(3))
+    f = g.vector('ires', leg_force(g, P, leg, P.m_C * rate(v_C) + w_C, P.m_S * rate(v_S) + w_S, rate(h_L), 'i')
+                 - LEG_TAU[0] * leg.u)
+
+    def jacobian(point, entries, tag):
+        """df/d(point) (3 x 3), the given (row, column) entries by forward mode along each column."""
+        J = sp.zeros(3, 3)
+        for k in sorted({k for _, k in entries}):
+            e = [1 if j == k else 0 for j in range(3)]
+            tangent = Tangent(g, {point[k]: sp.S.One, **(along(e) if point is l else {})}, f'{tag}{k}')
+            for c in sorted(c for c, col in entries if col == k):
+                J[c, k] = tangent(f[c])
+        return J
+
+    full = [(c, k) for c in range(3) for k in range(3)]
+    F_w = jacobian(w, full, 'Dw')
+    F_a = jacobian(a, _upper(3), 'Da')
+    F_a = sp.Matrix(3, 3, lambda c, k: F_a[min(c, k), max(c, k)])
+    F_l = _rotation_jacobian(g, leg, f, l, w, a, F_w, F_a) if variant == 'axisym' else jacobian(l, full, 'Dl')
     r, omega, A = sp.Matrix(LEG_R), sp.Matrix(SPIN[:3]), sp.Matrix(3, 3, SPIN[3:])
     Rx, Om = skew(r), skew(omega)
     G = _block(g, 'iG', F_l + F_w * Om + F_a * A)
     Dw = _block(g, 'iDw', Om * Rx + skew(g.vector('ic', cross(omega, r))))
     turn = _block(g, 'iT', r * f.T - g.define('irf', dot(r, f)) * sp.eye(3))  # [0; dr x f] per unit delta
-    blocks = (F_l, -G * Rx, F_w, -(F_w * Rx + F_a * Dw), F_a, -F_a * Rx)
+    blocks = (F_l, -G * Rx, F_w, -(F_w * Rx + F_a * Dw))
     shares = []
     for b, (name, block) in enumerate(zip(TWIST, blocks)):
         for k in range(3):
             df = g.vector(f'id{name}{k}', block[:, k])
             moment = cross(r, df) + (turn[:, k] if name == 'delta' else sp.zeros(3, 1))
             shares.append(list(df) + list(moment))
-    Zt = [shares[j][i] for i in range(6) for j in range(len(shares))]
+    coupling = _block(g, 'iMB', -F_a * Rx)  # the mass's force along omega'; its transpose the moment along v'
+    mass = sp.Matrix(sp.BlockMatrix([[F_a, coupling], [coupling.T, Rx * coupling]]))
     return variant_spec(variant, 'leg_derivatives', leg_derivatives_kernel.__doc__, g,
                         [('lwa', LEG_POINT + LEG_R + (LEG_AXIS if general else [])), ('tau', LEG_TAU), ('spin', SPIN)],
-                        [('Zt', Zt), ('JCt', list(leg.u) + list(cross(r, leg.u)))],
-                        lanes=NUM_LEGS, shared=('spin',), sums=('Zt',))
+                        [('Zt', [shares[j][i] for i in range(6) for j in range(len(shares))]),
+                         ('Mt', [mass[j, k] for j, k in _upper(6)]),
+                         ('JCt', list(leg.u) + list(cross(r, leg.u)))],
+                        lanes=NUM_LEGS, shared=('spin',), sums=('Zt', 'Mt'))
 
 
 def _directions(forward):
@@ -223,7 +232,7 @@ def _directions(forward):
 def residual_derivatives_kernel(forward, variant):
     """The partials of the residual r(x, xd, xdd, tau) = M xdd + V xd + G - J_C^T tau of the
     equation of motion (eqs. 5, 19, 39, 51, 61, 69, 72-76) at any (xdd, tau).  In the
-    twist-level coordinates (`TWIST`): the legs' shares Zt (`leg_derivatives_kernel`) plus
+    twist-level coordinates (`TWIST`): the legs' shares Zt and Mt (`leg_derivatives_kernel`) plus
     the platform's own terms [m_P (v_G' + g e_z); d/dt(I_P omega)] (`platform_force`), their
     rates taken with R' = [omega]x R, and their partials by forward mode along each twist-level
     coordinate, the others held (along delta, dR = [delta]x R).  Then to x, xd, xdd by the
@@ -251,14 +260,16 @@ def residual_derivatives_kernel(forward, variant):
              'delta': lambda k: {R[j, m]: cross(sp.eye(3)[:, k], R[:, m])[j] for j in range(3) for m in range(3)},
              'v': lambda k: {v[k]: sp.S.One}, 'omega': lambda k: {omega[k]: sp.S.One},
              'vd': lambda k: {vd[k]: sp.S.One}, 'omegad': lambda k: {omegad[k]: sp.S.One}}
-    Zt = symbols('Zt', 6 * 3 * len(TWIST))
+    Zt, Mt = symbols('Zt', 6 * 12), symbols('Mt', 21)
+    upper = {jk: Mt[n] for n, jk in enumerate(_upper(6))}
+    legs = [[Zt[12 * i + column] for i in range(6)] for column in range(12)]  # the legs' shares, by column
+    legs += [[upper[min(i, column), max(i, column)] for i in range(6)] for column in range(6)]
     total = []  # the twist-level partials, column by column: the legs' and the platform's
     for b, name in enumerate(TWIST):
         for k in range(3):
             seed = seeds[name](k)
             own = [Tangent(g, {**held, **seed}, f'T{name}{k}')(e) for e in platform] if seed else [0] * 6
-            column = 3 * b + k
-            total.append([g.define(f'Zt{name}{k}_{i}', Zt[i * 3 * len(TWIST) + column] + own[i]) for i in range(6)])
+            total.append([g.define(f'Zt{name}{k}_{i}', legs[3 * b + k][i] + own[i]) for i in range(6)])
     columns = []
     for tag, inputs in _directions(forward):
         for s in inputs:
@@ -277,5 +288,5 @@ def residual_derivatives_kernel(forward, variant):
             Z[i] += JCt[i * NUM_LEGS:(i + 1) * NUM_LEGS]
     return variant_spec(variant, f'residual_derivatives_{"forward" if forward else "inverse"}',
                         residual_derivatives_kernel.__doc__, g,
-                        [('x', X), ('xd', XD), ('xdd', XDD), ('Zt', Zt)] + ([('JCt', JCt)] if forward else []),
+                        [('x', X), ('xd', XD), ('xdd', XDD), ('Zt', Zt), ('Mt', Mt)] + ([('JCt', JCt)] if forward else []),
                         [('Z', [e for row in Z for e in row])])

@@ -314,19 +314,19 @@ int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const 
  *   inverse_dynamics_points_axisym          1858
  *   inverse_dynamics_points_frames          2356
  *   inverse_dynamics_points_general         2734
- *   leg_derivatives_axisym                  1579
- *   leg_derivatives_frames                  2473
- *   leg_derivatives_general                 2699
- *   residual_derivatives_inverse             992
- *   residual_derivatives_inverse_general    1512
+ *   leg_derivatives_axisym                  1480
+ *   leg_derivatives_frames                  2419
+ *   leg_derivatives_general                 2648
+ *   residual_derivatives_inverse             986
+ *   residual_derivatives_inverse_general    1510
  *   static_forces                            457
  *   static_forces_general                    555
  *   static_derivatives                      2130
  *   static_derivatives_general              2167
  *   leg_points                               606
  *   leg_points_general                       599
- *   residual_derivatives_forward            1008
- *   residual_derivatives_forward_general    1521
+ *   residual_derivatives_forward            1005
+ *   residual_derivatives_forward_general    1522
  *   joint_reactions_axisym                  1851
  *   joint_reactions_frames                  2392
  *   joint_reactions_general                 2824
