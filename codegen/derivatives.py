@@ -169,7 +169,7 @@ def leg_derivatives_kernel(variant):
     -[r]x F_a [r]x]] (`dynamics.twist_mass_matrix`), symmetric.  The leg depends on the
     platform only through (l, w, a) and r, so one kernel serves the six legs at once
     (`KernelSpec.lanes`), their shares summed: Zt (6 x 12, row-major, the columns of p, delta,
-    v, omega) and Mt (the upper triangle of M_t's part, row by row); and per leg, its row of
+    v, omega) and Mlegs (the upper triangle of M_t's part, row by row); and per leg, its row of
     J_C, [u; r x u] (eq. 5), interleaved.  |l| and sqrt(l_x^2 + l_y^2) come in with their
     derivatives as seeds, so the six legs run with no square root, which would keep the
     compiler from vectorizing them."""
@@ -219,9 +219,9 @@ def leg_derivatives_kernel(variant):
     return variant_spec(variant, 'leg_derivatives', leg_derivatives_kernel.__doc__, g,
                         [('lwa', LEG_POINT + LEG_R + (LEG_AXIS if general else [])), ('tau', LEG_TAU), ('spin', SPIN)],
                         [('Zt', [shares[j][i] for i in range(6) for j in range(len(shares))]),
-                         ('Mt', [mass[j, k] for j, k in _upper(6)]),
+                         ('Mlegs', [mass[j, k] for j, k in _upper(6)]),
                          ('JCt', list(leg.u) + list(cross(r, leg.u)))],
-                        lanes=NUM_LEGS, shared=('spin',), sums=('Zt', 'Mt'))
+                        lanes=NUM_LEGS, shared=('spin',), sums=('Zt', 'Mlegs'))
 
 
 def _directions(forward):
@@ -232,16 +232,17 @@ def _directions(forward):
 def residual_derivatives_kernel(forward, variant):
     """The partials of the residual r(x, xd, xdd, tau) = M xdd + V xd + G - J_C^T tau of the
     equation of motion (eqs. 5, 19, 39, 51, 61, 69, 72-76) at any (xdd, tau).  In the
-    twist-level coordinates (`TWIST`): the legs' shares Zt and Mt (`leg_derivatives_kernel`) plus
+    twist-level coordinates (`TWIST`): the legs' shares Zt and Mlegs (`leg_derivatives_kernel`) plus
     the platform's own terms [m_P (v_G' + g e_z); d/dt(I_P omega)] (`platform_force`), their
     rates taken with R' = [omega]x R, and their partials by forward mode along each twist-level
     coordinate, the others held (along delta, dR = [delta]x R).  Then to x, xd, xdd by the
     chain rule: a pose rate theta_k' turns the platform by delta = J_A e_k (eq. 8), and
     omega = J_A theta', omega' = d/dt(J_A theta') change with x, xd, xdd (forward mode on
-    those few entries).  Z is 6 x 18, row-major, with M = dr/dxdd, R_x = dr/dx, R_xd = dr/dxd
+    those few entries).  The 6 x 6 blocks (row-major) M = dr/dxdd, R_x = dr/dx, R_xd = dr/dxd
     and J_C^T = -dr/dtau (row i = [u_i; r_i x u_i]): inverse dynamics solves
-    J_C^T [dtau/dxdd, dtau/dx, dtau/dxd] = Z = [M, R_x, R_xd]; forward dynamics (`forward`)
-    M [dxdd/dx, dxdd/dxd, dxdd/dtau] = Z = [-R_x, -R_xd, J_C^T]."""
+    J_C^T dtau/dxdd = Zxdd = M, J_C^T dtau/dx = Zx = R_x, J_C^T dtau/dxd = Zxd = R_xd; forward
+    dynamics (`forward`) M dxdd/dx = Zx = -R_x, M dxdd/dxd = Zxd = -R_xd (and
+    M dxdd/dtau = J_C^T, `leg_derivatives_kernel`'s JCt)."""
     P = PARAMS
     g = accelerated_graph()
     kin = kinematics_of(g, variant)
@@ -260,8 +261,8 @@ def residual_derivatives_kernel(forward, variant):
              'delta': lambda k: {R[j, m]: cross(sp.eye(3)[:, k], R[:, m])[j] for j in range(3) for m in range(3)},
              'v': lambda k: {v[k]: sp.S.One}, 'omega': lambda k: {omega[k]: sp.S.One},
              'vd': lambda k: {vd[k]: sp.S.One}, 'omegad': lambda k: {omegad[k]: sp.S.One}}
-    Zt, Mt = symbols('Zt', 6 * 12), symbols('Mt', 21)
-    upper = {jk: Mt[n] for n, jk in enumerate(_upper(6))}
+    Zt, Mlegs = symbols('Zt', 6 * 12), symbols('Mlegs', 21)
+    upper = {jk: Mlegs[n] for n, jk in enumerate(_upper(6))}
     legs = [[Zt[12 * i + column] for i in range(6)] for column in range(12)]  # the legs' shares, by column
     legs += [[upper[min(i, column), max(i, column)] for i in range(6)] for column in range(6)]
     total = []  # the twist-level partials, column by column: the legs' and the platform's
@@ -281,12 +282,8 @@ def residual_derivatives_kernel(forward, variant):
             d = [e for part in motion for e in part]
             columns.append([(-1 if forward else 1) * sp.Add(*[total[j][i] * d[j] for j in range(len(d)) if d[j] != 0])
                             for i in range(6)])
-    Z = [[column[i] for column in columns] for i in range(6)]
-    JCt = symbols('JCt', 6 * NUM_LEGS)
-    if forward:
-        for i in range(6):
-            Z[i] += JCt[i * NUM_LEGS:(i + 1) * NUM_LEGS]
+    blocks = [('Z' + tag[1:], [columns[6 * b + j][i] for i in range(6) for j in range(6)])
+              for b, (tag, _) in enumerate(_directions(forward))]
     return variant_spec(variant, f'residual_derivatives_{"forward" if forward else "inverse"}',
                         residual_derivatives_kernel.__doc__, g,
-                        [('x', X), ('xd', XD), ('xdd', XDD), ('Zt', Zt), ('Mt', Mt)] + ([('JCt', JCt)] if forward else []),
-                        [('Z', [e for row in Z for e in row])])
+                        [('x', X), ('xd', XD), ('xdd', XDD), ('Zt', Zt), ('Mlegs', Mlegs)], blocks)

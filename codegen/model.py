@@ -90,7 +90,7 @@ def _residual_steps(forward):
     return ((Kernels(LEG_POINTS, ('x', 'xd', 'xdd')),) if forward else ()) + (
             Kernels(LEG_DERIVATIVES, ('lwa', 'tau', 'spin')),
             Kernels(_variants(residual_derivatives_kernel, forward, variants=MODELS),
-                    ('x', 'xd', 'xdd', 'Zt', 'Mt') + (('JCt',) if forward else ())))
+                    ('x', 'xd', 'xdd', 'Zt', 'Mlegs')))
 
 
 #: Scratch arrays of the solves: the factors of J_C^T and of M_t (`linsolve`).
@@ -154,9 +154,8 @@ FUNCTIONS = (
              INVERSE_DYNAMICS_POINTS,
              steps=(('bareiss_factor', ('JC', 'FJ')), ('bareiss_solve', ('FJ', '1', '1', 'W', 'tau')),
                     *_residual_steps(False),
-                    ('bareiss_solve', ('FJ', '18', '18', 'Z', 'Y')),
-                    ('split_jacobians', ('Y', 'dtau_dxdd', 'dtau_dx', 'dtau_dxd'))),
-             scratch=(_BAREISS_FACTORS, ('Y', 108)),
+                    *(('bareiss_solve', ('FJ', '6', '6', f'Z{name}', f'dtau_d{name}')) for name in ('xdd', 'x', 'xd'))),
+             scratch=(_BAREISS_FACTORS,),
              result_type='InverseDynamicsDerivatives'),
     Function('static_force_derivatives',
              'The static forces tau_s = J_C^-T G, which hold the platform at rest at x, and their Jacobian'
@@ -174,11 +173,11 @@ FUNCTIONS = (
              ' needs cos(theta) != 0.',
              ('x', 'xd', 'tau'), (('xdd', (6,)), ('dxdd_dx', (6, 6)), ('dxdd_dxd', (6, 6)), ('dxdd_dtau', (6, 6))),
              (),
-             steps=_FORWARD_STEPS + _residual_steps(True) + (
-                                     ('ldl_solve', ('FM', '18', '18', 'Z', 'Y')),
-                                     ('pose_accelerations', ('JAinv', '18', 'Y', 'D')),
-                                     ('split_jacobians', ('D', 'dxdd_dx', 'dxdd_dxd', 'dxdd_dtau'))),
-             scratch=_FORWARD_SCRATCH + (('Y', 108), ('D', 108)),
+             steps=_FORWARD_STEPS + _residual_steps(True) + tuple(
+                 step for name, Z in (('x', 'Zx'), ('xd', 'Zxd'), ('tau', 'JCt'))
+                 for step in (('ldl_solve', ('FM', '6', '6', Z, 'Y')),
+                              ('pose_accelerations', ('JAinv', '6', 'Y', f'dxdd_d{name}')))),
+             scratch=_FORWARD_SCRATCH + (('Y', 36),),
              result_type='ForwardDynamicsDerivatives'),
     Function('joint_reactions',
              'tau and the joint reactions of each leg i (3 doubles per leg, leg-major, in {B}): f_base, the'

@@ -480,20 +480,6 @@ static stewart_vl vspinless_columns(const stewart_params *p, int n, int a, int b
 typedef stewart_vl (*vblock_fn)(const stewart_params *p, double scalar, const stewart_vd *const in[],
                                 stewart_vd *const out[]);
 
-/* The three 6 x 6 blocks of columns of Y (6 x 18, row-major), over a block. */
-static stewart_vl vsplit_jacobians(const stewart_vd Y[108], stewart_vd a[36], stewart_vd b[36], stewart_vd c[36])
-{
-    int i, j;
-    for (i = 0; i < 6; ++i) {
-        for (j = 0; j < 6; ++j) {
-            a[6 * i + j] = Y[18 * i + j];
-            b[6 * i + j] = Y[18 * i + 6 + j];
-            c[6 * i + j] = Y[18 * i + 12 + j];
-        }
-    }
-    return vnone();
-}
-
 /* The classic RK4 step, the one of every integrator of the model (vrk4 here, the closed loop's
  * stewart_loop_rk4 in control.c), on doubles or vectors of doubles: stage s (0-3) evaluates
  * k_s = f(s_0 + RK4_FRACTION(s) dt k_{s-1}) (RK4_STAGE; the first at s_0 itself), and the step
@@ -1367,19 +1353,19 @@ STEWART_HIDDEN void vkernel_inverse_dynamics_general(const stewart_params *p, co
 STEWART_HIDDEN void vkernel_inverse_dynamics_points_axisym(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JC, stewart_vd *L2, stewart_vd *lwa, stewart_vd *spin);
 STEWART_HIDDEN void vkernel_inverse_dynamics_points_frames(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JC, stewart_vd *L2, stewart_vd *h2, stewart_vd *lwa, stewart_vd *spin);
 STEWART_HIDDEN void vkernel_inverse_dynamics_points_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JC, stewart_vd *L2, stewart_vd *n2, stewart_vd *lwa, stewart_vd *spin);
-STEWART_HIDDEN void vkernel_leg_derivatives_axisym(const stewart_params *p, const stewart_vd *lwa, const stewart_vd *tau, const stewart_vd *spin, stewart_vd *Zt, stewart_vd *Mt, stewart_vd *JCt);
-STEWART_HIDDEN void vkernel_leg_derivatives_frames(const stewart_params *p, const stewart_vd *lwa, const stewart_vd *tau, const stewart_vd *spin, stewart_vd *Zt, stewart_vd *Mt, stewart_vd *JCt);
-STEWART_HIDDEN void vkernel_leg_derivatives_general(const stewart_params *p, const stewart_vd *lwa, const stewart_vd *tau, const stewart_vd *spin, stewart_vd *Zt, stewart_vd *Mt, stewart_vd *JCt);
-STEWART_HIDDEN void vkernel_residual_derivatives_inverse(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *Zt, const stewart_vd *Mt, stewart_vd *Z);
-STEWART_HIDDEN void vkernel_residual_derivatives_inverse_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *Zt, const stewart_vd *Mt, stewart_vd *Z);
+STEWART_HIDDEN void vkernel_leg_derivatives_axisym(const stewart_params *p, const stewart_vd *lwa, const stewart_vd *tau, const stewart_vd *spin, stewart_vd *Zt, stewart_vd *Mlegs, stewart_vd *JCt);
+STEWART_HIDDEN void vkernel_leg_derivatives_frames(const stewart_params *p, const stewart_vd *lwa, const stewart_vd *tau, const stewart_vd *spin, stewart_vd *Zt, stewart_vd *Mlegs, stewart_vd *JCt);
+STEWART_HIDDEN void vkernel_leg_derivatives_general(const stewart_params *p, const stewart_vd *lwa, const stewart_vd *tau, const stewart_vd *spin, stewart_vd *Zt, stewart_vd *Mlegs, stewart_vd *JCt);
+STEWART_HIDDEN void vkernel_residual_derivatives_inverse(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *Zt, const stewart_vd *Mlegs, stewart_vd *Zxdd, stewart_vd *Zx, stewart_vd *Zxd);
+STEWART_HIDDEN void vkernel_residual_derivatives_inverse_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *Zt, const stewart_vd *Mlegs, stewart_vd *Zxdd, stewart_vd *Zx, stewart_vd *Zxd);
 STEWART_HIDDEN void vkernel_static_forces(const stewart_params *p, const stewart_vd *x, stewart_vd *W, stewart_vd *JC, stewart_vd *L2);
 STEWART_HIDDEN void vkernel_static_forces_general(const stewart_params *p, const stewart_vd *x, stewart_vd *W, stewart_vd *JC, stewart_vd *L2, stewart_vd *n2);
 STEWART_HIDDEN void vkernel_static_derivatives(const stewart_params *p, const stewart_vd *x, const stewart_vd *tau, stewart_vd *Z);
 STEWART_HIDDEN void vkernel_static_derivatives_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *tau, stewart_vd *Z);
 STEWART_HIDDEN void vkernel_leg_points(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *lwa, stewart_vd *spin);
 STEWART_HIDDEN void vkernel_leg_points_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *lwa, stewart_vd *spin);
-STEWART_HIDDEN void vkernel_residual_derivatives_forward(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *Zt, const stewart_vd *Mt, const stewart_vd *JCt, stewart_vd *Z);
-STEWART_HIDDEN void vkernel_residual_derivatives_forward_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *Zt, const stewart_vd *Mt, const stewart_vd *JCt, stewart_vd *Z);
+STEWART_HIDDEN void vkernel_residual_derivatives_forward(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *Zt, const stewart_vd *Mlegs, stewart_vd *Zx, stewart_vd *Zxd);
+STEWART_HIDDEN void vkernel_residual_derivatives_forward_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *Zt, const stewart_vd *Mlegs, stewart_vd *Zx, stewart_vd *Zxd);
 STEWART_HIDDEN void vkernel_joint_reactions_axisym(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JC, stewart_vd *legf, stewart_vd *n_base, stewart_vd *L2);
 STEWART_HIDDEN void vkernel_joint_reactions_frames(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JC, stewart_vd *legf, stewart_vd *n_base, stewart_vd *L2, stewart_vd *h2);
 STEWART_HIDDEN void vkernel_joint_reactions_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JC, stewart_vd *legf, stewart_vd *n_base, stewart_vd *L2, stewart_vd *n2);

@@ -18,11 +18,11 @@
     -[r]x F_a [r]x]] (`dynamics.twist_mass_matrix`), symmetric.  The leg depends on the
     platform only through (l, w, a) and r, so one kernel serves the six legs at once
     (`KernelSpec.lanes`), their shares summed: Zt (6 x 12, row-major, the columns of p, delta,
-    v, omega) and Mt (the upper triangle of M_t's part, row by row); and per leg, its row of
+    v, omega) and Mlegs (the upper triangle of M_t's part, row by row); and per leg, its row of
     J_C, [u; r x u] (eq. 5), interleaved.  |l| and sqrt(l_x^2 + l_y^2) come in with their
     derivatives as seeds, so the six legs run with no square root, which would keep the
     compiler from vectorizing them. */
-void vkernel_leg_derivatives_axisym(const stewart_params *p, const stewart_vd *lwa, const stewart_vd *tau, const stewart_vd *spin, stewart_vd *Zt, stewart_vd *Mt, stewart_vd *JCt)
+void vkernel_leg_derivatives_axisym(const stewart_params *p, const stewart_vd *lwa, const stewart_vd *tau, const stewart_vd *spin, stewart_vd *Zt, stewart_vd *Mlegs, stewart_vd *JCt)
 {
     const double m_C = p->cylinder_mass;
     const double I_C_y = p->cylinder_inertia[1];
@@ -36,7 +36,7 @@ void vkernel_leg_derivatives_axisym(const stewart_params *p, const stewart_vd *l
         Zt[k] = vsplat(0.0);
     }
     for (k = 0; k < 21; ++k) {
-        Mt[k] = vsplat(0.0);
+        Mlegs[k] = vsplat(0.0);
     }
     int lane;
     for (lane = 0; lane < 6; ++lane) {
@@ -634,27 +634,27 @@ void vkernel_leg_derivatives_axisym(const stewart_params *p, const stewart_vd *l
         Zt[69] += Pr_0*idomega0_y - Pr_1*idomega0_x;
         Zt[70] += Pr_0*idomega1_y - Pr_1*idomega1_x;
         Zt[71] += Pr_0*idomega2_y - Pr_1*idomega2_x;
-        Mt[0] += if_x_Da0;
-        Mt[1] += if_x_Da1;
-        Mt[2] += if_x_Da2;
-        Mt[3] += iMB_00;
-        Mt[4] += iMB_01;
-        Mt[5] += iMB_02;
-        Mt[6] += if_y_Da1;
-        Mt[7] += if_y_Da2;
-        Mt[8] += iMB_10;
-        Mt[9] += iMB_11;
-        Mt[10] += iMB_12;
-        Mt[11] += if_z_Da2;
-        Mt[12] += iMB_20;
-        Mt[13] += iMB_21;
-        Mt[14] += iMB_22;
-        Mt[15] += Pr_1*iMB_20 - Pr_2*iMB_10;
-        Mt[16] += Pr_1*iMB_21 - Pr_2*iMB_11;
-        Mt[17] += Pr_1*iMB_22 - Pr_2*iMB_12;
-        Mt[18] += Pr_2*iMB_01 - Pr_0*iMB_21;
-        Mt[19] += Pr_2*iMB_02 - Pr_0*iMB_22;
-        Mt[20] += Pr_0*iMB_12 - Pr_1*iMB_02;
+        Mlegs[0] += if_x_Da0;
+        Mlegs[1] += if_x_Da1;
+        Mlegs[2] += if_x_Da2;
+        Mlegs[3] += iMB_00;
+        Mlegs[4] += iMB_01;
+        Mlegs[5] += iMB_02;
+        Mlegs[6] += if_y_Da1;
+        Mlegs[7] += if_y_Da2;
+        Mlegs[8] += iMB_10;
+        Mlegs[9] += iMB_11;
+        Mlegs[10] += iMB_12;
+        Mlegs[11] += if_z_Da2;
+        Mlegs[12] += iMB_20;
+        Mlegs[13] += iMB_21;
+        Mlegs[14] += iMB_22;
+        Mlegs[15] += Pr_1*iMB_20 - Pr_2*iMB_10;
+        Mlegs[16] += Pr_1*iMB_21 - Pr_2*iMB_11;
+        Mlegs[17] += Pr_1*iMB_22 - Pr_2*iMB_12;
+        Mlegs[18] += Pr_2*iMB_01 - Pr_0*iMB_21;
+        Mlegs[19] += Pr_2*iMB_02 - Pr_0*iMB_22;
+        Mlegs[20] += Pr_0*iMB_12 - Pr_1*iMB_02;
         JCt[0 * 6 + lane] = ui_x;
         JCt[1 * 6 + lane] = ui_y;
         JCt[2 * 6 + lane] = ui_z;
@@ -680,11 +680,11 @@ void vkernel_leg_derivatives_axisym(const stewart_params *p, const stewart_vd *l
     -[r]x F_a [r]x]] (`dynamics.twist_mass_matrix`), symmetric.  The leg depends on the
     platform only through (l, w, a) and r, so one kernel serves the six legs at once
     (`KernelSpec.lanes`), their shares summed: Zt (6 x 12, row-major, the columns of p, delta,
-    v, omega) and Mt (the upper triangle of M_t's part, row by row); and per leg, its row of
+    v, omega) and Mlegs (the upper triangle of M_t's part, row by row); and per leg, its row of
     J_C, [u; r x u] (eq. 5), interleaved.  |l| and sqrt(l_x^2 + l_y^2) come in with their
     derivatives as seeds, so the six legs run with no square root, which would keep the
     compiler from vectorizing them. */
-void vkernel_leg_derivatives_frames(const stewart_params *p, const stewart_vd *lwa, const stewart_vd *tau, const stewart_vd *spin, stewart_vd *Zt, stewart_vd *Mt, stewart_vd *JCt)
+void vkernel_leg_derivatives_frames(const stewart_params *p, const stewart_vd *lwa, const stewart_vd *tau, const stewart_vd *spin, stewart_vd *Zt, stewart_vd *Mlegs, stewart_vd *JCt)
 {
     const double m_C = p->cylinder_mass;
     const double I_C_y = p->cylinder_inertia[1];
@@ -700,7 +700,7 @@ void vkernel_leg_derivatives_frames(const stewart_params *p, const stewart_vd *l
         Zt[k] = vsplat(0.0);
     }
     for (k = 0; k < 21; ++k) {
-        Mt[k] = vsplat(0.0);
+        Mlegs[k] = vsplat(0.0);
     }
     int lane;
     for (lane = 0; lane < 6; ++lane) {
@@ -1482,27 +1482,27 @@ void vkernel_leg_derivatives_frames(const stewart_params *p, const stewart_vd *l
         Zt[69] += Pr_0*idomega0_y - Pr_1*idomega0_x;
         Zt[70] += Pr_0*idomega1_y - Pr_1*idomega1_x;
         Zt[71] += Pr_0*idomega2_y - Pr_1*idomega2_x;
-        Mt[0] += if_x_Da0;
-        Mt[1] += if_x_Da1;
-        Mt[2] += if_x_Da2;
-        Mt[3] += iMB_00;
-        Mt[4] += iMB_01;
-        Mt[5] += iMB_02;
-        Mt[6] += if_y_Da1;
-        Mt[7] += if_y_Da2;
-        Mt[8] += iMB_10;
-        Mt[9] += iMB_11;
-        Mt[10] += iMB_12;
-        Mt[11] += if_z_Da2;
-        Mt[12] += iMB_20;
-        Mt[13] += iMB_21;
-        Mt[14] += iMB_22;
-        Mt[15] += Pr_1*iMB_20 - Pr_2*iMB_10;
-        Mt[16] += Pr_1*iMB_21 - Pr_2*iMB_11;
-        Mt[17] += Pr_1*iMB_22 - Pr_2*iMB_12;
-        Mt[18] += Pr_2*iMB_01 - Pr_0*iMB_21;
-        Mt[19] += Pr_2*iMB_02 - Pr_0*iMB_22;
-        Mt[20] += Pr_0*iMB_12 - Pr_1*iMB_02;
+        Mlegs[0] += if_x_Da0;
+        Mlegs[1] += if_x_Da1;
+        Mlegs[2] += if_x_Da2;
+        Mlegs[3] += iMB_00;
+        Mlegs[4] += iMB_01;
+        Mlegs[5] += iMB_02;
+        Mlegs[6] += if_y_Da1;
+        Mlegs[7] += if_y_Da2;
+        Mlegs[8] += iMB_10;
+        Mlegs[9] += iMB_11;
+        Mlegs[10] += iMB_12;
+        Mlegs[11] += if_z_Da2;
+        Mlegs[12] += iMB_20;
+        Mlegs[13] += iMB_21;
+        Mlegs[14] += iMB_22;
+        Mlegs[15] += Pr_1*iMB_20 - Pr_2*iMB_10;
+        Mlegs[16] += Pr_1*iMB_21 - Pr_2*iMB_11;
+        Mlegs[17] += Pr_1*iMB_22 - Pr_2*iMB_12;
+        Mlegs[18] += Pr_2*iMB_01 - Pr_0*iMB_21;
+        Mlegs[19] += Pr_2*iMB_02 - Pr_0*iMB_22;
+        Mlegs[20] += Pr_0*iMB_12 - Pr_1*iMB_02;
         JCt[0 * 6 + lane] = ui_x;
         JCt[1 * 6 + lane] = ui_y;
         JCt[2 * 6 + lane] = ui_z;
@@ -1528,11 +1528,11 @@ void vkernel_leg_derivatives_frames(const stewart_params *p, const stewart_vd *l
     -[r]x F_a [r]x]] (`dynamics.twist_mass_matrix`), symmetric.  The leg depends on the
     platform only through (l, w, a) and r, so one kernel serves the six legs at once
     (`KernelSpec.lanes`), their shares summed: Zt (6 x 12, row-major, the columns of p, delta,
-    v, omega) and Mt (the upper triangle of M_t's part, row by row); and per leg, its row of
+    v, omega) and Mlegs (the upper triangle of M_t's part, row by row); and per leg, its row of
     J_C, [u; r x u] (eq. 5), interleaved.  |l| and sqrt(l_x^2 + l_y^2) come in with their
     derivatives as seeds, so the six legs run with no square root, which would keep the
     compiler from vectorizing them. */
-void vkernel_leg_derivatives_general(const stewart_params *p, const stewart_vd *lwa, const stewart_vd *tau, const stewart_vd *spin, stewart_vd *Zt, stewart_vd *Mt, stewart_vd *JCt)
+void vkernel_leg_derivatives_general(const stewart_params *p, const stewart_vd *lwa, const stewart_vd *tau, const stewart_vd *spin, stewart_vd *Zt, stewart_vd *Mlegs, stewart_vd *JCt)
 {
     const double m_C = p->cylinder_mass;
     const double I_C_x = p->cylinder_inertia[0];
@@ -1550,7 +1550,7 @@ void vkernel_leg_derivatives_general(const stewart_params *p, const stewart_vd *
         Zt[k] = vsplat(0.0);
     }
     for (k = 0; k < 21; ++k) {
-        Mt[k] = vsplat(0.0);
+        Mlegs[k] = vsplat(0.0);
     }
     int lane;
     for (lane = 0; lane < 6; ++lane) {
@@ -2369,27 +2369,27 @@ void vkernel_leg_derivatives_general(const stewart_params *p, const stewart_vd *
         Zt[69] += Pr_0*idomega0_y - Pr_1*idomega0_x;
         Zt[70] += Pr_0*idomega1_y - Pr_1*idomega1_x;
         Zt[71] += Pr_0*idomega2_y - Pr_1*idomega2_x;
-        Mt[0] += if_x_Da0;
-        Mt[1] += if_x_Da1;
-        Mt[2] += if_x_Da2;
-        Mt[3] += iMB_00;
-        Mt[4] += iMB_01;
-        Mt[5] += iMB_02;
-        Mt[6] += if_y_Da1;
-        Mt[7] += if_y_Da2;
-        Mt[8] += iMB_10;
-        Mt[9] += iMB_11;
-        Mt[10] += iMB_12;
-        Mt[11] += if_z_Da2;
-        Mt[12] += iMB_20;
-        Mt[13] += iMB_21;
-        Mt[14] += iMB_22;
-        Mt[15] += Pr_1*iMB_20 - Pr_2*iMB_10;
-        Mt[16] += Pr_1*iMB_21 - Pr_2*iMB_11;
-        Mt[17] += Pr_1*iMB_22 - Pr_2*iMB_12;
-        Mt[18] += Pr_2*iMB_01 - Pr_0*iMB_21;
-        Mt[19] += Pr_2*iMB_02 - Pr_0*iMB_22;
-        Mt[20] += Pr_0*iMB_12 - Pr_1*iMB_02;
+        Mlegs[0] += if_x_Da0;
+        Mlegs[1] += if_x_Da1;
+        Mlegs[2] += if_x_Da2;
+        Mlegs[3] += iMB_00;
+        Mlegs[4] += iMB_01;
+        Mlegs[5] += iMB_02;
+        Mlegs[6] += if_y_Da1;
+        Mlegs[7] += if_y_Da2;
+        Mlegs[8] += iMB_10;
+        Mlegs[9] += iMB_11;
+        Mlegs[10] += iMB_12;
+        Mlegs[11] += if_z_Da2;
+        Mlegs[12] += iMB_20;
+        Mlegs[13] += iMB_21;
+        Mlegs[14] += iMB_22;
+        Mlegs[15] += Pr_1*iMB_20 - Pr_2*iMB_10;
+        Mlegs[16] += Pr_1*iMB_21 - Pr_2*iMB_11;
+        Mlegs[17] += Pr_1*iMB_22 - Pr_2*iMB_12;
+        Mlegs[18] += Pr_2*iMB_01 - Pr_0*iMB_21;
+        Mlegs[19] += Pr_2*iMB_02 - Pr_0*iMB_22;
+        Mlegs[20] += Pr_0*iMB_12 - Pr_1*iMB_02;
         JCt[0 * 6 + lane] = ui_x;
         JCt[1 * 6 + lane] = ui_y;
         JCt[2 * 6 + lane] = ui_z;
