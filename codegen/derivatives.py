@@ -13,7 +13,7 @@ from .bodies import (gravity_forces, leg_force, leg_momenta, platform_angular_mo
 from .graph import Graph, Tangent, cross, dot, skew, symbols
 from .dynamics import inverse_dynamics
 from .kinematics import (NUM_LEGS, PARAMS, TAU, X, XD, XDD, accelerated_graph, jacobian_rows, kinematics,
-                         kinematics_of, leg_checks, leg_geometry, twist, variant_spec)
+                         kinematics_of, leg_checks, leg_geometry, trig_seeds, twist, variant_spec)
 
 
 def static_derivatives_kernel(variant):
@@ -64,8 +64,9 @@ LEG_AXIS = symbols('A', 3)
 
 #: What the legs' chains share (`leg_points_kernel`): the platform's angular velocity omega
 #: and A = [omega']x + [omega]x^2 (row-major), the acceleration of a point r fixed in the
-#: platform being v' + A r.
-SPIN = symbols('S', 12)
+#: platform being v' + A r; then the Euler angles' cosines and sines (`Kinematics.trig`),
+#: which `residual_derivatives_kernel` takes.
+SPIN = symbols('S', 18)
 
 #: The twist-level coordinates of the residual's partials (3 each, in this order): the
 #: platform's position p, a small rotation delta of it (R -> (E + [delta]x) R), its twist
@@ -91,7 +92,7 @@ def _points(g, kin, v, omega, variant):
     points = [list(l) + list(w) + list(a) + [leg.L, sp.sqrt(l[0] ** 2 + l[1] ** 2) if heights else 0] + list(leg.r)
               + (list(PARAMS.axes[i]) if variant == 'general' else [])
               for i, (leg, (l, w, a)) in enumerate(zip(kin.legs, _point_motion(g, kin, v, omega)))]
-    spin = list(omega) + list(skew(omega.applyfunc(g.rate)) + skew(omega) * skew(omega))
+    spin = list(omega) + list(skew(omega.applyfunc(g.rate)) + skew(omega) * skew(omega)) + list(kin.trig)
     return [('lwa', [points[i][k] for k in range(len(points[0])) for i in range(NUM_LEGS)]), ('spin', spin)]
 
 
@@ -99,7 +100,7 @@ def leg_points_kernel(variant):
     """[l; w; a; |l|; sqrt(l_x^2 + l_y^2); r] of every leg's P_i (`_point_motion`), 14 per
     leg, interleaved (entry k of leg i at k * 6 + i): the inputs of the per-leg kernels; for
     the general model, then the joint's first axis a_i (17 per leg); and what the legs'
-    chains share, spin = [omega; [omega']x + [omega]x^2] (`SPIN`)."""
+    chains share, spin = [omega; [omega']x + [omega]x^2; the angles' cosines and sines] (`SPIN`)."""
     g = accelerated_graph()
     kin = kinematics(g, PARAMS)
     v, omega = twist(g, kin, XD, 'q')
@@ -202,7 +203,7 @@ def leg_derivatives_kernel(variant):
     F_a = jacobian(a, _upper(3), 'Da')
     F_a = sp.Matrix(3, 3, lambda c, k: F_a[min(c, k), max(c, k)])
     F_l = _rotation_jacobian(g, leg, f, l, w, a, F_w, F_a) if variant == 'axisym' else jacobian(l, full, 'Dl')
-    r, omega, A = sp.Matrix(LEG_R), sp.Matrix(SPIN[:3]), sp.Matrix(3, 3, SPIN[3:])
+    r, omega, A = sp.Matrix(LEG_R), sp.Matrix(SPIN[:3]), sp.Matrix(3, 3, SPIN[3:12])
     Rx, Om = skew(r), skew(omega)
     G = _block(g, 'iG', F_l + F_w * Om + F_a * A)
     Dw = _block(g, 'iDw', Om * Rx + skew(g.vector('ic', cross(omega, r))))
@@ -245,7 +246,8 @@ def residual_derivatives_kernel(forward, variant):
     M dxdd/dtau = J_C^T, `leg_derivatives_kernel`'s JCt)."""
     P = PARAMS
     g = accelerated_graph()
-    kin = kinematics_of(g, variant)
+    trig = SPIN[12:]  # the points kernel's cosines and sines of the angles
+    kin = kinematics_of(g, variant, trig=trig)
     R = kin.R
     v, omega = twist(g, kin, XD, 'q')
     vd, omegad = sp.Matrix(XDD[:3]), omega.applyfunc(g.rate)
@@ -274,7 +276,8 @@ def residual_derivatives_kernel(forward, variant):
     columns = []
     for tag, inputs in _directions(forward):
         for s in inputs:
-            tangent = Tangent(g, {s: sp.S.One}, f'{tag}{inputs.index(s)}')
+            dangles = [1 if s == angle else 0 for angle in X[3:]]
+            tangent = Tangent(g, {s: sp.S.One, **trig_seeds(trig, dangles)}, f'{tag}{inputs.index(s)}')
             motion = ([1 if s == x else 0 for x in X[:3]],
                       list(kin.J_A[:, X.index(s) - 3]) if s in X[3:] else [0] * 3,
                       [1 if s == x else 0 for x in XD[:3]], [tangent(e) for e in omega],
@@ -286,4 +289,4 @@ def residual_derivatives_kernel(forward, variant):
               for b, (tag, _) in enumerate(_directions(forward))]
     return variant_spec(variant, f'residual_derivatives_{"forward" if forward else "inverse"}',
                         residual_derivatives_kernel.__doc__, g,
-                        [('x', X), ('xd', XD), ('xdd', XDD), ('Zt', Zt), ('Mlegs', Mlegs)], blocks)
+                        [('x', X), ('xd', XD), ('xdd', XDD), ('spin', SPIN), ('Zt', Zt), ('Mlegs', Mlegs)], blocks)

@@ -90,7 +90,7 @@ def _residual_steps(forward):
     return ((Kernels(LEG_POINTS, ('x', 'xd', 'xdd')),) if forward else ()) + (
             Kernels(LEG_DERIVATIVES, ('lwa', 'tau', 'spin')),
             Kernels(_variants(residual_derivatives_kernel, forward, variants=MODELS),
-                    ('x', 'xd', 'xdd', 'Zt', 'Mlegs')))
+                    ('x', 'xd', 'xdd', 'spin', 'Zt', 'Mlegs')))
 
 
 #: Scratch arrays of the solves: the factors of J_C^T and of M_t (`linsolve`).

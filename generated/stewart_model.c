@@ -455,7 +455,7 @@ static stewart_vl vblock_inverse_dynamics_derivatives(const stewart_params *p, d
     stewart_vd *dtau_dx = out[1];
     stewart_vd *dtau_dxd = out[2];
     stewart_vd *dtau_dxdd = out[3];
-    stewart_vd W[6], JC[36], L2[6], lwa[102], spin[12], h2[6], n2[6], Zt[72], Mlegs[21], JCt[36], Zxdd[36], Zx[36], Zxd[36], FJ[57];
+    stewart_vd W[6], JC[36], L2[6], lwa[102], spin[18], h2[6], n2[6], Zt[72], Mlegs[21], JCt[36], Zxdd[36], Zx[36], Zxd[36], FJ[57];
     stewart_vl status = vnone();
     if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
         vkernel_inverse_dynamics_points_axisym(p, x, xd, xdd, W, JC, L2, lwa, spin);
@@ -477,9 +477,9 @@ static stewart_vl vblock_inverse_dynamics_derivatives(const stewart_params *p, d
         vkernel_leg_derivatives_general(p, lwa, tau, spin, Zt, Mlegs, JCt);
     }
     if (stewart_is_paper_model(p)) {
-        vkernel_residual_derivatives_inverse(p, x, xd, xdd, Zt, Mlegs, Zxdd, Zx, Zxd);
+        vkernel_residual_derivatives_inverse(p, x, xd, xdd, spin, Zt, Mlegs, Zxdd, Zx, Zxd);
     } else {
-        vkernel_residual_derivatives_inverse_general(p, x, xd, xdd, Zt, Mlegs, Zxdd, Zx, Zxd);
+        vkernel_residual_derivatives_inverse_general(p, x, xd, xdd, spin, Zt, Mlegs, Zxdd, Zx, Zxd);
     }
     status = vmerge(status, vbareiss_solve(FJ, 6, 6, Zxdd, dtau_dxdd));
     status = vmerge(status, vbareiss_solve(FJ, 6, 6, Zx, dtau_dx));
@@ -537,7 +537,7 @@ static stewart_vl vblock_forward_dynamics_derivatives(const stewart_params *p, d
     stewart_vd *dxdd_dx = out[1];
     stewart_vd *dxdd_dxd = out[2];
     stewart_vd *dxdd_dtau = out[3];
-    stewart_vd Mt[36], L2[6], h2[6], n2[6], JA[9], JAinv[9], ctheta[1], W[6], JC[36], lwa[102], spin[12], Zt[72], Mlegs[21], JCt[36], Zx[36], Zxd[36], FM[21], xdd0[6], rhs[6], y[6], Y[36];
+    stewart_vd Mt[36], L2[6], h2[6], n2[6], JA[9], JAinv[9], ctheta[1], W[6], JC[36], lwa[102], spin[18], Zt[72], Mlegs[21], JCt[36], Zx[36], Zxd[36], FM[21], xdd0[6], rhs[6], y[6], Y[36];
     stewart_vl status = vnone();
     if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
         vkernel_twist_mass_matrix_axisym(p, x, Mt, L2);
@@ -579,9 +579,9 @@ static stewart_vl vblock_forward_dynamics_derivatives(const stewart_params *p, d
         vkernel_leg_derivatives_general(p, lwa, tau, spin, Zt, Mlegs, JCt);
     }
     if (stewart_is_paper_model(p)) {
-        vkernel_residual_derivatives_forward(p, x, xd, xdd, Zt, Mlegs, Zx, Zxd);
+        vkernel_residual_derivatives_forward(p, x, xd, xdd, spin, Zt, Mlegs, Zx, Zxd);
     } else {
-        vkernel_residual_derivatives_forward_general(p, x, xd, xdd, Zt, Mlegs, Zx, Zxd);
+        vkernel_residual_derivatives_forward_general(p, x, xd, xdd, spin, Zt, Mlegs, Zx, Zxd);
     }
     status = vmerge(status, vldl_solve(FM, 6, 6, Zx, Y));
     status = vmerge(status, vpose_accelerations(JAinv, 6, Y, dxdd_dx));

@@ -317,16 +317,16 @@ int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const 
  *   leg_derivatives_axisym                  1480
  *   leg_derivatives_frames                  2419
  *   leg_derivatives_general                 2648
- *   residual_derivatives_inverse             987
- *   residual_derivatives_inverse_general    1512
+ *   residual_derivatives_inverse             965
+ *   residual_derivatives_inverse_general    1484
  *   static_forces                            457
  *   static_forces_general                    555
  *   static_derivatives                      2130
  *   static_derivatives_general              2167
  *   leg_points                               606
  *   leg_points_general                       599
- *   residual_derivatives_forward            1002
- *   residual_derivatives_forward_general    1521
+ *   residual_derivatives_forward             982
+ *   residual_derivatives_forward_general    1498
  *   joint_reactions_axisym                  1851
  *   joint_reactions_frames                  2392
  *   joint_reactions_general                 2824

@@ -776,6 +776,12 @@ void vkernel_inverse_dynamics_points_axisym(const stewart_params *p, const stewa
     spin[9] = -qw_y_d + c158;
     spin[10] = qw_x_d + c160;
     spin[11] = c159 + c156;
+    spin[12] = c_psi;
+    spin[13] = s_psi;
+    spin[14] = c_theta;
+    spin[15] = s_theta;
+    spin[16] = c_phi;
+    spin[17] = s_phi;
 }
 
 /* W = M xdd + V xd + G and J_C (to solve J_C^T tau = W), with the legs' points and what
@@ -1724,6 +1730,12 @@ void vkernel_inverse_dynamics_points_frames(const stewart_params *p, const stewa
     spin[9] = -qw_y_d + c202;
     spin[10] = qw_x_d + c204;
     spin[11] = c203 + c200;
+    spin[12] = c_psi;
+    spin[13] = s_psi;
+    spin[14] = c_theta;
+    spin[15] = s_theta;
+    spin[16] = c_phi;
+    spin[17] = s_phi;
 }
 
 /* W = M xdd + V xd + G and J_C (to solve J_C^T tau = W), with the legs' points and what
@@ -2722,4 +2734,10 @@ void vkernel_inverse_dynamics_points_general(const stewart_params *p, const stew
     spin[9] = -qw_y_d + c217;
     spin[10] = qw_x_d + c219;
     spin[11] = c218 + c215;
+    spin[12] = c_psi;
+    spin[13] = s_psi;
+    spin[14] = c_theta;
+    spin[15] = s_theta;
+    spin[16] = c_phi;
+    spin[17] = s_phi;
 }

@@ -5,7 +5,7 @@
 /* [l; w; a; |l|; sqrt(l_x^2 + l_y^2); r] of every leg's P_i (`_point_motion`), 14 per
     leg, interleaved (entry k of leg i at k * 6 + i): the inputs of the per-leg kernels; for
     the general model, then the joint's first axis a_i (17 per leg); and what the legs'
-    chains share, spin = [omega; [omega']x + [omega]x^2] (`SPIN`). */
+    chains share, spin = [omega; [omega']x + [omega]x^2; the angles' cosines and sines] (`SPIN`). */
 void vkernel_leg_points(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *lwa, stewart_vd *spin)
 {
     const double b0_x = p->base_points[0][0];
@@ -320,12 +320,18 @@ void vkernel_leg_points(const stewart_params *p, const stewart_vd *x, const stew
     spin[9] = -qw_y_d + c21;
     spin[10] = qw_x_d + c23;
     spin[11] = c22 + c19;
+    spin[12] = c_psi;
+    spin[13] = s_psi;
+    spin[14] = c_theta;
+    spin[15] = s_theta;
+    spin[16] = c_phi;
+    spin[17] = s_phi;
 }
 
 /* [l; w; a; |l|; sqrt(l_x^2 + l_y^2); r] of every leg's P_i (`_point_motion`), 14 per
     leg, interleaved (entry k of leg i at k * 6 + i): the inputs of the per-leg kernels; for
     the general model, then the joint's first axis a_i (17 per leg); and what the legs'
-    chains share, spin = [omega; [omega']x + [omega]x^2] (`SPIN`). */
+    chains share, spin = [omega; [omega']x + [omega]x^2; the angles' cosines and sines] (`SPIN`). */
 void vkernel_leg_points_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *lwa, stewart_vd *spin)
 {
     const double b0_x = p->base_points[0][0];
@@ -670,4 +676,10 @@ void vkernel_leg_points_general(const stewart_params *p, const stewart_vd *x, co
     spin[9] = -qw_y_d + c15;
     spin[10] = qw_x_d + c17;
     spin[11] = c16 + c13;
+    spin[12] = c_psi;
+    spin[13] = s_psi;
+    spin[14] = c_theta;
+    spin[15] = s_theta;
+    spin[16] = c_phi;
+    spin[17] = s_phi;
 }
