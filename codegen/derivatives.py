@@ -1,17 +1,20 @@
 """The partials of the dynamics (Lopes & Pires 2011; see `kinematics`), through each leg's
 local Jacobian: a leg depends on the platform only through its leg vector and the velocity
-and acceleration of P_i, so its force at P_i is differentiated in those few variables
-(`leg_derivatives_kernel`, the six legs at once), chained to the pose and its rates
-(`leg_chain_kernel`) and summed with the platform's own terms (`residual_derivatives_kernel`);
-the statics' likewise through the leg vector alone (`static_derivatives_kernel`).
+and acceleration of P_i, so its force at P_i is differentiated in those few variables and
+chained, in the same loop over the six legs, to the platform's twist-level coordinates
+(`leg_derivatives_kernel`); the platform's own terms are differentiated in those coordinates
+and the sum taken to the pose and its rates (`residual_derivatives_kernel`), the legs' points
+coming from `leg_points_kernel` (or, for the inverse dynamics, from its own kernel,
+`inverse_dynamics_points_kernel`); the statics' likewise through the leg vector alone
+(`static_derivatives_kernel`).
 """
 
 import sympy as sp
 
 from .bodies import (gravity_forces, leg_force, leg_momenta, platform_angular_momentum, platform_force,
                      platform_velocity)
-from .graph import Graph, Tangent, cross, dot, skew, symbols
 from .dynamics import inverse_dynamics
+from .graph import Graph, Tangent, cross, dot, skew, symbols
 from .kinematics import (NUM_LEGS, PARAMS, TAU, X, XD, XDD, accelerated_graph, jacobian_rows, kinematics,
                          kinematics_of, leg_checks, leg_geometry, trig_seeds, twist, variant_spec)
 
@@ -53,11 +56,6 @@ def static_derivatives_kernel(variant):
 LEG_POINT = symbols('P', 11)
 LEG_R = symbols('Pr', 3)
 LEG_TAU = symbols('tau_leg', 1)
-
-#: Size of the per-leg outputs of `leg_points_kernel`: the inputs of the leg kernel, l, w, a,
-#: |l|, sqrt(l_x^2 + l_y^2) and r_i (and, for the general model, the joint's first axis a_i
-#: after them).
-POINT_OUT = len(LEG_POINT) + len(LEG_R)
 
 #: The joint's first axis a_i, the general model's further input of the per-leg kernel.
 LEG_AXIS = symbols('A', 3)
