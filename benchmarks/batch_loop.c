@@ -10,7 +10,10 @@
  * time per state of the row-by-row loop and of the batch function (s), the worst difference of
  * their outputs relative to each row's largest output, and the rows either reports failed.
  * The derivative functions run on the first ND states (forward dynamics and the RK4 step with
- * the forces inverse dynamics gives).
+ * the forces inverse dynamics gives).  Then a line per derivative function, "ratio", its name,
+ * the function it differentiates, and the median and quartiles of the ratio of their batch
+ * times per state on those ND states, RATIO_PAIRS pairs timed in alternation, each in the
+ * thread's CPU time.
  */
 #define _POSIX_C_SOURCE 199309L
 #include <math.h>
@@ -34,6 +37,8 @@ static const int WIDTH[NFUNCTIONS][4] = {{6}, {6}, {36}, {6}, {6}, {6, 36, 36, 3
 /* The derivative functions (IDD, FDD, RK4D) run on the first ND states; the regressor on all, as
  * inverse dynamics, which it is compared with. */
 enum { ND = 10000 };
+/* Pairs of each ratio of a derivative function's time over its function's. */
+enum { RATIO_PAIRS = 31 };
 /* Time step of the RK4 step. */
 static const double DT = 1e-3;
 
@@ -158,6 +163,23 @@ int main(int argc, char **argv) {
             worst = e > worst ? e : worst;
         }
         printf("%s %.6e %.6e %.3e %d %d\n", NAMES[f], median[0], median[1], worst, failures[0], failures[1]);
+    }
+    static const int PAIRS[2][2] = {{IDD, ID}, {FDD, FD}};
+    double ratios[RATIO_PAIRS];
+    for (int k = 0; k < 2; ++k) {
+        const int f = PAIRS[k][0], g = PAIRS[k][1];
+        const double *third = f == FDD ? tau : xdd;
+        for (int rep = 0; rep < RATIO_PAIRS; ++rep) {
+            double start = cpu_now();
+            run(f, 1, &p, nd, x, xd, third, out[0], status);
+            const double derivative = cpu_now() - start;
+            start = cpu_now();
+            run(g, 1, &p, nd, x, xd, third, out[1], status);
+            ratios[rep] = derivative / (cpu_now() - start);
+        }
+        qsort(ratios, RATIO_PAIRS, sizeof(double), cmp);
+        printf("ratio %s %s %.4f %.4f %.4f\n", NAMES[f], NAMES[g], ratios[RATIO_PAIRS / 2], ratios[RATIO_PAIRS / 4],
+               ratios[3 * RATIO_PAIRS / 4]);
     }
     return 0;
 }

@@ -5,7 +5,10 @@ once per instruction-set path of the portable build this CPU runs (with that pat
 and once with ``-march=native``, side by side; the batch call from Python on one and two
 threads; CasADi's generated C and ``casadi.Function.map(N, "thread", 2)`` for inverse dynamics
 on the same states (skipped without casadi); and the targets of the batch path marked met or
-missed."""
+missed.  The derivative functions against the functions they differentiate are timed in
+alternation in the thread's CPU time, which the machine's other work does not lengthen, and
+quoted as the median ratio with its quartiles: met, missed, or unsettled when the quartiles
+straddle the target."""
 
 from __future__ import annotations
 
@@ -43,6 +46,10 @@ PYTHON_OVERHEAD = 1.10
 NATIVE_RATIO = 1.05
 #: Most the regressor (6 x 32) may take over inverse dynamics, a state each, batch functions.
 REGRESSOR_RATIO = 4.0
+#: Most each derivative function may take over the function it differentiates, a state each,
+#: batch functions (issue 39), on each of the paths named.
+DERIVATIVE_RATIO = 5.0
+DERIVATIVE_PATHS = ("avx2", "avx512")
 #: The -march=native build's column.
 NATIVE = "native"
 #: Most the batch inverse dynamics may take over CasADi's generated C compiled for the same
@@ -61,12 +68,17 @@ def paths() -> dict:
 
 def c_loop(exe, data, repeats: int) -> dict:
     """{function: (scalar s/state, batch s/state, worst relative difference, failures)} of the
-    C loop ``exe`` on the states of ``data``, and the lanes."""
+    C loop ``exe`` on the states of ``data``, the lanes, and "ratios": {derivative function:
+    (the function it differentiates, median, lower and upper quartile of the ratio of their
+    batch times)}."""
     lines = subprocess.run([str(exe), str(data), str(repeats)], capture_output=True, text=True,
                            check=True).stdout.split("\n")
-    out = {"lanes": int(lines[0].split()[1])}
+    out = {"lanes": int(lines[0].split()[1]), "ratios": {}}
     for line in lines[1:]:
-        if line:
+        if line.startswith("ratio "):
+            _, name, of, median, low, high = line.split()
+            out["ratios"][name] = (of, float(median), float(low), float(high))
+        elif line:
             name, scalar, batch, worst, fails_scalar, fails_batch = line.split()
             out[name] = (float(scalar), float(batch), float(worst), int(fails_scalar) + int(fails_batch))
     return out
@@ -164,6 +176,7 @@ def rows(fig: dict) -> list[tuple[str, ...]]:
     ratio = loop["regressor"][1] / loop["inverse_dynamics"][1]
     out.append(("regressor over inverse_dynamics, batch, 1 core", "", *blank[:-1], f"{ratio:.2f}x",
                 f"<= {REGRESSOR_RATIO:.0f}x", _mark(ratio <= REGRESSOR_RATIO)))
+    out += derivative_rows(fig)
     if NATIVE in fig["paths"] and fig["dispatched"] != NATIVE:
         native = fig["paths"][NATIVE]["inverse_dynamics"][1]
         ratio = loop["inverse_dynamics"][1] / native
@@ -194,6 +207,28 @@ def rows(fig: dict) -> list[tuple[str, ...]]:
         us = peer["map_thread2_s"] * 1e6
         out.append((f"inverse_dynamics, CasADi {peer['casadi_version']} Function.map(N, \"thread\", 2)", "",
                     *blank[:-1], f"{us:.3f} us (ours: {two:.3f} us, {us / two:.1f}x)", "", ""))
+    return out
+
+
+def derivative_verdict(low: float, high: float, bound: float = DERIVATIVE_RATIO) -> str:
+    """"met" when the quartiles of a ratio lie at or below `bound`, "MISSED" when above it,
+    "unsettled" when they straddle it."""
+    return "met" if high <= bound else "MISSED" if low > bound else "unsettled"
+
+
+def derivative_rows(fig: dict) -> list[tuple[str, ...]]:
+    """A row per derivative function: the median ratio of its batch time per state over that of
+    the function it differentiates on each path, with their quartiles, timed in alternation in
+    one run (the C loop's "ratios"); the target on DERIVATIVE_PATHS, the worst verdict of those
+    paths (`derivative_verdict`)."""
+    out = []
+    for name, (of, _, _, _) in fig["c_loop"]["ratios"].items():
+        figures = {path: fig["paths"][path]["ratios"][name][1:] for path in fig["paths"]}
+        cells = [f"{m:.2f}x ({lo:.2f}-{hi:.2f})" for m, lo, hi in figures.values()]
+        verdicts = [derivative_verdict(lo, hi) for path, (_, lo, hi) in figures.items() if path in DERIVATIVE_PATHS]
+        mark = next((v for v in ("MISSED", "unsettled") if v in verdicts), "met") if verdicts else ""
+        out.append((f"{name} over {of}, batch, per state (quartiles; CPU time, in alternation)", "", *cells,
+                    f"<= {DERIVATIVE_RATIO:.0f}x on {', '.join(DERIVATIVE_PATHS)}", mark))
     return out
 
 

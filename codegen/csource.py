@@ -329,7 +329,7 @@ def _block_body(function, kernels):
             for name, exprs in k.outputs:
                 name = renames.get(name, name)
                 if name not in outputs and name.isidentifier():  # not a place in another array
-                    arrays[name] = max(arrays.get(name, 0), len(exprs) * k.lanes)
+                    arrays[name] = max(arrays.get(name, 0), k.size(name, exprs))
     for name, n in function.scratch:  # ... and the scratch arrays of the steps
         if name in arrays:
             raise ValueError(f'{function.name}: scratch array {name} is a kernel output')

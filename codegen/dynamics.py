@@ -94,12 +94,18 @@ def static_forces_kernel(variant):
                          [('W', list(gravity_force(g, PARAMS, kin))), ('JC', list(jacobian_rows(kin)))] + leg_checks(kin))
 
 
-def inverse_dynamics_kernel(variant):
-    g = accelerated_graph()
+def inverse_dynamics(g, variant):
+    """W = M xdd + V xd + G (eqs. 19, 39, 51, 61, 69, 72-76) of a kernel `variant` on the graph
+    `g` of `accelerated_graph`: (the kinematics, the twist [v; omega], W)."""
     kin = kinematics_of(g, variant)
     v, omega = twist(g, kin, XD, 'q')
     m = momenta(g, PARAMS, kin, v, omega, variant, 'q')
-    W = momentum_rate_force(g, PARAMS, kin, m, True, 'q')
+    return kin, v, omega, momentum_rate_force(g, PARAMS, kin, m, True, 'q')
+
+
+def inverse_dynamics_kernel(variant):
+    g = accelerated_graph()
+    kin, _, _, W = inverse_dynamics(g, variant)
     return variant_spec(variant, 'inverse_dynamics',
                       'W = M xdd + V xd + G and J_C (to solve J_C^T tau = W).', g,
                       [('x', X), ('xd', XD), ('xdd', XDD)],

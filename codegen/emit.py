@@ -312,7 +312,8 @@ def emit_kernel(kernel, param_members):
 
     `param_members` maps parameter symbols to C expressions reading them from
     `const stewart_params *p`.  A kernel with `lanes` > 1 is a loop over its lanes with
-    interleaved arrays (entry k of lane i at k * lanes + i; its `shared` inputs whole).
+    interleaved arrays (entry k of lane i at k * lanes + i; its `shared` inputs whole, its `sums`
+    outputs summed over the lanes).
     """
     outputs = [sp.sympify(e) for _, exprs in kernel.outputs for e in exprs]
     statements, reduced, ops = _statements(_prune(kernel.graph.defs, outputs), outputs)
@@ -330,6 +331,11 @@ def emit_kernel(kernel, param_members):
         lines.append('    (void)p;')
     indent = '    '
     if lanes > 1:
+        sums = [(name, len(exprs)) for name, exprs in kernel.outputs if name in kernel.sums]
+        if sums:  # the sums start at zero
+            lines.append('    int k;')
+        for name, n in sums:
+            lines += [f'    for (k = 0; k < {n}; ++k) {{', f'        {name}[k] = vsplat(0.0);', '    }']
         lines += ['    int lane;', f'    for (lane = 0; lane < {lanes}; ++lane) {{']
         indent = '        '
     for name, syms in kernel.inputs:
@@ -345,7 +351,10 @@ def emit_kernel(kernel, param_members):
         for j in range(len(exprs)):
             e = reduced[k]
             value = printer.doprint(e)
-            lines.append(f'{indent}{name}{at(j)} = {value if e.free_symbols & varying else f"vsplat({value})"};')
+            if name in kernel.sums:
+                lines.append(f'{indent}{name}[{j}] += {value};')
+            else:
+                lines.append(f'{indent}{name}{at(j)} = {value if e.free_symbols & varying else f"vsplat({value})"};')
             k += 1
     if lanes > 1:
         lines.append('    }')

@@ -155,7 +155,9 @@ class Graph:
 class KernelSpec:
     """One straight-line C function: named input arrays -> named output arrays.  With
     `lanes` > 1 it runs on that many independent sets of inputs at once (a loop the
-    compiler vectorizes), entry k of set i at index k * lanes + i of every array."""
+    compiler vectorizes), entry k of set i at index k * lanes + i of every array, but for the
+    `shared` inputs, which every lane reads whole, and the `sums` outputs, entry k the sum
+    over the lanes, added in lane order."""
     name: str
     doc: str
     graph: Graph
@@ -164,3 +166,9 @@ class KernelSpec:
     lanes: int = 1
     shared: tuple = ()  # with lanes > 1: the inputs every lane reads whole
     when: str = None    # of a kernel with variants: the C test under which it runs (None: otherwise)
+    sums: tuple = ()    # with lanes > 1: the outputs summed over the lanes
+
+    def size(self, name, exprs):
+        """The number of entries of output `name` (its expressions `exprs`): one per lane each
+        but for a sum over the lanes."""
+        return len(exprs) * (1 if name in self.sums else self.lanes)

@@ -94,6 +94,7 @@ class Kinematics:
     legs: list
     rho: sp.Matrix = None   # general model: R c, the platform's centre of mass from its origin
     I_P: sp.Matrix = None   # general model: the platform's inertia tensor in {P} about its centre of mass
+    trig: tuple = ()        # cos psi, sin psi, cos theta, sin theta, cos phi, sin phi
 
 
 def leg_geometry(g, l, r, tag, leg_frames, lengths=None, axis=None):
@@ -120,14 +121,28 @@ def leg_geometry(g, l, r, tag, leg_frames, lengths=None, axis=None):
     return leg
 
 
-def kinematics(g, P, leg_frames=False, general=False, axes=None):
+def trig_seeds(trig, d):
+    """Forward-mode seeds of the Euler angles' cosines and sines `trig` (`Kinematics.trig`
+    order) along the change d = (d psi, d theta, d phi) of the angles: d cos = -sin d,
+    d sin = cos d."""
+    return {k: v for (c, s), dk in zip(zip(trig[::2], trig[1::2]), d) for k, v in ((c, -s * dk), (s, c * dk))}
+
+
+def kinematics(g, P, leg_frames=False, general=False, axes=None, trig=None):
     """Pose-dependent geometry: R, J_A (eq. 8), legs (eqs. 26, 32, 43-48); for the `general`
     model also the joints' axes (`leg_geometry`: the parameters' a_i, or `axes`), the
-    platform's centre of mass R c and its full inertia tensor."""
+    platform's centre of mass R c and its full inertia tensor.  With `trig`, symbols for the
+    Euler angles' cosines and sines (`Kinematics.trig` order, a kernel's inputs from one that
+    computed them), those instead of cos and sin of x, their rates those of the angles
+    (`trig_seeds`)."""
     psi, theta, phi = X[3:]
-    cps, sps = g.define('c_psi', sp.cos(psi)), g.define('s_psi', sp.sin(psi))
-    cth, sth = g.define('c_theta', sp.cos(theta)), g.define('s_theta', sp.sin(theta))
-    cph, sph = g.define('c_phi', sp.cos(phi)), g.define('s_phi', sp.sin(phi))
+    if trig is None:
+        trig = (g.define('c_psi', sp.cos(psi)), g.define('s_psi', sp.sin(psi)),
+                g.define('c_theta', sp.cos(theta)), g.define('s_theta', sp.sin(theta)),
+                g.define('c_phi', sp.cos(phi)), g.define('s_phi', sp.sin(phi)))
+    else:
+        g.rate.seed.update(trig_seeds(trig, [g.rates.get(angle, sp.S.Zero) for angle in X[3:]]))
+    cps, sps, cth, sth, cph, sph = trig
     Rz = sp.Matrix([[cps, -sps, 0], [sps, cps, 0], [0, 0, 1]])
     Ry = sp.Matrix([[cth, 0, sth], [0, 1, 0], [-sth, 0, cth]])
     Rx = sp.Matrix([[1, 0, 0], [0, cph, -sph], [0, sph, cph]])
@@ -140,7 +155,7 @@ def kinematics(g, P, leg_frames=False, general=False, axes=None):
         r = g.vector(f'r{i}', R * P.plat[i])
         legs.append(leg_geometry(g, g.vector(f'l{i}', p + r - P.base[i]), r, i, leg_frames,
                                  axis=(axes or P.axes)[i] if general else None))
-    kin = Kinematics(R=R, J_A=J_A, c_theta=cth, legs=legs)
+    kin = Kinematics(R=R, J_A=J_A, c_theta=cth, legs=legs, trig=tuple(trig))
     if general:
         kin.rho = g.vector('rho', R * P.c_P)
         kin.I_P = platform_inertia_tensor(P)
@@ -174,11 +189,11 @@ def variant_spec(variant, name, *args, **kwargs):
     return KernelSpec(kernel_name(name, variant), *args, when={**VARIANTS, **MODELS}[variant], **kwargs)
 
 
-def kinematics_of(g, variant):
+def kinematics_of(g, variant, trig=None):
     """`kinematics` for a kernel `variant`: 'axisym' (the paper's model, axisymmetric legs),
     'frames' (the paper's model, legs with I_yy != I_zz in the frames of eqs. 43-48) or
     'general' (legs that turn with their universal joints, payload off-centre)."""
-    return kinematics(g, PARAMS, leg_frames=variant == 'frames', general=variant == 'general')
+    return kinematics(g, PARAMS, leg_frames=variant == 'frames', general=variant == 'general', trig=trig)
 
 
 def twist(g, kin, qd, tag):

@@ -124,50 +124,68 @@ def bareiss_factor():
     return '\n'.join(lines) + '\n'
 
 
-def _swap(flag, a, b):
-    """C text exchanging a and b in the lanes where `flag` holds, t holding a's value."""
-    return f'{a} = vselect({flag}, {b}, t); {b} = vselect({flag}, t, {b});'
+def _swap(flag, a, b, t='t'):
+    """C text exchanging a and b in the lanes where `flag` holds, `t` holding a's value."""
+    return f'{a} = vselect({flag}, {b}, {t}); {b} = vselect({flag}, {t}, {b});'
 
 
-def _solve_head(comment, name, size, extra):
-    """The C lines of a solve up to its loop over the columns c of b, with b's column c
-    loaded into b0 ... b5 (and the declarations `extra`)."""
-    return comment + [
+#: The right-hand sides a solve takes at a time, each with the same operations as alone: the
+#: columns' chains of dependent operations (the eliminations, the back substitution) overlap.
+COLUMNS = 3
+
+
+def _solve(comment, name, size, column):
+    """C text of the solve `v<name>(F, n, ld, b, y)` for n right-hand sides, COLUMNS at a time
+    (then one at a time): `column(s, at)` gives the C lines of one column, its variables
+    suffixed `s`, at the column index `at`; the columns' lines interleave."""
+    def group(width, indent):
+        parts = [column(f'_{j}', f'c + {j}' if j else 'c') for j in range(width)]
+        return [indent + line for lines in zip(*parts) for line in lines]
+    return '\n'.join(comment + [
         f'static stewart_vl v{name}(const stewart_vd F[{size}], int n, int ld, const stewart_vd *b, stewart_vd *y)',
         '{',
-        '    int c;',
-        '    for (c = 0; c < n; ++c) {',
-        '        stewart_vd ' + ', '.join(f'b{r} = b[{r} * ld + c]' for r in range(N)) + extra + ';',
-    ]
+        '    int c = 0;',
+        f'    for (; c + {COLUMNS} <= n; c += {COLUMNS}) {{', *group(COLUMNS, '        '), '    }',
+        '    for (; c < n; ++c) {', *group(1, '        '), '    }',
+        '    return vnone();',
+        '}']) + '\n'
 
 
-def _solved():
-    """The C lines ending a solve."""
-    return ['    }', '    return vnone();', '}']
+def _loaded(s, at):
+    """The C line loading column `at` of b into b0 ... b5 (suffixed `s`)."""
+    return 'stewart_vd ' + ', '.join(f'b{r}{s} = b[{r} * ld + {at}]' for r in range(N)) + ';'
+
+
+def _stored(s, at):
+    """The C lines storing a column's solution y0 ... y5 (suffixed `s`) into column `at` of y:
+    every entry of b is read before y is written (y may be b)."""
+    return [f'y[{i} * ld + {at}] = y{i}{s};' for i in range(N)]
 
 
 def bareiss_solve():
     """C text of `static stewart_vl vbareiss_solve(F, n, ld, b, y)`."""
     L = BAREISS
-    lines = _solve_head(['/* Solve J^T y = b for n right-hand sides with the factors F of vbareiss_factor: the',
-                         ' * same swaps and eliminations on each column of b, then back substitution. */'],
-                        'bareiss_solve', L.size, ', t')
-    add = lines.append
-    swap = 0
-    for k in range(N):
-        for i, j in _tournament(range(k, N)):
-            add(f'        t = b{i}; ' + _swap(f'(stewart_vl)F[{swap}]', f'b{i}', f'b{j}'))
-            swap += 1
-        if k == N - 1:
-            break
-        for i in range(k + 1, N):
-            e = f'F[{L.pivot[k]}] * b{i} - F[{L.lower[i, k]}] * b{k}'
-            add(f'        b{i} = ' + (e if k == 0 else f'({e}) * F[{L.inv[k - 1]}]') + ';')
-    for i in range(N - 1, -1, -1):
-        terms = ''.join(f' - F[{L.upper[i, j]}] * y[{j} * ld + c]' for j in range(i + 1, N))
-        add(f'        y[{i} * ld + c] = (b{i}{terms}) * F[{L.inv[i]}];')
-    lines += _solved()
-    return '\n'.join(lines) + '\n'
+
+    def column(s, at):
+        lines = [_loaded(s, at), f'stewart_vd t{s};']
+        swap = 0
+        for k in range(N):
+            for i, j in _tournament(range(k, N)):
+                lines.append(f't{s} = b{i}{s}; ' + _swap(f'(stewart_vl)F[{swap}]', f'b{i}{s}', f'b{j}{s}', f't{s}'))
+                swap += 1
+            if k == N - 1:
+                break
+            for i in range(k + 1, N):
+                e = f'F[{L.pivot[k]}] * b{i}{s} - F[{L.lower[i, k]}] * b{k}{s}'
+                lines.append(f'b{i}{s} = ' + (e if k == 0 else f'({e}) * F[{L.inv[k - 1]}]') + ';')
+        for i in range(N - 1, -1, -1):
+            terms = ''.join(f' - F[{L.upper[i, j]}] * y{j}{s}' for j in range(i + 1, N))
+            lines.append(f'const stewart_vd y{i}{s} = (b{i}{s}{terms}) * F[{L.inv[i]}];')
+        return lines + _stored(s, at)
+
+    return _solve(['/* Solve J^T y = b for n right-hand sides with the factors F of vbareiss_factor: the',
+                   ' * same swaps and eliminations on each column of b, then back substitution. */'],
+                  'bareiss_solve', L.size, column)
 
 
 #: Size of the factor array of `ldl_factor`: the multipliers l_ik (i > k), then 1 / d_k.
@@ -213,17 +231,19 @@ def ldl_factor():
 def ldl_solve():
     """C text of `static stewart_vl vldl_solve(F, n, ld, b, y)`."""
     inv_at = N * (N - 1) // 2
-    lines = _solve_head(['/* Solve S y = b for n right-hand sides with the factors F of vldl_factor. */'],
-                        'ldl_solve', LDL_SIZE, '')
-    add = lines.append
-    for k in range(N):
-        for i in range(k + 1, N):
-            add(f'        b{i} -= F[{_ldl_index(i, k)}] * b{k};')
-    for i in range(N - 1, -1, -1):
-        terms = ''.join(f' - F[{_ldl_index(j, i)}] * y[{j} * ld + c]' for j in range(i + 1, N))
-        add(f'        y[{i} * ld + c] = b{i} * F[{inv_at + i}]{terms};')
-    lines += _solved()
-    return '\n'.join(lines) + '\n'
+
+    def column(s, at):
+        lines = [_loaded(s, at)]
+        for k in range(N):
+            for i in range(k + 1, N):
+                lines.append(f'b{i}{s} -= F[{_ldl_index(i, k)}] * b{k}{s};')
+        for i in range(N - 1, -1, -1):
+            terms = ''.join(f' - F[{_ldl_index(j, i)}] * y{j}{s}' for j in range(i + 1, N))
+            lines.append(f'const stewart_vd y{i}{s} = b{i}{s} * F[{inv_at + i}]{terms};')
+        return lines + _stored(s, at)
+
+    return _solve(['/* Solve S y = b for n right-hand sides with the factors F of vldl_factor. */'],
+                  'ldl_solve', LDL_SIZE, column)
 
 
 def source():

@@ -10,8 +10,8 @@ from dataclasses import dataclass
 from functools import partial
 
 from . import linsolve
-from .derivatives import (leg_chain_kernel, leg_derivatives_kernel, leg_points_kernel, residual_derivatives_kernel,
-                          static_derivatives_kernel)
+from .derivatives import (inverse_dynamics_points_kernel, leg_derivatives_kernel, leg_points_kernel,
+                          residual_derivatives_kernel, static_derivatives_kernel)
 from .dynamics import (REGRESSOR_VARIANTS, RIGID_BODY, coriolis_product_kernel, gravity_kernel,
                        inverse_dynamics_kernel, joint_forces_kernel, joint_reactions_kernel, regressor_kernel,
                        static_forces_kernel, twist_mass_matrix_kernel)
@@ -81,16 +81,16 @@ REGRESSOR = _variants(regressor_kernel, variants=REGRESSOR_VARIANTS)
 JOINT_REACTIONS = _variants(joint_reactions_kernel)
 STATIC_FORCES = _variants(static_forces_kernel, variants=MODELS)
 STATIC_DERIVATIVES = _variants(static_derivatives_kernel, variants=MODELS)
+INVERSE_DYNAMICS_POINTS = _variants(inverse_dynamics_points_kernel)
 
 
 def _residual_steps(forward):
-    """The residual's partials Z at (x, xd, xdd, tau): P_i's motion, the legs, the chain rule
-    per leg, the sum with the platform's terms."""
-    return (Kernels(LEG_POINTS, ('x', 'xd', 'xdd')),
-            Kernels(LEG_DERIVATIVES, ('lwa', 'tau')),
-            Kernels((partial(leg_chain_kernel, forward),), ('x', 'xd', 'xdd', 'lwa', 'legs')),
+    """The residual's partials Z at (x, xd, xdd, tau): P_i's motion (for the inverse dynamics,
+    its kernel's), the legs' shares, the sum with the platform's terms."""
+    return ((Kernels(LEG_POINTS, ('x', 'xd', 'xdd')),) if forward else ()) + (
+            Kernels(LEG_DERIVATIVES, ('lwa', 'tau', 'spin')),
             Kernels(_variants(residual_derivatives_kernel, forward, variants=MODELS),
-                    ('x', 'xd', 'xdd', 'chain') + (('lwa', 'legs') if forward else ())))
+                    ('x', 'xd', 'xdd', 'spin', 'Zt', 'Mlegs')))
 
 
 #: Scratch arrays of the solves: the factors of J_C^T and of M_t (`linsolve`).
@@ -151,12 +151,11 @@ FUNCTIONS = (
              'tau and its Jacobians (row = output, column = input): dtau/dx = J_C^-T R_x,'
              ' dtau/dxd = J_C^-T R_xd, dtau/dxdd = J_C^-T M, R = partials of M xdd + V xd + G - J_C^T tau.',
              ('x', 'xd', 'xdd'), (('tau', (6,)), ('dtau_dx', (6, 6)), ('dtau_dxd', (6, 6)), ('dtau_dxdd', (6, 6))),
-             INVERSE_DYNAMICS,
+             INVERSE_DYNAMICS_POINTS,
              steps=(('bareiss_factor', ('JC', 'FJ')), ('bareiss_solve', ('FJ', '1', '1', 'W', 'tau')),
                     *_residual_steps(False),
-                    ('bareiss_solve', ('FJ', '18', '18', 'Z', 'Y')),
-                    ('split_jacobians', ('Y', 'dtau_dxdd', 'dtau_dx', 'dtau_dxd'))),
-             scratch=(_BAREISS_FACTORS, ('Y', 108)),
+                    *(('bareiss_solve', ('FJ', '6', '6', f'Z{name}', f'dtau_d{name}')) for name in ('xdd', 'x', 'xd'))),
+             scratch=(_BAREISS_FACTORS,),
              result_type='InverseDynamicsDerivatives'),
     Function('static_force_derivatives',
              'The static forces tau_s = J_C^-T G, which hold the platform at rest at x, and their Jacobian'
@@ -174,11 +173,11 @@ FUNCTIONS = (
              ' needs cos(theta) != 0.',
              ('x', 'xd', 'tau'), (('xdd', (6,)), ('dxdd_dx', (6, 6)), ('dxdd_dxd', (6, 6)), ('dxdd_dtau', (6, 6))),
              (),
-             steps=_FORWARD_STEPS + _residual_steps(True) + (
-                                     ('ldl_solve', ('FM', '18', '18', 'Z', 'Y')),
-                                     ('pose_accelerations', ('JAinv', '18', 'Y', 'D')),
-                                     ('split_jacobians', ('D', 'dxdd_dx', 'dxdd_dxd', 'dxdd_dtau'))),
-             scratch=_FORWARD_SCRATCH + (('Y', 108), ('D', 108)),
+             steps=_FORWARD_STEPS + _residual_steps(True) + tuple(
+                 step for name, Z in (('x', 'Zx'), ('xd', 'Zxd'), ('tau', 'JCt'))
+                 for step in (('ldl_solve', ('FM', '6', '6', Z, 'Y')),
+                              ('pose_accelerations', ('JAinv', '6', 'Y', f'dxdd_d{name}')))),
+             scratch=_FORWARD_SCRATCH + (('Y', 36),),
              result_type='ForwardDynamicsDerivatives'),
     Function('joint_reactions',
              'tau and the joint reactions of each leg i (3 doubles per leg, leg-major, in {B}): f_base, the'

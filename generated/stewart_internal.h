@@ -82,19 +82,20 @@
 #define vkernel_inverse_dynamics_axisym STEWART_LOCAL(vkernel_inverse_dynamics_axisym)
 #define vkernel_inverse_dynamics_frames STEWART_LOCAL(vkernel_inverse_dynamics_frames)
 #define vkernel_inverse_dynamics_general STEWART_LOCAL(vkernel_inverse_dynamics_general)
-#define vkernel_leg_points STEWART_LOCAL(vkernel_leg_points)
-#define vkernel_leg_points_general STEWART_LOCAL(vkernel_leg_points_general)
+#define vkernel_inverse_dynamics_points_axisym STEWART_LOCAL(vkernel_inverse_dynamics_points_axisym)
+#define vkernel_inverse_dynamics_points_frames STEWART_LOCAL(vkernel_inverse_dynamics_points_frames)
+#define vkernel_inverse_dynamics_points_general STEWART_LOCAL(vkernel_inverse_dynamics_points_general)
 #define vkernel_leg_derivatives_axisym STEWART_LOCAL(vkernel_leg_derivatives_axisym)
 #define vkernel_leg_derivatives_frames STEWART_LOCAL(vkernel_leg_derivatives_frames)
 #define vkernel_leg_derivatives_general STEWART_LOCAL(vkernel_leg_derivatives_general)
-#define vkernel_leg_chain_inverse STEWART_LOCAL(vkernel_leg_chain_inverse)
 #define vkernel_residual_derivatives_inverse STEWART_LOCAL(vkernel_residual_derivatives_inverse)
 #define vkernel_residual_derivatives_inverse_general STEWART_LOCAL(vkernel_residual_derivatives_inverse_general)
 #define vkernel_static_forces STEWART_LOCAL(vkernel_static_forces)
 #define vkernel_static_forces_general STEWART_LOCAL(vkernel_static_forces_general)
 #define vkernel_static_derivatives STEWART_LOCAL(vkernel_static_derivatives)
 #define vkernel_static_derivatives_general STEWART_LOCAL(vkernel_static_derivatives_general)
-#define vkernel_leg_chain_forward STEWART_LOCAL(vkernel_leg_chain_forward)
+#define vkernel_leg_points STEWART_LOCAL(vkernel_leg_points)
+#define vkernel_leg_points_general STEWART_LOCAL(vkernel_leg_points_general)
 #define vkernel_residual_derivatives_forward STEWART_LOCAL(vkernel_residual_derivatives_forward)
 #define vkernel_residual_derivatives_forward_general STEWART_LOCAL(vkernel_residual_derivatives_forward_general)
 #define vkernel_joint_reactions_axisym STEWART_LOCAL(vkernel_joint_reactions_axisym)
@@ -478,20 +479,6 @@ static stewart_vl vspinless_columns(const stewart_params *p, int n, int a, int b
  * returns each lane's status. */
 typedef stewart_vl (*vblock_fn)(const stewart_params *p, double scalar, const stewart_vd *const in[],
                                 stewart_vd *const out[]);
-
-/* The three 6 x 6 blocks of columns of Y (6 x 18, row-major), over a block. */
-static stewart_vl vsplit_jacobians(const stewart_vd Y[108], stewart_vd a[36], stewart_vd b[36], stewart_vd c[36])
-{
-    int i, j;
-    for (i = 0; i < 6; ++i) {
-        for (j = 0; j < 6; ++j) {
-            a[6 * i + j] = Y[18 * i + j];
-            b[6 * i + j] = Y[18 * i + 6 + j];
-            c[6 * i + j] = Y[18 * i + 12 + j];
-        }
-    }
-    return vnone();
-}
 
 /* The classic RK4 step, the one of every integrator of the model (vrk4 here, the closed loop's
  * stewart_loop_rk4 in control.c), on doubles or vectors of doubles: stage s (0-3) evaluates
@@ -929,45 +916,186 @@ static stewart_vl vbareiss_factor(const stewart_vd J[36], stewart_vd F[57])
  * same swaps and eliminations on each column of b, then back substitution. */
 static stewart_vl vbareiss_solve(const stewart_vd F[57], int n, int ld, const stewart_vd *b, stewart_vd *y)
 {
-    int c;
-    for (c = 0; c < n; ++c) {
-        stewart_vd b0 = b[0 * ld + c], b1 = b[1 * ld + c], b2 = b[2 * ld + c], b3 = b[3 * ld + c], b4 = b[4 * ld + c], b5 = b[5 * ld + c], t;
-        t = b0; b0 = vselect((stewart_vl)F[0], b1, t); b1 = vselect((stewart_vl)F[0], t, b1);
-        t = b2; b2 = vselect((stewart_vl)F[1], b3, t); b3 = vselect((stewart_vl)F[1], t, b3);
-        t = b4; b4 = vselect((stewart_vl)F[2], b5, t); b5 = vselect((stewart_vl)F[2], t, b5);
-        t = b0; b0 = vselect((stewart_vl)F[3], b2, t); b2 = vselect((stewart_vl)F[3], t, b2);
-        t = b0; b0 = vselect((stewart_vl)F[4], b4, t); b4 = vselect((stewart_vl)F[4], t, b4);
-        b1 = F[15] * b1 - F[21] * b0;
-        b2 = F[15] * b2 - F[22] * b0;
-        b3 = F[15] * b3 - F[23] * b0;
-        b4 = F[15] * b4 - F[24] * b0;
-        b5 = F[15] * b5 - F[25] * b0;
-        t = b1; b1 = vselect((stewart_vl)F[5], b2, t); b2 = vselect((stewart_vl)F[5], t, b2);
-        t = b3; b3 = vselect((stewart_vl)F[6], b4, t); b4 = vselect((stewart_vl)F[6], t, b4);
-        t = b1; b1 = vselect((stewart_vl)F[7], b3, t); b3 = vselect((stewart_vl)F[7], t, b3);
-        t = b1; b1 = vselect((stewart_vl)F[8], b5, t); b5 = vselect((stewart_vl)F[8], t, b5);
-        b2 = (F[16] * b2 - F[26] * b1) * F[36];
-        b3 = (F[16] * b3 - F[27] * b1) * F[36];
-        b4 = (F[16] * b4 - F[28] * b1) * F[36];
-        b5 = (F[16] * b5 - F[29] * b1) * F[36];
-        t = b2; b2 = vselect((stewart_vl)F[9], b3, t); b3 = vselect((stewart_vl)F[9], t, b3);
-        t = b4; b4 = vselect((stewart_vl)F[10], b5, t); b5 = vselect((stewart_vl)F[10], t, b5);
-        t = b2; b2 = vselect((stewart_vl)F[11], b4, t); b4 = vselect((stewart_vl)F[11], t, b4);
-        b3 = (F[17] * b3 - F[30] * b2) * F[37];
-        b4 = (F[17] * b4 - F[31] * b2) * F[37];
-        b5 = (F[17] * b5 - F[32] * b2) * F[37];
-        t = b3; b3 = vselect((stewart_vl)F[12], b4, t); b4 = vselect((stewart_vl)F[12], t, b4);
-        t = b3; b3 = vselect((stewart_vl)F[13], b5, t); b5 = vselect((stewart_vl)F[13], t, b5);
-        b4 = (F[18] * b4 - F[33] * b3) * F[38];
-        b5 = (F[18] * b5 - F[34] * b3) * F[38];
-        t = b4; b4 = vselect((stewart_vl)F[14], b5, t); b5 = vselect((stewart_vl)F[14], t, b5);
-        b5 = (F[19] * b5 - F[35] * b4) * F[39];
-        y[5 * ld + c] = (b5) * F[41];
-        y[4 * ld + c] = (b4 - F[56] * y[5 * ld + c]) * F[40];
-        y[3 * ld + c] = (b3 - F[54] * y[4 * ld + c] - F[55] * y[5 * ld + c]) * F[39];
-        y[2 * ld + c] = (b2 - F[51] * y[3 * ld + c] - F[52] * y[4 * ld + c] - F[53] * y[5 * ld + c]) * F[38];
-        y[1 * ld + c] = (b1 - F[47] * y[2 * ld + c] - F[48] * y[3 * ld + c] - F[49] * y[4 * ld + c] - F[50] * y[5 * ld + c]) * F[37];
-        y[0 * ld + c] = (b0 - F[42] * y[1 * ld + c] - F[43] * y[2 * ld + c] - F[44] * y[3 * ld + c] - F[45] * y[4 * ld + c] - F[46] * y[5 * ld + c]) * F[36];
+    int c = 0;
+    for (; c + 3 <= n; c += 3) {
+        stewart_vd b0_0 = b[0 * ld + c], b1_0 = b[1 * ld + c], b2_0 = b[2 * ld + c], b3_0 = b[3 * ld + c], b4_0 = b[4 * ld + c], b5_0 = b[5 * ld + c];
+        stewart_vd b0_1 = b[0 * ld + c + 1], b1_1 = b[1 * ld + c + 1], b2_1 = b[2 * ld + c + 1], b3_1 = b[3 * ld + c + 1], b4_1 = b[4 * ld + c + 1], b5_1 = b[5 * ld + c + 1];
+        stewart_vd b0_2 = b[0 * ld + c + 2], b1_2 = b[1 * ld + c + 2], b2_2 = b[2 * ld + c + 2], b3_2 = b[3 * ld + c + 2], b4_2 = b[4 * ld + c + 2], b5_2 = b[5 * ld + c + 2];
+        stewart_vd t_0;
+        stewart_vd t_1;
+        stewart_vd t_2;
+        t_0 = b0_0; b0_0 = vselect((stewart_vl)F[0], b1_0, t_0); b1_0 = vselect((stewart_vl)F[0], t_0, b1_0);
+        t_1 = b0_1; b0_1 = vselect((stewart_vl)F[0], b1_1, t_1); b1_1 = vselect((stewart_vl)F[0], t_1, b1_1);
+        t_2 = b0_2; b0_2 = vselect((stewart_vl)F[0], b1_2, t_2); b1_2 = vselect((stewart_vl)F[0], t_2, b1_2);
+        t_0 = b2_0; b2_0 = vselect((stewart_vl)F[1], b3_0, t_0); b3_0 = vselect((stewart_vl)F[1], t_0, b3_0);
+        t_1 = b2_1; b2_1 = vselect((stewart_vl)F[1], b3_1, t_1); b3_1 = vselect((stewart_vl)F[1], t_1, b3_1);
+        t_2 = b2_2; b2_2 = vselect((stewart_vl)F[1], b3_2, t_2); b3_2 = vselect((stewart_vl)F[1], t_2, b3_2);
+        t_0 = b4_0; b4_0 = vselect((stewart_vl)F[2], b5_0, t_0); b5_0 = vselect((stewart_vl)F[2], t_0, b5_0);
+        t_1 = b4_1; b4_1 = vselect((stewart_vl)F[2], b5_1, t_1); b5_1 = vselect((stewart_vl)F[2], t_1, b5_1);
+        t_2 = b4_2; b4_2 = vselect((stewart_vl)F[2], b5_2, t_2); b5_2 = vselect((stewart_vl)F[2], t_2, b5_2);
+        t_0 = b0_0; b0_0 = vselect((stewart_vl)F[3], b2_0, t_0); b2_0 = vselect((stewart_vl)F[3], t_0, b2_0);
+        t_1 = b0_1; b0_1 = vselect((stewart_vl)F[3], b2_1, t_1); b2_1 = vselect((stewart_vl)F[3], t_1, b2_1);
+        t_2 = b0_2; b0_2 = vselect((stewart_vl)F[3], b2_2, t_2); b2_2 = vselect((stewart_vl)F[3], t_2, b2_2);
+        t_0 = b0_0; b0_0 = vselect((stewart_vl)F[4], b4_0, t_0); b4_0 = vselect((stewart_vl)F[4], t_0, b4_0);
+        t_1 = b0_1; b0_1 = vselect((stewart_vl)F[4], b4_1, t_1); b4_1 = vselect((stewart_vl)F[4], t_1, b4_1);
+        t_2 = b0_2; b0_2 = vselect((stewart_vl)F[4], b4_2, t_2); b4_2 = vselect((stewart_vl)F[4], t_2, b4_2);
+        b1_0 = F[15] * b1_0 - F[21] * b0_0;
+        b1_1 = F[15] * b1_1 - F[21] * b0_1;
+        b1_2 = F[15] * b1_2 - F[21] * b0_2;
+        b2_0 = F[15] * b2_0 - F[22] * b0_0;
+        b2_1 = F[15] * b2_1 - F[22] * b0_1;
+        b2_2 = F[15] * b2_2 - F[22] * b0_2;
+        b3_0 = F[15] * b3_0 - F[23] * b0_0;
+        b3_1 = F[15] * b3_1 - F[23] * b0_1;
+        b3_2 = F[15] * b3_2 - F[23] * b0_2;
+        b4_0 = F[15] * b4_0 - F[24] * b0_0;
+        b4_1 = F[15] * b4_1 - F[24] * b0_1;
+        b4_2 = F[15] * b4_2 - F[24] * b0_2;
+        b5_0 = F[15] * b5_0 - F[25] * b0_0;
+        b5_1 = F[15] * b5_1 - F[25] * b0_1;
+        b5_2 = F[15] * b5_2 - F[25] * b0_2;
+        t_0 = b1_0; b1_0 = vselect((stewart_vl)F[5], b2_0, t_0); b2_0 = vselect((stewart_vl)F[5], t_0, b2_0);
+        t_1 = b1_1; b1_1 = vselect((stewart_vl)F[5], b2_1, t_1); b2_1 = vselect((stewart_vl)F[5], t_1, b2_1);
+        t_2 = b1_2; b1_2 = vselect((stewart_vl)F[5], b2_2, t_2); b2_2 = vselect((stewart_vl)F[5], t_2, b2_2);
+        t_0 = b3_0; b3_0 = vselect((stewart_vl)F[6], b4_0, t_0); b4_0 = vselect((stewart_vl)F[6], t_0, b4_0);
+        t_1 = b3_1; b3_1 = vselect((stewart_vl)F[6], b4_1, t_1); b4_1 = vselect((stewart_vl)F[6], t_1, b4_1);
+        t_2 = b3_2; b3_2 = vselect((stewart_vl)F[6], b4_2, t_2); b4_2 = vselect((stewart_vl)F[6], t_2, b4_2);
+        t_0 = b1_0; b1_0 = vselect((stewart_vl)F[7], b3_0, t_0); b3_0 = vselect((stewart_vl)F[7], t_0, b3_0);
+        t_1 = b1_1; b1_1 = vselect((stewart_vl)F[7], b3_1, t_1); b3_1 = vselect((stewart_vl)F[7], t_1, b3_1);
+        t_2 = b1_2; b1_2 = vselect((stewart_vl)F[7], b3_2, t_2); b3_2 = vselect((stewart_vl)F[7], t_2, b3_2);
+        t_0 = b1_0; b1_0 = vselect((stewart_vl)F[8], b5_0, t_0); b5_0 = vselect((stewart_vl)F[8], t_0, b5_0);
+        t_1 = b1_1; b1_1 = vselect((stewart_vl)F[8], b5_1, t_1); b5_1 = vselect((stewart_vl)F[8], t_1, b5_1);
+        t_2 = b1_2; b1_2 = vselect((stewart_vl)F[8], b5_2, t_2); b5_2 = vselect((stewart_vl)F[8], t_2, b5_2);
+        b2_0 = (F[16] * b2_0 - F[26] * b1_0) * F[36];
+        b2_1 = (F[16] * b2_1 - F[26] * b1_1) * F[36];
+        b2_2 = (F[16] * b2_2 - F[26] * b1_2) * F[36];
+        b3_0 = (F[16] * b3_0 - F[27] * b1_0) * F[36];
+        b3_1 = (F[16] * b3_1 - F[27] * b1_1) * F[36];
+        b3_2 = (F[16] * b3_2 - F[27] * b1_2) * F[36];
+        b4_0 = (F[16] * b4_0 - F[28] * b1_0) * F[36];
+        b4_1 = (F[16] * b4_1 - F[28] * b1_1) * F[36];
+        b4_2 = (F[16] * b4_2 - F[28] * b1_2) * F[36];
+        b5_0 = (F[16] * b5_0 - F[29] * b1_0) * F[36];
+        b5_1 = (F[16] * b5_1 - F[29] * b1_1) * F[36];
+        b5_2 = (F[16] * b5_2 - F[29] * b1_2) * F[36];
+        t_0 = b2_0; b2_0 = vselect((stewart_vl)F[9], b3_0, t_0); b3_0 = vselect((stewart_vl)F[9], t_0, b3_0);
+        t_1 = b2_1; b2_1 = vselect((stewart_vl)F[9], b3_1, t_1); b3_1 = vselect((stewart_vl)F[9], t_1, b3_1);
+        t_2 = b2_2; b2_2 = vselect((stewart_vl)F[9], b3_2, t_2); b3_2 = vselect((stewart_vl)F[9], t_2, b3_2);
+        t_0 = b4_0; b4_0 = vselect((stewart_vl)F[10], b5_0, t_0); b5_0 = vselect((stewart_vl)F[10], t_0, b5_0);
+        t_1 = b4_1; b4_1 = vselect((stewart_vl)F[10], b5_1, t_1); b5_1 = vselect((stewart_vl)F[10], t_1, b5_1);
+        t_2 = b4_2; b4_2 = vselect((stewart_vl)F[10], b5_2, t_2); b5_2 = vselect((stewart_vl)F[10], t_2, b5_2);
+        t_0 = b2_0; b2_0 = vselect((stewart_vl)F[11], b4_0, t_0); b4_0 = vselect((stewart_vl)F[11], t_0, b4_0);
+        t_1 = b2_1; b2_1 = vselect((stewart_vl)F[11], b4_1, t_1); b4_1 = vselect((stewart_vl)F[11], t_1, b4_1);
+        t_2 = b2_2; b2_2 = vselect((stewart_vl)F[11], b4_2, t_2); b4_2 = vselect((stewart_vl)F[11], t_2, b4_2);
+        b3_0 = (F[17] * b3_0 - F[30] * b2_0) * F[37];
+        b3_1 = (F[17] * b3_1 - F[30] * b2_1) * F[37];
+        b3_2 = (F[17] * b3_2 - F[30] * b2_2) * F[37];
+        b4_0 = (F[17] * b4_0 - F[31] * b2_0) * F[37];
+        b4_1 = (F[17] * b4_1 - F[31] * b2_1) * F[37];
+        b4_2 = (F[17] * b4_2 - F[31] * b2_2) * F[37];
+        b5_0 = (F[17] * b5_0 - F[32] * b2_0) * F[37];
+        b5_1 = (F[17] * b5_1 - F[32] * b2_1) * F[37];
+        b5_2 = (F[17] * b5_2 - F[32] * b2_2) * F[37];
+        t_0 = b3_0; b3_0 = vselect((stewart_vl)F[12], b4_0, t_0); b4_0 = vselect((stewart_vl)F[12], t_0, b4_0);
+        t_1 = b3_1; b3_1 = vselect((stewart_vl)F[12], b4_1, t_1); b4_1 = vselect((stewart_vl)F[12], t_1, b4_1);
+        t_2 = b3_2; b3_2 = vselect((stewart_vl)F[12], b4_2, t_2); b4_2 = vselect((stewart_vl)F[12], t_2, b4_2);
+        t_0 = b3_0; b3_0 = vselect((stewart_vl)F[13], b5_0, t_0); b5_0 = vselect((stewart_vl)F[13], t_0, b5_0);
+        t_1 = b3_1; b3_1 = vselect((stewart_vl)F[13], b5_1, t_1); b5_1 = vselect((stewart_vl)F[13], t_1, b5_1);
+        t_2 = b3_2; b3_2 = vselect((stewart_vl)F[13], b5_2, t_2); b5_2 = vselect((stewart_vl)F[13], t_2, b5_2);
+        b4_0 = (F[18] * b4_0 - F[33] * b3_0) * F[38];
+        b4_1 = (F[18] * b4_1 - F[33] * b3_1) * F[38];
+        b4_2 = (F[18] * b4_2 - F[33] * b3_2) * F[38];
+        b5_0 = (F[18] * b5_0 - F[34] * b3_0) * F[38];
+        b5_1 = (F[18] * b5_1 - F[34] * b3_1) * F[38];
+        b5_2 = (F[18] * b5_2 - F[34] * b3_2) * F[38];
+        t_0 = b4_0; b4_0 = vselect((stewart_vl)F[14], b5_0, t_0); b5_0 = vselect((stewart_vl)F[14], t_0, b5_0);
+        t_1 = b4_1; b4_1 = vselect((stewart_vl)F[14], b5_1, t_1); b5_1 = vselect((stewart_vl)F[14], t_1, b5_1);
+        t_2 = b4_2; b4_2 = vselect((stewart_vl)F[14], b5_2, t_2); b5_2 = vselect((stewart_vl)F[14], t_2, b5_2);
+        b5_0 = (F[19] * b5_0 - F[35] * b4_0) * F[39];
+        b5_1 = (F[19] * b5_1 - F[35] * b4_1) * F[39];
+        b5_2 = (F[19] * b5_2 - F[35] * b4_2) * F[39];
+        const stewart_vd y5_0 = (b5_0) * F[41];
+        const stewart_vd y5_1 = (b5_1) * F[41];
+        const stewart_vd y5_2 = (b5_2) * F[41];
+        const stewart_vd y4_0 = (b4_0 - F[56] * y5_0) * F[40];
+        const stewart_vd y4_1 = (b4_1 - F[56] * y5_1) * F[40];
+        const stewart_vd y4_2 = (b4_2 - F[56] * y5_2) * F[40];
+        const stewart_vd y3_0 = (b3_0 - F[54] * y4_0 - F[55] * y5_0) * F[39];
+        const stewart_vd y3_1 = (b3_1 - F[54] * y4_1 - F[55] * y5_1) * F[39];
+        const stewart_vd y3_2 = (b3_2 - F[54] * y4_2 - F[55] * y5_2) * F[39];
+        const stewart_vd y2_0 = (b2_0 - F[51] * y3_0 - F[52] * y4_0 - F[53] * y5_0) * F[38];
+        const stewart_vd y2_1 = (b2_1 - F[51] * y3_1 - F[52] * y4_1 - F[53] * y5_1) * F[38];
+        const stewart_vd y2_2 = (b2_2 - F[51] * y3_2 - F[52] * y4_2 - F[53] * y5_2) * F[38];
+        const stewart_vd y1_0 = (b1_0 - F[47] * y2_0 - F[48] * y3_0 - F[49] * y4_0 - F[50] * y5_0) * F[37];
+        const stewart_vd y1_1 = (b1_1 - F[47] * y2_1 - F[48] * y3_1 - F[49] * y4_1 - F[50] * y5_1) * F[37];
+        const stewart_vd y1_2 = (b1_2 - F[47] * y2_2 - F[48] * y3_2 - F[49] * y4_2 - F[50] * y5_2) * F[37];
+        const stewart_vd y0_0 = (b0_0 - F[42] * y1_0 - F[43] * y2_0 - F[44] * y3_0 - F[45] * y4_0 - F[46] * y5_0) * F[36];
+        const stewart_vd y0_1 = (b0_1 - F[42] * y1_1 - F[43] * y2_1 - F[44] * y3_1 - F[45] * y4_1 - F[46] * y5_1) * F[36];
+        const stewart_vd y0_2 = (b0_2 - F[42] * y1_2 - F[43] * y2_2 - F[44] * y3_2 - F[45] * y4_2 - F[46] * y5_2) * F[36];
+        y[0 * ld + c] = y0_0;
+        y[0 * ld + c + 1] = y0_1;
+        y[0 * ld + c + 2] = y0_2;
+        y[1 * ld + c] = y1_0;
+        y[1 * ld + c + 1] = y1_1;
+        y[1 * ld + c + 2] = y1_2;
+        y[2 * ld + c] = y2_0;
+        y[2 * ld + c + 1] = y2_1;
+        y[2 * ld + c + 2] = y2_2;
+        y[3 * ld + c] = y3_0;
+        y[3 * ld + c + 1] = y3_1;
+        y[3 * ld + c + 2] = y3_2;
+        y[4 * ld + c] = y4_0;
+        y[4 * ld + c + 1] = y4_1;
+        y[4 * ld + c + 2] = y4_2;
+        y[5 * ld + c] = y5_0;
+        y[5 * ld + c + 1] = y5_1;
+        y[5 * ld + c + 2] = y5_2;
+    }
+    for (; c < n; ++c) {
+        stewart_vd b0_0 = b[0 * ld + c], b1_0 = b[1 * ld + c], b2_0 = b[2 * ld + c], b3_0 = b[3 * ld + c], b4_0 = b[4 * ld + c], b5_0 = b[5 * ld + c];
+        stewart_vd t_0;
+        t_0 = b0_0; b0_0 = vselect((stewart_vl)F[0], b1_0, t_0); b1_0 = vselect((stewart_vl)F[0], t_0, b1_0);
+        t_0 = b2_0; b2_0 = vselect((stewart_vl)F[1], b3_0, t_0); b3_0 = vselect((stewart_vl)F[1], t_0, b3_0);
+        t_0 = b4_0; b4_0 = vselect((stewart_vl)F[2], b5_0, t_0); b5_0 = vselect((stewart_vl)F[2], t_0, b5_0);
+        t_0 = b0_0; b0_0 = vselect((stewart_vl)F[3], b2_0, t_0); b2_0 = vselect((stewart_vl)F[3], t_0, b2_0);
+        t_0 = b0_0; b0_0 = vselect((stewart_vl)F[4], b4_0, t_0); b4_0 = vselect((stewart_vl)F[4], t_0, b4_0);
+        b1_0 = F[15] * b1_0 - F[21] * b0_0;
+        b2_0 = F[15] * b2_0 - F[22] * b0_0;
+        b3_0 = F[15] * b3_0 - F[23] * b0_0;
+        b4_0 = F[15] * b4_0 - F[24] * b0_0;
+        b5_0 = F[15] * b5_0 - F[25] * b0_0;
+        t_0 = b1_0; b1_0 = vselect((stewart_vl)F[5], b2_0, t_0); b2_0 = vselect((stewart_vl)F[5], t_0, b2_0);
+        t_0 = b3_0; b3_0 = vselect((stewart_vl)F[6], b4_0, t_0); b4_0 = vselect((stewart_vl)F[6], t_0, b4_0);
+        t_0 = b1_0; b1_0 = vselect((stewart_vl)F[7], b3_0, t_0); b3_0 = vselect((stewart_vl)F[7], t_0, b3_0);
+        t_0 = b1_0; b1_0 = vselect((stewart_vl)F[8], b5_0, t_0); b5_0 = vselect((stewart_vl)F[8], t_0, b5_0);
+        b2_0 = (F[16] * b2_0 - F[26] * b1_0) * F[36];
+        b3_0 = (F[16] * b3_0 - F[27] * b1_0) * F[36];
+        b4_0 = (F[16] * b4_0 - F[28] * b1_0) * F[36];
+        b5_0 = (F[16] * b5_0 - F[29] * b1_0) * F[36];
+        t_0 = b2_0; b2_0 = vselect((stewart_vl)F[9], b3_0, t_0); b3_0 = vselect((stewart_vl)F[9], t_0, b3_0);
+        t_0 = b4_0; b4_0 = vselect((stewart_vl)F[10], b5_0, t_0); b5_0 = vselect((stewart_vl)F[10], t_0, b5_0);
+        t_0 = b2_0; b2_0 = vselect((stewart_vl)F[11], b4_0, t_0); b4_0 = vselect((stewart_vl)F[11], t_0, b4_0);
+        b3_0 = (F[17] * b3_0 - F[30] * b2_0) * F[37];
+        b4_0 = (F[17] * b4_0 - F[31] * b2_0) * F[37];
+        b5_0 = (F[17] * b5_0 - F[32] * b2_0) * F[37];
+        t_0 = b3_0; b3_0 = vselect((stewart_vl)F[12], b4_0, t_0); b4_0 = vselect((stewart_vl)F[12], t_0, b4_0);
+        t_0 = b3_0; b3_0 = vselect((stewart_vl)F[13], b5_0, t_0); b5_0 = vselect((stewart_vl)F[13], t_0, b5_0);
+        b4_0 = (F[18] * b4_0 - F[33] * b3_0) * F[38];
+        b5_0 = (F[18] * b5_0 - F[34] * b3_0) * F[38];
+        t_0 = b4_0; b4_0 = vselect((stewart_vl)F[14], b5_0, t_0); b5_0 = vselect((stewart_vl)F[14], t_0, b5_0);
+        b5_0 = (F[19] * b5_0 - F[35] * b4_0) * F[39];
+        const stewart_vd y5_0 = (b5_0) * F[41];
+        const stewart_vd y4_0 = (b4_0 - F[56] * y5_0) * F[40];
+        const stewart_vd y3_0 = (b3_0 - F[54] * y4_0 - F[55] * y5_0) * F[39];
+        const stewart_vd y2_0 = (b2_0 - F[51] * y3_0 - F[52] * y4_0 - F[53] * y5_0) * F[38];
+        const stewart_vd y1_0 = (b1_0 - F[47] * y2_0 - F[48] * y3_0 - F[49] * y4_0 - F[50] * y5_0) * F[37];
+        const stewart_vd y0_0 = (b0_0 - F[42] * y1_0 - F[43] * y2_0 - F[44] * y3_0 - F[45] * y4_0 - F[46] * y5_0) * F[36];
+        y[0 * ld + c] = y0_0;
+        y[1 * ld + c] = y1_0;
+        y[2 * ld + c] = y2_0;
+        y[3 * ld + c] = y3_0;
+        y[4 * ld + c] = y4_0;
+        y[5 * ld + c] = y5_0;
     }
     return vnone();
 }
@@ -1075,30 +1203,122 @@ static stewart_vl vldl_factor(const stewart_vd S[36], stewart_vd F[21])
 /* Solve S y = b for n right-hand sides with the factors F of vldl_factor. */
 static stewart_vl vldl_solve(const stewart_vd F[21], int n, int ld, const stewart_vd *b, stewart_vd *y)
 {
-    int c;
-    for (c = 0; c < n; ++c) {
-        stewart_vd b0 = b[0 * ld + c], b1 = b[1 * ld + c], b2 = b[2 * ld + c], b3 = b[3 * ld + c], b4 = b[4 * ld + c], b5 = b[5 * ld + c];
-        b1 -= F[0] * b0;
-        b2 -= F[1] * b0;
-        b3 -= F[2] * b0;
-        b4 -= F[3] * b0;
-        b5 -= F[4] * b0;
-        b2 -= F[5] * b1;
-        b3 -= F[6] * b1;
-        b4 -= F[7] * b1;
-        b5 -= F[8] * b1;
-        b3 -= F[9] * b2;
-        b4 -= F[10] * b2;
-        b5 -= F[11] * b2;
-        b4 -= F[12] * b3;
-        b5 -= F[13] * b3;
-        b5 -= F[14] * b4;
-        y[5 * ld + c] = b5 * F[20];
-        y[4 * ld + c] = b4 * F[19] - F[14] * y[5 * ld + c];
-        y[3 * ld + c] = b3 * F[18] - F[12] * y[4 * ld + c] - F[13] * y[5 * ld + c];
-        y[2 * ld + c] = b2 * F[17] - F[9] * y[3 * ld + c] - F[10] * y[4 * ld + c] - F[11] * y[5 * ld + c];
-        y[1 * ld + c] = b1 * F[16] - F[5] * y[2 * ld + c] - F[6] * y[3 * ld + c] - F[7] * y[4 * ld + c] - F[8] * y[5 * ld + c];
-        y[0 * ld + c] = b0 * F[15] - F[0] * y[1 * ld + c] - F[1] * y[2 * ld + c] - F[2] * y[3 * ld + c] - F[3] * y[4 * ld + c] - F[4] * y[5 * ld + c];
+    int c = 0;
+    for (; c + 3 <= n; c += 3) {
+        stewart_vd b0_0 = b[0 * ld + c], b1_0 = b[1 * ld + c], b2_0 = b[2 * ld + c], b3_0 = b[3 * ld + c], b4_0 = b[4 * ld + c], b5_0 = b[5 * ld + c];
+        stewart_vd b0_1 = b[0 * ld + c + 1], b1_1 = b[1 * ld + c + 1], b2_1 = b[2 * ld + c + 1], b3_1 = b[3 * ld + c + 1], b4_1 = b[4 * ld + c + 1], b5_1 = b[5 * ld + c + 1];
+        stewart_vd b0_2 = b[0 * ld + c + 2], b1_2 = b[1 * ld + c + 2], b2_2 = b[2 * ld + c + 2], b3_2 = b[3 * ld + c + 2], b4_2 = b[4 * ld + c + 2], b5_2 = b[5 * ld + c + 2];
+        b1_0 -= F[0] * b0_0;
+        b1_1 -= F[0] * b0_1;
+        b1_2 -= F[0] * b0_2;
+        b2_0 -= F[1] * b0_0;
+        b2_1 -= F[1] * b0_1;
+        b2_2 -= F[1] * b0_2;
+        b3_0 -= F[2] * b0_0;
+        b3_1 -= F[2] * b0_1;
+        b3_2 -= F[2] * b0_2;
+        b4_0 -= F[3] * b0_0;
+        b4_1 -= F[3] * b0_1;
+        b4_2 -= F[3] * b0_2;
+        b5_0 -= F[4] * b0_0;
+        b5_1 -= F[4] * b0_1;
+        b5_2 -= F[4] * b0_2;
+        b2_0 -= F[5] * b1_0;
+        b2_1 -= F[5] * b1_1;
+        b2_2 -= F[5] * b1_2;
+        b3_0 -= F[6] * b1_0;
+        b3_1 -= F[6] * b1_1;
+        b3_2 -= F[6] * b1_2;
+        b4_0 -= F[7] * b1_0;
+        b4_1 -= F[7] * b1_1;
+        b4_2 -= F[7] * b1_2;
+        b5_0 -= F[8] * b1_0;
+        b5_1 -= F[8] * b1_1;
+        b5_2 -= F[8] * b1_2;
+        b3_0 -= F[9] * b2_0;
+        b3_1 -= F[9] * b2_1;
+        b3_2 -= F[9] * b2_2;
+        b4_0 -= F[10] * b2_0;
+        b4_1 -= F[10] * b2_1;
+        b4_2 -= F[10] * b2_2;
+        b5_0 -= F[11] * b2_0;
+        b5_1 -= F[11] * b2_1;
+        b5_2 -= F[11] * b2_2;
+        b4_0 -= F[12] * b3_0;
+        b4_1 -= F[12] * b3_1;
+        b4_2 -= F[12] * b3_2;
+        b5_0 -= F[13] * b3_0;
+        b5_1 -= F[13] * b3_1;
+        b5_2 -= F[13] * b3_2;
+        b5_0 -= F[14] * b4_0;
+        b5_1 -= F[14] * b4_1;
+        b5_2 -= F[14] * b4_2;
+        const stewart_vd y5_0 = b5_0 * F[20];
+        const stewart_vd y5_1 = b5_1 * F[20];
+        const stewart_vd y5_2 = b5_2 * F[20];
+        const stewart_vd y4_0 = b4_0 * F[19] - F[14] * y5_0;
+        const stewart_vd y4_1 = b4_1 * F[19] - F[14] * y5_1;
+        const stewart_vd y4_2 = b4_2 * F[19] - F[14] * y5_2;
+        const stewart_vd y3_0 = b3_0 * F[18] - F[12] * y4_0 - F[13] * y5_0;
+        const stewart_vd y3_1 = b3_1 * F[18] - F[12] * y4_1 - F[13] * y5_1;
+        const stewart_vd y3_2 = b3_2 * F[18] - F[12] * y4_2 - F[13] * y5_2;
+        const stewart_vd y2_0 = b2_0 * F[17] - F[9] * y3_0 - F[10] * y4_0 - F[11] * y5_0;
+        const stewart_vd y2_1 = b2_1 * F[17] - F[9] * y3_1 - F[10] * y4_1 - F[11] * y5_1;
+        const stewart_vd y2_2 = b2_2 * F[17] - F[9] * y3_2 - F[10] * y4_2 - F[11] * y5_2;
+        const stewart_vd y1_0 = b1_0 * F[16] - F[5] * y2_0 - F[6] * y3_0 - F[7] * y4_0 - F[8] * y5_0;
+        const stewart_vd y1_1 = b1_1 * F[16] - F[5] * y2_1 - F[6] * y3_1 - F[7] * y4_1 - F[8] * y5_1;
+        const stewart_vd y1_2 = b1_2 * F[16] - F[5] * y2_2 - F[6] * y3_2 - F[7] * y4_2 - F[8] * y5_2;
+        const stewart_vd y0_0 = b0_0 * F[15] - F[0] * y1_0 - F[1] * y2_0 - F[2] * y3_0 - F[3] * y4_0 - F[4] * y5_0;
+        const stewart_vd y0_1 = b0_1 * F[15] - F[0] * y1_1 - F[1] * y2_1 - F[2] * y3_1 - F[3] * y4_1 - F[4] * y5_1;
+        const stewart_vd y0_2 = b0_2 * F[15] - F[0] * y1_2 - F[1] * y2_2 - F[2] * y3_2 - F[3] * y4_2 - F[4] * y5_2;
+        y[0 * ld + c] = y0_0;
+        y[0 * ld + c + 1] = y0_1;
+        y[0 * ld + c + 2] = y0_2;
+        y[1 * ld + c] = y1_0;
+        y[1 * ld + c + 1] = y1_1;
+        y[1 * ld + c + 2] = y1_2;
+        y[2 * ld + c] = y2_0;
+        y[2 * ld + c + 1] = y2_1;
+        y[2 * ld + c + 2] = y2_2;
+        y[3 * ld + c] = y3_0;
+        y[3 * ld + c + 1] = y3_1;
+        y[3 * ld + c + 2] = y3_2;
+        y[4 * ld + c] = y4_0;
+        y[4 * ld + c + 1] = y4_1;
+        y[4 * ld + c + 2] = y4_2;
+        y[5 * ld + c] = y5_0;
+        y[5 * ld + c + 1] = y5_1;
+        y[5 * ld + c + 2] = y5_2;
+    }
+    for (; c < n; ++c) {
+        stewart_vd b0_0 = b[0 * ld + c], b1_0 = b[1 * ld + c], b2_0 = b[2 * ld + c], b3_0 = b[3 * ld + c], b4_0 = b[4 * ld + c], b5_0 = b[5 * ld + c];
+        b1_0 -= F[0] * b0_0;
+        b2_0 -= F[1] * b0_0;
+        b3_0 -= F[2] * b0_0;
+        b4_0 -= F[3] * b0_0;
+        b5_0 -= F[4] * b0_0;
+        b2_0 -= F[5] * b1_0;
+        b3_0 -= F[6] * b1_0;
+        b4_0 -= F[7] * b1_0;
+        b5_0 -= F[8] * b1_0;
+        b3_0 -= F[9] * b2_0;
+        b4_0 -= F[10] * b2_0;
+        b5_0 -= F[11] * b2_0;
+        b4_0 -= F[12] * b3_0;
+        b5_0 -= F[13] * b3_0;
+        b5_0 -= F[14] * b4_0;
+        const stewart_vd y5_0 = b5_0 * F[20];
+        const stewart_vd y4_0 = b4_0 * F[19] - F[14] * y5_0;
+        const stewart_vd y3_0 = b3_0 * F[18] - F[12] * y4_0 - F[13] * y5_0;
+        const stewart_vd y2_0 = b2_0 * F[17] - F[9] * y3_0 - F[10] * y4_0 - F[11] * y5_0;
+        const stewart_vd y1_0 = b1_0 * F[16] - F[5] * y2_0 - F[6] * y3_0 - F[7] * y4_0 - F[8] * y5_0;
+        const stewart_vd y0_0 = b0_0 * F[15] - F[0] * y1_0 - F[1] * y2_0 - F[2] * y3_0 - F[3] * y4_0 - F[4] * y5_0;
+        y[0 * ld + c] = y0_0;
+        y[1 * ld + c] = y1_0;
+        y[2 * ld + c] = y2_0;
+        y[3 * ld + c] = y3_0;
+        y[4 * ld + c] = y4_0;
+        y[5 * ld + c] = y5_0;
     }
     return vnone();
 }
@@ -1130,21 +1350,22 @@ STEWART_HIDDEN void vkernel_gravity_vector_general(const stewart_params *p, cons
 STEWART_HIDDEN void vkernel_inverse_dynamics_axisym(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JC, stewart_vd *L2);
 STEWART_HIDDEN void vkernel_inverse_dynamics_frames(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JC, stewart_vd *L2, stewart_vd *h2);
 STEWART_HIDDEN void vkernel_inverse_dynamics_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JC, stewart_vd *L2, stewart_vd *n2);
-STEWART_HIDDEN void vkernel_leg_points(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *lwa);
-STEWART_HIDDEN void vkernel_leg_points_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *lwa);
-STEWART_HIDDEN void vkernel_leg_derivatives_axisym(const stewart_params *p, const stewart_vd *lwa, const stewart_vd *tau, stewart_vd *legs);
-STEWART_HIDDEN void vkernel_leg_derivatives_frames(const stewart_params *p, const stewart_vd *lwa, const stewart_vd *tau, stewart_vd *legs);
-STEWART_HIDDEN void vkernel_leg_derivatives_general(const stewart_params *p, const stewart_vd *lwa, const stewart_vd *tau, stewart_vd *legs);
-STEWART_HIDDEN void vkernel_leg_chain_inverse(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *lwa, const stewart_vd *legs, stewart_vd *chain);
-STEWART_HIDDEN void vkernel_residual_derivatives_inverse(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *chain, stewart_vd *Z);
-STEWART_HIDDEN void vkernel_residual_derivatives_inverse_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *chain, stewart_vd *Z);
+STEWART_HIDDEN void vkernel_inverse_dynamics_points_axisym(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JC, stewart_vd *L2, stewart_vd *lwa, stewart_vd *spin);
+STEWART_HIDDEN void vkernel_inverse_dynamics_points_frames(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JC, stewart_vd *L2, stewart_vd *h2, stewart_vd *lwa, stewart_vd *spin);
+STEWART_HIDDEN void vkernel_inverse_dynamics_points_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JC, stewart_vd *L2, stewart_vd *n2, stewart_vd *lwa, stewart_vd *spin);
+STEWART_HIDDEN void vkernel_leg_derivatives_axisym(const stewart_params *p, const stewart_vd *lwa, const stewart_vd *tau, const stewart_vd *spin, stewart_vd *Zt, stewart_vd *Mlegs, stewart_vd *JCt);
+STEWART_HIDDEN void vkernel_leg_derivatives_frames(const stewart_params *p, const stewart_vd *lwa, const stewart_vd *tau, const stewart_vd *spin, stewart_vd *Zt, stewart_vd *Mlegs, stewart_vd *JCt);
+STEWART_HIDDEN void vkernel_leg_derivatives_general(const stewart_params *p, const stewart_vd *lwa, const stewart_vd *tau, const stewart_vd *spin, stewart_vd *Zt, stewart_vd *Mlegs, stewart_vd *JCt);
+STEWART_HIDDEN void vkernel_residual_derivatives_inverse(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *spin, const stewart_vd *Zt, const stewart_vd *Mlegs, stewart_vd *Zxdd, stewart_vd *Zx, stewart_vd *Zxd);
+STEWART_HIDDEN void vkernel_residual_derivatives_inverse_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *spin, const stewart_vd *Zt, const stewart_vd *Mlegs, stewart_vd *Zxdd, stewart_vd *Zx, stewart_vd *Zxd);
 STEWART_HIDDEN void vkernel_static_forces(const stewart_params *p, const stewart_vd *x, stewart_vd *W, stewart_vd *JC, stewart_vd *L2);
 STEWART_HIDDEN void vkernel_static_forces_general(const stewart_params *p, const stewart_vd *x, stewart_vd *W, stewart_vd *JC, stewart_vd *L2, stewart_vd *n2);
 STEWART_HIDDEN void vkernel_static_derivatives(const stewart_params *p, const stewart_vd *x, const stewart_vd *tau, stewart_vd *Z);
 STEWART_HIDDEN void vkernel_static_derivatives_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *tau, stewart_vd *Z);
-STEWART_HIDDEN void vkernel_leg_chain_forward(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *lwa, const stewart_vd *legs, stewart_vd *chain);
-STEWART_HIDDEN void vkernel_residual_derivatives_forward(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *chain, const stewart_vd *lwa, const stewart_vd *legs, stewart_vd *Z);
-STEWART_HIDDEN void vkernel_residual_derivatives_forward_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *chain, const stewart_vd *lwa, const stewart_vd *legs, stewart_vd *Z);
+STEWART_HIDDEN void vkernel_leg_points(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *lwa, stewart_vd *spin);
+STEWART_HIDDEN void vkernel_leg_points_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *lwa, stewart_vd *spin);
+STEWART_HIDDEN void vkernel_residual_derivatives_forward(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *spin, const stewart_vd *Zt, const stewart_vd *Mlegs, stewart_vd *Zx, stewart_vd *Zxd);
+STEWART_HIDDEN void vkernel_residual_derivatives_forward_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *spin, const stewart_vd *Zt, const stewart_vd *Mlegs, stewart_vd *Zx, stewart_vd *Zxd);
 STEWART_HIDDEN void vkernel_joint_reactions_axisym(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JC, stewart_vd *legf, stewart_vd *n_base, stewart_vd *L2);
 STEWART_HIDDEN void vkernel_joint_reactions_frames(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JC, stewart_vd *legf, stewart_vd *n_base, stewart_vd *L2, stewart_vd *h2);
 STEWART_HIDDEN void vkernel_joint_reactions_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JC, stewart_vd *legf, stewart_vd *n_base, stewart_vd *L2, stewart_vd *n2);

@@ -455,40 +455,35 @@ static stewart_vl vblock_inverse_dynamics_derivatives(const stewart_params *p, d
     stewart_vd *dtau_dx = out[1];
     stewart_vd *dtau_dxd = out[2];
     stewart_vd *dtau_dxdd = out[3];
-    stewart_vd W[6], JC[36], L2[6], h2[6], n2[6], lwa[102], legs[198], chain[648], Z[108], FJ[57], Y[108];
+    stewart_vd W[6], JC[36], L2[6], lwa[102], spin[18], h2[6], n2[6], Zt[72], Mlegs[21], JCt[36], Zxdd[36], Zx[36], Zxd[36], FJ[57];
     stewart_vl status = vnone();
     if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
-        vkernel_inverse_dynamics_axisym(p, x, xd, xdd, W, JC, L2);
+        vkernel_inverse_dynamics_points_axisym(p, x, xd, xdd, W, JC, L2, lwa, spin);
         status = vmerge(status, vcheck_legs(L2, NULL, NULL));
     } else if (stewart_is_paper_model(p)) {
-        vkernel_inverse_dynamics_frames(p, x, xd, xdd, W, JC, L2, h2);
+        vkernel_inverse_dynamics_points_frames(p, x, xd, xdd, W, JC, L2, h2, lwa, spin);
         status = vmerge(status, vcheck_legs(L2, h2, NULL));
     } else {
-        vkernel_inverse_dynamics_general(p, x, xd, xdd, W, JC, L2, n2);
+        vkernel_inverse_dynamics_points_general(p, x, xd, xdd, W, JC, L2, n2, lwa, spin);
         status = vmerge(status, vcheck_legs(L2, NULL, n2));
     }
     status = vmerge(status, vbareiss_factor(JC, FJ));
     status = vmerge(status, vbareiss_solve(FJ, 1, 1, W, tau));
-    if (stewart_is_paper_model(p)) {
-        vkernel_leg_points(p, x, xd, xdd, lwa);
-    } else {
-        vkernel_leg_points_general(p, x, xd, xdd, lwa);
-    }
     if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
-        vkernel_leg_derivatives_axisym(p, lwa, tau, legs);
+        vkernel_leg_derivatives_axisym(p, lwa, tau, spin, Zt, Mlegs, JCt);
     } else if (stewart_is_paper_model(p)) {
-        vkernel_leg_derivatives_frames(p, lwa, tau, legs);
+        vkernel_leg_derivatives_frames(p, lwa, tau, spin, Zt, Mlegs, JCt);
     } else {
-        vkernel_leg_derivatives_general(p, lwa, tau, legs);
+        vkernel_leg_derivatives_general(p, lwa, tau, spin, Zt, Mlegs, JCt);
     }
-    vkernel_leg_chain_inverse(p, x, xd, xdd, lwa, legs, chain);
     if (stewart_is_paper_model(p)) {
-        vkernel_residual_derivatives_inverse(p, x, xd, xdd, chain, Z);
+        vkernel_residual_derivatives_inverse(p, x, xd, xdd, spin, Zt, Mlegs, Zxdd, Zx, Zxd);
     } else {
-        vkernel_residual_derivatives_inverse_general(p, x, xd, xdd, chain, Z);
+        vkernel_residual_derivatives_inverse_general(p, x, xd, xdd, spin, Zt, Mlegs, Zxdd, Zx, Zxd);
     }
-    status = vmerge(status, vbareiss_solve(FJ, 18, 18, Z, Y));
-    status = vmerge(status, vsplit_jacobians(Y, dtau_dxdd, dtau_dx, dtau_dxd));
+    status = vmerge(status, vbareiss_solve(FJ, 6, 6, Zxdd, dtau_dxdd));
+    status = vmerge(status, vbareiss_solve(FJ, 6, 6, Zx, dtau_dx));
+    status = vmerge(status, vbareiss_solve(FJ, 6, 6, Zxd, dtau_dxd));
     return status;
 }
 
@@ -542,7 +537,7 @@ static stewart_vl vblock_forward_dynamics_derivatives(const stewart_params *p, d
     stewart_vd *dxdd_dx = out[1];
     stewart_vd *dxdd_dxd = out[2];
     stewart_vd *dxdd_dtau = out[3];
-    stewart_vd Mt[36], L2[6], h2[6], n2[6], JA[9], JAinv[9], ctheta[1], W[6], JC[36], lwa[102], legs[198], chain[432], Z[108], FM[21], xdd0[6], rhs[6], y[6], Y[108], D[108];
+    stewart_vd Mt[36], L2[6], h2[6], n2[6], JA[9], JAinv[9], ctheta[1], W[6], JC[36], lwa[102], spin[18], Zt[72], Mlegs[21], JCt[36], Zx[36], Zxd[36], FM[21], xdd0[6], rhs[6], y[6], Y[36];
     stewart_vl status = vnone();
     if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
         vkernel_twist_mass_matrix_axisym(p, x, Mt, L2);
@@ -572,26 +567,28 @@ static stewart_vl vblock_forward_dynamics_derivatives(const stewart_params *p, d
     status = vmerge(status, vldl_solve(FM, 1, 1, rhs, y));
     status = vmerge(status, vpose_accelerations(JAinv, 1, y, xdd));
     if (stewart_is_paper_model(p)) {
-        vkernel_leg_points(p, x, xd, xdd, lwa);
+        vkernel_leg_points(p, x, xd, xdd, lwa, spin);
     } else {
-        vkernel_leg_points_general(p, x, xd, xdd, lwa);
+        vkernel_leg_points_general(p, x, xd, xdd, lwa, spin);
     }
     if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
-        vkernel_leg_derivatives_axisym(p, lwa, tau, legs);
+        vkernel_leg_derivatives_axisym(p, lwa, tau, spin, Zt, Mlegs, JCt);
     } else if (stewart_is_paper_model(p)) {
-        vkernel_leg_derivatives_frames(p, lwa, tau, legs);
+        vkernel_leg_derivatives_frames(p, lwa, tau, spin, Zt, Mlegs, JCt);
     } else {
-        vkernel_leg_derivatives_general(p, lwa, tau, legs);
+        vkernel_leg_derivatives_general(p, lwa, tau, spin, Zt, Mlegs, JCt);
     }
-    vkernel_leg_chain_forward(p, x, xd, xdd, lwa, legs, chain);
     if (stewart_is_paper_model(p)) {
-        vkernel_residual_derivatives_forward(p, x, xd, xdd, chain, lwa, legs, Z);
+        vkernel_residual_derivatives_forward(p, x, xd, xdd, spin, Zt, Mlegs, Zx, Zxd);
     } else {
-        vkernel_residual_derivatives_forward_general(p, x, xd, xdd, chain, lwa, legs, Z);
+        vkernel_residual_derivatives_forward_general(p, x, xd, xdd, spin, Zt, Mlegs, Zx, Zxd);
     }
-    status = vmerge(status, vldl_solve(FM, 18, 18, Z, Y));
-    status = vmerge(status, vpose_accelerations(JAinv, 18, Y, D));
-    status = vmerge(status, vsplit_jacobians(D, dxdd_dx, dxdd_dxd, dxdd_dtau));
+    status = vmerge(status, vldl_solve(FM, 6, 6, Zx, Y));
+    status = vmerge(status, vpose_accelerations(JAinv, 6, Y, dxdd_dx));
+    status = vmerge(status, vldl_solve(FM, 6, 6, Zxd, Y));
+    status = vmerge(status, vpose_accelerations(JAinv, 6, Y, dxdd_dxd));
+    status = vmerge(status, vldl_solve(FM, 6, 6, JCt, Y));
+    status = vmerge(status, vpose_accelerations(JAinv, 6, Y, dxdd_dtau));
     return status;
 }
 

@@ -311,21 +311,22 @@ int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const 
  *   inverse_dynamics_axisym                 1835
  *   inverse_dynamics_frames                 2331
  *   inverse_dynamics_general                2712
- *   leg_points                               585
- *   leg_points_general                       585
- *   leg_derivatives_axisym                  1404
- *   leg_derivatives_frames                  2038
- *   leg_derivatives_general                 2269
- *   leg_chain_inverse                        793
- *   residual_derivatives_inverse            1567
- *   residual_derivatives_inverse_general    2260
+ *   inverse_dynamics_points_axisym          1858
+ *   inverse_dynamics_points_frames          2356
+ *   inverse_dynamics_points_general         2734
+ *   leg_derivatives_axisym                  1480
+ *   leg_derivatives_frames                  2419
+ *   leg_derivatives_general                 2648
+ *   residual_derivatives_inverse             965
+ *   residual_derivatives_inverse_general    1484
  *   static_forces                            457
  *   static_forces_general                    555
  *   static_derivatives                      2130
  *   static_derivatives_general              2167
- *   leg_chain_forward                        847
- *   residual_derivatives_forward            1381
- *   residual_derivatives_forward_general    2003
+ *   leg_points                               606
+ *   leg_points_general                       599
+ *   residual_derivatives_forward             982
+ *   residual_derivatives_forward_general    1498
  *   joint_reactions_axisym                  1851
  *   joint_reactions_frames                  2392
  *   joint_reactions_general                 2824

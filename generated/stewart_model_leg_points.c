@@ -4,8 +4,9 @@
 
 /* [l; w; a; |l|; sqrt(l_x^2 + l_y^2); r] of every leg's P_i (`_point_motion`), 14 per
     leg, interleaved (entry k of leg i at k * 6 + i): the inputs of the per-leg kernels; for
-    the general model, then the joint's first axis a_i (17 per leg). */
-void vkernel_leg_points(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *lwa)
+    the general model, then the joint's first axis a_i (17 per leg); and what the legs'
+    chains share, spin = [omega; [omega']x + [omega]x^2; the angles' cosines and sines] (`SPIN`). */
+void vkernel_leg_points(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *lwa, stewart_vd *spin)
 {
     const double b0_x = p->base_points[0][0];
     const double b0_y = p->base_points[0][1];
@@ -217,6 +218,12 @@ void vkernel_leg_points(const stewart_params *p, const stewart_vd *x, const stew
     const stewart_vd r5_x_d = pp5_x*R_00_d + pp5_y*R_01_d + pp5_z*R_02_d;
     const stewart_vd qvP5_y_d = xdd_1 + qw_z*r5_x_d + r5_x*qw_z_d - qw_x*r5_z_d - r5_z*qw_x_d;
     const stewart_vd qvP5_z_d = xdd_2 + qw_x*r5_y_d - r5_x*qw_y_d + r5_y*qw_x_d - qw_y*r5_x_d;
+    const stewart_vd c18 = -(qw_z*qw_z);
+    const stewart_vd c19 = -(qw_y*qw_y);
+    const stewart_vd c20 = qw_x*qw_y;
+    const stewart_vd c21 = qw_x*qw_z;
+    const stewart_vd c22 = -(qw_x*qw_x);
+    const stewart_vd c23 = qw_y*qw_z;
     lwa[0] = l0_x;
     lwa[1] = l1_x;
     lwa[2] = l2_x;
@@ -301,12 +308,31 @@ void vkernel_leg_points(const stewart_params *p, const stewart_vd *x, const stew
     lwa[81] = r3_z;
     lwa[82] = r4_z;
     lwa[83] = r5_z;
+    spin[0] = qw_x;
+    spin[1] = qw_y;
+    spin[2] = qw_z;
+    spin[3] = c19 + c18;
+    spin[4] = -qw_z_d + c20;
+    spin[5] = qw_y_d + c21;
+    spin[6] = qw_z_d + c20;
+    spin[7] = c22 + c18;
+    spin[8] = -qw_x_d + c23;
+    spin[9] = -qw_y_d + c21;
+    spin[10] = qw_x_d + c23;
+    spin[11] = c22 + c19;
+    spin[12] = c_psi;
+    spin[13] = s_psi;
+    spin[14] = c_theta;
+    spin[15] = s_theta;
+    spin[16] = c_phi;
+    spin[17] = s_phi;
 }
 
 /* [l; w; a; |l|; sqrt(l_x^2 + l_y^2); r] of every leg's P_i (`_point_motion`), 14 per
     leg, interleaved (entry k of leg i at k * 6 + i): the inputs of the per-leg kernels; for
-    the general model, then the joint's first axis a_i (17 per leg). */
-void vkernel_leg_points_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *lwa)
+    the general model, then the joint's first axis a_i (17 per leg); and what the legs'
+    chains share, spin = [omega; [omega']x + [omega]x^2; the angles' cosines and sines] (`SPIN`). */
+void vkernel_leg_points_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *lwa, stewart_vd *spin)
 {
     const double b0_x = p->base_points[0][0];
     const double b0_y = p->base_points[0][1];
@@ -405,8 +431,7 @@ void vkernel_leg_points_general(const stewart_params *p, const stewart_vd *x, co
     const stewart_vd l0_x = r0_x - b0_x + x_0;
     const stewart_vd l0_y = r0_y + x_1 - b0_y;
     const stewart_vd l0_z = r0_z + x_2 - b0_z;
-    const stewart_vd c4 = (l0_x*l0_x) + (l0_y*l0_y);
-    const stewart_vd L2_0 = c4 + (l0_z*l0_z);
+    const stewart_vd L2_0 = (l0_x*l0_x) + (l0_y*l0_y) + (l0_z*l0_z);
     const stewart_vd L_0 = vsqrt(L2_0);
     const stewart_vd r1_x = R_00*pp1_x + R_01*pp1_y + R_02*pp1_z;
     const stewart_vd r1_y = R_10*pp1_x + R_11*pp1_y + R_12*pp1_z;
@@ -414,8 +439,7 @@ void vkernel_leg_points_general(const stewart_params *p, const stewart_vd *x, co
     const stewart_vd l1_x = r1_x + x_0 - b1_x;
     const stewart_vd l1_y = r1_y + x_1 - b1_y;
     const stewart_vd l1_z = r1_z + x_2 - b1_z;
-    const stewart_vd c5 = (l1_x*l1_x) + (l1_y*l1_y);
-    const stewart_vd L2_1 = c5 + (l1_z*l1_z);
+    const stewart_vd L2_1 = (l1_x*l1_x) + (l1_z*l1_z) + (l1_y*l1_y);
     const stewart_vd L_1 = vsqrt(L2_1);
     const stewart_vd r2_x = R_00*pp2_x + R_01*pp2_y + R_02*pp2_z;
     const stewart_vd r2_y = R_10*pp2_x + R_11*pp2_y + R_12*pp2_z;
@@ -423,8 +447,7 @@ void vkernel_leg_points_general(const stewart_params *p, const stewart_vd *x, co
     const stewart_vd l2_x = r2_x + x_0 - b2_x;
     const stewart_vd l2_y = r2_y + x_1 - b2_y;
     const stewart_vd l2_z = r2_z + x_2 - b2_z;
-    const stewart_vd c6 = (l2_x*l2_x) + (l2_y*l2_y);
-    const stewart_vd L2_2 = c6 + (l2_z*l2_z);
+    const stewart_vd L2_2 = (l2_x*l2_x) + (l2_y*l2_y) + (l2_z*l2_z);
     const stewart_vd L_2 = vsqrt(L2_2);
     const stewart_vd r3_x = R_00*pp3_x + R_02*pp3_z + R_01*pp3_y;
     const stewart_vd r3_y = R_10*pp3_x + R_11*pp3_y + R_12*pp3_z;
@@ -432,8 +455,7 @@ void vkernel_leg_points_general(const stewart_params *p, const stewart_vd *x, co
     const stewart_vd l3_x = r3_x + x_0 - b3_x;
     const stewart_vd l3_y = r3_y + x_1 - b3_y;
     const stewart_vd l3_z = r3_z + x_2 - b3_z;
-    const stewart_vd c7 = (l3_x*l3_x) + (l3_y*l3_y);
-    const stewart_vd L2_3 = c7 + (l3_z*l3_z);
+    const stewart_vd L2_3 = (l3_x*l3_x) + (l3_y*l3_y) + (l3_z*l3_z);
     const stewart_vd L_3 = vsqrt(L2_3);
     const stewart_vd r4_x = R_00*pp4_x + R_01*pp4_y + R_02*pp4_z;
     const stewart_vd r4_y = R_10*pp4_x + R_11*pp4_y + R_12*pp4_z;
@@ -441,8 +463,7 @@ void vkernel_leg_points_general(const stewart_params *p, const stewart_vd *x, co
     const stewart_vd l4_x = r4_x + x_0 - b4_x;
     const stewart_vd l4_y = r4_y + x_1 - b4_y;
     const stewart_vd l4_z = r4_z + x_2 - b4_z;
-    const stewart_vd c8 = (l4_x*l4_x) + (l4_y*l4_y);
-    const stewart_vd L2_4 = c8 + (l4_z*l4_z);
+    const stewart_vd L2_4 = (l4_x*l4_x) + (l4_y*l4_y) + (l4_z*l4_z);
     const stewart_vd L_4 = vsqrt(L2_4);
     const stewart_vd r5_x = R_00*pp5_x + R_01*pp5_y + R_02*pp5_z;
     const stewart_vd r5_y = R_10*pp5_x + R_11*pp5_y + R_12*pp5_z;
@@ -450,8 +471,7 @@ void vkernel_leg_points_general(const stewart_params *p, const stewart_vd *x, co
     const stewart_vd l5_x = r5_x + x_0 - b5_x;
     const stewart_vd l5_y = r5_y + x_1 - b5_y;
     const stewart_vd l5_z = r5_z - b5_z + x_2;
-    const stewart_vd c9 = (l5_x*l5_x) + (l5_y*l5_y);
-    const stewart_vd L2_5 = c9 + (l5_z*l5_z);
+    const stewart_vd L2_5 = (l5_x*l5_x) + (l5_y*l5_y) + (l5_z*l5_z);
     const stewart_vd L_5 = vsqrt(L2_5);
     const stewart_vd qw_x = xd_5*R_00 - xd_4*s_psi;
     const stewart_vd qw_y = xd_5*R_10 + xd_4*c_psi;
@@ -472,21 +492,21 @@ void vkernel_leg_points_general(const stewart_params *p, const stewart_vd *x, co
     const stewart_vd R_22_d = c_phi*c_theta_d + c_theta*c_phi_d;
     const stewart_vd r0_z_d = pp0_x*R_20_d + pp0_z*R_22_d + pp0_y*R_21_d;
     const stewart_vd qw_z_d = xdd_3 + R_20*xdd_5 + xd_5*R_20_d;
-    const stewart_vd c10 = s_psi*s_phi_d;
-    const stewart_vd c11 = s_phi*s_psi_d;
-    const stewart_vd c12 = c_psi*c_phi_d;
-    const stewart_vd c13 = c_phi*c_psi_d;
-    const stewart_vd R_11_d = c13 + c12 + c3*s_theta_d + c11*s_theta + c10*s_theta;
-    const stewart_vd c14 = s_psi*c_phi_d;
-    const stewart_vd c15 = s_phi*c_psi_d;
-    const stewart_vd c16 = c_phi*s_psi_d;
-    const stewart_vd c17 = c_psi*s_phi_d;
-    const stewart_vd R_12_d = -c17 + c16*s_theta - c15 + c1*s_theta_d + c14*s_theta;
+    const stewart_vd c4 = s_psi*s_phi_d;
+    const stewart_vd c5 = s_phi*s_psi_d;
+    const stewart_vd c6 = c_psi*c_phi_d;
+    const stewart_vd c7 = c_phi*c_psi_d;
+    const stewart_vd R_11_d = c7 + c6 + c3*s_theta_d + c5*s_theta + c4*s_theta;
+    const stewart_vd c8 = s_psi*c_phi_d;
+    const stewart_vd c9 = s_phi*c_psi_d;
+    const stewart_vd c10 = c_phi*s_psi_d;
+    const stewart_vd c11 = c_psi*s_phi_d;
+    const stewart_vd R_12_d = c10*s_theta - c11 - c9 + c1*s_theta_d + c8*s_theta;
     const stewart_vd r0_y_d = pp0_x*R_10_d + pp0_y*R_11_d + pp0_z*R_12_d;
     const stewart_vd qvP0_x_d = xdd_0 + r0_z*qw_y_d + qw_y*r0_z_d - qw_z*r0_y_d - r0_y*qw_z_d;
     const stewart_vd R_00_d = c_psi*c_theta_d + c_theta*c_psi_d;
-    const stewart_vd R_01_d = -c14 - c16 + c0*s_theta_d + c17*s_theta + c15*s_theta;
-    const stewart_vd R_02_d = c11 + c10 + c2*s_theta_d + c12*s_theta + c13*s_theta;
+    const stewart_vd R_01_d = -c10 + c0*s_theta_d - c8 + c11*s_theta + c9*s_theta;
+    const stewart_vd R_02_d = c5 + c2*s_theta_d + c6*s_theta + c4 + c7*s_theta;
     const stewart_vd r0_x_d = pp0_x*R_00_d + pp0_y*R_01_d + pp0_z*R_02_d;
     const stewart_vd qw_x_d = R_00*xdd_5 + xd_5*R_00_d - s_psi*xdd_4 - xd_4*s_psi_d;
     const stewart_vd qvP0_y_d = xdd_1 + qw_z*r0_x_d + r0_x*qw_z_d - qw_x*r0_z_d - r0_z*qw_x_d;
@@ -536,6 +556,12 @@ void vkernel_leg_points_general(const stewart_params *p, const stewart_vd *x, co
     const stewart_vd r5_x_d = pp5_x*R_00_d + pp5_y*R_01_d + pp5_z*R_02_d;
     const stewart_vd qvP5_y_d = xdd_1 + qw_z*r5_x_d + r5_x*qw_z_d - qw_x*r5_z_d - r5_z*qw_x_d;
     const stewart_vd qvP5_z_d = xdd_2 + qw_x*r5_y_d - r5_x*qw_y_d + r5_y*qw_x_d - qw_y*r5_x_d;
+    const stewart_vd c12 = -(qw_z*qw_z);
+    const stewart_vd c13 = -(qw_y*qw_y);
+    const stewart_vd c14 = qw_x*qw_y;
+    const stewart_vd c15 = qw_x*qw_z;
+    const stewart_vd c16 = -(qw_x*qw_x);
+    const stewart_vd c17 = qw_y*qw_z;
     lwa[0] = l0_x;
     lwa[1] = l1_x;
     lwa[2] = l2_x;
@@ -596,12 +622,12 @@ void vkernel_leg_points_general(const stewart_params *p, const stewart_vd *x, co
     lwa[57] = L_3;
     lwa[58] = L_4;
     lwa[59] = L_5;
-    lwa[60] = vsqrt(c4);
-    lwa[61] = vsqrt(c5);
-    lwa[62] = vsqrt(c6);
-    lwa[63] = vsqrt(c7);
-    lwa[64] = vsqrt(c8);
-    lwa[65] = vsqrt(c9);
+    lwa[60] = vsplat(0);
+    lwa[61] = vsplat(0);
+    lwa[62] = vsplat(0);
+    lwa[63] = vsplat(0);
+    lwa[64] = vsplat(0);
+    lwa[65] = vsplat(0);
     lwa[66] = r0_x;
     lwa[67] = r1_x;
     lwa[68] = r2_x;
@@ -638,4 +664,22 @@ void vkernel_leg_points_general(const stewart_params *p, const stewart_vd *x, co
     lwa[99] = vsplat(a3_z);
     lwa[100] = vsplat(a4_z);
     lwa[101] = vsplat(a5_z);
+    spin[0] = qw_x;
+    spin[1] = qw_y;
+    spin[2] = qw_z;
+    spin[3] = c13 + c12;
+    spin[4] = -qw_z_d + c14;
+    spin[5] = qw_y_d + c15;
+    spin[6] = qw_z_d + c14;
+    spin[7] = c16 + c12;
+    spin[8] = -qw_x_d + c17;
+    spin[9] = -qw_y_d + c15;
+    spin[10] = qw_x_d + c17;
+    spin[11] = c16 + c13;
+    spin[12] = c_psi;
+    spin[13] = s_psi;
+    spin[14] = c_theta;
+    spin[15] = s_theta;
+    spin[16] = c_phi;
+    spin[17] = s_phi;
 }

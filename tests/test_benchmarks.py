@@ -201,28 +201,40 @@ def test_batch_loop_rows_mark_the_batch_targets():
     loop, and each target met or missed by the dispatched path's figures."""
     from benchmarks import batch_loop
 
-    def loop(lanes, scale):
+    def loop(lanes, scale, ratios=((4.2, 4.0, 4.5), (3.9, 3.8, 4.1))):
         out = {"lanes": lanes, "inverse_dynamics": (0.40e-6, 0.10e-6 * scale, 2e-15, 0),
                "forward_dynamics": (0.6e-6, 0.16e-6 * scale, 1e-15, 3), "mass_matrix": (0.26e-6, 0.08e-6, 0.0, 0),
                "coriolis_vector": (0.27e-6, 0.05e-6, 0.0, 0), "gravity_vector": (0.1e-6, 0.09e-6, 0.0, 0)}
         out.update({name: (4e-6, 1e-6, 3e-15, 0) for name in batch_loop.FUNCTIONS[5:]})
         out["regressor"] = (1.6e-6, 0.38e-6 * scale, 1e-15, 0)
+        out["ratios"] = {"inverse_dynamics_derivatives": ("inverse_dynamics", *ratios[0]),
+                         "forward_dynamics_derivatives": ("forward_dynamics", *ratios[1])}
         return out
 
-    paths = {"avx2": loop(4, 2.0), "avx512": loop(8, 1.0), "native": loop(8, 0.9)}
+    # dtau/tau: quartiles within 5x on avx2, across it on avx512 (unsettled), past it on native
+    # (no target there); dxdd/xdd: within on both.
+    paths = {"avx2": loop(4, 2.0), "avx512": loop(8, 1.0, ((5.1, 4.9, 5.2), (4.0, 3.9, 4.2))),
+             "native": loop(8, 0.9, ((6.0, 5.5, 6.5), (3.0, 2.9, 3.1)))}
     fig = {"paths": paths, "dispatched": "avx512", "c_loop": paths["avx512"], "python_inverse_dynamics_us": 0.105,
            "python_threads2_inverse_dynamics_us": 0.05,
            "casadi": {"casadi_version": "3.8.2", "c_loop_s": {"avx2": 2.5e-6, "avx512": 0.5e-6, "native": 0.45e-6},
                       "map_thread2_s": 0.4e-6}}
     table = batch_loop.rows(fig)
-    (inverse, forward, _, _, gravity, derivatives, _, _, _, regressor, native, python, threads, casadi_c, casadi_avx2,
-     casadi_map) = table
+    (inverse, forward, _, _, gravity, derivatives, _, _, _, regressor, dtau, dxdd, native, python, threads, casadi_c,
+     casadi_avx2, casadi_map) = table
     assert inverse[1:] == ("0.400 us", "0.200 us (2.0x)", "0.100 us (4.0x)", "0.090 us (4.4x)",
                            "<= 0.10 us, >= 3.5x", "met")
     assert forward[-1] == "MISSED" and "3 failed rows" in forward[0]
     assert gravity[-3:] == ("0.090 us (1.1x)", "<= 0.08 us", "MISSED")
     assert derivatives[1:] == ("4.000 us", "1.000 us (4.0x)", "1.000 us (4.0x)", "1.000 us (4.0x)", "", "")
     assert regressor[-3:] == ("3.80x", "<= 4x", "met")  # 0.38 us over 0.10 us on the dispatched path
+    assert dtau[0].startswith("inverse_dynamics_derivatives over inverse_dynamics")
+    assert dtau[2:] == ("4.20x (4.00-4.50)", "5.10x (4.90-5.20)", "6.00x (5.50-6.50)", "<= 5x on avx2, avx512",
+                        "unsettled")
+    assert dxdd[2:] == ("3.90x (3.80-4.10)", "4.00x (3.90-4.20)", "3.00x (2.90-3.10)", "<= 5x on avx2, avx512",
+                        "met")
+    assert [batch_loop.derivative_verdict(*q) for q in ((4.0, 5.0), (4.9, 5.1), (5.01, 6.0))] == [
+        "met", "unsettled", "MISSED"]
     assert native[-3:] == ("1.11x", "<= 1.05x", "MISSED")
     assert python[-3:] == ("0.105 us (1.05x C loop)", "<= 1.10x C loop", "met")
     assert threads[-3:] == ("0.050 us, 20.0 M states/s (2.10x 1 thread)", ">= 18 M/s, >= 1.8x", "met")

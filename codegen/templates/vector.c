@@ -170,20 +170,6 @@ static stewart_vl vspinless_columns(const stewart_params *p, int n, int a, int b
 typedef stewart_vl (*vblock_fn)(const stewart_params *p, double scalar, const stewart_vd *const in[],
                                 stewart_vd *const out[]);
 
-/* The three 6 x 6 blocks of columns of Y (6 x 18, row-major), over a block. */
-static stewart_vl vsplit_jacobians(const stewart_vd Y[108], stewart_vd a[36], stewart_vd b[36], stewart_vd c[36])
-{
-    int i, j;
-    for (i = 0; i < 6; ++i) {
-        for (j = 0; j < 6; ++j) {
-            a[6 * i + j] = Y[18 * i + j];
-            b[6 * i + j] = Y[18 * i + 6 + j];
-            c[6 * i + j] = Y[18 * i + 12 + j];
-        }
-    }
-    return vnone();
-}
-
 /* The classic RK4 step, the one of every integrator of the model (vrk4 here, the closed loop's
  * stewart_loop_rk4 in control.c), on doubles or vectors of doubles: stage s (0-3) evaluates
  * k_s = f(s_0 + RK4_FRACTION(s) dt k_{s-1}) (RK4_STAGE; the first at s_0 itself), and the step
