@@ -28,10 +28,11 @@ what the code would take on that machine.
 
 A figure that needs both cores (two threads, two processes) cannot be rescued that way when
 the machine's other jobs hold the second core, and that only ever makes it look worse. Its
-rounds also time the yardstick on two threads, each running a whole call: the **gauge** is
-the median of 2 t_one / t_two, the machine's two-thread speed-up at that moment (about 1.9
-on the reference machine). Below :data:`PARALLEL_FLOOR` a miss is not trusted and the target
-is unsettled; a figure that meets its target even so is met.
+rounds also time the yardstick on two threads, each running four calls: the **gauge** is the
+median of the machine's two-thread speed-up on it (:func:`gauge`: 8 t_one / t_two, about
+1.9 with both cores free, below 1 on the reference machine under a load of 10 to 12, where
+two threads never ran at once for half a millisecond). Below :data:`PARALLEL_FLOOR` a miss
+is not trusted and the target is unsettled; a figure that meets its target even so is met.
 """
 
 from __future__ import annotations
@@ -47,7 +48,7 @@ import numpy as np
 
 __all__ = ["BUDGET", "ROUND_SECONDS", "LONG_SECONDS", "WARM_LIMIT", "MIN_ROUNDS", "MAX_ROUNDS", "CONFIDENCE", "INFORMATIVE",
            "PARALLEL_FLOOR", "Target", "Measurement", "Reference", "REFERENCE", "Yardstick", "median_interval",
-           "interval_rank", "verdict", "settled", "per_call", "time_calls", "SelfTimed", "Figure", "measure_all", "measure", "reference_cost"]
+           "interval_rank", "verdict", "settled", "gauge", "per_call", "time_calls", "SelfTimed", "Figure", "measure_all", "measure", "reference_cost"]
 
 #: Seconds of rounds a figure with a target may take before it is judged as it stands (a
 #: figure without one gets a third of it, ``stewart bench --budget``).
@@ -314,12 +315,16 @@ class Yardstick:
     passes of square root, division, product and sum (numpy ufuncs, which release the GIL
     while they compute) over arrays of :data:`SIZE` doubles allocated once (64 KiB each,
     within a core's L2 cache). On two threads, this thread and a second one (started once)
-    each run a whole call on arrays of their own: the gauge of a figure needing both cores.
+    each run :data:`CALLS_EACH` calls on arrays of their own: the gauge of a figure needing
+    both cores (:func:`gauge`).
     It shares nothing with the code under test, so no change there can move it; its cost on
     the reference machine is :data:`REFERENCE`."""
 
     SIZE = 8192
     PASSES = 8
+    #: Calls each of the two threads runs in a call on two threads (so that handing the work to
+    #: the second thread costs a few per cent of it).
+    CALLS_EACH = 4
 
     def __init__(self, threads: int = 1):
         if threads not in (1, 2):
@@ -328,9 +333,9 @@ class Yardstick:
         self.arrays = [(np.linspace(1.0, 2.0, self.SIZE), np.empty(self.SIZE)) for _ in range(threads)]
         self.pool = ThreadPoolExecutor(1) if threads == 2 else None
 
-    def _passes(self, k: int) -> None:
+    def _passes(self, k: int, calls: int = 1) -> None:
         a, b = self.arrays[k]
-        for _ in range(self.PASSES):
+        for _ in range(calls * self.PASSES):
             np.sqrt(a, out=b)
             np.divide(a, b, out=b)
             np.multiply(b, a, out=b)
@@ -340,9 +345,16 @@ class Yardstick:
         if self.pool is None:
             self._passes(0)
             return
-        other = self.pool.submit(self._passes, 1)
-        self._passes(0)
+        other = self.pool.submit(self._passes, 1, self.CALLS_EACH)
+        self._passes(0, self.CALLS_EACH)
         other.result()
+
+
+def gauge(one: float, two: float) -> float:
+    """The machine's two-thread speed-up from the seconds of a call of the yardstick on one
+    thread and of a call on two (:attr:`Yardstick.CALLS_EACH` calls on each): about 2 with
+    both cores free, 1 when the two threads take turns on one core."""
+    return one * 2 * Yardstick.CALLS_EACH / two
 
 
 def reference_cost(calls: int = 3000) -> tuple[float, float]:
