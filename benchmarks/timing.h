@@ -1,4 +1,4 @@
-/* Timing helpers of the benchmarks' C loops (batch_loop.c, peers/driver.c). */
+/* Timing helpers of the peers' C driver loop (peers/driver.c). */
 #ifndef STEWART_BENCH_TIMING_H
 #define STEWART_BENCH_TIMING_H
 
