@@ -28,6 +28,7 @@ import time
 
 import stewart
 from stewart.cli import bench
+from stewart.cli.options import non_negative
 
 from . import batch_loop, calibration, cueing, identification, report, studies
 from .peers.common import peer_available
@@ -137,7 +138,7 @@ def main(argv=None) -> int:
                         help="states of the large batch the two-thread figures run (default 200000)")
     parser.add_argument("--presets", type=lambda v: [p.strip() for p in v.split(",") if p.strip()], default=None,
                         help="comma-separated presets to time (default: all)")
-    parser.add_argument("--budget", type=float, default=bench.BUDGET, metavar="S",
+    parser.add_argument("--budget", type=non_negative, default=bench.BUDGET, metavar="S",
                         help="seconds of rounds a figure with a target may take before it is judged as it stands "
                              f"(default {bench.BUDGET:g}; a figure without one gets a third)")
     parser.add_argument("--strict", action="store_true",

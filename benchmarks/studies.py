@@ -14,7 +14,7 @@ import numpy as np
 
 import stewart
 from stewart.cli import bench
-from stewart.cli.interleaved import Target, gauge
+from stewart.cli.interleaved import Target, parallel_gauge
 from stewart.studies import envelope, execution
 
 from .report import target_table
@@ -71,7 +71,7 @@ def figures(preset: str = "narayan2017", states: int = STATES, large: int = LARG
         local = lambda: execution.run(job, states, seed=0, progress=False)  # noqa: E731
         remote = lambda: execution.run(job, states, seed=0, client=client, progress=False)  # noqa: E731
         rounds.add("ratio", [local, remote, rounds.one, rounds.two], lambda tl, tr, y, y2: tl / tr,
-                   gauge=lambda tl, tr, y, y2: gauge(y, y2), target=CLUSTER_TARGET, numbers=[1, 1, None, None],
+                   gauge=lambda tl, tr, y, y2: parallel_gauge(y, y2), target=CLUSTER_TARGET, numbers=[1, 1, None, None],
                    seconds=ANCHOR_SECONDS, min_rounds=RUNS)
         rounds.absolute("large_s", lambda: envelope.envelope(params, box, samples=large, progress=False), unit=1.0,
                         target=LARGE_TARGET, min_rounds=LARGE_RUNS, **both)

@@ -154,17 +154,12 @@ def test_a_gauge_and_a_side_that_times_itself():
     assert m.seconds == pytest.approx((3e-3, 2e-3, 1e-3)) and "itself" not in fake.log
 
 
-def test_the_figure_in_another_unit():
-    m = Measurement.of([1.0, 2.0, 3.0, 4.0, 5.0]).scaled(1e3)
-    assert (m.median, m.low, m.high, m.rounds) == (3e3, 1e3, 5e3, 5)
-
-
 def test_the_gauge_is_the_yardsticks_speedup_on_two_threads():
     """Two threads each run CALLS_EACH calls: with both cores free they take as long as that
     many calls on one thread, a speed-up of 2; taking turns on one core, twice as long."""
     one, each = 1.3e-4, interleaved.Yardstick.CALLS_EACH
-    assert interleaved.gauge(one, each * one) == pytest.approx(2.0, rel=1e-15)
-    assert interleaved.gauge(one, 2 * each * one) == pytest.approx(1.0, rel=1e-15)
+    assert interleaved.parallel_gauge(one, each * one) == pytest.approx(2.0, rel=1e-15)
+    assert interleaved.parallel_gauge(one, 2 * each * one) == pytest.approx(1.0, rel=1e-15)
 
 
 def test_the_yardstick_runs_a_fixed_workload():

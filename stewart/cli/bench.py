@@ -26,8 +26,8 @@ from stewart.model.stiffness import lowest_frequency
 from stewart.oracles import reference
 from stewart.oracles.physics import relative_error
 
-from .interleaved import (BUDGET, PARALLEL_FLOOR, REFERENCE, Figure, Measurement, Target, Yardstick, gauge,
-                          measure_all, time_calls)
+from .interleaved import (BUDGET, PARALLEL_FLOOR, REFERENCE, Figure, Measurement, Target, Yardstick,
+                          measure_all, parallel_gauge, time_calls)
 
 __all__ = ["TARGETS", "Target", "Measurement", "Rounds", "median_time", "states", "kernel_figures",
            "simulation_figures", "derivative_figures", "derivative_ratio_figures", "general_model_figures",
@@ -104,19 +104,19 @@ class Rounds:
         if not both_cores:
             self.add(key, [fn, self.one], lambda t, y: t / y * scale, **options)
         else:
-            self.add(key, [fn, self.one, self.two], lambda t, y, y2: t / y * scale, gauge=lambda t, y, y2: gauge(y, y2),
+            self.add(key, [fn, self.one, self.two], lambda t, y, y2: t / y * scale, gauge=lambda t, y, y2: parallel_gauge(y, y2),
                      **options)
 
     def rate(self, key: str, fn: Callable, per: float, **options) -> None:
         """``per`` over the seconds of ``fn`` (on two threads), at the reference machine's speed (as
         :meth:`absolute`), with the gauge."""
         self.add(key, [fn, self.one, self.two], lambda t, y, y2: per / (t / y * REFERENCE.seconds),
-                 gauge=lambda t, y, y2: gauge(y, y2), **options)
+                 gauge=lambda t, y, y2: parallel_gauge(y, y2), **options)
 
     def speedup(self, key: str, one: Callable, two: Callable, **options) -> None:
         """``one`` (one thread) over ``two`` (two threads), with the gauge."""
         self.add(key, [one, two, self.one, self.two], lambda t1, t2, y, y2: t1 / t2,
-                 gauge=lambda t1, t2, y, y2: gauge(y, y2), **options)
+                 gauge=lambda t1, t2, y, y2: parallel_gauge(y, y2), **options)
 
     def measure(self) -> dict[str, Measurement]:
         """Every figure added since the last call: those on one thread together, then those
@@ -484,7 +484,7 @@ def format_table(rows: list[tuple[str, str, str, str, str]]) -> str:
 def yardstick_line(rounds: Rounds) -> str:
     """The yardstick's cost now (a short median) against its reference cost, and the gauge."""
     one, two = (float(np.median([time_calls(y, 1) for _ in range(31)])) for y in (rounds.one, rounds.two))
-    speedup = gauge(one, two)
+    speedup = parallel_gauge(one, two)
     return (f"yardstick: {one * 1e6:.0f} us a call now, {REFERENCE.seconds * 1e6:.0f} us on the reference machine "
             f"({REFERENCE.machine}); absolute figures are at the reference machine's speed. The yardstick on two "
             f"threads: {speedup:.2f}x one (the gauge; below {PARALLEL_FLOOR} a figure needing both "

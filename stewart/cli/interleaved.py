@@ -29,7 +29,7 @@ what the code would take on that machine.
 A figure that needs both cores (two threads, two processes) cannot be rescued that way when
 the machine's other jobs hold the second core, and that only ever makes it look worse. Its
 rounds also time the yardstick on two threads, each running four calls: the **gauge** is the
-median of the machine's two-thread speed-up on it (:func:`gauge`: 8 t_one / t_two, about
+median of the machine's two-thread speed-up on it (:func:`parallel_gauge`: 8 t_one / t_two, about
 1.9 with both cores free, below 1 on the reference machine under a load of 10 to 12, where
 two threads never ran at once for half a millisecond). Below :data:`PARALLEL_FLOOR` a miss
 is not trusted and the target is unsettled; a figure that meets its target even so is met.
@@ -46,9 +46,10 @@ from typing import Callable, NamedTuple, Sequence
 
 import numpy as np
 
-__all__ = ["BUDGET", "ROUND_SECONDS", "LONG_SECONDS", "WARM_LIMIT", "MIN_ROUNDS", "MAX_ROUNDS", "CONFIDENCE", "INFORMATIVE",
-           "PARALLEL_FLOOR", "Target", "Measurement", "Reference", "REFERENCE", "Yardstick", "median_interval",
-           "interval_rank", "verdict", "settled", "gauge", "per_call", "time_calls", "SelfTimed", "Figure", "measure_all", "measure", "reference_cost"]
+__all__ = ["BUDGET", "ROUND_SECONDS", "LONG_SECONDS", "WARM_LIMIT", "MIN_ROUNDS", "MAX_ROUNDS", "CONFIDENCE",
+           "INFORMATIVE", "PARALLEL_FLOOR", "Target", "Measurement", "Reference", "REFERENCE", "Yardstick",
+           "parallel_gauge", "median_interval", "interval_rank", "verdict", "settled", "per_call", "time_calls",
+           "SelfTimed", "Figure", "measure_all", "measure", "reference_cost"]
 
 #: Seconds of rounds a figure with a target may take before it is judged as it stands (a
 #: figure without one gets a third of it, ``stewart bench --budget``).
@@ -153,11 +154,8 @@ class Measurement(NamedTuple):
         gauge = float(np.median(gauges)) if gauges else None
         return cls(float(np.median(values)), float(low), float(high), len(values), seconds, gauge)
 
-    def scaled(self, factor: float) -> "Measurement":
-        """The figure in another unit (``factor`` > 0)."""
-        return self._replace(median=self.median * factor, low=self.low * factor, high=self.high * factor)
-
     def verdict(self, target: Target) -> str:
+        """``met``, ``missed`` or ``unsettled`` (:func:`verdict`)."""
         return verdict(target, self.low, self.high, self.gauge)
 
 
@@ -316,7 +314,7 @@ class Yardstick:
     while they compute) over arrays of :data:`SIZE` doubles allocated once (64 KiB each,
     within a core's L2 cache). On two threads, this thread and a second one (started once)
     each run :data:`CALLS_EACH` calls on arrays of their own: the gauge of a figure needing
-    both cores (:func:`gauge`).
+    both cores (:func:`parallel_gauge`).
     It shares nothing with the code under test, so no change there can move it; its cost on
     the reference machine is :data:`REFERENCE`."""
 
@@ -350,7 +348,7 @@ class Yardstick:
         other.result()
 
 
-def gauge(one: float, two: float) -> float:
+def parallel_gauge(one: float, two: float) -> float:
     """The machine's two-thread speed-up from the seconds of a call of the yardstick on one
     thread and of a call on two (:attr:`Yardstick.CALLS_EACH` calls on each): about 2 with
     both cores free, 1 when the two threads take turns on one core."""
