@@ -47,11 +47,10 @@ def _build(tmp: pathlib.Path) -> None:
     shutil.rmtree(build)
 
 
-#: Rounds of the generation (about 10 s each) and of the clean build (about 45 s), and
-#: seconds of the yardstick's sides beside them.
+#: Rounds of the generation (about 10 s each) and of the clean build (about 45 s, so one:
+#: its interval is that round's value).
 GENERATION_ROUNDS = 2
 BUILD_ROUNDS = 1
-ANCHOR_SECONDS = 0.05
 
 
 def generation_figures(rounds: bench.Rounds) -> dict:
@@ -59,9 +58,8 @@ def generation_figures(rounds: bench.Rounds) -> dict:
     against the yardstick with the gauge (both use both cores)."""
     with tempfile.TemporaryDirectory() as tmp:
         tmp = pathlib.Path(tmp)
-        both = dict(unit=1.0, both_cores=True, numbers=[1, None, None], seconds=ANCHOR_SECONDS)
-        rounds.absolute("generation_s", lambda: _generate(tmp), min_rounds=GENERATION_ROUNDS, **both)
-        rounds.absolute("clean_build_s", lambda: _build(tmp), min_rounds=BUILD_ROUNDS, **both)
+        rounds.job("generation_s", lambda: _generate(tmp), GENERATION_ROUNDS)
+        rounds.job("clean_build_s", lambda: _build(tmp), BUILD_ROUNDS)
         out = bench.figures_of(rounds.measure())
     # Cython writes stewart/_kernel.c next to the .pyx; nothing else of the build is kept.
     return out

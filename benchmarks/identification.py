@@ -21,9 +21,8 @@ SAMPLES = 100_000
 SECONDS = 3.0
 TARGET = Target(SECONDS, True)
 RATE = 1000.0
-#: Rounds of the identification (a few seconds each), and seconds of the yardstick's sides.
+#: Rounds of the identification (a few seconds each).
 ROUNDS = 3
-ANCHOR_SECONDS = 0.05
 
 
 def figures(preset: str = "narayan2017", samples: int = SAMPLES, rounds: bench.Rounds | None = None) -> dict:
@@ -34,8 +33,7 @@ def figures(preset: str = "narayan2017", samples: int = SAMPLES, rounds: bench.R
     log = synthetic_measurements(plat, design.trajectory, rate=RATE, noise_length=1e-6, noise_force=0.2)
     log = type(log)(log.t[:samples], log.lengths[:samples], log.forces[:samples])
     base = base_parameters(plat)
-    rounds.absolute("identify_s", lambda: identify(plat, log, base=base), unit=1.0, both_cores=True, target=TARGET,
-                    numbers=[1, None, None], seconds=ANCHOR_SECONDS, min_rounds=ROUNDS)
+    rounds.job("identify_s", lambda: identify(plat, log, base=base), ROUNDS, target=TARGET)
     rounds.absolute("base_parameters_s", lambda: base_parameters(plat), unit=1.0)
     return {"preset": preset, "samples": len(log.t), **bench.figures_of(rounds.measure())}
 

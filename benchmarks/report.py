@@ -47,8 +47,8 @@ def our_rows(results: dict) -> list[tuple[str, str, str, str, str]]:
     gen = results.get("generation")
     if gen:
         out += [
-            bench.measure_row("generation (python -m codegen)", "generation_s", bench.as_measurement(gen, "generation_s"),
-                              1.0, "s", ".2f"),
+            bench.measure_row("generation (python -m codegen)", "generation_s",
+                              bench.as_measurement(gen, "generation_s"), 1.0, "s", ".2f"),
             bench.measure_row("clean build of the extension", "clean_build_s",
                               bench.as_measurement(gen, "clean_build_s"), 1.0, "s", ".1f"),
         ]

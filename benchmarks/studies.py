@@ -14,7 +14,7 @@ import numpy as np
 
 import stewart
 from stewart.cli import bench
-from stewart.cli.interleaved import Target, parallel_gauge
+from stewart.cli.interleaved import ANCHOR_SECONDS, Target, parallel_gauge
 from stewart.studies import envelope, execution
 
 from .report import target_table
@@ -41,10 +41,9 @@ def _noop(chunk):
 
 
 #: Rounds of the throughput comparison (each runs the envelope in process and on the cluster),
-#: and of the large envelope; seconds of the yardstick's sides beside them.
+#: and of the large envelope.
 RUNS = 5
 LARGE_RUNS = 2
-ANCHOR_SECONDS = 0.05
 CLUSTER_TARGET = Target(CLUSTER_RATIO, False, "in process")
 LARGE_TARGET = Target(LARGE_SECONDS, True)
 
@@ -64,7 +63,6 @@ def figures(preset: str = "narayan2017", states: int = STATES, large: int = LARG
     job, _ = envelope.study_job(params, box, states)
     chunk = execution.chunks(execution.DEFAULT_CHUNK_SIZE, execution.DEFAULT_CHUNK_SIZE, 0)[0]
     out = {"preset": preset, "states": states, "chunk_size": execution.DEFAULT_CHUNK_SIZE, "large_states": large}
-    both = dict(both_cores=True, numbers=[1, None, None], seconds=ANCHOR_SECONDS)
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
             Client(cluster) as client:
         execution.run(job, 4 * execution.DEFAULT_CHUNK_SIZE, seed=0, client=client, progress=False)  # warm up
@@ -73,8 +71,8 @@ def figures(preset: str = "narayan2017", states: int = STATES, large: int = LARG
         rounds.add("ratio", [local, remote, rounds.one, rounds.two], lambda tl, tr, y, y2: tl / tr,
                    gauge=lambda tl, tr, y, y2: parallel_gauge(y, y2), target=CLUSTER_TARGET, numbers=[1, 1, None, None],
                    seconds=ANCHOR_SECONDS, min_rounds=RUNS)
-        rounds.absolute("large_s", lambda: envelope.envelope(params, box, samples=large, progress=False), unit=1.0,
-                        target=LARGE_TARGET, min_rounds=LARGE_RUNS, **both)
+        rounds.job("large_s", lambda: envelope.envelope(params, box, samples=large, progress=False), LARGE_RUNS,
+                   target=LARGE_TARGET)
         rounds.absolute("chunk_s", lambda: job(chunk), unit=1.0)
         out.update(bench.figures_of(rounds.measure()))
         start = time.perf_counter()

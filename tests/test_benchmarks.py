@@ -339,7 +339,8 @@ def test_studies_rows_mark_the_targets():
 
     fig = {"local_states_per_s": 7.0e6, "cluster_states_per_s": 6.0e6, "large_states": 10**7, "chunk_size": 100_000,
            "task_overhead_s": 0.0018, **bench.figures_of({
-               "ratio": Measurement(6.0 / 7.0, 0.84, 0.87, 5, (), 1.9), "large_s": Measurement(1.5, 1.4, 1.6, 2, (), 1.9),
+               "ratio": Measurement(6.0 / 7.0, 0.84, 0.87, 5, (), 1.9),
+               "large_s": Measurement(1.5, 1.4, 1.6, 2, (), 1.9),
                "chunk_s": Measurement(0.028, 0.027, 0.029, 9)})}
     rows = {row[0]: row[1:] for row in studies.rows(fig)}
     ratio = "envelope, 2-worker LocalCluster (Dask's defaults) over in process (2 threads)"

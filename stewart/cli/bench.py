@@ -26,8 +26,8 @@ from stewart.model.stiffness import lowest_frequency
 from stewart.oracles import reference
 from stewart.oracles.physics import relative_error
 
-from .interleaved import (BUDGET, PARALLEL_FLOOR, REFERENCE, Figure, Measurement, Target, Yardstick,
-                          measure_all, parallel_gauge, time_calls)
+from .interleaved import (ANCHOR_SECONDS, BUDGET, PARALLEL_FLOOR, REFERENCE, Figure, Measurement, Target,
+                          Yardstick, measure_all, parallel_gauge, time_calls)
 
 __all__ = ["TARGETS", "Target", "Measurement", "Rounds", "median_time", "states", "kernel_figures",
            "simulation_figures", "derivative_figures", "derivative_ratio_figures", "general_model_figures",
@@ -104,8 +104,15 @@ class Rounds:
         if not both_cores:
             self.add(key, [fn, self.one], lambda t, y: t / y * scale, **options)
         else:
-            self.add(key, [fn, self.one, self.two], lambda t, y, y2: t / y * scale, gauge=lambda t, y, y2: parallel_gauge(y, y2),
-                     **options)
+            self.add(key, [fn, self.one, self.two], lambda t, y, y2: t / y * scale,
+                     gauge=lambda t, y, y2: parallel_gauge(y, y2), **options)
+
+    def job(self, key: str, fn: Callable, rounds: int, unit: float = 1.0, **options) -> None:
+        """A job of seconds that may use both cores (one call a round, at least ``rounds``
+        rounds) against :data:`~.interleaved.ANCHOR_SECONDS` of the yardstick on one thread and
+        on two, in ``unit`` at the reference machine's speed, with the gauge."""
+        self.absolute(key, fn, unit=unit, both_cores=True, numbers=[1, None, None], seconds=ANCHOR_SECONDS,
+                      min_rounds=rounds, **options)
 
     def rate(self, key: str, fn: Callable, per: float, **options) -> None:
         """``per`` over the seconds of ``fn`` (on two threads), at the reference machine's speed (as
@@ -410,7 +417,8 @@ DERIVATIVE_MEASURES = [("RK4 step, C batch loop", "batch_rk4_step_us", 1.0, "us/
          "", ".1e"),
     )
 ] + [(f"{what} over {name}, C batch loop, {path}", f"derivative_ratio_{name}_{path}", 1.0, "x", ".2f")
-     for name, what in (("inverse_dynamics", "tau and its 3 Jacobians"), ("forward_dynamics", "xdd and its 3 Jacobians"))
+     for name, what in (("inverse_dynamics", "tau and its 3 Jacobians"),
+                        ("forward_dynamics", "xdd and its 3 Jacobians"))
      for path in RATIO_PATHS]
 
 

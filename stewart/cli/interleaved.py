@@ -46,10 +46,10 @@ from typing import Callable, NamedTuple, Sequence
 
 import numpy as np
 
-__all__ = ["BUDGET", "ROUND_SECONDS", "LONG_SECONDS", "WARM_LIMIT", "MIN_ROUNDS", "MAX_ROUNDS", "CONFIDENCE",
-           "INFORMATIVE", "PARALLEL_FLOOR", "Target", "Measurement", "Reference", "REFERENCE", "Yardstick",
-           "parallel_gauge", "median_interval", "interval_rank", "verdict", "settled", "per_call", "time_calls",
-           "SelfTimed", "Figure", "measure_all", "measure", "reference_cost"]
+__all__ = ["BUDGET", "ROUND_SECONDS", "LONG_SECONDS", "ANCHOR_SECONDS", "WARM_LIMIT", "MIN_ROUNDS", "MAX_ROUNDS",
+           "CONFIDENCE", "INFORMATIVE", "PARALLEL_FLOOR", "Target", "Measurement", "Reference", "REFERENCE",
+           "Yardstick", "parallel_gauge", "median_interval", "interval_rank", "verdict", "settled", "per_call",
+           "time_calls", "SelfTimed", "Figure", "measure_all", "measure", "reference_cost"]
 
 #: Seconds of rounds a figure with a target may take before it is judged as it stands (a
 #: figure without one gets a third of it, ``stewart bench --budget``).
@@ -58,6 +58,10 @@ BUDGET = 3.0
 ROUND_SECONDS = 2e-4
 #: Longest a side of a round is stretched to last as long as the slowest side's call.
 LONG_SECONDS = 0.25
+#: Seconds of the yardstick's sides beside a job of seconds (generation, a build, an
+#: identification): long enough that they get, as the job does, the average share of a busy
+#: machine, not the luck of one time slice.
+ANCHOR_SECONDS = 0.5
 #: Calls shorter than this are made once untimed before each timing of their side.
 WARM_LIMIT = 5e-3
 #: Rounds before any figure is judged (the 90 % interval of the median of 9 values is
