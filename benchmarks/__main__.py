@@ -3,9 +3,14 @@ peers (CasADi, sympy's autowrap and PyDy, MuJoCo), measured side by side in one 
 
 Prints the tables, writes the figures as JSON (``--json``, default
 ``out/benchmarks.json``) and a bar chart of ours against the peers
-(``out/benchmarks_peers.png``). Every timing is the median of several repeats; ratios are
-taken between figures measured in this same run, on the same states. Peers that are not
-installed (``pip install .[peers]``) are skipped and named.
+(``out/benchmarks_peers.png``). Every figure with a target is measured in interleaved
+rounds against an anchor in this process (:mod:`stewart.cli.interleaved`): the code it is
+compared with, or the yardstick for an absolute figure; it is the median of its rounds, with
+the 90 % interval of that median, and its target is met, missed, or unsettled when the
+interval straddles the bound. The last line counts the three over every table; with
+``--strict`` the exit status is 1 unless every target is met. The peers' figures (no
+targets) are medians of repeats, on the same states. Peers that are not installed
+(``pip install .[peers]``) are skipped and named.
 """
 
 from __future__ import annotations
@@ -15,6 +20,7 @@ import datetime
 import json
 import pathlib
 import re
+import shutil
 import subprocess
 import sys
 import tempfile
@@ -22,6 +28,7 @@ import time
 
 import stewart
 from stewart.cli import bench
+from stewart.cli.options import non_negative
 
 from . import batch_loop, calibration, cueing, identification, report, studies
 from .peers.common import peer_available
@@ -29,21 +36,31 @@ from .peers.common import peer_available
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 
 
-def generation_figures() -> dict:
-    """Generation time (``python -m codegen``) and a clean build of the extension."""
-    out = {}
+def _generate(tmp: pathlib.Path) -> None:
+    subprocess.run([sys.executable, "-m", "codegen", "--out", str(tmp)], cwd=ROOT, check=True, capture_output=True)
+
+
+def _build(tmp: pathlib.Path) -> None:
+    build = tmp / "build"
+    subprocess.run([sys.executable, "setup.py", "-q", "build_ext", "--force", "--build-lib", str(build / "lib"),
+                    "--build-temp", str(build / "temp")], cwd=ROOT, check=True, capture_output=True)
+    shutil.rmtree(build)
+
+
+#: Rounds of the generation (about 10 s each) and of the clean build (about 45 s, so one:
+#: its interval is that round's value).
+GENERATION_ROUNDS = 2
+BUILD_ROUNDS = 1
+
+
+def generation_figures(rounds: bench.Rounds) -> dict:
+    """Generation time (``python -m codegen``) and a clean build of the extension, each
+    against the yardstick with the gauge (both use both cores)."""
     with tempfile.TemporaryDirectory() as tmp:
-        start = time.perf_counter()
-        subprocess.run([sys.executable, "-m", "codegen", "--out", tmp], cwd=ROOT, check=True, capture_output=True)
-        out["generation_s"] = time.perf_counter() - start
-        build = pathlib.Path(tmp) / "build"
-        start = time.perf_counter()
-        subprocess.run(
-            [sys.executable, "setup.py", "-q", "build_ext", "--force", "--build-lib", str(build / "lib"),
-             "--build-temp", str(build / "temp")],
-            cwd=ROOT, check=True, capture_output=True,
-        )
-        out["clean_build_s"] = time.perf_counter() - start
+        tmp = pathlib.Path(tmp)
+        rounds.job("generation_s", lambda: _generate(tmp), GENERATION_ROUNDS)
+        rounds.job("clean_build_s", lambda: _build(tmp), BUILD_ROUNDS)
+        out = bench.figures_of(rounds.measure())
     # Cython writes stewart/_kernel.c next to the .pyx; nothing else of the build is kept.
     return out
 
@@ -111,12 +128,19 @@ def peer_figures(names, batch: int, jacobian_compile_cap_s: float = JACOBIAN_COM
     return out
 
 
-def main(argv=None) -> None:
-    parser = argparse.ArgumentParser(prog="python -m benchmarks", description=__doc__)
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(prog="python -m benchmarks", description=__doc__,
+                                     formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("--json", default=str(ROOT / "out" / "benchmarks.json"), help="where to write the figures")
-    parser.add_argument("--batch", type=int, default=200_000, help="states per batch (default 200000)")
+    parser.add_argument("--batch", type=int, default=200_000,
+                        help="states of the large batch the two-thread figures run (default 200000)")
     parser.add_argument("--presets", type=lambda v: [p.strip() for p in v.split(",") if p.strip()], default=None,
                         help="comma-separated presets to time (default: all)")
+    parser.add_argument("--budget", type=non_negative, default=bench.BUDGET, metavar="S",
+                        help="seconds of rounds a figure with a target may take before it is judged as it stands "
+                             f"(default {bench.BUDGET:g}; a figure without one gets a third)")
+    parser.add_argument("--strict", action="store_true",
+                        help="exit with status 1 unless every target is met (a missed or unsettled one fails)")
     parser.add_argument("--skip-build", action="store_true", help="skip the generation and clean-build timings")
     parser.add_argument("--peers", default=",".join(PEERS),
                         help=f"comma-separated peers to compare ({','.join(PEERS)}; 'none' for none)")
@@ -130,41 +154,46 @@ def main(argv=None) -> None:
     if unknown:
         parser.error(f"--peers: unknown peer(s) {unknown}; choose from {list(PEERS)}")
 
+    started = time.perf_counter()
+    rounds = bench.Rounds(args.budget)
     results = {
         "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
         "machine": report.machine(),
+        "budget_s": args.budget,
         "kernel": {},
     }
     for preset in args.presets or sorted(stewart.presets()):
-        print(f"[bench] kernel, reference and simulation loop, {preset} ...", flush=True)
-        results["kernel"][preset] = bench.kernel_figures(preset, args.batch)
-        results["kernel"][preset].update(bench.simulation_figures(preset))
-        print(f"[bench] general model against the paper's, {preset} ...", flush=True)
-        results["kernel"][preset].update(bench.general_model_figures(preset, args.batch))
-        print(f"[bench] exact derivatives and finite differences, {preset} ...", flush=True)
-        results["kernel"][preset].update(bench.derivative_figures(preset, min(args.batch, bench.DERIVATIVE_BATCH)))
-        print(f"[bench] modes at one pose and a map of the lowest frequency, {preset} ...", flush=True)
-        results["kernel"][preset].update(bench.modal_figures(preset))
+        print(f"[bench] kernel, reference, simulation loop, general model, derivatives, modes: {preset} ...",
+              flush=True)
+        results["kernel"][preset] = bench.figures_of(bench.preset_figures(preset, args.batch, rounds))
     print("[bench] batch functions against the single-state ones, C loop ...", flush=True)
-    results["batch_loop"] = batch_loop.figures("narayan2017", min(args.batch, 100_000))
+    results["batch_loop"] = batch_loop.figures("narayan2017", min(args.batch, 100_000), rounds)
     if peer_available("distributed"):
         print("[bench] envelopes in process and on a 2-worker Dask LocalCluster ...", flush=True)
-        results["studies"] = studies.figures("narayan2017")
+        results["studies"] = studies.figures("narayan2017", rounds=rounds)
     else:
         print("[bench] studies: skipped, dask.distributed not installed (pip install '.[cluster]')", flush=True)
     print("[bench] identification from a long log ...", flush=True)
-    results["identification"] = identification.figures("narayan2017")
+    results["identification"] = identification.figures("narayan2017", rounds=rounds)
     print("[bench] kinematic calibration from 200 poses ...", flush=True)
-    results["calibration"] = calibration.figures("narayan2017")
+    results["calibration"] = calibration.figures("narayan2017", rounds=rounds)
     print("[bench] MPC cueing, time per step ...", flush=True)
-    results["cueing"] = cueing.figures("motion_simulator")
+    results["cueing"] = cueing.figures("motion_simulator", rounds=rounds)
     if not args.skip_build:
         print("[bench] generation and clean build ...", flush=True)
-        results["generation"] = generation_figures()
+        results["generation"] = generation_figures(rounds)
     results["code"] = code_figures()
+    results["ours_s"] = time.perf_counter() - started
     results["peers"] = peer_figures(peers, args.batch, args.jacobian_compile_cap)
     table_rows = report.our_rows(results)
-    results["targets"] = report.targets(table_rows)
+    tables = [table_rows, batch_loop.rows(results["batch_loop"])] + [
+        module.rows(results[name]) for name, module in (("studies", studies), ("identification", identification),
+                                                        ("calibration", calibration), ("cueing", cueing))
+        if name in results]
+    every = [row for table in tables for row in table]
+    results["targets"] = report.targets(every)
+    print()
+    print(bench.yardstick_line(rounds))
     print()
     print(bench.format_table(table_rows))
     print()
@@ -194,6 +223,8 @@ def main(argv=None) -> None:
     if results["peers"]:
         chart = report.chart(results["peers"], args.chart)
         print(f"chart written to {chart}" if chart else "no chart (needs matplotlib and at least one peer)")
+    print(f"\nour figures took {results['ours_s'] / 60:.1f} min; every table's {bench.count_verdicts(every)}")
+    return 1 if args.strict and any(t["verdict"] != "met" for t in results["targets"]) else 0
 
 
 PEER_NOTES = """
@@ -218,4 +249,4 @@ Python per state, at rest poses."""
 
 
 if __name__ == "__main__":
-    main()
+    sys.exit(main())

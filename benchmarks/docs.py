@@ -17,7 +17,7 @@ command that produced it:
     (:func:`benchmarks.peers.mujoco_model.export_figures`; needs MuJoCo);
 ``performance`` (``docs/performance.md``)
     our own rows of the last ``make bench`` run, read from its JSON figures
-    (``out/benchmarks.json``), each target marked met or missed;
+    (``out/benchmarks.json``), each target met, missed or unsettled;
 ``exactness`` (``docs/exactness.md``)
     what ``stewart exactness`` measures for both presets (the legs' spin), as one table.
 
@@ -45,7 +45,7 @@ PAGES = {"validate": "checks.md", "checks": "checks.md", "mujoco": "mujoco.md",
 #: The presets ``make validate`` reports on, in its order.
 VALIDATE_PRESETS = ("narayan2017", "motion_simulator")
 #: The preset whose kernel rows the performance page's table shows (all presets count
-#: in its line of targets met and missed).
+#: in its line of targets met, missed and unsettled).
 PERFORMANCE_PRESET = "narayan2017"
 _SUMMARY = "figures reached (worst case per check)"
 
@@ -166,13 +166,16 @@ def summary_table(pytest_output: str) -> list[str]:
 
 
 def performance_block(path: pathlib.Path) -> str:
-    """Our rows of a ``make bench`` run (its JSON figures) as a Markdown table."""
+    """Our rows of a ``make bench`` run (its JSON figures) as a Markdown table, and the count
+    of its targets met, missed and unsettled over every table."""
+    from stewart.cli.bench import count_verdicts
+
     from .report import our_rows
 
     results = json.loads(path.read_text())
     if "date" not in results or "machine" not in results:
         raise SystemExit(f"{path}: no date or machine; rerun make bench")
-    from . import calibration, cueing, identification, studies
+    from . import batch_loop, calibration, cueing, identification, studies
 
     rows = our_rows(results)
     # The studies (envelopes in process and on Dask), the identification, the calibration and MPC cueing.
@@ -183,14 +186,15 @@ def performance_block(path: pathlib.Path) -> str:
     shown = [(m[len(prefix):], *rest) for m, *rest in rows if m.startswith(prefix)]
     shown += [r for r in rows if not r[0].startswith("[") and (
         not r[0].startswith("operations:") or r[0].endswith(("inverse_dynamics_axisym", "forward_dynamics_axisym")))]
-    missed = [r[0] for r in rows if r[3] == "MISSED"]
-    met = sum(r[3] == "met" for r in rows)
+    every = rows + (batch_loop.rows(results["batch_loop"]) if "batch_loop" in results else [])
     lines = [f"Sample output of `make bench` ({PERFORMANCE_PRESET} rows), {results['date']}, "
-             f"{machine_line(results['machine'])}; a machine shared with other jobs:", "",
-             f"| measure ({PERFORMANCE_PRESET}) | median | target | met? |", "|---|---|---|---|"]
-    lines += [f"| {_cell(m)} | {v} | {t} | {verdict} |" for m, v, t, verdict in shown]
-    lines += ["", f"Targets over every preset in that run: {met} met, {len(missed)} missed"
-              + (f" ({'; '.join(missed)})." if missed else ".")]
+             f"{machine_line(results['machine'])}; a machine shared with other jobs. Absolute figures are at "
+             "the reference machine's speed (measured against the yardstick); the interval is the 90 % "
+             "confidence interval of the median over the rounds counted beside it:", "",
+             f"| measure ({PERFORMANCE_PRESET}) | median | 90% interval (rounds) | target | verdict |",
+             "|---|---|---|---|---|"]
+    lines += [f"| {' | '.join(_cell(c) for c in row)} |" for row in shown]
+    lines += ["", f"Over every table of that run (every preset, the batch loop): {count_verdicts(every)}."]
     return "\n".join(lines)
 
 

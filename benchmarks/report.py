@@ -1,4 +1,4 @@
-"""The tables of a bench run (ours with each target met or missed, and the peer
+"""The tables of a bench run (ours with each target met, missed or unsettled, and the peer
 comparison) and the peers' bar chart (``python -m benchmarks``)."""
 
 from __future__ import annotations
@@ -39,28 +39,34 @@ def machine() -> dict:
             "load_average": os.getloadavg()[0] if hasattr(os, "getloadavg") else None}
 
 
-def our_rows(results: dict) -> list[tuple[str, str, str, str]]:
-    """(measure, median, target, met/MISSED) rows of our own figures."""
+def our_rows(results: dict) -> list[tuple[str, str, str, str, str]]:
+    """(measure, median, spread, target, verdict) rows of our own figures."""
     out = []
     for preset, fig in results["kernel"].items():
         out += bench.kernel_rows(preset, fig)
     gen = results.get("generation")
     if gen:
         out += [
-            bench.measure_row("generation (python -m codegen)", "generation_s", gen["generation_s"], 1.0, "s", ".2f"),
-            bench.measure_row("clean build of the extension", "clean_build_s", gen["clean_build_s"], 1.0, "s", ".1f"),
+            bench.measure_row("generation (python -m codegen)", "generation_s",
+                              bench.as_measurement(gen, "generation_s"), 1.0, "s", ".2f"),
+            bench.measure_row("clean build of the extension", "clean_build_s",
+                              bench.as_measurement(gen, "clean_build_s"), 1.0, "s", ".1f"),
         ]
     code = results["code"]
-    out.append(("generated C", f"{code['generated_c_bytes'] / 1024:.0f} KiB, {code['generated_c_lines']} lines", "", ""))
+    out.append(("generated C", f"{code['generated_c_bytes'] / 1024:.0f} KiB, {code['generated_c_lines']} lines", "",
+                "", ""))
     for name, count in code["operation_counts"].items():
-        out.append((f"operations: {name}", str(count), "", ""))
+        out.append((f"operations: {name}", str(count), "", "", ""))
     return out
 
 
 def targets(table_rows) -> list[dict]:
-    """Every row with a target, for the JSON figures."""
-    return [{"measure": m, "median": v, "target": t, "met": verdict == "met"}
-            for m, v, t, verdict in table_rows if t]
+    """Every row with a target, for the JSON figures: its measure, figure, spread, target and
+    verdict (met, missed or unsettled); a row's first entry is its measure and its last four
+    its figure, spread, target and verdict."""
+    words = {spelling: word for word, spelling in bench.VERDICTS.items()}
+    return [{"measure": r[0], "figure": r[-4], "spread": r[-3], "target": r[-2], "verdict": words[r[-1]]}
+            for r in table_rows if r[-2]]
 
 
 #: (section, key in figures, what, key of ours, key of the peer, unit)
@@ -234,9 +240,9 @@ def _optimization_rows(opt: dict | None) -> list[tuple[str, str, str, str]]:
 
 
 def target_table(rows) -> str:
-    """``(measure, figure, target, met)`` rows as a Markdown table under a header."""
-    table = [("measure", "figure", "target", "")] + list(rows)
-    widths = [max(len(r[k]) for r in table) for k in range(4)]
+    """``(measure, figure, spread, target, verdict)`` rows as a Markdown table under a header."""
+    table = [("measure", "figure", "90% interval (rounds)", "target", "verdict")] + list(rows)
+    widths = [max(len(r[k]) for r in table) for k in range(5)]
     return "\n".join("| " + " | ".join(c.ljust(w) for c, w in zip(r, widths)) + " |" for r in table)
 
 

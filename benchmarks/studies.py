@@ -1,8 +1,9 @@
 """Speed of chunked studies (``python -m benchmarks.studies``, and in ``make bench``): an
 envelope (:mod:`stewart.studies.envelope`, a box with velocity and acceleration bounds) in this
 process and on a 2-worker Dask ``LocalCluster``, an envelope of 10^7 states, the cost of
-one chunk and Dask's overhead per task, each target marked met or missed, and from these
-the estimate of a large sweep on a cluster (:func:`estimate`)."""
+one chunk and Dask's overhead per task, each target met, missed or unsettled (rounds against
+their anchors, :mod:`stewart.cli.interleaved`), and from these the estimate of a large sweep
+on a cluster (:func:`estimate`)."""
 
 from __future__ import annotations
 
@@ -13,7 +14,10 @@ import numpy as np
 
 import stewart
 from stewart.cli import bench
+from stewart.cli.interleaved import ANCHOR_SECONDS, Target, parallel_gauge
 from stewart.studies import envelope, execution
+
+from .report import target_table
 
 #: States of the throughput runs, and of the large envelope.
 STATES = 10_000_000
@@ -22,7 +26,7 @@ LARGE = 10_000_000
 LARGE_SECONDS = 5.0
 #: Least throughput of the 2-worker LocalCluster as a fraction of the in-process run.
 CLUSTER_RATIO = 0.85
-#: Tasks of the Dask overhead measurement.
+#: Tasks of the Dask overhead measurement (one timing: a figure without a target).
 OVERHEAD_TASKS = 400
 
 
@@ -32,71 +36,68 @@ def _box(params) -> envelope.Box:
     return envelope.Box(home - offsets, home + offsets, np.full(6, 0.1), np.full(6, 1.0))
 
 
-def _rate(fn, states: int) -> float:
-    start = time.perf_counter()
-    fn()
-    return states / (time.perf_counter() - start)
-
-
 def _noop(chunk):
     return chunk.size
 
 
-#: Alternated runs of the throughput comparison (the median of each side is reported).
+#: Rounds of the throughput comparison (each runs the envelope in process and on the cluster),
+#: and of the large envelope.
 RUNS = 5
+LARGE_RUNS = 2
+CLUSTER_TARGET = Target(CLUSTER_RATIO, False, "in process")
+LARGE_TARGET = Target(LARGE_SECONDS, True)
 
 
-def _cluster_rate(job, states: int) -> tuple[float, float, float]:
-    """Median states per second of ``job`` on a 2-worker LocalCluster (Dask's defaults: one
-    worker process with one thread per core) and in process, alternated, :data:`RUNS` runs
-    each; and Dask's wall time per task."""
+def figures(preset: str = "narayan2017", states: int = STATES, large: int = LARGE,
+            rounds: bench.Rounds | None = None) -> dict:
+    """The envelope's throughput on a 2-worker LocalCluster over its throughput in process
+    (Dask's defaults: one worker process with one thread per core), :data:`RUNS` rounds of
+    both, with the gauge; the time of an envelope of ``large`` states in process against the
+    yardstick, with the gauge; one chunk's time on one thread; and Dask's wall time per
+    task (one timing of :data:`OVERHEAD_TASKS` empty tasks, as measured)."""
     from distributed import Client, LocalCluster
 
+    rounds = rounds or bench.Rounds()
+    params = stewart.PlatformParams.preset(preset)
+    box = _box(params)
+    job, _ = envelope.study_job(params, box, states)
+    chunk = execution.chunks(execution.DEFAULT_CHUNK_SIZE, execution.DEFAULT_CHUNK_SIZE, 0)[0]
+    out = {"preset": preset, "states": states, "chunk_size": execution.DEFAULT_CHUNK_SIZE, "large_states": large}
     with LocalCluster(n_workers=2, threads_per_worker=1, processes=True, dashboard_address=None) as cluster, \
             Client(cluster) as client:
         execution.run(job, 4 * execution.DEFAULT_CHUNK_SIZE, seed=0, client=client, progress=False)  # warm up
-        local, remote = [], []
-        for _ in range(RUNS):
-            local.append(_rate(lambda: execution.run(job, states, seed=0, progress=False), states))
-            remote.append(_rate(lambda: execution.run(job, states, seed=0, client=client, progress=False), states))
+        local = lambda: execution.run(job, states, seed=0, progress=False)  # noqa: E731
+        remote = lambda: execution.run(job, states, seed=0, client=client, progress=False)  # noqa: E731
+        rounds.add("ratio", [local, remote, rounds.one, rounds.two], lambda tl, tr, y, y2: tl / tr,
+                   gauge=lambda tl, tr, y, y2: parallel_gauge(y, y2), target=CLUSTER_TARGET, numbers=[1, 1, None, None],
+                   seconds=ANCHOR_SECONDS, min_rounds=RUNS)
+        rounds.job("large_s", lambda: envelope.envelope(params, box, samples=large, progress=False), LARGE_RUNS,
+                   target=LARGE_TARGET)
+        rounds.absolute("chunk_s", lambda: job(chunk), unit=1.0)
+        out.update(bench.figures_of(rounds.measure()))
         start = time.perf_counter()
         execution.run(_noop, OVERHEAD_TASKS, chunk_size=1, client=client, progress=False)
-        overhead = (time.perf_counter() - start) / OVERHEAD_TASKS
-    return float(np.median(remote)), float(np.median(local)), overhead
-
-
-def figures(preset: str = "narayan2017", states: int = STATES, large: int = LARGE) -> dict:
-    """States per second in process and on a 2-worker LocalCluster; the time of an envelope of
-    ``large`` states; one chunk's time on one thread and Dask's wall time per task."""
-    params = stewart.PlatformParams.preset(preset)
-    box = _box(params)
-    job = envelope._EnvelopeJob(params, box)
-    chunk = execution.chunks(execution.DEFAULT_CHUNK_SIZE, execution.DEFAULT_CHUNK_SIZE, 0)[0]
-    out = {"preset": preset, "states": states, "chunk_size": execution.DEFAULT_CHUNK_SIZE,
-           "chunk_s": bench.median_time(lambda: job(chunk), 1, 5)}
-    out["cluster_states_per_s"], out["local_states_per_s"], out["task_overhead_s"] = _cluster_rate(job, states)
-    out["ratio"] = out["cluster_states_per_s"] / out["local_states_per_s"]
-    start = time.perf_counter()
-    envelope.envelope(params, box, samples=large, progress=False)
-    out["large_states"], out["large_s"] = large, time.perf_counter() - start
+        out["task_overhead_s"] = (time.perf_counter() - start) / OVERHEAD_TASKS
+    seconds = out["spread"]["ratio"]["seconds"]
+    out["local_states_per_s"], out["cluster_states_per_s"] = states / seconds[0], states / seconds[1]
     return out
 
 
-def _mark(ok: bool) -> str:
-    return "met" if ok else "MISSED"
-
-
-def rows(fig: dict) -> list[tuple[str, str, str, str]]:
-    """(measure, figure, target, met) rows."""
+def rows(fig: dict) -> list[tuple[str, str, str, str, str]]:
+    """(measure, figure, spread, target, verdict) rows."""
+    ratio = bench.measure_row("envelope, 2-worker LocalCluster (Dask's defaults) over in process (2 threads)",
+                              "ratio", bench.as_measurement(fig, "ratio"), 100.0, "%", ".0f", CLUSTER_TARGET)
     return [
-        ("envelope, in process (2 threads)", f"{fig['local_states_per_s'] / 1e6:.3f} M states/s", "", ""),
-        ("envelope, 2-worker LocalCluster (Dask's defaults)",
-         f"{fig['cluster_states_per_s'] / 1e6:.3f} M states/s ({fig['ratio']:.0%} of in process)",
-         f">= {CLUSTER_RATIO:.0%}", _mark(fig["ratio"] >= CLUSTER_RATIO)),
-        (f"envelope of {fig['large_states']:.0e} states, in process", f"{fig['large_s']:.1f} s",
-         f"<= {LARGE_SECONDS:g} s", _mark(fig["large_s"] <= LARGE_SECONDS)),
-        (f"one chunk of {fig['chunk_size']} states, 1 thread", f"{fig['chunk_s'] * 1e3:.1f} ms", "", ""),
-        ("Dask wall time per task (2 workers)", f"{fig['task_overhead_s'] * 1e3:.2f} ms", "", ""),
+        ("envelope, in process (2 threads), as measured", f"{fig['local_states_per_s'] / 1e6:.3f} M states/s", "",
+         "", ""),
+        ("envelope, 2-worker LocalCluster (Dask's defaults), as measured",
+         f"{fig['cluster_states_per_s'] / 1e6:.3f} M states/s", "", "", ""),
+        ratio,
+        bench.measure_row(f"envelope of {fig['large_states']:.0e} states, in process", "large_s",
+                          bench.as_measurement(fig, "large_s"), 1.0, "s", ".1f", LARGE_TARGET),
+        bench.measure_row(f"one chunk of {fig['chunk_size']} states, 1 thread", "chunk_s",
+                          bench.as_measurement(fig, "chunk_s"), 1e3, "ms", ".1f"),
+        ("Dask wall time per task (2 workers), as measured", f"{fig['task_overhead_s'] * 1e3:.2f} ms", "", "", ""),
     ]
 
 
@@ -117,10 +118,7 @@ def estimate(fig: dict, designs: float = 1e4, states: float = 1e6, nodes: int = 
 
 
 def format_rows(fig: dict) -> str:
-    table = [("measure", "figure", "target", "")] + rows(fig)
-    widths = [max(len(r[k]) for r in table) for k in range(4)]
-    lines = ["| " + " | ".join(c.ljust(w) for c, w in zip(r, widths)) + " |" for r in table]
-    lines.append("")
+    lines = [target_table(rows(fig)), ""]
     lines.append("A sweep of 1e4 designs x 1e6 states on 100 nodes of 2 cores like this one:")
     for size in (fig["chunk_size"], 1e6):
         est = estimate(fig, chunk_size=size)

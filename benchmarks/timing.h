@@ -12,14 +12,6 @@ static double now(void) {
     return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
 }
 
-/* The calling thread's CPU time in seconds: what a loaded machine's other processes do not
- * add to (the time the thread waits for a core is not counted). */
-static double cpu_now(void) {
-    struct timespec t;
-    clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
-    return (double)t.tv_sec + 1e-9 * (double)t.tv_nsec;
-}
-
 /* qsort comparison of doubles, for medians. */
 static int cmp(const void *a, const void *b) {
     double x = *(const double *)a, y = *(const double *)b;

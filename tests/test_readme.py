@@ -7,8 +7,9 @@ session:
   order, in one temporary directory holding a copy of ``examples/`` (so a command may read
   what an earlier one wrote, as in a shell session), and exits with 0, or with the
   code its comment names ("exit code 3"). ``stewart bench`` runs with ``--batch 2000
-  --preset narayan2017`` added (the full run takes minutes; every preset runs the same
-  code); its JSON and its table are checked here, the one run of the command in the suite.
+  --preset narayan2017 --budget 0`` added (the full run takes minutes; every preset runs the
+  same code, and each figure its least number of rounds); its JSON and its table are checked
+  here, the one run of the command in the suite.
   The numbers every other command prints or writes are compared with the Python API run on
   the same inputs, within the precision they are printed with (:data:`OUTPUT_CHECKS`).
 * Their ``python`` blocks run in order in one namespace (a page's examples continue the
@@ -539,7 +540,7 @@ def test_the_readme_shows_commands_on_the_shipped_examples():
 @pytest.mark.parametrize("line, argv, code", COMMANDS, ids=[line for line, _, _ in COMMANDS])
 def test_readme_command_runs(line, argv, code, in_examples_dir, capsys):
     if argv[:1] == ["bench"]:
-        argv = [*argv, "--batch", "2000", "--preset", "narayan2017"]
+        argv = [*argv, "--batch", "2000", "--preset", "narayan2017", "--budget", "0"]
     assert run_cli(argv) == code, capsys.readouterr()
     out, err = capsys.readouterr()
     if argv[:1] == ["bench"]:
@@ -555,7 +556,10 @@ def test_readme_command_runs(line, argv, code, in_examples_dir, capsys):
 
 def check_bench(argv, out: str, err: str) -> None:
     """``stewart bench --json``: stdout holds only the JSON, with the figures of every preset
-    measured (or of ``--preset``'s), and the table on stderr shows the same measurements."""
+    measured (or of ``--preset``'s), each with its interval and rounds, and the table on
+    stderr shows the same measurements and counts the targets met, missed and unsettled."""
+    from stewart.cli.bench import TARGETS
+
     assert "--json" in argv
     figures = json.loads(out)["figures"]
     assert sorted(figures) == ([option(argv, "--preset")] if option(argv, "--preset") else sorted(stewart.presets()))
@@ -564,7 +568,13 @@ def check_bench(argv, out: str, err: str) -> None:
         per_state = float(line.split("us/state")[0].split()[-1])
         assert 0 < per_state < 100  # microseconds per state, a real measurement
         assert per_state == pytest.approx(values["batch_inverse_dynamics_us"], rel=1e-3, abs=1e-3)
+        spread = values["spread"]["batch_inverse_dynamics_us"]
+        assert spread["low"] <= values["batch_inverse_dynamics_us"] <= spread["high"] and spread["rounds"] >= 9
+        assert f"{spread['low']:.3f}-{spread['high']:.3f} ({spread['rounds']})" in line
         assert f"[{preset}] 5 s move, RK4 at 1 kHz with PID" in err
+    counts = re.search(r"^targets: (\d+) met, (\d+) missed, (\d+) unsettled", err, re.M)
+    judged = [key for key in TARGETS for preset in figures if key in figures[preset]]
+    assert counts and sum(map(int, counts.groups())) == len(judged)
 
 
 _RAISES = re.compile(r"#\s*((?:\w+\.)*\w+(?:Error|Exception)):\s*(.*?)\s*$")

@@ -1,28 +1,45 @@
 """Speed of the compiled kernel and the simulation loop, measured side by side in one run
-(``stewart bench``). Timings are medians of repeats; ratios are taken within the run."""
+(``stewart bench``; ``make bench`` runs it with the other benchmarks).
+
+Every figure is measured in interleaved rounds against an anchor (:mod:`.interleaved`): a
+ratio against the code it is compared with (two threads against one, the general model
+against the paper's, the numeric reference against the kernel, the derivatives against the
+values), and an absolute figure (µs, ms, s, states a second) against the yardstick, whose
+cost on the reference machine turns the ratio into the figure's unit. The rounds of all the
+figures of a preset are interleaved too (:func:`.interleaved.measure_all`). Each figure is
+the median of its rounds with the 90 % interval of that median, and each target (written
+once, in :data:`TARGETS`) is met, missed, or unsettled when the interval straddles its bound.
+"""
 
 from __future__ import annotations
 
-import timeit
-from typing import NamedTuple
+import contextlib
+from typing import Callable, Sequence
 
 import numpy as np
 
 import stewart
 from stewart.model import kinematics
-from stewart.oracles import reference
 from stewart.model.compiled import LANES
-from stewart.oracles.physics import relative_error
 from stewart.model.presets import LEG_STIFFNESS
 from stewart.model.stiffness import lowest_frequency
+from stewart.oracles import reference
+from stewart.oracles.physics import relative_error
 
-__all__ = ["TARGETS", "Target", "median_time", "states", "thread_speedup", "kernel_figures", "simulation_figures",
-           "derivative_figures", "scalar_time", "general_model_figures", "general_model_params",
-           "forward_differences", "kernel_rows", "measure_row", "format_table", "modal_figures"]
+from .interleaved import (ANCHOR_SECONDS, BUDGET, PARALLEL_FLOOR, REFERENCE, Figure, Measurement, Target,
+                          Yardstick, measure_all, parallel_gauge, time_calls)
+
+__all__ = ["TARGETS", "Target", "Measurement", "Rounds", "median_time", "states", "kernel_figures",
+           "simulation_figures", "derivative_figures", "derivative_ratio_figures", "general_model_figures",
+           "general_model_params", "forward_differences", "kernel_rows", "measure_row", "format_table",
+           "count_verdicts", "spread_cell", "modal_figures", "preset_figures", "figures_of", "BUDGET", "VERDICTS"]
 
 
 def median_time(fn, number: int, repeat: int = 7) -> float:
-    """Median over ``repeat`` runs of the time per call of ``fn`` (``number`` calls a run)."""
+    """Median over ``repeat`` runs of the time per call of ``fn`` (``number`` calls a run):
+    for the peers' figures, which carry no target."""
+    import timeit
+
     return float(np.median(timeit.repeat(fn, number=number, repeat=repeat)) / number)
 
 
@@ -36,65 +53,156 @@ def states(params, n: int, seed: int = 0):
     return x, xd, xdd
 
 
-#: Poses of the timed map of the lowest frequency.
+#: The verdicts of a target, in the table's spelling.
+VERDICTS = {"met": "met", "missed": "MISSED", "unsettled": "unsettled"}
+#: States of a timed batch on one thread: its inputs and outputs stay in a core's L2 cache, a
+#: call (about 0.1 ms) stays short beside the scheduler's time slices, and the call's own
+#: work (about 1 µs) is a per cent of it.
+ROUND_BATCH = 1024
+#: States of a timed batch of each derivative function, for a call of about 0.25 ms (a
+#: longer call is interrupted by the machine's other jobs more often than not; and from
+#: 4096 states on, a call's fresh output pages cost more than its arithmetic).
+DERIVATIVE_ROUND = {"inverse_dynamics_derivatives": 256, "forward_dynamics_derivatives": 256,
+                    "rk4_step_jacobians": 64}
+#: States of a timed batch of the RK4 step.
+RK4_ROUND = 512
+#: Poses of the target's map of the lowest frequency, and of the map a round times.
 MODAL_MAP = 100_000
-
+MODAL_ROUND = 2_000
 #: The smallest batch the two-thread target covers.
 SMALL_BATCH = 10_000
 
 
-def thread_speedup(one, two, x, xd, xdd) -> float:
-    """Time of inverse dynamics on the batch with the Platform ``one`` over that with ``two``
-    (more threads), timed in alternation so that both see the same machine."""
-    times = np.array([[median_time(lambda: p.inverse_dynamics(x, xd, xdd), 5, 1) for p in (one, two)]
-                      for _ in range(7)])
-    return float(np.median(times[:, 0]) / np.median(times[:, 1]))
+class Rounds:
+    """The figures of one run, each a :class:`~.interleaved.Figure` against its anchor: the
+    yardstick (started once; on two threads too, the gauge of a figure needing both cores), or
+    another side given. Figures are added, then measured together (:meth:`measure`)."""
+
+    def __init__(self, budget: float = BUDGET):
+        self.budget = budget
+        self.one, self.two = Yardstick(1), Yardstick(2)
+        self.pending: dict[str, Figure] = {}
+
+    def add(self, key: str, sides: Sequence[Callable], value: Callable[..., float], target: Target | None = None,
+            **options) -> None:
+        """The figure ``key`` (its target in :data:`TARGETS`, unless ``target`` is given; a
+        figure without one gets a third of the budget)."""
+        target = target or TARGETS.get(key)
+        self.pending[key] = Figure(sides, value, target=target, budget=self.budget if target else self.budget / 3,
+                                   **options)
+
+    def ratio(self, key: str, a: Callable, b: Callable, per_a: float = 1, per_b: float = 1, **options) -> None:
+        """t_a / per_a over t_b / per_b."""
+        self.add(key, [a, b], lambda ta, tb: (ta / per_a) / (tb / per_b), **options)
+
+    def absolute(self, key: str, fn: Callable, per: float = 1, unit: float = 1e6, both_cores: bool = False,
+                 **options) -> None:
+        """Seconds of ``fn`` over ``per`` (states), in ``unit``, at the reference machine's speed: its
+        ratio to the yardstick times the yardstick's reference cost. ``both_cores``: ``fn`` runs
+        on two threads or processes, and the gauge is measured with it."""
+        scale = REFERENCE.seconds * unit / per
+        if not both_cores:
+            self.add(key, [fn, self.one], lambda t, y: t / y * scale, **options)
+        else:
+            self.add(key, [fn, self.one, self.two], lambda t, y, y2: t / y * scale,
+                     gauge=lambda t, y, y2: parallel_gauge(y, y2), **options)
+
+    def job(self, key: str, fn: Callable, rounds: int, unit: float = 1.0, **options) -> None:
+        """A job of seconds that may use both cores (one call a round, at least ``rounds``
+        rounds) against :data:`~.interleaved.ANCHOR_SECONDS` of the yardstick on one thread and
+        on two, in ``unit`` at the reference machine's speed, with the gauge."""
+        self.absolute(key, fn, unit=unit, both_cores=True, numbers=[1, None, None], seconds=ANCHOR_SECONDS,
+                      min_rounds=rounds, **options)
+
+    def rate(self, key: str, fn: Callable, per: float, **options) -> None:
+        """``per`` over the seconds of ``fn`` (on two threads), at the reference machine's speed (as
+        :meth:`absolute`), with the gauge."""
+        self.add(key, [fn, self.one, self.two], lambda t, y, y2: per / (t / y * REFERENCE.seconds),
+                 gauge=lambda t, y, y2: parallel_gauge(y, y2), **options)
+
+    def speedup(self, key: str, one: Callable, two: Callable, **options) -> None:
+        """``one`` (one thread) over ``two`` (two threads), with the gauge."""
+        self.add(key, [one, two, self.one, self.two], lambda t1, t2, y, y2: t1 / t2,
+                 gauge=lambda t1, t2, y, y2: parallel_gauge(y, y2), **options)
+
+    def measure(self) -> dict[str, Measurement]:
+        """Every figure added since the last call: those on one thread together, then those
+        needing both cores together (after a call on two threads, OpenMP's threads spin on
+        for a while, which would slow the next figure's first side)."""
+        out = {}
+        for both in (False, True):
+            keys = [key for key, figure in self.pending.items() if (figure.gauge is not None) == both]
+            out.update(zip(keys, measure_all([self.pending[key] for key in keys])))
+        self.pending = {}
+        return out
 
 
-def kernel_figures(preset: str, batch: int) -> dict:
+@contextlib.contextmanager
+def simd_path(path: str):
+    """The model on the SIMD path ``path`` (:func:`stewart.set_simd`) within the context."""
+    before = stewart.set_simd(path)
+    try:
+        yield
+    finally:
+        stewart.set_simd(before)
+
+
+def figures_of(measured: dict) -> dict:
+    """The figures for the JSON: each median by its key (other values as they are), and under
+    ``"spread"`` each figure's interval and rounds, the median seconds a call of each of its
+    sides and its gauge."""
+    out: dict = {key: m.median if isinstance(m, Measurement) else m for key, m in measured.items()}
+    out["spread"] = {key: {"low": m.low, "high": m.high, "rounds": m.rounds, "seconds": list(m.seconds),
+                           "gauge": m.gauge} for key, m in measured.items() if isinstance(m, Measurement)}
+    return out
+
+
+def kernel_figures(preset: str, batch: int, rounds: Rounds) -> None:
+    """One call from Python, the C batch loop per state (a batch of :data:`ROUND_BATCH`
+    states), two threads on ``batch`` states and on :data:`SMALL_BATCH`, and the numeric
+    reference against the kernel."""
     plat = stewart.Platform.preset(preset)
     both = stewart.Platform.preset(preset, threads=2)
     x, xd, xdd = states(plat.params, batch)
     tau = plat.inverse_dynamics(x, xd, xdd)
+    m = min(batch, ROUND_BATCH)
+    xs, xds, xdds, taus = x[:m], xd[:m], xdd[:m], tau[:m]
+    small = min(batch, SMALL_BATCH)
+    xm, xdm, xddm = x[:small], xd[:small], xdd[:small]
     one = (x[0], xd[0], xdd[0])
-    out = {
-        "single_inverse_dynamics_us": median_time(lambda: plat.inverse_dynamics(*one), 20000) * 1e6,
-        "single_forward_dynamics_us": median_time(lambda: plat.forward_dynamics(x[0], xd[0], tau[0]), 20000) * 1e6,
-        "batch_inverse_dynamics_us": median_time(lambda: plat.inverse_dynamics(x, xd, xdd), 3) / batch * 1e6,
-        "batch_forward_dynamics_us": median_time(lambda: plat.forward_dynamics(x, xd, tau), 3) / batch * 1e6,
-        "batch_mass_matrix_us": median_time(lambda: plat.mass_matrix(x), 3) / batch * 1e6,
-        "batch_coriolis_vector_us": median_time(lambda: plat.coriolis_vector(x, xd), 3) / batch * 1e6,
-        "threads2_inverse_dynamics_states_per_s": batch / median_time(lambda: both.inverse_dynamics(x, xd, xdd), 3),
-        "threads2_forward_dynamics_states_per_s": batch / median_time(lambda: both.forward_dynamics(x, xd, tau), 3),
-    }
-    # Two threads against one on the same batch, and on the smallest batch the target covers.
-    out["threads2_speedup_inverse_dynamics"] = (out["threads2_inverse_dynamics_states_per_s"]
-                                                * out["batch_inverse_dynamics_us"] * 1e-6)
-    out["threads2_speedup_inverse_dynamics_small"] = thread_speedup(plat, both, x[:SMALL_BATCH], xd[:SMALL_BATCH],
-                                                                    xdd[:SMALL_BATCH])
     n_ref = 200
-    ref_id = median_time(lambda: reference.inverse_dynamics(plat.params, x[:n_ref], xd[:n_ref], xdd[:n_ref]), 1, 5)
-    ref_single = median_time(lambda: reference.inverse_dynamics(plat.params, *one), 20, 5)
-    out["reference_batch_inverse_dynamics_us"] = ref_id / n_ref * 1e6
-    out["reference_single_inverse_dynamics_us"] = ref_single * 1e6
-    out["speedup_batch_vs_reference"] = out["reference_batch_inverse_dynamics_us"] / out["batch_inverse_dynamics_us"]
-    out["speedup_single_vs_reference"] = out["reference_single_inverse_dynamics_us"] / out["single_inverse_dynamics_us"]
-    return out
+    r = rounds
+    r.absolute("single_inverse_dynamics_us", lambda: plat.inverse_dynamics(*one))
+    r.absolute("single_forward_dynamics_us", lambda: plat.forward_dynamics(x[0], xd[0], tau[0]))
+    r.absolute("batch_inverse_dynamics_us", lambda: plat.inverse_dynamics(xs, xds, xdds), m)
+    r.absolute("batch_forward_dynamics_us", lambda: plat.forward_dynamics(xs, xds, taus), m)
+    r.absolute("batch_mass_matrix_us", lambda: plat.mass_matrix(xs), m)
+    r.absolute("batch_coriolis_vector_us", lambda: plat.coriolis_vector(xs, xds), m)
+    r.rate("threads2_inverse_dynamics_states_per_s", lambda: both.inverse_dynamics(x, xd, xdd), batch)
+    r.rate("threads2_forward_dynamics_states_per_s", lambda: both.forward_dynamics(x, xd, tau), batch)
+    r.speedup("threads2_speedup_inverse_dynamics", lambda: plat.inverse_dynamics(x, xd, xdd),
+              lambda: both.inverse_dynamics(x, xd, xdd))
+    r.speedup("threads2_speedup_inverse_dynamics_small", lambda: plat.inverse_dynamics(xm, xdm, xddm),
+              lambda: both.inverse_dynamics(xm, xdm, xddm))
+    ref_batch = lambda: reference.inverse_dynamics(plat.params, x[:n_ref], xd[:n_ref], xdd[:n_ref])  # noqa: E731
+    ref_single = lambda: reference.inverse_dynamics(plat.params, *one)  # noqa: E731
+    r.absolute("reference_batch_inverse_dynamics_us", ref_batch, n_ref)
+    r.absolute("reference_single_inverse_dynamics_us", ref_single)
+    r.ratio("speedup_single_vs_reference", ref_single, lambda: plat.inverse_dynamics(*one))
+    r.ratio("speedup_batch_vs_reference", ref_batch, lambda: plat.inverse_dynamics(xs, xds, xdds), n_ref, m)
 
 
-def modal_figures(preset: str) -> dict:
-    """Modes at one pose (:meth:`stewart.Platform.modes`) and the lowest frequency over a map of
-    :data:`MODAL_MAP` poses on two threads, on legs of the preset's
-    :data:`~stewart.model.presets.LEG_STIFFNESS`."""
+def modal_figures(preset: str, rounds: Rounds) -> None:
+    """Modes at one pose (:meth:`stewart.Platform.modes`), and the lowest frequency over a map
+    of :data:`MODAL_MAP` poses on two threads (timed on :data:`MODAL_ROUND` poses a round),
+    on legs of the preset's :data:`~stewart.model.presets.LEG_STIFFNESS`."""
     plat = stewart.Platform.preset(preset)
     both = stewart.Platform.preset(preset, threads=2)
     k = LEG_STIFFNESS[preset]
-    x = states(plat.params, MODAL_MAP)[0]
-    one = x[0]
-    return {
-        "single_modes_us": median_time(lambda: plat.modes(one, k), 20000) * 1e6,
-        "threads2_modal_map_s": median_time(lambda: lowest_frequency(both, x, k, return_mask=True), 1, 5),
-    }
+    x = states(plat.params, MODAL_ROUND)[0]
+    rounds.absolute("single_modes_us", lambda: plat.modes(x[0], k))
+    rounds.absolute("threads2_modal_map_s", lambda: lowest_frequency(both, x, k, return_mask=True),
+                    MODAL_ROUND / MODAL_MAP, unit=1.0, both_cores=True)
 
 
 def general_model_params(params):
@@ -109,30 +217,24 @@ def general_model_params(params):
     return params.with_universal_joints().with_payload(mass, (0.1 * size, -0.05 * size, 0.08 * size), tensor)
 
 
-def general_model_figures(preset: str, batch: int) -> dict:
+def general_model_figures(preset: str, batch: int, rounds: Rounds) -> None:
     """Batch inverse and forward dynamics of the general model (:func:`general_model_params`)
-    against the paper's model of the same preset, timed in alternation in one run, and their
-    ratios."""
+    per state, and their ratios to the paper's model of the same preset on the same states."""
     paper = stewart.Platform.preset(preset)
     general = stewart.Platform(general_model_params(paper.params))
-    x, xd, xdd = states(paper.params, batch)
+    m = min(batch, ROUND_BATCH)
+    x, xd, xdd = states(paper.params, m)
     tau = paper.inverse_dynamics(x, xd, xdd)
-    out = {}
-    for name, run in (("inverse_dynamics", lambda p: p.inverse_dynamics(x, xd, xdd)),
-                      ("forward_dynamics", lambda p: p.forward_dynamics(x, xd, tau))):
-        times = np.array([[median_time(lambda: run(p), 3, 1) for p in (paper, general)] for _ in range(7)])
-        paper_us, general_us = np.median(times, axis=0) / batch * 1e6
-        out[f"general_batch_{name}_us"] = float(general_us)
-        out[f"general_over_paper_{name}"] = float(general_us / paper_us)
-    return out
+    for name, args in (("inverse_dynamics", (x, xd, xdd)), ("forward_dynamics", (x, xd, tau))):
+        ours, theirs = getattr(general, name), getattr(paper, name)
+        rounds.absolute(f"general_batch_{name}_us", lambda f=ours, a=args: f(*a), m)
+        rounds.ratio(f"general_over_paper_{name}", lambda f=ours, a=args: f(*a), lambda f=theirs, a=args: f(*a))
 
 
 #: Relative step of the forward differences the exact derivatives are timed against.
 DIFFERENCE_STEP = 1e-7
 #: Time step of the timed RK4 steps.
 RK4_DT = 1e-3
-#: Most states a derivative batch holds (each carries 3 to 4 matrices).
-DERIVATIVE_BATCH = 20_000
 
 
 def forward_differences(function, *args, step: float = DIFFERENCE_STEP) -> np.ndarray:
@@ -154,23 +256,37 @@ def forward_differences(function, *args, step: float = DIFFERENCE_STEP) -> np.nd
     return np.moveaxis((out[1:] - out[0]) / shifts.T[..., None], 0, -1)
 
 
-def scalar_time(function, args) -> float:
-    """Seconds of the C function that one call of ``function`` runs (the batch function on
-    one row: one block of ``LANES`` lanes), without the call's own work: the time of a batch
-    of three blocks less that of one block, over the two blocks added."""
-    three, one = tuple(a[:3 * LANES] for a in args), tuple(a[:LANES] for a in args)
-    return (median_time(lambda: function(*three), 300) - median_time(lambda: function(*one), 300)) / 2
+def _derivative_function(rounds: Rounds, name: str, exact, primal, args, lanes: int) -> float:
+    """The figures of one derivative function on its :data:`DERIVATIVE_ROUND` states (see
+    :func:`derivative_figures`); returns the relative error of the forward differences."""
+    m = max(DERIVATIVE_ROUND[name], 3 * lanes)
+    args = tuple(a[:m] for a in args)
+    one = tuple(a[0] for a in args)
+    three, block = tuple(a[:3 * lanes] for a in args), tuple(a[:lanes] for a in args)
+    scale = REFERENCE.seconds * 1e6
+    rounds.absolute(f"batch_{name}_us", lambda: exact(*args), m)
+    rounds.absolute(f"single_{name}_us", lambda: exact(*one))
+    sides = [lambda: exact(*one), lambda: exact(*three), lambda: exact(*block), rounds.one]
+    rounds.add(f"scalar_{name}_us", sides[1:], lambda t3, t1, y: (t3 - t1) / 2 / y * scale)
+    rounds.add(f"python_overhead_{name}_us", sides, lambda ts, t3, t1, y: (ts - (t3 - t1) / 2) / y * scale)
+    rounds.absolute(f"finite_differences_{name}_us", lambda: forward_differences(primal, *args), m)
+    result = exact(*args)
+    jac = np.concatenate(result[2:] if name == "rk4_step_jacobians" else result[1:], axis=-1)
+    return relative_error(forward_differences(primal, *args), jac)
 
 
-def derivative_figures(preset: str, batch: int) -> dict:
-    """The exact derivatives: the C batch loop per state, one call from Python and the C
-    function that call runs (:func:`scalar_time`), for ``tau`` with its three Jacobians,
-    ``xddot`` with its three, and an RK4 step with ``A`` and ``B``; side by side, forward
-    differences of the kernel's own primal functions over the same inputs (19 evaluations
-    a state), and their error against the exact Jacobians
+def derivative_figures(preset: str, batch: int, rounds: Rounds) -> dict:
+    """The exact derivatives, each on a batch of its :data:`DERIVATIVE_ROUND` states: the C
+    batch loop per state, one call from Python and the C function that call runs (the batch
+    function on one row: one block of ``LANES`` lanes; a round times batches of three blocks
+    and of one, and the two blocks added are the C function's cost), and the call's own work
+    (one call less that C function), for ``tau`` with its three Jacobians, ``xddot`` with its
+    three, and an RK4 step with ``A`` and ``B``; side by side, forward differences of the
+    kernel's own primal functions over the same inputs (19 evaluations a state). Returns what
+    is not timed: the error of those differences against the exact Jacobians
     (:func:`stewart.oracles.physics.relative_error`)."""
     plat = stewart.Platform.preset(preset)
-    x, xd, xdd = states(plat.params, batch)
+    x, xd, xdd = states(plat.params, max(RK4_ROUND, *DERIVATIVE_ROUND.values(), 3 * LANES))
     tau = plat.inverse_dynamics(x, xd, xdd)
     dt = RK4_DT
 
@@ -182,69 +298,74 @@ def derivative_figures(preset: str, batch: int) -> dict:
         "forward_dynamics_derivatives": (plat.forward_dynamics_derivatives, plat.forward_dynamics, (x, xd, tau)),
         "rk4_step_jacobians": (lambda *a: plat.rk4_step(*a, dt, jacobians=True), step, (x, xd, tau)),
     }
-    out = {"batch_rk4_step_us": median_time(lambda: plat.rk4_step(x, xd, tau, dt), 1, 5) / batch * 1e6}
-    for name in DERIVATIVE_FUNCTIONS:
-        exact, primal, args = cases[name]
-        one = tuple(a[0] for a in args)
-        out[f"batch_{name}_us"] = median_time(lambda: exact(*args), 1, 5) / batch * 1e6
-        out[f"single_{name}_us"] = median_time(lambda: exact(*one), 2000) * 1e6
-        out[f"scalar_{name}_us"] = scalar_time(exact, args) * 1e6
-        out[f"python_overhead_{name}_us"] = out[f"single_{name}_us"] - out[f"scalar_{name}_us"]
-        differences = median_time(lambda: forward_differences(primal, *args), 1, 5)
-        out[f"finite_differences_{name}_us"] = differences / batch * 1e6
-        result = exact(*args)
-        jac = np.concatenate(result[2:] if name == "rk4_step_jacobians" else result[1:], axis=-1)
-        out[f"finite_differences_{name}_rel_error"] = relative_error(forward_differences(primal, *args), jac)
-    out["states"] = batch
-    return out
+    n = RK4_ROUND
+    rounds.absolute("batch_rk4_step_us", lambda: plat.rk4_step(x[:n], xd[:n], tau[:n], dt), n)
+    return {f"finite_differences_{name}_rel_error": _derivative_function(rounds, name, *cases[name], LANES)
+            for name in DERIVATIVE_FUNCTIONS}
 
 
-def simulation_figures(preset: str) -> dict:
+#: The SIMD paths the derivative ratios are measured on, where the CPU runs them.
+RATIO_PATHS = ("avx2", "avx512")
+
+
+def derivative_ratio_figures(preset: str, rounds: Rounds) -> None:
+    """Batched ``inverse_dynamics_derivatives`` over ``inverse_dynamics`` per state, and
+    ``forward_dynamics_derivatives`` over ``forward_dynamics``, on the same states (the
+    derivatives on the first :data:`DERIVATIVE_ROUND` of the :data:`ROUND_BATCH` the values
+    run on, so that each call lasts about as long), on each path of :data:`RATIO_PATHS` this
+    CPU runs (each round on that path, :func:`stewart.set_simd`; the path in use is restored
+    after it)."""
+    plat = stewart.Platform.preset(preset)
+    x, xd, xdd = states(plat.params, ROUND_BATCH)
+    tau = plat.inverse_dynamics(x, xd, xdd)
+    pairs = {"inverse_dynamics": (plat.inverse_dynamics_derivatives, plat.inverse_dynamics, (x, xd, xdd)),
+             "forward_dynamics": (plat.forward_dynamics_derivatives, plat.forward_dynamics, (x, xd, tau))}
+    for path in [p for p in RATIO_PATHS if p in stewart.build_info()["supported"]]:
+        for name, (exact, value, args) in pairs.items():
+            m = DERIVATIVE_ROUND[f"{name}_derivatives"]
+            rounds.ratio(f"derivative_ratio_{name}_{path}", lambda f=exact, a=tuple(a[:m] for a in args): f(*a),
+                         lambda f=value, a=args: f(*a), m, ROUND_BATCH, around=lambda p=path: simd_path(p))
+
+
+def simulation_figures(preset: str, rounds: Rounds) -> None:
     """Wall time of the paper's 5 s move at 1 kHz with RK4 and PID, in the compiled loop."""
     plat = stewart.Platform.preset(preset)
     goal = plat.home_pose + np.array([0.02, -0.01, -0.05, 0.05, 0.03, -0.04]) * np.array([plat.home_pose[2]] * 3 + [1] * 3)
     move = stewart.PointToPoint(plat.home_pose, goal, 5.0)
     pid = stewart.PID.tuned(plat)
-    wall = median_time(lambda: stewart.simulate(plat, move, pid, dt=1e-3), 1, 7)
-    return {"rk4_pid_5s_at_1kHz_ms": wall * 1e3}
+    rounds.absolute("rk4_pid_5s_at_1kHz_ms", lambda: stewart.simulate(plat, move, pid, dt=1e-3), unit=1e3)
 
 
-class Target(NamedTuple):
-    """A performance target: ``figure <= bound`` (``at_most``) or ``figure >= bound``."""
-
-    bound: float
-    at_most: bool
-
-    def met(self, value: float) -> bool:
-        return value <= self.bound if self.at_most else value >= self.bound
-
-
-#: Every performance target, by figure key, in the figure's own unit (the one place they
-#: are written; ``make bench`` marks each met or missed).
+#: Every performance target, by figure key, in the figure's own unit, with what the figure
+#: is measured against (the one place they are written; ``make bench`` marks each met,
+#: missed or unsettled).
 TARGETS: dict[str, Target] = {
     "single_inverse_dynamics_us": Target(1.5, True),
     "batch_inverse_dynamics_us": Target(0.4, True),
     "batch_forward_dynamics_us": Target(0.7, True),
-    "threads2_inverse_dynamics_states_per_s": Target(4e6, False),
-    "threads2_speedup_inverse_dynamics": Target(1.8, False),
-    "threads2_speedup_inverse_dynamics_small": Target(1.8, False),
-    "speedup_single_vs_reference": Target(1000.0, False),
+    "threads2_inverse_dynamics_states_per_s": Target(4e6, False, "the yardstick on two threads"),
+    "threads2_speedup_inverse_dynamics": Target(1.8, False, "one thread, and the yardstick's speed-up"),
+    "threads2_speedup_inverse_dynamics_small": Target(1.8, False, "one thread, and the yardstick's speed-up"),
+    "speedup_single_vs_reference": Target(1000.0, False, "the numeric reference"),
     "rk4_pid_5s_at_1kHz_ms": Target(50.0, True),
-    "general_over_paper_inverse_dynamics": Target(1.15, True),
-    "general_over_paper_forward_dynamics": Target(1.15, True),
+    "general_over_paper_inverse_dynamics": Target(1.15, True, "the paper's model"),
+    "general_over_paper_forward_dynamics": Target(1.15, True, "the paper's model"),
     # With the derivative kernels the generator writes about three times the C: the
     # derivatives issue set these two at 15 s and 45 s.
-    "generation_s": Target(15.0, True),
-    "clean_build_s": Target(45.0, True),
+    "generation_s": Target(15.0, True, "the yardstick on two threads"),
+    "clean_build_s": Target(45.0, True, "the yardstick on two threads"),
     "batch_inverse_dynamics_derivatives_us": Target(2.0, True),
     "batch_forward_dynamics_derivatives_us": Target(3.0, True),
     "batch_rk4_step_jacobians_us": Target(15.0, True),
-    "python_overhead_inverse_dynamics_derivatives_us": Target(1.0, True),
-    "python_overhead_forward_dynamics_derivatives_us": Target(1.0, True),
-    "python_overhead_rk4_step_jacobians_us": Target(1.0, True),
+    "python_overhead_inverse_dynamics_derivatives_us": Target(1.0, True, "the C function, and the yardstick"),
+    "python_overhead_forward_dynamics_derivatives_us": Target(1.0, True, "the C function, and the yardstick"),
+    "python_overhead_rk4_step_jacobians_us": Target(1.0, True, "the C function, and the yardstick"),
     # The stiffness-and-modes issue: modes at one pose, and a workspace map of 1e5 poses.
     "single_modes_us": Target(20.0, True),
-    "threads2_modal_map_s": Target(5.0, True),
+    "threads2_modal_map_s": Target(5.0, True, "the yardstick on two threads"),
+    # Issue 39: the derivatives at most 5 times the values, a state each, on both vector paths.
+    **{f"derivative_ratio_{name}_{path}": Target(5.0, True, name) for name in ("inverse_dynamics", "forward_dynamics")
+       for path in RATIO_PATHS},
 }
 
 #: Table rows of the kernel figures: (measure, figure key, display scale, unit, format).
@@ -295,53 +416,111 @@ DERIVATIVE_MEASURES = [("RK4 step, C batch loop", "batch_rk4_step_us", 1.0, "us/
         (f"{what} by forward differences: worst error (relative)", f"finite_differences_{name}_rel_error", 1.0,
          "", ".1e"),
     )
-]
+] + [(f"{what} over {name}, C batch loop, {path}", f"derivative_ratio_{name}_{path}", 1.0, "x", ".2f")
+     for name, what in (("inverse_dynamics", "tau and its 3 Jacobians"),
+                        ("forward_dynamics", "xdd and its 3 Jacobians"))
+     for path in RATIO_PATHS]
 
 
-def measure_row(measure: str, key: str, value: float, scale: float, unit: str, fmt: str) -> tuple[str, str, str, str]:
-    """One table row (measure, median, target, verdict); target and verdict are empty for
-    a figure without a target in :data:`TARGETS`."""
-    sep = "" if unit in ("x", "") else " "
-    median = f"{value * scale:{fmt}}{sep}{unit}"
-    target = TARGETS.get(key)
+def measure_row(measure: str, key: str, value, scale: float, unit: str, fmt: str,
+                target: Target | None = None) -> tuple[str, str, str, str, str]:
+    """One table row (measure, median, spread, target, verdict) of a :class:`Measurement`
+    (or of a plain number, which has no spread: a count, an error); target and verdict are
+    empty for a figure without a target (``target``, or its key's in :data:`TARGETS`). The
+    spread is the 90 % interval of the median and the rounds it took."""
+    sep = "" if unit in ("x", "%", "") else " "
+    median = value.median if isinstance(value, Measurement) else value
+    spread = spread_cell(value, scale, fmt) if isinstance(value, Measurement) else ""
+    row = (measure, f"{median * scale:{fmt}}{sep}{unit}", spread)
+    target = target or TARGETS.get(key)
     if target is None:
-        return (measure, median, "", "")
-    bound = f"{target.bound * scale:g}{sep}{unit}"
-    return (measure, median, f"{'<=' if target.at_most else '>='} {bound}", "met" if target.met(value) else "MISSED")
+        return (*row, "", "")
+    bound = f"{'<=' if target.at_most else '>='} {target.bound * scale:g}{sep}{unit}"
+    judged = value.verdict(target) if isinstance(value, Measurement) else (
+        "met" if target.met(value) else "missed")
+    return (*row, bound, VERDICTS[judged])
 
 
-def kernel_rows(preset: str, fig: dict) -> list[tuple[str, str, str, str]]:
-    """Table rows (measure, median, target, verdict) for one preset's figures (kernel,
-    simulation and derivatives: those measured)."""
-    return [measure_row(f"[{preset}] {measure}", key, fig[key], scale, unit, fmt)
+def spread_cell(m: Measurement, scale: float = 1.0, fmt: str = ".3g") -> str:
+    """``low-high (rounds)``, with the gauge of a figure needing both cores."""
+    gauge = "" if m.gauge is None else f", gauge {m.gauge:.2f}"
+    return f"{m.low * scale:{fmt}}-{m.high * scale:{fmt}} ({m.rounds}{gauge})"
+
+
+def kernel_rows(preset: str, fig: dict) -> list[tuple[str, str, str, str, str]]:
+    """Table rows (measure, median, spread, target, verdict) for one preset's figures
+    (kernel, simulation and derivatives: those measured): :class:`Measurement` values, or the
+    JSON's figures (a median by key, its interval under ``"spread"``)."""
+    return [measure_row(f"[{preset}] {measure}", key, as_measurement(fig, key), scale, unit, fmt)
             for measure, key, scale, unit, fmt in KERNEL_MEASURES + DERIVATIVE_MEASURES if key in fig]
 
 
-def format_table(rows: list[tuple[str, str, str, str]]) -> str:
-    """The rows as a text table, and a last line counting the targets met and missed."""
-    head = ("measure", "median", "target", "")
-    widths = [max(len(r[k]) for r in [head, *rows]) for k in range(4)]
-    lines = [f"{head[0]:<{widths[0]}}  {head[1]:>{widths[1]}}  {head[2]:<{widths[2]}}  {'met?'}",
-             "-" * (sum(widths) + 6)]
-    lines += [f"{a:<{widths[0]}}  {b:>{widths[1]}}  {c:<{widths[2]}}  {d}".rstrip() for a, b, c, d in rows]
-    missed = [r[0] for r in rows if r[3] == "MISSED"]
-    met = sum(r[3] == "met" for r in rows)
-    lines.append("")
-    lines.append(f"targets: {met} met, {len(missed)} missed" + (": " + "; ".join(missed) if missed else ""))
-    return "\n".join(lines)
+def as_measurement(fig: dict, key: str):
+    """``fig[key]`` as a :class:`Measurement` where it is one or the JSON records its spread,
+    else as it is."""
+    value, spread = fig[key], fig.get("spread", {}).get(key)
+    if isinstance(value, Measurement) or spread is None:
+        return value
+    return Measurement(value, spread["low"], spread["high"], spread["rounds"], tuple(spread.get("seconds", ())),
+                       spread.get("gauge"))
 
 
-def main(presets=None, batch: int = 200_000) -> dict:
+def count_verdicts(rows) -> str:
+    """``targets: N met, N missed, N unsettled``, then the rows missed and unsettled by
+    name; a row's first entry is its name and its last its verdict."""
+    missed = [r[0] for r in rows if r[-1] == VERDICTS["missed"]]
+    unsettled = [r[0] for r in rows if r[-1] == VERDICTS["unsettled"]]
+    met = sum(r[-1] == VERDICTS["met"] for r in rows)
+    line = f"targets: {met} met, {len(missed)} missed, {len(unsettled)} unsettled"
+    parts = ([f"missed: {'; '.join(missed)}"] if missed else []) + (
+        [f"unsettled: {'; '.join(unsettled)}"] if unsettled else [])
+    return line + (" (" + " | ".join(parts) + ")" if parts else "")
+
+
+def format_table(rows: list[tuple[str, str, str, str, str]]) -> str:
+    """The rows as a text table, and a last line counting the targets met, missed and
+    unsettled."""
+    head = ("measure", "median", "90% interval (rounds)", "target", "verdict")
+    widths = [max(len(r[k]) for r in [head, *rows]) for k in range(5)]
+    line = lambda r: "  ".join([f"{r[0]:<{widths[0]}}", f"{r[1]:>{widths[1]}}", f"{r[2]:<{widths[2]}}",  # noqa: E731
+                                f"{r[3]:<{widths[3]}}", r[4]]).rstrip()
+    lines = [line(head), "-" * (sum(widths) + 8)] + [line(r) for r in rows]
+    return "\n".join(lines + ["", count_verdicts(rows)])
+
+
+
+def yardstick_line(rounds: Rounds) -> str:
+    """The yardstick's cost now (a short median) against its reference cost, and the gauge."""
+    one, two = (float(np.median([time_calls(y, 1) for _ in range(31)])) for y in (rounds.one, rounds.two))
+    speedup = parallel_gauge(one, two)
+    return (f"yardstick: {one * 1e6:.0f} us a call now, {REFERENCE.seconds * 1e6:.0f} us on the reference machine "
+            f"({REFERENCE.machine}); absolute figures are at the reference machine's speed. The yardstick on two "
+            f"threads: {speedup:.2f}x one (the gauge; below {PARALLEL_FLOOR} a figure needing both "
+            "cores is not missed but unsettled)")
+
+
+def preset_figures(preset: str, batch: int, rounds: Rounds) -> dict:
+    """Every figure of one preset, measured together: kernel, simulation, general model,
+    derivatives and their ratios to the values, modes; and what is not timed."""
+    kernel_figures(preset, batch, rounds)
+    simulation_figures(preset, rounds)
+    general_model_figures(preset, batch, rounds)
+    untimed = derivative_figures(preset, batch, rounds)
+    derivative_ratio_figures(preset, rounds)
+    modal_figures(preset, rounds)
+    return {**rounds.measure(), **untimed}
+
+
+def main(presets=None, batch: int = 200_000, budget: float = BUDGET) -> dict:
     """Measure every preset (or the given ones), print the table and return the figures."""
+    rounds = Rounds(budget)
     results = {}
     rows = []
     for preset in presets or sorted(stewart.presets()):
         print(f"[bench] {preset} ...", flush=True)
-        fig = kernel_figures(preset, batch)
-        fig.update(simulation_figures(preset))
-        fig.update(derivative_figures(preset, min(batch, DERIVATIVE_BATCH)))
-        fig.update(modal_figures(preset))
-        results[preset] = fig
+        fig = preset_figures(preset, batch, rounds)
+        results[preset] = figures_of(fig)
         rows += kernel_rows(preset, fig)
+    print(yardstick_line(rounds))
     print(format_table(rows))
     return results

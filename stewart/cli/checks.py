@@ -9,7 +9,8 @@ import sys
 
 from ..model.presets import presets as list_presets
 from .common import EXIT_CHECK_FAILED, UserError, flag_names, platform_params
-from .options import add_json, add_params, add_seed, count, subcommand
+from .interleaved import BUDGET
+from .options import add_json, add_params, add_seed, count, non_negative, subcommand
 
 
 def cmd_validate(args) -> int:
@@ -83,7 +84,7 @@ def cmd_bench(args) -> int:
     from . import bench
 
     with contextlib.redirect_stdout(sys.stderr) if args.json else contextlib.nullcontext():
-        figures = bench.main([args.preset] if args.preset else None, batch=args.batch)
+        figures = bench.main([args.preset] if args.preset else None, batch=args.batch, budget=args.budget)
     if args.json:
         print(json.dumps({"command": "bench", "batch": args.batch, "exit_code": 0, "figures": figures}))
     return 0
@@ -92,5 +93,8 @@ def cmd_bench(args) -> int:
 def add_bench(sub) -> None:
     p = subcommand(sub, "bench", "time the compiled kernel and the simulation loop", cmd_bench)
     p.add_argument("--preset", choices=sorted(list_presets()), help="one preset (default: all)")
-    p.add_argument("--batch", type=count, default=200_000, help="states per batch")
+    p.add_argument("--batch", type=count, default=200_000, help="states of the large batch the two-thread figures run")
+    p.add_argument("--budget", type=non_negative, default=BUDGET, metavar="S",
+                   help="seconds of rounds a figure with a target may take before it is judged as it stands "
+                        "(default %(default)g; a figure without one gets a third)")
     add_json(p, "print only a JSON summary of the figures on stdout")
