@@ -228,7 +228,8 @@ def test_forward_differences_of_a_known_function():
         want[n, :6, :6] = np.diag(2 * a[n])
         want[n, 6:, :6] = np.diag(b[n])
         want[n, 6:, 6:] = np.diag(a[n])
-    # u^2 has second derivative 2: the forward difference is off by the shift, 1e-7 max(1, |u|).
+    # u^2 has second derivative 2: the forward difference is off by the shift, 1e-7 max(1, |u|)
+    # (reached 0.41 of the bound).
     np.testing.assert_allclose(jac, want, rtol=0, atol=2e-7 * max(1.0, np.abs(a).max()) + 1e-6)
 
 
@@ -326,12 +327,16 @@ def test_cluster_estimate_by_hand():
     from benchmarks import studies
 
     fig = {"chunk_s": 0.1, "chunk_size": 50_000, "task_overhead_s": 0.004}
+
+    def near(a, b):  # the hand products to a few ulp (reached 0)
+        return np.isclose(a, b, rtol=1e-15, atol=0)
+
     # 1e10 states at 2 us each over 200 cores: 100 s of work; 2e5 tasks at 4 ms: 800 s on the scheduler.
     est = studies.estimate(fig, designs=1e4, states=1e6, nodes=100, cores=2)
-    assert est["tasks"] == 2e5 and np.isclose(est["compute_s"], 100.0) and np.isclose(est["scheduler_s"], 800.0)
-    assert est["total_s"] == est["scheduler_s"] and np.isclose(est["efficiency"], 0.125)
+    assert est["tasks"] == 2e5 and near(est["compute_s"], 100.0) and near(est["scheduler_s"], 800.0)
+    assert est["total_s"] == est["scheduler_s"] and near(est["efficiency"], 0.125)
     whole = studies.estimate(fig, chunk_size=1e6)
-    assert whole["tasks"] == 1e4 and np.isclose(whole["scheduler_s"], 40.0) and whole["efficiency"] == 1.0
+    assert whole["tasks"] == 1e4 and near(whole["scheduler_s"], 40.0) and whole["efficiency"] == 1.0
 
 
 def test_studies_rows_mark_the_targets():

@@ -74,6 +74,7 @@ def test_box_peaks_approach_a_dense_grid():
     x = np.repeat(grid, len(rates), axis=0)
     rr = np.tile(rates, (len(grid), 1))
     dense = _brute_force(PARAMS, x, rr[:, :6], rr[:, 6:]).max(axis=0)
+    # random samples against a 21 x 21 grid, the peaks between them: reached 6.0e-4
     np.testing.assert_allclose(result.peak.value, dense, rtol=2e-3)
 
 

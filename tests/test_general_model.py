@@ -50,7 +50,7 @@ def test_twist_mass_matrix_is_the_kinetic_energy(general_params, figures):
     quadratic = 0.5 * np.einsum("ni,nij,nj->n", twist, m_t, twist)
     figures(f"general reference: kinetic energy vs t.M_t t/2 ({general_params.name})",
             relative_error(kinetic[:, None], quadratic[:, None]), 1e-12)  # reached 5.5e-14
-    assert relative_error(m_t, np.swapaxes(m_t, -1, -2)) < 1e-15
+    assert relative_error(m_t, np.swapaxes(m_t, -1, -2)) < 1e-15  # reached 2.6e-17
 
 
 def test_newton_euler_agrees_with_the_general_reference(general_params, figures):
@@ -84,7 +84,7 @@ def test_leg_angular_velocity_is_the_frame_rate_in_the_joint_plane(general_param
                 relative_error(omega, vee), 2e-14)  # reached 6.0e-16
         normal = np.cross(axes, rot[..., 1])
         off_plane = np.abs(np.sum(omega * normal, axis=-1)) / np.linalg.norm(omega, axis=-1)
-        assert np.max(off_plane) < 1e-14
+        assert np.max(off_plane) < 1e-14  # reached 5.3e-16
 
 
 def test_any_axes_reproduce_the_paper_model_without_axial_inertia(preset_params, figures):
@@ -123,7 +123,7 @@ def test_universal_joint_moment_is_across_both_joint_axes(general_params, figure
     u = kinematics.leg_unit_vectors(general_params, x)
     y = np.cross(axes, u)
     along = np.abs(np.sum(forces.base_moment * axes, axis=-1)) + np.abs(np.sum(forces.base_moment * y, axis=-1))
-    assert np.max(along) < 1e-13 * np.max(np.linalg.norm(forces.base_moment, axis=-1))
+    assert np.max(along) < 5e-15 * np.max(np.linalg.norm(forces.base_moment, axis=-1))  # reached 1.1e-16
     assert np.max(np.linalg.norm(forces.base_moment, axis=-1)) > 0.0
 
 
@@ -170,6 +170,8 @@ def test_leg_spin_effect_against_newton_euler(figures):
     assert effect.assumed_axes and effect.states == 40 and 0.0 < effect.dynamic.max < effect.velocity.max
     no_axial = params.replace(cylinder_inertia=(0.0, *params.cylinder_inertia[1:]),
                               piston_inertia=(0.0, *params.piston_inertia[1:]))
-    assert exactness.leg_spin_effect(no_axial, n_states=10).velocity.max < 1e-12
+    # reached 0; the same forces compared on other states reach 1.1e-15 (any axes, no axial inertia)
+    figures("leg spin effect without axial inertia (max, relative)",
+            exactness.leg_spin_effect(no_axial, n_states=10).velocity.max, 5e-14)
     with pytest.raises(ValueError, match="^n_states: must be from 1"):
         exactness.leg_spin_effect(params, n_states=0)

@@ -178,8 +178,8 @@ def test_batch_equals_loop_of_single_calls(preset_params):
     for name, arity in FUNCTIONS + [("forward_dynamics", 3)]:
         batch = getattr(plat, name)(*args[:arity])
         loop = np.array([getattr(plat, name)(*(a[k] for a in args[:arity])) for k in range(len(x))])
-        # each row alone, as the single-state functions give it (tests/test_batch.py)
-        assert relative_error(batch, loop) <= 1e-14
+        # each row alone, as the single-state functions give it, bit for bit (tests/test_batch.py)
+        np.testing.assert_array_equal(batch, loop)
         np.testing.assert_array_equal(getattr(threaded, name)(*args[:arity]), batch)
 
 
@@ -201,8 +201,10 @@ def test_statics_of_symmetric_hexapod_by_hand():
     lengths = plat.leg_lengths(x)
     expected = params.platform_mass * 9.81 / 6 * lengths / x[2]
     zero = np.zeros(6)
-    np.testing.assert_allclose(plat.inverse_dynamics(x, zero, zero), expected, rtol=1e-13)
-    np.testing.assert_allclose(plat.gravity_vector(x), [0, 0, params.platform_mass * 9.81, 0, 0, 0], atol=1e-10)
+    np.testing.assert_allclose(plat.inverse_dynamics(x, zero, zero), expected, rtol=1e-13)  # reached 1.1e-15
+    weight = params.platform_mass * 9.81
+    # reached 0; a bound of a few ulp of the weight
+    np.testing.assert_allclose(plat.gravity_vector(x), [0, 0, weight, 0, 0, 0], rtol=0, atol=2e-15 * weight)
 
 
 def test_statics_with_leg_weights_balance_total_weight():
@@ -293,7 +295,8 @@ def test_platform_api():
     x = plat.home_pose + [0.01, 0, 0.02, 0.05, 0, 0]
     np.testing.assert_allclose(plat.forward_kinematics(plat.leg_lengths(x)), x, atol=2e-14, rtol=2e-11)  # reached 1/38 of it
     reactions = plat.joint_reactions(plat.home_pose, np.zeros(6), np.zeros(6))
-    np.testing.assert_allclose(reactions.tau, plat.inverse_dynamics(plat.home_pose, np.zeros(6), np.zeros(6)), rtol=1e-12)
+    static = plat.inverse_dynamics(plat.home_pose, np.zeros(6), np.zeros(6))
+    np.testing.assert_allclose(reactions.tau, static, rtol=0, atol=2e-15 * np.max(np.abs(static)))  # reached 0
     total = plat.params.platform_mass + 6 * (plat.params.cylinder_mass + plat.params.piston_mass)
     np.testing.assert_allclose(reactions.base.sum(axis=0), [0, 0, total * 9.81], atol=2e-13, rtol=2e-10)  # reached 1/41 of it
     with pytest.raises(ValueError, match="params: expected a stewart.PlatformParams"):

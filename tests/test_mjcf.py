@@ -161,7 +161,7 @@ def test_massless_legs_and_any_name_compile():
     assert model.names.startswith(b'stewart platform a "b" <c> & d')
     worst = mujoco_model.acceleration_differences(params, mujoco_model.on_random_axes(params),
                                                   stewart.Platform(params).inverse_dynamics, states=2, seed=1)
-    assert worst["rigid"] < 1e-11
+    assert worst["rigid"] < 1e-11  # reached 9.7e-13 (3.9e-13 elsewhere)
 
 
 def test_joint_velocities_keep_the_ball_joints_closed():
@@ -173,12 +173,12 @@ def test_joint_velocities_keep_the_ball_joints_closed():
     data.qvel[:] = stewart.io.mjcf.joint_velocities(params, x[0], xd[0])
     mujoco.mj_forward(model, data)
     scale = np.linalg.norm(xd[0])
-    assert np.max(np.abs(data.efc_vel)) < 1e-14 * scale
+    assert np.max(np.abs(data.efc_vel)) < 5e-15 * scale  # reached 9.1e-17 scale
     twist = np.zeros(6)
     mujoco.mj_objectVelocity(model, data, mujoco.mjtObj.mjOBJ_XBODY, model.nbody - 1, twist, 0)
     omega = stewart.euler_rate_jacobian(x[0]) @ xd[0, 3:]
-    assert twist[:3] == pytest.approx(omega, abs=1e-14 * scale)
-    assert twist[3:] == pytest.approx(xd[0, :3], abs=1e-14 * scale)
+    assert twist[:3] == pytest.approx(omega, abs=2e-15 * scale)  # reached 5.1e-17 scale
+    assert twist[3:] == pytest.approx(xd[0, :3], abs=2e-15 * scale)  # reached 0
 
 
 @pytest.mark.parametrize("general", [False, True], ids=["paper", "general"])

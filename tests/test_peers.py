@@ -69,12 +69,13 @@ def test_mujoco_model_is_the_same_platform():
     plat = stewart.Platform.preset("narayan2017")
     p = plat.params
     model = mujoco_model.model(mujoco_model.comparable(p), setting="tight")
-    assert model.body_mass.sum() == pytest.approx(p.platform_mass + 6 * (p.cylinder_mass + p.piston_mass))
+    # reached 0 (the file's 17 digits, summed in MuJoCo's order)
+    assert model.body_mass.sum() == pytest.approx(p.platform_mass + 6 * (p.cylinder_mass + p.piston_mass), rel=1e-14)
     data = mujoco.MjData(model)
     data.ctrl[:] = plat.inverse_dynamics(plat.home_pose, np.zeros(6), np.zeros(6))
     mujoco.mj_forward(model, data)
     platform_acc = data.qacc[-6:-3]
-    assert np.max(np.abs(platform_acc)) < 1e-2 * p.gravity
+    assert np.max(np.abs(platform_acc)) < 5e-3 * p.gravity  # reached 6.1e-4 m/s^2, 6.2e-5 g
 
 
 @pytest.mark.peers
@@ -96,5 +97,6 @@ def test_sympy_routes_match_kernel(figures, tmp_path):
         sympy_route.build_autowrap(exprs, str(tmp_path))
     tau_s = np.array([built["id"][0](x[i], xd[i], xdd[i], pvec) for i in range(10)])
     xdd_s = np.array([built["fd"][0](x[i], xd[i], tau[i], pvec) for i in range(10)])
-    figures("sympy route tau vs kernel", relative_error(tau_s, tau), 1e-9)
-    figures("sympy route xdd vs kernel", relative_error(xdd_s, xdd), 1e-9)
+    # reached 1.4e-15 and 3.2e-15 by autowrap (PyDy, when installed, evaluates the same expressions)
+    figures("sympy route tau vs kernel", relative_error(tau_s, tau), 1e-13)
+    figures("sympy route xdd vs kernel", relative_error(xdd_s, xdd), 2e-13)

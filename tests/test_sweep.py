@@ -29,7 +29,7 @@ def test_spacing_and_radius_rebuild_the_symmetric_layout():
     # motion_simulator: base pairs 20 deg apart around 0, 120, 240 deg on a 1.6 m circle (rolled by one).
     params = sweep.design_params(SIM, {"base_spacing": 30.0, "base_radius": 2.0, "platform_spacing": 40.0})
     expected = np.roll(hexapod_points(2.0, (0.0, 120.0, 240.0), 15.0), -1, axis=0)
-    np.testing.assert_allclose(params.base_points, expected, atol=1e-12, rtol=5e-14)  # reached 1/1206 of it
+    np.testing.assert_allclose(params.base_points, expected, rtol=0, atol=5e-14)  # reached 8.9e-16
     np.testing.assert_allclose(params.platform_points, hexapod_points(1.1, (60.0, 180.0, 300.0), 20.0), atol=1e-15, rtol=1e-13)  # reached 1/56 of it
 
 
@@ -38,10 +38,12 @@ def test_radius_keeps_the_angles_and_payload_scales_the_inertia():
     params = sweep.design_params(base, {"platform_radius": 0.1, "payload_mass": 3.0, "stroke": 0.25})
     rel = params.platform_points[:, :2] - base.platform_points[:, :2].mean(axis=0)
     old = base.platform_points[:, :2] - base.platform_points[:, :2].mean(axis=0)
-    assert np.isclose(np.hypot(*rel.T).mean(), 0.1)
-    np.testing.assert_allclose(np.arctan2(rel[:, 1], rel[:, 0]), np.arctan2(old[:, 1], old[:, 0]), atol=1e-12)
+    assert np.isclose(np.hypot(*rel.T).mean(), 0.1, rtol=1e-14, atol=0)  # reached 1.4e-16
+    # reached 0: a few ulp of pi
+    np.testing.assert_allclose(np.arctan2(rel[:, 1], rel[:, 0]), np.arctan2(old[:, 1], old[:, 0]), rtol=0, atol=2e-15)
     assert params.platform_mass == base.platform_mass + 3.0
-    np.testing.assert_allclose(params.platform_inertia, base.platform_inertia * params.platform_mass / base.platform_mass)
+    np.testing.assert_allclose(params.platform_inertia, base.platform_inertia * params.platform_mass / base.platform_mass,
+                               rtol=1e-15)  # reached 0
     assert params.leg_length_limits == (base.leg_length_limits[0], base.leg_length_limits[0] + 0.25)
 
 
