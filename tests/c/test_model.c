@@ -39,13 +39,15 @@ static void check_values(const char *what, const char *name, int status, const d
                          const double *want, int n, double *worst) {
     double err = rel_error(got, want, n);
     if (err > *worst) *worst = err;
-    check(status == STEWART_OK && err <= 1e-10, what, name, err);
+    /* reached 3.9e-15 (gcc and clang, x86-64 and aarch64: make test-ports) */
+    check(status == STEWART_OK && err <= 1e-13, what, name, err);
 }
 
 /* Column k of the Jacobian of f (nout outputs) along input in[which][k], by central
  * differences: (f(+h) - f(-h)) / 2h with h = 1e-5 max(1, |in|).  Its error is O(h^2) times
  * the third derivative from truncation plus O(eps / h) times |f| from round-off, about 1e-9
- * of the Jacobian's scale for these smooth functions of O(1) inputs: the checks allow 1e-6. */
+ * of the Jacobian's scale for these smooth functions of O(1) inputs (reached 1.8e-9 on every
+ * port): the checks allow 1e-7. */
 typedef int (*three_input_fn)(const stewart_params *, const double *, const double *, const double *,
                               double, double *);
 
@@ -97,7 +99,7 @@ static void check_jacobian(const char *what, const char *name, three_input_fn f,
     }
     double err = rel_error(got, want, nout * 18);
     if (err > *worst) *worst = err;
-    check(err <= 1e-6, what, name, err);
+    check(err <= 1e-7, what, name, err);
 }
 
 
