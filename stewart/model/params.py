@@ -464,6 +464,9 @@ class PlatformParams:
         naming the file; a missing or unreadable file raises the usual ``OSError``.
         """
         data = paramfile.read(path)
+        if "kind" in data:
+            raise ValueError(f"{os.fsdecode(path)}: holds kind = {data['kind']!r}, not a linear platform; "
+                             "a rotary rig's file loads with stewart.RotaryParams.load")
         try:
             return cls.from_dict(data)
         except ValueError as exc:
