@@ -54,7 +54,9 @@ with open("generated/stewart_model.h", encoding="ascii") as header:
     EXACT = re.search(r'#define STEWART_ROUNDING_FLAGS "(.*)"', header.read()).group(1).split()
 #: The model, compiled once per target: its units and its table; what its copies depend on.
 MODEL_SOURCES = sorted(glob.glob("generated/stewart_model*.c")) + ["generated/stewart_target.c"]
-MODEL = MODEL_SOURCES + ["generated/stewart_model.h", "generated/stewart_internal.h", "generated/stewart_dispatch.h"]
+MODEL = MODEL_SOURCES + ["generated/stewart_model.h", "generated/stewart_internal.h", "generated/stewart_dispatch.h",
+                         "generated/stewart_rotary.h", "generated/stewart_rotary_internal.h",
+                         "generated/stewart_rotary_dispatch.h"]
 #: The first copy of the model (the one that runs everywhere, with the public names), as a
 #: static library for the C test (tests/c), which links it instead of compiling the model again.
 MODEL_LIBRARY = ("stewart_model", "build")
@@ -191,8 +193,9 @@ extensions = [
         # Rebuild (build_ext compares times) when the wrapper's included files and declarations,
         # the model, its header or this script change. generated/stewart_model.pxd, the model's
         # Cython declarations, is cimported by stewart/_kernel.pxd.
-        depends=["stewart/_kernel.pxd", "stewart/_simulate.pxi", "stewart/_envelope.pxi", "stewart/_modes.pxi"] + MODEL
-        + ["generated/stewart_model.pxd", "setup.py"],
+        depends=["stewart/_kernel.pxd", "stewart/_simulate.pxi", "stewart/_envelope.pxi", "stewart/_modes.pxi",
+                 "stewart/_rotary.pxi"] + MODEL
+        + ["generated/stewart_model.pxd", "generated/stewart_rotary.pxd", "setup.py"],
     ),
 ]
 

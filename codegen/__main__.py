@@ -12,10 +12,12 @@ import time
 from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
-from . import csource, emit, kinematics, model, pxd, pymodule, schema
+from . import csource, emit, kinematics, model, pxd, pymodule, rotary, rotary_source, schema
 
 DEFAULT_OUT = Path(__file__).resolve().parent.parent / 'generated'
 DEFAULT_PYTHON = Path(__file__).resolve().parent.parent / 'stewart' / '_generated.py'
+#: The rotary family's tables (codegen/rotary_source.py), beside --python.
+ROTARY_PYTHON = '_generated_rotary.py'
 
 
 def _timed(func, *args):
@@ -39,6 +41,13 @@ def _kernel(build):
     derivation and emission times)."""
     kernel, t_derive = _timed(build)
     result, t_emit = _timed(emit.emit_kernel, kernel, kinematics.PARAMS.members())
+    return result, dataclasses.replace(kernel, graph=None), t_derive, t_emit
+
+
+def _rotary_kernel(build):
+    """`_kernel` of the rotary family (its parameters, `stewart_rotary_params`)."""
+    kernel, t_derive = _timed(build)
+    result, t_emit = _timed(emit.emit_kernel, kernel, rotary.RPARAMS.members(), 'stewart_rotary_params')
     return result, dataclasses.replace(kernel, graph=None), t_derive, t_emit
 
 
@@ -68,6 +77,13 @@ def main(argv=None):
             families.setdefault(csource.kernel_family(build), []).append(result)
             print(f'[codegen] {kernel.name:<32} derive {t_derive:5.2f} s, cse+C {t_emit:5.2f} s,'
                   f' {result.ops:5d} ops', flush=True)
+        rotary_emitted, rotary_kernels = [], {kinematics.euler_maps_kernel: kernels[kinematics.euler_maps_kernel]}
+        for build, (result, kernel, t_derive, t_emit) in zip(rotary_source.BUILDERS,
+                                                             pool.map(_rotary_kernel, rotary_source.BUILDERS)):
+            rotary_kernels[build] = kernel
+            rotary_emitted.append(result)
+            print(f'[codegen] {kernel.name:<32} derive {t_derive:5.2f} s, cse+C {t_emit:5.2f} s,'
+                  f' {result.ops:5d} ops', flush=True)
     public = [csource.public_function(function) for function in model.FUNCTIONS]
     batch = [csource.batch_function(function, kernels) for function in model.FUNCTIONS]
 
@@ -82,12 +98,20 @@ def main(argv=None):
         'stewart_model.pxd': pxd.pxd(schema.PARAM_FIELDS, model.FUNCTIONS),
         'stewart_dispatch.h': csource.dispatch_header(model.FUNCTIONS),
         'stewart_target.c': csource.target_source(model.FUNCTIONS),
+        'stewart_rotary.h': rotary_source.header([(k.name, k.ops) for k in rotary_emitted]),
+        'stewart_rotary_internal.h': rotary_source.internal_header(rotary_emitted),
+        'stewart_model_rotary.c': rotary_source.source(rotary_kernels),
+        **{f'stewart_model_{k.name}.c': rotary_source.kernel_unit(k) for k in rotary_emitted},
+        'stewart_rotary_dispatch.h': rotary_source.dispatch_header(),
+        'stewart_rotary.pxd': rotary_source.pxd(),
     }
     written = [name for name, text in files.items() if _write_if_changed(args.out / name, text)]
     python = pymodule.module(schema.PARAM_FIELDS, schema.LEFT_OUT, model.FUNCTIONS, schema.INERTIAL_PARAMETERS)
     args.python.parent.mkdir(parents=True, exist_ok=True)
     if _write_if_changed(args.python, python):
         written.append(str(args.python))
+    if _write_if_changed(args.python.parent / ROTARY_PYTHON, rotary_source.module()):
+        written.append(str(args.python.parent / ROTARY_PYTHON))
     for stale in sorted(set(p.name for p in args.out.glob('stewart_model_*.c')) - files.keys()):
         (args.out / stale).unlink()
         written.append(f'{stale} removed')

@@ -303,7 +303,7 @@ def _statements(defs, outputs):
     return statements, out, ops
 
 
-def emit_kernel(kernel, param_members):
+def emit_kernel(kernel, param_members, params_type='stewart_params'):
     """C source of `void vkernel_<name>(...)` for a `graph.KernelSpec`, and its prototype
     (kernels are shared between the model's units): the kernel over a block of STEWART_LANES
     states, every quantity that depends on the state a `stewart_vd` (one state per lane;
@@ -311,7 +311,8 @@ def emit_kernel(kernel, param_members):
     parameters and what depends on them alone computed once, as doubles.
 
     `param_members` maps parameter symbols to C expressions reading them from
-    `const stewart_params *p`.  A kernel with `lanes` > 1 is a loop over its lanes with
+    `const <params_type> *p` (`stewart_params`, or the rotary family's
+    `stewart_rotary_params`).  A kernel with `lanes` > 1 is a loop over its lanes with
     interleaved arrays (entry k of lane i at k * lanes + i; its `shared` inputs whole, its `sums`
     outputs summed over the lanes).
     """
@@ -322,7 +323,7 @@ def emit_kernel(kernel, param_members):
     printer = _Printer(varying)
     lanes = kernel.lanes
     at = (lambda k: f'[{k}]') if lanes == 1 else (lambda k: f'[{k} * {lanes} + lane]')
-    args = (['const stewart_params *p'] + [f'const stewart_vd *{name}' for name, _ in kernel.inputs]
+    args = ([f'const {params_type} *p'] + [f'const stewart_vd *{name}' for name, _ in kernel.inputs]
             + [f'stewart_vd *{name}' for name, _ in kernel.outputs])
     signature = f'void vkernel_{kernel.name}({", ".join(args)})'
     lines = [f'/* {kernel.doc} */', signature, '{']
