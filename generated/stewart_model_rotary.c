@@ -75,6 +75,39 @@ static int call_rotary_jacobian(const stewart_params *p, size_t n, const double 
     return stewart_rotary_batch_jacobian(rotary_params_of(p), n, in[0], out[0], status);
 }
 
+static stewart_vl vblock_rotary_pose_jacobian(const stewart_params *opaque, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    const stewart_rotary_params *p = rotary_params_of(opaque);
+    const stewart_vd *x = in[0];
+    stewart_vd *JP = out[0];
+    stewart_vd JR[36], S2[6], rho2[6], JA[9], JAinv[9], ctheta[1];
+    stewart_vl status = vnone();
+    (void)scalar;
+    (void)p;
+    vkernel_rotary_jacobian(p, x, JR, S2, rho2);
+    status = vmerge(status, vcheck_cranks(S2, rho2));
+    vkernel_euler_maps(opaque, x, JA, JAinv, ctheta);
+    status = vmerge(status, vmass_matrix(JR, JA, JP));
+    return status;
+}
+
+int stewart_rotary_batch_pose_jacobian(const stewart_rotary_params *p, size_t n, const double *x, double *JP, int *status)
+{
+    stewart_vd in0[6], out0[36];
+    return batch_rows(rotary_params_finite(p), (const stewart_params *)(const void *)p, vblock_rotary_pose_jacobian, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 1, (double *const []){JP}, (stewart_vd *const []){out0}, (const int []){36}, status);
+}
+
+int stewart_rotary_pose_jacobian(const stewart_rotary_params *p, const double x[6], double JP[36])
+{
+    return stewart_rotary_batch_pose_jacobian(p, 1, x, JP, NULL);
+}
+
+static int call_rotary_pose_jacobian(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_rotary_batch_pose_jacobian(rotary_params_of(p), n, in[0], out[0], status);
+}
+
 static stewart_vl vblock_rotary_crank_rates(const stewart_params *opaque, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
 {
     const stewart_rotary_params *p = rotary_params_of(opaque);
@@ -284,6 +317,6 @@ static int call_rotary_forward_dynamics(const stewart_params *p, size_t n, const
 #ifdef STEWART_TARGET
 const stewart_rotary_table STEWART_JOIN(stewart_rotary_table, STEWART_TARGET) = {
     STEWART_ROTARY_STRING(STEWART_TARGET),
-    {call_rotary_crank_angles, call_rotary_jacobian, call_rotary_crank_rates, call_rotary_twist_mass_matrix, call_rotary_mass_matrix, call_rotary_gravity_vector, call_rotary_inverse_dynamics, call_rotary_forward_dynamics},
+    {call_rotary_crank_angles, call_rotary_jacobian, call_rotary_pose_jacobian, call_rotary_crank_rates, call_rotary_twist_mass_matrix, call_rotary_mass_matrix, call_rotary_gravity_vector, call_rotary_inverse_dynamics, call_rotary_forward_dynamics},
 };
 #endif

@@ -59,6 +59,8 @@ const char *stewart_rotary_status_message(int status);
 int stewart_rotary_crank_angles(const stewart_rotary_params *p, const double x[6], double alpha[6]);
 /* J_alpha in the twist: alpha_dot = J_alpha [v; omega] (J_alpha T in the pose rates). */
 int stewart_rotary_jacobian(const stewart_rotary_params *p, const double x[6], double JR[36]);
+/* J_alpha T in the pose rates: alpha_dot = J_alpha T xd (T = blockdiag(E, J_A)). */
+int stewart_rotary_pose_jacobian(const stewart_rotary_params *p, const double x[6], double JP[36]);
 /* The crank rates alpha_dot = J_alpha T xd. */
 int stewart_rotary_crank_rates(const stewart_rotary_params *p, const double x[6], const double xd[6], double ad[6]);
 /* M_t, the symmetric positive definite twist-space mass matrix: M = M_t T. */
@@ -74,6 +76,7 @@ int stewart_rotary_forward_dynamics(const stewart_rotary_params *p, const double
 
 int stewart_rotary_batch_crank_angles(const stewart_rotary_params *p, size_t n, const double *x, double *alpha, int *status);
 int stewart_rotary_batch_jacobian(const stewart_rotary_params *p, size_t n, const double *x, double *JR, int *status);
+int stewart_rotary_batch_pose_jacobian(const stewart_rotary_params *p, size_t n, const double *x, double *JP, int *status);
 int stewart_rotary_batch_crank_rates(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, double *ad, int *status);
 int stewart_rotary_batch_twist_mass_matrix(const stewart_rotary_params *p, size_t n, const double *x, double *Mt, int *status);
 int stewart_rotary_batch_mass_matrix(const stewart_rotary_params *p, size_t n, const double *x, double *M, int *status);

@@ -13,14 +13,15 @@
 /* The rotary functions of the table's `call`, in this order (their index):
  *    0  crank_angles
  *    1  jacobian
- *    2  crank_rates
- *    3  twist_mass_matrix
- *    4  mass_matrix
- *    5  gravity_vector
- *    6  inverse_dynamics
- *    7  forward_dynamics
+ *    2  pose_jacobian
+ *    3  crank_rates
+ *    4  twist_mass_matrix
+ *    5  mass_matrix
+ *    6  gravity_vector
+ *    7  inverse_dynamics
+ *    8  forward_dynamics
  */
-#define STEWART_ROTARY_FUNCTIONS 8
+#define STEWART_ROTARY_FUNCTIONS 9
 
 typedef struct {
     const char *name;  /* the target, as the linear table's */

@@ -10,6 +10,7 @@
 #ifdef STEWART_PREFIX
 #define stewart_rotary_crank_angles STEWART_LOCAL(rotary_crank_angles)
 #define stewart_rotary_jacobian STEWART_LOCAL(rotary_jacobian)
+#define stewart_rotary_pose_jacobian STEWART_LOCAL(rotary_pose_jacobian)
 #define stewart_rotary_crank_rates STEWART_LOCAL(rotary_crank_rates)
 #define stewart_rotary_twist_mass_matrix STEWART_LOCAL(rotary_twist_mass_matrix)
 #define stewart_rotary_mass_matrix STEWART_LOCAL(rotary_mass_matrix)
@@ -18,6 +19,7 @@
 #define stewart_rotary_forward_dynamics STEWART_LOCAL(rotary_forward_dynamics)
 #define stewart_rotary_batch_crank_angles STEWART_LOCAL(rotary_batch_crank_angles)
 #define stewart_rotary_batch_jacobian STEWART_LOCAL(rotary_batch_jacobian)
+#define stewart_rotary_batch_pose_jacobian STEWART_LOCAL(rotary_batch_pose_jacobian)
 #define stewart_rotary_batch_crank_rates STEWART_LOCAL(rotary_batch_crank_rates)
 #define stewart_rotary_batch_twist_mass_matrix STEWART_LOCAL(rotary_batch_twist_mass_matrix)
 #define stewart_rotary_batch_mass_matrix STEWART_LOCAL(rotary_batch_mass_matrix)

@@ -72,6 +72,7 @@ if TYPE_CHECKING:  # the public names: what `__getattr__` imports on first use
     from .motion.simulation import SimulationInterrupted, SimulationResult, simulate
     from .motion.trajectory import PointToPoint, SampledTrajectory
     from .model.presets import presets
+    from .model.rotary import RotaryPlatform
     from .model.rotary_params import RotaryParams
     from .model.stiffness import Modes
     from .model.reachability import WorkspaceError, reachability

@@ -71,8 +71,18 @@ FUNCTIONS = {
         method='jacobian',
         option='',
     ),
-    'crank_rates': Function(
+    'pose_jacobian': Function(
         index=2,
+        inputs=('x',),
+        scalar='',
+        outputs=(('JP', 36),),
+        results=(('JP', 0, 0, (6, 6)),),
+        result_type='',
+        method='pose_jacobian',
+        option='',
+    ),
+    'crank_rates': Function(
+        index=3,
         inputs=('x', 'xd'),
         scalar='',
         outputs=(('ad', 6),),
@@ -82,7 +92,7 @@ FUNCTIONS = {
         option='',
     ),
     'twist_mass_matrix': Function(
-        index=3,
+        index=4,
         inputs=('x',),
         scalar='',
         outputs=(('Mt', 36),),
@@ -92,7 +102,7 @@ FUNCTIONS = {
         option='',
     ),
     'mass_matrix': Function(
-        index=4,
+        index=5,
         inputs=('x',),
         scalar='',
         outputs=(('M', 36),),
@@ -102,7 +112,7 @@ FUNCTIONS = {
         option='',
     ),
     'gravity_vector': Function(
-        index=5,
+        index=6,
         inputs=('x',),
         scalar='',
         outputs=(('G', 6),),
@@ -112,7 +122,7 @@ FUNCTIONS = {
         option='',
     ),
     'inverse_dynamics': Function(
-        index=6,
+        index=7,
         inputs=('x', 'xd', 'xdd'),
         scalar='',
         outputs=(('tau', 6),),
@@ -122,7 +132,7 @@ FUNCTIONS = {
         option='',
     ),
     'forward_dynamics': Function(
-        index=7,
+        index=8,
         inputs=('x', 'xd', 'tau'),
         scalar='',
         outputs=(('xdd', 6),),

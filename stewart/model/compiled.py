@@ -3,7 +3,8 @@
 what the rest of the package uses. ``tests/test_layout.py`` holds every other module to it.
 
 - :class:`Kernel`: the batch model of one platform, every function of the generated
-  ``FUNCTIONS`` table (what :class:`~stewart.Platform` calls).
+  ``FUNCTIONS`` table (what :class:`~stewart.Platform` calls); :class:`RotaryKernel`, that of a
+  rotary rig (what :class:`~stewart.RotaryPlatform` calls).
 - :class:`ClosedLoop`, :class:`Mode`, :class:`Outcome`, :func:`status_message`: the
   simulator's compiled loop (:mod:`stewart.motion.simulation`, :mod:`stewart.motion.control`).
 - :class:`Peaks`, :func:`box_states`, :data:`PEAK_QUANTITIES`: the envelope's running peaks
@@ -21,6 +22,7 @@ from .._kernel import (
     Mode,
     Outcome,
     Peaks,
+    RotaryKernel,
     box_states,
     build_info,
     modal_terms,
@@ -28,5 +30,5 @@ from .._kernel import (
     status_message,
 )
 
-__all__ = ["Kernel", "ClosedLoop", "Mode", "Outcome", "status_message", "Peaks", "box_states", "PEAK_QUANTITIES",
+__all__ = ["Kernel", "RotaryKernel", "ClosedLoop", "Mode", "Outcome", "status_message", "Peaks", "box_states", "PEAK_QUANTITIES",
            "modal_terms", "UNSTABLE", "build_info", "set_simd", "LANES"]
