@@ -1,0 +1,226 @@
+"""The rotary family (issue 40) against the independent model of tests/rotary_oracle.py on
+random asymmetric rigs (tilted motor axes, axes reversed, a payload off-centre with a full
+tensor), against complex-step derivatives, and by hand on symmetric rigs."""
+
+import numpy as np
+import pytest
+import scipy.integrate
+
+import stewart
+import rotary_oracle as oracle
+
+H = 1e-30  # complex step
+
+
+def _turn(v, axis, angle):
+    axis = axis / np.linalg.norm(axis)
+    return v * np.cos(angle) + np.cross(axis, v) * np.sin(angle) + axis * (axis @ v) * (1 - np.cos(angle))
+
+
+def random_rig(seed):
+    """simrig100 made asymmetric: each motor axis and crank zero turned together by up to 0.2 rad
+    about a random axis, two axes reversed (their branch with them, so that the rig stays in
+    its assembly), the base and platform points moved by 1 cm, a payload off-centre with
+    products of inertia, masses and inertias drawn."""
+    rng = np.random.default_rng(seed)
+    rig = stewart.RotaryParams.preset("simrig100")
+    axes, zero, branch = rig.motor_axes.copy(), rig.crank_zero.copy(), rig.crank_branch.copy()
+    for i in range(6):
+        turn, angle = rng.normal(size=3), rng.uniform(-0.2, 0.2)
+        axes[i], zero[i] = _turn(axes[i], turn, angle), _turn(zero[i], turn, angle)
+    for i in rng.choice(6, 2, replace=False):
+        axes[i], branch[i] = -axes[i], -branch[i]
+    tensor = np.diag(rng.uniform(6.0, 9.0, 3))
+    tensor[0, 1] = tensor[1, 0] = rng.uniform(-0.5, 0.5)
+    tensor[1, 2] = tensor[2, 1] = rng.uniform(-0.5, 0.5)
+    crank_mass, crank_com = rng.uniform(0.5, 2.0), rng.uniform(-0.02, 0.08)
+    return rig.replace(motor_axes=axes, crank_zero=zero, crank_branch=branch,
+                       base_points=rig.base_points + rng.normal(scale=0.01, size=(6, 3)),
+                       platform_points=rig.platform_points + rng.normal(scale=0.01, size=(6, 3)),
+                       platform_mass=rng.uniform(60.0, 140.0), platform_inertia=tensor,
+                       platform_com=rng.uniform(-0.05, 0.05, 3) + [0.0, 0.0, 0.3],
+                       crank_mass=crank_mass, crank_com_distance=crank_com,
+                       crank_inertia=crank_mass * crank_com ** 2 + rng.uniform(0.05, 0.5),
+                       rod_mass=rng.uniform(0.3, 1.5), rod_com_distance=rng.uniform(0.1, 0.4),
+                       rod_inertia=rng.uniform(0.005, 0.05), gravity=9.81)
+
+
+def random_states(rig, seed, n=8):
+    """n states near the rig's home whose poses every crank reaches."""
+    rng = np.random.default_rng(seed)
+    home = stewart.RotaryPlatform(rig).home
+    rows = []
+    while len(rows) < n:
+        x = home + np.concatenate([rng.uniform(-0.02, 0.02, 3), rng.uniform(-0.05, 0.05, 3)])
+        if oracle.crank_angles(rig, x) is not None:
+            rows.append((x, rng.normal(scale=0.3, size=6), rng.normal(scale=2.0, size=6)))
+    return [np.array(a) for a in zip(*rows)]
+
+
+RIGS = [random_rig(seed) for seed in range(3)] + [stewart.RotaryParams.preset("desktop_servo")]
+
+
+@pytest.fixture(params=range(len(RIGS)), ids=lambda k: f"rig{k}")
+def rig(request):
+    return RIGS[request.param]
+
+
+def test_crank_angles_and_branches_against_oracle(rig, figures):
+    x, _, _ = random_states(rig, 1)
+    alpha = stewart.RotaryPlatform(rig).crank_angles(x)
+    error = np.max(np.abs(alpha - np.array([oracle.crank_angles(rig, row) for row in x])))
+    figures("rotary: crank angles against atan2/acos and the branch's sign", error, 1e-13)  # reached 1.0e-15
+
+
+def test_torques_against_virtual_power(rig, figures):
+    x, xd, xdd = random_states(rig, 2)
+    tau = stewart.RotaryPlatform(rig).inverse_dynamics(x, xd, xdd)
+    expected = np.array([oracle.torques(rig, *state) for state in zip(x, xd, xdd)])
+    error = np.max(np.abs(tau - expected)) / np.max(np.abs(expected))
+    figures("rotary: motor torques against virtual power (relative)", error, 1e-13)  # reached 1.3e-15
+
+
+def test_jacobian_against_complex_step(rig, figures):
+    x, xd, _ = random_states(rig, 3)
+    model = stewart.RotaryPlatform(rig)
+    JP, J = model.pose_jacobian(x), model.jacobian(x)
+    worst = 0.0
+    for row, jp in zip(x, JP):
+        alpha = oracle.crank_angles(rig, row)
+        step = np.array([oracle.complex_crank_angles(rig, row + 1j * H * e, alpha).imag / H for e in np.eye(6)]).T
+        worst = np.maximum(worst, np.max(np.abs(jp - step)) / np.max(np.abs(step)))
+    figures("rotary: J_alpha T against complex step (relative)", worst, 1e-13)  # reached 8.4e-16
+    # the twist's J_alpha gives the oracle's crank rates from the twist [v; omega]
+    twist = np.concatenate([xd[:, :3], [oracle.angular_velocity(r[3:], v[3:]) for r, v in zip(x, xd)]], axis=1)
+    expected = np.array([oracle.crank_rates(rig, *state) for state in zip(x, xd)])
+    error = np.max(np.abs(np.einsum("nij,nj->ni", J, twist) - expected)) / np.max(np.abs(expected))
+    figures("rotary: J_alpha t against the crank rates by hand (relative)", error, 5e-14)  # reached 6.4e-16
+    error = np.max(np.abs(model.crank_rates(x, xd) - expected)) / np.max(np.abs(expected))
+    figures("rotary: crank rates against the crank rates by hand (relative)", error, 5e-14)  # reached 6.4e-16
+
+
+def test_power_balance(rig, figures):
+    """dE/dt (complex step of the oracle's T + V along the motion) = tau . alpha_dot."""
+    x, xd, xdd = random_states(rig, 4)
+    model = stewart.RotaryPlatform(rig)
+    tau, rates = model.inverse_dynamics(x, xd, xdd), model.crank_rates(x, xd)
+    worst = 0.0
+    for row, v, a, t, r in zip(x, xd, xdd, tau, rates):
+        power = oracle.energy(rig, row + 1j * H * v, v + 1j * H * a, oracle.crank_angles(rig, row)).imag / H
+        worst = np.maximum(worst, abs(power - t @ r) / (np.abs(t) @ np.abs(r)))
+    figures("rotary: power balance dE/dt = tau . alpha_dot (relative)", worst, 1e-13)  # reached 6.8e-15
+
+
+def test_energy_is_conserved_without_torque(figures):
+    rig = RIGS[0]
+    model = stewart.RotaryPlatform(rig)
+    x0 = model.home + [0.005, -0.004, 0.01, 0.02, -0.01, 0.015]
+    s0 = np.concatenate([x0, [0.05, 0.0, -0.05, 0.1, 0.0, -0.1]])
+    zero = np.zeros(6)
+    sol = scipy.integrate.solve_ivp(lambda t, s: np.concatenate([s[6:], model.forward_dynamics(s[:6], s[6:], zero)]),
+                                    (0.0, 0.1), s0, method="DOP853", rtol=1e-12, atol=1e-13)
+    energies = [oracle.energy(rig, s[:6], s[6:], oracle.crank_angles(rig, s[:6])) for s in sol.y.T]
+    drift = np.max(np.abs(np.array(energies) - energies[0])) / abs(energies[0])
+    figures("rotary: energy drift, DOP853 0.1 s, tau = 0 (relative)", drift, 2e-12)  # reached 2.2e-14
+
+
+def test_forward_dynamics_inverts_inverse_dynamics(rig, figures):
+    x, xd, xdd = random_states(rig, 5)
+    model = stewart.RotaryPlatform(rig)
+    back = model.forward_dynamics(x, xd, model.inverse_dynamics(x, xd, xdd))
+    figures("rotary: forward dynamics of inverse dynamics (relative)",
+            np.max(np.abs(back - xdd)) / np.max(np.abs(xdd)), 1e-12)  # reached 6.8e-14
+    # the terms: M xdd + G equals the torques' generalized force at rest
+    tau0 = model.inverse_dynamics(x, np.zeros_like(xd), xdd)
+    lhs = np.einsum("nij,nj->ni", model.mass_matrix(x), xdd) + model.gravity_vector(x)
+    rhs = np.einsum("nji,nj->ni", model.jacobian(x), tau0)
+    figures("rotary: M xdd + G = J_alpha^T tau at rest (relative)",
+            np.max(np.abs(lhs - rhs)) / np.max(np.abs(rhs)), 1e-14)  # reached 2.3e-16
+    Mt = model.twist_mass_matrix(x)
+    assert np.array_equal(Mt, np.swapaxes(Mt, 1, 2))
+    assert np.all(np.linalg.eigvalsh(Mt) > 0.0)
+
+
+def test_forward_kinematics_of_inverse_kinematics(rig, figures):
+    x, _, _ = random_states(rig, 6)
+    model = stewart.RotaryPlatform(rig)
+    back = model.forward_kinematics(model.crank_angles(x))
+    figures("rotary: forward kinematics of the crank angles (m, rad)", np.max(np.abs(back - x)), 1e-12)  # reached 4.9e-14
+    assert np.array_equal(model.forward_kinematics(model.crank_angles(x[0]), guess=x[0]), x[0])
+
+
+FUNCTIONS = {"crank_angles": 1, "jacobian": 1, "pose_jacobian": 1, "crank_rates": 2, "mass_matrix": 1,
+             "twist_mass_matrix": 1, "gravity_vector": 1, "inverse_dynamics": 3, "forward_dynamics": 3}
+
+
+@pytest.mark.parametrize("name", FUNCTIONS)
+def test_alone_as_in_a_batch_bit_for_bit(simd_path, name):
+    rig = RIGS[1]
+    x, xd, xdd = random_states(rig, 7, n=13)
+    model = stewart.RotaryPlatform(rig)
+    tau = model.inverse_dynamics(x, xd, xdd)
+    inputs = {"crank_rates": (x, xd), "inverse_dynamics": (x, xd, xdd), "forward_dynamics": (x, xd, tau)}.get(name, (x,))
+    batch = getattr(model, name)(*inputs)
+    for k in (0, 6, 12):
+        assert np.array_equal(getattr(model, name)(*(a[k] for a in inputs)), batch[k])
+    assert np.array_equal(getattr(model, name)(*(a[5:9] for a in inputs)), batch[5:9])
+    # the same bits on every instruction-set path: the first path's results hold the others
+    first = _FIRST_PATH.setdefault(name, batch)
+    assert np.array_equal(first, batch), f"{name}: differs between instruction-set paths ({simd_path})"
+
+
+#: {function: its batch's results on the first path the test ran}.
+_FIRST_PATH = {}
+
+
+def _hand_rig(branch, **changes):
+    """Six legs at 60 degrees: motor i at 0.4 m on the x axis turned by 60 i degrees, its crank
+    (0.1 m) tangent, a_i = h_i x z, and its platform joint right above the crank tip at alpha = 0;
+    rods 0.3 m. At x = (0, 0, 0.3, 0, 0, 0) the loop |e - r u(alpha)| = d reads
+    0.02 (1 - cos alpha) = 0.06 sin alpha: alpha = 0, where the rod leaves the tip straight up
+    along the tip's motion (branch +1), or tan(alpha / 2) = 3, alpha = 2 atan 3, where
+    (P - c) . (a x (c - b)) = 0.1 (0.18 (-0.6) + 0.24 (-0.8)) = -0.03 (branch -1)."""
+    angle = np.radians(60.0 * np.arange(6))
+    base = 0.4 * np.column_stack([np.cos(angle), np.sin(angle), np.zeros(6)])
+    zero = np.column_stack([-np.sin(angle), np.cos(angle), np.zeros(6)])
+    values = dict(base_points=base, platform_points=base + 0.1 * zero, motor_axes=np.cross(zero, [0.0, 0.0, 1.0]),
+                  crank_zero=zero, crank_branch=[branch] * 6, crank_length=0.1, rod_length=0.3, platform_mass=10.0,
+                  platform_inertia=[1.0, 1.0, 2.0], crank_mass=0.0, crank_com_distance=0.0, crank_inertia=0.0,
+                  rod_mass=0.0, rod_com_distance=0.0, rod_inertia=0.0)
+    values.update(changes)
+    return stewart.RotaryParams(**values)
+
+
+def test_branch_by_hand():
+    x = np.array([0.0, 0.0, 0.3, 0.0, 0.0, 0.0])
+    assert np.max(np.abs(stewart.RotaryPlatform(_hand_rig(1)).crank_angles(x))) <= 1e-14  # reached 2.2e-16
+    other = stewart.RotaryPlatform(_hand_rig(-1)).crank_angles(x)
+    assert np.max(np.abs(other - 2.0 * np.arctan(3.0))) <= 1e-14  # reached 4.4e-16
+    with pytest.raises(stewart.SingularityError, match="crank 0 cannot reach the pose"):
+        stewart.RotaryPlatform(_hand_rig(1)).crank_angles(x + [0.0, 0.0, 0.2, 0.0, 0.0, 0.0])
+    angles, ok = stewart.RotaryPlatform(_hand_rig(1)).crank_angles(np.stack([x, x + [0, 0, 0.2, 0, 0, 0]]),
+                                                                    return_mask=True)
+    assert ok.tolist() == [True, False] and np.isnan(angles[1]).all()
+
+
+def test_heave_torque_by_hand(figures):
+    """simrig100 at its home (cranks horizontal, alpha = 0), massless rods, cranks of mass m_K
+    with their centre of mass b_K out, the payload's centre of mass on the z axis: the tips move
+    straight up at alpha = 0 (a x h = z), so holding the weight takes on each motor
+    tau = m_P g r / 6 + m_K g b_K, whatever the rods' lean (virtual work: 6 tau alpha' = m_P g z',
+    alpha' = z' / r)."""
+    rig = stewart.RotaryParams.preset("simrig100").replace(rod_mass=0.0, rod_inertia=0.0)
+    model = stewart.RotaryPlatform(rig)
+    tau = model.inverse_dynamics(model.home, np.zeros(6), np.zeros(6))
+    expected = rig.platform_mass * rig.gravity * rig.crank_length / 6 + rig.crank_mass * rig.gravity * rig.crank_com_distance
+    figures("rotary: heave torque of simrig100 by hand (relative)", np.max(np.abs(tau / expected - 1.0)), 1e-13)  # reached 1.2e-15
+
+
+def test_errors_name_the_argument():
+    model = stewart.RotaryPlatform.preset("desktop_servo")
+    with pytest.raises(ValueError, match="x"):
+        model.crank_angles([0.0, 0.0, np.nan, 0.0, 0.0, 0.0])
+    with pytest.raises(ValueError, match="xdd"):
+        model.inverse_dynamics(model.home, np.zeros(6), np.zeros(5))
+    with pytest.raises(stewart.WrongTypeError, match="params"):
+        stewart.RotaryPlatform(stewart.PlatformParams.preset("narayan2017"))
