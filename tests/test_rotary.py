@@ -154,23 +154,27 @@ FUNCTIONS = {"crank_angles": 1, "jacobian": 1, "pose_jacobian": 1, "crank_rates"
 
 
 @pytest.mark.parametrize("name", FUNCTIONS)
-def test_alone_as_in_a_batch_bit_for_bit(simd_path, name):
+def test_alone_as_in_a_batch_bit_for_bit_on_every_path(name):
+    """One state alone, in a batch at any position and in a part of a batch gives the same bits,
+    on every instruction-set path this CPU runs (each held to the first)."""
     rig = RIGS[1]
     x, xd, xdd = random_states(rig, 7, n=13)
     model = stewart.RotaryPlatform(rig)
     tau = model.inverse_dynamics(x, xd, xdd)
     inputs = {"crank_rates": (x, xd), "inverse_dynamics": (x, xd, xdd), "forward_dynamics": (x, xd, tau)}.get(name, (x,))
-    batch = getattr(model, name)(*inputs)
-    for k in (0, 6, 12):
-        assert np.array_equal(getattr(model, name)(*(a[k] for a in inputs)), batch[k])
-    assert np.array_equal(getattr(model, name)(*(a[5:9] for a in inputs)), batch[5:9])
-    # the same bits on every instruction-set path: the first path's results hold the others
-    first = _FIRST_PATH.setdefault(name, batch)
-    assert np.array_equal(first, batch), f"{name}: differs between instruction-set paths ({simd_path})"
-
-
-#: {function: its batch's results on the first path the test ran}.
-_FIRST_PATH = {}
+    function, first = getattr(model, name), None
+    previous = stewart.set_simd(None)
+    try:
+        for path in stewart.build_info()["supported"]:
+            stewart.set_simd(path)
+            batch = function(*inputs)
+            for k in (0, 6, 12):
+                assert np.array_equal(function(*(a[k] for a in inputs)), batch[k]), (path, k)
+            assert np.array_equal(function(*(a[5:9] for a in inputs)), batch[5:9]), path
+            first = batch if first is None else first
+            assert np.array_equal(first, batch), f"{name}: {path} differs from the first path"
+    finally:
+        stewart.set_simd(previous)
 
 
 def _hand_rig(branch, **changes):
