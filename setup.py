@@ -52,8 +52,10 @@ WRAPPER_OPTIMIZE = ["-O1", "-g0"]
 #: compiled with them.
 with open("generated/stewart_model.h", encoding="ascii") as header:
     EXACT = re.search(r'#define STEWART_ROUNDING_FLAGS "(.*)"', header.read()).group(1).split()
-#: The model, compiled once per target: its units and its table; what its copies depend on.
-MODEL_SOURCES = sorted(glob.glob("generated/stewart_model*.c")) + ["generated/stewart_target.c"]
+#: The model, compiled once per target: its units (the rotary family's, stewart_rotary*.c, beside
+#: them) and its table; what its copies depend on.
+MODEL_SOURCES = (sorted(glob.glob("generated/stewart_model*.c")) + sorted(glob.glob("generated/stewart_rotary*.c"))
+                 + ["generated/stewart_target.c"])
 MODEL = MODEL_SOURCES + ["generated/stewart_model.h", "generated/stewart_internal.h", "generated/stewart_dispatch.h",
                          "generated/stewart_rotary.h", "generated/stewart_rotary_internal.h",
                          "generated/stewart_rotary_dispatch.h"]

@@ -2,8 +2,9 @@
 public functions, and stewart_model_<family>.c, the kernels of one family each) with what they
 share (stewart_internal.h), its Cython declarations stewart_model.pxd, and the dispatch between
 compiled copies of the model, stewart_dispatch.h and stewart_target.c; and the tables the Python
-layer reads, the module stewart/_generated.py.  Files of an earlier generation that it no longer
-writes (stewart_model_*.c) are removed."""
+layer reads, the module stewart/_generated.py; and the rotary family's (codegen/rotary_source.py).
+Files of an earlier generation that it no longer writes (stewart_model_*.c, stewart_rotary_*.c)
+are removed."""
 
 import argparse
 import dataclasses
@@ -100,8 +101,8 @@ def main(argv=None):
         'stewart_target.c': csource.target_source(model.FUNCTIONS),
         'stewart_rotary.h': rotary_source.header([(k.name, k.ops) for k in rotary_emitted]),
         'stewart_rotary_internal.h': rotary_source.internal_header(rotary_emitted),
-        'stewart_model_rotary.c': rotary_source.source(rotary_kernels),
-        **{f'stewart_model_{k.name}.c': rotary_source.kernel_unit(k) for k in rotary_emitted},
+        'stewart_rotary.c': rotary_source.source(rotary_kernels),
+        **{f'stewart_{k.name}.c': rotary_source.kernel_unit(k) for k in rotary_emitted},
         'stewart_rotary_dispatch.h': rotary_source.dispatch_header(),
         'stewart_rotary.pxd': rotary_source.pxd(),
     }
@@ -112,7 +113,8 @@ def main(argv=None):
         written.append(str(args.python))
     if _write_if_changed(args.python.parent / ROTARY_PYTHON, rotary_source.module()):
         written.append(str(args.python.parent / ROTARY_PYTHON))
-    for stale in sorted(set(p.name for p in args.out.glob('stewart_model_*.c')) - files.keys()):
+    for stale in sorted(set(p.name for pattern in ('stewart_model_*.c', 'stewart_rotary_*.c')
+                            for p in args.out.glob(pattern)) - files.keys()):
         (args.out / stale).unlink()
         written.append(f'{stale} removed')
     print(f'[codegen] write {args.out} ({", ".join(written) or "unchanged"}) ...'

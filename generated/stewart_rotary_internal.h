@@ -97,7 +97,7 @@ static stewart_vl vcrank_angles(const stewart_vd cs[12], stewart_vd alpha[6])
 #pragma GCC diagnostic pop
 #endif
 
-/* ---- the rotary kernels (stewart_model_rotary_<kernel>.c) ---- */
+/* ---- the rotary kernels (stewart_rotary_<kernel>.c) ---- */
 STEWART_HIDDEN void vkernel_rotary_crank_angles(const stewart_rotary_params *p, const stewart_vd *x, stewart_vd *cs, stewart_vd *S2, stewart_vd *rho2);
 STEWART_HIDDEN void vkernel_rotary_jacobian(const stewart_rotary_params *p, const stewart_vd *x, stewart_vd *JR, stewart_vd *S2, stewart_vd *rho2);
 STEWART_HIDDEN void vkernel_rotary_crank_rates(const stewart_rotary_params *p, const stewart_vd *x, const stewart_vd *xd, stewart_vd *ad, stewart_vd *S2, stewart_vd *rho2);
