@@ -19,7 +19,10 @@ ROOT = pathlib.Path(__file__).resolve().parent.parent
 def test_c_files_are_the_generators_output():
     # Run from the checkout (an editable install), the package points at generated/ itself.
     assert pathlib.Path(stewart.c_include_dir()) == ROOT / "generated"
-    units = sorted(p.name for p in (ROOT / "generated").glob("*.c") if p.name != "stewart_target.c")
+    # The rotary family's units (stewart_rotary*.c) are compiled into the extension only: the C
+    # programs' API is the linear model's so far.
+    units = sorted(p.name for p in (ROOT / "generated").glob("*.c")
+                   if p.name != "stewart_target.c" and not p.name.startswith("stewart_rotary"))
     assert stewart.c_sources() == [os.path.join(stewart.c_include_dir(), name)
                                    for name in ["stewart_model.c"] + [u for u in units if u != "stewart_model.c"]]
     assert len(units) > 10  # the public functions, and the kernels family by family
