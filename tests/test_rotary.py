@@ -228,3 +228,20 @@ def test_errors_name_the_argument():
         model.inverse_dynamics(model.home, np.zeros(6), np.zeros(5))
     with pytest.raises(stewart.WrongTypeError, match="params"):
         stewart.RotaryPlatform(stewart.PlatformParams.preset("narayan2017"))
+
+
+def test_massless_legs_reduce_to_the_platforms_statics(figures):
+    """Without the cranks' and rods' masses and inertias, at rest the torques hold the platform's
+    weight alone: J_alpha^T tau = G = [0, 0, m g, R c x (0, 0, m g)] (the weight at the centre of
+    mass R c from {P}'s origin), on a rig with an off-centre payload."""
+    rig = RIGS[0].replace(crank_mass=0.0, crank_com_distance=0.0, crank_inertia=0.0, rod_mass=0.0, rod_inertia=0.0)
+    model = stewart.RotaryPlatform(rig)
+    x, _, _ = random_states(rig, 8)
+    weight = np.array([0.0, 0.0, rig.platform_mass * rig.gravity])
+    expected = np.array([np.concatenate([weight, np.cross(oracle.rotation(row[3:]) @ rig.platform_com, weight)])
+                         for row in x])
+    tau = model.inverse_dynamics(x, np.zeros_like(x), np.zeros_like(x))
+    for name, value, bound in (("G", model.gravity_vector(x), 5e-16),  # reached 5.3e-18
+                               ("J_alpha^T tau", np.einsum("nji,nj->ni", model.jacobian(x), tau), 1e-14)):  # 1.7e-16
+        figures(f"rotary: massless legs, {name} against the platform's weight (relative)",
+                np.max(np.abs(value - expected)) / np.max(np.abs(expected)), bound)
