@@ -11,6 +11,7 @@ import dataclasses
 import os
 import time
 from concurrent.futures import ProcessPoolExecutor
+from functools import partial
 from pathlib import Path
 
 from . import csource, emit, kinematics, model, pxd, pymodule, rotary, rotary_source, schema
@@ -37,18 +38,12 @@ def _write_if_changed(path, text):
     return True
 
 
-def _kernel(build):
-    """Derive and emit one kernel: (its C, its spec without the derivation graph, the
-    derivation and emission times)."""
+def _kernel(build, params=kinematics.PARAMS, params_type='stewart_params'):
+    """Derive and emit one kernel on the parameter symbols `params` of the C struct `params_type`
+    (the linear model's, or the rotary family's `rotary.RPARAMS` of `stewart_rotary_params`):
+    (its C, its spec without the derivation graph, the derivation and emission times)."""
     kernel, t_derive = _timed(build)
-    result, t_emit = _timed(emit.emit_kernel, kernel, kinematics.PARAMS.members())
-    return result, dataclasses.replace(kernel, graph=None), t_derive, t_emit
-
-
-def _rotary_kernel(build):
-    """`_kernel` of the rotary family (its parameters, `stewart_rotary_params`)."""
-    kernel, t_derive = _timed(build)
-    result, t_emit = _timed(emit.emit_kernel, kernel, rotary.RPARAMS.members(), 'stewart_rotary_params')
+    result, t_emit = _timed(emit.emit_kernel, kernel, params.members(), params_type)
     return result, dataclasses.replace(kernel, graph=None), t_derive, t_emit
 
 
@@ -79,8 +74,9 @@ def main(argv=None):
             print(f'[codegen] {kernel.name:<32} derive {t_derive:5.2f} s, cse+C {t_emit:5.2f} s,'
                   f' {result.ops:5d} ops', flush=True)
         rotary_emitted, rotary_kernels = [], {kinematics.euler_maps_kernel: kernels[kinematics.euler_maps_kernel]}
+        rotary_kernel = partial(_kernel, params=rotary.RPARAMS, params_type='stewart_rotary_params')
         for build, (result, kernel, t_derive, t_emit) in zip(rotary_source.BUILDERS,
-                                                             pool.map(_rotary_kernel, rotary_source.BUILDERS)):
+                                                             pool.map(rotary_kernel, rotary_source.BUILDERS)):
             rotary_kernels[build] = kernel
             rotary_emitted.append(result)
             print(f'[codegen] {kernel.name:<32} derive {t_derive:5.2f} s, cse+C {t_emit:5.2f} s,'
