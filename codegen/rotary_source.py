@@ -229,10 +229,11 @@ def kernel_unit(kernel):
 def _block(function, kernels):
     """C lines of `vblock_rotary_<name>`: its kernels and steps on a block of states, each
     rotary kernel followed by the cranks' check, the statuses merged."""
-    runs = iter(kernel_runs(function, kernels))
+    listed = kernel_runs(function, kernels)
+    runs = iter(listed)
     outputs = dict(function.sizes)
     arrays = {}
-    for specs, _, renames in kernel_runs(function, kernels):
+    for specs, _, renames in listed:
         for name, exprs in specs[0].outputs:
             name = renames.get(name, name)
             if name not in outputs:
