@@ -39,7 +39,7 @@ import sympy as sp
 from .bodies import platform_angular_momentum, platform_force, platform_velocity
 from .dynamics import twist_mass_matrix
 from .graph import Graph, KernelSpec, cross, dot, skew
-from .kinematics import NUM_LEGS, X, XD, XDD, Params, accelerated_graph, kinematics, platform_inertia_tensor, twist
+from .kinematics import NUM_LEGS, TAU, X, XD, XDD, Params, accelerated_graph, kinematics, platform_inertia_tensor, twist
 from .schema import ParamField
 
 #: The rotary rig's parameters, the members of `stewart_rotary_params` in struct order (the
@@ -274,3 +274,20 @@ def rotary_gravity_kernel():
     cranks, G = gravity_force(g)
     return KernelSpec('rotary_gravity_vector', 'G = sum_b J_b^T m_b g e_z.', g, [('x', X)],
                       [('G', list(G))] + crank_checks(cranks))
+
+
+#: The motor torques, an input of `rotary_inverse_dynamics_derivatives_kernel`.
+TAU_IN = TAU
+
+
+def rotary_inverse_dynamics_derivatives_kernel():
+    """The partials of the residual R = W(x, xd, xdd) - J_alpha(x)^T tau at fixed tau (forward
+    mode on the definitions, `Graph.partials`): dtau/dq = J_alpha^-T dR/dq for q = x, xd, xdd
+    (dR/dxdd = M_t T), row = output, column = input."""
+    g = accelerated_graph()
+    _, cranks, W = inverse_dynamics(g)
+    residual = list(W - jacobian_rows(cranks).T * sp.Matrix(TAU_IN))
+    outputs = [(f'Z{name}', [e for row in g.partials(residual, inputs, f'p{name}') for e in row])
+               for name, inputs in (('x', X), ('xd', XD), ('xdd', XDD))]
+    return KernelSpec('rotary_inverse_dynamics_derivatives', rotary_inverse_dynamics_derivatives_kernel.__doc__, g,
+                      [('x', X), ('xd', XD), ('xdd', XDD), ('tau', TAU_IN)], outputs + crank_checks(cranks))

@@ -59,6 +59,14 @@ FUNCTIONS = (
                     Kernels(_ID, ('x', 'xd', 'xdd0')), ('forward_rhs', ('JR', 'tau', 'W', 'rhs')),
                     ('ldl_solve', ('FM', '1', '1', 'rhs', 'y')), ('pose_accelerations', ('JAinv', '1', 'y', 'xdd'))),
              scratch=(_LDL, ('xdd0', 6), ('rhs', 6), ('y', 6))),
+    Function('inverse_dynamics_derivatives',
+             'tau and its Jacobians (row = output, column = input): dtau/dq = J_alpha^-T dR/dq for q = x, xd,'
+             ' xdd, R = M_t T xdd + V xd + G - J_alpha^T tau at fixed tau.',
+             ('x', 'xd', 'xdd'), (('tau', (6,)), ('dtau_dx', (6, 6)), ('dtau_dxd', (6, 6)), ('dtau_dxdd', (6, 6))), _ID,
+             steps=(('bareiss_factor', ('JR', 'FJ')), ('bareiss_solve', ('FJ', '1', '1', 'W', 'tau')),
+                    Kernels((rotary.rotary_inverse_dynamics_derivatives_kernel,), ('x', 'xd', 'xdd', 'tau')),
+                    *(('bareiss_solve', ('FJ', '6', '6', f'Z{name}', f'dtau_d{name}')) for name in ('x', 'xd', 'xdd'))),
+             scratch=(_BAREISS,), result_type='InverseDynamicsDerivatives'),
 )
 
 #: The first status code of the cranks: STEWART_ERR_CRANK_REACH + i, crank i cannot reach the pose.

@@ -312,11 +312,54 @@ static int call_rotary_forward_dynamics(const stewart_params *p, size_t n, const
     return stewart_rotary_batch_forward_dynamics(rotary_params_of(p), n, in[0], in[1], in[2], out[0], status);
 }
 
+static stewart_vl vblock_rotary_inverse_dynamics_derivatives(const stewart_params *opaque, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    const stewart_rotary_params *p = rotary_params_of(opaque);
+    const stewart_vd *x = in[0];
+    const stewart_vd *xd = in[1];
+    const stewart_vd *xdd = in[2];
+    stewart_vd *tau = out[0];
+    stewart_vd *dtau_dx = out[1];
+    stewart_vd *dtau_dxd = out[2];
+    stewart_vd *dtau_dxdd = out[3];
+    stewart_vd W[6], JR[36], S2[6], rho2[6], Zx[36], Zxd[36], Zxdd[36], FJ[57];
+    stewart_vl status = vnone();
+    (void)scalar;
+    (void)p;
+    vkernel_rotary_inverse_dynamics(p, x, xd, xdd, W, JR, S2, rho2);
+    status = vmerge(status, vcheck_cranks(S2, rho2));
+    status = vmerge(status, vbareiss_factor(JR, FJ));
+    status = vmerge(status, vbareiss_solve(FJ, 1, 1, W, tau));
+    vkernel_rotary_inverse_dynamics_derivatives(p, x, xd, xdd, tau, Zx, Zxd, Zxdd, S2, rho2);
+    status = vmerge(status, vcheck_cranks(S2, rho2));
+    status = vmerge(status, vbareiss_solve(FJ, 6, 6, Zx, dtau_dx));
+    status = vmerge(status, vbareiss_solve(FJ, 6, 6, Zxd, dtau_dxd));
+    status = vmerge(status, vbareiss_solve(FJ, 6, 6, Zxdd, dtau_dxdd));
+    return status;
+}
+
+int stewart_rotary_batch_inverse_dynamics_derivatives(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd, int *status)
+{
+    stewart_vd in0[6], in1[6], in2[6], out0[6], out1[36], out2[36], out3[36];
+    return batch_rows(rotary_params_finite(p), (const stewart_params *)(const void *)p, vblock_rotary_inverse_dynamics_derivatives, 0.0, n, 3, (const double *const []){x, xd, xdd}, (stewart_vd *const []){in0, in1, in2}, 4, (double *const []){tau, dtau_dx, dtau_dxd, dtau_dxdd}, (stewart_vd *const []){out0, out1, out2, out3}, (const int []){6, 36, 36, 36}, status);
+}
+
+int stewart_rotary_inverse_dynamics_derivatives(const stewart_rotary_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6], double dtau_dx[36], double dtau_dxd[36], double dtau_dxdd[36])
+{
+    return stewart_rotary_batch_inverse_dynamics_derivatives(p, 1, x, xd, xdd, tau, dtau_dx, dtau_dxd, dtau_dxdd, NULL);
+}
+
+static int call_rotary_inverse_dynamics_derivatives(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_rotary_batch_inverse_dynamics_derivatives(rotary_params_of(p), n, in[0], in[1], in[2], out[0], out[1], out[2], out[3], status);
+}
+
 #define STEWART_ROTARY_STRING_(a) #a
 #define STEWART_ROTARY_STRING(a) STEWART_ROTARY_STRING_(a)
 #ifdef STEWART_TARGET
 const stewart_rotary_table STEWART_JOIN(stewart_rotary_table, STEWART_TARGET) = {
     STEWART_ROTARY_STRING(STEWART_TARGET),
-    {call_rotary_crank_angles, call_rotary_jacobian, call_rotary_pose_jacobian, call_rotary_crank_rates, call_rotary_twist_mass_matrix, call_rotary_mass_matrix, call_rotary_gravity_vector, call_rotary_inverse_dynamics, call_rotary_forward_dynamics},
+    {call_rotary_crank_angles, call_rotary_jacobian, call_rotary_pose_jacobian, call_rotary_crank_rates, call_rotary_twist_mass_matrix, call_rotary_mass_matrix, call_rotary_gravity_vector, call_rotary_inverse_dynamics, call_rotary_forward_dynamics, call_rotary_inverse_dynamics_derivatives},
 };
 #endif

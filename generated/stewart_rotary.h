@@ -73,6 +73,8 @@ int stewart_rotary_gravity_vector(const stewart_rotary_params *p, const double x
 int stewart_rotary_inverse_dynamics(const stewart_rotary_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6]);
 /* xdd = M^-1 (J_alpha^T tau - V xd - G); needs cos(theta) != 0. */
 int stewart_rotary_forward_dynamics(const stewart_rotary_params *p, const double x[6], const double xd[6], const double tau[6], double xdd[6]);
+/* tau and its Jacobians (row = output, column = input): dtau/dq = J_alpha^-T dR/dq for q = x, xd, xdd, R = M_t T xdd + V xd + G - J_alpha^T tau at fixed tau. */
+int stewart_rotary_inverse_dynamics_derivatives(const stewart_rotary_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6], double dtau_dx[36], double dtau_dxd[36], double dtau_dxdd[36]);
 
 int stewart_rotary_batch_crank_angles(const stewart_rotary_params *p, size_t n, const double *x, double *alpha, int *status);
 int stewart_rotary_batch_jacobian(const stewart_rotary_params *p, size_t n, const double *x, double *JR, int *status);
@@ -83,6 +85,7 @@ int stewart_rotary_batch_mass_matrix(const stewart_rotary_params *p, size_t n, c
 int stewart_rotary_batch_gravity_vector(const stewart_rotary_params *p, size_t n, const double *x, double *G, int *status);
 int stewart_rotary_batch_inverse_dynamics(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, int *status);
 int stewart_rotary_batch_forward_dynamics(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, int *status);
+int stewart_rotary_batch_inverse_dynamics_derivatives(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd, int *status);
 
 /* Operation counts of the rotary kernels:
  *   rotary_crank_angles                  413
@@ -91,6 +94,7 @@ int stewart_rotary_batch_forward_dynamics(const stewart_rotary_params *p, size_t
  *   rotary_twist_mass_matrix            2153
  *   rotary_gravity_vector                779
  *   rotary_inverse_dynamics             2480
+ *   rotary_inverse_dynamics_derivatives   31725
  */
 
 #ifdef __cplusplus

@@ -20,8 +20,9 @@
  *    6  gravity_vector
  *    7  inverse_dynamics
  *    8  forward_dynamics
+ *    9  inverse_dynamics_derivatives
  */
-#define STEWART_ROTARY_FUNCTIONS 9
+#define STEWART_ROTARY_FUNCTIONS 10
 
 typedef struct {
     const char *name;  /* the target, as the linear table's */

@@ -17,6 +17,7 @@
 #define stewart_rotary_gravity_vector STEWART_LOCAL(rotary_gravity_vector)
 #define stewart_rotary_inverse_dynamics STEWART_LOCAL(rotary_inverse_dynamics)
 #define stewart_rotary_forward_dynamics STEWART_LOCAL(rotary_forward_dynamics)
+#define stewart_rotary_inverse_dynamics_derivatives STEWART_LOCAL(rotary_inverse_dynamics_derivatives)
 #define stewart_rotary_batch_crank_angles STEWART_LOCAL(rotary_batch_crank_angles)
 #define stewart_rotary_batch_jacobian STEWART_LOCAL(rotary_batch_jacobian)
 #define stewart_rotary_batch_pose_jacobian STEWART_LOCAL(rotary_batch_pose_jacobian)
@@ -26,6 +27,7 @@
 #define stewart_rotary_batch_gravity_vector STEWART_LOCAL(rotary_batch_gravity_vector)
 #define stewart_rotary_batch_inverse_dynamics STEWART_LOCAL(rotary_batch_inverse_dynamics)
 #define stewart_rotary_batch_forward_dynamics STEWART_LOCAL(rotary_batch_forward_dynamics)
+#define stewart_rotary_batch_inverse_dynamics_derivatives STEWART_LOCAL(rotary_batch_inverse_dynamics_derivatives)
 #define stewart_rotary_status_message STEWART_LOCAL(rotary_status_message)
 #define vkernel_rotary_crank_angles STEWART_LOCAL(vkernel_rotary_crank_angles)
 #define vkernel_rotary_jacobian STEWART_LOCAL(vkernel_rotary_jacobian)
@@ -33,6 +35,7 @@
 #define vkernel_rotary_twist_mass_matrix STEWART_LOCAL(vkernel_rotary_twist_mass_matrix)
 #define vkernel_rotary_gravity_vector STEWART_LOCAL(vkernel_rotary_gravity_vector)
 #define vkernel_rotary_inverse_dynamics STEWART_LOCAL(vkernel_rotary_inverse_dynamics)
+#define vkernel_rotary_inverse_dynamics_derivatives STEWART_LOCAL(vkernel_rotary_inverse_dynamics_derivatives)
 #endif
 
 #include "stewart_rotary.h"
@@ -104,5 +107,6 @@ STEWART_HIDDEN void vkernel_rotary_crank_rates(const stewart_rotary_params *p, c
 STEWART_HIDDEN void vkernel_rotary_twist_mass_matrix(const stewart_rotary_params *p, const stewart_vd *x, stewart_vd *Mt, stewart_vd *S2, stewart_vd *rho2);
 STEWART_HIDDEN void vkernel_rotary_gravity_vector(const stewart_rotary_params *p, const stewart_vd *x, stewart_vd *G, stewart_vd *S2, stewart_vd *rho2);
 STEWART_HIDDEN void vkernel_rotary_inverse_dynamics(const stewart_rotary_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JR, stewart_vd *S2, stewart_vd *rho2);
+STEWART_HIDDEN void vkernel_rotary_inverse_dynamics_derivatives(const stewart_rotary_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *tau, stewart_vd *Zx, stewart_vd *Zxd, stewart_vd *Zxdd, stewart_vd *S2, stewart_vd *rho2);
 
 #endif /* STEWART_ROTARY_INTERNAL_H */

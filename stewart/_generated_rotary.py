@@ -141,4 +141,14 @@ FUNCTIONS = {
         method='forward_dynamics',
         option='',
     ),
+    'inverse_dynamics_derivatives': Function(
+        index=9,
+        inputs=('x', 'xd', 'xdd'),
+        scalar='',
+        outputs=(('tau', 6), ('dtau_dx', 36), ('dtau_dxd', 36), ('dtau_dxdd', 36)),
+        results=(('tau', 0, 0, (6,)), ('dtau_dx', 1, 0, (6, 6)), ('dtau_dxd', 2, 0, (6, 6)), ('dtau_dxdd', 3, 0, (6, 6))),
+        result_type='InverseDynamicsDerivatives',
+        method='inverse_dynamics_derivatives',
+        option='',
+    ),
 }

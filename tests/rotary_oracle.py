@@ -37,11 +37,14 @@ def angular_velocity(angles, rates):
 
 
 def angular_acceleration(angles, rates, accelerations):
-    """omega' by differentiating `angular_velocity` along the angles' motion (complex step on
-    the map's dependence on the angles, exact for real states)."""
-    h = 1e-30
-    bent = np.asarray(angles, dtype=complex) + 1j * h * np.asarray(rates)
-    return angular_velocity(angles, accelerations) + angular_velocity(bent, rates).imag / h
+    """omega' by differentiating `angular_velocity` by hand: the frames' axes z, Rz y and
+    Rz Ry x turn with 0, psi' z and psi' z + theta' Rz y."""
+    psi, theta, _ = angles
+    y_axis = rotation([psi, 0.0 * theta, 0.0 * psi])[:, 1]
+    x_axis = rotation([psi, theta, 0.0 * psi])[:, 0]
+    turning = rates[0] * EZ + rates[1] * y_axis
+    return (angular_velocity(angles, accelerations) + rates[1] * np.cross(rates[0] * EZ, y_axis)
+            + rates[2] * np.cross(turning, x_axis))
 
 
 def crank_angles(rig, x):
@@ -68,7 +71,7 @@ def crank_angles(rig, x):
 
 def complex_crank_angles(rig, x, alpha):
     """The crank angles at a complex pose x near a real one, by Newton on the loop closure
-    from the real roots `alpha` (two steps: exact to first order in the imaginary part)."""
+    from the real roots `alpha` (three steps: exact to first order in the imaginary part)."""
     R = rotation(x[3:])
     alpha = alpha.astype(complex)
     for _ in range(3):
@@ -127,14 +130,17 @@ def _inertia(rig):
 
 
 def torques(rig, x, xd, xdd):
-    """The motor torques at (x, xd, xdd), by virtual power in the pose coordinates."""
-    alpha = crank_angles(rig, x)
+    """The motor torques at (x, xd, xdd), by virtual power in the pose coordinates (complex
+    arithmetic allowed, for complex-step derivatives)."""
+    alpha = crank_angles(rig, np.real(x))
+    if np.iscomplexobj(x):
+        alpha = complex_crank_angles(rig, x, alpha)
     (v_G, a_G), (w, wd), R, per_leg = _bodies(rig, x, xd, xdd, alpha)
     I_B = R @ _inertia(rig) @ R.T
     g = rig.gravity
     force_G = rig.platform_mass * (a_G + g * EZ)
     moment = I_B @ wd + np.cross(w, I_B @ w)
-    Q, Jq = np.zeros(6), np.zeros((6, 6))
+    Q, Jq = np.zeros(6, dtype=complex), np.zeros((6, 6), dtype=complex)
     for k in range(6):
         e = np.eye(6)[k]
         (pv_G, _), (pw, _), _, partial = _bodies(rig, x, e, np.zeros(6), alpha)
@@ -145,7 +151,8 @@ def torques(rig, x, xd, xdd):
             Q[k] += pad * (rig.crank_inertia * add + weight)
             Q[k] += pv_R @ (rig.rod_mass * (a_R + g * EZ)) + pw_R @ (rig.rod_inertia * wd_R)
             Jq[i, k] = pad
-    return np.linalg.solve(Jq.T, Q)
+    tau = np.linalg.solve(Jq.T, Q)
+    return tau if any(np.iscomplexobj(a) for a in (x, xd, xdd)) else tau.real
 
 
 def crank_rates(rig, x, xd):

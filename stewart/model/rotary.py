@@ -9,6 +9,7 @@ import numpy as np
 from . import arguments
 from .compiled import RotaryKernel
 from .errors import ConvergenceError
+from .platform import InverseDynamicsDerivatives
 from .rotary_params import RotaryParams, rotary_params
 
 __all__ = ["RotaryPlatform"]
@@ -100,6 +101,17 @@ class RotaryPlatform:
         """The motor torques ``tau`` (N m about ``+a_i``) that move the rig along ``x, xd, xdd``:
         ``J_alpha^T tau = M_t T xdd + V xd + G``."""
         return self._call("inverse_dynamics", (x, xd, xdd), return_mask)
+
+    def inverse_dynamics_derivatives(self, x, xd, xdd, return_mask: bool = False):
+        """The motor torques and their exact Jacobians, an
+        :class:`~stewart.InverseDynamicsDerivatives` ``(tau, dtau_dx, dtau_dxd, dtau_dxdd)``
+        (row = output, column = input): ``dtau/dq = J_alpha^-T dR/dq`` with
+        ``R = M_t T xdd + V xd + G - J_alpha^T tau`` at fixed ``tau``, by forward mode on the
+        derivation (codegen/rotary.py)."""
+        result = self._call("inverse_dynamics_derivatives", (x, xd, xdd), return_mask)
+        if return_mask:
+            return tuple.__new__(InverseDynamicsDerivatives, result[0]), result[1]
+        return tuple.__new__(InverseDynamicsDerivatives, result)
 
     def forward_dynamics(self, x, xd, torque, return_mask: bool = False):
         """The pose accelerations ``xdd`` under the motor torques ``torque``."""
