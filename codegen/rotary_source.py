@@ -19,6 +19,7 @@ block functions and the dispatch table's `stewart_call` carry the parameters as 
 """
 
 import math
+from functools import partial
 
 from . import linsolve, rotary
 from .csource import kernel_runs, params_finite
@@ -32,6 +33,10 @@ _LDL = ('FM', linsolve.LDL_SIZE)
 _MT = Kernels((rotary.rotary_twist_mass_matrix_kernel,), ('x',))
 _EULER = Kernels((euler_maps_kernel,), ('x',))
 _ID = (rotary.rotary_inverse_dynamics_kernel,)
+#: The torques' partials by each input: (first column, kernel builder) of its kernels.
+_DERIVATIVES = {name: tuple((first, partial(rotary.rotary_inverse_dynamics_derivatives_kernel, name, first))
+                            for first in range(0, 6, rotary.DERIVATIVE_COLUMNS))
+                for name in rotary.DERIVATIVE_INPUTS}
 
 #: The rotary family's public functions, `stewart_rotary_<name>`.
 FUNCTIONS = (
@@ -64,9 +69,13 @@ FUNCTIONS = (
              ' xdd, R = M_t T xdd + V xd + G - J_alpha^T tau at fixed tau.',
              ('x', 'xd', 'xdd'), (('tau', (6,)), ('dtau_dx', (6, 6)), ('dtau_dxd', (6, 6)), ('dtau_dxdd', (6, 6))), _ID,
              steps=(('bareiss_factor', ('JR', 'FJ')), ('bareiss_solve', ('FJ', '1', '1', 'W', 'tau')),
-                    Kernels((rotary.rotary_inverse_dynamics_derivatives_kernel,), ('x', 'xd', 'xdd', 'tau')),
-                    *(('bareiss_solve', ('FJ', '6', '6', f'Z{name}', f'dtau_d{name}')) for name in ('x', 'xd', 'xdd'))),
-             scratch=(_BAREISS,), result_type='InverseDynamicsDerivatives'),
+                    *(step for name in rotary.DERIVATIVE_INPUTS
+                      for step in (*(Kernels((build,), ('x', 'xd', 'xdd', 'tau'), (('ZT', f'Z{name}T + {6 * first}'),))
+                                     for first, build in _DERIVATIVES[name]),
+                                   ('transpose', (f'Z{name}T', f'Z{name}')),
+                                   ('bareiss_solve', ('FJ', '6', '6', f'Z{name}', f'dtau_d{name}'))))),
+             scratch=(_BAREISS, *((f'Z{name}{t}', 36) for name in rotary.DERIVATIVE_INPUTS for t in ('T', ''))),
+             result_type='InverseDynamicsDerivatives'),
 )
 
 #: The first status code of the cranks: STEWART_ERR_CRANK_REACH + i, crank i cannot reach the pose.
@@ -244,7 +253,7 @@ def _block(function, kernels):
     for specs, _, renames in listed:
         for name, exprs in specs[0].outputs:
             name = renames.get(name, name)
-            if name not in outputs:
+            if name not in outputs and name.isidentifier():  # not a place in another array
                 arrays[name] = specs[0].size(name, exprs)
     arrays.update(dict(function.scratch))
     lines = [f'static stewart_vl vblock_rotary_{function.name}(const stewart_params *opaque, double scalar,'

@@ -322,7 +322,7 @@ static stewart_vl vblock_rotary_inverse_dynamics_derivatives(const stewart_param
     stewart_vd *dtau_dx = out[1];
     stewart_vd *dtau_dxd = out[2];
     stewart_vd *dtau_dxdd = out[3];
-    stewart_vd W[6], JR[36], S2[6], rho2[6], Zx[36], Zxd[36], Zxdd[36], FJ[57];
+    stewart_vd W[6], JR[36], S2[6], rho2[6], FJ[57], ZxT[36], Zx[36], ZxdT[36], Zxd[36], ZxddT[36], Zxdd[36];
     stewart_vl status = vnone();
     (void)scalar;
     (void)p;
@@ -330,10 +330,23 @@ static stewart_vl vblock_rotary_inverse_dynamics_derivatives(const stewart_param
     status = vmerge(status, vcheck_cranks(S2, rho2));
     status = vmerge(status, vbareiss_factor(JR, FJ));
     status = vmerge(status, vbareiss_solve(FJ, 1, 1, W, tau));
-    vkernel_rotary_inverse_dynamics_derivatives(p, x, xd, xdd, tau, Zx, Zxd, Zxdd, S2, rho2);
+    vkernel_rotary_inverse_dynamics_derivatives_x0(p, x, xd, xdd, tau, ZxT + 0, S2, rho2);
     status = vmerge(status, vcheck_cranks(S2, rho2));
+    vkernel_rotary_inverse_dynamics_derivatives_x3(p, x, xd, xdd, tau, ZxT + 18, S2, rho2);
+    status = vmerge(status, vcheck_cranks(S2, rho2));
+    status = vmerge(status, vtranspose(ZxT, Zx));
     status = vmerge(status, vbareiss_solve(FJ, 6, 6, Zx, dtau_dx));
+    vkernel_rotary_inverse_dynamics_derivatives_xd0(p, x, xd, xdd, tau, ZxdT + 0, S2, rho2);
+    status = vmerge(status, vcheck_cranks(S2, rho2));
+    vkernel_rotary_inverse_dynamics_derivatives_xd3(p, x, xd, xdd, tau, ZxdT + 18, S2, rho2);
+    status = vmerge(status, vcheck_cranks(S2, rho2));
+    status = vmerge(status, vtranspose(ZxdT, Zxd));
     status = vmerge(status, vbareiss_solve(FJ, 6, 6, Zxd, dtau_dxd));
+    vkernel_rotary_inverse_dynamics_derivatives_xdd0(p, x, xd, xdd, tau, ZxddT + 0, S2, rho2);
+    status = vmerge(status, vcheck_cranks(S2, rho2));
+    vkernel_rotary_inverse_dynamics_derivatives_xdd3(p, x, xd, xdd, tau, ZxddT + 18, S2, rho2);
+    status = vmerge(status, vcheck_cranks(S2, rho2));
+    status = vmerge(status, vtranspose(ZxddT, Zxdd));
     status = vmerge(status, vbareiss_solve(FJ, 6, 6, Zxdd, dtau_dxdd));
     return status;
 }

@@ -94,7 +94,12 @@ int stewart_rotary_batch_inverse_dynamics_derivatives(const stewart_rotary_param
  *   rotary_twist_mass_matrix            2153
  *   rotary_gravity_vector                779
  *   rotary_inverse_dynamics             2480
- *   rotary_inverse_dynamics_derivatives   31725
+ *   rotary_inverse_dynamics_derivatives_x0    9917
+ *   rotary_inverse_dynamics_derivatives_x3   13377
+ *   rotary_inverse_dynamics_derivatives_xd0    4690
+ *   rotary_inverse_dynamics_derivatives_xd3    6511
+ *   rotary_inverse_dynamics_derivatives_xdd0    2082
+ *   rotary_inverse_dynamics_derivatives_xdd3    2559
  */
 
 #ifdef __cplusplus

@@ -35,7 +35,12 @@
 #define vkernel_rotary_twist_mass_matrix STEWART_LOCAL(vkernel_rotary_twist_mass_matrix)
 #define vkernel_rotary_gravity_vector STEWART_LOCAL(vkernel_rotary_gravity_vector)
 #define vkernel_rotary_inverse_dynamics STEWART_LOCAL(vkernel_rotary_inverse_dynamics)
-#define vkernel_rotary_inverse_dynamics_derivatives STEWART_LOCAL(vkernel_rotary_inverse_dynamics_derivatives)
+#define vkernel_rotary_inverse_dynamics_derivatives_x0 STEWART_LOCAL(vkernel_rotary_inverse_dynamics_derivatives_x0)
+#define vkernel_rotary_inverse_dynamics_derivatives_x3 STEWART_LOCAL(vkernel_rotary_inverse_dynamics_derivatives_x3)
+#define vkernel_rotary_inverse_dynamics_derivatives_xd0 STEWART_LOCAL(vkernel_rotary_inverse_dynamics_derivatives_xd0)
+#define vkernel_rotary_inverse_dynamics_derivatives_xd3 STEWART_LOCAL(vkernel_rotary_inverse_dynamics_derivatives_xd3)
+#define vkernel_rotary_inverse_dynamics_derivatives_xdd0 STEWART_LOCAL(vkernel_rotary_inverse_dynamics_derivatives_xdd0)
+#define vkernel_rotary_inverse_dynamics_derivatives_xdd3 STEWART_LOCAL(vkernel_rotary_inverse_dynamics_derivatives_xdd3)
 #endif
 
 #include "stewart_rotary.h"
@@ -107,6 +112,11 @@ STEWART_HIDDEN void vkernel_rotary_crank_rates(const stewart_rotary_params *p, c
 STEWART_HIDDEN void vkernel_rotary_twist_mass_matrix(const stewart_rotary_params *p, const stewart_vd *x, stewart_vd *Mt, stewart_vd *S2, stewart_vd *rho2);
 STEWART_HIDDEN void vkernel_rotary_gravity_vector(const stewart_rotary_params *p, const stewart_vd *x, stewart_vd *G, stewart_vd *S2, stewart_vd *rho2);
 STEWART_HIDDEN void vkernel_rotary_inverse_dynamics(const stewart_rotary_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *W, stewart_vd *JR, stewart_vd *S2, stewart_vd *rho2);
-STEWART_HIDDEN void vkernel_rotary_inverse_dynamics_derivatives(const stewart_rotary_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *tau, stewart_vd *Zx, stewart_vd *Zxd, stewart_vd *Zxdd, stewart_vd *S2, stewart_vd *rho2);
+STEWART_HIDDEN void vkernel_rotary_inverse_dynamics_derivatives_x0(const stewart_rotary_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *tau, stewart_vd *ZT, stewart_vd *S2, stewart_vd *rho2);
+STEWART_HIDDEN void vkernel_rotary_inverse_dynamics_derivatives_x3(const stewart_rotary_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *tau, stewart_vd *ZT, stewart_vd *S2, stewart_vd *rho2);
+STEWART_HIDDEN void vkernel_rotary_inverse_dynamics_derivatives_xd0(const stewart_rotary_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *tau, stewart_vd *ZT, stewart_vd *S2, stewart_vd *rho2);
+STEWART_HIDDEN void vkernel_rotary_inverse_dynamics_derivatives_xd3(const stewart_rotary_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *tau, stewart_vd *ZT, stewart_vd *S2, stewart_vd *rho2);
+STEWART_HIDDEN void vkernel_rotary_inverse_dynamics_derivatives_xdd0(const stewart_rotary_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *tau, stewart_vd *ZT, stewart_vd *S2, stewart_vd *rho2);
+STEWART_HIDDEN void vkernel_rotary_inverse_dynamics_derivatives_xdd3(const stewart_rotary_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *tau, stewart_vd *ZT, stewart_vd *S2, stewart_vd *rho2);
 
 #endif /* STEWART_ROTARY_INTERNAL_H */
