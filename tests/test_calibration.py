@@ -1,9 +1,10 @@
-"""Kinematic calibration (stewart.calibration): the exact Jacobians against complex-step
-derivatives, the estimates against a simulated built machine at the rate their standard
-errors promise (with the noise the fit assumes, and with a tracker's noise it does not at
-stated standard deviations three times too large or small), measured poses at the stroke
-ends, the held-out pose error, the named unidentifiable combinations against
-their hand derivation, the designed poses against random ones, and the command line."""
+"""Kinematic calibration (stewart.calibration): the estimates against a simulated built
+machine at the rate their standard errors promise (with the noise the fit assumes, and with
+a tracker's noise it does not at stated standard deviations three times too large or
+small), measured poses at the stroke ends, the held-out pose
+error, the named unidentifiable combinations against their hand derivation, the designed
+poses against random ones, and the command line. (The residuals and Jacobians themselves:
+test_calibration_geometry.py.)"""
 
 import json
 import re
@@ -100,33 +101,6 @@ def test_calibration_residuals_are_the_hand_built_legs(designed):
     # before: the build's millimetres (0.3-2.8 mm reached); after: the tracker's 1e-5 m and
     # 1e-4 rad noise (1.1e-5 m reached, bound 3e-5 m)
     assert np.max(result.rms_before) > 5e-4 and np.max(result.rms_after) < 3e-5
-
-
-def _complex_step(function, point, h=1e-30):
-    columns = []
-    for k in range(point.size):
-        z = point.astype(complex)
-        z.flat[k] += 1j * h
-        columns.append(np.imag(function(z)) / h)
-    return np.stack(columns, axis=-1)
-
-
-def test_the_jacobians_match_complex_step_derivatives(figures):
-    theta = geometry.parameter_vector(perturbed_geometry(NOMINAL, seed=4))
-    poses = _random_poses(5, 0)
-    readings = stewart.leg_lengths(NOMINAL, poses)
-    exact = geometry.leg_jacobian(theta, poses)
-    numeric = _complex_step(lambda z: geometry.leg_residuals(z, poses, readings), theta)
-    # complex step is exact to rounding (h = 1e-30): reached 2.2e-16, 1.1e-16 and 3.5e-18 (the
-    # target's columns are its offsets', centimetres); bounds ~100 times those
-    figures("calibration dr/dtheta against complex step", np.max(np.abs(exact - numeric)), 2e-14)
-    per_pose = _complex_step(lambda z: geometry.leg_residuals(theta, z[None], readings[:1])[0], poses[0])
-    figures("calibration dr/dx against complex step",
-            np.max(np.abs(geometry.leg_pose_jacobian(theta, poses[:1])[0] - per_pose)), 2e-14)
-    offsets = np.array([[0.01, -0.02, 0.03]])
-    target = _complex_step(lambda z: -geometry.target_positions(z[None], offsets)[0], poses[0])
-    figures("calibration target dq/dx against complex step",
-            np.max(np.abs(geometry.target_pose_jacobian(poses[:1], offsets)[0] - target)), 4e-16)
 
 
 def test_estimates_lie_within_their_standard_errors_at_the_expected_rate(designed):
