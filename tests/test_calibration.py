@@ -1,7 +1,7 @@
 """Kinematic calibration (stewart.calibration): the estimates against a simulated built
 machine at the rate their standard errors promise (with the noise the fit assumes, and with
 a tracker's noise it does not at stated standard deviations three times too large or
-small), measured poses at the stroke ends, the held-out pose
+small), measured poses at the stroke ends, a fit that does not converge, the held-out pose
 error, the named unidentifiable combinations against their hand derivation, the designed
 poses against random ones, and the command line. (The residuals and Jacobians themselves:
 test_calibration_geometry.py.)"""
@@ -640,6 +640,34 @@ def test_measured_poses_past_the_nominal_stroke_are_calibrated_and_judged_after_
         assert len(lines) == 1 and lines[0].startswith(f"stewart calibrate: warning: {tmp_path / 'm.csv'}: with the "
                                                        "calibrated geometry")
         assert "past the stroke 0.19-0.38 m" in lines[0] and "by more than 3 standard uncertainties" in lines[0]
+
+
+def test_a_fit_that_runs_out_of_evaluations_is_an_error_never_a_result(designed, monkeypatch, tmp_path, capsys):
+    """The real solver held to 2 evaluations of the residuals (the fit from the nominal takes 6)
+    stops without converging (status 0): calibrate raises ConvergenceError naming the data and
+    the solver's message, and stewart calibrate exits 4 (the run failed) with that one line."""
+    import scipy.optimize
+
+    solve = scipy.optimize.least_squares
+    statuses = []
+
+    def starved(*args, **options):
+        result = solve(*args, **{**options, "max_nfev": 2})
+        statuses.append(result.status)
+        return result
+
+    monkeypatch.setattr(scipy.optimize, "least_squares", starved)
+    data = simulate_measurements(perturbed_geometry(NOMINAL, seed=11), designed.poses, seed=1)
+    with pytest.raises(stewart.ConvergenceError, match=r"^simulated measurements: the least squares did not "
+                       r"converge: The maximum number of function evaluations is exceeded\. \(2 evaluations, "
+                       r"status 0\); no calibration$"):
+        calibrate(NOMINAL, data)
+    data.to_csv(tmp_path / "m.csv")
+    code, out, err = _run(["calibrate", str(tmp_path / "m.csv"), "--report", str(tmp_path / "r.json")], capsys)
+    assert statuses == [0, 0] and code == 4 and not (tmp_path / "r.json").exists()
+    assert err.strip().splitlines() == [f"stewart calibrate: error: {tmp_path / 'm.csv'}: the least squares did "
+                                        "not converge: The maximum number of function evaluations is exceeded. (2 "
+                                        "evaluations, status 0); no calibration"]
 
 
 def test_a_measured_pose_outside_the_workspace_is_refused_saying_why():

@@ -185,7 +185,8 @@ def calibrate(platform, data: CalibrationData, *, position_std: float = DEFAULT_
     nominal workspace (a :class:`~stewart.WorkspaceError`; the module docstring says which,
     and how the others are judged after the fit); an
     :class:`~stewart.calibration.identifiability.UnidentifiableError` saying what to measure
-    when the data cannot determine every parameter."""
+    when the data cannot determine every parameter; a :class:`~stewart.model.errors.ConvergenceError`
+    when the least squares stop without converging (never a result)."""
     nominal = platform_params(platform, "platform")
     if not isinstance(data, CalibrationData):
         raise ValueError(f"data: expected a stewart.calibration.CalibrationData, got {type(data).__name__}")
@@ -208,6 +209,9 @@ def calibrate(platform, data: CalibrationData, *, position_std: float = DEFAULT_
     fit = scipy.optimize.least_squares(lambda x: problem.residuals(free @ x + fixed), free.T @ problem.theta0,
                                        jac=lambda x: problem.data_jacobian(free @ x + fixed) @ free, method="lm",
                                        x_scale="jac", ftol=1e-12, xtol=1e-12, gtol=1e-12)
+    if not fit.success:  # the evaluations ran out (status 0): the last point tried is no estimate
+        raise ConvergenceError(f"{data.source}: the least squares did not converge: {fit.message} "
+                               f"({fit.nfev} evaluations, status {fit.status}); no calibration")
     theta = free @ fit.x + fixed
     jac = problem.data_jacobian(theta) @ free
     dof = len(jac) - problem.unknowns
