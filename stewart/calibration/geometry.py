@@ -31,6 +31,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..model import arguments
+from ..model.compiled import Kernel
 from ..model.params import PlatformParams
 from ..model.platform import Platform
 
@@ -71,17 +72,18 @@ _LEG_COLUMNS = np.column_stack([3 * _LEGS[:, None] + np.arange(3), 18 + 3 * _LEG
 
 
 @lru_cache(maxsize=8)
-def _compiled(theta: bytes) -> Platform:
-    """The compiled model of the geometry ``theta`` (42 float64 bytes): its functions here read
-    the geometry only, so the masses and inertias are placeholders of one unit."""
+def _compiled(theta: bytes) -> Kernel:
+    """The compiled model of the geometry ``theta`` (42 float64 bytes), the kernel of
+    :class:`stewart.Platform` without its home pose: its functions here read the geometry only,
+    so the masses and inertias are placeholders of one unit."""
     base, platform, offsets = _split(np.frombuffer(theta))
-    return Platform(PlatformParams(
+    return Kernel(PlatformParams(
         base_points=base, platform_points=platform, leg_length_offsets=offsets, platform_mass=1.0,
         platform_inertia=np.ones(3), cylinder_mass=1.0, cylinder_inertia=np.ones(3), cylinder_com_distance=0.0,
         piston_mass=1.0, piston_inertia=np.ones(3), piston_com_distance=0.0, name="calibration geometry"))
 
 
-def _platform(theta) -> Platform:
+def _kernel(theta) -> Kernel:
     """:func:`_compiled` for the 42 parameters ``theta`` (``ValueError`` naming ``theta``
     unless they are 42 real numbers)."""
     theta = arguments.reals("theta", theta)
@@ -98,12 +100,12 @@ def _targets() -> Platform:
 
 def leg_residuals(theta, poses, readings) -> np.ndarray:
     """``r = e + delta - |l|`` (K, 6) at the poses (K, 6) with the encoder readings (K, 6)."""
-    return _platform(theta).leg_residuals(poses, readings)
+    return _kernel(theta).leg_residuals(poses, readings)
 
 
 def leg_jacobian(theta, poses) -> np.ndarray:
     """The exact Jacobian ``dr/dtheta`` (K, 6, 42) of :func:`leg_residuals`."""
-    block = _platform(theta).leg_residual_jacobians(poses).dr_dtheta
+    block = _kernel(theta).leg_residual_jacobians(poses)[0]
     jac = np.zeros(block.shape[:-1] + (NUM_PARAMETERS,))
     jac[..., _LEGS[:, None], _LEG_COLUMNS] = block
     return jac
@@ -111,7 +113,7 @@ def leg_jacobian(theta, poses) -> np.ndarray:
 
 def leg_pose_jacobian(theta, poses) -> np.ndarray:
     """``dr/dx`` (K, 6, 6) of :func:`leg_residuals` with respect to the poses' coordinates."""
-    return _platform(theta).leg_residual_jacobians(poses).dr_dx
+    return _kernel(theta).leg_residual_jacobians(poses)[1]
 
 
 def target_positions(poses, offsets) -> np.ndarray:
