@@ -133,8 +133,8 @@ def test_the_jacobians_are_central_differences_of_the_generated_residuals(case, 
                         - geometry.leg_residuals(theta - s, poses[:5], readings[:5]) for s in steps], -1) / (2 * h)
     figures("calibration dr/dtheta against central differences", np.max(np.abs(dense - numeric)), 2e-9)
     steps = np.eye(6) * h
-    numeric = np.stack([plat.leg_residuals(poses[:5] + s, readings[:5]) - plat.leg_residuals(poses[:5] - s, readings[:5])
-                        for s in steps], -1) / (2 * h)
+    numeric = np.stack([plat.leg_residuals(poses[:5] + s, readings[:5])
+                        - plat.leg_residuals(poses[:5] - s, readings[:5]) for s in steps], -1) / (2 * h)
     figures("calibration dr/dx against central differences", np.max(np.abs(jac.dr_dx - numeric)), 2e-9)
     offsets = np.array([0.01, -0.02, 0.03])
     numeric = np.stack([plat.target_positions(poses[:5] + s, offsets) - plat.target_positions(poses[:5] - s, offsets)
