@@ -10,6 +10,8 @@ from dataclasses import dataclass
 from functools import partial
 
 from . import linsolve
+from .calibration import (LEG_PARTIALS, leg_residual_jacobians_kernel, leg_residuals_kernel, target_jacobian_kernel,
+                          target_positions_kernel)
 from .derivatives import (inverse_dynamics_points_kernel, leg_derivatives_kernel, leg_points_kernel,
                           residual_derivatives_kernel, static_derivatives_kernel)
 from .dynamics import (REGRESSOR_VARIANTS, RIGID_BODY, coriolis_product_kernel, gravity_kernel,
@@ -210,4 +212,19 @@ FUNCTIONS = (
              ('x', 'xd', 'tau'), (('xn', (6,)), ('xdn', (6,)), ('A', (12, 12)), ('B', (12, 6))), (), scalars=('dt',),
              template='vector.c', results=('x', 'xd', 'A', 'B'), result_type='StepDerivatives',
              option=('rk4_step', 'jacobians')),
+    # Kinematic calibration (`calibration`).
+    Function('leg_residuals', 'The calibration residuals r_i = e_i + delta_i - |l_i| (eq. 26) of the encoder'
+             ' readings e: the measured less the modelled leg lengths, delta the leg_length_offsets (a zero'
+             ' length is not an error here).', ('x', 'readings'), (('r', (6,)),), (leg_residuals_kernel,)),
+    Function('leg_residual_jacobians', 'The exact partials of stewart_leg_residuals: dr_dtheta, per leg i (7 a'
+             f' leg, row-major) those in its own parameters, {LEG_PARTIALS}: [u_i, -R^T u_i, 1] (u_i = l_i /'
+             ' |l_i|; the other 35 of the 42 parameters b, p, delta are zero), and dr_dx = -J_C T (eqs. 5, 8,'
+             ' 18).', ('x',), (('dr_dtheta', (6, 7)), ('dr_dx', (6, 6))), (leg_residual_jacobians_kernel,),
+             result_type='LegResidualJacobians'),
+    Function('target_positions', 'The position q = t + R c in {B} of a target at c in {P} (c: the first three'
+             ' doubles of offsets; the other three are not read, but must be finite).', ('x', 'offsets'),
+             (('q', (3,)),), (target_positions_kernel,)),
+    Function('target_jacobian', 'dq/dx = [E, -[R c]x J_A] (3 x 6, row-major) of the target position q = t +'
+             ' R c of stewart_target_positions (eq. 8).', ('x', 'offsets'), (('dq_dx', (3, 6)),),
+             (target_jacobian_kernel,)),
 )

@@ -28,8 +28,12 @@
  *   16  regressor
  *   17  rk4_step
  *   18  rk4_step_derivatives
+ *   19  leg_residuals
+ *   20  leg_residual_jacobians
+ *   21  target_positions
+ *   22  target_jacobian
  */
-#define STEWART_FUNCTIONS 19
+#define STEWART_FUNCTIONS 23
 /* The most input arrays and output arrays a public function has. */
 #define STEWART_MAX_INPUTS 3
 #define STEWART_MAX_OUTPUTS 4
@@ -72,6 +76,10 @@ typedef struct {
     int (*regressor)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *Y);
     int (*rk4_step)(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn);
     int (*rk4_step_derivatives)(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B);
+    int (*leg_residuals)(const stewart_params *p, const double *x, const double *readings, double *r);
+    int (*leg_residual_jacobians)(const stewart_params *p, const double *x, double *dr_dtheta, double *dr_dx);
+    int (*target_positions)(const stewart_params *p, const double *x, const double *offsets, double *q);
+    int (*target_jacobian)(const stewart_params *p, const double *x, const double *offsets, double *dq_dx);
     int (*batch_leg_lengths)(const stewart_params *p, size_t n, const double *x, double *L, int *status);
     int (*batch_jacobian)(const stewart_params *p, size_t n, const double *x, double *JC, int *status);
     int (*batch_leg_rates)(const stewart_params *p, size_t n, const double *x, const double *xd, double *LLd, int *status);
@@ -91,6 +99,10 @@ typedef struct {
     int (*batch_regressor)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Y, int *status);
     int (*batch_rk4_step)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status);
     int (*batch_rk4_step_derivatives)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B, int *status);
+    int (*batch_leg_residuals)(const stewart_params *p, size_t n, const double *x, const double *readings, double *r, int *status);
+    int (*batch_leg_residual_jacobians)(const stewart_params *p, size_t n, const double *x, double *dr_dtheta, double *dr_dx, int *status);
+    int (*batch_target_positions)(const stewart_params *p, size_t n, const double *x, const double *offsets, double *q, int *status);
+    int (*batch_target_jacobian)(const stewart_params *p, size_t n, const double *x, const double *offsets, double *dq_dx, int *status);
     stewart_call call[STEWART_FUNCTIONS];  /* the public functions by their index */
 } stewart_table;
 

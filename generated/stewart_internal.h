@@ -44,6 +44,10 @@
 #define stewart_regressor STEWART_LOCAL(regressor)
 #define stewart_rk4_step STEWART_LOCAL(rk4_step)
 #define stewart_rk4_step_derivatives STEWART_LOCAL(rk4_step_derivatives)
+#define stewart_leg_residuals STEWART_LOCAL(leg_residuals)
+#define stewart_leg_residual_jacobians STEWART_LOCAL(leg_residual_jacobians)
+#define stewart_target_positions STEWART_LOCAL(target_positions)
+#define stewart_target_jacobian STEWART_LOCAL(target_jacobian)
 #define stewart_batch_leg_lengths STEWART_LOCAL(batch_leg_lengths)
 #define stewart_batch_jacobian STEWART_LOCAL(batch_jacobian)
 #define stewart_batch_leg_rates STEWART_LOCAL(batch_leg_rates)
@@ -63,6 +67,10 @@
 #define stewart_batch_regressor STEWART_LOCAL(batch_regressor)
 #define stewart_batch_rk4_step STEWART_LOCAL(batch_rk4_step)
 #define stewart_batch_rk4_step_derivatives STEWART_LOCAL(batch_rk4_step_derivatives)
+#define stewart_batch_leg_residuals STEWART_LOCAL(batch_leg_residuals)
+#define stewart_batch_leg_residual_jacobians STEWART_LOCAL(batch_leg_residual_jacobians)
+#define stewart_batch_target_positions STEWART_LOCAL(batch_target_positions)
+#define stewart_batch_target_jacobian STEWART_LOCAL(batch_target_jacobian)
 #else
 #define STEWART_LOCAL(name) stewart_##name
 #endif
@@ -104,6 +112,10 @@
 #define vkernel_joint_forces STEWART_LOCAL(vkernel_joint_forces)
 #define vkernel_regressor STEWART_LOCAL(vkernel_regressor)
 #define vkernel_regressor_general STEWART_LOCAL(vkernel_regressor_general)
+#define vkernel_leg_residuals STEWART_LOCAL(vkernel_leg_residuals)
+#define vkernel_leg_residual_jacobians STEWART_LOCAL(vkernel_leg_residual_jacobians)
+#define vkernel_target_positions STEWART_LOCAL(vkernel_target_positions)
+#define vkernel_target_jacobian STEWART_LOCAL(vkernel_target_jacobian)
 
 #include "stewart_model.h"
 
@@ -305,7 +317,8 @@ static int params_finite(const stewart_params *p)
         && all_finite(&p->gravity, 1)
         && all_finite(&p->universal_joint_axes[0][0], 18)
         && all_finite(&p->spinless_legs, 1)
-        && all_finite(&p->coulomb_velocity, 1);
+        && all_finite(&p->coulomb_velocity, 1)
+        && all_finite(&p->leg_length_offsets[0], 6);
 }
 
 /* The model's evaluation (codegen/templates/vector.c, copied verbatim by the generator into
@@ -1372,5 +1385,9 @@ STEWART_HIDDEN void vkernel_joint_reactions_general(const stewart_params *p, con
 STEWART_HIDDEN void vkernel_joint_forces(const stewart_params *p, const stewart_vd *tau, const stewart_vd *JC, const stewart_vd *legf, stewart_vd *f_base, stewart_vd *f_platform);
 STEWART_HIDDEN void vkernel_regressor(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *Y, stewart_vd *JC, stewart_vd *L2, stewart_vd *h2);
 STEWART_HIDDEN void vkernel_regressor_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *Y, stewart_vd *JC, stewart_vd *L2, stewart_vd *n2);
+STEWART_HIDDEN void vkernel_leg_residuals(const stewart_params *p, const stewart_vd *x, const stewart_vd *readings, stewart_vd *r);
+STEWART_HIDDEN void vkernel_leg_residual_jacobians(const stewart_params *p, const stewart_vd *x, stewart_vd *dr_dtheta, stewart_vd *dr_dx, stewart_vd *L2);
+STEWART_HIDDEN void vkernel_target_positions(const stewart_params *p, const stewart_vd *x, const stewart_vd *offsets, stewart_vd *q);
+STEWART_HIDDEN void vkernel_target_jacobian(const stewart_params *p, const stewart_vd *x, const stewart_vd *offsets, stewart_vd *dq_dx);
 
 #endif /* STEWART_INTERNAL_H */

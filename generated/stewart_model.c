@@ -686,6 +686,80 @@ int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const 
     return batch_rows(params_finite(p), p, vblock_rk4_step_derivatives, dt, n, 3, (const double *const []){x, xd, tau}, (stewart_vd *const []){in0, in1, in2}, 4, (double *const []){xn, xdn, A, B}, (stewart_vd *const []){out0, out1, out2, out3}, (const int []){6, 6, 144, 72}, status);
 }
 
+/* stewart_leg_residuals over a block of states (batch_rows). */
+static stewart_vl vblock_leg_residuals(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    const stewart_vd *readings = in[1];
+    stewart_vd *r = out[0];
+    stewart_vl status = vnone();
+    vkernel_leg_residuals(p, x, readings, r);
+    return status;
+}
+
+int stewart_batch_leg_residuals(const stewart_params *p, size_t n, const double *x, const double *readings, double *r, int *status)
+{
+    stewart_vd in0[6], in1[6], out0[6];
+    return batch_rows(params_finite(p), p, vblock_leg_residuals, 0.0, n, 2, (const double *const []){x, readings}, (stewart_vd *const []){in0, in1}, 1, (double *const []){r}, (stewart_vd *const []){out0}, (const int []){6}, status);
+}
+
+/* stewart_leg_residual_jacobians over a block of states (batch_rows). */
+static stewart_vl vblock_leg_residual_jacobians(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    stewart_vd *dr_dtheta = out[0];
+    stewart_vd *dr_dx = out[1];
+    stewart_vd L2[6];
+    stewart_vl status = vnone();
+    vkernel_leg_residual_jacobians(p, x, dr_dtheta, dr_dx, L2);
+    status = vmerge(status, vcheck_legs(L2, NULL, NULL));
+    return status;
+}
+
+int stewart_batch_leg_residual_jacobians(const stewart_params *p, size_t n, const double *x, double *dr_dtheta, double *dr_dx, int *status)
+{
+    stewart_vd in0[6], out0[42], out1[36];
+    return batch_rows(params_finite(p), p, vblock_leg_residual_jacobians, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 2, (double *const []){dr_dtheta, dr_dx}, (stewart_vd *const []){out0, out1}, (const int []){42, 36}, status);
+}
+
+/* stewart_target_positions over a block of states (batch_rows). */
+static stewart_vl vblock_target_positions(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    const stewart_vd *offsets = in[1];
+    stewart_vd *q = out[0];
+    stewart_vl status = vnone();
+    vkernel_target_positions(p, x, offsets, q);
+    return status;
+}
+
+int stewart_batch_target_positions(const stewart_params *p, size_t n, const double *x, const double *offsets, double *q, int *status)
+{
+    stewart_vd in0[6], in1[6], out0[3];
+    return batch_rows(params_finite(p), p, vblock_target_positions, 0.0, n, 2, (const double *const []){x, offsets}, (stewart_vd *const []){in0, in1}, 1, (double *const []){q}, (stewart_vd *const []){out0}, (const int []){3}, status);
+}
+
+/* stewart_target_jacobian over a block of states (batch_rows). */
+static stewart_vl vblock_target_jacobian(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    const stewart_vd *offsets = in[1];
+    stewart_vd *dq_dx = out[0];
+    stewart_vl status = vnone();
+    vkernel_target_jacobian(p, x, offsets, dq_dx);
+    return status;
+}
+
+int stewart_batch_target_jacobian(const stewart_params *p, size_t n, const double *x, const double *offsets, double *dq_dx, int *status)
+{
+    stewart_vd in0[6], in1[6], out0[18];
+    return batch_rows(params_finite(p), p, vblock_target_jacobian, 0.0, n, 2, (const double *const []){x, offsets}, (stewart_vd *const []){in0, in1}, 1, (double *const []){dq_dx}, (stewart_vd *const []){out0}, (const int []){18}, status);
+}
+
 /* ---- single states ---- */
 
 int stewart_leg_lengths(const stewart_params *p, const double x[6], double L[6])
@@ -781,6 +855,26 @@ int stewart_rk4_step(const stewart_params *p, const double x[6], const double xd
 int stewart_rk4_step_derivatives(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double dt, double xn[6], double xdn[6], double A[144], double B[72])
 {
     return stewart_batch_rk4_step_derivatives(p, 1, x, xd, tau, dt, xn, xdn, A, B, NULL);
+}
+
+int stewart_leg_residuals(const stewart_params *p, const double x[6], const double readings[6], double r[6])
+{
+    return stewart_batch_leg_residuals(p, 1, x, readings, r, NULL);
+}
+
+int stewart_leg_residual_jacobians(const stewart_params *p, const double x[6], double dr_dtheta[42], double dr_dx[36])
+{
+    return stewart_batch_leg_residual_jacobians(p, 1, x, dr_dtheta, dr_dx, NULL);
+}
+
+int stewart_target_positions(const stewart_params *p, const double x[6], const double offsets[6], double q[3])
+{
+    return stewart_batch_target_positions(p, 1, x, offsets, q, NULL);
+}
+
+int stewart_target_jacobian(const stewart_params *p, const double x[6], const double offsets[6], double dq_dx[18])
+{
+    return stewart_batch_target_jacobian(p, 1, x, offsets, dq_dx, NULL);
 }
 
 /* The actuators and the closed loop (codegen/templates/control.c, copied verbatim by the

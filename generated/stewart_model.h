@@ -77,6 +77,7 @@ typedef struct {
     double universal_joint_axes[6][3];    /* a_i in {B}, the first axis of each universal joint; all zero (and platform_com zero, the products zero): the paper's model, whose legs do not spin (eq. 29) */
     double spinless_legs;                 /* nonzero: the legs do not spin with their joints (eq. 29) whatever universal_joint_axes hold (a_i = z standing for the leg frames of eqs. 44-47 in a model with the platform's centre of mass or products of inertia given), so the regressor's columns of their axial moments are zero; 0: they spin about the a_i given */
     double coulomb_velocity;              /* v_c > 0, m/s: the smooth sign tanh(Ld / v_c) of the Coulomb friction of a leg moving at Ld (the regressor) */
+    double leg_length_offsets[6];         /* delta_i, m: encoder zero offsets, the true leg length the encoder reading plus delta_i (the calibration residuals, stewart_leg_residuals) */
 } stewart_params;
 
 enum {
@@ -160,6 +161,14 @@ int stewart_regressor(const stewart_params *p, const double x[6], const double x
 int stewart_rk4_step(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double dt, double xn[6], double xdn[6]);
 /* The RK4 step and its Jacobians A = d[xn; xdn]/d[x; xd] (12 x 12) and B = d[xn; xdn]/dtau (12 x 6), row-major, by the chain rule through the stages. */
 int stewart_rk4_step_derivatives(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double dt, double xn[6], double xdn[6], double A[144], double B[72]);
+/* The calibration residuals r_i = e_i + delta_i - |l_i| (eq. 26) of the encoder readings e: the measured less the modelled leg lengths, delta the leg_length_offsets (a zero length is not an error here). */
+int stewart_leg_residuals(const stewart_params *p, const double x[6], const double readings[6], double r[6]);
+/* The exact partials of stewart_leg_residuals: dr_dtheta, per leg i (7 a leg, row-major) those in its own parameters, d/db_i (x, y, z), d/dp_i (x, y, z), d/ddelta_i: [u_i, -R^T u_i, 1] (u_i = l_i / |l_i|; the other 35 of the 42 parameters b, p, delta are zero), and dr_dx = -J_C T (eqs. 5, 8, 18). */
+int stewart_leg_residual_jacobians(const stewart_params *p, const double x[6], double dr_dtheta[42], double dr_dx[36]);
+/* The position q = t + R c in {B} of a target at c in {P} (c: the first three doubles of offsets; the other three are not read, but must be finite). */
+int stewart_target_positions(const stewart_params *p, const double x[6], const double offsets[6], double q[3]);
+/* dq/dx = [E, -[R c]x J_A] (3 x 6, row-major) of the target position q = t + R c of stewart_target_positions (eq. 8). */
+int stewart_target_jacobian(const stewart_params *p, const double x[6], const double offsets[6], double dq_dx[18]);
 
 /* The columns of stewart_regressor, the inertial parameters pi (tau + friction = Y pi):
  *    0  platform.m: m_P
@@ -293,6 +302,10 @@ int stewart_batch_joint_reactions(const stewart_params *p, size_t n, const doubl
 int stewart_batch_regressor(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Y, int *status);
 int stewart_batch_rk4_step(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status);
 int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B, int *status);
+int stewart_batch_leg_residuals(const stewart_params *p, size_t n, const double *x, const double *readings, double *r, int *status);
+int stewart_batch_leg_residual_jacobians(const stewart_params *p, size_t n, const double *x, double *dr_dtheta, double *dr_dx, int *status);
+int stewart_batch_target_positions(const stewart_params *p, size_t n, const double *x, const double *offsets, double *q, int *status);
+int stewart_batch_target_jacobian(const stewart_params *p, size_t n, const double *x, const double *offsets, double *dq_dx, int *status);
 
 /* Operation counts of the generated kernels (+, -, *, / and calls of their C, after cse):
  *   leg_lengths                              187
@@ -333,6 +346,10 @@ int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const 
  *   joint_forces                              72
  *   regressor                               2387
  *   regressor_general                       3235
+ *   leg_residuals                            199
+ *   leg_residual_jacobians                   445
+ *   target_positions                          43
+ *   target_jacobian                           56
  */
 
 #ifdef __cplusplus

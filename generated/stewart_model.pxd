@@ -21,6 +21,7 @@ cdef extern from "stewart_model.h" nogil:
         double universal_joint_axes[6][3]
         double spinless_legs
         double coulomb_velocity
+        double leg_length_offsets[6]
     enum:
         STEWART_OK
         STEWART_ERR_NONFINITE
@@ -58,6 +59,10 @@ cdef extern from "stewart_model.h" nogil:
     int stewart_regressor(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *Y)
     int stewart_rk4_step(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn)
     int stewart_rk4_step_derivatives(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B)
+    int stewart_leg_residuals(const stewart_params *p, const double *x, const double *readings, double *r)
+    int stewart_leg_residual_jacobians(const stewart_params *p, const double *x, double *dr_dtheta, double *dr_dx)
+    int stewart_target_positions(const stewart_params *p, const double *x, const double *offsets, double *q)
+    int stewart_target_jacobian(const stewart_params *p, const double *x, const double *offsets, double *dq_dx)
     int stewart_batch_lanes()
     int stewart_batch_leg_lengths(const stewart_params *p, size_t n, const double *x, double *L, int *status)
     int stewart_batch_jacobian(const stewart_params *p, size_t n, const double *x, double *JC, int *status)
@@ -78,6 +83,10 @@ cdef extern from "stewart_model.h" nogil:
     int stewart_batch_regressor(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Y, int *status)
     int stewart_batch_rk4_step(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status)
     int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B, int *status)
+    int stewart_batch_leg_residuals(const stewart_params *p, size_t n, const double *x, const double *readings, double *r, int *status)
+    int stewart_batch_leg_residual_jacobians(const stewart_params *p, size_t n, const double *x, double *dr_dtheta, double *dr_dx, int *status)
+    int stewart_batch_target_positions(const stewart_params *p, size_t n, const double *x, const double *offsets, double *q, int *status)
+    int stewart_batch_target_jacobian(const stewart_params *p, size_t n, const double *x, const double *offsets, double *dq_dx, int *status)
     enum:
         STEWART_OPEN_LOOP
         STEWART_PID
@@ -137,6 +146,10 @@ cdef extern from "stewart_dispatch.h" nogil:
         int (*regressor)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *Y) noexcept nogil
         int (*rk4_step)(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn) noexcept nogil
         int (*rk4_step_derivatives)(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B) noexcept nogil
+        int (*leg_residuals)(const stewart_params *p, const double *x, const double *readings, double *r) noexcept nogil
+        int (*leg_residual_jacobians)(const stewart_params *p, const double *x, double *dr_dtheta, double *dr_dx) noexcept nogil
+        int (*target_positions)(const stewart_params *p, const double *x, const double *offsets, double *q) noexcept nogil
+        int (*target_jacobian)(const stewart_params *p, const double *x, const double *offsets, double *dq_dx) noexcept nogil
         int (*batch_leg_lengths)(const stewart_params *p, size_t n, const double *x, double *L, int *status) noexcept nogil
         int (*batch_jacobian)(const stewart_params *p, size_t n, const double *x, double *JC, int *status) noexcept nogil
         int (*batch_leg_rates)(const stewart_params *p, size_t n, const double *x, const double *xd, double *LLd, int *status) noexcept nogil
@@ -156,7 +169,11 @@ cdef extern from "stewart_dispatch.h" nogil:
         int (*batch_regressor)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Y, int *status) noexcept nogil
         int (*batch_rk4_step)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status) noexcept nogil
         int (*batch_rk4_step_derivatives)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B, int *status) noexcept nogil
-        stewart_call call[19]
+        int (*batch_leg_residuals)(const stewart_params *p, size_t n, const double *x, const double *readings, double *r, int *status) noexcept nogil
+        int (*batch_leg_residual_jacobians)(const stewart_params *p, size_t n, const double *x, double *dr_dtheta, double *dr_dx, int *status) noexcept nogil
+        int (*batch_target_positions)(const stewart_params *p, size_t n, const double *x, const double *offsets, double *q, int *status) noexcept nogil
+        int (*batch_target_jacobian)(const stewart_params *p, size_t n, const double *x, const double *offsets, double *dq_dx, int *status) noexcept nogil
+        stewart_call call[23]
 
 
 cdef inline int stewart_params_fill(stewart_params *p, object params, frozenset expected) except -1:
@@ -204,4 +221,7 @@ cdef inline int stewart_params_fill(stewart_params *p, object params, frozenset 
             p.universal_joint_axes[i0][i1] = value[i0, i1]
     p.spinless_legs = params.spinless_legs_in_model
     p.coulomb_velocity = params.coulomb_velocity
+    value = params.leg_length_offsets
+    for i0 in range(6):
+        p.leg_length_offsets[i0] = value[i0]
     return 0

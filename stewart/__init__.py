@@ -63,6 +63,7 @@ if TYPE_CHECKING:  # the public names: what `__getattr__` imports on first use
         AllTerms,
         ForwardDynamicsDerivatives,
         InverseDynamicsDerivatives,
+        LegResidualJacobians,
         Platform,
         StaticForceDerivatives,
         Step,

@@ -49,6 +49,7 @@ PARAM_FIELDS = (
     ('universal_joint_axes', (6, 3)),
     ('spinless_legs', ()),
     ('coulomb_velocity', ()),
+    ('leg_length_offsets', (6,)),
 )
 
 #: {member: the PlatformParams attribute (a field or a property) it is copied from}.
@@ -69,6 +70,7 @@ PARAM_SOURCES = {
     'universal_joint_axes': 'universal_joint_axes_in_model',
     'spinless_legs': 'spinless_legs_in_model',
     'coulomb_velocity': 'coulomb_velocity',
+    'leg_length_offsets': 'leg_length_offsets',
 }
 
 #: The fields of a PlatformParams the members are copied from.
@@ -87,6 +89,7 @@ PARAM_INPUTS = (
     'gravity',
     'universal_joint_axes',
     'coulomb_velocity',
+    'leg_length_offsets',
 )
 
 #: The fields of a PlatformParams with no member in stewart_params, and why.
@@ -102,7 +105,6 @@ PARAMS_LEFT_OUT = {
     'coulomb_friction': 'actuator friction: a column of the regressor (stewart_regressor), not in the rigid-body model',
     'leg_stiffness': 'the legs as springs: the stiffness and modes (stewart.model.stiffness), not in the rigid-body model',
     'leg_damping': 'the legs as dampers: the damping ratios (stewart.model.stiffness), not in the rigid-body model',
-    'leg_length_offsets': 'encoder zero offsets: the C model takes true leg lengths (encoder reading + offset)',
 }
 
 #: {status code: (name, message, tolerance or None)} of every status code of the C model: the
@@ -347,5 +349,45 @@ FUNCTIONS = {
         result_type='StepDerivatives',
         method='rk4_step',
         option='jacobians',
+    ),
+    'leg_residuals': Function(
+        index=19,
+        inputs=('x', 'readings'),
+        scalar='',
+        outputs=(('r', 6),),
+        results=(('r', 0, 0, (6,)),),
+        result_type='',
+        method='leg_residuals',
+        option='',
+    ),
+    'leg_residual_jacobians': Function(
+        index=20,
+        inputs=('x',),
+        scalar='',
+        outputs=(('dr_dtheta', 42), ('dr_dx', 36)),
+        results=(('dr_dtheta', 0, 0, (6, 7)), ('dr_dx', 1, 0, (6, 6))),
+        result_type='LegResidualJacobians',
+        method='leg_residual_jacobians',
+        option='',
+    ),
+    'target_positions': Function(
+        index=21,
+        inputs=('x', 'offsets'),
+        scalar='',
+        outputs=(('q', 3),),
+        results=(('q', 0, 0, (3,)),),
+        result_type='',
+        method='target_positions',
+        option='',
+    ),
+    'target_jacobian': Function(
+        index=22,
+        inputs=('x', 'offsets'),
+        scalar='',
+        outputs=(('dq_dx', 18),),
+        results=(('dq_dx', 0, 0, (3, 6)),),
+        result_type='',
+        method='target_jacobian',
+        option='',
     ),
 }

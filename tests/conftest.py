@@ -238,6 +238,10 @@ PLATFORM_METHODS = {
     "forward_dynamics_derivatives": ("x", "xd", "tau"),
     "joint_reactions": ("x", "xd", "xdd"),
     "forward_kinematics": ("lengths", "guess"),
+    "leg_residuals": ("x", "readings"),
+    "leg_residual_jacobians": ("x",),
+    "target_positions": ("x", "offsets"),
+    "target_jacobian": ("x", "offsets"),
 }
 
 
@@ -254,6 +258,8 @@ def valid_arguments(plat, n=None, seed=0):
         "tau": plat.inverse_dynamics(x, xd, xdd),
         "lengths": plat.leg_lengths(x),
         "guess": x + 1e-3,
+        "readings": plat.encoder_readings(x) + 1e-6,
+        "offsets": np.full(np.shape(x)[:-1] + (3,), 0.02),
     }
 
 

@@ -57,6 +57,11 @@ def calls(plat, x, xd, xdd, tau):
         "rk4_step_jacobians": lambda m: plat.rk4_step(x, xd, tau, 1e-3, jacobians=True, return_mask=m),
         "joint_reactions": lambda m: plat.joint_reactions(x, xd, xdd, return_mask=m),
         "regressor": lambda m: plat.regressor(x, xd, xdd, return_mask=m),
+        # (the calibration's functions: xd stands for encoder readings, xdd's first three for targets)
+        "leg_residuals": lambda m: plat.leg_residuals(x, xd, return_mask=m),
+        "leg_residual_jacobians": lambda m: plat.leg_residual_jacobians(x, return_mask=m),
+        "target_positions": lambda m: plat.target_positions(x, xdd[..., :3], return_mask=m),
+        "target_jacobian": lambda m: plat.target_jacobian(x, xdd[..., :3], return_mask=m),
     }
 
 

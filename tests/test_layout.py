@@ -1,8 +1,8 @@
 """The package's structure: the data model works without the compiled extension, every
 hand-written module stays small enough to read, one module imports the compiled extension,
-no module reaches into another's private names, and no imports go in circles (the import
-contract between the sub-packages is checked by `lint-imports`, configured in pyproject.toml,
-in `make test`)."""
+no module reaches into another's private names, no imports go in circles, and the
+calibration builds no rotation or leg itself (the import contract between the sub-packages
+is checked by `lint-imports`, configured in pyproject.toml, in `make test`)."""
 
 import ast
 import json
@@ -170,3 +170,26 @@ def test_no_import_cycles(package, monkeypatch):
                      for module in graph.modules for other in graph.find_modules_directly_imported_by(module)
                      if graph.chain_exists(importer=other, imported=module)})
     assert cycles == []
+
+
+#: The model's numpy kinematics of a rotation, its rates and the legs (stewart.model.kinematics).
+KINEMATICS = {"rotation", "euler_rate_jacobian", "twist_transform", "platform_points_in_base", "leg_vectors",
+              "leg_unit_vectors", "leg_lengths", "jacobian", "euler_jacobian"}
+
+
+def test_calibration_builds_no_rotation_or_leg_itself():
+    """The calibration's residuals and Jacobians are the generated model's (codegen/calibration.py,
+    through stewart.Platform): no module of stewart/calibration calls a trigonometric function
+    (a rotation matrix is built from the Euler angles' cosines and sines) or imports the model's
+    numpy rotation, Euler-rate map or legs (:data:`KINEMATICS`)."""
+    found = []
+    for path in sorted((PACKAGE / "calibration").glob("*.py")):
+        here = module_name(path)
+        found += [f"{here}:{line} imports {name}" for line, module, name in imports(path)
+                  if module == "stewart.model.kinematics" and name in KINEMATICS]
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Call):
+                called = getattr(node.func, "attr", getattr(node.func, "id", ""))
+                if called in {"cos", "sin", "tan"}:
+                    found.append(f"{here}:{node.lineno} calls {called}")
+    assert found == []

@@ -15,7 +15,7 @@ from .params import PlatformParams
 from .results import JointReactions
 
 __all__ = ["Platform", "AllTerms", "InverseDynamicsDerivatives", "ForwardDynamicsDerivatives",
-           "StaticForceDerivatives", "Step", "StepDerivatives", "as_platform"]
+           "StaticForceDerivatives", "Step", "StepDerivatives", "LegResidualJacobians", "as_platform"]
 
 
 def _result_type(function, doc):
@@ -56,6 +56,11 @@ Step = _result_type("rk4_step", """The state after one RK4 step (:meth:`Platform
 StepDerivatives = _result_type("rk4_step_derivatives", """The state after one RK4 step and its Jacobians
     (:meth:`Platform.rk4_step` with ``jacobians=True``): ``A = d(x+, xd+)/d(x, xd)`` (12 x 12),
     ``B = d(x+, xd+)/d tau`` (12 x 6), row = output, column = input.""")
+
+LegResidualJacobians = _result_type("leg_residual_jacobians", """The exact partials of the calibration residuals
+    (:meth:`Platform.leg_residual_jacobians`): ``dr_dtheta[..., i, :]`` those of leg i's residual in
+    its own geometric parameters ``(b_i, p_i, delta_i)``, ``[u_i, -R^T u_i, 1]`` (the other 35 of
+    the 42 are zero), and ``dr_dx`` (``(..., 6, 6)``, row = leg, column = pose coordinate).""")
 
 # The joint reactions' type (shared with the Newton-Euler oracle) has the fields of the C's results.
 _same_fields(JointReactions, "joint_reactions")
@@ -301,6 +306,30 @@ class Platform:
                           return_mask)
         return _named(Step, self._call("rk4_step", (x, xd, tau), return_mask, dt), return_mask)
 
+    def leg_residuals(self, x, readings, *, return_mask=False):
+        """The inverse-kinematics residuals of kinematic calibration (Zhuang & Roth 1993):
+        ``r_i = e_i + delta_i - |l_i|``, the encoder ``readings`` e plus ``params.leg_length_offsets``
+        less the leg lengths of eq. 26 at the pose ``x``, shape ``(..., 6)``."""
+        return self._call("leg_residuals", (x, readings), return_mask)
+
+    def leg_residual_jacobians(self, x, *, return_mask=False):
+        """The exact partials of :meth:`leg_residuals` (Masory, Wang & Zhuang 1993), a
+        :class:`LegResidualJacobians` ``(dr_dtheta, dr_dx)``: per leg i, shape ``(..., 6, 7)``,
+        those in its own base joint ``b_i``, platform joint ``p_i`` (in {P}) and offset
+        ``delta_i``, ``[u_i, -R^T u_i, 1]`` with ``u_i = l_i / |l_i|`` (the other parameters'
+        are zero); and ``dr/dx = -J_C T`` (eqs. 5, 8, 18), shape ``(..., 6, 6)``."""
+        return _named(LegResidualJacobians, self._call("leg_residual_jacobians", (x,), return_mask), return_mask)
+
+    def target_positions(self, x, offsets, *, return_mask=False):
+        """The position ``t + R c`` in {B} of a target fixed to the platform at ``offsets`` ``c``
+        in {P} (``(3,)`` or ``(N, 3)``) at the pose ``x``, shape ``(..., 3)``."""
+        return self._call("target_positions", (x, _target_offsets(offsets)), return_mask)
+
+    def target_jacobian(self, x, offsets, *, return_mask=False):
+        """``d(t + R c)/dx = [E, -[R c]x J_A]`` (eq. 8) of :meth:`target_positions`, shape
+        ``(..., 3, 6)``: column ``3 + j`` is the target's velocity ``(J_A e_j) x R c``."""
+        return self._call("target_jacobian", (x, _target_offsets(offsets)), return_mask)
+
     def stiffness_matrix(self, x, stiffness=None, *, coordinates="pose", return_mask=False):
         """The stiffness of the platform on leg springs of ``stiffness`` [N/m] (one value or one
         per leg) preloaded to hold it at ``x``: the Hessian of the potential (springs and
@@ -322,6 +351,13 @@ class Platform:
         ``point`` (in {P}, default its origin) under a unit wrench ``[f; m]`` there, all in {B},
         shape ``(..., 6, 6)`` (:func:`stewart.model.stiffness.compliance`)."""
         return _stiffness.compliance(self, x, stiffness, point, return_mask=return_mask)
+
+
+def _target_offsets(offsets) -> np.ndarray:
+    """Targets' positions in {P}, ``(3,)`` or ``(N, 3)``, as the C's input of 6 doubles a row
+    (the last three zero, not read)."""
+    arr = arguments.state_array("offsets", offsets, 3)
+    return np.concatenate([arr, np.zeros(arr.shape[:-1] + (3,))], axis=-1)
 
 
 def friction_law(params: PlatformParams, viscous=None, coulomb=None, velocity=None) -> tuple[np.ndarray, np.ndarray, float]:
