@@ -16,9 +16,8 @@ from scipy import signal
 from cli_run import call
 
 from stewart.cueing import VehicleLog, WashoutParams, read_log, vestibular, washout
-from stewart.cueing import washout as washout_module  # noqa: F401
 from stewart.cueing.log import RATE_TOLERANCE
-from stewart.cueing.washout import filters, reference_poses
+from stewart.cueing.classical import filters, reference_poses
 from stewart.model.params import PlatformParams
 from stewart.motion.trajectory import SampledTrajectory
 
