@@ -22,7 +22,12 @@ from .log import VehicleLog
 from .result import CueingResult
 from .settings import MPCParams
 
-__all__ = ["washout", "mpc", "perceived", "simulate_reference"]
+__all__ = ["washout", "mpc", "perceived", "simulate_reference", "BANDWIDTH_HZ", "STEPS_PER_SAMPLE"]
+
+#: The closed loop a reference runs through (:func:`simulate_reference`, ``simulate=True``):
+#: computed torque at this bandwidth [Hz], RK4 at this many steps per log sample.
+BANDWIDTH_HZ = 5.0
+STEPS_PER_SAMPLE = 10
 
 
 def perceived(motion, gravity: float = 9.81) -> vestibular.Perceived:
@@ -144,11 +149,12 @@ def _check_limits(result: CueingResult, plat, leg_velocity: float, force: float)
 
 def _finish(result: CueingResult, plat, simulate: bool) -> CueingResult:
     if simulate and result.inside and not result.beyond_limits:
-        simulate_reference(result, plat)
+        _closed_loop(result, plat, BANDWIDTH_HZ, STEPS_PER_SAMPLE)
     return result
 
 
-def simulate_reference(result: CueingResult, platform, bandwidth_hz: float = 5.0, steps_per_sample: int = 10):
+def simulate_reference(result: CueingResult, platform, bandwidth_hz: float = BANDWIDTH_HZ,
+                       steps_per_sample: int = STEPS_PER_SAMPLE) -> CueingResult:
     """Run ``result.reference`` through :func:`stewart.simulate` with
     :meth:`ComputedTorque.tuned(bandwidth_hz) <stewart.motion.control.ComputedTorque.tuned>`
     (RK4, ``steps_per_sample`` steps per log sample) and fill ``result.simulation``,
@@ -156,10 +162,14 @@ def simulate_reference(result: CueingResult, platform, bandwidth_hz: float = 5.0
     ``result.simulation_peaks``; the actuators saturate at ``result.limits["force"]`` (when
     the method has limits); the run's problems (stroke, force, assembly mode, leg speed above
     the limit) join ``result.problems``."""
+    return _closed_loop(result, as_platform(platform), bandwidth_hz, steps_per_sample)
+
+
+def _closed_loop(result: CueingResult, plat, bandwidth_hz: float, steps_per_sample: int) -> CueingResult:
+    """:func:`simulate_reference` on the compiled ``plat``."""
     from ..motion.control import Actuators, ComputedTorque
     from ..motion.simulation import simulate
 
-    plat = as_platform(platform)
     log = result.log
     limits = result.limits or {}
     actuators = Actuators(force_limit=limits.get("force", np.inf))
