@@ -18,7 +18,7 @@ import numpy as np
 import stewart
 from stewart.cli import bench
 from stewart.cli.interleaved import REFERENCE, SelfTimed, Target, time_calls
-from stewart.cueing import MPCParams, predictive, read_log
+from stewart.cueing import MPCParams, planner, read_log
 
 from .report import target_table
 
@@ -43,7 +43,7 @@ def figures(preset: str = "motion_simulator", rounds: bench.Rounds | None = None
 
     def plan() -> float:
         name = next(turn)
-        run = predictive.plan(logs[name], plat, params)
+        run = planner.plan(logs[name], plat, params)
         out["maneuvers"][name] = {"rate_hz": 1.0 / logs[name].dt, "samples": len(logs[name].t),
                                   "failures": run.failures}
         step.append(run.step_time)

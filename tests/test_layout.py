@@ -6,6 +6,7 @@ is checked by `lint-imports`, configured in pyproject.toml, in `make test`)."""
 
 import ast
 import json
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -193,3 +194,47 @@ def test_calibration_builds_no_rotation_or_leg_itself():
                 if called in {"cos", "sin", "tan"}:
                     found.append(f"{here}:{node.lineno} calls {called}")
     assert found == []
+
+
+LAYOUT = ROOT / "docs" / "layout.md"
+#: The files of a module: Python, and the compiled wrapper's Cython sources.
+MODULE_PATTERNS = ("*.py", "*.pyx", "*.pxi", "*.pxd")
+
+
+def layout_names(text: str) -> set[str]:
+    """The modules of ``stewart/`` and ``codegen/`` that docs/layout.md names, as paths from
+    the checkout: each name in backticks (``options.py``, ``model/compiled.py``) is read from
+    the folder of the bullet it stands in (``- `stewart/` ``, ``    - `cli/` ``; a sub-bullet
+    that names a file keeps its parent's folder), a path from the checkout as it is."""
+    names, folders = set(), {}
+    folder = ""
+    for line in text.splitlines():
+        bullet = re.match(r"^( *)- `([^`]+)`", line)
+        if bullet:
+            depth, first = len(bullet.group(1)), bullet.group(2)
+            parent = next((folders[d] for d in sorted(folders, reverse=True) if d < depth), "")
+            folder = parent + first if first.endswith("/") else parent
+            folders = {d: f for d, f in folders.items() if d < depth} | {depth: folder}
+        for name in re.findall(r"`([\w./-]+\.(?:py|pyx|pxi|pxd))`", line):
+            top = name.split("/")[0]
+            path = name if "/" in name and (ROOT / top).is_dir() and top != name else folder + name
+            if path.startswith(("stewart/", "codegen/")):
+                names.add(path)
+    return names
+
+
+def test_the_layout_names_every_module_and_no_other():
+    """docs/layout.md names every module of ``stewart/`` and ``codegen/`` (a package's
+    ``__init__.py`` is named by its folder's bullet), and every module it names exists."""
+    tree = {path.relative_to(ROOT).as_posix() for base in (PACKAGE, CODEGEN) for pattern in MODULE_PATTERNS
+            for path in base.rglob(pattern) if "__pycache__" not in path.parts}
+    named = layout_names(LAYOUT.read_text(encoding="utf-8"))
+    assert {"stewart/cli/interleaved.py", "stewart/model/compiled.py", "codegen/graph.py"} <= named
+    missing = sorted(path for path in tree - named if not path.endswith("/__init__.py"))
+    assert not missing, ("docs/layout.md does not name these modules: " + ", ".join(missing) + ". Add each, "
+                         "with its one job, to the bullet of its package, in backticks as a path from the "
+                         "package's folder (`cueing.py` in the bullet of `cli/`, `calibration.py` in that of "
+                         "`codegen/`).")
+    stale = sorted(named - tree)
+    assert not stale, ("docs/layout.md names modules that are not in the tree: " + ", ".join(stale) + ". Update "
+                       "or drop their lines (moved or removed?).")

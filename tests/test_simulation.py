@@ -686,3 +686,19 @@ def test_feedforward_may_return_a_read_only_view(plat):
     copies = stewart.simulate(plat, still, stewart.OpenLoop(), feedforward=lambda t: np.tile(hold, (len(t), 1)))
     np.testing.assert_array_equal(views.x, copies.x)
     assert np.max(np.abs(views.x - plat.home_pose)) < 1e-15  # reached 2.5e-17
+
+
+def test_simulate_converts_its_platform_once_where_it_enters(conversions):
+    """The rule of stewart.model: simulate converts its platform argument once, where it enters;
+    the functions it calls inside the motion package take the converted Platform. A
+    PlatformParams is compiled once; the motion package calls a converter once (the workspace
+    check calls stewart.model.reachability's public functions, which convert their own
+    argument)."""
+    params = stewart.PlatformParams.preset("narayan2017")
+    home = stewart.home_pose(params)
+    move = stewart.PointToPoint(home, home + np.array([0.01, 0.0, 0.0, 0.0, 0.0, 0.0]), 0.1)
+    controller = stewart.ComputedTorque.tuned(5.0)
+    count = conversions("stewart.motion")
+    result = stewart.simulate(params, move, controller, dt=0.01)
+    assert result.completed
+    assert count == {"stewart.motion.simulation": 1, "compiled": 1}

@@ -52,7 +52,11 @@ def energy(params: PlatformParams, x, xd) -> np.ndarray:
     energy is ``sum_k I_k (omega . e_k)^2 / 2``. Analytic operations only, so complex-step
     derivatives apply.
     """
-    params = platform_params(params)
+    return _energy(platform_params(params), x, xd)
+
+
+def _energy(params: PlatformParams, x, xd) -> np.ndarray:
+    """:func:`energy` of the converted ``params``."""
     x = np.asarray(x)
     xd = np.asarray(xd)
     rot = kinematics.rotation(x)
@@ -197,7 +201,7 @@ def power_balance(params: PlatformParams, x, xd, xdd, tau) -> float:
     is the complex-step derivative of :func:`energy` along ``(xd, xdd)``."""
     params = platform_params(params)
     h = COMPLEX_STEP
-    de_dt = energy(params, x + 1j * h * xd, xd + 1j * h * xdd).imag / h
+    de_dt = _energy(params, x + 1j * h * xd, xd + 1j * h * xdd).imag / h
     power = tau * kinematics.leg_velocities(params, x, xd)
     return float(np.max(np.abs(de_dt - power.sum(axis=-1)) / np.sum(np.abs(power), axis=-1)))
 
@@ -255,7 +259,7 @@ def energy_drift(params: PlatformParams, seconds: float = 1.0, seed: int = 0) ->
     # (stewart.model.conditions): the workspace's design limit on the unit-free condition of J_C.
     if np.max(reachability.reachability(plat, poses).condition) > reachability.CONDITION_LIMIT:
         return float("inf")
-    energies = energy(free, poses, rates)
+    energies = _energy(free, poses, rates)
     return float(np.max(np.abs(energies - energies[0])) / np.max(np.abs(energies)))
 
 

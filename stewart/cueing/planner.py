@@ -3,7 +3,7 @@ a receding horizon that minimize the rider's perceived-motion error within the p
 limits, one dense QP solved exactly by DAQP's dual active-set method (Arnström, Bemporad &
 Axehill 2022), warm-started from the last step's active set.
 
-The prediction (:mod:`stewart.cueing.prediction`) carries per interval ``k`` the state
+The prediction (:mod:`stewart.cueing.horizon`) carries per interval ``k`` the state
 ``s_k = [p_k, v_k, z_k]``: the pose from home, its rates and the difference of the platform's
 and the vehicle's vestibular states, whose output ``C z`` is the perceived error. The input
 is the pose acceleration ``u_k``; the states are affine in the inputs, so the QP is
@@ -21,7 +21,7 @@ error scaled by its perception threshold or the pose box) subject to
   exact);
 * the joints' cones (:class:`~stewart.PlatformParams` ``universal_joint_max_angle``,
   ``spherical_joint_max_angle``), the cosine of each joint angle linearized with its exact
-  gradient (:func:`~stewart.cueing.prediction.joint_cosines_and_gradients`);
+  gradient (:func:`~stewart.cueing.horizon.joint_cosines_and_gradients`);
 * the tilt rate: roll and pitch rates between zero and the vehicle's, widened by
   ``tilt_rate`` (no rotation the vehicle does not have, beyond ``tilt_rate``);
 * the pose box ``|p_k| <= box``;
@@ -73,7 +73,7 @@ from threadpoolctl import threadpool_limits
 from ..model.kinematics import rotation
 from ..model.platform import as_platform
 from ..model.reachability import neutral_axes
-from . import prediction, vestibular
+from . import horizon, vestibular
 from .settings import MPCParams
 
 __all__ = ["CueingQP", "Plan", "plan"]
@@ -155,7 +155,7 @@ class CueingQP:
         self.dt = float(dt)
         self.h = params.intervals(self.dt)
         self.home = self.platform.home_pose
-        self.vestibular = prediction.VestibularStates()
+        self.vestibular = horizon.VestibularStates()
         self.ns = _NS + self.vestibular.n
         self.n = n = params.steps
         discrete = {h: self.vestibular.discrete(h) for h in np.unique(self.h)}
@@ -248,8 +248,8 @@ class CueingQP:
         S u + d``."""
         prm, plat, n, h, ns = self.params, self.platform, self.n, self.h, self.ns
         xs, vs, us = self._linearization_point(x0, v0)
-        xm, vm = prediction.midpoint(xs, vs, us, h[:, None])
-        y, yx, yv, yu = prediction.signals_and_jacobians(xm, vm, us, prm.gravity)
+        xm, vm = horizon.midpoint(xs, vs, us, h[:, None])
+        y, yx, yv, yu = horizon.signals_and_jacobians(xm, vm, us, prm.gravity)
         half, eighth = (0.5 * h)[:, None, None], (0.125 * h * h)[:, None, None]
         y_p, y_v, y_u = yx, yx * half + yv, yx * eighth + yv * half + yu
         y0 = y - np.einsum("nij,nj->ni", y_p, xs - self.home) - np.einsum("nij,nj->ni", y_v, vs) \
@@ -295,8 +295,8 @@ class CueingQP:
         quad = plat.leg_accelerations(np.repeat(x_bar, 12, axis=0), probes.reshape(-1, 6),
                                       np.zeros((12 * (n + 1), 6))).reshape(n + 1, 12, 6)
         hl = np.transpose(0.25 * (quad[:, :6] - quad[:, 6:]), (0, 2, 1))           # dLdot/dx along v
-        cones, cone_grad = prediction.joint_cosines_and_gradients(x_bar, plat.params.base_points,
-                                                                  plat.params.platform_points, self.neutral)
+        cones, cone_grad = horizon.joint_cosines_and_gradients(x_bar, plat.params.base_points,
+                                                               plat.params.platform_points, self.neutral)
         mv = lambda m, x: np.einsum("nij,nj->ni", m, x)  # noqa: E731
         legs = (np.concatenate([jl @ sp, hl @ sp + jl @ sv, cone_grad @ sp], axis=1),
                 np.concatenate([lengths + mv(jl, dp), mv(jl, dv) + mv(hl, dp), cones + mv(cone_grad, dp)], axis=1))
@@ -439,7 +439,7 @@ def _plan(log, platform, params, progress):
     x[0] = qp.home
     vs = qp.vestibular
     z_vehicle = vs.steady_state(y_log[0])
-    y_rest = prediction.signals_and_jacobians(qp.home, np.zeros(6), np.zeros(6), prm.gravity)[0][0]
+    y_rest = horizon.signals_and_jacobians(qp.home, np.zeros(6), np.zeros(6), prm.gravity)[0][0]
     z_platform = vs.steady_state(y_rest)
     mid_offsets = np.concatenate([[0.0], np.cumsum(h)[:-1]]) + 0.5 * h
     step_time, solve_time, iterations, status, level = np.zeros(steps), np.zeros(steps), np.zeros(steps, int), [], []
@@ -472,8 +472,8 @@ def _plan(log, platform, params, progress):
             break
         x[k + 1] = x[k] + dt * v[k] + 0.5 * dt * dt * applied
         v[k + 1] = v[k] + dt * applied
-        xm, vm = prediction.midpoint(x[k], v[k], applied, dt)
-        y_mid = prediction.signals_and_jacobians(xm, vm, applied, prm.gravity)[0][0]
+        xm, vm = horizon.midpoint(x[k], v[k], applied, dt)
+        y_mid = horizon.signals_and_jacobians(xm, vm, applied, prm.gravity)[0][0]
         z_platform = qp.ad_dt @ z_platform + qp.bd_dt @ y_mid
         z_vehicle = qp.ad_dt @ z_vehicle + qp.bd_dt @ (0.5 * (y_log[k] + y_log[k + 1]))
     return Plan(x, v, u, step_time, solve_time, iterations, status, level, tightened, failures)

@@ -1,4 +1,4 @@
-"""The prediction model of MPC cueing (:mod:`stewart.cueing.predictive`): the platform as a double
+"""The prediction model of MPC cueing (:mod:`stewart.cueing.planner`): the platform as a double
 integrator in its pose coordinates, what a rider at {P}'s origin senses of it, and the
 vestibular model (:mod:`stewart.cueing.vestibular`) in discrete time.
 
