@@ -193,8 +193,8 @@ def _owners(weights: np.ndarray) -> np.ndarray:
     two roots a mode: greedily, the largest weight of a root not yet given to a mode not yet
     holding two. Where each root's largest weight is on a different mode from all but one
     other root's, that is its largest; where modes are repeated (equal frequencies: the roots'
-    eigenvectors mix them arbitrarily), it is one of the balanced choices, and the ratio
-    (per root, :func:`_damping_ratios`) does not depend on which."""
+    eigenvectors mix them arbitrarily), it is one of the balanced choices, which may give a mode
+    a repeated root twice (:func:`_damping_ratios` tells that from a pair)."""
     n = len(weights)
     rows = np.arange(n)
     w = weights.copy()
@@ -209,14 +209,22 @@ def _owners(weights: np.ndarray) -> np.ndarray:
     return owner
 
 
+#: Least relative distance of a mode's two real roots for their pair's ratio: nearer, they may be
+#: one repeated root given to the mode twice (:func:`_damping_ratios`).
+DISTINCT_ROOTS = 1e-6
+
+
 def _damping_ratios(values: np.ndarray, shapes: np.ndarray, c: np.ndarray, jac: np.ndarray) -> np.ndarray:
     """The damping ratio of each undamped mode from the quadratic eigenproblem, solved in the
-    modal coordinates: ``A = [[0, I], [-W^2, -D]]``, ``D = Phi^T C_t Phi``. A root ``s`` with the
-    displacement part ``eta`` of its eigenvector solves the scalar ``m s^2 + c s + k = 0`` with
-    ``m = eta^H eta``, ``c = eta^H D eta``, ``k = eta^H W^2 eta``, and has the ratio
-    ``zeta = c / (2 sqrt(k m))`` (``-Re s / |s|`` for a complex root; for a mode's two real
-    roots ``-(s1 + s2) / (2 sqrt(s1 s2))`` where ``D`` is diagonal); each mode's ratio is the mean
-    of its two roots' (:func:`_owners`: the roots whose eigenvectors it dominates)."""
+    modal coordinates: ``A = [[0, I], [-W^2, -D]]``, ``D = Phi^T C_t Phi``. Two roots go to each
+    mode (:func:`_owners`: those whose eigenvectors it dominates), and its ratio is
+    ``zeta = -(s1 + s2) / (2 sqrt(s1 s2))`` (``-Re s / |s|`` for a complex pair), which with
+    ``sqrt(s1 s2)`` gives back the roots. Where the two are not a pair (a complex root and not its
+    conjugate, or two real roots nearer than :data:`DISTINCT_ROOTS`: a repeated mode's repeated
+    root given to it twice) each root gives its own ratio, that of the scalar quadratic
+    ``m s^2 + c s + k = 0`` of the displacement part ``eta`` of its eigenvector (``m = eta^H
+    eta``, ``c = eta^H D eta``, ``k = eta^H W^2 eta``), ``c / (2 sqrt(k m))``, the same for
+    each root of a mode where ``D`` is diagonal, and the mode the mean of its two."""
     n = len(values)
     damper = np.swapaxes(jac, -1, -2) @ (c[:, None] * jac)
     modal = np.swapaxes(shapes, -1, -2) @ damper @ shapes
@@ -224,17 +232,26 @@ def _damping_ratios(values: np.ndarray, shapes: np.ndarray, c: np.ndarray, jac: 
     state[:, :6, 6:] = np.eye(6)
     state[:, 6:, :6] = -values[:, :, None] * np.eye(6)
     state[:, 6:, 6:] = -modal
-    _, vecs = np.linalg.eig(state)
+    roots, vecs = np.linalg.eig(state)
     eta = np.swapaxes(vecs[:, :6, :], -1, -2)                     # (n, root, mode)
     power = np.abs(eta) ** 2
     m = np.sum(power, axis=-1)
     k = np.sum(power * values[:, None, :], axis=-1)
     d = np.real(np.einsum("nri,nij,nrj->nr", eta.conj(), modal, eta))
     with np.errstate(invalid="ignore", divide="ignore"):  # the rows that failed (all zero), NaN after
-        zeta = d / (2.0 * np.sqrt(k * m))
+        own = d / (2.0 * np.sqrt(k * m))
         owner = _owners(power / m[..., None])
     ratios = np.zeros((n, 6))
-    np.add.at(ratios, (np.arange(n)[:, None], owner), zeta / 2.0)
+    for mode in range(6):
+        pick = np.argsort(owner != mode, axis=1, kind="stable")[:, :2]  # its two roots, in order
+        s = np.take_along_axis(roots, pick, axis=1)
+        real = (s.imag == 0).all(axis=1)
+        pair = np.where(real, np.abs(s[:, 0] - s[:, 1]) > DISTINCT_ROOTS * np.abs(s[:, 0]),
+                        (s[:, 0].imag != 0) & (s[:, 1] == s[:, 0].conj()))
+        product, total = np.real(s[:, 0] * s[:, 1]), np.real(s[:, 0] + s[:, 1])
+        with np.errstate(invalid="ignore", divide="ignore"):
+            ratios[:, mode] = np.where(pair, -total / (2.0 * np.sqrt(product)),
+                                       np.take_along_axis(own, pick, axis=1).mean(axis=1))
     return ratios
 
 
