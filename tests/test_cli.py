@@ -472,7 +472,8 @@ def test_c_export_writes_the_model_and_the_platform_header(tmp_path, capsys):
 def test_bench_ratios_only_times_the_derivatives_against_the_values(capsys):
     """``stewart bench --ratios-only``: only the exact derivatives' cost over the values', a
     state each, on each vector path this CPU runs, each row with its target and verdict. The
-    derivative functions compute the values too, so each ratio is above 1."""
+    derivative functions compute the values too, so each ratio's median is above 1 (a round
+    the machine's other jobs interrupt may not be: the interval's ends are not checked)."""
     code, out, err = _run(["bench", "--ratios-only", "--preset", "narayan2017", "--budget", "0", "--json"], capsys)
     assert code == 0
     figures = json.loads(out)["figures"]["narayan2017"]
@@ -481,7 +482,7 @@ def test_bench_ratios_only_times_the_derivatives_against_the_values(capsys):
     assert set(figures) == keys | {"spread"}
     for key in keys:
         spread = figures["spread"][key]
-        assert 1 < spread["low"] <= figures[key] <= spread["high"] < 50
+        assert spread["low"] <= figures[key] <= spread["high"] and 1 < figures[key] < 50
         name, path = key.removeprefix("derivative_ratio_").rsplit("_", 1)
         row = next(line for line in err.splitlines() if line.startswith("[narayan2017]") and f"over {name}" in line
                    and line.split(",")[-1].split()[0] == path)
