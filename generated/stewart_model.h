@@ -327,7 +327,7 @@ int stewart_batch_target_jacobian(const stewart_params *p, size_t n, const doubl
  *   inverse_dynamics_points_axisym          1858
  *   inverse_dynamics_points_frames          2356
  *   inverse_dynamics_points_general         2734
- *   leg_derivatives_axisym                  1480
+ *   leg_derivatives_axisym                   785
  *   leg_derivatives_frames                  2419
  *   leg_derivatives_general                 2648
  *   residual_derivatives_inverse             965

@@ -444,7 +444,7 @@ cdef class Kernel:
         rates or forces are not finite."""
         cdef cnp.ndarray crates = _c_array("rates", rates, cnp.NPY_DOUBLE, np.ndim(rates), False)
         cdef cnp.ndarray out = np.empty_like(crates)
-        cdef stewart_friction f = as_friction(law)
+        cdef stewart_friction f = as_friction("law", law)
         cdef size_t n = crates.size // 6
         with nogil:
             T.batch_friction_forces(&f, n, <const double *>cnp.PyArray_DATA(crates), <double *>cnp.PyArray_DATA(out),
