@@ -293,6 +293,17 @@ def rotation_kernel():
                                               for k, angle in enumerate(EULER_ANGLES)])
 
 
+def euler_rate_partials_kernel():
+    """J_A (eq. 8) and its partials along psi, theta and phi (forward mode on its definition),
+    each row-major."""
+    g = Graph({})
+    kin = kinematics(g, PARAMS)
+    partials = g.partials(list(kin.J_A), X[3:], 'dJA')  # row: entry of J_A; column: angle
+    return KernelSpec('euler_rate_partials', euler_rate_partials_kernel.__doc__, g, [('x', X)],
+                      [('JA', list(kin.J_A))] + [(f'dJA_d{angle}', [row[k] for row in partials])
+                                                 for k, angle in enumerate(EULER_ANGLES)])
+
+
 def leg_vectors_kernel():
     """The leg vectors l_i = p + R p_i - b_i (eq. 26), leg-major, row i = l_i; no test of
     their lengths."""

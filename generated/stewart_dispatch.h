@@ -29,13 +29,16 @@
  *   17  rk4_step
  *   18  rk4_step_derivatives
  *   19  rotation
- *   20  euler_rate_jacobian
- *   21  inverse_euler_rate_jacobian
- *   22  leg_vectors
- *   23  leg_unit_vectors
- *   24  modal_stiffness
+ *   20  rotation_partials
+ *   21  euler_rate_jacobian
+ *   22  euler_rate_jacobian_partials
+ *   23  inverse_euler_rate_jacobian
+ *   24  leg_vectors
+ *   25  leg_unit_vectors
+ *   26  leg_unit_vector_gradients
+ *   27  modal_stiffness
  */
-#define STEWART_FUNCTIONS 25
+#define STEWART_FUNCTIONS 28
 /* The most input arrays and output arrays a public function has. */
 #define STEWART_MAX_INPUTS 3
 #define STEWART_MAX_OUTPUTS 4
@@ -78,11 +81,14 @@ typedef struct {
     int (*regressor)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *Y);
     int (*rk4_step)(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn);
     int (*rk4_step_derivatives)(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B);
-    int (*rotation)(const stewart_params *p, const double *x, double *R, double *dR_dpsi, double *dR_dtheta, double *dR_dphi);
+    int (*rotation)(const stewart_params *p, const double *x, double *R);
+    int (*rotation_partials)(const stewart_params *p, const double *x, double *R, double *dR_dpsi, double *dR_dtheta, double *dR_dphi);
     int (*euler_rate_jacobian)(const stewart_params *p, const double *x, double *JA);
+    int (*euler_rate_jacobian_partials)(const stewart_params *p, const double *x, double *JA, double *dJA_dpsi, double *dJA_dtheta, double *dJA_dphi);
     int (*inverse_euler_rate_jacobian)(const stewart_params *p, const double *x, double *JAinv);
     int (*leg_vectors)(const stewart_params *p, const double *x, double *l);
-    int (*leg_unit_vectors)(const stewart_params *p, const double *x, double *u, double *du_dx);
+    int (*leg_unit_vectors)(const stewart_params *p, const double *x, double *u);
+    int (*leg_unit_vector_gradients)(const stewart_params *p, const double *x, double *u, double *du_dx);
     int (*modal_stiffness)(const stewart_params *p, const double *x, const double *k, double *Kt, double *JC, double *Mt);
     int (*batch_leg_lengths)(const stewart_params *p, size_t n, const double *x, double *L, int *status);
     int (*batch_jacobian)(const stewart_params *p, size_t n, const double *x, double *JC, int *status);
@@ -103,11 +109,14 @@ typedef struct {
     int (*batch_regressor)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Y, int *status);
     int (*batch_rk4_step)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status);
     int (*batch_rk4_step_derivatives)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B, int *status);
-    int (*batch_rotation)(const stewart_params *p, size_t n, const double *x, double *R, double *dR_dpsi, double *dR_dtheta, double *dR_dphi, int *status);
+    int (*batch_rotation)(const stewart_params *p, size_t n, const double *x, double *R, int *status);
+    int (*batch_rotation_partials)(const stewart_params *p, size_t n, const double *x, double *R, double *dR_dpsi, double *dR_dtheta, double *dR_dphi, int *status);
     int (*batch_euler_rate_jacobian)(const stewart_params *p, size_t n, const double *x, double *JA, int *status);
+    int (*batch_euler_rate_jacobian_partials)(const stewart_params *p, size_t n, const double *x, double *JA, double *dJA_dpsi, double *dJA_dtheta, double *dJA_dphi, int *status);
     int (*batch_inverse_euler_rate_jacobian)(const stewart_params *p, size_t n, const double *x, double *JAinv, int *status);
     int (*batch_leg_vectors)(const stewart_params *p, size_t n, const double *x, double *l, int *status);
-    int (*batch_leg_unit_vectors)(const stewart_params *p, size_t n, const double *x, double *u, double *du_dx, int *status);
+    int (*batch_leg_unit_vectors)(const stewart_params *p, size_t n, const double *x, double *u, int *status);
+    int (*batch_leg_unit_vector_gradients)(const stewart_params *p, size_t n, const double *x, double *u, double *du_dx, int *status);
     int (*batch_modal_stiffness)(const stewart_params *p, size_t n, const double *x, const double *k, double *Kt, double *JC, double *Mt, int *status);
     stewart_call call[STEWART_FUNCTIONS];  /* the public functions by their index */
 } stewart_table;

@@ -45,10 +45,13 @@
 #define stewart_rk4_step STEWART_LOCAL(rk4_step)
 #define stewart_rk4_step_derivatives STEWART_LOCAL(rk4_step_derivatives)
 #define stewart_rotation STEWART_LOCAL(rotation)
+#define stewart_rotation_partials STEWART_LOCAL(rotation_partials)
 #define stewart_euler_rate_jacobian STEWART_LOCAL(euler_rate_jacobian)
+#define stewart_euler_rate_jacobian_partials STEWART_LOCAL(euler_rate_jacobian_partials)
 #define stewart_inverse_euler_rate_jacobian STEWART_LOCAL(inverse_euler_rate_jacobian)
 #define stewart_leg_vectors STEWART_LOCAL(leg_vectors)
 #define stewart_leg_unit_vectors STEWART_LOCAL(leg_unit_vectors)
+#define stewart_leg_unit_vector_gradients STEWART_LOCAL(leg_unit_vector_gradients)
 #define stewart_modal_stiffness STEWART_LOCAL(modal_stiffness)
 #define stewart_batch_leg_lengths STEWART_LOCAL(batch_leg_lengths)
 #define stewart_batch_jacobian STEWART_LOCAL(batch_jacobian)
@@ -70,10 +73,13 @@
 #define stewart_batch_rk4_step STEWART_LOCAL(batch_rk4_step)
 #define stewart_batch_rk4_step_derivatives STEWART_LOCAL(batch_rk4_step_derivatives)
 #define stewart_batch_rotation STEWART_LOCAL(batch_rotation)
+#define stewart_batch_rotation_partials STEWART_LOCAL(batch_rotation_partials)
 #define stewart_batch_euler_rate_jacobian STEWART_LOCAL(batch_euler_rate_jacobian)
+#define stewart_batch_euler_rate_jacobian_partials STEWART_LOCAL(batch_euler_rate_jacobian_partials)
 #define stewart_batch_inverse_euler_rate_jacobian STEWART_LOCAL(batch_inverse_euler_rate_jacobian)
 #define stewart_batch_leg_vectors STEWART_LOCAL(batch_leg_vectors)
 #define stewart_batch_leg_unit_vectors STEWART_LOCAL(batch_leg_unit_vectors)
+#define stewart_batch_leg_unit_vector_gradients STEWART_LOCAL(batch_leg_unit_vector_gradients)
 #define stewart_batch_modal_stiffness STEWART_LOCAL(batch_modal_stiffness)
 #else
 #define STEWART_LOCAL(name) stewart_##name
@@ -117,6 +123,7 @@
 #define vkernel_regressor STEWART_LOCAL(vkernel_regressor)
 #define vkernel_regressor_general STEWART_LOCAL(vkernel_regressor_general)
 #define vkernel_rotation STEWART_LOCAL(vkernel_rotation)
+#define vkernel_euler_rate_partials STEWART_LOCAL(vkernel_euler_rate_partials)
 #define vkernel_leg_vectors STEWART_LOCAL(vkernel_leg_vectors)
 #define vkernel_leg_unit_vectors STEWART_LOCAL(vkernel_leg_unit_vectors)
 #define vkernel_modal_stiffness STEWART_LOCAL(vkernel_modal_stiffness)
@@ -1389,6 +1396,7 @@ STEWART_HIDDEN void vkernel_joint_forces(const stewart_params *p, const stewart_
 STEWART_HIDDEN void vkernel_regressor(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *Y, stewart_vd *JC, stewart_vd *L2, stewart_vd *h2);
 STEWART_HIDDEN void vkernel_regressor_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *Y, stewart_vd *JC, stewart_vd *L2, stewart_vd *n2);
 STEWART_HIDDEN void vkernel_rotation(const stewart_params *p, const stewart_vd *x, stewart_vd *R, stewart_vd *dR_dpsi, stewart_vd *dR_dtheta, stewart_vd *dR_dphi);
+STEWART_HIDDEN void vkernel_euler_rate_partials(const stewart_params *p, const stewart_vd *x, stewart_vd *JA, stewart_vd *dJA_dpsi, stewart_vd *dJA_dtheta, stewart_vd *dJA_dphi);
 STEWART_HIDDEN void vkernel_leg_vectors(const stewart_params *p, const stewart_vd *x, stewart_vd *l);
 STEWART_HIDDEN void vkernel_leg_unit_vectors(const stewart_params *p, const stewart_vd *x, stewart_vd *u, stewart_vd *du_dx, stewart_vd *L2);
 STEWART_HIDDEN void vkernel_modal_stiffness(const stewart_params *p, const stewart_vd *JC, const stewart_vd *k, const stewart_vd *dtau_dx, const stewart_vd *JAinv, stewart_vd *Kt);

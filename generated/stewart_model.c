@@ -692,6 +692,24 @@ static stewart_vl vblock_rotation(const stewart_params *p, double scalar, const 
     (void)scalar;
     const stewart_vd *x = in[0];
     stewart_vd *R = out[0];
+    stewart_vd dR_dpsi[9], dR_dtheta[9], dR_dphi[9];
+    stewart_vl status = vnone();
+    vkernel_rotation(p, x, R, dR_dpsi, dR_dtheta, dR_dphi);
+    return status;
+}
+
+int stewart_batch_rotation(const stewart_params *p, size_t n, const double *x, double *R, int *status)
+{
+    stewart_vd in0[6], out0[9];
+    return batch_rows(params_finite(p), p, vblock_rotation, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 1, (double *const []){R}, (stewart_vd *const []){out0}, (const int []){9}, status);
+}
+
+/* stewart_rotation_partials over a block of states (batch_rows). */
+static stewart_vl vblock_rotation_partials(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    stewart_vd *R = out[0];
     stewart_vd *dR_dpsi = out[1];
     stewart_vd *dR_dtheta = out[2];
     stewart_vd *dR_dphi = out[3];
@@ -700,10 +718,10 @@ static stewart_vl vblock_rotation(const stewart_params *p, double scalar, const 
     return status;
 }
 
-int stewart_batch_rotation(const stewart_params *p, size_t n, const double *x, double *R, double *dR_dpsi, double *dR_dtheta, double *dR_dphi, int *status)
+int stewart_batch_rotation_partials(const stewart_params *p, size_t n, const double *x, double *R, double *dR_dpsi, double *dR_dtheta, double *dR_dphi, int *status)
 {
     stewart_vd in0[6], out0[9], out1[9], out2[9], out3[9];
-    return batch_rows(params_finite(p), p, vblock_rotation, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 4, (double *const []){R, dR_dpsi, dR_dtheta, dR_dphi}, (stewart_vd *const []){out0, out1, out2, out3}, (const int []){9, 9, 9, 9}, status);
+    return batch_rows(params_finite(p), p, vblock_rotation_partials, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 4, (double *const []){R, dR_dpsi, dR_dtheta, dR_dphi}, (stewart_vd *const []){out0, out1, out2, out3}, (const int []){9, 9, 9, 9}, status);
 }
 
 /* stewart_euler_rate_jacobian over a block of states (batch_rows). */
@@ -722,6 +740,26 @@ int stewart_batch_euler_rate_jacobian(const stewart_params *p, size_t n, const d
 {
     stewart_vd in0[6], out0[9];
     return batch_rows(params_finite(p), p, vblock_euler_rate_jacobian, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 1, (double *const []){JA}, (stewart_vd *const []){out0}, (const int []){9}, status);
+}
+
+/* stewart_euler_rate_jacobian_partials over a block of states (batch_rows). */
+static stewart_vl vblock_euler_rate_jacobian_partials(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    stewart_vd *JA = out[0];
+    stewart_vd *dJA_dpsi = out[1];
+    stewart_vd *dJA_dtheta = out[2];
+    stewart_vd *dJA_dphi = out[3];
+    stewart_vl status = vnone();
+    vkernel_euler_rate_partials(p, x, JA, dJA_dpsi, dJA_dtheta, dJA_dphi);
+    return status;
+}
+
+int stewart_batch_euler_rate_jacobian_partials(const stewart_params *p, size_t n, const double *x, double *JA, double *dJA_dpsi, double *dJA_dtheta, double *dJA_dphi, int *status)
+{
+    stewart_vd in0[6], out0[9], out1[9], out2[9], out3[9];
+    return batch_rows(params_finite(p), p, vblock_euler_rate_jacobian_partials, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 4, (double *const []){JA, dJA_dpsi, dJA_dtheta, dJA_dphi}, (stewart_vd *const []){out0, out1, out2, out3}, (const int []){9, 9, 9, 9}, status);
 }
 
 /* stewart_inverse_euler_rate_jacobian over a block of states (batch_rows). */
@@ -766,6 +804,25 @@ static stewart_vl vblock_leg_unit_vectors(const stewart_params *p, double scalar
     (void)scalar;
     const stewart_vd *x = in[0];
     stewart_vd *u = out[0];
+    stewart_vd du_dx[108], L2[6];
+    stewart_vl status = vnone();
+    vkernel_leg_unit_vectors(p, x, u, du_dx, L2);
+    status = vmerge(status, vcheck_legs(L2, NULL, NULL));
+    return status;
+}
+
+int stewart_batch_leg_unit_vectors(const stewart_params *p, size_t n, const double *x, double *u, int *status)
+{
+    stewart_vd in0[6], out0[18];
+    return batch_rows(params_finite(p), p, vblock_leg_unit_vectors, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 1, (double *const []){u}, (stewart_vd *const []){out0}, (const int []){18}, status);
+}
+
+/* stewart_leg_unit_vector_gradients over a block of states (batch_rows). */
+static stewart_vl vblock_leg_unit_vector_gradients(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    stewart_vd *u = out[0];
     stewart_vd *du_dx = out[1];
     stewart_vd L2[6];
     stewart_vl status = vnone();
@@ -774,10 +831,10 @@ static stewart_vl vblock_leg_unit_vectors(const stewart_params *p, double scalar
     return status;
 }
 
-int stewart_batch_leg_unit_vectors(const stewart_params *p, size_t n, const double *x, double *u, double *du_dx, int *status)
+int stewart_batch_leg_unit_vector_gradients(const stewart_params *p, size_t n, const double *x, double *u, double *du_dx, int *status)
 {
     stewart_vd in0[6], out0[18], out1[108];
-    return batch_rows(params_finite(p), p, vblock_leg_unit_vectors, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 2, (double *const []){u, du_dx}, (stewart_vd *const []){out0, out1}, (const int []){18, 108}, status);
+    return batch_rows(params_finite(p), p, vblock_leg_unit_vector_gradients, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 2, (double *const []){u, du_dx}, (stewart_vd *const []){out0, out1}, (const int []){18, 108}, status);
 }
 
 /* stewart_modal_stiffness over a block of states (batch_rows). */
@@ -789,7 +846,7 @@ static stewart_vl vblock_modal_stiffness(const stewart_params *p, double scalar,
     stewart_vd *Kt = out[0];
     stewart_vd *JC = out[1];
     stewart_vd *Mt = out[2];
-    stewart_vd L2[6], h2[6], n2[6], W[6], JA[9], JAinv[9], ctheta[1], Z[36], FJ[57], tau[6], dtau_dx[36];
+    stewart_vd L2[6], h2[6], n2[6], W[6], Z[36], JA[9], JAinv[9], ctheta[1], FJ[57], tau[6], dtau_dx[36];
     stewart_vl status = vnone();
     if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
         vkernel_twist_mass_matrix_axisym(p, x, Mt, L2);
@@ -808,8 +865,6 @@ static stewart_vl vblock_modal_stiffness(const stewart_params *p, double scalar,
         vkernel_static_forces_general(p, x, W, JC, L2, n2);
         status = vmerge(status, vcheck_legs(L2, NULL, n2));
     }
-    vkernel_euler_maps(p, x, JA, JAinv, ctheta);
-    status = vmerge(status, vcheck_euler(ctheta));
     status = vmerge(status, vbareiss_factor(JC, FJ));
     status = vmerge(status, vbareiss_solve(FJ, 1, 1, W, tau));
     if (stewart_is_paper_model(p)) {
@@ -818,6 +873,8 @@ static stewart_vl vblock_modal_stiffness(const stewart_params *p, double scalar,
         vkernel_static_derivatives_general(p, x, tau, Z);
     }
     status = vmerge(status, vbareiss_solve(FJ, 6, 6, Z, dtau_dx));
+    vkernel_euler_maps(p, x, JA, JAinv, ctheta);
+    status = vmerge(status, vcheck_euler(ctheta));
     vkernel_modal_stiffness(p, JC, k, dtau_dx, JAinv, Kt);
     return status;
 }
@@ -925,14 +982,24 @@ int stewart_rk4_step_derivatives(const stewart_params *p, const double x[6], con
     return stewart_batch_rk4_step_derivatives(p, 1, x, xd, tau, dt, xn, xdn, A, B, NULL);
 }
 
-int stewart_rotation(const stewart_params *p, const double x[6], double R[9], double dR_dpsi[9], double dR_dtheta[9], double dR_dphi[9])
+int stewart_rotation(const stewart_params *p, const double x[6], double R[9])
 {
-    return stewart_batch_rotation(p, 1, x, R, dR_dpsi, dR_dtheta, dR_dphi, NULL);
+    return stewart_batch_rotation(p, 1, x, R, NULL);
+}
+
+int stewart_rotation_partials(const stewart_params *p, const double x[6], double R[9], double dR_dpsi[9], double dR_dtheta[9], double dR_dphi[9])
+{
+    return stewart_batch_rotation_partials(p, 1, x, R, dR_dpsi, dR_dtheta, dR_dphi, NULL);
 }
 
 int stewart_euler_rate_jacobian(const stewart_params *p, const double x[6], double JA[9])
 {
     return stewart_batch_euler_rate_jacobian(p, 1, x, JA, NULL);
+}
+
+int stewart_euler_rate_jacobian_partials(const stewart_params *p, const double x[6], double JA[9], double dJA_dpsi[9], double dJA_dtheta[9], double dJA_dphi[9])
+{
+    return stewart_batch_euler_rate_jacobian_partials(p, 1, x, JA, dJA_dpsi, dJA_dtheta, dJA_dphi, NULL);
 }
 
 int stewart_inverse_euler_rate_jacobian(const stewart_params *p, const double x[6], double JAinv[9])
@@ -945,9 +1012,14 @@ int stewart_leg_vectors(const stewart_params *p, const double x[6], double l[18]
     return stewart_batch_leg_vectors(p, 1, x, l, NULL);
 }
 
-int stewart_leg_unit_vectors(const stewart_params *p, const double x[6], double u[18], double du_dx[108])
+int stewart_leg_unit_vectors(const stewart_params *p, const double x[6], double u[18])
 {
-    return stewart_batch_leg_unit_vectors(p, 1, x, u, du_dx, NULL);
+    return stewart_batch_leg_unit_vectors(p, 1, x, u, NULL);
+}
+
+int stewart_leg_unit_vector_gradients(const stewart_params *p, const double x[6], double u[18], double du_dx[108])
+{
+    return stewart_batch_leg_unit_vector_gradients(p, 1, x, u, du_dx, NULL);
 }
 
 int stewart_modal_stiffness(const stewart_params *p, const double x[6], const double k[6], double Kt[36], double JC[36], double Mt[36])

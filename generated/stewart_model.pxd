@@ -58,11 +58,14 @@ cdef extern from "stewart_model.h" nogil:
     int stewart_regressor(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *Y)
     int stewart_rk4_step(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn)
     int stewart_rk4_step_derivatives(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B)
-    int stewart_rotation(const stewart_params *p, const double *x, double *R, double *dR_dpsi, double *dR_dtheta, double *dR_dphi)
+    int stewart_rotation(const stewart_params *p, const double *x, double *R)
+    int stewart_rotation_partials(const stewart_params *p, const double *x, double *R, double *dR_dpsi, double *dR_dtheta, double *dR_dphi)
     int stewart_euler_rate_jacobian(const stewart_params *p, const double *x, double *JA)
+    int stewart_euler_rate_jacobian_partials(const stewart_params *p, const double *x, double *JA, double *dJA_dpsi, double *dJA_dtheta, double *dJA_dphi)
     int stewart_inverse_euler_rate_jacobian(const stewart_params *p, const double *x, double *JAinv)
     int stewart_leg_vectors(const stewart_params *p, const double *x, double *l)
-    int stewart_leg_unit_vectors(const stewart_params *p, const double *x, double *u, double *du_dx)
+    int stewart_leg_unit_vectors(const stewart_params *p, const double *x, double *u)
+    int stewart_leg_unit_vector_gradients(const stewart_params *p, const double *x, double *u, double *du_dx)
     int stewart_modal_stiffness(const stewart_params *p, const double *x, const double *k, double *Kt, double *JC, double *Mt)
     int stewart_batch_lanes()
     int stewart_batch_leg_lengths(const stewart_params *p, size_t n, const double *x, double *L, int *status)
@@ -84,11 +87,14 @@ cdef extern from "stewart_model.h" nogil:
     int stewart_batch_regressor(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Y, int *status)
     int stewart_batch_rk4_step(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status)
     int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B, int *status)
-    int stewart_batch_rotation(const stewart_params *p, size_t n, const double *x, double *R, double *dR_dpsi, double *dR_dtheta, double *dR_dphi, int *status)
+    int stewart_batch_rotation(const stewart_params *p, size_t n, const double *x, double *R, int *status)
+    int stewart_batch_rotation_partials(const stewart_params *p, size_t n, const double *x, double *R, double *dR_dpsi, double *dR_dtheta, double *dR_dphi, int *status)
     int stewart_batch_euler_rate_jacobian(const stewart_params *p, size_t n, const double *x, double *JA, int *status)
+    int stewart_batch_euler_rate_jacobian_partials(const stewart_params *p, size_t n, const double *x, double *JA, double *dJA_dpsi, double *dJA_dtheta, double *dJA_dphi, int *status)
     int stewart_batch_inverse_euler_rate_jacobian(const stewart_params *p, size_t n, const double *x, double *JAinv, int *status)
     int stewart_batch_leg_vectors(const stewart_params *p, size_t n, const double *x, double *l, int *status)
-    int stewart_batch_leg_unit_vectors(const stewart_params *p, size_t n, const double *x, double *u, double *du_dx, int *status)
+    int stewart_batch_leg_unit_vectors(const stewart_params *p, size_t n, const double *x, double *u, int *status)
+    int stewart_batch_leg_unit_vector_gradients(const stewart_params *p, size_t n, const double *x, double *u, double *du_dx, int *status)
     int stewart_batch_modal_stiffness(const stewart_params *p, size_t n, const double *x, const double *k, double *Kt, double *JC, double *Mt, int *status)
     enum:
         STEWART_OPEN_LOOP
@@ -149,11 +155,14 @@ cdef extern from "stewart_dispatch.h" nogil:
         int (*regressor)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *Y) noexcept nogil
         int (*rk4_step)(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn) noexcept nogil
         int (*rk4_step_derivatives)(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B) noexcept nogil
-        int (*rotation)(const stewart_params *p, const double *x, double *R, double *dR_dpsi, double *dR_dtheta, double *dR_dphi) noexcept nogil
+        int (*rotation)(const stewart_params *p, const double *x, double *R) noexcept nogil
+        int (*rotation_partials)(const stewart_params *p, const double *x, double *R, double *dR_dpsi, double *dR_dtheta, double *dR_dphi) noexcept nogil
         int (*euler_rate_jacobian)(const stewart_params *p, const double *x, double *JA) noexcept nogil
+        int (*euler_rate_jacobian_partials)(const stewart_params *p, const double *x, double *JA, double *dJA_dpsi, double *dJA_dtheta, double *dJA_dphi) noexcept nogil
         int (*inverse_euler_rate_jacobian)(const stewart_params *p, const double *x, double *JAinv) noexcept nogil
         int (*leg_vectors)(const stewart_params *p, const double *x, double *l) noexcept nogil
-        int (*leg_unit_vectors)(const stewart_params *p, const double *x, double *u, double *du_dx) noexcept nogil
+        int (*leg_unit_vectors)(const stewart_params *p, const double *x, double *u) noexcept nogil
+        int (*leg_unit_vector_gradients)(const stewart_params *p, const double *x, double *u, double *du_dx) noexcept nogil
         int (*modal_stiffness)(const stewart_params *p, const double *x, const double *k, double *Kt, double *JC, double *Mt) noexcept nogil
         int (*batch_leg_lengths)(const stewart_params *p, size_t n, const double *x, double *L, int *status) noexcept nogil
         int (*batch_jacobian)(const stewart_params *p, size_t n, const double *x, double *JC, int *status) noexcept nogil
@@ -174,13 +183,16 @@ cdef extern from "stewart_dispatch.h" nogil:
         int (*batch_regressor)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Y, int *status) noexcept nogil
         int (*batch_rk4_step)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status) noexcept nogil
         int (*batch_rk4_step_derivatives)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B, int *status) noexcept nogil
-        int (*batch_rotation)(const stewart_params *p, size_t n, const double *x, double *R, double *dR_dpsi, double *dR_dtheta, double *dR_dphi, int *status) noexcept nogil
+        int (*batch_rotation)(const stewart_params *p, size_t n, const double *x, double *R, int *status) noexcept nogil
+        int (*batch_rotation_partials)(const stewart_params *p, size_t n, const double *x, double *R, double *dR_dpsi, double *dR_dtheta, double *dR_dphi, int *status) noexcept nogil
         int (*batch_euler_rate_jacobian)(const stewart_params *p, size_t n, const double *x, double *JA, int *status) noexcept nogil
+        int (*batch_euler_rate_jacobian_partials)(const stewart_params *p, size_t n, const double *x, double *JA, double *dJA_dpsi, double *dJA_dtheta, double *dJA_dphi, int *status) noexcept nogil
         int (*batch_inverse_euler_rate_jacobian)(const stewart_params *p, size_t n, const double *x, double *JAinv, int *status) noexcept nogil
         int (*batch_leg_vectors)(const stewart_params *p, size_t n, const double *x, double *l, int *status) noexcept nogil
-        int (*batch_leg_unit_vectors)(const stewart_params *p, size_t n, const double *x, double *u, double *du_dx, int *status) noexcept nogil
+        int (*batch_leg_unit_vectors)(const stewart_params *p, size_t n, const double *x, double *u, int *status) noexcept nogil
+        int (*batch_leg_unit_vector_gradients)(const stewart_params *p, size_t n, const double *x, double *u, double *du_dx, int *status) noexcept nogil
         int (*batch_modal_stiffness)(const stewart_params *p, size_t n, const double *x, const double *k, double *Kt, double *JC, double *Mt, int *status) noexcept nogil
-        stewart_call call[25]
+        stewart_call call[28]
 
 
 cdef inline int stewart_params_fill(stewart_params *p, object params, frozenset expected) except -1:

@@ -61,9 +61,13 @@ if TYPE_CHECKING:  # the public names: what `__getattr__` imports on first use
     from .model.params import NonAxisymmetricLegWarning, PlatformParams
     from .model.platform import (
         AllTerms,
+        EulerRateJacobianPartials,
         ForwardDynamicsDerivatives,
         InverseDynamicsDerivatives,
+        LegUnitVectors,
+        ModalStiffness,
         Platform,
+        RotationPartials,
         StaticForceDerivatives,
         Step,
         StepDerivatives,
