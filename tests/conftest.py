@@ -238,6 +238,12 @@ PLATFORM_METHODS = {
     "forward_dynamics_derivatives": ("x", "xd", "tau"),
     "joint_reactions": ("x", "xd", "xdd"),
     "forward_kinematics": ("lengths", "guess"),
+    "rotation": ("x",),
+    "euler_rate_jacobian": ("x",),
+    "inverse_euler_rate_jacobian": ("x",),
+    "leg_vectors": ("x",),
+    "leg_unit_vectors": ("x",),
+    "modal_stiffness": ("x", "k"),
 }
 
 
@@ -254,6 +260,7 @@ def valid_arguments(plat, n=None, seed=0):
         "tau": plat.inverse_dynamics(x, xd, xdd),
         "lengths": plat.leg_lengths(x),
         "guess": x + 1e-3,
+        "k": np.linspace(1e6, 2e6, 6),
     }
 
 
