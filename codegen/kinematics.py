@@ -282,15 +282,16 @@ def euler_maps_kernel():
 EULER_ANGLES = ('psi', 'theta', 'phi')
 
 
-def rotation_kernel():
-    """R = Rz(psi) Ry(theta) Rx(phi), {P} in {B} (eq. 3), and its partials along psi, theta
-    and phi (forward mode on R's definition), each row-major."""
+def rotation_kernel(partials):
+    """R = Rz(psi) Ry(theta) Rx(phi), {P} in {B} (eq. 3), with `partials` also its partials
+    along psi, theta and phi (forward mode on R's definition), each row-major."""
     g = Graph({})
     kin = kinematics(g, PARAMS)
-    partials = g.partials(list(kin.R), X[3:], 'dR')  # row: entry of R; column: angle
-    return KernelSpec('rotation', rotation_kernel.__doc__, g, [('x', X)],
-                      [('R', list(kin.R))] + [(f'dR_d{angle}', [row[k] for row in partials])
-                                              for k, angle in enumerate(EULER_ANGLES)])
+    out = [('R', list(kin.R))]
+    if partials:
+        columns = g.partials(list(kin.R), X[3:], 'dR')  # row: entry of R; column: angle
+        out += [(f'dR_d{angle}', [row[k] for row in columns]) for k, angle in enumerate(EULER_ANGLES)]
+    return KernelSpec('rotation_partials' if partials else 'rotation', rotation_kernel.__doc__, g, [('x', X)], out)
 
 
 def euler_rate_partials_kernel():
@@ -313,16 +314,18 @@ def leg_vectors_kernel():
                       [('l', [c for leg in kin.legs for c in leg.l])])
 
 
-def leg_unit_vectors_kernel():
-    """The unit vectors u_i = l_i / |l_i| (eqs. 25, 26), leg-major, and their pose gradients
-    du_dx[i, a, j] = d u_i,a / d x_j (forward mode on u_i's definition along each x_j: dl_i/dp
-    = I, dl_i/d angle = dR/d angle p_i)."""
+def leg_unit_vectors_kernel(gradients):
+    """The unit vectors u_i = l_i / |l_i| (eqs. 25, 26), leg-major, with `gradients` also their
+    pose gradients du_dx[i, a, j] = d u_i,a / d x_j (forward mode on u_i's definition along each
+    x_j: dl_i/dp = I, dl_i/d angle = dR/d angle p_i)."""
     g = Graph({})
     kin = kinematics(g, PARAMS)
     units = [c for leg in kin.legs for c in leg.u]
-    return KernelSpec('leg_unit_vectors', leg_unit_vectors_kernel.__doc__, g, [('x', X)],
-                      [('u', units), ('du_dx', [d for row in g.partials(units, X, 'du') for d in row])]
-                      + leg_checks(kin))
+    out = [('u', units)]
+    if gradients:
+        out.append(('du_dx', [d for row in g.partials(units, X, 'du') for d in row]))
+    return KernelSpec('leg_unit_vector_gradients' if gradients else 'leg_unit_vectors',
+                      leg_unit_vectors_kernel.__doc__, g, [('x', X)], out + leg_checks(kin))
 
 
 #: The inputs of `modal_stiffness_kernel`: J_C (eq. 5), the legs' stiffnesses k, the static

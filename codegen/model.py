@@ -212,10 +212,11 @@ FUNCTIONS = (
              template='vector.c', results=('x', 'xd', 'A', 'B'), result_type='StepDerivatives',
              option=('rk4_step', 'jacobians')),
     Function('rotation', 'R = Rz(psi) Ry(theta) Rx(phi), {P} in {B} (eq. 3), 3 x 3 row-major.', ('x',),
-             (('R', (3, 3)),), (rotation_kernel,)),
+             (('R', (3, 3)),), (partial(rotation_kernel, False),)),
     Function('rotation_partials', 'R = Rz(psi) Ry(theta) Rx(phi), {P} in {B} (eq. 3), and its partials along psi,'
              ' theta and phi, each 3 x 3 row-major.', ('x',),
-             (('R', (3, 3)), ('dR_dpsi', (3, 3)), ('dR_dtheta', (3, 3)), ('dR_dphi', (3, 3))), (rotation_kernel,),
+             (('R', (3, 3)), ('dR_dpsi', (3, 3)), ('dR_dtheta', (3, 3)), ('dR_dphi', (3, 3))),
+             (partial(rotation_kernel, True),),
              result_type='RotationPartials', option=('rotation', 'partials')),
     Function('euler_rate_jacobian', 'J_A (eq. 8): omega = J_A [psi\', theta\', phi\'], 3 x 3 row-major.', ('x',),
              (('JA', (3, 3)),), (euler_maps_kernel,)),
@@ -229,10 +230,11 @@ FUNCTIONS = (
     Function('leg_vectors', 'The leg vectors l_i = p + R p_i - b_i (eq. 26), row i = l_i (a zero length is not an'
              ' error here).', ('x',), (('l', (6, 3)),), (leg_vectors_kernel,)),
     Function('leg_unit_vectors', 'The unit leg vectors u_i = l_i / |l_i| (eqs. 25, 26), row i = u_i.', ('x',),
-             (('u', (6, 3)),), (leg_unit_vectors_kernel,)),
+             (('u', (6, 3)),), (partial(leg_unit_vectors_kernel, False),)),
     Function('leg_unit_vector_gradients', 'The unit leg vectors u_i = l_i / |l_i| (eqs. 25, 26), row i = u_i, and'
              ' their pose gradients du_dx[i][a][j] = d u_i,a / d x_j.', ('x',), (('u', (6, 3)), ('du_dx', (6, 3, 6))),
-             (leg_unit_vectors_kernel,), result_type='LegUnitVectors', option=('leg_unit_vectors', 'gradients')),
+             (partial(leg_unit_vectors_kernel, True),), result_type='LegUnitVectors',
+             option=('leg_unit_vectors', 'gradients')),
     Function('modal_stiffness', 'The twist-space stiffness K_t = J_C^T (diag(k) J_C + dtau_s/dx T^-1), T^-1 ='
              ' blockdiag(I, J_A^-1) (eqs. 5, 8, 18), of the platform on leg springs of stiffness k (one per leg)'
              ' preloaded by the static forces tau_s, not symmetrized, with J_C and the twist-space mass matrix M_t:'

@@ -123,9 +123,11 @@
 #define vkernel_regressor STEWART_LOCAL(vkernel_regressor)
 #define vkernel_regressor_general STEWART_LOCAL(vkernel_regressor_general)
 #define vkernel_rotation STEWART_LOCAL(vkernel_rotation)
+#define vkernel_rotation_partials STEWART_LOCAL(vkernel_rotation_partials)
 #define vkernel_euler_rate_partials STEWART_LOCAL(vkernel_euler_rate_partials)
 #define vkernel_leg_vectors STEWART_LOCAL(vkernel_leg_vectors)
 #define vkernel_leg_unit_vectors STEWART_LOCAL(vkernel_leg_unit_vectors)
+#define vkernel_leg_unit_vector_gradients STEWART_LOCAL(vkernel_leg_unit_vector_gradients)
 #define vkernel_modal_stiffness STEWART_LOCAL(vkernel_modal_stiffness)
 
 #include "stewart_model.h"
@@ -1395,10 +1397,12 @@ STEWART_HIDDEN void vkernel_joint_reactions_general(const stewart_params *p, con
 STEWART_HIDDEN void vkernel_joint_forces(const stewart_params *p, const stewart_vd *tau, const stewart_vd *JC, const stewart_vd *legf, stewart_vd *f_base, stewart_vd *f_platform);
 STEWART_HIDDEN void vkernel_regressor(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *Y, stewart_vd *JC, stewart_vd *L2, stewart_vd *h2);
 STEWART_HIDDEN void vkernel_regressor_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *Y, stewart_vd *JC, stewart_vd *L2, stewart_vd *n2);
-STEWART_HIDDEN void vkernel_rotation(const stewart_params *p, const stewart_vd *x, stewart_vd *R, stewart_vd *dR_dpsi, stewart_vd *dR_dtheta, stewart_vd *dR_dphi);
+STEWART_HIDDEN void vkernel_rotation(const stewart_params *p, const stewart_vd *x, stewart_vd *R);
+STEWART_HIDDEN void vkernel_rotation_partials(const stewart_params *p, const stewart_vd *x, stewart_vd *R, stewart_vd *dR_dpsi, stewart_vd *dR_dtheta, stewart_vd *dR_dphi);
 STEWART_HIDDEN void vkernel_euler_rate_partials(const stewart_params *p, const stewart_vd *x, stewart_vd *JA, stewart_vd *dJA_dpsi, stewart_vd *dJA_dtheta, stewart_vd *dJA_dphi);
 STEWART_HIDDEN void vkernel_leg_vectors(const stewart_params *p, const stewart_vd *x, stewart_vd *l);
-STEWART_HIDDEN void vkernel_leg_unit_vectors(const stewart_params *p, const stewart_vd *x, stewart_vd *u, stewart_vd *du_dx, stewart_vd *L2);
+STEWART_HIDDEN void vkernel_leg_unit_vectors(const stewart_params *p, const stewart_vd *x, stewart_vd *u, stewart_vd *L2);
+STEWART_HIDDEN void vkernel_leg_unit_vector_gradients(const stewart_params *p, const stewart_vd *x, stewart_vd *u, stewart_vd *du_dx, stewart_vd *L2);
 STEWART_HIDDEN void vkernel_modal_stiffness(const stewart_params *p, const stewart_vd *JC, const stewart_vd *k, const stewart_vd *dtau_dx, const stewart_vd *JAinv, stewart_vd *Kt);
 
 #endif /* STEWART_INTERNAL_H */

@@ -692,9 +692,8 @@ static stewart_vl vblock_rotation(const stewart_params *p, double scalar, const 
     (void)scalar;
     const stewart_vd *x = in[0];
     stewart_vd *R = out[0];
-    stewart_vd dR_dpsi[9], dR_dtheta[9], dR_dphi[9];
     stewart_vl status = vnone();
-    vkernel_rotation(p, x, R, dR_dpsi, dR_dtheta, dR_dphi);
+    vkernel_rotation(p, x, R);
     return status;
 }
 
@@ -714,7 +713,7 @@ static stewart_vl vblock_rotation_partials(const stewart_params *p, double scala
     stewart_vd *dR_dtheta = out[2];
     stewart_vd *dR_dphi = out[3];
     stewart_vl status = vnone();
-    vkernel_rotation(p, x, R, dR_dpsi, dR_dtheta, dR_dphi);
+    vkernel_rotation_partials(p, x, R, dR_dpsi, dR_dtheta, dR_dphi);
     return status;
 }
 
@@ -804,9 +803,9 @@ static stewart_vl vblock_leg_unit_vectors(const stewart_params *p, double scalar
     (void)scalar;
     const stewart_vd *x = in[0];
     stewart_vd *u = out[0];
-    stewart_vd du_dx[108], L2[6];
+    stewart_vd L2[6];
     stewart_vl status = vnone();
-    vkernel_leg_unit_vectors(p, x, u, du_dx, L2);
+    vkernel_leg_unit_vectors(p, x, u, L2);
     status = vmerge(status, vcheck_legs(L2, NULL, NULL));
     return status;
 }
@@ -826,7 +825,7 @@ static stewart_vl vblock_leg_unit_vector_gradients(const stewart_params *p, doub
     stewart_vd *du_dx = out[1];
     stewart_vd L2[6];
     stewart_vl status = vnone();
-    vkernel_leg_unit_vectors(p, x, u, du_dx, L2);
+    vkernel_leg_unit_vector_gradients(p, x, u, du_dx, L2);
     status = vmerge(status, vcheck_legs(L2, NULL, NULL));
     return status;
 }

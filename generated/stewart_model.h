@@ -360,10 +360,12 @@ int stewart_batch_modal_stiffness(const stewart_params *p, size_t n, const doubl
  *   joint_forces                              72
  *   regressor                               2387
  *   regressor_general                       3235
- *   rotation                                  57
+ *   rotation                                  25
+ *   rotation_partials                         57
  *   euler_rate_partials                       13
  *   leg_vectors                              151
- *   leg_unit_vectors                         999
+ *   leg_unit_vectors                         217
+ *   leg_unit_vector_gradients                999
  *   modal_stiffness                          558
  */
 

@@ -2,9 +2,47 @@
  * The rotation kernels of the model (stewart_internal.h declares them). */
 #include "stewart_internal.h"
 
-/* R = Rz(psi) Ry(theta) Rx(phi), {P} in {B} (eq. 3), and its partials along psi, theta
-    and phi (forward mode on R's definition), each row-major. */
-void vkernel_rotation(const stewart_params *p, const stewart_vd *x, stewart_vd *R, stewart_vd *dR_dpsi, stewart_vd *dR_dtheta, stewart_vd *dR_dphi)
+/* R = Rz(psi) Ry(theta) Rx(phi), {P} in {B} (eq. 3), with `partials` also its partials
+    along psi, theta and phi (forward mode on R's definition), each row-major. */
+void vkernel_rotation(const stewart_params *p, const stewart_vd *x, stewart_vd *R)
+{
+    (void)p;
+    const stewart_vd x_3 = x[3];
+    const stewart_vd x_4 = x[4];
+    const stewart_vd x_5 = x[5];
+    const stewart_vd c_psi = vcos(x_3);
+    const stewart_vd s_psi = vsin(x_3);
+    const stewart_vd c_theta = vcos(x_4);
+    const stewart_vd s_theta = vsin(x_4);
+    const stewart_vd c_phi = vcos(x_5);
+    const stewart_vd s_phi = vsin(x_5);
+    const stewart_vd R_00 = c_psi*c_theta;
+    const stewart_vd c0 = s_phi*c_psi;
+    const stewart_vd c1 = s_psi*c_phi;
+    const stewart_vd R_01 = -c1 + c0*s_theta;
+    const stewart_vd c2 = c_psi*c_phi;
+    const stewart_vd c3 = s_psi*s_phi;
+    const stewart_vd R_02 = c3 + c2*s_theta;
+    const stewart_vd R_10 = s_psi*c_theta;
+    const stewart_vd R_11 = c2 + c3*s_theta;
+    const stewart_vd R_12 = -c0 + c1*s_theta;
+    const stewart_vd R_20 = -s_theta;
+    const stewart_vd R_21 = s_phi*c_theta;
+    const stewart_vd R_22 = c_phi*c_theta;
+    R[0] = R_00;
+    R[1] = R_01;
+    R[2] = R_02;
+    R[3] = R_10;
+    R[4] = R_11;
+    R[5] = R_12;
+    R[6] = R_20;
+    R[7] = R_21;
+    R[8] = R_22;
+}
+
+/* R = Rz(psi) Ry(theta) Rx(phi), {P} in {B} (eq. 3), with `partials` also its partials
+    along psi, theta and phi (forward mode on R's definition), each row-major. */
+void vkernel_rotation_partials(const stewart_params *p, const stewart_vd *x, stewart_vd *R, stewart_vd *dR_dpsi, stewart_vd *dR_dtheta, stewart_vd *dR_dphi)
 {
     (void)p;
     const stewart_vd x_3 = x[3];
