@@ -17,8 +17,9 @@ from .derivatives import (inverse_dynamics_points_kernel, leg_derivatives_kernel
 from .dynamics import (REGRESSOR_VARIANTS, RIGID_BODY, coriolis_product_kernel, gravity_kernel,
                        inverse_dynamics_kernel, joint_forces_kernel, joint_reactions_kernel, regressor_kernel,
                        static_forces_kernel, twist_mass_matrix_kernel)
-from .kinematics import (MODELS, VARIANTS, euler_maps_kernel, jacobian_kernel, leg_accelerations_kernel,
-                         leg_lengths_kernel, leg_rates_kernel)
+from .kinematics import (MODELS, VARIANTS, euler_maps_kernel, euler_rate_partials_kernel, jacobian_kernel,
+                         leg_accelerations_kernel, leg_lengths_kernel, leg_rates_kernel, leg_unit_vectors_kernel,
+                         leg_vectors_kernel, modal_stiffness_kernel, rotation_kernel)
 from .schema import FRICTION_PARAMETERS, RIGID_BODY_PARAMETERS
 
 
@@ -227,4 +228,39 @@ FUNCTIONS = (
     Function('target_jacobian', 'dq/dx = [E, -[R c]x J_A] (3 x 6, row-major) of the target position q = t +'
              ' R c of stewart_target_positions (eq. 8).', ('x', 'offsets'), (('dq_dx', (3, 6)),),
              (target_jacobian_kernel,)),
+    Function('rotation', 'R = Rz(psi) Ry(theta) Rx(phi), {P} in {B} (eq. 3), 3 x 3 row-major.', ('x',),
+             (('R', (3, 3)),), (partial(rotation_kernel, False),)),
+    Function('rotation_partials', 'R = Rz(psi) Ry(theta) Rx(phi), {P} in {B} (eq. 3), and its partials along psi,'
+             ' theta and phi, each 3 x 3 row-major.', ('x',),
+             (('R', (3, 3)), ('dR_dpsi', (3, 3)), ('dR_dtheta', (3, 3)), ('dR_dphi', (3, 3))),
+             (partial(rotation_kernel, True),),
+             result_type='RotationPartials', option=('rotation', 'partials')),
+    Function('euler_rate_jacobian', 'J_A (eq. 8): omega = J_A [psi\', theta\', phi\'], 3 x 3 row-major.', ('x',),
+             (('JA', (3, 3)),), (euler_maps_kernel,)),
+    Function('euler_rate_jacobian_partials', 'J_A (eq. 8) and its partials along psi, theta and phi, each 3 x 3'
+             ' row-major.', ('x',), (('JA', (3, 3)), ('dJA_dpsi', (3, 3)), ('dJA_dtheta', (3, 3)), ('dJA_dphi', (3, 3))),
+             (euler_rate_partials_kernel,), result_type='EulerRateJacobianPartials',
+             option=('euler_rate_jacobian', 'partials')),
+    Function('inverse_euler_rate_jacobian', 'J_A^-1 (eq. 8 inverted): the Euler rates of an angular velocity in {B},'
+             ' 3 x 3 row-major; needs cos(theta) != 0.', ('x',), (('JAinv', (3, 3)),), (euler_maps_kernel,),
+             steps=(('check_euler', ('ctheta',)),)),
+    Function('leg_vectors', 'The leg vectors l_i = p + R p_i - b_i (eq. 26), row i = l_i (a zero length is not an'
+             ' error here).', ('x',), (('l', (6, 3)),), (leg_vectors_kernel,)),
+    Function('leg_unit_vectors', 'The unit leg vectors u_i = l_i / |l_i| (eqs. 25, 26), row i = u_i.', ('x',),
+             (('u', (6, 3)),), (partial(leg_unit_vectors_kernel, False),)),
+    Function('leg_unit_vector_gradients', 'The unit leg vectors u_i = l_i / |l_i| (eqs. 25, 26), row i = u_i, and'
+             ' their pose gradients du_dx[i][a][j] = d u_i,a / d x_j.', ('x',), (('u', (6, 3)), ('du_dx', (6, 3, 6))),
+             (partial(leg_unit_vectors_kernel, True),), result_type='LegUnitVectors',
+             option=('leg_unit_vectors', 'gradients')),
+    Function('modal_stiffness', 'The twist-space stiffness K_t = J_C^T (diag(k) J_C + dtau_s/dx T^-1), T^-1 ='
+             ' blockdiag(I, J_A^-1) (eqs. 5, 8, 18), of the platform on leg springs of stiffness k (one per leg)'
+             ' preloaded by the static forces tau_s, not symmetrized, with J_C and the twist-space mass matrix M_t:'
+             ' K_t phi = w^2 M_t phi gives its modes; needs cos(theta) != 0.', ('x', 'k'),
+             (('Kt', (6, 6)), ('JC', (6, 6)), ('Mt', (6, 6))), (),
+             steps=(Kernels(TWIST_MASS_MATRIX, ('x',)), Kernels(STATIC_FORCES, ('x',)),
+                    ('bareiss_factor', ('JC', 'FJ')), ('bareiss_solve', ('FJ', '1', '1', 'W', 'tau')),
+                    Kernels(STATIC_DERIVATIVES, ('x', 'tau')), ('bareiss_solve', ('FJ', '6', '6', 'Z', 'dtau_dx')),
+                    Kernels((euler_maps_kernel,), ('x',)), ('check_euler', ('ctheta',)),
+                    Kernels((modal_stiffness_kernel,), ('JC', 'k', 'dtau_dx', 'JAinv'))),
+             scratch=(_BAREISS_FACTORS, ('tau', 6), ('dtau_dx', 36)), result_type='ModalStiffness'),
 )

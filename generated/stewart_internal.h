@@ -48,6 +48,15 @@
 #define stewart_leg_residual_jacobians STEWART_LOCAL(leg_residual_jacobians)
 #define stewart_target_positions STEWART_LOCAL(target_positions)
 #define stewart_target_jacobian STEWART_LOCAL(target_jacobian)
+#define stewart_rotation STEWART_LOCAL(rotation)
+#define stewart_rotation_partials STEWART_LOCAL(rotation_partials)
+#define stewart_euler_rate_jacobian STEWART_LOCAL(euler_rate_jacobian)
+#define stewart_euler_rate_jacobian_partials STEWART_LOCAL(euler_rate_jacobian_partials)
+#define stewart_inverse_euler_rate_jacobian STEWART_LOCAL(inverse_euler_rate_jacobian)
+#define stewart_leg_vectors STEWART_LOCAL(leg_vectors)
+#define stewart_leg_unit_vectors STEWART_LOCAL(leg_unit_vectors)
+#define stewart_leg_unit_vector_gradients STEWART_LOCAL(leg_unit_vector_gradients)
+#define stewart_modal_stiffness STEWART_LOCAL(modal_stiffness)
 #define stewart_batch_leg_lengths STEWART_LOCAL(batch_leg_lengths)
 #define stewart_batch_jacobian STEWART_LOCAL(batch_jacobian)
 #define stewart_batch_leg_rates STEWART_LOCAL(batch_leg_rates)
@@ -71,6 +80,15 @@
 #define stewart_batch_leg_residual_jacobians STEWART_LOCAL(batch_leg_residual_jacobians)
 #define stewart_batch_target_positions STEWART_LOCAL(batch_target_positions)
 #define stewart_batch_target_jacobian STEWART_LOCAL(batch_target_jacobian)
+#define stewart_batch_rotation STEWART_LOCAL(batch_rotation)
+#define stewart_batch_rotation_partials STEWART_LOCAL(batch_rotation_partials)
+#define stewart_batch_euler_rate_jacobian STEWART_LOCAL(batch_euler_rate_jacobian)
+#define stewart_batch_euler_rate_jacobian_partials STEWART_LOCAL(batch_euler_rate_jacobian_partials)
+#define stewart_batch_inverse_euler_rate_jacobian STEWART_LOCAL(batch_inverse_euler_rate_jacobian)
+#define stewart_batch_leg_vectors STEWART_LOCAL(batch_leg_vectors)
+#define stewart_batch_leg_unit_vectors STEWART_LOCAL(batch_leg_unit_vectors)
+#define stewart_batch_leg_unit_vector_gradients STEWART_LOCAL(batch_leg_unit_vector_gradients)
+#define stewart_batch_modal_stiffness STEWART_LOCAL(batch_modal_stiffness)
 #else
 #define STEWART_LOCAL(name) stewart_##name
 #endif
@@ -116,6 +134,13 @@
 #define vkernel_leg_residual_jacobians STEWART_LOCAL(vkernel_leg_residual_jacobians)
 #define vkernel_target_positions STEWART_LOCAL(vkernel_target_positions)
 #define vkernel_target_jacobian STEWART_LOCAL(vkernel_target_jacobian)
+#define vkernel_rotation STEWART_LOCAL(vkernel_rotation)
+#define vkernel_rotation_partials STEWART_LOCAL(vkernel_rotation_partials)
+#define vkernel_euler_rate_partials STEWART_LOCAL(vkernel_euler_rate_partials)
+#define vkernel_leg_vectors STEWART_LOCAL(vkernel_leg_vectors)
+#define vkernel_leg_unit_vectors STEWART_LOCAL(vkernel_leg_unit_vectors)
+#define vkernel_leg_unit_vector_gradients STEWART_LOCAL(vkernel_leg_unit_vector_gradients)
+#define vkernel_modal_stiffness STEWART_LOCAL(vkernel_modal_stiffness)
 
 #include "stewart_model.h"
 
@@ -1389,5 +1414,12 @@ STEWART_HIDDEN void vkernel_leg_residuals(const stewart_params *p, const stewart
 STEWART_HIDDEN void vkernel_leg_residual_jacobians(const stewart_params *p, const stewart_vd *x, stewart_vd *dr_dtheta, stewart_vd *dr_dx, stewart_vd *L2);
 STEWART_HIDDEN void vkernel_target_positions(const stewart_params *p, const stewart_vd *x, const stewart_vd *offsets, stewart_vd *q);
 STEWART_HIDDEN void vkernel_target_jacobian(const stewart_params *p, const stewart_vd *x, const stewart_vd *offsets, stewart_vd *dq_dx);
+STEWART_HIDDEN void vkernel_rotation(const stewart_params *p, const stewart_vd *x, stewart_vd *R);
+STEWART_HIDDEN void vkernel_rotation_partials(const stewart_params *p, const stewart_vd *x, stewart_vd *R, stewart_vd *dR_dpsi, stewart_vd *dR_dtheta, stewart_vd *dR_dphi);
+STEWART_HIDDEN void vkernel_euler_rate_partials(const stewart_params *p, const stewart_vd *x, stewart_vd *JA, stewart_vd *dJA_dpsi, stewart_vd *dJA_dtheta, stewart_vd *dJA_dphi);
+STEWART_HIDDEN void vkernel_leg_vectors(const stewart_params *p, const stewart_vd *x, stewart_vd *l);
+STEWART_HIDDEN void vkernel_leg_unit_vectors(const stewart_params *p, const stewart_vd *x, stewart_vd *u, stewart_vd *L2);
+STEWART_HIDDEN void vkernel_leg_unit_vector_gradients(const stewart_params *p, const stewart_vd *x, stewart_vd *u, stewart_vd *du_dx, stewart_vd *L2);
+STEWART_HIDDEN void vkernel_modal_stiffness(const stewart_params *p, const stewart_vd *JC, const stewart_vd *k, const stewart_vd *dtau_dx, const stewart_vd *JAinv, stewart_vd *Kt);
 
 #endif /* STEWART_INTERNAL_H */

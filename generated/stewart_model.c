@@ -760,6 +760,204 @@ int stewart_batch_target_jacobian(const stewart_params *p, size_t n, const doubl
     return batch_rows(params_finite(p), p, vblock_target_jacobian, 0.0, n, 2, (const double *const []){x, offsets}, (stewart_vd *const []){in0, in1}, 1, (double *const []){dq_dx}, (stewart_vd *const []){out0}, (const int []){18}, status);
 }
 
+/* stewart_rotation over a block of states (batch_rows). */
+static stewart_vl vblock_rotation(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    stewart_vd *R = out[0];
+    stewart_vl status = vnone();
+    vkernel_rotation(p, x, R);
+    return status;
+}
+
+int stewart_batch_rotation(const stewart_params *p, size_t n, const double *x, double *R, int *status)
+{
+    stewart_vd in0[6], out0[9];
+    return batch_rows(params_finite(p), p, vblock_rotation, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 1, (double *const []){R}, (stewart_vd *const []){out0}, (const int []){9}, status);
+}
+
+/* stewart_rotation_partials over a block of states (batch_rows). */
+static stewart_vl vblock_rotation_partials(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    stewart_vd *R = out[0];
+    stewart_vd *dR_dpsi = out[1];
+    stewart_vd *dR_dtheta = out[2];
+    stewart_vd *dR_dphi = out[3];
+    stewart_vl status = vnone();
+    vkernel_rotation_partials(p, x, R, dR_dpsi, dR_dtheta, dR_dphi);
+    return status;
+}
+
+int stewart_batch_rotation_partials(const stewart_params *p, size_t n, const double *x, double *R, double *dR_dpsi, double *dR_dtheta, double *dR_dphi, int *status)
+{
+    stewart_vd in0[6], out0[9], out1[9], out2[9], out3[9];
+    return batch_rows(params_finite(p), p, vblock_rotation_partials, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 4, (double *const []){R, dR_dpsi, dR_dtheta, dR_dphi}, (stewart_vd *const []){out0, out1, out2, out3}, (const int []){9, 9, 9, 9}, status);
+}
+
+/* stewart_euler_rate_jacobian over a block of states (batch_rows). */
+static stewart_vl vblock_euler_rate_jacobian(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    stewart_vd *JA = out[0];
+    stewart_vd JAinv[9], ctheta[1];
+    stewart_vl status = vnone();
+    vkernel_euler_maps(p, x, JA, JAinv, ctheta);
+    return status;
+}
+
+int stewart_batch_euler_rate_jacobian(const stewart_params *p, size_t n, const double *x, double *JA, int *status)
+{
+    stewart_vd in0[6], out0[9];
+    return batch_rows(params_finite(p), p, vblock_euler_rate_jacobian, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 1, (double *const []){JA}, (stewart_vd *const []){out0}, (const int []){9}, status);
+}
+
+/* stewart_euler_rate_jacobian_partials over a block of states (batch_rows). */
+static stewart_vl vblock_euler_rate_jacobian_partials(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    stewart_vd *JA = out[0];
+    stewart_vd *dJA_dpsi = out[1];
+    stewart_vd *dJA_dtheta = out[2];
+    stewart_vd *dJA_dphi = out[3];
+    stewart_vl status = vnone();
+    vkernel_euler_rate_partials(p, x, JA, dJA_dpsi, dJA_dtheta, dJA_dphi);
+    return status;
+}
+
+int stewart_batch_euler_rate_jacobian_partials(const stewart_params *p, size_t n, const double *x, double *JA, double *dJA_dpsi, double *dJA_dtheta, double *dJA_dphi, int *status)
+{
+    stewart_vd in0[6], out0[9], out1[9], out2[9], out3[9];
+    return batch_rows(params_finite(p), p, vblock_euler_rate_jacobian_partials, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 4, (double *const []){JA, dJA_dpsi, dJA_dtheta, dJA_dphi}, (stewart_vd *const []){out0, out1, out2, out3}, (const int []){9, 9, 9, 9}, status);
+}
+
+/* stewart_inverse_euler_rate_jacobian over a block of states (batch_rows). */
+static stewart_vl vblock_inverse_euler_rate_jacobian(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    stewart_vd *JAinv = out[0];
+    stewart_vd JA[9], ctheta[1];
+    stewart_vl status = vnone();
+    vkernel_euler_maps(p, x, JA, JAinv, ctheta);
+    status = vmerge(status, vcheck_euler(ctheta));
+    return status;
+}
+
+int stewart_batch_inverse_euler_rate_jacobian(const stewart_params *p, size_t n, const double *x, double *JAinv, int *status)
+{
+    stewart_vd in0[6], out0[9];
+    return batch_rows(params_finite(p), p, vblock_inverse_euler_rate_jacobian, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 1, (double *const []){JAinv}, (stewart_vd *const []){out0}, (const int []){9}, status);
+}
+
+/* stewart_leg_vectors over a block of states (batch_rows). */
+static stewart_vl vblock_leg_vectors(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    stewart_vd *l = out[0];
+    stewart_vl status = vnone();
+    vkernel_leg_vectors(p, x, l);
+    return status;
+}
+
+int stewart_batch_leg_vectors(const stewart_params *p, size_t n, const double *x, double *l, int *status)
+{
+    stewart_vd in0[6], out0[18];
+    return batch_rows(params_finite(p), p, vblock_leg_vectors, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 1, (double *const []){l}, (stewart_vd *const []){out0}, (const int []){18}, status);
+}
+
+/* stewart_leg_unit_vectors over a block of states (batch_rows). */
+static stewart_vl vblock_leg_unit_vectors(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    stewart_vd *u = out[0];
+    stewart_vd L2[6];
+    stewart_vl status = vnone();
+    vkernel_leg_unit_vectors(p, x, u, L2);
+    status = vmerge(status, vcheck_legs(L2, NULL, NULL));
+    return status;
+}
+
+int stewart_batch_leg_unit_vectors(const stewart_params *p, size_t n, const double *x, double *u, int *status)
+{
+    stewart_vd in0[6], out0[18];
+    return batch_rows(params_finite(p), p, vblock_leg_unit_vectors, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 1, (double *const []){u}, (stewart_vd *const []){out0}, (const int []){18}, status);
+}
+
+/* stewart_leg_unit_vector_gradients over a block of states (batch_rows). */
+static stewart_vl vblock_leg_unit_vector_gradients(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    stewart_vd *u = out[0];
+    stewart_vd *du_dx = out[1];
+    stewart_vd L2[6];
+    stewart_vl status = vnone();
+    vkernel_leg_unit_vector_gradients(p, x, u, du_dx, L2);
+    status = vmerge(status, vcheck_legs(L2, NULL, NULL));
+    return status;
+}
+
+int stewart_batch_leg_unit_vector_gradients(const stewart_params *p, size_t n, const double *x, double *u, double *du_dx, int *status)
+{
+    stewart_vd in0[6], out0[18], out1[108];
+    return batch_rows(params_finite(p), p, vblock_leg_unit_vector_gradients, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 2, (double *const []){u, du_dx}, (stewart_vd *const []){out0, out1}, (const int []){18, 108}, status);
+}
+
+/* stewart_modal_stiffness over a block of states (batch_rows). */
+static stewart_vl vblock_modal_stiffness(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    const stewart_vd *k = in[1];
+    stewart_vd *Kt = out[0];
+    stewart_vd *JC = out[1];
+    stewart_vd *Mt = out[2];
+    stewart_vd L2[6], h2[6], n2[6], W[6], Z[36], JA[9], JAinv[9], ctheta[1], FJ[57], tau[6], dtau_dx[36];
+    stewart_vl status = vnone();
+    if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
+        vkernel_twist_mass_matrix_axisym(p, x, Mt, L2);
+        status = vmerge(status, vcheck_legs(L2, NULL, NULL));
+    } else if (stewart_is_paper_model(p)) {
+        vkernel_twist_mass_matrix_frames(p, x, Mt, L2, h2);
+        status = vmerge(status, vcheck_legs(L2, h2, NULL));
+    } else {
+        vkernel_twist_mass_matrix_general(p, x, Mt, L2, n2);
+        status = vmerge(status, vcheck_legs(L2, NULL, n2));
+    }
+    if (stewart_is_paper_model(p)) {
+        vkernel_static_forces(p, x, W, JC, L2);
+        status = vmerge(status, vcheck_legs(L2, NULL, NULL));
+    } else {
+        vkernel_static_forces_general(p, x, W, JC, L2, n2);
+        status = vmerge(status, vcheck_legs(L2, NULL, n2));
+    }
+    status = vmerge(status, vbareiss_factor(JC, FJ));
+    status = vmerge(status, vbareiss_solve(FJ, 1, 1, W, tau));
+    if (stewart_is_paper_model(p)) {
+        vkernel_static_derivatives(p, x, tau, Z);
+    } else {
+        vkernel_static_derivatives_general(p, x, tau, Z);
+    }
+    status = vmerge(status, vbareiss_solve(FJ, 6, 6, Z, dtau_dx));
+    vkernel_euler_maps(p, x, JA, JAinv, ctheta);
+    status = vmerge(status, vcheck_euler(ctheta));
+    vkernel_modal_stiffness(p, JC, k, dtau_dx, JAinv, Kt);
+    return status;
+}
+
+int stewart_batch_modal_stiffness(const stewart_params *p, size_t n, const double *x, const double *k, double *Kt, double *JC, double *Mt, int *status)
+{
+    stewart_vd in0[6], in1[6], out0[36], out1[36], out2[36];
+    return batch_rows(params_finite(p), p, vblock_modal_stiffness, 0.0, n, 2, (const double *const []){x, k}, (stewart_vd *const []){in0, in1}, 3, (double *const []){Kt, JC, Mt}, (stewart_vd *const []){out0, out1, out2}, (const int []){36, 36, 36}, status);
+}
+
 /* ---- single states ---- */
 
 int stewart_leg_lengths(const stewart_params *p, const double x[6], double L[6])
@@ -875,6 +1073,51 @@ int stewart_target_positions(const stewart_params *p, const double x[6], const d
 int stewart_target_jacobian(const stewart_params *p, const double x[6], const double offsets[6], double dq_dx[18])
 {
     return stewart_batch_target_jacobian(p, 1, x, offsets, dq_dx, NULL);
+}
+
+int stewart_rotation(const stewart_params *p, const double x[6], double R[9])
+{
+    return stewart_batch_rotation(p, 1, x, R, NULL);
+}
+
+int stewart_rotation_partials(const stewart_params *p, const double x[6], double R[9], double dR_dpsi[9], double dR_dtheta[9], double dR_dphi[9])
+{
+    return stewart_batch_rotation_partials(p, 1, x, R, dR_dpsi, dR_dtheta, dR_dphi, NULL);
+}
+
+int stewart_euler_rate_jacobian(const stewart_params *p, const double x[6], double JA[9])
+{
+    return stewart_batch_euler_rate_jacobian(p, 1, x, JA, NULL);
+}
+
+int stewart_euler_rate_jacobian_partials(const stewart_params *p, const double x[6], double JA[9], double dJA_dpsi[9], double dJA_dtheta[9], double dJA_dphi[9])
+{
+    return stewart_batch_euler_rate_jacobian_partials(p, 1, x, JA, dJA_dpsi, dJA_dtheta, dJA_dphi, NULL);
+}
+
+int stewart_inverse_euler_rate_jacobian(const stewart_params *p, const double x[6], double JAinv[9])
+{
+    return stewart_batch_inverse_euler_rate_jacobian(p, 1, x, JAinv, NULL);
+}
+
+int stewart_leg_vectors(const stewart_params *p, const double x[6], double l[18])
+{
+    return stewart_batch_leg_vectors(p, 1, x, l, NULL);
+}
+
+int stewart_leg_unit_vectors(const stewart_params *p, const double x[6], double u[18])
+{
+    return stewart_batch_leg_unit_vectors(p, 1, x, u, NULL);
+}
+
+int stewart_leg_unit_vector_gradients(const stewart_params *p, const double x[6], double u[18], double du_dx[108])
+{
+    return stewart_batch_leg_unit_vector_gradients(p, 1, x, u, du_dx, NULL);
+}
+
+int stewart_modal_stiffness(const stewart_params *p, const double x[6], const double k[6], double Kt[36], double JC[36], double Mt[36])
+{
+    return stewart_batch_modal_stiffness(p, 1, x, k, Kt, JC, Mt, NULL);
 }
 
 /* The actuators and the closed loop (codegen/templates/control.c, copied verbatim by the

@@ -169,6 +169,24 @@ int stewart_leg_residual_jacobians(const stewart_params *p, const double x[6], d
 int stewart_target_positions(const stewart_params *p, const double x[6], const double offsets[6], double q[3]);
 /* dq/dx = [E, -[R c]x J_A] (3 x 6, row-major) of the target position q = t + R c of stewart_target_positions (eq. 8). */
 int stewart_target_jacobian(const stewart_params *p, const double x[6], const double offsets[6], double dq_dx[18]);
+/* R = Rz(psi) Ry(theta) Rx(phi), {P} in {B} (eq. 3), 3 x 3 row-major. */
+int stewart_rotation(const stewart_params *p, const double x[6], double R[9]);
+/* R = Rz(psi) Ry(theta) Rx(phi), {P} in {B} (eq. 3), and its partials along psi, theta and phi, each 3 x 3 row-major. */
+int stewart_rotation_partials(const stewart_params *p, const double x[6], double R[9], double dR_dpsi[9], double dR_dtheta[9], double dR_dphi[9]);
+/* J_A (eq. 8): omega = J_A [psi', theta', phi'], 3 x 3 row-major. */
+int stewart_euler_rate_jacobian(const stewart_params *p, const double x[6], double JA[9]);
+/* J_A (eq. 8) and its partials along psi, theta and phi, each 3 x 3 row-major. */
+int stewart_euler_rate_jacobian_partials(const stewart_params *p, const double x[6], double JA[9], double dJA_dpsi[9], double dJA_dtheta[9], double dJA_dphi[9]);
+/* J_A^-1 (eq. 8 inverted): the Euler rates of an angular velocity in {B}, 3 x 3 row-major; needs cos(theta) != 0. */
+int stewart_inverse_euler_rate_jacobian(const stewart_params *p, const double x[6], double JAinv[9]);
+/* The leg vectors l_i = p + R p_i - b_i (eq. 26), row i = l_i (a zero length is not an error here). */
+int stewart_leg_vectors(const stewart_params *p, const double x[6], double l[18]);
+/* The unit leg vectors u_i = l_i / |l_i| (eqs. 25, 26), row i = u_i. */
+int stewart_leg_unit_vectors(const stewart_params *p, const double x[6], double u[18]);
+/* The unit leg vectors u_i = l_i / |l_i| (eqs. 25, 26), row i = u_i, and their pose gradients du_dx[i][a][j] = d u_i,a / d x_j. */
+int stewart_leg_unit_vector_gradients(const stewart_params *p, const double x[6], double u[18], double du_dx[108]);
+/* The twist-space stiffness K_t = J_C^T (diag(k) J_C + dtau_s/dx T^-1), T^-1 = blockdiag(I, J_A^-1) (eqs. 5, 8, 18), of the platform on leg springs of stiffness k (one per leg) preloaded by the static forces tau_s, not symmetrized, with J_C and the twist-space mass matrix M_t: K_t phi = w^2 M_t phi gives its modes; needs cos(theta) != 0. */
+int stewart_modal_stiffness(const stewart_params *p, const double x[6], const double k[6], double Kt[36], double JC[36], double Mt[36]);
 
 /* The columns of stewart_regressor, the inertial parameters pi (tau + friction = Y pi):
  *    0  platform.m: m_P
@@ -306,6 +324,15 @@ int stewart_batch_leg_residuals(const stewart_params *p, size_t n, const double 
 int stewart_batch_leg_residual_jacobians(const stewart_params *p, size_t n, const double *x, double *dr_dtheta, double *dr_dx, int *status);
 int stewart_batch_target_positions(const stewart_params *p, size_t n, const double *x, const double *offsets, double *q, int *status);
 int stewart_batch_target_jacobian(const stewart_params *p, size_t n, const double *x, const double *offsets, double *dq_dx, int *status);
+int stewart_batch_rotation(const stewart_params *p, size_t n, const double *x, double *R, int *status);
+int stewart_batch_rotation_partials(const stewart_params *p, size_t n, const double *x, double *R, double *dR_dpsi, double *dR_dtheta, double *dR_dphi, int *status);
+int stewart_batch_euler_rate_jacobian(const stewart_params *p, size_t n, const double *x, double *JA, int *status);
+int stewart_batch_euler_rate_jacobian_partials(const stewart_params *p, size_t n, const double *x, double *JA, double *dJA_dpsi, double *dJA_dtheta, double *dJA_dphi, int *status);
+int stewart_batch_inverse_euler_rate_jacobian(const stewart_params *p, size_t n, const double *x, double *JAinv, int *status);
+int stewart_batch_leg_vectors(const stewart_params *p, size_t n, const double *x, double *l, int *status);
+int stewart_batch_leg_unit_vectors(const stewart_params *p, size_t n, const double *x, double *u, int *status);
+int stewart_batch_leg_unit_vector_gradients(const stewart_params *p, size_t n, const double *x, double *u, double *du_dx, int *status);
+int stewart_batch_modal_stiffness(const stewart_params *p, size_t n, const double *x, const double *k, double *Kt, double *JC, double *Mt, int *status);
 
 /* Operation counts of the generated kernels (+, -, *, / and calls of their C, after cse):
  *   leg_lengths                              187
@@ -350,6 +377,13 @@ int stewart_batch_target_jacobian(const stewart_params *p, size_t n, const doubl
  *   leg_residual_jacobians                   445
  *   target_positions                          43
  *   target_jacobian                           56
+ *   rotation                                  25
+ *   rotation_partials                         57
+ *   euler_rate_partials                       13
+ *   leg_vectors                              151
+ *   leg_unit_vectors                         217
+ *   leg_unit_vector_gradients                999
+ *   modal_stiffness                          558
  */
 
 #ifdef __cplusplus

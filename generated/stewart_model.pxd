@@ -63,6 +63,15 @@ cdef extern from "stewart_model.h" nogil:
     int stewart_leg_residual_jacobians(const stewart_params *p, const double *x, double *dr_dtheta, double *dr_dx)
     int stewart_target_positions(const stewart_params *p, const double *x, const double *offsets, double *q)
     int stewart_target_jacobian(const stewart_params *p, const double *x, const double *offsets, double *dq_dx)
+    int stewart_rotation(const stewart_params *p, const double *x, double *R)
+    int stewart_rotation_partials(const stewart_params *p, const double *x, double *R, double *dR_dpsi, double *dR_dtheta, double *dR_dphi)
+    int stewart_euler_rate_jacobian(const stewart_params *p, const double *x, double *JA)
+    int stewart_euler_rate_jacobian_partials(const stewart_params *p, const double *x, double *JA, double *dJA_dpsi, double *dJA_dtheta, double *dJA_dphi)
+    int stewart_inverse_euler_rate_jacobian(const stewart_params *p, const double *x, double *JAinv)
+    int stewart_leg_vectors(const stewart_params *p, const double *x, double *l)
+    int stewart_leg_unit_vectors(const stewart_params *p, const double *x, double *u)
+    int stewart_leg_unit_vector_gradients(const stewart_params *p, const double *x, double *u, double *du_dx)
+    int stewart_modal_stiffness(const stewart_params *p, const double *x, const double *k, double *Kt, double *JC, double *Mt)
     int stewart_batch_lanes()
     int stewart_batch_leg_lengths(const stewart_params *p, size_t n, const double *x, double *L, int *status)
     int stewart_batch_jacobian(const stewart_params *p, size_t n, const double *x, double *JC, int *status)
@@ -87,6 +96,15 @@ cdef extern from "stewart_model.h" nogil:
     int stewart_batch_leg_residual_jacobians(const stewart_params *p, size_t n, const double *x, double *dr_dtheta, double *dr_dx, int *status)
     int stewart_batch_target_positions(const stewart_params *p, size_t n, const double *x, const double *offsets, double *q, int *status)
     int stewart_batch_target_jacobian(const stewart_params *p, size_t n, const double *x, const double *offsets, double *dq_dx, int *status)
+    int stewart_batch_rotation(const stewart_params *p, size_t n, const double *x, double *R, int *status)
+    int stewart_batch_rotation_partials(const stewart_params *p, size_t n, const double *x, double *R, double *dR_dpsi, double *dR_dtheta, double *dR_dphi, int *status)
+    int stewart_batch_euler_rate_jacobian(const stewart_params *p, size_t n, const double *x, double *JA, int *status)
+    int stewart_batch_euler_rate_jacobian_partials(const stewart_params *p, size_t n, const double *x, double *JA, double *dJA_dpsi, double *dJA_dtheta, double *dJA_dphi, int *status)
+    int stewart_batch_inverse_euler_rate_jacobian(const stewart_params *p, size_t n, const double *x, double *JAinv, int *status)
+    int stewart_batch_leg_vectors(const stewart_params *p, size_t n, const double *x, double *l, int *status)
+    int stewart_batch_leg_unit_vectors(const stewart_params *p, size_t n, const double *x, double *u, int *status)
+    int stewart_batch_leg_unit_vector_gradients(const stewart_params *p, size_t n, const double *x, double *u, double *du_dx, int *status)
+    int stewart_batch_modal_stiffness(const stewart_params *p, size_t n, const double *x, const double *k, double *Kt, double *JC, double *Mt, int *status)
     enum:
         STEWART_OPEN_LOOP
         STEWART_PID
@@ -150,6 +168,15 @@ cdef extern from "stewart_dispatch.h" nogil:
         int (*leg_residual_jacobians)(const stewart_params *p, const double *x, double *dr_dtheta, double *dr_dx) noexcept nogil
         int (*target_positions)(const stewart_params *p, const double *x, const double *offsets, double *q) noexcept nogil
         int (*target_jacobian)(const stewart_params *p, const double *x, const double *offsets, double *dq_dx) noexcept nogil
+        int (*rotation)(const stewart_params *p, const double *x, double *R) noexcept nogil
+        int (*rotation_partials)(const stewart_params *p, const double *x, double *R, double *dR_dpsi, double *dR_dtheta, double *dR_dphi) noexcept nogil
+        int (*euler_rate_jacobian)(const stewart_params *p, const double *x, double *JA) noexcept nogil
+        int (*euler_rate_jacobian_partials)(const stewart_params *p, const double *x, double *JA, double *dJA_dpsi, double *dJA_dtheta, double *dJA_dphi) noexcept nogil
+        int (*inverse_euler_rate_jacobian)(const stewart_params *p, const double *x, double *JAinv) noexcept nogil
+        int (*leg_vectors)(const stewart_params *p, const double *x, double *l) noexcept nogil
+        int (*leg_unit_vectors)(const stewart_params *p, const double *x, double *u) noexcept nogil
+        int (*leg_unit_vector_gradients)(const stewart_params *p, const double *x, double *u, double *du_dx) noexcept nogil
+        int (*modal_stiffness)(const stewart_params *p, const double *x, const double *k, double *Kt, double *JC, double *Mt) noexcept nogil
         int (*batch_leg_lengths)(const stewart_params *p, size_t n, const double *x, double *L, int *status) noexcept nogil
         int (*batch_jacobian)(const stewart_params *p, size_t n, const double *x, double *JC, int *status) noexcept nogil
         int (*batch_leg_rates)(const stewart_params *p, size_t n, const double *x, const double *xd, double *LLd, int *status) noexcept nogil
@@ -173,7 +200,16 @@ cdef extern from "stewart_dispatch.h" nogil:
         int (*batch_leg_residual_jacobians)(const stewart_params *p, size_t n, const double *x, double *dr_dtheta, double *dr_dx, int *status) noexcept nogil
         int (*batch_target_positions)(const stewart_params *p, size_t n, const double *x, const double *offsets, double *q, int *status) noexcept nogil
         int (*batch_target_jacobian)(const stewart_params *p, size_t n, const double *x, const double *offsets, double *dq_dx, int *status) noexcept nogil
-        stewart_call call[23]
+        int (*batch_rotation)(const stewart_params *p, size_t n, const double *x, double *R, int *status) noexcept nogil
+        int (*batch_rotation_partials)(const stewart_params *p, size_t n, const double *x, double *R, double *dR_dpsi, double *dR_dtheta, double *dR_dphi, int *status) noexcept nogil
+        int (*batch_euler_rate_jacobian)(const stewart_params *p, size_t n, const double *x, double *JA, int *status) noexcept nogil
+        int (*batch_euler_rate_jacobian_partials)(const stewart_params *p, size_t n, const double *x, double *JA, double *dJA_dpsi, double *dJA_dtheta, double *dJA_dphi, int *status) noexcept nogil
+        int (*batch_inverse_euler_rate_jacobian)(const stewart_params *p, size_t n, const double *x, double *JAinv, int *status) noexcept nogil
+        int (*batch_leg_vectors)(const stewart_params *p, size_t n, const double *x, double *l, int *status) noexcept nogil
+        int (*batch_leg_unit_vectors)(const stewart_params *p, size_t n, const double *x, double *u, int *status) noexcept nogil
+        int (*batch_leg_unit_vector_gradients)(const stewart_params *p, size_t n, const double *x, double *u, double *du_dx, int *status) noexcept nogil
+        int (*batch_modal_stiffness)(const stewart_params *p, size_t n, const double *x, const double *k, double *Kt, double *JC, double *Mt, int *status) noexcept nogil
+        stewart_call call[32]
 
 
 cdef inline int stewart_params_fill(stewart_params *p, object params, frozenset expected) except -1:

@@ -59,10 +59,14 @@ if TYPE_CHECKING:  # the public names: what `__getattr__` imports on first use
     from .model.params import NonAxisymmetricLegWarning, PlatformParams
     from .model.platform import (
         AllTerms,
+        EulerRateJacobianPartials,
         ForwardDynamicsDerivatives,
         InverseDynamicsDerivatives,
         LegResidualJacobians,
+        LegUnitVectors,
+        ModalStiffness,
         Platform,
+        RotationPartials,
         StaticForceDerivatives,
         Step,
         StepDerivatives,

@@ -149,8 +149,9 @@ cdef enum:
     # Bytes of inputs and outputs a thread takes at a time from a batch function: whole blocks
     # of LANES rows, within a core's L1 and L2 caches (Zen 4: 32 kB, 1 MB).
     BATCH_BYTES = 65536
-    # The most dimensions of an output array: the batch's and a row's (a matrix).
-    MAX_DIMS = 3
+    # The most dimensions of an output array: the batch's and a row's (up to three: the legs'
+    # unit vectors' pose gradients, 6 x 3 x 6).
+    MAX_DIMS = 4
 
 
 cdef cnp.ndarray _states(str name, object value):

@@ -282,6 +282,12 @@ PLATFORM_METHODS = {
     "leg_residual_jacobians": ("x",),
     "target_positions": ("x", "offsets"),
     "target_jacobian": ("x", "offsets"),
+    "rotation": ("x",),
+    "euler_rate_jacobian": ("x",),
+    "inverse_euler_rate_jacobian": ("x",),
+    "leg_vectors": ("x",),
+    "leg_unit_vectors": ("x",),
+    "modal_stiffness": ("x", "k"),
 }
 
 
@@ -300,6 +306,7 @@ def valid_arguments(plat, n=None, seed=0):
         "guess": x + 1e-3,
         "readings": plat.encoder_readings(x) + 1e-6,
         "offsets": np.full(np.shape(x)[:-1] + (3,), 0.02),
+        "k": np.linspace(1e6, 2e6, 6),
     }
 
 

@@ -21,6 +21,8 @@ from stewart.cli import bench
 
 #: Batch size: no multiple of 2, 4 or 8.
 ROWS = 1003
+#: The legs' stiffnesses of the modal stiffness [N/m].
+SPRINGS = np.linspace(1e6, 2e6, 6)
 #: Rows made singular.
 DEGENERATE_ROW, EULER_ROW = 17, 5
 
@@ -62,6 +64,15 @@ def calls(plat, x, xd, xdd, tau):
         "leg_residual_jacobians": lambda m: plat.leg_residual_jacobians(x, return_mask=m),
         "target_positions": lambda m: plat.target_positions(x, xdd[..., :3], return_mask=m),
         "target_jacobian": lambda m: plat.target_jacobian(x, xdd[..., :3], return_mask=m),
+        "rotation": lambda m: plat.rotation(x, return_mask=m),
+        "rotation_partials": lambda m: plat.rotation(x, partials=True, return_mask=m),
+        "euler_rate_jacobian": lambda m: plat.euler_rate_jacobian(x, return_mask=m),
+        "euler_rate_jacobian_partials": lambda m: plat.euler_rate_jacobian(x, partials=True, return_mask=m),
+        "inverse_euler_rate_jacobian": lambda m: plat.inverse_euler_rate_jacobian(x, return_mask=m),
+        "leg_vectors": lambda m: plat.leg_vectors(x, return_mask=m),
+        "leg_unit_vectors": lambda m: plat.leg_unit_vectors(x, return_mask=m),
+        "leg_unit_vector_gradients": lambda m: plat.leg_unit_vectors(x, gradients=True, return_mask=m),
+        "modal_stiffness": lambda m: plat.modal_stiffness(x, SPRINGS, return_mask=m),
     }
 
 

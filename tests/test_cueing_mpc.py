@@ -429,7 +429,7 @@ def test_step_times_are_the_wall_times_of_the_steps(simulator):
 def _rider_signals(x, v, a, gravity):
     """Eq. 8 written out, complex-safe for complex-step derivatives: ``f = R^T (a + g e_z)``
     and ``w = R^T J_A [psi', theta', phi']`` at {P}'s origin."""
-    from stewart.model.kinematics import euler_rate_jacobian, rotation
+    from stewart.oracles.frames import euler_rate_jacobian, rotation
 
     r = rotation(x)
     f = np.einsum("nji,nj->ni", r, a[:, :3] + np.array([0.0, 0.0, gravity]))

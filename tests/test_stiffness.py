@@ -12,7 +12,7 @@ from scipy.optimize import least_squares
 import stewart
 from conftest import make_general, random_params
 from stewart.model.kinematics import euler_jacobian, leg_lengths, twist_transform
-from stewart.oracles import reference
+from stewart.oracles import frames, reference
 
 #: A realistic leg stiffness of the 1500 kg motion simulator [N/m] and a leg damper [N s/m].
 K_LEG, C_LEG = 2e7, 4e4
@@ -38,8 +38,9 @@ def _massless_legs(params):
 def _static_forces(params, q, x, tau, k):
     """The generalized force of the preloaded springs and gravity in pose coordinates,
     ``J_E^T (tau_spring - tau_s(q))`` (``J_E^T tau_s = T^T G``), complex-friendly."""
-    spring = tau + k * (leg_lengths(params, x) - leg_lengths(params, q))
-    return np.einsum("ji,j->i", euler_jacobian(params, q), spring - reference.inverse_dynamics(params, q, 0 * q, 0 * q))
+    spring = tau + k * (frames.leg_lengths(params, x) - frames.leg_lengths(params, q))
+    euler = frames.jacobian(params, q) @ frames.twist_transform(q)
+    return np.einsum("ji,j->i", euler, spring - reference.inverse_dynamics(params, q, 0 * q, 0 * q))
 
 
 def test_stiffness_is_the_hessian_of_the_potential(case, figures):

@@ -15,7 +15,8 @@ from .params import PlatformParams
 from .results import JointReactions
 
 __all__ = ["Platform", "AllTerms", "InverseDynamicsDerivatives", "ForwardDynamicsDerivatives",
-           "StaticForceDerivatives", "Step", "StepDerivatives", "LegResidualJacobians", "as_platform"]
+           "StaticForceDerivatives", "Step", "StepDerivatives", "LegResidualJacobians", "RotationPartials",
+           "EulerRateJacobianPartials", "LegUnitVectors", "ModalStiffness", "as_platform"]
 
 
 def _result_type(function, doc):
@@ -61,6 +62,20 @@ LegResidualJacobians = _result_type("leg_residual_jacobians", """The exact parti
     (:meth:`Platform.leg_residual_jacobians`): ``dr_dtheta[..., i, :]`` those of leg i's residual in
     its own geometric parameters ``(b_i, p_i, delta_i)``, ``[u_i, -R^T u_i, 1]`` (the other 35 of
     the 42 are zero), and ``dr_dx`` (``(..., 6, 6)``, row = leg, column = pose coordinate).""")
+
+RotationPartials = _result_type("rotation_partials", """The rotation and its partials along the Euler angles
+    (:meth:`Platform.rotation` with ``partials=True``), each of shape ``(..., 3, 3)``.""")
+
+EulerRateJacobianPartials = _result_type("euler_rate_jacobian_partials", """``J_A`` and its partials along the Euler
+    angles (:meth:`Platform.euler_rate_jacobian` with ``partials=True``), each of shape ``(..., 3, 3)``.""")
+
+LegUnitVectors = _result_type("leg_unit_vector_gradients", """The unit leg vectors, ``(..., 6, 3)``, and their pose
+    gradients ``du_dx[..., i, a, j] = d u_i,a / d x_j``, ``(..., 6, 3, 6)`` (:meth:`Platform.leg_unit_vectors` with
+    ``gradients=True``).""")
+
+ModalStiffness = _result_type("modal_stiffness", """The twist-space stiffness ``Kt`` (not symmetrized), ``J_C`` and
+    the twist-space mass matrix ``Mt`` of the platform on preloaded leg springs (:meth:`Platform.modal_stiffness`),
+    each of shape ``(..., 6, 6)``.""")
 
 # The joint reactions' type (shared with the Newton-Euler oracle) has the fields of the C's results.
 _same_fields(JointReactions, "joint_reactions")
@@ -166,6 +181,50 @@ class Platform:
         / L_i`` with ``v_i``, ``a_i`` the velocity and acceleration of the spherical joint P_i
         (:func:`stewart.model.kinematics.leg_accelerations`)."""
         return self._call("leg_accelerations", (x, xd, xdd), return_mask)
+
+    def rotation(self, x, *, partials=False, return_mask=False):
+        """The orientation ``R = Rz(psi) Ry(theta) Rx(phi)`` of {P} in {B} (eq. 3), shape ``(..., 3,
+        3)``; with ``partials``, a :class:`RotationPartials` ``(R, dR_dpsi, dR_dtheta, dR_dphi)``.
+        It does not depend on the platform's parameters."""
+        if partials:
+            return _named(RotationPartials, self._call("rotation_partials", (x,), return_mask), return_mask)
+        return self._call("rotation", (x,), return_mask)
+
+    def euler_rate_jacobian(self, x, *, partials=False, return_mask=False):
+        """``J_A`` (eq. 8): the angular velocity ``omega = J_A [psi', theta', phi']`` in {B},
+        shape ``(..., 3, 3)``; with ``partials``, an :class:`EulerRateJacobianPartials` ``(JA,
+        dJA_dpsi, dJA_dtheta, dJA_dphi)``."""
+        if partials:
+            return _named(EulerRateJacobianPartials, self._call("euler_rate_jacobian_partials", (x,), return_mask),
+                          return_mask)
+        return self._call("euler_rate_jacobian", (x,), return_mask)
+
+    def inverse_euler_rate_jacobian(self, x, *, return_mask=False):
+        """``J_A^-1`` (eq. 8 inverted): the Euler rates of an angular velocity in {B}, shape
+        ``(..., 3, 3)``; singular where ``cos(theta)`` is too small (``euler_singular``)."""
+        return self._call("inverse_euler_rate_jacobian", (x,), return_mask)
+
+    def leg_vectors(self, x, *, return_mask=False):
+        """The leg vectors ``l_i = p + R p_i - b_i`` (eq. 26), shape ``(..., 6, 3)``; a zero-length
+        leg is no error here."""
+        return self._call("leg_vectors", (x,), return_mask)
+
+    def leg_unit_vectors(self, x, *, gradients=False, return_mask=False):
+        """The unit leg vectors ``u_i = l_i / |l_i|`` (eqs. 25, 26), shape ``(..., 6, 3)``; with
+        ``gradients``, a :class:`LegUnitVectors` ``(u, du_dx)`` with their exact pose gradients
+        ``du_dx[..., i, a, j] = d u_i,a / d x_j``, shape ``(..., 6, 3, 6)``."""
+        if gradients:
+            return _named(LegUnitVectors, self._call("leg_unit_vector_gradients", (x,), return_mask), return_mask)
+        return self._call("leg_unit_vectors", (x,), return_mask)
+
+    def modal_stiffness(self, x, k, *, return_mask=False):
+        """The twist-space stiffness of the platform on leg springs ``k`` [N/m] (``(6,)`` one per
+        leg, or ``(N, 6)`` one set per state) preloaded to hold it at ``x``, a
+        :class:`ModalStiffness` ``(Kt, JC, Mt)``: ``K_t = J_C^T (diag(k) J_C + dtau_s/dx T^-1)``
+        with ``T^-1 = blockdiag(I, J_A^-1)`` (eqs. 5, 8, 18; not symmetrized), ``J_C`` and the
+        twist-space mass matrix ``M_t``, whose generalized eigenproblem ``K_t phi = w^2 M_t phi``
+        gives the modes (:meth:`modes`, :mod:`stewart.model.stiffness`)."""
+        return _named(ModalStiffness, self._call("modal_stiffness", (x, k), return_mask), return_mask)
 
     def mass_matrix(self, x, *, return_mask=False):
         """``M = sum_b J_b^T I_b J_b T`` (eqs. 22, 40, 52, 62, 70); multiplies ``xddot``."""

@@ -26,8 +26,9 @@ legs included), ``K_t = T^-T K_q T^-1 = J_C^T (diag(k) J_C + dtau_s/dx T^-1)`` a
 ``K_t phi = w^2 M_t phi`` (the same frequencies as in pose coordinates, since ``T`` is
 invertible away from ``theta = +-90 deg``), the damping ratios those of the quadratic
 eigenproblem ``(s^2 M_t + s C_t + K_t) phi = 0``. Each pose's stiffness and undamped modes are
-computed in compiled code (``stewart/_modes.pxi``: the model's functions and LAPACK's
-``dsygv``); the damping ratios and the compliance in numpy.
+computed in compiled code (``stewart/_modes.pxi``: the generated ``modal_stiffness``,
+:meth:`stewart.Platform.modal_stiffness`, and LAPACK's ``dsygv``); the damping ratios and the
+compliance in numpy.
 """
 
 from __future__ import annotations

@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..model import kinematics
-from . import newton_euler, reference
+from . import frames, newton_euler, reference
 from ..model import reachability
 from ..model.params import platform_params
 from ..model.params import PlatformParams
@@ -59,8 +59,8 @@ def _energy(params: PlatformParams, x, xd) -> np.ndarray:
     """:func:`energy` of the converted ``params``."""
     x = np.asarray(x)
     xd = np.asarray(xd)
-    rot = kinematics.rotation(x)
-    omega = np.einsum("...ij,...j->...i", kinematics.euler_rate_jacobian(x), xd[..., 3:])
+    rot = frames.rotation(x)
+    omega = np.einsum("...ij,...j->...i", frames.euler_rate_jacobian(x), xd[..., 3:])
     arms = np.einsum("...jk,ik->...ij", rot, params.platform_points)
     legs = x[..., None, :3] + arms - params.base_points
     lengths = np.sqrt(np.sum(legs * legs, axis=-1))[..., None]
@@ -202,7 +202,7 @@ def power_balance(params: PlatformParams, x, xd, xdd, tau) -> float:
     params = platform_params(params)
     h = COMPLEX_STEP
     de_dt = _energy(params, x + 1j * h * xd, xd + 1j * h * xdd).imag / h
-    power = tau * kinematics.leg_velocities(params, x, xd)
+    power = tau * frames.leg_velocities(params, x, xd)
     return float(np.max(np.abs(de_dt - power.sum(axis=-1)) / np.sum(np.abs(power), axis=-1)))
 
 
@@ -212,7 +212,7 @@ def twist_mass_matrix_figures(platform: Platform, x) -> tuple[float, float]:
     (eq. 18) relative to the mass matrix ``M``, and the worst condition number of ``M_t``
     (``inf`` where it is not positive definite)."""
     m_twist = platform.twist_mass_matrix(x)
-    mismatch = relative_error(m_twist @ kinematics.twist_transform(x), platform.mass_matrix(x))
+    mismatch = relative_error(m_twist @ frames.twist_transform(x), platform.mass_matrix(x))
     eig = np.linalg.eigvalsh(m_twist)
     positive = eig[..., 0] > 0.0
     cond = np.where(positive, eig[..., -1] / np.where(positive, eig[..., 0], 1.0), np.inf)
@@ -280,9 +280,9 @@ def statics_residuals(params: PlatformParams, x) -> dict[str, float]:
         weight = 1.0
     length = kinematics.home_pose(params)[2]
     e_z = np.array([0.0, 0.0, 1.0])
-    rot = kinematics.rotation(x)
+    rot = frames.rotation(x)
     arms = np.einsum("...jk,ik->...ij", rot, params.platform_points - params.platform_com_in_model)
-    legs = kinematics.leg_vectors(params, x)
+    legs = frames.leg_vectors(params, x)
     units = legs / np.linalg.norm(legs, axis=-1, keepdims=True)
     net = forces.platform.sum(axis=-2) - params.platform_mass * g * e_z
     moment = np.cross(arms, forces.platform).sum(axis=-2)
