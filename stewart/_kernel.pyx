@@ -214,7 +214,7 @@ cdef class _Function:
         parts = []
         for output, start, stop, shape in self.parts:
             part = outputs[output][..., start:stop]
-            parts.append(np.ascontiguousarray(part.reshape(part.shape[:-1] + shape)))
+            parts.append(np.ascontiguousarray(part.reshape(tuple(part.shape)[:part.ndim - 1] + shape)))
         return parts[0] if len(parts) == 1 else tuple(parts)
 
 
