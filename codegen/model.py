@@ -15,6 +15,7 @@ from .derivatives import (inverse_dynamics_points_kernel, leg_derivatives_kernel
 from .dynamics import (REGRESSOR_VARIANTS, RIGID_BODY, coriolis_product_kernel, gravity_kernel,
                        inverse_dynamics_kernel, joint_forces_kernel, joint_reactions_kernel, regressor_kernel,
                        static_forces_kernel, twist_mass_matrix_kernel)
+from .cueing import joint_cosines_kernel, rider_signals_kernel
 from .kinematics import (MODELS, VARIANTS, euler_maps_kernel, jacobian_kernel, leg_accelerations_kernel,
                          leg_lengths_kernel, leg_rates_kernel)
 from .schema import FRICTION_PARAMETERS, RIGID_BODY_PARAMETERS
@@ -210,4 +211,17 @@ FUNCTIONS = (
              ('x', 'xd', 'tau'), (('xn', (6,)), ('xdn', (6,)), ('A', (12, 12)), ('B', (12, 6))), (), scalars=('dt',),
              template='vector.c', results=('x', 'xd', 'A', 'B'), result_type='StepDerivatives',
              option=('rk4_step', 'jacobians')),
+    Function('joint_cosines',
+             'The cosines of the universal- and spherical-joint angles, c = [u_i . a_i; u_i . R a_i] (12) with'
+             ' u_i = l_i / |l_i| (eq. 26) and a_i the joints\' neutral axes (ax, ay, az: their x, y and z'
+             ' components, one per leg), the universal joint\'s fixed in {B}, the spherical joint\'s in {P};'
+             ' and their gradient in the pose dc/dx (12 x 6).',
+             ('x', 'ax', 'ay', 'az'), (('c', (12,)), ('dc_dx', (12, 6))), (joint_cosines_kernel,),
+             results=('cosines', 'dcosines_dx'), result_type='JointCosines'),
+    Function('rider_signals',
+             'What a rider at the origin of {P} senses: y = [f; w], the specific force f = R^T (a + g e_z) and'
+             ' the angular velocity w = R^T J_A [psi\', theta\', phi\'] (eq. 8), in {P}; and their Jacobians'
+             ' in the pose, its rates and its accelerations (row = output, column = input).',
+             ('x', 'xd', 'xdd'), (('y', (6,)), ('dy_dx', (6, 6)), ('dy_dxd', (6, 6)), ('dy_dxdd', (6, 6))),
+             (rider_signals_kernel,), result_type='RiderSignals'),
 )

@@ -28,10 +28,12 @@
  *   16  regressor
  *   17  rk4_step
  *   18  rk4_step_derivatives
+ *   19  joint_cosines
+ *   20  rider_signals
  */
-#define STEWART_FUNCTIONS 19
+#define STEWART_FUNCTIONS 21
 /* The most input arrays and output arrays a public function has. */
-#define STEWART_MAX_INPUTS 3
+#define STEWART_MAX_INPUTS 4
 #define STEWART_MAX_OUTPUTS 4
 
 /* A public function in one calling convention (the table's `call`): its batch function on n
@@ -72,6 +74,8 @@ typedef struct {
     int (*regressor)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *Y);
     int (*rk4_step)(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn);
     int (*rk4_step_derivatives)(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B);
+    int (*joint_cosines)(const stewart_params *p, const double *x, const double *ax, const double *ay, const double *az, double *c, double *dc_dx);
+    int (*rider_signals)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *y, double *dy_dx, double *dy_dxd, double *dy_dxdd);
     int (*batch_leg_lengths)(const stewart_params *p, size_t n, const double *x, double *L, int *status);
     int (*batch_jacobian)(const stewart_params *p, size_t n, const double *x, double *JC, int *status);
     int (*batch_leg_rates)(const stewart_params *p, size_t n, const double *x, const double *xd, double *LLd, int *status);
@@ -91,6 +95,8 @@ typedef struct {
     int (*batch_regressor)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Y, int *status);
     int (*batch_rk4_step)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status);
     int (*batch_rk4_step_derivatives)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B, int *status);
+    int (*batch_joint_cosines)(const stewart_params *p, size_t n, const double *x, const double *ax, const double *ay, const double *az, double *c, double *dc_dx, int *status);
+    int (*batch_rider_signals)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *y, double *dy_dx, double *dy_dxd, double *dy_dxdd, int *status);
     stewart_call call[STEWART_FUNCTIONS];  /* the public functions by their index */
 } stewart_table;
 

@@ -44,6 +44,8 @@
 #define stewart_regressor STEWART_LOCAL(regressor)
 #define stewart_rk4_step STEWART_LOCAL(rk4_step)
 #define stewart_rk4_step_derivatives STEWART_LOCAL(rk4_step_derivatives)
+#define stewart_joint_cosines STEWART_LOCAL(joint_cosines)
+#define stewart_rider_signals STEWART_LOCAL(rider_signals)
 #define stewart_batch_leg_lengths STEWART_LOCAL(batch_leg_lengths)
 #define stewart_batch_jacobian STEWART_LOCAL(batch_jacobian)
 #define stewart_batch_leg_rates STEWART_LOCAL(batch_leg_rates)
@@ -63,6 +65,8 @@
 #define stewart_batch_regressor STEWART_LOCAL(batch_regressor)
 #define stewart_batch_rk4_step STEWART_LOCAL(batch_rk4_step)
 #define stewart_batch_rk4_step_derivatives STEWART_LOCAL(batch_rk4_step_derivatives)
+#define stewart_batch_joint_cosines STEWART_LOCAL(batch_joint_cosines)
+#define stewart_batch_rider_signals STEWART_LOCAL(batch_rider_signals)
 #else
 #define STEWART_LOCAL(name) stewart_##name
 #endif
@@ -104,6 +108,8 @@
 #define vkernel_joint_forces STEWART_LOCAL(vkernel_joint_forces)
 #define vkernel_regressor STEWART_LOCAL(vkernel_regressor)
 #define vkernel_regressor_general STEWART_LOCAL(vkernel_regressor_general)
+#define vkernel_joint_cosines STEWART_LOCAL(vkernel_joint_cosines)
+#define vkernel_rider_signals STEWART_LOCAL(vkernel_rider_signals)
 
 #include "stewart_model.h"
 
@@ -1372,5 +1378,7 @@ STEWART_HIDDEN void vkernel_joint_reactions_general(const stewart_params *p, con
 STEWART_HIDDEN void vkernel_joint_forces(const stewart_params *p, const stewart_vd *tau, const stewart_vd *JC, const stewart_vd *legf, stewart_vd *f_base, stewart_vd *f_platform);
 STEWART_HIDDEN void vkernel_regressor(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *Y, stewart_vd *JC, stewart_vd *L2, stewart_vd *h2);
 STEWART_HIDDEN void vkernel_regressor_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *Y, stewart_vd *JC, stewart_vd *L2, stewart_vd *n2);
+STEWART_HIDDEN void vkernel_joint_cosines(const stewart_params *p, const stewart_vd *x, const stewart_vd *ax, const stewart_vd *ay, const stewart_vd *az, stewart_vd *c, stewart_vd *dc_dx, stewart_vd *L2);
+STEWART_HIDDEN void vkernel_rider_signals(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *y, stewart_vd *dy_dx, stewart_vd *dy_dxd, stewart_vd *dy_dxdd);
 
 #endif /* STEWART_INTERNAL_H */

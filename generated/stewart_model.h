@@ -160,6 +160,10 @@ int stewart_regressor(const stewart_params *p, const double x[6], const double x
 int stewart_rk4_step(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double dt, double xn[6], double xdn[6]);
 /* The RK4 step and its Jacobians A = d[xn; xdn]/d[x; xd] (12 x 12) and B = d[xn; xdn]/dtau (12 x 6), row-major, by the chain rule through the stages. */
 int stewart_rk4_step_derivatives(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double dt, double xn[6], double xdn[6], double A[144], double B[72]);
+/* The cosines of the universal- and spherical-joint angles, c = [u_i . a_i; u_i . R a_i] (12) with u_i = l_i / |l_i| (eq. 26) and a_i the joints' neutral axes (ax, ay, az: their x, y and z components, one per leg), the universal joint's fixed in {B}, the spherical joint's in {P}; and their gradient in the pose dc/dx (12 x 6). */
+int stewart_joint_cosines(const stewart_params *p, const double x[6], const double ax[6], const double ay[6], const double az[6], double c[12], double dc_dx[72]);
+/* What a rider at the origin of {P} senses: y = [f; w], the specific force f = R^T (a + g e_z) and the angular velocity w = R^T J_A [psi', theta', phi'] (eq. 8), in {P}; and their Jacobians in the pose, its rates and its accelerations (row = output, column = input). */
+int stewart_rider_signals(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double y[6], double dy_dx[36], double dy_dxd[36], double dy_dxdd[36]);
 
 /* The columns of stewart_regressor, the inertial parameters pi (tau + friction = Y pi):
  *    0  platform.m: m_P
@@ -293,6 +297,8 @@ int stewart_batch_joint_reactions(const stewart_params *p, size_t n, const doubl
 int stewart_batch_regressor(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Y, int *status);
 int stewart_batch_rk4_step(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status);
 int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B, int *status);
+int stewart_batch_joint_cosines(const stewart_params *p, size_t n, const double *x, const double *ax, const double *ay, const double *az, double *c, double *dc_dx, int *status);
+int stewart_batch_rider_signals(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *y, double *dy_dx, double *dy_dxd, double *dy_dxdd, int *status);
 
 /* Operation counts of the generated kernels (+, -, *, / and calls of their C, after cse):
  *   leg_lengths                              187
@@ -333,6 +339,8 @@ int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const 
  *   joint_forces                              72
  *   regressor                               2387
  *   regressor_general                       3235
+ *   joint_cosines                           1803
+ *   rider_signals                            223
  */
 
 #ifdef __cplusplus

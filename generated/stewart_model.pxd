@@ -58,6 +58,8 @@ cdef extern from "stewart_model.h" nogil:
     int stewart_regressor(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *Y)
     int stewart_rk4_step(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn)
     int stewart_rk4_step_derivatives(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B)
+    int stewart_joint_cosines(const stewart_params *p, const double *x, const double *ax, const double *ay, const double *az, double *c, double *dc_dx)
+    int stewart_rider_signals(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *y, double *dy_dx, double *dy_dxd, double *dy_dxdd)
     int stewart_batch_lanes()
     int stewart_batch_leg_lengths(const stewart_params *p, size_t n, const double *x, double *L, int *status)
     int stewart_batch_jacobian(const stewart_params *p, size_t n, const double *x, double *JC, int *status)
@@ -78,6 +80,8 @@ cdef extern from "stewart_model.h" nogil:
     int stewart_batch_regressor(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Y, int *status)
     int stewart_batch_rk4_step(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status)
     int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B, int *status)
+    int stewart_batch_joint_cosines(const stewart_params *p, size_t n, const double *x, const double *ax, const double *ay, const double *az, double *c, double *dc_dx, int *status)
+    int stewart_batch_rider_signals(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *y, double *dy_dx, double *dy_dxd, double *dy_dxdd, int *status)
     enum:
         STEWART_OPEN_LOOP
         STEWART_PID
@@ -137,6 +141,8 @@ cdef extern from "stewart_dispatch.h" nogil:
         int (*regressor)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *Y) noexcept nogil
         int (*rk4_step)(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn) noexcept nogil
         int (*rk4_step_derivatives)(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B) noexcept nogil
+        int (*joint_cosines)(const stewart_params *p, const double *x, const double *ax, const double *ay, const double *az, double *c, double *dc_dx) noexcept nogil
+        int (*rider_signals)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *y, double *dy_dx, double *dy_dxd, double *dy_dxdd) noexcept nogil
         int (*batch_leg_lengths)(const stewart_params *p, size_t n, const double *x, double *L, int *status) noexcept nogil
         int (*batch_jacobian)(const stewart_params *p, size_t n, const double *x, double *JC, int *status) noexcept nogil
         int (*batch_leg_rates)(const stewart_params *p, size_t n, const double *x, const double *xd, double *LLd, int *status) noexcept nogil
@@ -156,7 +162,9 @@ cdef extern from "stewart_dispatch.h" nogil:
         int (*batch_regressor)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Y, int *status) noexcept nogil
         int (*batch_rk4_step)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status) noexcept nogil
         int (*batch_rk4_step_derivatives)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B, int *status) noexcept nogil
-        stewart_call call[19]
+        int (*batch_joint_cosines)(const stewart_params *p, size_t n, const double *x, const double *ax, const double *ay, const double *az, double *c, double *dc_dx, int *status) noexcept nogil
+        int (*batch_rider_signals)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *y, double *dy_dx, double *dy_dxd, double *dy_dxdd, int *status) noexcept nogil
+        stewart_call call[21]
 
 
 cdef inline int stewart_params_fill(stewart_params *p, object params, frozenset expected) except -1:
