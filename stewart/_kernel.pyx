@@ -530,3 +530,4 @@ cdef class _Blocks:
 include "_simulate.pxi"
 include "_envelope.pxi"
 include "_modes.pxi"
+include "_cueing.pxi"
