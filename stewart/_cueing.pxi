@@ -209,13 +209,17 @@ cdef class CueingStep:
         """Linearize the next step about the present state held (no last plan)."""
         self.has_last = False
 
-    def keep(self, u, cnp.ndarray x, cnp.ndarray v):
+    def keep(self, u, x, v):
         """Linearize the next step about the plan ``u`` ``(n, 6)`` and its states ``x``, ``v``
         ``(n + 1, 6)`` (from :meth:`states`)."""
         cdef cnp.ndarray cu = np.ascontiguousarray(u, dtype=np.float64)
+        cdef cnp.ndarray cx = np.ascontiguousarray(x, dtype=np.float64)
+        cdef cnp.ndarray cv = np.ascontiguousarray(v, dtype=np.float64)
+        if cu.size != 6 * self.n or cx.size != 6 * (self.n + 1) or cv.size != 6 * (self.n + 1):
+            raise ValueError(f"u, x, v: expected ({self.n}, 6), ({self.n + 1}, 6) and ({self.n + 1}, 6)")
         memcpy(self.last_u, _data(cu), 6 * self.n * sizeof(double))
-        memcpy(self.last_x, _data(x), 6 * (self.n + 1) * sizeof(double))
-        memcpy(self.last_v, _data(v), 6 * (self.n + 1) * sizeof(double))
+        memcpy(self.last_x, _data(cx), 6 * (self.n + 1) * sizeof(double))
+        memcpy(self.last_v, _data(cv), 6 * (self.n + 1) * sizeof(double))
         self.has_last = True
 
     def states(self, u):
