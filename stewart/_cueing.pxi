@@ -278,14 +278,18 @@ cdef class CueingStep:
                                                  np.array([axes[12 + r] for r in range(6)])))
         return np.array([out[r] for r in range(CUE_LEGS_ROWS)])
 
-    cdef int _checked(self, Kernel kernel, str name, int rows, tuple arrays) except -1:
-        """Raise the model's error (its Python call on the same rows) where a batch failed."""
+    cdef bint _failed(self, int rows) noexcept:
+        """Whether a row of the last batch call failed."""
         cdef int r
         for r in range(rows):
             if self.status[r] != STEWART_OK:
-                kernel.call(name, arrays)
-                raise SingularityError(f"{name}: failed in the cueing step")  # (the call raised)
-        return 0
+                return True
+        return False
+
+    cdef int _raise(self, Kernel kernel, str name, tuple arrays) except -1:
+        """Raise the model's error for a failed batch: its Python call on the same rows."""
+        kernel.call(name, arrays)
+        raise SingularityError(f"{name}: failed in the cueing step")  # (the call raised already)
 
     def condense(self, x0, v0, z0, vehicle):
         """The QP of the step from pose ``x0``, rates ``v0`` and vestibular error states ``z0``
@@ -311,7 +315,8 @@ cdef class CueingStep:
                 self.vm[6 * k + r] = self.vs[6 * k + r] + 0.5 * hk * self.us[6 * k + r]
         T.batch_rider_signals(&self.rider.p, n, self.xm, self.vm, self.us, self.y, self.yx, self.yv, self.yu,
                               self.status)
-        self._checked(self.rider, "rider_signals", n, (self._array(self.xm, n), self._array(self.vm, n),
+        if self._failed(n):
+            self._raise(self.rider, "rider_signals", (self._array(self.xm, n), self._array(self.vm, n),
                                                        self._array(self.us, n)))
         for k in range(n):
             half, eighth = 0.5 * self.h[k], 0.125 * self.h[k] * self.h[k]
@@ -483,18 +488,21 @@ cdef class CueingStep:
                     self.acc_v[72 * p + 6 * j + r] = self.vbar[6 * p + r] + (1.0 if r == j else 0.0)
                     self.acc_v[72 * p + 36 + 6 * j + r] = self.vbar[6 * p + r] - (1.0 if r == j else 0.0)
         T.batch_leg_rates(&self.dynamics.p, 6 * points, self.rate_x, self.rate_v, self.rates, self.status)
-        self._checked(self.dynamics, "leg_rates", 6 * points, (self._array(self.rate_x, 6 * points),
+        if self._failed(6 * points):
+            self._raise(self.dynamics, "leg_rates", (self._array(self.rate_x, 6 * points),
                                                              self._array(self.rate_v, 6 * points)))
         T.batch_leg_accelerations(&self.dynamics.p, 12 * points, self.acc_x, self.acc_v, self.acc_zero, self.acc,
                                   self.status)
-        self._checked(self.dynamics, "leg_accelerations", 12 * points,
-                      (self._array(self.acc_x, 12 * points), self._array(self.acc_v, 12 * points),
-                       self._array(self.acc_zero, 12 * points)))
+        if self._failed(12 * points):
+            self._raise(self.dynamics, "leg_accelerations",
+                        (self._array(self.acc_x, 12 * points), self._array(self.acc_v, 12 * points),
+                         self._array(self.acc_zero, 12 * points)))
         T.batch_joint_cosines(&self.dynamics.p, points, self.xbar, self.axes, self.axes + 6 * points,
                               self.axes + 12 * points, self.cos, self.cos_grad, self.status)
-        self._checked(self.dynamics, "joint_cosines", points,
-                      (self._array(self.xbar, points), self._array(self.axes, points),
-                       self._array(self.axes + 6 * points, points), self._array(self.axes + 12 * points, points)))
+        if self._failed(points):
+            self._raise(self.dynamics, "joint_cosines",
+                        (self._array(self.xbar, points), self._array(self.axes, points),
+                         self._array(self.axes + 6 * points, points), self._array(self.axes + 12 * points, points)))
         for r in range(36):
             sp0[r], sv0[r] = 0.0, 0.0
         for r in range(6):
@@ -574,8 +582,9 @@ cdef class CueingStep:
         cdef const double *Sv
         T.batch_inverse_dynamics_derivatives(&self.dynamics.p, n, self.xs, self.vs, self.us, self.tau, self.tdx,
                                              self.tdv, self.tdu, self.status)
-        self._checked(self.dynamics, "inverse_dynamics_derivatives", n,
-                      (self._array(self.xs, n), self._array(self.vs, n), self._array(self.us, n)))
+        if self._failed(n):
+            self._raise(self.dynamics, "inverse_dynamics_derivatives",
+                        (self._array(self.xs, n), self._array(self.vs, n), self._array(self.us, n)))
         for k in range(n):
             width = 6 * k
             Sp, Sv = self.pS + (k * ns + CUE_P) * nu, self.pS + (k * ns + CUE_V) * nu
