@@ -47,7 +47,8 @@ cdef class CueingStep:
     (:data:`CUEING_GROUPS`) and the rows' count; ``row_scale`` and ``inset`` ``(m,)``;
     ``limits``: ``(force, force_limit, stroke low, stroke high, speed_limit, tilt_rate)``,
     ``cone`` ``(12,)`` the cosines' bounds over the horizon, ``next_low``, ``next_high``
-    ``(24,)`` the ``legs`` rows' and ``box`` ``(6,)``.
+    ``(24,)`` the ``legs`` rows' and ``box`` ``(6,)``; ``decay_dt`` and ``gain_dt`` ``(nz,)`` the
+    sections discretized over one log sample (:meth:`advance`).
 
     :meth:`condense` fills ``H``, ``q``, the rows ``M`` and bounds ``lo``, ``hi`` (unscaled),
     DAQP's ``A``, ``upper``, ``lower`` (scaled, inset, infinite bounds at 1e30), the states'
@@ -78,6 +79,8 @@ cdef class CueingStep:
     cdef double *next_low
     cdef double *next_high
     cdef double *box
+    cdef double *decay_dt
+    cdef double *gain_dt
     # per step
     cdef double *x0
     cdef double *v0
@@ -126,12 +129,15 @@ cdef class CueingStep:
     cdef double *plegs
 
     def __cinit__(self, Kernel dynamics, Kernel rider, h, double dt, home, neutral, decay, gain, channel, output,
-                  weights, input_weight, shift, starts, row_scale, inset, limits, cone, next_low, next_high, box):
+                  weights, input_weight, shift, starts, row_scale, inset, limits, cone, next_low, next_high, box,
+                  decay_dt, gain_dt):
         cdef int k, i, n = len(h), nz = np.shape(decay)[1], ns, nu
         self.dynamics, self.rider = dynamics, rider
         self.n, self.nz, self.ns, self.nu, self.dt = n, nz, CUE_Z + nz, 6 * n, dt
-        self.m = int(starts[-1])
-        if len(starts) != 11 or np.shape(decay) != (n, nz) or np.shape(gain) != (n, nz) or len(row_scale) != self.m:
+        if len(starts) != 11:
+            raise ValueError("CueingStep: need the first row of each of the 10 groups and the rows' count")
+        self.m = int(starts[10])
+        if np.shape(decay) != (n, nz) or np.shape(gain) != (n, nz) or len(row_scale) != self.m:
             raise ValueError("CueingStep: inconsistent sizes")
         for k in range(11):
             self.starts[k] = starts[k]
@@ -157,6 +163,8 @@ cdef class CueingStep:
         self.next_low = self._fixed(next_low, CUE_LEGS_ROWS)
         self.next_high = self._fixed(next_high, CUE_LEGS_ROWS)
         self.box = self._fixed(box, 6)
+        self.decay_dt = self._fixed(decay_dt, nz)
+        self.gain_dt = self._fixed(gain_dt, nz)
         shift = np.asarray(shift, dtype=np.float64).reshape(n, 2)
         self.weight = self._fixed(shift[:, 1], n)
         knots = np.ascontiguousarray(shift[:, 0], dtype=np.intc)
@@ -253,6 +261,35 @@ cdef class CueingStep:
                 pv[6 * k + r] = sv + self.pd[k * ns + CUE_V + r]
         return x, v
 
+    def advance(self, x, v, applied, y_now, y_next, cnp.ndarray z_platform, cnp.ndarray z_vehicle):
+        """The vestibular states one log sample on, in place: the platform's ``z_platform`` under
+        the rider's signals at the sample's midpoint from pose ``x`` and rates ``v`` under the
+        input ``applied`` held, the vehicle's ``z_vehicle`` under the mean of its signals ``y_now``
+        and ``y_next`` (the sections discretized with the signal held, ``decay_dt``, ``gain_dt``)."""
+        cdef double xm[6]
+        cdef double vm[6]
+        cdef double um[6]
+        cdef double y[6]
+        cdef double jac[108]
+        cdef double dt = self.dt
+        cdef int r, i, ch
+        if (z_platform.dtype != np.float64 or z_vehicle.dtype != np.float64 or not z_platform.flags.c_contiguous
+                or not z_vehicle.flags.c_contiguous or z_platform.size != self.nz or z_vehicle.size != self.nz):
+            raise ValueError(f"z_platform, z_vehicle: need ({self.nz},) C-contiguous float64 arrays")
+        cdef double *zp = _data(z_platform)
+        cdef double *zv = _data(z_vehicle)
+        for r in range(6):
+            um[r] = applied[r]
+            xm[r] = x[r] + 0.5 * dt * v[r] + 0.125 * dt * dt * um[r]
+            vm[r] = v[r] + 0.5 * dt * um[r]
+        if T.rider_signals(&self.rider.p, xm, vm, um, y, jac, jac + 36, jac + 72) != STEWART_OK:
+            self.rider.call("rider_signals", (np.array([xm[r] for r in range(6)]), np.array([vm[r] for r in range(6)]),
+                                                 np.array([um[r] for r in range(6)])))
+        for i in range(self.nz):
+            ch = self.channel[i]
+            zp[i] = self.decay_dt[i] * zp[i] + self.gain_dt[i] * y[ch]
+            zv[i] = self.decay_dt[i] * zv[i] + self.gain_dt[i] * (0.5 * (y_now[ch] + y_next[ch]))
+
     def next_values(self, x0, v0, u0):
         """The leg lengths, leg speeds and joint cosines ``(24,)`` at the next log sample after
         ``u0`` held from pose ``x0`` and rates ``v0``, by the exact kinematics."""
@@ -332,10 +369,10 @@ cdef class CueingStep:
                 self.y0[6 * k + r] = s - veh[6 * k + r]
         self._prediction(pz)
         self._cost()
-        self._legs()
-        self._forces()
-        self._motion_rows(veh)
-        self._scaled()
+        _leg_rows(self)
+        _force_rows(self)
+        _motion_rows(self, veh)
+        _scaled(self)
 
     cdef object _array(self, double *values, int rows):
         return np.array([[values[6 * k + r] for r in range(6)] for k in range(rows)])
@@ -449,200 +486,3 @@ cdef class CueingStep:
             for c in range(r + 1, nu):
                 self.pH[r * nu + c] = self.pH[c * nu + r]
             self.pH[r * nu + r] += self.input_weight[r]
-
-    cdef void _bounds(self, int row, double value, double low, double high) noexcept:
-        self.plo[row] = low - value
-        self.phi[row] = high - value
-
-    cdef void _legs(self) except *:
-        """The leg lengths, speeds and joint cosines at the next log sample (the first input held
-        over dt) and at s_1..s_N, affine in u about the linearization point."""
-        cdef int n = self.n, ns = self.ns, nu = self.nu, points = self.n + 1
-        cdef int k, p, r, j, c, i, width, row
-        cdef double dt = self.dt, hk, s
-        cdef double sp0[36]
-        cdef double sv0[36]
-        cdef double dp[6]
-        cdef double dv[6]
-        cdef const double *sp
-        cdef const double *sv
-        cdef const double *jl
-        cdef const double *cg
-        cdef double hl[36]
-        cdef double jlt[36]
-        cdef int sp_stride
-        for r in range(6):
-            self.xbar[r] = self.x0[r] + dt * self.v0[r] + 0.5 * dt * dt * self.us[r]
-            self.vbar[r] = self.v0[r] + dt * self.us[r]
-        for k in range(n):
-            hk = self.h[k]
-            for r in range(6):
-                self.xbar[6 * (k + 1) + r] = self.xs[6 * k + r] + hk * self.vs[6 * k + r] + 0.5 * hk * hk * self.us[6 * k + r]
-                self.vbar[6 * (k + 1) + r] = self.vs[6 * k + r] + hk * self.us[6 * k + r]
-        for p in range(points):
-            for j in range(6):
-                for r in range(6):
-                    self.rate_x[36 * p + 6 * j + r] = self.xbar[6 * p + r]
-                    self.acc_x[72 * p + 6 * j + r] = self.xbar[6 * p + r]
-                    self.acc_x[72 * p + 36 + 6 * j + r] = self.xbar[6 * p + r]
-                    self.acc_v[72 * p + 6 * j + r] = self.vbar[6 * p + r] + (1.0 if r == j else 0.0)
-                    self.acc_v[72 * p + 36 + 6 * j + r] = self.vbar[6 * p + r] - (1.0 if r == j else 0.0)
-        T.batch_leg_rates(&self.dynamics.p, 6 * points, self.rate_x, self.rate_v, self.rates, self.status)
-        if self._failed(6 * points):
-            self._raise(self.dynamics, "leg_rates", (self._array(self.rate_x, 6 * points),
-                                                             self._array(self.rate_v, 6 * points)))
-        T.batch_leg_accelerations(&self.dynamics.p, 12 * points, self.acc_x, self.acc_v, self.acc_zero, self.acc,
-                                  self.status)
-        if self._failed(12 * points):
-            self._raise(self.dynamics, "leg_accelerations",
-                        (self._array(self.acc_x, 12 * points), self._array(self.acc_v, 12 * points),
-                         self._array(self.acc_zero, 12 * points)))
-        T.batch_joint_cosines(&self.dynamics.p, points, self.xbar, self.axes, self.axes + 6 * points,
-                              self.axes + 12 * points, self.cos, self.cos_grad, self.status)
-        if self._failed(points):
-            self._raise(self.dynamics, "joint_cosines",
-                        (self._array(self.xbar, points), self._array(self.axes, points),
-                         self._array(self.axes + 6 * points, points), self._array(self.axes + 12 * points, points)))
-        for r in range(36):
-            sp0[r], sv0[r] = 0.0, 0.0
-        for r in range(6):
-            sp0[7 * r], sv0[7 * r] = 0.5 * dt * dt, dt
-        for p in range(points):
-            # dL/dx (column j: Ldot at e_j) and dLdot/dx along v (polarization of the quadratic form)
-            for i in range(6):
-                for j in range(6):
-                    jlt[6 * i + j] = self.rates[72 * p + 12 * j + 6 + i]
-                    hl[6 * i + j] = 0.25 * (self.acc[72 * p + 6 * j + i] - self.acc[72 * p + 36 + 6 * j + i])
-            cg = self.cos_grad + 72 * p
-            if p == 0:
-                sp, sv, width, sp_stride = sp0, sv0, 6, 6
-                for r in range(6):
-                    dp[r] = (self.x0[r] - self.home[r] + dt * self.v0[r]) - (self.xbar[r] - self.home[r])
-                    dv[r] = self.v0[r]
-            else:
-                sp, sv = self.pS + (p * ns + CUE_P) * nu, self.pS + (p * ns + CUE_V) * nu
-                width, sp_stride = 6 * p, nu
-                for r in range(6):
-                    dp[r] = self.pd[p * ns + CUE_P + r] - (self.xbar[6 * p + r] - self.home[r])
-                    dv[r] = self.pd[p * ns + CUE_V + r]
-            for i in range(6):
-                # the length
-                row = self.starts[1] + i if p == 0 else self.starts[4] + 6 * (p - 1) + i
-                for c in range(width):
-                    s = 0.0
-                    for j in range(6):
-                        s += jlt[6 * i + j] * sp[j * sp_stride + c]
-                    self.pM[row * nu + c] = s
-                s = self.rates[72 * p + 12 * i + i]  # L_i (the lengths at every probe)
-                for j in range(6):
-                    s += jlt[6 * i + j] * dp[j]
-                if p == 0:
-                    self.plegs[i] = s
-                    self._bounds(row, s, self.next_low[i], self.next_high[i])
-                else:
-                    self._bounds(row, s, self.stroke_low, self.stroke_high)
-                # the speed
-                row = self.starts[1] + 6 + i if p == 0 else self.starts[5] + 6 * (p - 1) + i
-                for c in range(width):
-                    s = 0.0
-                    for j in range(6):
-                        s += hl[6 * i + j] * sp[j * sp_stride + c] + jlt[6 * i + j] * sv[j * sp_stride + c]
-                    self.pM[row * nu + c] = s
-                s = 0.0
-                for j in range(6):
-                    s += jlt[6 * i + j] * dv[j] + hl[6 * i + j] * dp[j]
-                if p == 0:
-                    self.plegs[6 + i] = s
-                    self._bounds(row, s, self.next_low[6 + i], self.next_high[6 + i])
-                else:
-                    self._bounds(row, s, -self.speed_limit, self.speed_limit)
-            for i in range(12):
-                row = self.starts[1] + 12 + i if p == 0 else self.starts[6] + 12 * (p - 1) + i
-                for c in range(width):
-                    s = 0.0
-                    for j in range(6):
-                        s += cg[6 * i + j] * sp[j * sp_stride + c]
-                    self.pM[row * nu + c] = s
-                s = self.cos[12 * p + i]
-                for j in range(6):
-                    s += cg[6 * i + j] * dp[j]
-                if p == 0:
-                    self.plegs[12 + i] = s
-                    self._bounds(row, s, self.next_low[12 + i], self.next_high[12 + i])
-                else:
-                    self._bounds(row, s, self.cone[i], INFINITY)
-
-    cdef void _forces(self) except *:
-        """The actuator forces at the intervals' starts (the present sample's twice: within the
-        force, and within the force less its margin), affine in u: exact in u_k."""
-        cdef int n = self.n, ns = self.ns, nu = self.nu
-        cdef int k, i, j, c, row, width
-        cdef double s
-        cdef const double *Sp
-        cdef const double *Sv
-        T.batch_inverse_dynamics_derivatives(&self.dynamics.p, n, self.xs, self.vs, self.us, self.tau, self.tdx,
-                                             self.tdv, self.tdu, self.status)
-        if self._failed(n):
-            self._raise(self.dynamics, "inverse_dynamics_derivatives",
-                        (self._array(self.xs, n), self._array(self.vs, n), self._array(self.us, n)))
-        for k in range(n):
-            width = 6 * k
-            Sp, Sv = self.pS + (k * ns + CUE_P) * nu, self.pS + (k * ns + CUE_V) * nu
-            for i in range(6):
-                row = self.starts[3] + 6 * k + i
-                for c in range(width):
-                    s = 0.0
-                    for j in range(6):
-                        s += self.tdx[36 * k + 6 * i + j] * Sp[j * nu + c] + self.tdv[36 * k + 6 * i + j] * Sv[j * nu + c]
-                    self.pM[row * nu + c] = s
-                for c in range(6):
-                    self.pM[row * nu + width + c] = self.tdu[36 * k + 6 * i + c]
-                s = self.tau[6 * k + i]
-                for j in range(6):
-                    s += self.tdx[36 * k + 6 * i + j] * (self.pd[k * ns + CUE_P + j] - (self.xs[6 * k + j] - self.home[j])) \
-                        + self.tdv[36 * k + 6 * i + j] * (self.pd[k * ns + CUE_V + j] - self.vs[6 * k + j]) \
-                        - self.tdu[36 * k + 6 * i + j] * self.us[6 * k + j]
-                self._bounds(row, s, -self.force_limit, self.force_limit)
-                if k == 0:
-                    memcpy(self.pM + (self.starts[0] + i) * nu, self.pM + row * nu, nu * sizeof(double))
-                    self._bounds(self.starts[0] + i, s, -self.force, self.force)
-
-    cdef void _motion_rows(self, const double *veh) noexcept:
-        """The roll and pitch rates at the next sample and at s_1..s_N within the vehicle's band,
-        the pose box and the rest at the horizon's end."""
-        cdef int n = self.n, ns = self.ns, nu = self.nu
-        cdef int k, i, r, c, row
-        cdef double w, low, high
-        for i in range(2):  # theta' against the vehicle's w_y, phi' against its w_x
-            for k in range(n + 1):
-                w = veh[6 * max(k - 1, 0) + 4 - i]
-                low, high = min(w, 0.0) - self.tilt_rate, max(w, 0.0) + self.tilt_rate
-                if k == 0:
-                    row = self.starts[2] + i
-                    self.pM[row * nu + 4 + i] = self.dt
-                    self._bounds(row, self.v0[4 + i], low, high)
-                else:
-                    row = self.starts[7] + 2 * (k - 1) + i
-                    memcpy(self.pM + row * nu, self.pS + (k * ns + CUE_V + 4 + i) * nu, 6 * k * sizeof(double))
-                    self._bounds(row, self.pd[k * ns + CUE_V + 4 + i], low, high)
-        for k in range(1, n + 1):
-            for r in range(6):
-                row = self.starts[8] + 6 * (k - 1) + r
-                memcpy(self.pM + row * nu, self.pS + (k * ns + CUE_P + r) * nu, 6 * k * sizeof(double))
-                self._bounds(row, self.pd[k * ns + CUE_P + r], -self.box[r], self.box[r])
-        for r in range(6):
-            row = self.starts[9] + r
-            memcpy(self.pM + row * nu, self.pS + (n * ns + CUE_V + r) * nu, nu * sizeof(double))
-            self._bounds(row, self.pd[n * ns + CUE_V + r], 0.0, 0.0)
-
-    cdef void _scaled(self) noexcept:
-        """DAQP's rows and bounds: in units of each row's limit, the inset rows moved in, the
-        infinite bounds at 1e30."""
-        cdef int r, c, nu = self.nu
-        cdef double f
-        for r in range(self.m):
-            f = self.inv_scale[r]
-            for c in range(nu):
-                self.pA[r * nu + c] = self.pM[r * nu + c] * f
-            self.pup[r] = min(self.phi[r] * f - self.inset[r], 1e30)
-            self.plow[r] = max(self.plo[r] * f + self.inset[r], -1e30)

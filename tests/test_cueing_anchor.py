@@ -110,3 +110,17 @@ def test_the_compiled_step_builds_the_anchors_qp_and_plan(preset, maneuver, monk
     # place of the anchor's own data moves its plan: 1e-9 to 4e-9)
     figures(f"plan ({preset}, {maneuver})", worst["plan"], 1e-9)
     figures(f"plan over the anchor's round-off ({preset}, {maneuver})", worst["sensitive"], 20.0)  # reached 4.6
+
+
+@pytest.mark.parametrize("preset", ["motion_simulator", "narayan2017"])
+def test_whole_runs_agree_with_the_anchors(preset, figures):
+    """A whole maneuver planned by stewart.cueing.predictive.plan (the vestibular states carried
+    from step to step in C too) and by the anchor's loop: the same inputs, poses and levels."""
+    platform = stewart.Platform.preset(preset)
+    params = MPCParams.for_platform(platform)
+    log = read_log(EXAMPLES / "hard_braking.csv")
+    ours, anchor = predictive.plan(log, platform, params), cueing_anchor.plan(log, platform, params)
+    assert ours.level == anchor.level and ours.tightened == anchor.tightened and ours.failures == anchor.failures == 0
+    figures(f"whole run's inputs ({preset})", np.max(np.abs(ours.u - anchor.u)) / np.max(np.abs(anchor.u)),
+            1e-9)  # reached 5.3e-11
+    figures(f"whole run's poses ({preset})", np.max(np.abs(ours.x - anchor.x)), 1e-12)  # reached 1.4e-14

@@ -170,3 +170,24 @@ def test_no_import_cycles(package, monkeypatch):
                      for module in graph.modules for other in graph.find_modules_directly_imported_by(module)
                      if graph.chain_exists(importer=other, imported=module)})
     assert cycles == []
+
+
+#: What building a rotation or a leg vector takes: the Euler angles' sines and cosines, the
+#: joints' points.
+KINEMATICS_BY_HAND = ({"sin", "cos", "tan"}, {"base_points", "platform_points"})
+
+
+def test_cueing_builds_no_rotation_or_leg_vector_of_its_own():
+    """stewart/cueing takes the platform's rotation, legs and their derivatives from the model
+    (the generated functions, or stewart.model's kinematics), never by hand: none of its modules
+    takes a sine or cosine of an array's entries (a pose's angles) or reads the joints' points."""
+    trig, points = KINEMATICS_BY_HAND
+    found = []
+    for path in sorted((PACKAGE / "cueing").glob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            if (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr in trig
+                    and any(isinstance(arg, ast.Subscript) for arg in ast.walk(node))):
+                found.append(f"{path.name}:{node.lineno}: {ast.unparse(node)}")
+            if isinstance(node, (ast.Attribute, ast.Name)) and getattr(node, "attr", getattr(node, "id", "")) in points:
+                found.append(f"{path.name}:{node.lineno}: {ast.unparse(node)}")
+    assert not found, "stewart/cueing builds kinematics by hand:\n" + "\n".join(found)

@@ -236,7 +236,8 @@ class CueingQP:
         return CueingStep(self.platform.kernel, self.rider.kernel, self.h, self.dt, self.home, self.neutral,
                           np.diagonal(self.ad, axis1=1, axis2=2), self.bd[:, sections, channel], channel,
                           vs.C[channel, sections], states, np.repeat(self.h, 6) * np.tile(inputs, n), shift, edges,
-                          self.row_scale, self._inset, limits, self.cone_cosines, *self.next_limits, prm.box)
+                          self.row_scale, self._inset, limits, self.cone_cosines, *self.next_limits, prm.box,
+                          np.diag(self.ad_dt), self.bd_dt[sections, channel])
 
     def condensed(self, x0, v0, z0, vehicle):
         """The QP's data for pose ``x0``, rates ``v0``, vestibular error states ``z0`` and the
@@ -386,8 +387,5 @@ def _plan(log, platform, params, progress):
             break
         x[k + 1] = x[k] + dt * v[k] + 0.5 * dt * dt * applied
         v[k + 1] = v[k] + dt * applied
-        xm, vm = prediction.midpoint(x[k], v[k], applied, dt)
-        y_mid = qp.rider.rider_signals(xm, vm, applied).y
-        z_platform = qp.ad_dt @ z_platform + qp.bd_dt @ y_mid
-        z_vehicle = qp.ad_dt @ z_vehicle + qp.bd_dt @ (0.5 * (y_log[k] + y_log[k + 1]))
+        qp.step.advance(x[k], v[k], applied, y_log[k], y_log[k + 1], z_platform, z_vehicle)
     return Plan(x, v, u, step_time, solve_time, iterations, status, level, tightened, failures)
