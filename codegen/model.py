@@ -12,6 +12,7 @@ from functools import partial
 from . import linsolve
 from .calibration import (LEG_PARTIALS, leg_residual_jacobians_kernel, leg_residuals_kernel, target_jacobian_kernel,
                           target_positions_kernel)
+from .cueing import joint_cosines_kernel, rider_signals_kernel
 from .derivatives import (inverse_dynamics_points_kernel, leg_derivatives_kernel, leg_points_kernel,
                           residual_derivatives_kernel, static_derivatives_kernel)
 from .dynamics import (REGRESSOR_VARIANTS, RIGID_BODY, coriolis_product_kernel, gravity_kernel,
@@ -263,4 +264,17 @@ FUNCTIONS = (
                     Kernels((euler_maps_kernel,), ('x',)), ('check_euler', ('ctheta',)),
                     Kernels((modal_stiffness_kernel,), ('JC', 'k', 'dtau_dx', 'JAinv'))),
              scratch=(_BAREISS_FACTORS, ('tau', 6), ('dtau_dx', 36)), result_type='ModalStiffness'),
+    Function('joint_cosines',
+             'The cosines of the universal- and spherical-joint angles, c = [u_i . a_i; u_i . R a_i] (12) with'
+             ' u_i = l_i / |l_i| (eq. 26) and a_i the joints\' neutral axes (ax, ay, az: their x, y and z'
+             ' components, one per leg), the universal joint\'s fixed in {B}, the spherical joint\'s in {P};'
+             ' and their gradient in the pose dc/dx (12 x 6).',
+             ('x', 'ax', 'ay', 'az'), (('c', (12,)), ('dc_dx', (12, 6))), (joint_cosines_kernel,),
+             results=('cosines', 'dcosines_dx'), result_type='JointCosines'),
+    Function('rider_signals',
+             'What a rider at the origin of {P} senses: y = [f; w], the specific force f = R^T (a + g e_z) and'
+             ' the angular velocity w = R^T J_A [psi\', theta\', phi\'] (eq. 8), in {P}; and their Jacobians'
+             ' in the pose, its rates and its accelerations (row = output, column = input).',
+             ('x', 'xd', 'xdd'), (('y', (6,)), ('dy_dx', (6, 6)), ('dy_dxd', (6, 6)), ('dy_dxdd', (6, 6))),
+             (rider_signals_kernel,), result_type='RiderSignals'),
 )

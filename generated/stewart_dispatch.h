@@ -41,10 +41,12 @@
  *   29  leg_unit_vectors
  *   30  leg_unit_vector_gradients
  *   31  modal_stiffness
+ *   32  joint_cosines
+ *   33  rider_signals
  */
-#define STEWART_FUNCTIONS 32
+#define STEWART_FUNCTIONS 34
 /* The most input arrays and output arrays a public function has. */
-#define STEWART_MAX_INPUTS 3
+#define STEWART_MAX_INPUTS 4
 #define STEWART_MAX_OUTPUTS 4
 
 /* A public function in one calling convention (the table's `call`): its batch function on n
@@ -98,6 +100,8 @@ typedef struct {
     int (*leg_unit_vectors)(const stewart_params *p, const double *x, double *u);
     int (*leg_unit_vector_gradients)(const stewart_params *p, const double *x, double *u, double *du_dx);
     int (*modal_stiffness)(const stewart_params *p, const double *x, const double *k, double *Kt, double *JC, double *Mt);
+    int (*joint_cosines)(const stewart_params *p, const double *x, const double *ax, const double *ay, const double *az, double *c, double *dc_dx);
+    int (*rider_signals)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *y, double *dy_dx, double *dy_dxd, double *dy_dxdd);
     int (*batch_leg_lengths)(const stewart_params *p, size_t n, const double *x, double *L, int *status);
     int (*batch_jacobian)(const stewart_params *p, size_t n, const double *x, double *JC, int *status);
     int (*batch_leg_rates)(const stewart_params *p, size_t n, const double *x, const double *xd, double *LLd, int *status);
@@ -130,6 +134,8 @@ typedef struct {
     int (*batch_leg_unit_vectors)(const stewart_params *p, size_t n, const double *x, double *u, int *status);
     int (*batch_leg_unit_vector_gradients)(const stewart_params *p, size_t n, const double *x, double *u, double *du_dx, int *status);
     int (*batch_modal_stiffness)(const stewart_params *p, size_t n, const double *x, const double *k, double *Kt, double *JC, double *Mt, int *status);
+    int (*batch_joint_cosines)(const stewart_params *p, size_t n, const double *x, const double *ax, const double *ay, const double *az, double *c, double *dc_dx, int *status);
+    int (*batch_rider_signals)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *y, double *dy_dx, double *dy_dxd, double *dy_dxdd, int *status);
     stewart_call call[STEWART_FUNCTIONS];  /* the public functions by their index */
 } stewart_table;
 

@@ -57,6 +57,8 @@
 #define stewart_leg_unit_vectors STEWART_LOCAL(leg_unit_vectors)
 #define stewart_leg_unit_vector_gradients STEWART_LOCAL(leg_unit_vector_gradients)
 #define stewart_modal_stiffness STEWART_LOCAL(modal_stiffness)
+#define stewart_joint_cosines STEWART_LOCAL(joint_cosines)
+#define stewart_rider_signals STEWART_LOCAL(rider_signals)
 #define stewart_batch_leg_lengths STEWART_LOCAL(batch_leg_lengths)
 #define stewart_batch_jacobian STEWART_LOCAL(batch_jacobian)
 #define stewart_batch_leg_rates STEWART_LOCAL(batch_leg_rates)
@@ -89,6 +91,8 @@
 #define stewart_batch_leg_unit_vectors STEWART_LOCAL(batch_leg_unit_vectors)
 #define stewart_batch_leg_unit_vector_gradients STEWART_LOCAL(batch_leg_unit_vector_gradients)
 #define stewart_batch_modal_stiffness STEWART_LOCAL(batch_modal_stiffness)
+#define stewart_batch_joint_cosines STEWART_LOCAL(batch_joint_cosines)
+#define stewart_batch_rider_signals STEWART_LOCAL(batch_rider_signals)
 #else
 #define STEWART_LOCAL(name) stewart_##name
 #endif
@@ -141,6 +145,8 @@
 #define vkernel_leg_unit_vectors STEWART_LOCAL(vkernel_leg_unit_vectors)
 #define vkernel_leg_unit_vector_gradients STEWART_LOCAL(vkernel_leg_unit_vector_gradients)
 #define vkernel_modal_stiffness STEWART_LOCAL(vkernel_modal_stiffness)
+#define vkernel_joint_cosines STEWART_LOCAL(vkernel_joint_cosines)
+#define vkernel_rider_signals STEWART_LOCAL(vkernel_rider_signals)
 
 #include "stewart_model.h"
 
@@ -1421,5 +1427,7 @@ STEWART_HIDDEN void vkernel_leg_vectors(const stewart_params *p, const stewart_v
 STEWART_HIDDEN void vkernel_leg_unit_vectors(const stewart_params *p, const stewart_vd *x, stewart_vd *u, stewart_vd *L2);
 STEWART_HIDDEN void vkernel_leg_unit_vector_gradients(const stewart_params *p, const stewart_vd *x, stewart_vd *u, stewart_vd *du_dx, stewart_vd *L2);
 STEWART_HIDDEN void vkernel_modal_stiffness(const stewart_params *p, const stewart_vd *JC, const stewart_vd *k, const stewart_vd *dtau_dx, const stewart_vd *JAinv, stewart_vd *Kt);
+STEWART_HIDDEN void vkernel_joint_cosines(const stewart_params *p, const stewart_vd *x, const stewart_vd *ax, const stewart_vd *ay, const stewart_vd *az, stewart_vd *c, stewart_vd *dc_dx, stewart_vd *L2);
+STEWART_HIDDEN void vkernel_rider_signals(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *y, stewart_vd *dy_dx, stewart_vd *dy_dxd, stewart_vd *dy_dxdd);
 
 #endif /* STEWART_INTERNAL_H */

@@ -958,6 +958,51 @@ int stewart_batch_modal_stiffness(const stewart_params *p, size_t n, const doubl
     return batch_rows(params_finite(p), p, vblock_modal_stiffness, 0.0, n, 2, (const double *const []){x, k}, (stewart_vd *const []){in0, in1}, 3, (double *const []){Kt, JC, Mt}, (stewart_vd *const []){out0, out1, out2}, (const int []){36, 36, 36}, status);
 }
 
+/* stewart_joint_cosines over a block of states (batch_rows). */
+static stewart_vl vblock_joint_cosines(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    const stewart_vd *ax = in[1];
+    const stewart_vd *ay = in[2];
+    const stewart_vd *az = in[3];
+    stewart_vd *c = out[0];
+    stewart_vd *dc_dx = out[1];
+    stewart_vd L2[6];
+    stewart_vl status = vnone();
+    vkernel_joint_cosines(p, x, ax, ay, az, c, dc_dx, L2);
+    status = vmerge(status, vcheck_legs(L2, NULL, NULL));
+    return status;
+}
+
+int stewart_batch_joint_cosines(const stewart_params *p, size_t n, const double *x, const double *ax, const double *ay, const double *az, double *c, double *dc_dx, int *status)
+{
+    stewart_vd in0[6], in1[6], in2[6], in3[6], out0[12], out1[72];
+    return batch_rows(params_finite(p), p, vblock_joint_cosines, 0.0, n, 4, (const double *const []){x, ax, ay, az}, (stewart_vd *const []){in0, in1, in2, in3}, 2, (double *const []){c, dc_dx}, (stewart_vd *const []){out0, out1}, (const int []){12, 72}, status);
+}
+
+/* stewart_rider_signals over a block of states (batch_rows). */
+static stewart_vl vblock_rider_signals(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    const stewart_vd *xd = in[1];
+    const stewart_vd *xdd = in[2];
+    stewart_vd *y = out[0];
+    stewart_vd *dy_dx = out[1];
+    stewart_vd *dy_dxd = out[2];
+    stewart_vd *dy_dxdd = out[3];
+    stewart_vl status = vnone();
+    vkernel_rider_signals(p, x, xd, xdd, y, dy_dx, dy_dxd, dy_dxdd);
+    return status;
+}
+
+int stewart_batch_rider_signals(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *y, double *dy_dx, double *dy_dxd, double *dy_dxdd, int *status)
+{
+    stewart_vd in0[6], in1[6], in2[6], out0[6], out1[36], out2[36], out3[36];
+    return batch_rows(params_finite(p), p, vblock_rider_signals, 0.0, n, 3, (const double *const []){x, xd, xdd}, (stewart_vd *const []){in0, in1, in2}, 4, (double *const []){y, dy_dx, dy_dxd, dy_dxdd}, (stewart_vd *const []){out0, out1, out2, out3}, (const int []){6, 36, 36, 36}, status);
+}
+
 /* ---- single states ---- */
 
 int stewart_leg_lengths(const stewart_params *p, const double x[6], double L[6])
@@ -1118,6 +1163,16 @@ int stewart_leg_unit_vector_gradients(const stewart_params *p, const double x[6]
 int stewart_modal_stiffness(const stewart_params *p, const double x[6], const double k[6], double Kt[36], double JC[36], double Mt[36])
 {
     return stewart_batch_modal_stiffness(p, 1, x, k, Kt, JC, Mt, NULL);
+}
+
+int stewart_joint_cosines(const stewart_params *p, const double x[6], const double ax[6], const double ay[6], const double az[6], double c[12], double dc_dx[72])
+{
+    return stewart_batch_joint_cosines(p, 1, x, ax, ay, az, c, dc_dx, NULL);
+}
+
+int stewart_rider_signals(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double y[6], double dy_dx[36], double dy_dxd[36], double dy_dxdd[36])
+{
+    return stewart_batch_rider_signals(p, 1, x, xd, xdd, y, dy_dx, dy_dxd, dy_dxdd, NULL);
 }
 
 /* The actuators and the closed loop (codegen/templates/control.c, copied verbatim by the

@@ -187,6 +187,10 @@ int stewart_leg_unit_vectors(const stewart_params *p, const double x[6], double 
 int stewart_leg_unit_vector_gradients(const stewart_params *p, const double x[6], double u[18], double du_dx[108]);
 /* The twist-space stiffness K_t = J_C^T (diag(k) J_C + dtau_s/dx T^-1), T^-1 = blockdiag(I, J_A^-1) (eqs. 5, 8, 18), of the platform on leg springs of stiffness k (one per leg) preloaded by the static forces tau_s, not symmetrized, with J_C and the twist-space mass matrix M_t: K_t phi = w^2 M_t phi gives its modes; needs cos(theta) != 0. */
 int stewart_modal_stiffness(const stewart_params *p, const double x[6], const double k[6], double Kt[36], double JC[36], double Mt[36]);
+/* The cosines of the universal- and spherical-joint angles, c = [u_i . a_i; u_i . R a_i] (12) with u_i = l_i / |l_i| (eq. 26) and a_i the joints' neutral axes (ax, ay, az: their x, y and z components, one per leg), the universal joint's fixed in {B}, the spherical joint's in {P}; and their gradient in the pose dc/dx (12 x 6). */
+int stewart_joint_cosines(const stewart_params *p, const double x[6], const double ax[6], const double ay[6], const double az[6], double c[12], double dc_dx[72]);
+/* What a rider at the origin of {P} senses: y = [f; w], the specific force f = R^T (a + g e_z) and the angular velocity w = R^T J_A [psi', theta', phi'] (eq. 8), in {P}; and their Jacobians in the pose, its rates and its accelerations (row = output, column = input). */
+int stewart_rider_signals(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double y[6], double dy_dx[36], double dy_dxd[36], double dy_dxdd[36]);
 
 /* The columns of stewart_regressor, the inertial parameters pi (tau + friction = Y pi):
  *    0  platform.m: m_P
@@ -333,6 +337,8 @@ int stewart_batch_leg_vectors(const stewart_params *p, size_t n, const double *x
 int stewart_batch_leg_unit_vectors(const stewart_params *p, size_t n, const double *x, double *u, int *status);
 int stewart_batch_leg_unit_vector_gradients(const stewart_params *p, size_t n, const double *x, double *u, double *du_dx, int *status);
 int stewart_batch_modal_stiffness(const stewart_params *p, size_t n, const double *x, const double *k, double *Kt, double *JC, double *Mt, int *status);
+int stewart_batch_joint_cosines(const stewart_params *p, size_t n, const double *x, const double *ax, const double *ay, const double *az, double *c, double *dc_dx, int *status);
+int stewart_batch_rider_signals(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *y, double *dy_dx, double *dy_dxd, double *dy_dxdd, int *status);
 
 /* Operation counts of the generated kernels (+, -, *, / and calls of their C, after cse):
  *   leg_lengths                              187
@@ -384,6 +390,8 @@ int stewart_batch_modal_stiffness(const stewart_params *p, size_t n, const doubl
  *   leg_unit_vectors                         217
  *   leg_unit_vector_gradients                999
  *   modal_stiffness                          558
+ *   joint_cosines                           1803
+ *   rider_signals                            223
  */
 
 #ifdef __cplusplus

@@ -72,6 +72,8 @@ cdef extern from "stewart_model.h" nogil:
     int stewart_leg_unit_vectors(const stewart_params *p, const double *x, double *u)
     int stewart_leg_unit_vector_gradients(const stewart_params *p, const double *x, double *u, double *du_dx)
     int stewart_modal_stiffness(const stewart_params *p, const double *x, const double *k, double *Kt, double *JC, double *Mt)
+    int stewart_joint_cosines(const stewart_params *p, const double *x, const double *ax, const double *ay, const double *az, double *c, double *dc_dx)
+    int stewart_rider_signals(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *y, double *dy_dx, double *dy_dxd, double *dy_dxdd)
     int stewart_batch_lanes()
     int stewart_batch_leg_lengths(const stewart_params *p, size_t n, const double *x, double *L, int *status)
     int stewart_batch_jacobian(const stewart_params *p, size_t n, const double *x, double *JC, int *status)
@@ -105,6 +107,8 @@ cdef extern from "stewart_model.h" nogil:
     int stewart_batch_leg_unit_vectors(const stewart_params *p, size_t n, const double *x, double *u, int *status)
     int stewart_batch_leg_unit_vector_gradients(const stewart_params *p, size_t n, const double *x, double *u, double *du_dx, int *status)
     int stewart_batch_modal_stiffness(const stewart_params *p, size_t n, const double *x, const double *k, double *Kt, double *JC, double *Mt, int *status)
+    int stewart_batch_joint_cosines(const stewart_params *p, size_t n, const double *x, const double *ax, const double *ay, const double *az, double *c, double *dc_dx, int *status)
+    int stewart_batch_rider_signals(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *y, double *dy_dx, double *dy_dxd, double *dy_dxdd, int *status)
     enum:
         STEWART_OPEN_LOOP
         STEWART_PID
@@ -177,6 +181,8 @@ cdef extern from "stewart_dispatch.h" nogil:
         int (*leg_unit_vectors)(const stewart_params *p, const double *x, double *u) noexcept nogil
         int (*leg_unit_vector_gradients)(const stewart_params *p, const double *x, double *u, double *du_dx) noexcept nogil
         int (*modal_stiffness)(const stewart_params *p, const double *x, const double *k, double *Kt, double *JC, double *Mt) noexcept nogil
+        int (*joint_cosines)(const stewart_params *p, const double *x, const double *ax, const double *ay, const double *az, double *c, double *dc_dx) noexcept nogil
+        int (*rider_signals)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *y, double *dy_dx, double *dy_dxd, double *dy_dxdd) noexcept nogil
         int (*batch_leg_lengths)(const stewart_params *p, size_t n, const double *x, double *L, int *status) noexcept nogil
         int (*batch_jacobian)(const stewart_params *p, size_t n, const double *x, double *JC, int *status) noexcept nogil
         int (*batch_leg_rates)(const stewart_params *p, size_t n, const double *x, const double *xd, double *LLd, int *status) noexcept nogil
@@ -209,7 +215,9 @@ cdef extern from "stewart_dispatch.h" nogil:
         int (*batch_leg_unit_vectors)(const stewart_params *p, size_t n, const double *x, double *u, int *status) noexcept nogil
         int (*batch_leg_unit_vector_gradients)(const stewart_params *p, size_t n, const double *x, double *u, double *du_dx, int *status) noexcept nogil
         int (*batch_modal_stiffness)(const stewart_params *p, size_t n, const double *x, const double *k, double *Kt, double *JC, double *Mt, int *status) noexcept nogil
-        stewart_call call[32]
+        int (*batch_joint_cosines)(const stewart_params *p, size_t n, const double *x, const double *ax, const double *ay, const double *az, double *c, double *dc_dx, int *status) noexcept nogil
+        int (*batch_rider_signals)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *y, double *dy_dx, double *dy_dxd, double *dy_dxdd, int *status) noexcept nogil
+        stewart_call call[34]
 
 
 cdef inline int stewart_params_fill(stewart_params *p, object params, frozenset expected) except -1:

@@ -214,6 +214,18 @@ static int call_modal_stiffness(const stewart_params *p, size_t n, const double 
     return stewart_batch_modal_stiffness(p, n, in[0], in[1], out[0], out[1], out[2], status);
 }
 
+static int call_joint_cosines(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_joint_cosines(p, n, in[0], in[1], in[2], in[3], out[0], out[1], status);
+}
+
+static int call_rider_signals(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_rider_signals(p, n, in[0], in[1], in[2], out[0], out[1], out[2], out[3], status);
+}
+
 const stewart_table STEWART_JOIN(stewart_table, STEWART_TARGET) = {
     STEWART_STRING(STEWART_TARGET), STEWART_TARGET_LEVEL, STEWART_TARGET_FLAGS, STEWART_COMPILER,
     stewart_status_message,
@@ -256,6 +268,8 @@ const stewart_table STEWART_JOIN(stewart_table, STEWART_TARGET) = {
     stewart_leg_unit_vectors,
     stewart_leg_unit_vector_gradients,
     stewart_modal_stiffness,
+    stewart_joint_cosines,
+    stewart_rider_signals,
     stewart_batch_leg_lengths,
     stewart_batch_jacobian,
     stewart_batch_leg_rates,
@@ -288,5 +302,7 @@ const stewart_table STEWART_JOIN(stewart_table, STEWART_TARGET) = {
     stewart_batch_leg_unit_vectors,
     stewart_batch_leg_unit_vector_gradients,
     stewart_batch_modal_stiffness,
-    {call_leg_lengths, call_jacobian, call_leg_rates, call_leg_accelerations, call_mass_matrix, call_twist_mass_matrix, call_coriolis_matrix, call_coriolis_vector, call_gravity_vector, call_all_terms, call_inverse_dynamics, call_forward_dynamics, call_inverse_dynamics_derivatives, call_static_force_derivatives, call_forward_dynamics_derivatives, call_joint_reactions, call_regressor, call_rk4_step, call_rk4_step_derivatives, call_leg_residuals, call_leg_residual_jacobians, call_target_positions, call_target_jacobian, call_rotation, call_rotation_partials, call_euler_rate_jacobian, call_euler_rate_jacobian_partials, call_inverse_euler_rate_jacobian, call_leg_vectors, call_leg_unit_vectors, call_leg_unit_vector_gradients, call_modal_stiffness},
+    stewart_batch_joint_cosines,
+    stewart_batch_rider_signals,
+    {call_leg_lengths, call_jacobian, call_leg_rates, call_leg_accelerations, call_mass_matrix, call_twist_mass_matrix, call_coriolis_matrix, call_coriolis_vector, call_gravity_vector, call_all_terms, call_inverse_dynamics, call_forward_dynamics, call_inverse_dynamics_derivatives, call_static_force_derivatives, call_forward_dynamics_derivatives, call_joint_reactions, call_regressor, call_rk4_step, call_rk4_step_derivatives, call_leg_residuals, call_leg_residual_jacobians, call_target_positions, call_target_jacobian, call_rotation, call_rotation_partials, call_euler_rate_jacobian, call_euler_rate_jacobian_partials, call_inverse_euler_rate_jacobian, call_leg_vectors, call_leg_unit_vectors, call_leg_unit_vector_gradients, call_modal_stiffness, call_joint_cosines, call_rider_signals},
 };

@@ -12,10 +12,12 @@ function is called through its entry of the table's ``call`` (stewart_dispatch.h
 function (``batch_<name>``, ``LANES`` states per vector instruction), on one row for a single
 state. All the mathematics is in the generated C.
 
-Two loops that call the model without Python per state are part of the module (included
+The loops that call the model without Python per state are part of the module (included
 from their own files, so that the extension compiles Cython's support code once): the
-simulator's closed loop (stewart/_simulate.pxi: ``ClosedLoop``) and the envelope's running
-peaks (stewart/_envelope.pxi: ``Peaks``, ``box_states``).
+simulator's closed loop (stewart/_simulate.pxi: ``ClosedLoop``), the envelope's running
+peaks (stewart/_envelope.pxi: ``Peaks``, ``box_states``), the modes (stewart/_modes.pxi:
+``modal_terms``) and an MPC cueing step's QP (stewart/_cueing.pxi and _cueing_rows.pxi:
+``CueingStep``).
 
 The C functions are called through a table (generated/stewart_dispatch.h): the build
 compiles the model once per instruction set, and the import picks the copy this CPU runs
@@ -531,3 +533,5 @@ cdef class _Blocks:
 include "_simulate.pxi"
 include "_envelope.pxi"
 include "_modes.pxi"
+include "_cueing.pxi"
+include "_cueing_rows.pxi"

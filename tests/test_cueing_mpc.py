@@ -37,10 +37,13 @@ def _richardson(f, x, j, h=1e-3):
     return (4 * central(h / 2) - central(h)) / 3
 
 
-def test_signals_and_jacobians_against_platform_signals():
+def test_rider_signals_against_platform_signals(simulator):
+    """The prediction's signals (Platform.rider_signals) against vestibular.platform_signals, their
+    Jacobians against Richardson differences of it."""
     rng = np.random.default_rng(3)
     x, v, u = rng.normal(size=(3, 8, 6)) * [[0.2] * 3 + [0.4] * 3]
-    y, dx, dv, du = horizon.signals_and_jacobians(x, v, u, 9.81)
+    assert simulator.params.gravity == 9.81
+    y, dx, dv, du = simulator.rider_signals(x, v, u)
     f, w = vestibular.platform_signals(x, v, u, 9.81)
     assert np.max(np.abs(y - np.column_stack([f, w]))) < 1e-14  # reached 1.1e-16
     for arg, jac in ((0, dx), (1, dv), (2, du)):
@@ -53,7 +56,7 @@ def test_signals_and_jacobians_against_platform_signals():
             assert np.max(np.abs(_richardson(signals, [x, v, u][arg], j) - jac[:, :, j])) < 3e-10
 
 
-def test_joint_cosines_and_gradients_against_reachability(simulator):
+def test_joint_cosines_against_reachability(simulator):
     """The cone constraints' cosines against stewart.model.reachability.joint_angles, their
     gradients against Richardson differences."""
     from stewart.model.reachability import joint_angles, neutral_axes
@@ -61,12 +64,11 @@ def test_joint_cosines_and_gradients_against_reachability(simulator):
     p = simulator.params
     x = simulator.home_pose + np.random.default_rng(4).normal(size=(6, 6)) * 0.08
     neutral = neutral_axes(simulator)
-    cos, grad = horizon.joint_cosines_and_gradients(x, p.base_points, p.platform_points, neutral)
+    cos, grad = simulator.joint_cosines(x, neutral)
     universal, spherical = joint_angles(p, x)
     assert np.max(np.abs(cos - np.cos(np.concatenate([universal, spherical], axis=1)))) < 1e-14  # reached 2.2e-16
     for j in range(6):
-        numeric = _richardson(lambda y: horizon.joint_cosines_and_gradients(
-            y, p.base_points, p.platform_points, neutral)[0], x, j)
+        numeric = _richardson(lambda y: np.cos(np.concatenate(joint_angles(p, y), axis=1)), x, j)
         assert np.max(np.abs(numeric - grad[:, :, j])) < 5e-11  # reached 6.3e-13 (Richardson's error)
 
 

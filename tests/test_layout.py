@@ -248,9 +248,6 @@ def test_the_layout_names_every_module_and_no_other():
 #: Where a rotation matrix or a leg vector may be built: the derivation, the model (which calls
 #: its kernels) and the oracles (deliberately independent of both).
 KINEMATICS_OWNERS = ("codegen/", "stewart/model/", "stewart/oracles/")
-#: Modules that still build them by hand, being replaced now by their own rewrites (the lead
-#: empties this when merging them); the only exceptions.
-PENDING = ("stewart/cueing/horizon.py", "stewart/cueing/planner.py")
 #: What building a rotation or a leg vector looks like: the cosine and sine of a pose angle (x[..., k],
 #: k = 3, 4, 5: R's entries, eq. 3); the platform's joints rotated, R p_i (an einsum of a rotation and
 #: the platform's points, or the points times a rotation); a leg vector p + R p_i - b_i (a sum less the
@@ -280,12 +277,12 @@ def hand_kinematics(text: str) -> list[str]:
 def test_no_module_builds_a_rotation_or_a_leg_vector_by_hand():
     """Outside the derivation, the model and the oracles, every module takes the rotation and the
     leg vectors from their one owner (the generated kernels, through :class:`stewart.Platform` or
-    :mod:`stewart.model.kinematics`), but for :data:`PENDING`."""
+    :mod:`stewart.model.kinematics`)."""
     modules = [path for pattern in ("*.py", "*.pyx", "*.pxi") for path in PACKAGE.rglob(pattern) if path not in GENERATED]
     found = {}
     for path in modules:
         name = str(path.relative_to(ROOT))
-        if name.startswith(KINEMATICS_OWNERS) or name in PENDING:
+        if name.startswith(KINEMATICS_OWNERS):
             continue
         kinds = hand_kinematics(path.read_text(encoding="utf-8"))
         if kinds:
@@ -311,3 +308,24 @@ def test_the_search_catches_a_planted_copy(copy, kind):
     for innocent in ("cos_theta = np.cos(result.x[:, 4])", "centres = params.base_points - arms",
                      "sin, cos = np.sin(phase), np.cos(phase)", "w = np.einsum('nji,nj->ni', rot, omega)"):
         assert hand_kinematics(innocent) == []
+
+
+#: What building a rotation or a leg vector takes: the Euler angles' sines and cosines, the
+#: joints' points.
+KINEMATICS_BY_HAND = ({"sin", "cos", "tan"}, {"base_points", "platform_points"})
+
+
+def test_cueing_builds_no_rotation_or_leg_vector_of_its_own():
+    """stewart/cueing takes the platform's rotation, legs and their derivatives from the model
+    (the generated functions, or stewart.model's kinematics), never by hand: none of its modules
+    takes a sine or cosine of an array's entries (a pose's angles) or reads the joints' points."""
+    trig, points = KINEMATICS_BY_HAND
+    found = []
+    for path in sorted((PACKAGE / "cueing").glob("*.py")):
+        for node in ast.walk(ast.parse(path.read_text(), str(path))):
+            if (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr in trig
+                    and any(isinstance(arg, ast.Subscript) for arg in ast.walk(node))):
+                found.append(f"{path.name}:{node.lineno}: {ast.unparse(node)}")
+            if isinstance(node, (ast.Attribute, ast.Name)) and getattr(node, "attr", getattr(node, "id", "")) in points:
+                found.append(f"{path.name}:{node.lineno}: {ast.unparse(node)}")
+    assert not found, "stewart/cueing builds kinematics by hand:\n" + "\n".join(found)

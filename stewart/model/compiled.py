@@ -9,6 +9,8 @@ what the rest of the package uses. ``tests/test_layout.py`` holds every other mo
 - :class:`Peaks`, :func:`box_states`, :data:`PEAK_QUANTITIES`: the envelope's running peaks
   (:mod:`stewart.studies.envelope`).
 - :func:`modal_terms`, :data:`UNSTABLE`: the modal analysis (:mod:`stewart.model.stiffness`).
+- :class:`CueingStep`, :data:`CUEING_GROUPS`: one MPC cueing step's QP built in C
+  (:mod:`stewart.cueing.planner`).
 - :func:`build_info`, :func:`set_simd`, :data:`LANES`: the instruction-set path in use.
 """
 
@@ -16,7 +18,9 @@ from .._kernel import (
     LANES,
     PEAK_QUANTITIES,
     UNSTABLE,
+    CUEING_GROUPS,
     ClosedLoop,
+    CueingStep,
     Kernel,
     Mode,
     Outcome,
@@ -29,4 +33,4 @@ from .._kernel import (
 )
 
 __all__ = ["Kernel", "ClosedLoop", "Mode", "Outcome", "status_message", "Peaks", "box_states", "PEAK_QUANTITIES",
-           "modal_terms", "UNSTABLE", "build_info", "set_simd", "LANES"]
+           "modal_terms", "UNSTABLE", "CueingStep", "CUEING_GROUPS", "build_info", "set_simd", "LANES"]

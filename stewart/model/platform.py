@@ -16,7 +16,8 @@ from .results import JointReactions
 
 __all__ = ["Platform", "AllTerms", "InverseDynamicsDerivatives", "ForwardDynamicsDerivatives",
            "StaticForceDerivatives", "Step", "StepDerivatives", "LegResidualJacobians", "RotationPartials",
-           "EulerRateJacobianPartials", "LegUnitVectors", "ModalStiffness", "as_platform"]
+           "EulerRateJacobianPartials", "LegUnitVectors", "ModalStiffness", "JointCosines",
+           "RiderSignals", "as_platform"]
 
 
 def _result_type(function, doc):
@@ -77,6 +78,14 @@ ModalStiffness = _result_type("modal_stiffness", """The twist-space stiffness ``
     the twist-space mass matrix ``Mt`` of the platform on preloaded leg springs (:meth:`Platform.modal_stiffness`),
     each of shape ``(..., 6, 6)``.""")
 
+JointCosines = _result_type("joint_cosines", """The cosines of the joint angles and their gradient in the pose
+    (:meth:`Platform.joint_cosines`): ``cosines`` ``(..., 12)`` (universal joints, then spherical
+    joints), ``dcosines_dx[..., i, j] = d cosines_i / d x_j``.""")
+
+RiderSignals = _result_type("rider_signals", """What a rider at {P}'s origin senses and its Jacobians
+    (:meth:`Platform.rider_signals`): ``y = [f; w]`` ``(..., 6)``, row = output, column = input,
+    ``dy_dx[..., i, j] = d y_i / d x_j``.""")
+
 # The joint reactions' type (shared with the Newton-Euler oracle) has the fields of the C's results.
 _same_fields(JointReactions, "joint_reactions")
 
@@ -113,6 +122,8 @@ class Platform:
         self._kernel = Kernel(params, threads)
         # The kernel's call, bound once: the methods below call it without looking it up.
         self._call = self._kernel.call
+        # the joints' neutral axes, the legs' unit vectors at home (joint_cosines' default)
+        self._neutral = self.jacobian(self._home)[:, :3].copy()
 
     @classmethod
     def preset(cls, name: str, **options) -> "Platform":
@@ -349,6 +360,33 @@ class Platform:
         return _named(ForwardDynamicsDerivatives,
                       self._call("forward_dynamics_derivatives", (x, xd, tau), return_mask),
                       return_mask)
+
+    def joint_cosines(self, x, axes=None, *, return_mask=False):
+        """The cosines of the universal- and spherical-joint angles at poses ``x`` and their exact
+        gradient in the pose, a :class:`JointCosines` ``(cosines, dcosines_dx)``: leg i's unit
+        vector ``u_i = l_i / |l_i|`` (eq. 26) against its neutral axis ``a_i``, fixed in {B} for the
+        universal joint (``u_i . a_i``, columns 0-5) and in {P} for the spherical joint
+        (``u_i . R a_i``, columns 6-11); shapes ``(..., 12)`` and ``(..., 12, 6)``. ``axes``
+        ``(6, 3)`` (one per leg, a unit vector in each) defaults to the legs' unit vectors at the
+        home pose, the neutral axes of :func:`stewart.model.reachability.joint_angles`."""
+        if axes is None:
+            axes = self._neutral
+        else:
+            axes = arguments.states("axes", axes, 3)
+            if axes.shape != (6, 3):
+                raise ValueError(f"axes: expected shape (6, 3), one axis per leg, got {axes.shape}")
+        return _named(JointCosines, self._call("joint_cosines", (x, axes[:, 0], axes[:, 1], axes[:, 2]),
+                                               return_mask), return_mask)
+
+    def rider_signals(self, x, xd, xdd, *, return_mask=False):
+        """What a rider at the origin of {P} senses at poses ``x``, pose rates ``xd`` and pose
+        accelerations ``xdd``, with its exact Jacobians, a :class:`RiderSignals` ``(y, dy_dx,
+        dy_dxd, dy_dxdd)``: ``y = [f; w]``, the specific force ``f = R^T (a + g e_z)`` (``a`` the
+        acceleration of {P}'s origin, ``g`` the parameters' gravity) and the angular velocity ``w
+        = R^T J_A [psi', theta', phi']`` (eq. 8), both in {P}
+        (:func:`stewart.cueing.vestibular.platform_signals`); row = output, column = input, each
+        Jacobian of shape ``(..., 6, 6)``."""
+        return _named(RiderSignals, self._call("rider_signals", (x, xd, xdd), return_mask), return_mask)
 
     def rk4_step(self, x, xd, tau, dt, *, jacobians=False, return_mask=False):
         """One classic RK4 step of ``[x; xdot]`` under forces ``tau`` held over ``dt`` seconds (a
