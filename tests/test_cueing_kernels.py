@@ -11,6 +11,8 @@ numpy evaluation (no cancellation: exact to round-off).
 
 from __future__ import annotations
 
+import importlib
+
 import numpy as np
 import pytest
 
@@ -162,3 +164,25 @@ def test_rider_signals_against_platform_signals_and_complex_step(platform, figur
     # at rest, level: f = [0, 0, g], w = 0
     rest = platform.rider_signals(platform.home_pose, np.zeros(6), np.zeros(6)).y
     np.testing.assert_array_equal(rest, [0.0, 0.0, g, 0.0, 0.0, 0.0])
+
+
+@pytest.mark.parametrize("name", ["rotation_and_partials", "signals_and_jacobians", "joint_cosines_and_gradients"])
+def test_the_prediction_kinematics_kept_as_deprecated_names_give_what_they_gave(name):
+    """The numpy functions the prediction model held (their formulation kept in
+    benchmarks.cueing_anchor) still answer under their old paths, from the generated functions,
+    with a DeprecationWarning naming what replaces them."""
+    from benchmarks import cueing_anchor
+
+    plat = stewart.Platform.preset("narayan2017")
+    x, v, u = states(plat, np.random.default_rng(5), 20)
+    args = {"rotation_and_partials": (x,), "signals_and_jacobians": (x, v, u, 9.5),
+            "joint_cosines_and_gradients": (x, plat.params.base_points, plat.params.platform_points,
+                                            neutral_axes(plat))}[name]
+    with pytest.warns(DeprecationWarning) as caught:
+        old = getattr(importlib.import_module("stewart.cueing.prediction"), name)  # the module's old path too
+    assert any(str(w.message).startswith(f"stewart.cueing.horizon.{name} is deprecated: use stewart.Platform.")
+               for w in caught)
+    got, want = old(*args), getattr(cueing_anchor, name)(*args)
+    for g, w in zip(got, want):
+        assert g.shape == w.shape
+        assert np.max(np.abs(g - w)) <= 1e-13  # reached 2.3e-15

@@ -15,9 +15,13 @@ vestibular model (:mod:`stewart.cueing.vestibular`) in discrete time.
 
 from __future__ import annotations
 
+import warnings
+
 import numpy as np
 from scipy import signal
 
+from ..model.params import PlatformParams
+from ..model.platform import Platform
 from . import vestibular
 
 __all__ = ["VestibularStates", "midpoint"]
@@ -70,3 +74,41 @@ def _sections(tf: signal.TransferFunction) -> tuple[np.ndarray, np.ndarray]:
 def midpoint(p, v, u, h):
     """Pose and rates at the middle of an interval of length ``h`` under acceleration ``u``."""
     return p + 0.5 * h * v + 0.125 * h * h * u, v + 0.5 * h * u
+
+
+#: The numpy prediction kinematics this module held, now the model's generated functions:
+#: deprecated, each through a platform of the geometry and gravity it names (the rotation and the
+#: rider's signals depend on none of the rest), until 0.3.0.
+_DEPRECATED = {
+    "rotation_and_partials": "stewart.Platform.rotation(x, partials=True)",
+    "signals_and_jacobians": "stewart.Platform.rider_signals",
+    "joint_cosines_and_gradients": "stewart.Platform.joint_cosines",
+}
+
+
+def _platform(**changes) -> Platform:
+    return Platform(PlatformParams.preset("motion_simulator").replace(**changes))
+
+
+def _rotation_and_partials(x) -> np.ndarray:
+    """``(4, N, 3, 3)``: ``R`` of the poses ``x`` ``(N, 6)`` and its partials in psi, theta, phi."""
+    return np.stack(_platform().rotation(np.atleast_2d(x), partials=True))
+
+
+def _signals_and_jacobians(x, v, u, gravity):
+    """``(y, dy/dx, dy/dv, dy/du)`` of the rider's signals, ``(N, 6)`` and ``(N, 6, 6)``."""
+    return tuple(_platform(gravity=gravity).rider_signals(*(np.atleast_2d(a) for a in (x, v, u))))
+
+
+def _joint_cosines_and_gradients(x, base_points, platform_points, neutral):
+    """The joints' cosines ``(N, 12)`` and their pose gradients ``(N, 12, 6)``."""
+    plat = _platform(base_points=base_points, platform_points=platform_points)
+    return tuple(plat.joint_cosines(np.atleast_2d(x), neutral))
+
+
+def __getattr__(name: str):
+    if name not in _DEPRECATED:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    warnings.warn(f"{__name__}.{name} is deprecated: use {_DEPRECATED[name]} (generated, with exact Jacobians); "
+                  "it goes in 0.3.0", DeprecationWarning, stacklevel=2)
+    return globals()[f"_{name}"]
