@@ -100,9 +100,10 @@ def _signals_and_jacobians(x, v, u, gravity):
     return tuple(_platform(gravity=gravity).rider_signals(*(np.atleast_2d(a) for a in (x, v, u))))
 
 
-def _joint_cosines_and_gradients(x, base_points, platform_points, neutral):
-    """The joints' cosines ``(N, 12)`` and their pose gradients ``(N, 12, 6)``."""
-    plat = _platform(base_points=base_points, platform_points=platform_points)
+def _joint_cosines_and_gradients(x, base, joints, neutral):
+    """The joints' cosines ``(N, 12)`` and their pose gradients ``(N, 12, 6)`` of the platform
+    whose base and platform joints are ``base`` and ``joints`` ``(6, 3)``."""
+    plat = _platform(base_points=base, platform_points=joints)
     return tuple(plat.joint_cosines(np.atleast_2d(x), neutral))
 
 
