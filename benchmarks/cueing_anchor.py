@@ -38,11 +38,11 @@ def _vehicle_at(times, t, y, preview: bool, now: float):
 
 def rotation_and_partials(x) -> np.ndarray:
     """``R = Rz(psi) Ry(theta) Rx(phi)`` of poses ``x`` ``(N, 6)`` and its partials in psi,
-    theta and phi, entry by entry: ``(4, N, 3, 3)``."""
+    theta and phi, entry by entry: ``(4, N, 3, 3)`` (of complex poses too)."""
     cps, sps = np.cos(x[:, 3]), np.sin(x[:, 3])
     cth, sth = np.cos(x[:, 4]), np.sin(x[:, 4])
     cph, sph = np.cos(x[:, 5]), np.sin(x[:, 5])
-    r = np.zeros((4, len(x), 3, 3))
+    r = np.zeros((4, len(x), 3, 3), dtype=x.dtype)
     r[0, :, 0] = np.stack([cps * cth, cps * sth * sph - sps * cph, cps * sth * cph + sps * sph], -1)
     r[0, :, 1] = np.stack([sps * cth, sps * sth * sph + cps * cph, sps * sth * cph - cps * sph], -1)
     r[0, :, 2] = np.stack([-sth, cth * sph, cth * cph], -1)

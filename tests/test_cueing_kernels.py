@@ -2,8 +2,9 @@
 cosines and their pose gradient) and ``Platform.rider_signals`` (the rider's specific force and
 angular velocity with their Jacobians).
 
-The oracles are the numpy formulations MPC cueing used before they were generated, kept here
-(rotation partials written entry by entry, the gradient of the unit leg vector by hand), the
+The oracles are the numpy formulations MPC cueing used before they were generated (the rotation
+partials written entry by entry, from the anchor of the MPC step's benchmark,
+``benchmarks/cueing_anchor.py``; the gradient of the unit leg vector by hand, here), the
 joint angles of :func:`stewart.model.reachability.joint_angles` and the signals of
 :func:`stewart.cueing.vestibular.platform_signals`, and complex-step derivatives of a complex
 numpy evaluation (no cancellation: exact to round-off).
@@ -19,6 +20,7 @@ import pytest
 import stewart
 from stewart.cueing import vestibular
 from stewart.model.reachability import joint_angles, neutral_axes
+from benchmarks.cueing_anchor import rotation_and_partials
 from conftest import PRESETS, make_general
 
 STATES = 64
@@ -27,26 +29,6 @@ STATES = 64
 def states(plat, rng, n=STATES):
     x = plat.home_pose + rng.normal(0.0, [0.04, 0.04, 0.03, 0.1, 0.1, 0.1], (n, 6))
     return x, rng.normal(0.0, 0.5, (n, 6)), rng.normal(0.0, 3.0, (n, 6))
-
-
-def rotation_and_partials(x):
-    """``R = Rz(psi) Ry(theta) Rx(phi)`` of poses ``(N, 6)`` and its partials in psi, theta, phi,
-    entry by entry: ``(4, N, 3, 3)`` (complex poses welcome)."""
-    cps, sps = np.cos(x[:, 3]), np.sin(x[:, 3])
-    cth, sth = np.cos(x[:, 4]), np.sin(x[:, 4])
-    cph, sph = np.cos(x[:, 5]), np.sin(x[:, 5])
-    r = np.zeros((4, len(x), 3, 3), dtype=x.dtype)
-    r[0, :, 0] = np.stack([cps * cth, cps * sth * sph - sps * cph, cps * sth * cph + sps * sph], -1)
-    r[0, :, 1] = np.stack([sps * cth, sps * sth * sph + cps * cph, sps * sth * cph - cps * sph], -1)
-    r[0, :, 2] = np.stack([-sth, cth * sph, cth * cph], -1)
-    r[1, :, 0] = -r[0, :, 1]
-    r[1, :, 1] = r[0, :, 0]
-    r[2, :, 0] = np.stack([-cps * sth, cps * cth * sph, cps * cth * cph], -1)
-    r[2, :, 1] = np.stack([-sps * sth, sps * cth * sph, sps * cth * cph], -1)
-    r[2, :, 2] = np.stack([-cth, -sth * sph, -sth * cph], -1)
-    r[3, :, :, 1] = r[0, :, :, 2]
-    r[3, :, :, 2] = -r[0, :, :, 1]
-    return r
 
 
 def joint_cosines_oracle(x, base_points, platform_points, neutral):
