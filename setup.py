@@ -184,8 +184,9 @@ class BuildKernel(build_ext):
 
 extensions = [
     # The model's array wrapper with the simulation loop and the envelope's reduction
-    # (stewart/_simulate.pxi, stewart/_envelope.pxi) and the modes (stewart/_modes.pxi, calling
-    # LAPACK through scipy.linalg.cython_lapack), included, linked with the copies of the
+    # (stewart/_simulate.pxi, stewart/_envelope.pxi), the modes (stewart/_modes.pxi, calling
+    # LAPACK through scipy.linalg.cython_lapack) and MPC cueing's step (stewart/_cueing.pxi and
+    # its rows, stewart/_cueing_rows.pxi, calling BLAS through scipy.linalg.cython_blas), included, linked with the copies of the
     # model (BuildKernel, which also runs Cython on it).
     Extension(
         "stewart._kernel", sources=["stewart/_kernel.pyx"],
@@ -196,7 +197,7 @@ extensions = [
         # the model, its header or this script change. generated/stewart_model.pxd, the model's
         # Cython declarations, is cimported by stewart/_kernel.pxd.
         depends=["stewart/_kernel.pxd", "stewart/_simulate.pxi", "stewart/_envelope.pxi", "stewart/_modes.pxi",
-                 "stewart/_rotary.pxi"] + MODEL
+                 "stewart/_cueing.pxi", "stewart/_cueing_rows.pxi", "stewart/_rotary.pxi"] + MODEL
         + ["generated/stewart_model.pxd", "generated/stewart_rotary.pxd", "setup.py"],
     ),
 ]

@@ -159,3 +159,31 @@ def momentum_rate_force(g, P, kin, m, gravity, tag):
     legs = [(P.m_C * rate(v_C) + w_C, P.m_S * rate(v_S) + w_S, rate(h_L))
             for v_C, v_S, h_L in m.legs]
     return generalized_force(P, kin, platform, legs, g, tag)
+
+
+def axisymmetric_leg_force(g, P, leg, w, a, tag):
+    """The force f at P_i of an axisymmetric leg of the paper's model (`leg_force` with
+    `leg_momenta`'s I_t omega_l), in closed form from the leg's Lagrangian in its leg vector
+    l (P_i's velocity w = l', acceleration a = w'; the leg's configuration is l alone, as it
+    does not spin, eq. 29).  With s = u . w and w_p = w - s u (|w_p| = L |omega_l|), the piston's
+    centre of mass moving with s u + (L - b_S) omega_l x u (eqs. 55-57), the cylinder's with
+    b_C omega_l x u (eq. 27), the kinetic energy is T = 1/2 w^T K w, K = k E + (m_S - k) u u^T
+    with k = J / L^2, J = I_t + m_C b_C^2 + m_S (L - b_S)^2 (I_t = I_C,yy + I_S,yy, eq. 65),
+    and the potential V = g (m_C b_C + m_S (L - b_S)) u_z (eqs. 72-76).  Lagrange's equations
+    f = d/dt dT/dw - dT/dl + dV/dl give
+    f = K a + k_L s w_p + ((m_S - k) / L - k_L / 2) |w_p|^2 u + g m_S e_z
+        + g (m_C b_C - m_S b_S) (e_z - u_z u) / L,
+    k_L = dk/dL = 2 (m_S (L - b_S) - k L) / L^2; K is the leg's part of M_t
+    (`dynamics.twist_mass_matrix`).  No rates by forward mode, and F_a = K."""
+    u, iL2 = leg.u, g.known(leg.L2 ** -1)
+    iL = g.known(leg.L * iL2)
+    s = g.define(f'{tag}s', dot(u, w))
+    w_p = g.vector(f'{tag}wp', w - s * u)
+    J = P.I_C[1] + P.I_S[1] + P.m_C * P.b_C ** 2 + P.m_S * (leg.L - P.b_S) ** 2
+    k = g.define(f'{tag}k', J * iL2)
+    k_L = g.define(f'{tag}kL', 2 * (P.m_S * (leg.L - P.b_S) - k * leg.L) * iL2)
+    ez = sp.Matrix([0, 0, 1])
+    lift = P.g * (P.m_C * P.b_C - P.m_S * P.b_S) * iL
+    along_u = g.define(f'{tag}fu', (P.m_S - k) * dot(u, a) + ((P.m_S - k) * iL - k_L / 2) * dot(w_p, w_p)
+                       - lift * u[2])
+    return k * a + (k_L * s) * w_p + along_u * u + (P.g * P.m_S + lift) * ez

@@ -11,7 +11,7 @@ coming from `leg_points_kernel` (or, for the inverse dynamics, from its own kern
 
 import sympy as sp
 
-from .bodies import (gravity_forces, leg_force, leg_momenta, platform_angular_momentum, platform_force,
+from .bodies import (axisymmetric_leg_force, gravity_forces, leg_force, leg_momenta, platform_angular_momentum, platform_force,
                      platform_velocity)
 from .dynamics import inverse_dynamics
 from .graph import Graph, Tangent, cross, dot, skew, symbols
@@ -156,7 +156,8 @@ def leg_derivatives_kernel(variant):
     twist-level coordinates (`TWIST`).  The leg acts on the platform as the force f at P_i
     (r gets [f; r_i x f], see `generalized_force`): the leg momenta (eqs. 27-29, 55-57, 65)
     and their rates by forward mode along l' = w, w' = a, gravity (eqs. 72-76) and the
-    actuator force, f = f_legs - tau_i u_i; and its Jacobians F_w, F_a (symmetric, the leg's
+    actuator force, f = f_legs - tau_i u_i (for axisymmetric legs f_legs in closed form,
+    `bodies.axisymmetric_leg_force`: half the operations of the leg's chain); and its Jacobians F_w, F_a (symmetric, the leg's
     mass at P_i: its upper triangle) and F_l = df/d(w, a, l) by forward mode along each of
     the leg's variables (for axisymmetric legs F_l from the others, `_rotation_jacobian`).
     They are chained to the platform's motion through l = p + r - b, w = v + omega x r,
@@ -180,11 +181,14 @@ def leg_derivatives_kernel(variant):
     g = Graph({**dict(zip(l, w)), **dict(zip(w, a)), **along(w)})
     general = variant == 'general'
     leg = leg_geometry(g, l, None, 'i', variant == 'frames', (L, h), axis=sp.Matrix(LEG_AXIS) if general else None)
-    v_C, v_S, h_L = leg_momenta(g, P, leg, w, variant, 'i')
-    _, w_C, w_S = gravity_forces(P, True)
-    rate = lambda vec: vec.applyfunc(g.rate)
-    f = g.vector('ires', leg_force(g, P, leg, P.m_C * rate(v_C) + w_C, P.m_S * rate(v_S) + w_S, rate(h_L), 'i')
-                 - LEG_TAU[0] * leg.u)
+    if variant == 'axisym':
+        f = g.vector('ires', axisymmetric_leg_force(g, P, leg, w, a, 'i') - LEG_TAU[0] * leg.u)
+    else:
+        v_C, v_S, h_L = leg_momenta(g, P, leg, w, variant, 'i')
+        _, w_C, w_S = gravity_forces(P, True)
+        rate = lambda vec: vec.applyfunc(g.rate)
+        f = g.vector('ires', leg_force(g, P, leg, P.m_C * rate(v_C) + w_C, P.m_S * rate(v_S) + w_S, rate(h_L), 'i')
+                     - LEG_TAU[0] * leg.u)
 
     def jacobian(point, entries, tag):
         """df/d(point) (3 x 3), the given (row, column) entries by forward mode along each column."""

@@ -330,6 +330,8 @@ def emit_kernel(kernel, param_members, params_type='stewart_params'):
     lines += [f'    const double {s.name} = p->{member};' for s, member in param_members if s in used]
     if not any(s in used for s, _ in param_members):
         lines.append('    (void)p;')
+    # an input a variant does not read (the C example's -Werror builds see unused parameters)
+    lines += [f'    (void){name};' for name, syms in kernel.inputs if not any(s in used for s in syms)]
     indent = '    '
     if lanes > 1:
         sums = [(name, len(exprs)) for name, exprs in kernel.outputs if name in kernel.sums]

@@ -276,3 +276,75 @@ def euler_maps_kernel():
     kin = kinematics(g, PARAMS)
     return KernelSpec('euler_maps', euler_maps_kernel.__doc__ + ' Row-major.', g, [('x', X)],
                       [('JA', list(kin.J_A)), ('JAinv', list(euler_rates_inverse(kin))), ('ctheta', [kin.c_theta])])
+
+
+#: The Euler angles, the last three coordinates of the pose, in the order of x.
+EULER_ANGLES = ('psi', 'theta', 'phi')
+
+
+def rotation_kernel(partials):
+    """R = Rz(psi) Ry(theta) Rx(phi), {P} in {B} (eq. 3), with `partials` also its partials
+    along psi, theta and phi (forward mode on R's definition), each row-major."""
+    g = Graph({})
+    kin = kinematics(g, PARAMS)
+    out = [('R', list(kin.R))]
+    if partials:
+        columns = g.partials(list(kin.R), X[3:], 'dR')  # row: entry of R; column: angle
+        out += [(f'dR_d{angle}', [row[k] for row in columns]) for k, angle in enumerate(EULER_ANGLES)]
+    return KernelSpec('rotation_partials' if partials else 'rotation', rotation_kernel.__doc__, g, [('x', X)], out)
+
+
+def euler_rate_partials_kernel():
+    """J_A (eq. 8) and its partials along psi, theta and phi (forward mode on its definition),
+    each row-major."""
+    g = Graph({})
+    kin = kinematics(g, PARAMS)
+    partials = g.partials(list(kin.J_A), X[3:], 'dJA')  # row: entry of J_A; column: angle
+    return KernelSpec('euler_rate_partials', euler_rate_partials_kernel.__doc__, g, [('x', X)],
+                      [('JA', list(kin.J_A))] + [(f'dJA_d{angle}', [row[k] for row in partials])
+                                                 for k, angle in enumerate(EULER_ANGLES)])
+
+
+def leg_vectors_kernel():
+    """The leg vectors l_i = p + R p_i - b_i (eq. 26), leg-major, row i = l_i; no test of
+    their lengths."""
+    g = Graph({})
+    kin = kinematics(g, PARAMS)
+    return KernelSpec('leg_vectors', leg_vectors_kernel.__doc__, g, [('x', X)],
+                      [('l', [c for leg in kin.legs for c in leg.l])])
+
+
+def leg_unit_vectors_kernel(gradients):
+    """The unit vectors u_i = l_i / |l_i| (eqs. 25, 26), leg-major, with `gradients` also their
+    pose gradients du_dx[i, a, j] = d u_i,a / d x_j (forward mode on u_i's definition along each
+    x_j: dl_i/dp = I, dl_i/d angle = dR/d angle p_i)."""
+    g = Graph({})
+    kin = kinematics(g, PARAMS)
+    units = [c for leg in kin.legs for c in leg.u]
+    out = [('u', units)]
+    if gradients:
+        out.append(('du_dx', [d for row in g.partials(units, X, 'du') for d in row]))
+    return KernelSpec('leg_unit_vector_gradients' if gradients else 'leg_unit_vectors',
+                      leg_unit_vectors_kernel.__doc__, g, [('x', X)], out + leg_checks(kin))
+
+
+#: The inputs of `modal_stiffness_kernel`: J_C (eq. 5), the legs' stiffnesses k, the static
+#: forces' Jacobian dtau_s/dx and J_A^-1 (eq. 8), each row-major.
+MODAL_JC = symbols('mJC', 36)
+MODAL_K = symbols('mk', 6)
+MODAL_DTAU = symbols('mD', 36)
+MODAL_JAINV = symbols('mJi', 9)
+
+
+def modal_stiffness_kernel():
+    """K_t = J_C^T (diag(k) J_C + dtau_s/dx T^-1), T^-1 = blockdiag(I, J_A^-1) (eqs. 5, 8, 18):
+    the twist-space stiffness of the platform on leg springs k preloaded by the static forces
+    tau_s, row-major and not symmetrized (stewart.model.stiffness)."""
+    g = Graph({})
+    jac, dtau, inv = (sp.Matrix(6, 6, MODAL_JC), sp.Matrix(6, 6, MODAL_DTAU), sp.Matrix(3, 3, MODAL_JAINV))
+    t_inv = sp.diag(sp.eye(3), inv)
+    inner = sp.Matrix(6, 6, [g.define(f'Kin_{i}{j}', MODAL_K[i] * jac[i, j] + (dtau[i, :] * t_inv[:, j])[0])
+                             for i in range(6) for j in range(6)])
+    return KernelSpec('modal_stiffness', modal_stiffness_kernel.__doc__, g,
+                      [('JC', MODAL_JC), ('k', MODAL_K), ('dtau_dx', MODAL_DTAU), ('JAinv', MODAL_JAINV)],
+                      [('Kt', list(jac.T * inner))])

@@ -10,13 +10,17 @@ from dataclasses import dataclass
 from functools import partial
 
 from . import linsolve
+from .calibration import (LEG_PARTIALS, leg_residual_jacobians_kernel, leg_residuals_kernel, target_jacobian_kernel,
+                          target_positions_kernel)
+from .cueing import joint_cosines_kernel, rider_signals_kernel
 from .derivatives import (inverse_dynamics_points_kernel, leg_derivatives_kernel, leg_points_kernel,
                           residual_derivatives_kernel, static_derivatives_kernel)
 from .dynamics import (REGRESSOR_VARIANTS, RIGID_BODY, coriolis_product_kernel, gravity_kernel,
                        inverse_dynamics_kernel, joint_forces_kernel, joint_reactions_kernel, regressor_kernel,
                        static_forces_kernel, twist_mass_matrix_kernel)
-from .kinematics import (MODELS, VARIANTS, euler_maps_kernel, jacobian_kernel, leg_accelerations_kernel,
-                         leg_lengths_kernel, leg_rates_kernel)
+from .kinematics import (MODELS, VARIANTS, euler_maps_kernel, euler_rate_partials_kernel, jacobian_kernel,
+                         leg_accelerations_kernel, leg_lengths_kernel, leg_rates_kernel, leg_unit_vectors_kernel,
+                         leg_vectors_kernel, modal_stiffness_kernel, rotation_kernel)
 from .schema import FRICTION_PARAMETERS, RIGID_BODY_PARAMETERS
 
 
@@ -210,4 +214,67 @@ FUNCTIONS = (
              ('x', 'xd', 'tau'), (('xn', (6,)), ('xdn', (6,)), ('A', (12, 12)), ('B', (12, 6))), (), scalars=('dt',),
              template='vector.c', results=('x', 'xd', 'A', 'B'), result_type='StepDerivatives',
              option=('rk4_step', 'jacobians')),
+    # Kinematic calibration (`calibration`).
+    Function('leg_residuals', 'The calibration residuals r_i = e_i + delta_i - |l_i| (eq. 26) of the encoder'
+             ' readings e: the measured less the modelled leg lengths, delta the leg_length_offsets (a zero'
+             ' length is not an error here).', ('x', 'readings'), (('r', (6,)),), (leg_residuals_kernel,)),
+    Function('leg_residual_jacobians', 'The exact partials of stewart_leg_residuals: dr_dtheta, per leg i (7 a'
+             f' leg, row-major) those in its own parameters, {LEG_PARTIALS}: [u_i, -R^T u_i, 1] (u_i = l_i /'
+             ' |l_i|; the other 35 of the 42 parameters b, p, delta are zero), and dr_dx = -J_C T (eqs. 5, 8,'
+             ' 18).', ('x',), (('dr_dtheta', (6, 7)), ('dr_dx', (6, 6))), (leg_residual_jacobians_kernel,),
+             result_type='LegResidualJacobians'),
+    Function('target_positions', 'The position q = t + R c in {B} of a target at c in {P} (c: the first three'
+             ' doubles of offsets; the other three are not read, but must be finite).', ('x', 'offsets'),
+             (('q', (3,)),), (target_positions_kernel,)),
+    Function('target_jacobian', 'dq/dx = [E, -[R c]x J_A] (3 x 6, row-major) of the target position q = t +'
+             ' R c of stewart_target_positions (eq. 8).', ('x', 'offsets'), (('dq_dx', (3, 6)),),
+             (target_jacobian_kernel,)),
+    Function('rotation', 'R = Rz(psi) Ry(theta) Rx(phi), {P} in {B} (eq. 3), 3 x 3 row-major.', ('x',),
+             (('R', (3, 3)),), (partial(rotation_kernel, False),)),
+    Function('rotation_partials', 'R = Rz(psi) Ry(theta) Rx(phi), {P} in {B} (eq. 3), and its partials along psi,'
+             ' theta and phi, each 3 x 3 row-major.', ('x',),
+             (('R', (3, 3)), ('dR_dpsi', (3, 3)), ('dR_dtheta', (3, 3)), ('dR_dphi', (3, 3))),
+             (partial(rotation_kernel, True),),
+             result_type='RotationPartials', option=('rotation', 'partials')),
+    Function('euler_rate_jacobian', 'J_A (eq. 8): omega = J_A [psi\', theta\', phi\'], 3 x 3 row-major.', ('x',),
+             (('JA', (3, 3)),), (euler_maps_kernel,)),
+    Function('euler_rate_jacobian_partials', 'J_A (eq. 8) and its partials along psi, theta and phi, each 3 x 3'
+             ' row-major.', ('x',), (('JA', (3, 3)), ('dJA_dpsi', (3, 3)), ('dJA_dtheta', (3, 3)), ('dJA_dphi', (3, 3))),
+             (euler_rate_partials_kernel,), result_type='EulerRateJacobianPartials',
+             option=('euler_rate_jacobian', 'partials')),
+    Function('inverse_euler_rate_jacobian', 'J_A^-1 (eq. 8 inverted): the Euler rates of an angular velocity in {B},'
+             ' 3 x 3 row-major; needs cos(theta) != 0.', ('x',), (('JAinv', (3, 3)),), (euler_maps_kernel,),
+             steps=(('check_euler', ('ctheta',)),)),
+    Function('leg_vectors', 'The leg vectors l_i = p + R p_i - b_i (eq. 26), row i = l_i (a zero length is not an'
+             ' error here).', ('x',), (('l', (6, 3)),), (leg_vectors_kernel,)),
+    Function('leg_unit_vectors', 'The unit leg vectors u_i = l_i / |l_i| (eqs. 25, 26), row i = u_i.', ('x',),
+             (('u', (6, 3)),), (partial(leg_unit_vectors_kernel, False),)),
+    Function('leg_unit_vector_gradients', 'The unit leg vectors u_i = l_i / |l_i| (eqs. 25, 26), row i = u_i, and'
+             ' their pose gradients du_dx[i][a][j] = d u_i,a / d x_j.', ('x',), (('u', (6, 3)), ('du_dx', (6, 3, 6))),
+             (partial(leg_unit_vectors_kernel, True),), result_type='LegUnitVectors',
+             option=('leg_unit_vectors', 'gradients')),
+    Function('modal_stiffness', 'The twist-space stiffness K_t = J_C^T (diag(k) J_C + dtau_s/dx T^-1), T^-1 ='
+             ' blockdiag(I, J_A^-1) (eqs. 5, 8, 18), of the platform on leg springs of stiffness k (one per leg)'
+             ' preloaded by the static forces tau_s, not symmetrized, with J_C and the twist-space mass matrix M_t:'
+             ' K_t phi = w^2 M_t phi gives its modes; needs cos(theta) != 0.', ('x', 'k'),
+             (('Kt', (6, 6)), ('JC', (6, 6)), ('Mt', (6, 6))), (),
+             steps=(Kernels(TWIST_MASS_MATRIX, ('x',)), Kernels(STATIC_FORCES, ('x',)),
+                    ('bareiss_factor', ('JC', 'FJ')), ('bareiss_solve', ('FJ', '1', '1', 'W', 'tau')),
+                    Kernels(STATIC_DERIVATIVES, ('x', 'tau')), ('bareiss_solve', ('FJ', '6', '6', 'Z', 'dtau_dx')),
+                    Kernels((euler_maps_kernel,), ('x',)), ('check_euler', ('ctheta',)),
+                    Kernels((modal_stiffness_kernel,), ('JC', 'k', 'dtau_dx', 'JAinv'))),
+             scratch=(_BAREISS_FACTORS, ('tau', 6), ('dtau_dx', 36)), result_type='ModalStiffness'),
+    Function('joint_cosines',
+             'The cosines of the universal- and spherical-joint angles, c = [u_i . a_i; u_i . R a_i] (12) with'
+             ' u_i = l_i / |l_i| (eq. 26) and a_i the joints\' neutral axes (ax, ay, az: their x, y and z'
+             ' components, one per leg), the universal joint\'s fixed in {B}, the spherical joint\'s in {P};'
+             ' and their gradient in the pose dc/dx (12 x 6).',
+             ('x', 'ax', 'ay', 'az'), (('c', (12,)), ('dc_dx', (12, 6))), (joint_cosines_kernel,),
+             results=('cosines', 'dcosines_dx'), result_type='JointCosines'),
+    Function('rider_signals',
+             'What a rider at the origin of {P} senses: y = [f; w], the specific force f = R^T (a + g e_z) and'
+             ' the angular velocity w = R^T J_A [psi\', theta\', phi\'] (eq. 8), in {P}; and their Jacobians'
+             ' in the pose, its rates and its accelerations (row = output, column = input).',
+             ('x', 'xd', 'xdd'), (('y', (6,)), ('dy_dx', (6, 6)), ('dy_dxd', (6, 6)), ('dy_dxdd', (6, 6))),
+             (rider_signals_kernel,), result_type='RiderSignals'),
 )

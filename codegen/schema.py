@@ -73,6 +73,8 @@ PARAM_FIELDS = (
                source='spinless_legs_in_model', field='universal_joint_axes'),
     ParamField('coulomb_velocity', 'v_c', (), 'v_c > 0, m/s: the smooth sign tanh(Ld / v_c) of the Coulomb '
                'friction of a leg moving at Ld (the regressor)'),
+    ParamField('leg_length_offsets', 'delta', (6,), 'delta_i, m: encoder zero offsets, the true leg length '
+               'the encoder reading plus delta_i (the calibration residuals, stewart_leg_residuals)', symbol='dlt'),
 )
 
 #: `PlatformParams` fields with no member in `stewart_params`, and why.
@@ -88,7 +90,6 @@ LEFT_OUT = {
     'coulomb_friction': 'actuator friction: a column of the regressor (stewart_regressor), not in the rigid-body model',
     'leg_stiffness': 'the legs as springs: the stiffness and modes (stewart.model.stiffness), not in the rigid-body model',
     'leg_damping': 'the legs as dampers: the damping ratios (stewart.model.stiffness), not in the rigid-body model',
-    'leg_length_offsets': 'encoder zero offsets: the C model takes true leg lengths (encoder reading + offset)',
 }
 
 #: The inertial parameters pi of the regressor (tau = Y pi, `dynamics.regressor_kernel`), in its

@@ -28,10 +28,25 @@
  *   16  regressor
  *   17  rk4_step
  *   18  rk4_step_derivatives
+ *   19  leg_residuals
+ *   20  leg_residual_jacobians
+ *   21  target_positions
+ *   22  target_jacobian
+ *   23  rotation
+ *   24  rotation_partials
+ *   25  euler_rate_jacobian
+ *   26  euler_rate_jacobian_partials
+ *   27  inverse_euler_rate_jacobian
+ *   28  leg_vectors
+ *   29  leg_unit_vectors
+ *   30  leg_unit_vector_gradients
+ *   31  modal_stiffness
+ *   32  joint_cosines
+ *   33  rider_signals
  */
-#define STEWART_FUNCTIONS 19
+#define STEWART_FUNCTIONS 34
 /* The most input arrays and output arrays a public function has. */
-#define STEWART_MAX_INPUTS 3
+#define STEWART_MAX_INPUTS 4
 #define STEWART_MAX_OUTPUTS 4
 
 /* A public function in one calling convention (the table's `call`): its batch function on n
@@ -72,6 +87,21 @@ typedef struct {
     int (*regressor)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *Y);
     int (*rk4_step)(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn);
     int (*rk4_step_derivatives)(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B);
+    int (*leg_residuals)(const stewart_params *p, const double *x, const double *readings, double *r);
+    int (*leg_residual_jacobians)(const stewart_params *p, const double *x, double *dr_dtheta, double *dr_dx);
+    int (*target_positions)(const stewart_params *p, const double *x, const double *offsets, double *q);
+    int (*target_jacobian)(const stewart_params *p, const double *x, const double *offsets, double *dq_dx);
+    int (*rotation)(const stewart_params *p, const double *x, double *R);
+    int (*rotation_partials)(const stewart_params *p, const double *x, double *R, double *dR_dpsi, double *dR_dtheta, double *dR_dphi);
+    int (*euler_rate_jacobian)(const stewart_params *p, const double *x, double *JA);
+    int (*euler_rate_jacobian_partials)(const stewart_params *p, const double *x, double *JA, double *dJA_dpsi, double *dJA_dtheta, double *dJA_dphi);
+    int (*inverse_euler_rate_jacobian)(const stewart_params *p, const double *x, double *JAinv);
+    int (*leg_vectors)(const stewart_params *p, const double *x, double *l);
+    int (*leg_unit_vectors)(const stewart_params *p, const double *x, double *u);
+    int (*leg_unit_vector_gradients)(const stewart_params *p, const double *x, double *u, double *du_dx);
+    int (*modal_stiffness)(const stewart_params *p, const double *x, const double *k, double *Kt, double *JC, double *Mt);
+    int (*joint_cosines)(const stewart_params *p, const double *x, const double *ax, const double *ay, const double *az, double *c, double *dc_dx);
+    int (*rider_signals)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *y, double *dy_dx, double *dy_dxd, double *dy_dxdd);
     int (*batch_leg_lengths)(const stewart_params *p, size_t n, const double *x, double *L, int *status);
     int (*batch_jacobian)(const stewart_params *p, size_t n, const double *x, double *JC, int *status);
     int (*batch_leg_rates)(const stewart_params *p, size_t n, const double *x, const double *xd, double *LLd, int *status);
@@ -91,6 +121,21 @@ typedef struct {
     int (*batch_regressor)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Y, int *status);
     int (*batch_rk4_step)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status);
     int (*batch_rk4_step_derivatives)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B, int *status);
+    int (*batch_leg_residuals)(const stewart_params *p, size_t n, const double *x, const double *readings, double *r, int *status);
+    int (*batch_leg_residual_jacobians)(const stewart_params *p, size_t n, const double *x, double *dr_dtheta, double *dr_dx, int *status);
+    int (*batch_target_positions)(const stewart_params *p, size_t n, const double *x, const double *offsets, double *q, int *status);
+    int (*batch_target_jacobian)(const stewart_params *p, size_t n, const double *x, const double *offsets, double *dq_dx, int *status);
+    int (*batch_rotation)(const stewart_params *p, size_t n, const double *x, double *R, int *status);
+    int (*batch_rotation_partials)(const stewart_params *p, size_t n, const double *x, double *R, double *dR_dpsi, double *dR_dtheta, double *dR_dphi, int *status);
+    int (*batch_euler_rate_jacobian)(const stewart_params *p, size_t n, const double *x, double *JA, int *status);
+    int (*batch_euler_rate_jacobian_partials)(const stewart_params *p, size_t n, const double *x, double *JA, double *dJA_dpsi, double *dJA_dtheta, double *dJA_dphi, int *status);
+    int (*batch_inverse_euler_rate_jacobian)(const stewart_params *p, size_t n, const double *x, double *JAinv, int *status);
+    int (*batch_leg_vectors)(const stewart_params *p, size_t n, const double *x, double *l, int *status);
+    int (*batch_leg_unit_vectors)(const stewart_params *p, size_t n, const double *x, double *u, int *status);
+    int (*batch_leg_unit_vector_gradients)(const stewart_params *p, size_t n, const double *x, double *u, double *du_dx, int *status);
+    int (*batch_modal_stiffness)(const stewart_params *p, size_t n, const double *x, const double *k, double *Kt, double *JC, double *Mt, int *status);
+    int (*batch_joint_cosines)(const stewart_params *p, size_t n, const double *x, const double *ax, const double *ay, const double *az, double *c, double *dc_dx, int *status);
+    int (*batch_rider_signals)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *y, double *dy_dx, double *dy_dxd, double *dy_dxdd, int *status);
     stewart_call call[STEWART_FUNCTIONS];  /* the public functions by their index */
 } stewart_table;
 

@@ -44,6 +44,21 @@
 #define stewart_regressor STEWART_LOCAL(regressor)
 #define stewart_rk4_step STEWART_LOCAL(rk4_step)
 #define stewart_rk4_step_derivatives STEWART_LOCAL(rk4_step_derivatives)
+#define stewart_leg_residuals STEWART_LOCAL(leg_residuals)
+#define stewart_leg_residual_jacobians STEWART_LOCAL(leg_residual_jacobians)
+#define stewart_target_positions STEWART_LOCAL(target_positions)
+#define stewart_target_jacobian STEWART_LOCAL(target_jacobian)
+#define stewart_rotation STEWART_LOCAL(rotation)
+#define stewart_rotation_partials STEWART_LOCAL(rotation_partials)
+#define stewart_euler_rate_jacobian STEWART_LOCAL(euler_rate_jacobian)
+#define stewart_euler_rate_jacobian_partials STEWART_LOCAL(euler_rate_jacobian_partials)
+#define stewart_inverse_euler_rate_jacobian STEWART_LOCAL(inverse_euler_rate_jacobian)
+#define stewart_leg_vectors STEWART_LOCAL(leg_vectors)
+#define stewart_leg_unit_vectors STEWART_LOCAL(leg_unit_vectors)
+#define stewart_leg_unit_vector_gradients STEWART_LOCAL(leg_unit_vector_gradients)
+#define stewart_modal_stiffness STEWART_LOCAL(modal_stiffness)
+#define stewart_joint_cosines STEWART_LOCAL(joint_cosines)
+#define stewart_rider_signals STEWART_LOCAL(rider_signals)
 #define stewart_batch_leg_lengths STEWART_LOCAL(batch_leg_lengths)
 #define stewart_batch_jacobian STEWART_LOCAL(batch_jacobian)
 #define stewart_batch_leg_rates STEWART_LOCAL(batch_leg_rates)
@@ -63,6 +78,21 @@
 #define stewart_batch_regressor STEWART_LOCAL(batch_regressor)
 #define stewart_batch_rk4_step STEWART_LOCAL(batch_rk4_step)
 #define stewart_batch_rk4_step_derivatives STEWART_LOCAL(batch_rk4_step_derivatives)
+#define stewart_batch_leg_residuals STEWART_LOCAL(batch_leg_residuals)
+#define stewart_batch_leg_residual_jacobians STEWART_LOCAL(batch_leg_residual_jacobians)
+#define stewart_batch_target_positions STEWART_LOCAL(batch_target_positions)
+#define stewart_batch_target_jacobian STEWART_LOCAL(batch_target_jacobian)
+#define stewart_batch_rotation STEWART_LOCAL(batch_rotation)
+#define stewart_batch_rotation_partials STEWART_LOCAL(batch_rotation_partials)
+#define stewart_batch_euler_rate_jacobian STEWART_LOCAL(batch_euler_rate_jacobian)
+#define stewart_batch_euler_rate_jacobian_partials STEWART_LOCAL(batch_euler_rate_jacobian_partials)
+#define stewart_batch_inverse_euler_rate_jacobian STEWART_LOCAL(batch_inverse_euler_rate_jacobian)
+#define stewart_batch_leg_vectors STEWART_LOCAL(batch_leg_vectors)
+#define stewart_batch_leg_unit_vectors STEWART_LOCAL(batch_leg_unit_vectors)
+#define stewart_batch_leg_unit_vector_gradients STEWART_LOCAL(batch_leg_unit_vector_gradients)
+#define stewart_batch_modal_stiffness STEWART_LOCAL(batch_modal_stiffness)
+#define stewart_batch_joint_cosines STEWART_LOCAL(batch_joint_cosines)
+#define stewart_batch_rider_signals STEWART_LOCAL(batch_rider_signals)
 #else
 #define STEWART_LOCAL(name) stewart_##name
 #endif
@@ -104,6 +134,19 @@
 #define vkernel_joint_forces STEWART_LOCAL(vkernel_joint_forces)
 #define vkernel_regressor STEWART_LOCAL(vkernel_regressor)
 #define vkernel_regressor_general STEWART_LOCAL(vkernel_regressor_general)
+#define vkernel_leg_residuals STEWART_LOCAL(vkernel_leg_residuals)
+#define vkernel_leg_residual_jacobians STEWART_LOCAL(vkernel_leg_residual_jacobians)
+#define vkernel_target_positions STEWART_LOCAL(vkernel_target_positions)
+#define vkernel_target_jacobian STEWART_LOCAL(vkernel_target_jacobian)
+#define vkernel_rotation STEWART_LOCAL(vkernel_rotation)
+#define vkernel_rotation_partials STEWART_LOCAL(vkernel_rotation_partials)
+#define vkernel_euler_rate_partials STEWART_LOCAL(vkernel_euler_rate_partials)
+#define vkernel_leg_vectors STEWART_LOCAL(vkernel_leg_vectors)
+#define vkernel_leg_unit_vectors STEWART_LOCAL(vkernel_leg_unit_vectors)
+#define vkernel_leg_unit_vector_gradients STEWART_LOCAL(vkernel_leg_unit_vector_gradients)
+#define vkernel_modal_stiffness STEWART_LOCAL(vkernel_modal_stiffness)
+#define vkernel_joint_cosines STEWART_LOCAL(vkernel_joint_cosines)
+#define vkernel_rider_signals STEWART_LOCAL(vkernel_rider_signals)
 
 #include "stewart_model.h"
 
@@ -305,7 +348,8 @@ static int params_finite(const stewart_params *p)
         && all_finite(&p->gravity, 1)
         && all_finite(&p->universal_joint_axes[0][0], 18)
         && all_finite(&p->spinless_legs, 1)
-        && all_finite(&p->coulomb_velocity, 1);
+        && all_finite(&p->coulomb_velocity, 1)
+        && all_finite(&p->leg_length_offsets[0], 6);
 }
 
 /* The model's evaluation (codegen/templates/vector.c, copied verbatim by the generator into
@@ -1372,5 +1416,18 @@ STEWART_HIDDEN void vkernel_joint_reactions_general(const stewart_params *p, con
 STEWART_HIDDEN void vkernel_joint_forces(const stewart_params *p, const stewart_vd *tau, const stewart_vd *JC, const stewart_vd *legf, stewart_vd *f_base, stewart_vd *f_platform);
 STEWART_HIDDEN void vkernel_regressor(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *Y, stewart_vd *JC, stewart_vd *L2, stewart_vd *h2);
 STEWART_HIDDEN void vkernel_regressor_general(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *Y, stewart_vd *JC, stewart_vd *L2, stewart_vd *n2);
+STEWART_HIDDEN void vkernel_leg_residuals(const stewart_params *p, const stewart_vd *x, const stewart_vd *readings, stewart_vd *r);
+STEWART_HIDDEN void vkernel_leg_residual_jacobians(const stewart_params *p, const stewart_vd *x, stewart_vd *dr_dtheta, stewart_vd *dr_dx, stewart_vd *L2);
+STEWART_HIDDEN void vkernel_target_positions(const stewart_params *p, const stewart_vd *x, const stewart_vd *offsets, stewart_vd *q);
+STEWART_HIDDEN void vkernel_target_jacobian(const stewart_params *p, const stewart_vd *x, const stewart_vd *offsets, stewart_vd *dq_dx);
+STEWART_HIDDEN void vkernel_rotation(const stewart_params *p, const stewart_vd *x, stewart_vd *R);
+STEWART_HIDDEN void vkernel_rotation_partials(const stewart_params *p, const stewart_vd *x, stewart_vd *R, stewart_vd *dR_dpsi, stewart_vd *dR_dtheta, stewart_vd *dR_dphi);
+STEWART_HIDDEN void vkernel_euler_rate_partials(const stewart_params *p, const stewart_vd *x, stewart_vd *JA, stewart_vd *dJA_dpsi, stewart_vd *dJA_dtheta, stewart_vd *dJA_dphi);
+STEWART_HIDDEN void vkernel_leg_vectors(const stewart_params *p, const stewart_vd *x, stewart_vd *l);
+STEWART_HIDDEN void vkernel_leg_unit_vectors(const stewart_params *p, const stewart_vd *x, stewart_vd *u, stewart_vd *L2);
+STEWART_HIDDEN void vkernel_leg_unit_vector_gradients(const stewart_params *p, const stewart_vd *x, stewart_vd *u, stewart_vd *du_dx, stewart_vd *L2);
+STEWART_HIDDEN void vkernel_modal_stiffness(const stewart_params *p, const stewart_vd *JC, const stewart_vd *k, const stewart_vd *dtau_dx, const stewart_vd *JAinv, stewart_vd *Kt);
+STEWART_HIDDEN void vkernel_joint_cosines(const stewart_params *p, const stewart_vd *x, const stewart_vd *ax, const stewart_vd *ay, const stewart_vd *az, stewart_vd *c, stewart_vd *dc_dx, stewart_vd *L2);
+STEWART_HIDDEN void vkernel_rider_signals(const stewart_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, stewart_vd *y, stewart_vd *dy_dx, stewart_vd *dy_dxd, stewart_vd *dy_dxdd);
 
 #endif /* STEWART_INTERNAL_H */

@@ -686,6 +686,323 @@ int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const 
     return batch_rows(params_finite(p), p, vblock_rk4_step_derivatives, dt, n, 3, (const double *const []){x, xd, tau}, (stewart_vd *const []){in0, in1, in2}, 4, (double *const []){xn, xdn, A, B}, (stewart_vd *const []){out0, out1, out2, out3}, (const int []){6, 6, 144, 72}, status);
 }
 
+/* stewart_leg_residuals over a block of states (batch_rows). */
+static stewart_vl vblock_leg_residuals(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    const stewart_vd *readings = in[1];
+    stewart_vd *r = out[0];
+    stewart_vl status = vnone();
+    vkernel_leg_residuals(p, x, readings, r);
+    return status;
+}
+
+int stewart_batch_leg_residuals(const stewart_params *p, size_t n, const double *x, const double *readings, double *r, int *status)
+{
+    stewart_vd in0[6], in1[6], out0[6];
+    return batch_rows(params_finite(p), p, vblock_leg_residuals, 0.0, n, 2, (const double *const []){x, readings}, (stewart_vd *const []){in0, in1}, 1, (double *const []){r}, (stewart_vd *const []){out0}, (const int []){6}, status);
+}
+
+/* stewart_leg_residual_jacobians over a block of states (batch_rows). */
+static stewart_vl vblock_leg_residual_jacobians(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    stewart_vd *dr_dtheta = out[0];
+    stewart_vd *dr_dx = out[1];
+    stewart_vd L2[6];
+    stewart_vl status = vnone();
+    vkernel_leg_residual_jacobians(p, x, dr_dtheta, dr_dx, L2);
+    status = vmerge(status, vcheck_legs(L2, NULL, NULL));
+    return status;
+}
+
+int stewart_batch_leg_residual_jacobians(const stewart_params *p, size_t n, const double *x, double *dr_dtheta, double *dr_dx, int *status)
+{
+    stewart_vd in0[6], out0[42], out1[36];
+    return batch_rows(params_finite(p), p, vblock_leg_residual_jacobians, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 2, (double *const []){dr_dtheta, dr_dx}, (stewart_vd *const []){out0, out1}, (const int []){42, 36}, status);
+}
+
+/* stewart_target_positions over a block of states (batch_rows). */
+static stewart_vl vblock_target_positions(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    const stewart_vd *offsets = in[1];
+    stewart_vd *q = out[0];
+    stewart_vl status = vnone();
+    vkernel_target_positions(p, x, offsets, q);
+    return status;
+}
+
+int stewart_batch_target_positions(const stewart_params *p, size_t n, const double *x, const double *offsets, double *q, int *status)
+{
+    stewart_vd in0[6], in1[6], out0[3];
+    return batch_rows(params_finite(p), p, vblock_target_positions, 0.0, n, 2, (const double *const []){x, offsets}, (stewart_vd *const []){in0, in1}, 1, (double *const []){q}, (stewart_vd *const []){out0}, (const int []){3}, status);
+}
+
+/* stewart_target_jacobian over a block of states (batch_rows). */
+static stewart_vl vblock_target_jacobian(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    const stewart_vd *offsets = in[1];
+    stewart_vd *dq_dx = out[0];
+    stewart_vl status = vnone();
+    vkernel_target_jacobian(p, x, offsets, dq_dx);
+    return status;
+}
+
+int stewart_batch_target_jacobian(const stewart_params *p, size_t n, const double *x, const double *offsets, double *dq_dx, int *status)
+{
+    stewart_vd in0[6], in1[6], out0[18];
+    return batch_rows(params_finite(p), p, vblock_target_jacobian, 0.0, n, 2, (const double *const []){x, offsets}, (stewart_vd *const []){in0, in1}, 1, (double *const []){dq_dx}, (stewart_vd *const []){out0}, (const int []){18}, status);
+}
+
+/* stewart_rotation over a block of states (batch_rows). */
+static stewart_vl vblock_rotation(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    stewart_vd *R = out[0];
+    stewart_vl status = vnone();
+    vkernel_rotation(p, x, R);
+    return status;
+}
+
+int stewart_batch_rotation(const stewart_params *p, size_t n, const double *x, double *R, int *status)
+{
+    stewart_vd in0[6], out0[9];
+    return batch_rows(params_finite(p), p, vblock_rotation, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 1, (double *const []){R}, (stewart_vd *const []){out0}, (const int []){9}, status);
+}
+
+/* stewart_rotation_partials over a block of states (batch_rows). */
+static stewart_vl vblock_rotation_partials(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    stewart_vd *R = out[0];
+    stewart_vd *dR_dpsi = out[1];
+    stewart_vd *dR_dtheta = out[2];
+    stewart_vd *dR_dphi = out[3];
+    stewart_vl status = vnone();
+    vkernel_rotation_partials(p, x, R, dR_dpsi, dR_dtheta, dR_dphi);
+    return status;
+}
+
+int stewart_batch_rotation_partials(const stewart_params *p, size_t n, const double *x, double *R, double *dR_dpsi, double *dR_dtheta, double *dR_dphi, int *status)
+{
+    stewart_vd in0[6], out0[9], out1[9], out2[9], out3[9];
+    return batch_rows(params_finite(p), p, vblock_rotation_partials, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 4, (double *const []){R, dR_dpsi, dR_dtheta, dR_dphi}, (stewart_vd *const []){out0, out1, out2, out3}, (const int []){9, 9, 9, 9}, status);
+}
+
+/* stewart_euler_rate_jacobian over a block of states (batch_rows). */
+static stewart_vl vblock_euler_rate_jacobian(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    stewart_vd *JA = out[0];
+    stewart_vd JAinv[9], ctheta[1];
+    stewart_vl status = vnone();
+    vkernel_euler_maps(p, x, JA, JAinv, ctheta);
+    return status;
+}
+
+int stewart_batch_euler_rate_jacobian(const stewart_params *p, size_t n, const double *x, double *JA, int *status)
+{
+    stewart_vd in0[6], out0[9];
+    return batch_rows(params_finite(p), p, vblock_euler_rate_jacobian, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 1, (double *const []){JA}, (stewart_vd *const []){out0}, (const int []){9}, status);
+}
+
+/* stewart_euler_rate_jacobian_partials over a block of states (batch_rows). */
+static stewart_vl vblock_euler_rate_jacobian_partials(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    stewart_vd *JA = out[0];
+    stewart_vd *dJA_dpsi = out[1];
+    stewart_vd *dJA_dtheta = out[2];
+    stewart_vd *dJA_dphi = out[3];
+    stewart_vl status = vnone();
+    vkernel_euler_rate_partials(p, x, JA, dJA_dpsi, dJA_dtheta, dJA_dphi);
+    return status;
+}
+
+int stewart_batch_euler_rate_jacobian_partials(const stewart_params *p, size_t n, const double *x, double *JA, double *dJA_dpsi, double *dJA_dtheta, double *dJA_dphi, int *status)
+{
+    stewart_vd in0[6], out0[9], out1[9], out2[9], out3[9];
+    return batch_rows(params_finite(p), p, vblock_euler_rate_jacobian_partials, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 4, (double *const []){JA, dJA_dpsi, dJA_dtheta, dJA_dphi}, (stewart_vd *const []){out0, out1, out2, out3}, (const int []){9, 9, 9, 9}, status);
+}
+
+/* stewart_inverse_euler_rate_jacobian over a block of states (batch_rows). */
+static stewart_vl vblock_inverse_euler_rate_jacobian(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    stewart_vd *JAinv = out[0];
+    stewart_vd JA[9], ctheta[1];
+    stewart_vl status = vnone();
+    vkernel_euler_maps(p, x, JA, JAinv, ctheta);
+    status = vmerge(status, vcheck_euler(ctheta));
+    return status;
+}
+
+int stewart_batch_inverse_euler_rate_jacobian(const stewart_params *p, size_t n, const double *x, double *JAinv, int *status)
+{
+    stewart_vd in0[6], out0[9];
+    return batch_rows(params_finite(p), p, vblock_inverse_euler_rate_jacobian, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 1, (double *const []){JAinv}, (stewart_vd *const []){out0}, (const int []){9}, status);
+}
+
+/* stewart_leg_vectors over a block of states (batch_rows). */
+static stewart_vl vblock_leg_vectors(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    stewart_vd *l = out[0];
+    stewart_vl status = vnone();
+    vkernel_leg_vectors(p, x, l);
+    return status;
+}
+
+int stewart_batch_leg_vectors(const stewart_params *p, size_t n, const double *x, double *l, int *status)
+{
+    stewart_vd in0[6], out0[18];
+    return batch_rows(params_finite(p), p, vblock_leg_vectors, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 1, (double *const []){l}, (stewart_vd *const []){out0}, (const int []){18}, status);
+}
+
+/* stewart_leg_unit_vectors over a block of states (batch_rows). */
+static stewart_vl vblock_leg_unit_vectors(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    stewart_vd *u = out[0];
+    stewart_vd L2[6];
+    stewart_vl status = vnone();
+    vkernel_leg_unit_vectors(p, x, u, L2);
+    status = vmerge(status, vcheck_legs(L2, NULL, NULL));
+    return status;
+}
+
+int stewart_batch_leg_unit_vectors(const stewart_params *p, size_t n, const double *x, double *u, int *status)
+{
+    stewart_vd in0[6], out0[18];
+    return batch_rows(params_finite(p), p, vblock_leg_unit_vectors, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 1, (double *const []){u}, (stewart_vd *const []){out0}, (const int []){18}, status);
+}
+
+/* stewart_leg_unit_vector_gradients over a block of states (batch_rows). */
+static stewart_vl vblock_leg_unit_vector_gradients(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    stewart_vd *u = out[0];
+    stewart_vd *du_dx = out[1];
+    stewart_vd L2[6];
+    stewart_vl status = vnone();
+    vkernel_leg_unit_vector_gradients(p, x, u, du_dx, L2);
+    status = vmerge(status, vcheck_legs(L2, NULL, NULL));
+    return status;
+}
+
+int stewart_batch_leg_unit_vector_gradients(const stewart_params *p, size_t n, const double *x, double *u, double *du_dx, int *status)
+{
+    stewart_vd in0[6], out0[18], out1[108];
+    return batch_rows(params_finite(p), p, vblock_leg_unit_vector_gradients, 0.0, n, 1, (const double *const []){x}, (stewart_vd *const []){in0}, 2, (double *const []){u, du_dx}, (stewart_vd *const []){out0, out1}, (const int []){18, 108}, status);
+}
+
+/* stewart_modal_stiffness over a block of states (batch_rows). */
+static stewart_vl vblock_modal_stiffness(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    const stewart_vd *k = in[1];
+    stewart_vd *Kt = out[0];
+    stewart_vd *JC = out[1];
+    stewart_vd *Mt = out[2];
+    stewart_vd L2[6], h2[6], n2[6], W[6], Z[36], JA[9], JAinv[9], ctheta[1], FJ[57], tau[6], dtau_dx[36];
+    stewart_vl status = vnone();
+    if (stewart_is_paper_model(p) && stewart_is_axisymmetric(p)) {
+        vkernel_twist_mass_matrix_axisym(p, x, Mt, L2);
+        status = vmerge(status, vcheck_legs(L2, NULL, NULL));
+    } else if (stewart_is_paper_model(p)) {
+        vkernel_twist_mass_matrix_frames(p, x, Mt, L2, h2);
+        status = vmerge(status, vcheck_legs(L2, h2, NULL));
+    } else {
+        vkernel_twist_mass_matrix_general(p, x, Mt, L2, n2);
+        status = vmerge(status, vcheck_legs(L2, NULL, n2));
+    }
+    if (stewart_is_paper_model(p)) {
+        vkernel_static_forces(p, x, W, JC, L2);
+        status = vmerge(status, vcheck_legs(L2, NULL, NULL));
+    } else {
+        vkernel_static_forces_general(p, x, W, JC, L2, n2);
+        status = vmerge(status, vcheck_legs(L2, NULL, n2));
+    }
+    status = vmerge(status, vbareiss_factor(JC, FJ));
+    status = vmerge(status, vbareiss_solve(FJ, 1, 1, W, tau));
+    if (stewart_is_paper_model(p)) {
+        vkernel_static_derivatives(p, x, tau, Z);
+    } else {
+        vkernel_static_derivatives_general(p, x, tau, Z);
+    }
+    status = vmerge(status, vbareiss_solve(FJ, 6, 6, Z, dtau_dx));
+    vkernel_euler_maps(p, x, JA, JAinv, ctheta);
+    status = vmerge(status, vcheck_euler(ctheta));
+    vkernel_modal_stiffness(p, JC, k, dtau_dx, JAinv, Kt);
+    return status;
+}
+
+int stewart_batch_modal_stiffness(const stewart_params *p, size_t n, const double *x, const double *k, double *Kt, double *JC, double *Mt, int *status)
+{
+    stewart_vd in0[6], in1[6], out0[36], out1[36], out2[36];
+    return batch_rows(params_finite(p), p, vblock_modal_stiffness, 0.0, n, 2, (const double *const []){x, k}, (stewart_vd *const []){in0, in1}, 3, (double *const []){Kt, JC, Mt}, (stewart_vd *const []){out0, out1, out2}, (const int []){36, 36, 36}, status);
+}
+
+/* stewart_joint_cosines over a block of states (batch_rows). */
+static stewart_vl vblock_joint_cosines(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    const stewart_vd *ax = in[1];
+    const stewart_vd *ay = in[2];
+    const stewart_vd *az = in[3];
+    stewart_vd *c = out[0];
+    stewart_vd *dc_dx = out[1];
+    stewart_vd L2[6];
+    stewart_vl status = vnone();
+    vkernel_joint_cosines(p, x, ax, ay, az, c, dc_dx, L2);
+    status = vmerge(status, vcheck_legs(L2, NULL, NULL));
+    return status;
+}
+
+int stewart_batch_joint_cosines(const stewart_params *p, size_t n, const double *x, const double *ax, const double *ay, const double *az, double *c, double *dc_dx, int *status)
+{
+    stewart_vd in0[6], in1[6], in2[6], in3[6], out0[12], out1[72];
+    return batch_rows(params_finite(p), p, vblock_joint_cosines, 0.0, n, 4, (const double *const []){x, ax, ay, az}, (stewart_vd *const []){in0, in1, in2, in3}, 2, (double *const []){c, dc_dx}, (stewart_vd *const []){out0, out1}, (const int []){12, 72}, status);
+}
+
+/* stewart_rider_signals over a block of states (batch_rows). */
+static stewart_vl vblock_rider_signals(const stewart_params *p, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    (void)scalar;
+    const stewart_vd *x = in[0];
+    const stewart_vd *xd = in[1];
+    const stewart_vd *xdd = in[2];
+    stewart_vd *y = out[0];
+    stewart_vd *dy_dx = out[1];
+    stewart_vd *dy_dxd = out[2];
+    stewart_vd *dy_dxdd = out[3];
+    stewart_vl status = vnone();
+    vkernel_rider_signals(p, x, xd, xdd, y, dy_dx, dy_dxd, dy_dxdd);
+    return status;
+}
+
+int stewart_batch_rider_signals(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *y, double *dy_dx, double *dy_dxd, double *dy_dxdd, int *status)
+{
+    stewart_vd in0[6], in1[6], in2[6], out0[6], out1[36], out2[36], out3[36];
+    return batch_rows(params_finite(p), p, vblock_rider_signals, 0.0, n, 3, (const double *const []){x, xd, xdd}, (stewart_vd *const []){in0, in1, in2}, 4, (double *const []){y, dy_dx, dy_dxd, dy_dxdd}, (stewart_vd *const []){out0, out1, out2, out3}, (const int []){6, 36, 36, 36}, status);
+}
+
 /* ---- single states ---- */
 
 int stewart_leg_lengths(const stewart_params *p, const double x[6], double L[6])
@@ -781,6 +1098,81 @@ int stewart_rk4_step(const stewart_params *p, const double x[6], const double xd
 int stewart_rk4_step_derivatives(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double dt, double xn[6], double xdn[6], double A[144], double B[72])
 {
     return stewart_batch_rk4_step_derivatives(p, 1, x, xd, tau, dt, xn, xdn, A, B, NULL);
+}
+
+int stewart_leg_residuals(const stewart_params *p, const double x[6], const double readings[6], double r[6])
+{
+    return stewart_batch_leg_residuals(p, 1, x, readings, r, NULL);
+}
+
+int stewart_leg_residual_jacobians(const stewart_params *p, const double x[6], double dr_dtheta[42], double dr_dx[36])
+{
+    return stewart_batch_leg_residual_jacobians(p, 1, x, dr_dtheta, dr_dx, NULL);
+}
+
+int stewart_target_positions(const stewart_params *p, const double x[6], const double offsets[6], double q[3])
+{
+    return stewart_batch_target_positions(p, 1, x, offsets, q, NULL);
+}
+
+int stewart_target_jacobian(const stewart_params *p, const double x[6], const double offsets[6], double dq_dx[18])
+{
+    return stewart_batch_target_jacobian(p, 1, x, offsets, dq_dx, NULL);
+}
+
+int stewart_rotation(const stewart_params *p, const double x[6], double R[9])
+{
+    return stewart_batch_rotation(p, 1, x, R, NULL);
+}
+
+int stewart_rotation_partials(const stewart_params *p, const double x[6], double R[9], double dR_dpsi[9], double dR_dtheta[9], double dR_dphi[9])
+{
+    return stewart_batch_rotation_partials(p, 1, x, R, dR_dpsi, dR_dtheta, dR_dphi, NULL);
+}
+
+int stewart_euler_rate_jacobian(const stewart_params *p, const double x[6], double JA[9])
+{
+    return stewart_batch_euler_rate_jacobian(p, 1, x, JA, NULL);
+}
+
+int stewart_euler_rate_jacobian_partials(const stewart_params *p, const double x[6], double JA[9], double dJA_dpsi[9], double dJA_dtheta[9], double dJA_dphi[9])
+{
+    return stewart_batch_euler_rate_jacobian_partials(p, 1, x, JA, dJA_dpsi, dJA_dtheta, dJA_dphi, NULL);
+}
+
+int stewart_inverse_euler_rate_jacobian(const stewart_params *p, const double x[6], double JAinv[9])
+{
+    return stewart_batch_inverse_euler_rate_jacobian(p, 1, x, JAinv, NULL);
+}
+
+int stewart_leg_vectors(const stewart_params *p, const double x[6], double l[18])
+{
+    return stewart_batch_leg_vectors(p, 1, x, l, NULL);
+}
+
+int stewart_leg_unit_vectors(const stewart_params *p, const double x[6], double u[18])
+{
+    return stewart_batch_leg_unit_vectors(p, 1, x, u, NULL);
+}
+
+int stewart_leg_unit_vector_gradients(const stewart_params *p, const double x[6], double u[18], double du_dx[108])
+{
+    return stewart_batch_leg_unit_vector_gradients(p, 1, x, u, du_dx, NULL);
+}
+
+int stewart_modal_stiffness(const stewart_params *p, const double x[6], const double k[6], double Kt[36], double JC[36], double Mt[36])
+{
+    return stewart_batch_modal_stiffness(p, 1, x, k, Kt, JC, Mt, NULL);
+}
+
+int stewart_joint_cosines(const stewart_params *p, const double x[6], const double ax[6], const double ay[6], const double az[6], double c[12], double dc_dx[72])
+{
+    return stewart_batch_joint_cosines(p, 1, x, ax, ay, az, c, dc_dx, NULL);
+}
+
+int stewart_rider_signals(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double y[6], double dy_dx[36], double dy_dxd[36], double dy_dxdd[36])
+{
+    return stewart_batch_rider_signals(p, 1, x, xd, xdd, y, dy_dx, dy_dxd, dy_dxdd, NULL);
 }
 
 /* The actuators and the closed loop (codegen/templates/control.c, copied verbatim by the

@@ -77,6 +77,7 @@ typedef struct {
     double universal_joint_axes[6][3];    /* a_i in {B}, the first axis of each universal joint; all zero (and platform_com zero, the products zero): the paper's model, whose legs do not spin (eq. 29) */
     double spinless_legs;                 /* nonzero: the legs do not spin with their joints (eq. 29) whatever universal_joint_axes hold (a_i = z standing for the leg frames of eqs. 44-47 in a model with the platform's centre of mass or products of inertia given), so the regressor's columns of their axial moments are zero; 0: they spin about the a_i given */
     double coulomb_velocity;              /* v_c > 0, m/s: the smooth sign tanh(Ld / v_c) of the Coulomb friction of a leg moving at Ld (the regressor) */
+    double leg_length_offsets[6];         /* delta_i, m: encoder zero offsets, the true leg length the encoder reading plus delta_i (the calibration residuals, stewart_leg_residuals) */
 } stewart_params;
 
 enum {
@@ -160,6 +161,36 @@ int stewart_regressor(const stewart_params *p, const double x[6], const double x
 int stewart_rk4_step(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double dt, double xn[6], double xdn[6]);
 /* The RK4 step and its Jacobians A = d[xn; xdn]/d[x; xd] (12 x 12) and B = d[xn; xdn]/dtau (12 x 6), row-major, by the chain rule through the stages. */
 int stewart_rk4_step_derivatives(const stewart_params *p, const double x[6], const double xd[6], const double tau[6], double dt, double xn[6], double xdn[6], double A[144], double B[72]);
+/* The calibration residuals r_i = e_i + delta_i - |l_i| (eq. 26) of the encoder readings e: the measured less the modelled leg lengths, delta the leg_length_offsets (a zero length is not an error here). */
+int stewart_leg_residuals(const stewart_params *p, const double x[6], const double readings[6], double r[6]);
+/* The exact partials of stewart_leg_residuals: dr_dtheta, per leg i (7 a leg, row-major) those in its own parameters, d/db_i (x, y, z), d/dp_i (x, y, z), d/ddelta_i: [u_i, -R^T u_i, 1] (u_i = l_i / |l_i|; the other 35 of the 42 parameters b, p, delta are zero), and dr_dx = -J_C T (eqs. 5, 8, 18). */
+int stewart_leg_residual_jacobians(const stewart_params *p, const double x[6], double dr_dtheta[42], double dr_dx[36]);
+/* The position q = t + R c in {B} of a target at c in {P} (c: the first three doubles of offsets; the other three are not read, but must be finite). */
+int stewart_target_positions(const stewart_params *p, const double x[6], const double offsets[6], double q[3]);
+/* dq/dx = [E, -[R c]x J_A] (3 x 6, row-major) of the target position q = t + R c of stewart_target_positions (eq. 8). */
+int stewart_target_jacobian(const stewart_params *p, const double x[6], const double offsets[6], double dq_dx[18]);
+/* R = Rz(psi) Ry(theta) Rx(phi), {P} in {B} (eq. 3), 3 x 3 row-major. */
+int stewart_rotation(const stewart_params *p, const double x[6], double R[9]);
+/* R = Rz(psi) Ry(theta) Rx(phi), {P} in {B} (eq. 3), and its partials along psi, theta and phi, each 3 x 3 row-major. */
+int stewart_rotation_partials(const stewart_params *p, const double x[6], double R[9], double dR_dpsi[9], double dR_dtheta[9], double dR_dphi[9]);
+/* J_A (eq. 8): omega = J_A [psi', theta', phi'], 3 x 3 row-major. */
+int stewart_euler_rate_jacobian(const stewart_params *p, const double x[6], double JA[9]);
+/* J_A (eq. 8) and its partials along psi, theta and phi, each 3 x 3 row-major. */
+int stewart_euler_rate_jacobian_partials(const stewart_params *p, const double x[6], double JA[9], double dJA_dpsi[9], double dJA_dtheta[9], double dJA_dphi[9]);
+/* J_A^-1 (eq. 8 inverted): the Euler rates of an angular velocity in {B}, 3 x 3 row-major; needs cos(theta) != 0. */
+int stewart_inverse_euler_rate_jacobian(const stewart_params *p, const double x[6], double JAinv[9]);
+/* The leg vectors l_i = p + R p_i - b_i (eq. 26), row i = l_i (a zero length is not an error here). */
+int stewart_leg_vectors(const stewart_params *p, const double x[6], double l[18]);
+/* The unit leg vectors u_i = l_i / |l_i| (eqs. 25, 26), row i = u_i. */
+int stewart_leg_unit_vectors(const stewart_params *p, const double x[6], double u[18]);
+/* The unit leg vectors u_i = l_i / |l_i| (eqs. 25, 26), row i = u_i, and their pose gradients du_dx[i][a][j] = d u_i,a / d x_j. */
+int stewart_leg_unit_vector_gradients(const stewart_params *p, const double x[6], double u[18], double du_dx[108]);
+/* The twist-space stiffness K_t = J_C^T (diag(k) J_C + dtau_s/dx T^-1), T^-1 = blockdiag(I, J_A^-1) (eqs. 5, 8, 18), of the platform on leg springs of stiffness k (one per leg) preloaded by the static forces tau_s, not symmetrized, with J_C and the twist-space mass matrix M_t: K_t phi = w^2 M_t phi gives its modes; needs cos(theta) != 0. */
+int stewart_modal_stiffness(const stewart_params *p, const double x[6], const double k[6], double Kt[36], double JC[36], double Mt[36]);
+/* The cosines of the universal- and spherical-joint angles, c = [u_i . a_i; u_i . R a_i] (12) with u_i = l_i / |l_i| (eq. 26) and a_i the joints' neutral axes (ax, ay, az: their x, y and z components, one per leg), the universal joint's fixed in {B}, the spherical joint's in {P}; and their gradient in the pose dc/dx (12 x 6). */
+int stewart_joint_cosines(const stewart_params *p, const double x[6], const double ax[6], const double ay[6], const double az[6], double c[12], double dc_dx[72]);
+/* What a rider at the origin of {P} senses: y = [f; w], the specific force f = R^T (a + g e_z) and the angular velocity w = R^T J_A [psi', theta', phi'] (eq. 8), in {P}; and their Jacobians in the pose, its rates and its accelerations (row = output, column = input). */
+int stewart_rider_signals(const stewart_params *p, const double x[6], const double xd[6], const double xdd[6], double y[6], double dy_dx[36], double dy_dxd[36], double dy_dxdd[36]);
 
 /* The columns of stewart_regressor, the inertial parameters pi (tau + friction = Y pi):
  *    0  platform.m: m_P
@@ -293,6 +324,21 @@ int stewart_batch_joint_reactions(const stewart_params *p, size_t n, const doubl
 int stewart_batch_regressor(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Y, int *status);
 int stewart_batch_rk4_step(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status);
 int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B, int *status);
+int stewart_batch_leg_residuals(const stewart_params *p, size_t n, const double *x, const double *readings, double *r, int *status);
+int stewart_batch_leg_residual_jacobians(const stewart_params *p, size_t n, const double *x, double *dr_dtheta, double *dr_dx, int *status);
+int stewart_batch_target_positions(const stewart_params *p, size_t n, const double *x, const double *offsets, double *q, int *status);
+int stewart_batch_target_jacobian(const stewart_params *p, size_t n, const double *x, const double *offsets, double *dq_dx, int *status);
+int stewart_batch_rotation(const stewart_params *p, size_t n, const double *x, double *R, int *status);
+int stewart_batch_rotation_partials(const stewart_params *p, size_t n, const double *x, double *R, double *dR_dpsi, double *dR_dtheta, double *dR_dphi, int *status);
+int stewart_batch_euler_rate_jacobian(const stewart_params *p, size_t n, const double *x, double *JA, int *status);
+int stewart_batch_euler_rate_jacobian_partials(const stewart_params *p, size_t n, const double *x, double *JA, double *dJA_dpsi, double *dJA_dtheta, double *dJA_dphi, int *status);
+int stewart_batch_inverse_euler_rate_jacobian(const stewart_params *p, size_t n, const double *x, double *JAinv, int *status);
+int stewart_batch_leg_vectors(const stewart_params *p, size_t n, const double *x, double *l, int *status);
+int stewart_batch_leg_unit_vectors(const stewart_params *p, size_t n, const double *x, double *u, int *status);
+int stewart_batch_leg_unit_vector_gradients(const stewart_params *p, size_t n, const double *x, double *u, double *du_dx, int *status);
+int stewart_batch_modal_stiffness(const stewart_params *p, size_t n, const double *x, const double *k, double *Kt, double *JC, double *Mt, int *status);
+int stewart_batch_joint_cosines(const stewart_params *p, size_t n, const double *x, const double *ax, const double *ay, const double *az, double *c, double *dc_dx, int *status);
+int stewart_batch_rider_signals(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *y, double *dy_dx, double *dy_dxd, double *dy_dxdd, int *status);
 
 /* Operation counts of the generated kernels (+, -, *, / and calls of their C, after cse):
  *   leg_lengths                              187
@@ -314,7 +360,7 @@ int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const 
  *   inverse_dynamics_points_axisym          1858
  *   inverse_dynamics_points_frames          2356
  *   inverse_dynamics_points_general         2734
- *   leg_derivatives_axisym                  1480
+ *   leg_derivatives_axisym                   785
  *   leg_derivatives_frames                  2419
  *   leg_derivatives_general                 2648
  *   residual_derivatives_inverse             965
@@ -333,6 +379,19 @@ int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const 
  *   joint_forces                              72
  *   regressor                               2387
  *   regressor_general                       3235
+ *   leg_residuals                            199
+ *   leg_residual_jacobians                   445
+ *   target_positions                          43
+ *   target_jacobian                           56
+ *   rotation                                  25
+ *   rotation_partials                         57
+ *   euler_rate_partials                       13
+ *   leg_vectors                              151
+ *   leg_unit_vectors                         217
+ *   leg_unit_vector_gradients                999
+ *   modal_stiffness                          558
+ *   joint_cosines                           1803
+ *   rider_signals                            223
  */
 
 #ifdef __cplusplus

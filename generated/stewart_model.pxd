@@ -21,6 +21,7 @@ cdef extern from "stewart_model.h" nogil:
         double universal_joint_axes[6][3]
         double spinless_legs
         double coulomb_velocity
+        double leg_length_offsets[6]
     enum:
         STEWART_OK
         STEWART_ERR_NONFINITE
@@ -58,6 +59,21 @@ cdef extern from "stewart_model.h" nogil:
     int stewart_regressor(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *Y)
     int stewart_rk4_step(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn)
     int stewart_rk4_step_derivatives(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B)
+    int stewart_leg_residuals(const stewart_params *p, const double *x, const double *readings, double *r)
+    int stewart_leg_residual_jacobians(const stewart_params *p, const double *x, double *dr_dtheta, double *dr_dx)
+    int stewart_target_positions(const stewart_params *p, const double *x, const double *offsets, double *q)
+    int stewart_target_jacobian(const stewart_params *p, const double *x, const double *offsets, double *dq_dx)
+    int stewart_rotation(const stewart_params *p, const double *x, double *R)
+    int stewart_rotation_partials(const stewart_params *p, const double *x, double *R, double *dR_dpsi, double *dR_dtheta, double *dR_dphi)
+    int stewart_euler_rate_jacobian(const stewart_params *p, const double *x, double *JA)
+    int stewart_euler_rate_jacobian_partials(const stewart_params *p, const double *x, double *JA, double *dJA_dpsi, double *dJA_dtheta, double *dJA_dphi)
+    int stewart_inverse_euler_rate_jacobian(const stewart_params *p, const double *x, double *JAinv)
+    int stewart_leg_vectors(const stewart_params *p, const double *x, double *l)
+    int stewart_leg_unit_vectors(const stewart_params *p, const double *x, double *u)
+    int stewart_leg_unit_vector_gradients(const stewart_params *p, const double *x, double *u, double *du_dx)
+    int stewart_modal_stiffness(const stewart_params *p, const double *x, const double *k, double *Kt, double *JC, double *Mt)
+    int stewart_joint_cosines(const stewart_params *p, const double *x, const double *ax, const double *ay, const double *az, double *c, double *dc_dx)
+    int stewart_rider_signals(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *y, double *dy_dx, double *dy_dxd, double *dy_dxdd)
     int stewart_batch_lanes()
     int stewart_batch_leg_lengths(const stewart_params *p, size_t n, const double *x, double *L, int *status)
     int stewart_batch_jacobian(const stewart_params *p, size_t n, const double *x, double *JC, int *status)
@@ -78,6 +94,21 @@ cdef extern from "stewart_model.h" nogil:
     int stewart_batch_regressor(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Y, int *status)
     int stewart_batch_rk4_step(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status)
     int stewart_batch_rk4_step_derivatives(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B, int *status)
+    int stewart_batch_leg_residuals(const stewart_params *p, size_t n, const double *x, const double *readings, double *r, int *status)
+    int stewart_batch_leg_residual_jacobians(const stewart_params *p, size_t n, const double *x, double *dr_dtheta, double *dr_dx, int *status)
+    int stewart_batch_target_positions(const stewart_params *p, size_t n, const double *x, const double *offsets, double *q, int *status)
+    int stewart_batch_target_jacobian(const stewart_params *p, size_t n, const double *x, const double *offsets, double *dq_dx, int *status)
+    int stewart_batch_rotation(const stewart_params *p, size_t n, const double *x, double *R, int *status)
+    int stewart_batch_rotation_partials(const stewart_params *p, size_t n, const double *x, double *R, double *dR_dpsi, double *dR_dtheta, double *dR_dphi, int *status)
+    int stewart_batch_euler_rate_jacobian(const stewart_params *p, size_t n, const double *x, double *JA, int *status)
+    int stewart_batch_euler_rate_jacobian_partials(const stewart_params *p, size_t n, const double *x, double *JA, double *dJA_dpsi, double *dJA_dtheta, double *dJA_dphi, int *status)
+    int stewart_batch_inverse_euler_rate_jacobian(const stewart_params *p, size_t n, const double *x, double *JAinv, int *status)
+    int stewart_batch_leg_vectors(const stewart_params *p, size_t n, const double *x, double *l, int *status)
+    int stewart_batch_leg_unit_vectors(const stewart_params *p, size_t n, const double *x, double *u, int *status)
+    int stewart_batch_leg_unit_vector_gradients(const stewart_params *p, size_t n, const double *x, double *u, double *du_dx, int *status)
+    int stewart_batch_modal_stiffness(const stewart_params *p, size_t n, const double *x, const double *k, double *Kt, double *JC, double *Mt, int *status)
+    int stewart_batch_joint_cosines(const stewart_params *p, size_t n, const double *x, const double *ax, const double *ay, const double *az, double *c, double *dc_dx, int *status)
+    int stewart_batch_rider_signals(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *y, double *dy_dx, double *dy_dxd, double *dy_dxdd, int *status)
     enum:
         STEWART_OPEN_LOOP
         STEWART_PID
@@ -137,6 +168,21 @@ cdef extern from "stewart_dispatch.h" nogil:
         int (*regressor)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *Y) noexcept nogil
         int (*rk4_step)(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn) noexcept nogil
         int (*rk4_step_derivatives)(const stewart_params *p, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B) noexcept nogil
+        int (*leg_residuals)(const stewart_params *p, const double *x, const double *readings, double *r) noexcept nogil
+        int (*leg_residual_jacobians)(const stewart_params *p, const double *x, double *dr_dtheta, double *dr_dx) noexcept nogil
+        int (*target_positions)(const stewart_params *p, const double *x, const double *offsets, double *q) noexcept nogil
+        int (*target_jacobian)(const stewart_params *p, const double *x, const double *offsets, double *dq_dx) noexcept nogil
+        int (*rotation)(const stewart_params *p, const double *x, double *R) noexcept nogil
+        int (*rotation_partials)(const stewart_params *p, const double *x, double *R, double *dR_dpsi, double *dR_dtheta, double *dR_dphi) noexcept nogil
+        int (*euler_rate_jacobian)(const stewart_params *p, const double *x, double *JA) noexcept nogil
+        int (*euler_rate_jacobian_partials)(const stewart_params *p, const double *x, double *JA, double *dJA_dpsi, double *dJA_dtheta, double *dJA_dphi) noexcept nogil
+        int (*inverse_euler_rate_jacobian)(const stewart_params *p, const double *x, double *JAinv) noexcept nogil
+        int (*leg_vectors)(const stewart_params *p, const double *x, double *l) noexcept nogil
+        int (*leg_unit_vectors)(const stewart_params *p, const double *x, double *u) noexcept nogil
+        int (*leg_unit_vector_gradients)(const stewart_params *p, const double *x, double *u, double *du_dx) noexcept nogil
+        int (*modal_stiffness)(const stewart_params *p, const double *x, const double *k, double *Kt, double *JC, double *Mt) noexcept nogil
+        int (*joint_cosines)(const stewart_params *p, const double *x, const double *ax, const double *ay, const double *az, double *c, double *dc_dx) noexcept nogil
+        int (*rider_signals)(const stewart_params *p, const double *x, const double *xd, const double *xdd, double *y, double *dy_dx, double *dy_dxd, double *dy_dxdd) noexcept nogil
         int (*batch_leg_lengths)(const stewart_params *p, size_t n, const double *x, double *L, int *status) noexcept nogil
         int (*batch_jacobian)(const stewart_params *p, size_t n, const double *x, double *JC, int *status) noexcept nogil
         int (*batch_leg_rates)(const stewart_params *p, size_t n, const double *x, const double *xd, double *LLd, int *status) noexcept nogil
@@ -156,7 +202,22 @@ cdef extern from "stewart_dispatch.h" nogil:
         int (*batch_regressor)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *Y, int *status) noexcept nogil
         int (*batch_rk4_step)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, int *status) noexcept nogil
         int (*batch_rk4_step_derivatives)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *tau, double dt, double *xn, double *xdn, double *A, double *B, int *status) noexcept nogil
-        stewart_call call[19]
+        int (*batch_leg_residuals)(const stewart_params *p, size_t n, const double *x, const double *readings, double *r, int *status) noexcept nogil
+        int (*batch_leg_residual_jacobians)(const stewart_params *p, size_t n, const double *x, double *dr_dtheta, double *dr_dx, int *status) noexcept nogil
+        int (*batch_target_positions)(const stewart_params *p, size_t n, const double *x, const double *offsets, double *q, int *status) noexcept nogil
+        int (*batch_target_jacobian)(const stewart_params *p, size_t n, const double *x, const double *offsets, double *dq_dx, int *status) noexcept nogil
+        int (*batch_rotation)(const stewart_params *p, size_t n, const double *x, double *R, int *status) noexcept nogil
+        int (*batch_rotation_partials)(const stewart_params *p, size_t n, const double *x, double *R, double *dR_dpsi, double *dR_dtheta, double *dR_dphi, int *status) noexcept nogil
+        int (*batch_euler_rate_jacobian)(const stewart_params *p, size_t n, const double *x, double *JA, int *status) noexcept nogil
+        int (*batch_euler_rate_jacobian_partials)(const stewart_params *p, size_t n, const double *x, double *JA, double *dJA_dpsi, double *dJA_dtheta, double *dJA_dphi, int *status) noexcept nogil
+        int (*batch_inverse_euler_rate_jacobian)(const stewart_params *p, size_t n, const double *x, double *JAinv, int *status) noexcept nogil
+        int (*batch_leg_vectors)(const stewart_params *p, size_t n, const double *x, double *l, int *status) noexcept nogil
+        int (*batch_leg_unit_vectors)(const stewart_params *p, size_t n, const double *x, double *u, int *status) noexcept nogil
+        int (*batch_leg_unit_vector_gradients)(const stewart_params *p, size_t n, const double *x, double *u, double *du_dx, int *status) noexcept nogil
+        int (*batch_modal_stiffness)(const stewart_params *p, size_t n, const double *x, const double *k, double *Kt, double *JC, double *Mt, int *status) noexcept nogil
+        int (*batch_joint_cosines)(const stewart_params *p, size_t n, const double *x, const double *ax, const double *ay, const double *az, double *c, double *dc_dx, int *status) noexcept nogil
+        int (*batch_rider_signals)(const stewart_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *y, double *dy_dx, double *dy_dxd, double *dy_dxdd, int *status) noexcept nogil
+        stewart_call call[34]
 
 
 cdef inline int stewart_params_fill(stewart_params *p, object params, frozenset expected) except -1:
@@ -204,4 +265,7 @@ cdef inline int stewart_params_fill(stewart_params *p, object params, frozenset 
             p.universal_joint_axes[i0][i1] = value[i0, i1]
     p.spinless_legs = params.spinless_legs_in_model
     p.coulomb_velocity = params.coulomb_velocity
+    value = params.leg_length_offsets
+    for i0 in range(6):
+        p.leg_length_offsets[i0] = value[i0]
     return 0

@@ -21,6 +21,7 @@ void vkernel_residual_derivatives_inverse(const stewart_params *p, const stewart
     const double I_P_x = p->platform_inertia[0];
     const double I_P_y = p->platform_inertia[1];
     const double I_P_z = p->platform_inertia[2];
+    (void)x;
     const stewart_vd xd_3 = xd[3];
     const stewart_vd xd_4 = xd[4];
     const stewart_vd xd_5 = xd[5];
@@ -471,6 +472,7 @@ void vkernel_residual_derivatives_inverse_general(const stewart_params *p, const
     const double cP_y = p->platform_com[1];
     const double cP_z = p->platform_com[2];
     const double g = p->gravity;
+    (void)x;
     const stewart_vd xd_3 = xd[3];
     const stewart_vd xd_4 = xd[4];
     const stewart_vd xd_5 = xd[5];
@@ -1037,6 +1039,7 @@ void vkernel_residual_derivatives_forward(const stewart_params *p, const stewart
     const double I_P_x = p->platform_inertia[0];
     const double I_P_y = p->platform_inertia[1];
     const double I_P_z = p->platform_inertia[2];
+    (void)x;
     const stewart_vd xd_3 = xd[3];
     const stewart_vd xd_4 = xd[4];
     const stewart_vd xd_5 = xd[5];
@@ -1445,6 +1448,7 @@ void vkernel_residual_derivatives_forward_general(const stewart_params *p, const
     const double cP_y = p->platform_com[1];
     const double cP_z = p->platform_com[2];
     const double g = p->gravity;
+    (void)x;
     const stewart_vd xd_3 = xd[3];
     const stewart_vd xd_4 = xd[4];
     const stewart_vd xd_5 = xd[5];

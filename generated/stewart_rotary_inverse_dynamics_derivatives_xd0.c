@@ -92,6 +92,8 @@ void vkernel_rotary_inverse_dynamics_derivatives_xd0(const stewart_rotary_params
     const double m_R = p->rod_mass;
     const double b_R = p->rod_com_distance;
     const double I_R = p->rod_inertia;
+    (void)xdd;
+    (void)tau;
     const stewart_vd x_0 = x[0];
     const stewart_vd x_1 = x[1];
     const stewart_vd x_2 = x[2];

@@ -136,6 +136,96 @@ static int call_rk4_step_derivatives(const stewart_params *p, size_t n, const do
     return stewart_batch_rk4_step_derivatives(p, n, in[0], in[1], in[2], scalar, out[0], out[1], out[2], out[3], status);
 }
 
+static int call_leg_residuals(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_leg_residuals(p, n, in[0], in[1], out[0], status);
+}
+
+static int call_leg_residual_jacobians(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_leg_residual_jacobians(p, n, in[0], out[0], out[1], status);
+}
+
+static int call_target_positions(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_target_positions(p, n, in[0], in[1], out[0], status);
+}
+
+static int call_target_jacobian(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_target_jacobian(p, n, in[0], in[1], out[0], status);
+}
+
+static int call_rotation(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_rotation(p, n, in[0], out[0], status);
+}
+
+static int call_rotation_partials(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_rotation_partials(p, n, in[0], out[0], out[1], out[2], out[3], status);
+}
+
+static int call_euler_rate_jacobian(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_euler_rate_jacobian(p, n, in[0], out[0], status);
+}
+
+static int call_euler_rate_jacobian_partials(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_euler_rate_jacobian_partials(p, n, in[0], out[0], out[1], out[2], out[3], status);
+}
+
+static int call_inverse_euler_rate_jacobian(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_inverse_euler_rate_jacobian(p, n, in[0], out[0], status);
+}
+
+static int call_leg_vectors(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_leg_vectors(p, n, in[0], out[0], status);
+}
+
+static int call_leg_unit_vectors(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_leg_unit_vectors(p, n, in[0], out[0], status);
+}
+
+static int call_leg_unit_vector_gradients(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_leg_unit_vector_gradients(p, n, in[0], out[0], out[1], status);
+}
+
+static int call_modal_stiffness(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_modal_stiffness(p, n, in[0], in[1], out[0], out[1], out[2], status);
+}
+
+static int call_joint_cosines(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_joint_cosines(p, n, in[0], in[1], in[2], in[3], out[0], out[1], status);
+}
+
+static int call_rider_signals(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_batch_rider_signals(p, n, in[0], in[1], in[2], out[0], out[1], out[2], out[3], status);
+}
+
 const stewart_table STEWART_JOIN(stewart_table, STEWART_TARGET) = {
     STEWART_STRING(STEWART_TARGET), STEWART_TARGET_LEVEL, STEWART_TARGET_FLAGS, STEWART_COMPILER,
     stewart_status_message,
@@ -165,6 +255,21 @@ const stewart_table STEWART_JOIN(stewart_table, STEWART_TARGET) = {
     stewart_regressor,
     stewart_rk4_step,
     stewart_rk4_step_derivatives,
+    stewart_leg_residuals,
+    stewart_leg_residual_jacobians,
+    stewart_target_positions,
+    stewart_target_jacobian,
+    stewart_rotation,
+    stewart_rotation_partials,
+    stewart_euler_rate_jacobian,
+    stewart_euler_rate_jacobian_partials,
+    stewart_inverse_euler_rate_jacobian,
+    stewart_leg_vectors,
+    stewart_leg_unit_vectors,
+    stewart_leg_unit_vector_gradients,
+    stewart_modal_stiffness,
+    stewart_joint_cosines,
+    stewart_rider_signals,
     stewart_batch_leg_lengths,
     stewart_batch_jacobian,
     stewart_batch_leg_rates,
@@ -184,5 +289,20 @@ const stewart_table STEWART_JOIN(stewart_table, STEWART_TARGET) = {
     stewart_batch_regressor,
     stewart_batch_rk4_step,
     stewart_batch_rk4_step_derivatives,
-    {call_leg_lengths, call_jacobian, call_leg_rates, call_leg_accelerations, call_mass_matrix, call_twist_mass_matrix, call_coriolis_matrix, call_coriolis_vector, call_gravity_vector, call_all_terms, call_inverse_dynamics, call_forward_dynamics, call_inverse_dynamics_derivatives, call_static_force_derivatives, call_forward_dynamics_derivatives, call_joint_reactions, call_regressor, call_rk4_step, call_rk4_step_derivatives},
+    stewart_batch_leg_residuals,
+    stewart_batch_leg_residual_jacobians,
+    stewart_batch_target_positions,
+    stewart_batch_target_jacobian,
+    stewart_batch_rotation,
+    stewart_batch_rotation_partials,
+    stewart_batch_euler_rate_jacobian,
+    stewart_batch_euler_rate_jacobian_partials,
+    stewart_batch_inverse_euler_rate_jacobian,
+    stewart_batch_leg_vectors,
+    stewart_batch_leg_unit_vectors,
+    stewart_batch_leg_unit_vector_gradients,
+    stewart_batch_modal_stiffness,
+    stewart_batch_joint_cosines,
+    stewart_batch_rider_signals,
+    {call_leg_lengths, call_jacobian, call_leg_rates, call_leg_accelerations, call_mass_matrix, call_twist_mass_matrix, call_coriolis_matrix, call_coriolis_vector, call_gravity_vector, call_all_terms, call_inverse_dynamics, call_forward_dynamics, call_inverse_dynamics_derivatives, call_static_force_derivatives, call_forward_dynamics_derivatives, call_joint_reactions, call_regressor, call_rk4_step, call_rk4_step_derivatives, call_leg_residuals, call_leg_residual_jacobians, call_target_positions, call_target_jacobian, call_rotation, call_rotation_partials, call_euler_rate_jacobian, call_euler_rate_jacobian_partials, call_inverse_euler_rate_jacobian, call_leg_vectors, call_leg_unit_vectors, call_leg_unit_vector_gradients, call_modal_stiffness, call_joint_cosines, call_rider_signals},
 };

@@ -30,11 +30,9 @@ changes goes through the same deprecation, recorded in CHANGELOG.md.
 
 import ast
 import importlib
-import importlib.abc
-import importlib.util
-import sys
-import warnings
 from typing import TYPE_CHECKING
+
+from ._modules import moved_module, moved_modules
 
 __version__ = "0.2.0"
 
@@ -61,9 +59,16 @@ if TYPE_CHECKING:  # the public names: what `__getattr__` imports on first use
     from .model.params import NonAxisymmetricLegWarning, PlatformParams
     from .model.platform import (
         AllTerms,
+        EulerRateJacobianPartials,
         ForwardDynamicsDerivatives,
         InverseDynamicsDerivatives,
+        JointCosines,
+        LegResidualJacobians,
+        LegUnitVectors,
+        ModalStiffness,
         Platform,
+        RiderSignals,
+        RotationPartials,
         StaticForceDerivatives,
         Step,
         StepDerivatives,
@@ -93,7 +98,8 @@ __all__ = list(_PUBLIC)
 
 #: The module paths of 0.1.0 that 0.2.0 moved into the sub-packages: deprecated aliases of
 #: their new paths until 0.3.0 (``import stewart.envelope`` and ``stewart.envelope`` work,
-#: with a ``DeprecationWarning`` naming the new path).
+#: with a ``DeprecationWarning`` naming the new path; :mod:`stewart._modules` holds the
+#: mechanism, which the sub-packages' moved paths share).
 MOVED = {
     **{name: f"stewart.model.{name}" for name in ("conditions", "errors", "kinematics", "paramfile", "params",
                                                    "platform", "stiffness")},
@@ -107,42 +113,13 @@ MOVED = {
 }
 
 
-def _moved(name: str, stacklevel: int):
-    """The module that ``stewart.<name>`` moved to, with the warning that says where."""
-    new = MOVED[name]
-    warnings.warn(f"stewart.{name} is deprecated: it moved to {new} in 0.2.0 (use `from {new.rpartition('.')[0]} "
-                  f"import {new.rpartition('.')[2]}`); the old path goes in 0.3.0", DeprecationWarning,
-                  stacklevel=stacklevel + 1)
-    return importlib.import_module(new)
-
-
-class _MovedModules(importlib.abc.MetaPathFinder, importlib.abc.Loader):
-    """``import stewart.<old path>``: the moved module itself, with the deprecation warning."""
-
-    def find_spec(self, fullname, path=None, target=None):
-        package, _, name = fullname.rpartition(".")
-        if package != __name__ or name not in MOVED:
-            return None
-        return importlib.util.spec_from_loader(fullname, self)
-
-    def create_module(self, spec):
-        module = _moved(spec.name.rpartition(".")[2], 2)
-        self._specs[spec.name] = module.__spec__  # the import system puts the alias's spec on it
-        return module
-
-    def exec_module(self, module):
-        module.__spec__ = self._specs.pop(module.__spec__.name)
-
-    _specs: dict = {}
-
-
-sys.meta_path.append(_MovedModules())
+moved_modules(__name__, MOVED, since="0.2.0")
 
 
 def __getattr__(name: str):
     """Import a public name on first use (a function, class or sub-package of the package)."""
     if name in MOVED:
-        return _moved(name, 2)
+        return moved_module(f"{__name__}.{name}", 2)
     if name not in _PUBLIC:
         raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
     module, attribute = _PUBLIC[name]

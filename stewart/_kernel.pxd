@@ -17,7 +17,7 @@ cdef class _Function:
     cdef bint whole
     cdef int widths[STEWART_MAX_OUTPUTS]
     cdef int ndims[STEWART_MAX_OUTPUTS]
-    cdef cnp.npy_intp dims[STEWART_MAX_OUTPUTS][2]
+    cdef cnp.npy_intp dims[STEWART_MAX_OUTPUTS][3]
 
     cdef object split(self, tuple outputs)
 

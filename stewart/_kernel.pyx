@@ -12,10 +12,12 @@ function is called through its entry of the table's ``call`` (stewart_dispatch.h
 function (``batch_<name>``, ``LANES`` states per vector instruction), on one row for a single
 state. All the mathematics is in the generated C.
 
-Two loops that call the model without Python per state are part of the module (included
+The loops that call the model without Python per state are part of the module (included
 from their own files, so that the extension compiles Cython's support code once): the
-simulator's closed loop (stewart/_simulate.pxi: ``ClosedLoop``) and the envelope's running
-peaks (stewart/_envelope.pxi: ``Peaks``, ``box_states``).
+simulator's closed loop (stewart/_simulate.pxi: ``ClosedLoop``), the envelope's running
+peaks (stewart/_envelope.pxi: ``Peaks``, ``box_states``), the modes (stewart/_modes.pxi:
+``modal_terms``) and an MPC cueing step's QP (stewart/_cueing.pxi and _cueing_rows.pxi:
+``CueingStep``).
 
 The C functions are called through a table (generated/stewart_dispatch.h): the build
 compiles the model once per instruction set, and the import picks the copy this CPU runs
@@ -149,8 +151,9 @@ cdef enum:
     # Bytes of inputs and outputs a thread takes at a time from a batch function: whole blocks
     # of LANES rows, within a core's L1 and L2 caches (Zen 4: 32 kB, 1 MB).
     BATCH_BYTES = 65536
-    # The most dimensions of an output array: the batch's and a row's (a matrix).
-    MAX_DIMS = 3
+    # The most dimensions of an output array: the batch's and a row's (up to three: the legs'
+    # unit vectors' pose gradients, 6 x 3 x 6).
+    MAX_DIMS = 4
 
 
 cdef cnp.ndarray _states(str name, object value):
@@ -213,7 +216,7 @@ cdef class _Function:
         parts = []
         for output, start, stop, shape in self.parts:
             part = outputs[output][..., start:stop]
-            parts.append(np.ascontiguousarray(part.reshape(part.shape[:-1] + shape)))
+            parts.append(np.ascontiguousarray(part.reshape(tuple(part.shape)[:part.ndim - 1] + shape)))
         return parts[0] if len(parts) == 1 else tuple(parts)
 
 
@@ -444,7 +447,7 @@ cdef class Kernel:
         rates or forces are not finite."""
         cdef cnp.ndarray crates = _c_array("rates", rates, cnp.NPY_DOUBLE, np.ndim(rates), False)
         cdef cnp.ndarray out = np.empty_like(crates)
-        cdef stewart_friction f = as_friction(law)
+        cdef stewart_friction f = as_friction("law", law)
         cdef size_t n = crates.size // 6
         with nogil:
             T.batch_friction_forces(&f, n, <const double *>cnp.PyArray_DATA(crates), <double *>cnp.PyArray_DATA(out),
@@ -531,3 +534,5 @@ include "_simulate.pxi"
 include "_envelope.pxi"
 include "_modes.pxi"
 include "_rotary.pxi"
+include "_cueing.pxi"
+include "_cueing_rows.pxi"

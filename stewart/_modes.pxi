@@ -2,21 +2,19 @@
 # stewart/_kernel.pyx: stewart._kernel.modal_terms; the equations are those of
 # stewart.model.stiffness).
 #
-# A few dozen rows at a time, the model's batch functions give the static forces' exact Jacobian
-# dtau_s/dx (static_force_derivatives), J_C and the twist-space mass matrix M_t into
-# buffers on the stack; per row the twist-space stiffness
-#     K_t = J_C^T (diag(k) J_C + dtau_s/dx T^-1),   T^-1 = blockdiag(I, J_A^-1),
-# is formed and LAPACK's dsygv (scipy.linalg.cython_lapack) solves K_t phi = w^2 M_t phi for
-# the symmetric part of K_t. Nothing is allocated per state, and the rows run without the GIL,
-# on the kernel's threads.
+# A few dozen rows at a time, the model's batch function modal_stiffness gives, into buffers on
+# the stack, the twist-space stiffness K_t = J_C^T (diag(k) J_C + dtau_s/dx T^-1), J_C and the
+# twist-space mass matrix M_t (all derived in codegen/); per row LAPACK's dsygv
+# (scipy.linalg.cython_lapack) solves K_t phi = w^2 M_t phi for the symmetric part of K_t.
+# Nothing is allocated per state, and the rows run without the GIL, on the kernel's threads.
 
-from libc.math cimport M_PI, cos, sin, tan
+from libc.math cimport M_PI
 from scipy.linalg.cython_lapack cimport dsygv
 
 cdef enum:
     # The status of a row whose stiffness is not positive definite: the legs cannot hold the pose.
     MODAL_UNSTABLE = -1
-    # Rows per call of the batch functions: their outputs (114 doubles a row) stay in L1/L2.
+    # Rows per call of the batch function.
     MODAL_ROWS = 32
     # The workspace of dsygv (at least 3 n - 1 = 17).
     MODAL_WORK = 64
@@ -25,43 +23,15 @@ cdef enum:
 UNSTABLE = MODAL_UNSTABLE
 
 
-cdef void _inverse_euler_rates(const double *x, double *out) noexcept nogil:
-    """``J_A^-1`` (eq. 8 inverted, row-major 3 x 3): the Euler rates of an angular velocity in {B}."""
-    cdef double sps = sin(x[3]), cps = cos(x[3]), tth = tan(x[4]), sec = 1.0 / cos(x[4])
-    out[0], out[1], out[2] = tth * cps, tth * sps, 1.0
-    out[3], out[4], out[5] = -sps, cps, 0.0
-    out[6], out[7], out[8] = cps * sec, sps * sec, 0.0
-
-
-cdef int _modal_row(const double *x, const double *k, const double *jac, const double *dtau_dx, const double *mass,
-                    double *stiff, double *frequencies, double *shapes) noexcept nogil:
-    """One state: ``stiff`` = ``K_t`` (row-major, not symmetrized), ``frequencies`` = ``w / 2 pi``
+cdef int _modal_row(const double *stiff, const double *mass, double *frequencies, double *shapes) noexcept nogil:
+    """One state of ``K_t`` (``stiff``) and ``M_t`` (``mass``), row-major: ``frequencies`` = ``w / 2 pi``
     ascending and ``shapes`` (row-major, mode j in column j) mass-normalized; the status."""
-    cdef double inv_rates[9]
-    cdef double inner[36]
     cdef double a[36]
     cdef double b[36]
     cdef double work[MODAL_WORK]
     cdef double values[6]
-    cdef int i, j, m, itype = 1, order = 6, lwork = MODAL_WORK, info = 0
+    cdef int i, j, itype = 1, order = 6, lwork = MODAL_WORK, info = 0
     cdef char jobz = b'V', uplo = b'L'
-    cdef double s
-    _inverse_euler_rates(x, inv_rates)
-    for i in range(6):
-        for j in range(6):
-            s = k[i] * jac[6 * i + j]
-            if j < 3:
-                s += dtau_dx[6 * i + j]
-            else:
-                for m in range(3):
-                    s += dtau_dx[6 * i + 3 + m] * inv_rates[3 * m + j - 3]
-            inner[6 * i + j] = s
-    for i in range(6):
-        for j in range(6):
-            s = 0.0
-            for m in range(6):
-                s += jac[6 * m + i] * inner[6 * m + j]
-            stiff[6 * i + j] = s
     for i in range(6):
         for j in range(6):
             a[6 * i + j] = 0.5 * (stiff[6 * i + j] + stiff[6 * j + i])
@@ -80,38 +50,25 @@ cdef int _modal_row(const double *x, const double *k, const double *jac, const d
 
 cdef void _modal_rows(const stewart_params *p, const double *x, const double *k, Py_ssize_t n, double *stiff, double *jac,
                       double *mass, double *values, double *shapes, int *status) noexcept nogil:
-    """Up to MODAL_ROWS states; a failed row's outputs are NaN but for the stiffness of an
-    unstable one."""
-    cdef double tau[MODAL_ROWS * 6]
-    cdef double dtau_dx[MODAL_ROWS * 36]
-    cdef int jac_status[MODAL_ROWS]
-    cdef int mass_status[MODAL_ROWS]
+    """Up to MODAL_ROWS states; a failed row's outputs are NaN but for the stiffness, J_C and M_t
+    of an unstable one."""
+    cdef double springs[MODAL_ROWS * 6]
     cdef Py_ssize_t r, i
-    if n == 1:  # one state: the model's own functions, not a batch padded to the vector width
-        status[0] = T.static_force_derivatives(p, x, tau, dtau_dx)
-        jac_status[0] = T.jacobian(p, x, jac)
-        mass_status[0] = T.twist_mass_matrix(p, x, mass)
+    if n == 1:  # one state: the model's own function, not a batch padded to the vector width
+        status[0] = T.modal_stiffness(p, x, k, stiff, jac, mass)
     else:
-        T.batch_static_force_derivatives(p, n, x, tau, dtau_dx, status)
-        T.batch_jacobian(p, n, x, jac, jac_status)
-        T.batch_twist_mass_matrix(p, n, x, mass, mass_status)
+        for r in range(n):
+            for i in range(6):
+                springs[6 * r + i] = k[i]
+        T.batch_modal_stiffness(p, n, x, springs, stiff, jac, mass, status)
     for r in range(n):
-        # M_t's status first: its legs' tests are those of the variant for the legs' inertia (the
-        # leg frames of the paper's model), which the statics alone do not need.
-        if mass_status[r] != STEWART_OK:
-            status[r] = mass_status[r]
-        if status[r] == STEWART_OK and not fabs(cos(x[6 * r + 4])) >= STEWART_EULER_TOL:
-            status[r] = STEWART_ERR_EULER_SINGULAR
         if status[r] == STEWART_OK:
-            status[r] = _modal_row(x + 6 * r, k, jac + 36 * r, dtau_dx + 36 * r, mass + 36 * r, stiff + 36 * r,
-                                   values + 6 * r, shapes + 36 * r)
+            status[r] = _modal_row(stiff + 36 * r, mass + 36 * r, values + 6 * r, shapes + 36 * r)
         if status[r] != STEWART_OK:
             for i in range(6):
                 values[6 * r + i] = NAN
             for i in range(36):
                 shapes[36 * r + i] = NAN
-                if status[r] != MODAL_UNSTABLE:
-                    stiff[36 * r + i] = NAN
 
 
 def modal_terms(Kernel kernel, x, k):

@@ -15,14 +15,27 @@ cpdef enum Mode:
     COMPUTED_TORQUE = STEWART_COMPUTED_TORQUE
 
 
-cdef stewart_friction as_friction(law):
-    """``(F_v (6,), F_c (6,), v_c)`` as a :c:type:`stewart_friction`."""
-    cdef stewart_friction f
+cdef int per_leg(double *out, str name, object value, bint finite) except -1:
+    """``value``, six numbers (one per leg; finite if ``finite``, else not NaN: a force limit may
+    be infinite), into ``out``; a ``ValueError`` naming the argument ``name`` otherwise."""
+    cdef cnp.ndarray arr = arguments.reals(name, value)
     cdef int k
-    viscous, coulomb, velocity = law
+    if arr.ndim != 1 or arr.shape[0] != 6:
+        raise ValueError(f"{name}: expected 6 values, one per leg, got shape {np.shape(value)}")
+    if not (np.all(np.isfinite(arr)) if finite else not np.any(np.isnan(arr))):
+        raise ValueError(f"{name}: expected {'finite values' if finite else 'no NaN'}, got {arr.tolist()}")
     for k in range(6):
-        f.viscous[k] = viscous[k]
-        f.coulomb[k] = coulomb[k]
+        out[k] = arr[k]
+    return 0
+
+
+cdef stewart_friction as_friction(str name, law):
+    """``(F_v (6,), F_c (6,), v_c)`` as a :c:type:`stewart_friction` (``name``: the argument, in
+    the errors)."""
+    cdef stewart_friction f
+    viscous, coulomb, velocity = law
+    per_leg(f.viscous, f"{name} (viscous)", viscous, True)
+    per_leg(f.coulomb, f"{name} (coulomb)", coulomb, True)
     f.velocity = velocity
     return f
 
@@ -47,16 +60,14 @@ cdef class ClosedLoop:
     cdef stewart_loop loop
 
     def __cinit__(self, Kernel kernel, int mode, kp, ki, kd, force_limit, friction, model_friction):
-        cdef int k
         self.kernel = kernel
         self.loop.mode = mode
-        for k in range(6):
-            self.loop.kp[k] = kp[k]
-            self.loop.ki[k] = ki[k]
-            self.loop.kd[k] = kd[k]
-            self.loop.force_limit[k] = force_limit[k]
-        self.loop.friction = as_friction(friction)
-        self.loop.model_friction = as_friction(model_friction)
+        per_leg(self.loop.kp, "kp", kp, True)
+        per_leg(self.loop.ki, "ki", ki, True)
+        per_leg(self.loop.kd, "kd", kd, True)
+        per_leg(self.loop.force_limit, "force_limit", force_limit, False)
+        self.loop.friction = as_friction("friction", friction)
+        self.loop.model_friction = as_friction("model_friction", model_friction)
 
     def derivative(self, y, ref, feedforward):
         """``(ydot, commanded force, L, Ldot, status)`` at one state (for adaptive integrators);

@@ -132,6 +132,46 @@ def pytest_xdist_make_scheduler(config, log):
 PRESETS = sorted(stewart.presets())
 
 
+@pytest.fixture
+def conversions(monkeypatch):
+    """``count = conversions("stewart.motion")``: from then on, ``count`` (a Counter) holds the
+    calls of the platform converters (:func:`~stewart.model.platform.as_platform`,
+    :func:`~stewart.model.params.platform_params`) made by each module of that package, by
+    module name, and under ``"compiled"`` the :class:`~stewart.Platform` objects built (a
+    ``PlatformParams`` compiled), wherever they are built."""
+    import collections
+    import sys
+
+    from stewart.model import params as params_module
+    from stewart.model import platform as platform_module
+
+    converters = {"as_platform": platform_module.as_platform, "platform_params": params_module.platform_params}
+    count = collections.Counter()
+
+    def counting(converter, module_name):
+        def convert(*args, **kwargs):
+            count[module_name] += 1
+            return converter(*args, **kwargs)
+        return convert
+
+    build = platform_module.Platform.__init__
+
+    def compiling(self, *args, **kwargs):
+        count["compiled"] += 1
+        build(self, *args, **kwargs)
+
+    def within(package: str) -> collections.Counter:
+        for module_name, module in list(sys.modules.items()):
+            if module_name == package or module_name.startswith(package + "."):
+                for name, converter in converters.items():
+                    if vars(module).get(name) is converter:
+                        monkeypatch.setattr(module, name, counting(converter, module_name))
+        monkeypatch.setattr(platform_module.Platform, "__init__", compiling)
+        return count
+
+    return within
+
+
 @pytest.fixture(params=PRESETS)
 def preset_params(request):
     return stewart.PlatformParams.preset(request.param)
@@ -238,6 +278,16 @@ PLATFORM_METHODS = {
     "forward_dynamics_derivatives": ("x", "xd", "tau"),
     "joint_reactions": ("x", "xd", "xdd"),
     "forward_kinematics": ("lengths", "guess"),
+    "leg_residuals": ("x", "readings"),
+    "leg_residual_jacobians": ("x",),
+    "target_positions": ("x", "offsets"),
+    "target_jacobian": ("x", "offsets"),
+    "rotation": ("x",),
+    "euler_rate_jacobian": ("x",),
+    "inverse_euler_rate_jacobian": ("x",),
+    "leg_vectors": ("x",),
+    "leg_unit_vectors": ("x",),
+    "modal_stiffness": ("x", "k"),
 }
 
 
@@ -254,6 +304,9 @@ def valid_arguments(plat, n=None, seed=0):
         "tau": plat.inverse_dynamics(x, xd, xdd),
         "lengths": plat.leg_lengths(x),
         "guess": x + 1e-3,
+        "readings": plat.encoder_readings(x) + 1e-6,
+        "offsets": np.full(np.shape(x)[:-1] + (3,), 0.02),
+        "k": np.linspace(1e6, 2e6, 6),
     }
 
 

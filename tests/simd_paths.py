@@ -21,6 +21,8 @@ from stewart.cli import bench
 
 #: Batch size: no multiple of 2, 4 or 8.
 ROWS = 1003
+#: The legs' stiffnesses of the modal stiffness [N/m].
+SPRINGS = np.linspace(1e6, 2e6, 6)
 #: Rows made singular.
 DEGENERATE_ROW, EULER_ROW = 17, 5
 
@@ -57,6 +59,20 @@ def calls(plat, x, xd, xdd, tau):
         "rk4_step_jacobians": lambda m: plat.rk4_step(x, xd, tau, 1e-3, jacobians=True, return_mask=m),
         "joint_reactions": lambda m: plat.joint_reactions(x, xd, xdd, return_mask=m),
         "regressor": lambda m: plat.regressor(x, xd, xdd, return_mask=m),
+        # (the calibration's functions: xd stands for encoder readings, xdd's first three for targets)
+        "leg_residuals": lambda m: plat.leg_residuals(x, xd, return_mask=m),
+        "leg_residual_jacobians": lambda m: plat.leg_residual_jacobians(x, return_mask=m),
+        "target_positions": lambda m: plat.target_positions(x, xdd[..., :3], return_mask=m),
+        "target_jacobian": lambda m: plat.target_jacobian(x, xdd[..., :3], return_mask=m),
+        "rotation": lambda m: plat.rotation(x, return_mask=m),
+        "rotation_partials": lambda m: plat.rotation(x, partials=True, return_mask=m),
+        "euler_rate_jacobian": lambda m: plat.euler_rate_jacobian(x, return_mask=m),
+        "euler_rate_jacobian_partials": lambda m: plat.euler_rate_jacobian(x, partials=True, return_mask=m),
+        "inverse_euler_rate_jacobian": lambda m: plat.inverse_euler_rate_jacobian(x, return_mask=m),
+        "leg_vectors": lambda m: plat.leg_vectors(x, return_mask=m),
+        "leg_unit_vectors": lambda m: plat.leg_unit_vectors(x, return_mask=m),
+        "leg_unit_vector_gradients": lambda m: plat.leg_unit_vectors(x, gradients=True, return_mask=m),
+        "modal_stiffness": lambda m: plat.modal_stiffness(x, SPRINGS, return_mask=m),
     }
 
 

@@ -386,7 +386,10 @@ def test_cueing_rows_mark_the_target():
     from benchmarks import cueing
 
     fig = {"preset": "motion_simulator", "horizon_s": 1.0, "steps": 10, "step_max_ms": 9.0, "qp_median_ms": 1.0}
-    for median, low, high, verdict in ((1.9, 1.8, 1.95, "met"), (2.1, 2.05, 2.2, "MISSED"),
-                                       (2.0, 1.9, 2.1, "unsettled")):
-        row = cueing.rows({**fig, **bench.figures_of({"step_median_ms": Measurement(median, low, high, 2)})})[0]
-        assert row[2:] == (f"{low:.2f}-{high:.2f} (2)", "<= 2 ms", verdict)
+    for median, low, high, verdict in ((0.9, 0.8, 0.95, "met"), (1.1, 1.05, 1.2, "MISSED"),
+                                       (1.0, 0.9, 1.1, "unsettled")):
+        speedup = Measurement(3.0 - median, 3.0 - high, 3.0 - low, 2)  # 2.1 met, 1.9 missed, 2.0 unsettled
+        measured = bench.figures_of({"step_median_ms": Measurement(median, low, high, 2), "step_speedup": speedup})
+        step, faster = cueing.rows({**fig, **measured})[:2]
+        assert step[2:] == (f"{low:.2f}-{high:.2f} (2)", "<= 1 ms", verdict)
+        assert faster[2:] == (f"{3.0 - high:.2f}-{3.0 - low:.2f} (2)", ">= 2x", verdict)

@@ -1,9 +1,10 @@
-"""Kinematic calibration (stewart.calibration): the exact Jacobians against complex-step
-derivatives, the estimates against a simulated built machine at the rate their standard
-errors promise (with the noise the fit assumes, and with a tracker's noise it does not at
-stated standard deviations three times too large or small), measured poses at the stroke
-ends, the held-out pose error, the named unidentifiable combinations against
-their hand derivation, the designed poses against random ones, and the command line."""
+"""Kinematic calibration (stewart.calibration): the estimates against a simulated built
+machine at the rate their standard errors promise (with the noise the fit assumes, and with
+a tracker's noise it does not at stated standard deviations three times too large or
+small), measured poses at the stroke ends, a fit that does not converge, the held-out pose
+error, the named unidentifiable combinations against their hand derivation, the designed
+poses against random ones, and the command line. (The residuals and Jacobians themselves:
+test_calibration_geometry.py.)"""
 
 import json
 import re
@@ -100,33 +101,6 @@ def test_calibration_residuals_are_the_hand_built_legs(designed):
     # before: the build's millimetres (0.3-2.8 mm reached); after: the tracker's 1e-5 m and
     # 1e-4 rad noise (1.1e-5 m reached, bound 3e-5 m)
     assert np.max(result.rms_before) > 5e-4 and np.max(result.rms_after) < 3e-5
-
-
-def _complex_step(function, point, h=1e-30):
-    columns = []
-    for k in range(point.size):
-        z = point.astype(complex)
-        z.flat[k] += 1j * h
-        columns.append(np.imag(function(z)) / h)
-    return np.stack(columns, axis=-1)
-
-
-def test_the_jacobians_match_complex_step_derivatives(figures):
-    theta = geometry.parameter_vector(perturbed_geometry(NOMINAL, seed=4))
-    poses = _random_poses(5, 0)
-    readings = stewart.leg_lengths(NOMINAL, poses)
-    exact = geometry.leg_jacobian(theta, poses)
-    numeric = _complex_step(lambda z: geometry.leg_residuals(z, poses, readings), theta)
-    # complex step is exact to rounding (h = 1e-30): reached 2.2e-16, 1.1e-16 and 3.5e-18 (the
-    # target's columns are its offsets', centimetres); bounds ~100 times those
-    figures("calibration dr/dtheta against complex step", np.max(np.abs(exact - numeric)), 2e-14)
-    per_pose = _complex_step(lambda z: geometry.leg_residuals(theta, z[None], readings[:1])[0], poses[0])
-    figures("calibration dr/dx against complex step",
-            np.max(np.abs(geometry.leg_pose_jacobian(theta, poses[:1])[0] - per_pose)), 2e-14)
-    offsets = np.array([[0.01, -0.02, 0.03]])
-    target = _complex_step(lambda z: -geometry.target_positions(z[None], offsets)[0], poses[0])
-    figures("calibration target dq/dx against complex step",
-            np.max(np.abs(geometry.target_pose_jacobian(poses[:1], offsets)[0] - target)), 4e-16)
 
 
 def test_estimates_lie_within_their_standard_errors_at_the_expected_rate(designed):
@@ -666,6 +640,52 @@ def test_measured_poses_past_the_nominal_stroke_are_calibrated_and_judged_after_
         assert len(lines) == 1 and lines[0].startswith(f"stewart calibrate: warning: {tmp_path / 'm.csv'}: with the "
                                                        "calibrated geometry")
         assert "past the stroke 0.19-0.38 m" in lines[0] and "by more than 3 standard uncertainties" in lines[0]
+
+
+def test_a_fit_that_runs_out_of_evaluations_is_an_error_never_a_result(designed, monkeypatch, tmp_path, capsys):
+    """The real solver held to 2 evaluations of the residuals (the fit from the nominal takes 6)
+    stops without converging (status 0): calibrate raises ConvergenceError naming the data and
+    the solver's message, and stewart calibrate exits 4 (the run failed) with that one line."""
+    import scipy.optimize
+
+    solve = scipy.optimize.least_squares
+    statuses = []
+
+    def starved(*args, **options):
+        result = solve(*args, **{**options, "max_nfev": 2})
+        statuses.append(result.status)
+        return result
+
+    monkeypatch.setattr(scipy.optimize, "least_squares", starved)
+    data = simulate_measurements(perturbed_geometry(NOMINAL, seed=11), designed.poses, seed=1)
+    with pytest.raises(stewart.ConvergenceError, match=r"^simulated measurements: the least squares did not "
+                       r"converge: The maximum number of function evaluations is exceeded\. \(2 evaluations, "
+                       r"status 0\); no calibration$"):
+        calibrate(NOMINAL, data)
+    data.to_csv(tmp_path / "m.csv")
+    code, out, err = _run(["calibrate", str(tmp_path / "m.csv"), "--report", str(tmp_path / "r.json")], capsys)
+    assert statuses == [0, 0] and code == 4 and not (tmp_path / "r.json").exists()
+    assert err.strip().splitlines() == [f"stewart calibrate: error: {tmp_path / 'm.csv'}: the least squares did "
+                                        "not converge: The maximum number of function evaluations is exceeded. (2 "
+                                        "evaluations, status 0); no calibration"]
+
+
+def test_point_data_whose_poses_do_not_converge_is_an_error_never_a_result(designed, monkeypatch):
+    """Point data's poses are solved by Gauss-Newton at each parameter vector: held to one
+    iteration whose step must be exactly zero (two reach 1e-12 from the last poses on this data;
+    whether the first alone does depends on the last bits of the fit's path) they do not converge
+    at the estimate, and calibrate raises ConvergenceError instead of reporting a fit on poses that
+    are not the least-squares ones; with the iterations it has, the same data calibrates."""
+    from stewart.calibration import fit
+
+    data = simulate_measurements(perturbed_geometry(NOMINAL, seed=7), designed.poses,
+                                 target_offsets=[[0.0, 0.0, 0.02], [0.05, 0.0, 0.02], [0.0, 0.05, 0.02]], seed=3)
+    assert calibrate(NOMINAL, data).sigma < 1.2
+    monkeypatch.setattr(fit, "_POSE_ITERATIONS", 1)
+    monkeypatch.setattr(fit, "_POSE_TOLERANCE", 0.0)
+    with pytest.raises(stewart.ConvergenceError, match=r"^simulated measurements: the platform's poses at the "
+                       r"estimate did not converge in 1 Gauss-Newton iterations; no calibration$"):
+        calibrate(NOMINAL, data)
 
 
 def test_a_measured_pose_outside_the_workspace_is_refused_saying_why():

@@ -106,7 +106,7 @@ def test_params_header_sets_every_member_by_name(tmp_path):
     assert fields - set(PARAM_INPUTS) == set(PARAMS_LEFT_OUT) == {
         "leg_length_limits", "universal_joint_max_angle", "spherical_joint_max_angle", "leg_diameter",
         "plate_radius", "base_clearance", "name",
-        "viscous_friction", "coulomb_friction", "leg_stiffness", "leg_damping", "leg_length_offsets"}
+        "viscous_friction", "coulomb_friction", "leg_stiffness", "leg_damping"}
     header = capi.params_header(params)
     assert "leg_length_limits = (0.1, 3.0)" in header and "'test * / platform\\n\\xe9'" in header
 

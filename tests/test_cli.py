@@ -467,3 +467,23 @@ def test_c_export_writes_the_model_and_the_platform_header(tmp_path, capsys):
     assert code == 2 and "not a directory" in _one_error_line(err, "c-export", f"DIR {tmp_path / 'file'}: ")
     code, _, err = _run(["c-export", str(tmp_path / "file" / "sub")], capsys)
     assert code == 2 and _one_error_line(err, "c-export", f"DIR {tmp_path / 'file' / 'sub'}: ")
+
+
+def test_bench_ratios_only_times_the_derivatives_against_the_values(capsys):
+    """``stewart bench --ratios-only``: only the exact derivatives' cost over the values', a
+    state each, on each vector path this CPU runs, each row with its target and verdict. The
+    derivative functions compute the values too, so each ratio's median is above 1 (a round
+    the machine's other jobs interrupt may not be: the interval's ends are not checked)."""
+    code, out, err = _run(["bench", "--ratios-only", "--preset", "narayan2017", "--budget", "0", "--json"], capsys)
+    assert code == 0
+    figures = json.loads(out)["figures"]["narayan2017"]
+    paths = [path for path in ("avx2", "avx512") if path in stewart.build_info()["supported"]]
+    keys = {f"derivative_ratio_{name}_{path}" for name in ("inverse_dynamics", "forward_dynamics") for path in paths}
+    assert set(figures) == keys | {"spread"}
+    for key in keys:
+        spread = figures["spread"][key]
+        assert spread["low"] <= figures[key] <= spread["high"] and 1 < figures[key] < 50
+        name, path = key.removeprefix("derivative_ratio_").rsplit("_", 1)
+        row = next(line for line in err.splitlines() if line.startswith("[narayan2017]") and f"over {name}" in line
+                   and line.split(",")[-1].split()[0] == path)
+        assert f"{figures[key]:.2f}x" in row and "<= 5x" in row and row.split()[-1] in ("met", "MISSED", "unsettled")

@@ -15,10 +15,10 @@ from scipy import signal
 
 from cli_run import call
 
+import stewart.cueing
 from stewart.cueing import VehicleLog, WashoutParams, read_log, vestibular, washout
-from stewart.cueing import washout as washout_module  # noqa: F401
 from stewart.cueing.log import RATE_TOLERANCE
-from stewart.cueing.washout import filters, reference_poses
+from stewart.cueing.classical import filters, reference_poses
 from stewart.model.params import PlatformParams
 from stewart.motion.trajectory import SampledTrajectory
 
@@ -358,3 +358,15 @@ def test_tilt_angle_limit_outside_0_to_90_degrees_is_refused(degrees):
         WashoutParams(tilt_max_angle=math.radians(degrees))
     assert float(str(error.value).rsplit(" ", 1)[1]) == pytest.approx(degrees, rel=1e-14)  # the radians' round trip
     assert WashoutParams(tilt_max_angle=math.radians(89.9)).tilt_max_angle == math.radians(89.9)
+
+
+def test_the_washout_converts_its_platform_once_where_it_enters(conversions):
+    """The rule of stewart.model for the runs of stewart.cueing: the washout converts its
+    platform argument once, in stewart.cueing.runners, and compiles it once; the settings'
+    defaults, the limiter, the report and the closed loop take the converted Platform."""
+    log = read_log(os.path.join(EXAMPLES, "hard_braking.csv"))
+    log = VehicleLog(log.t[:50], log.f[:50], log.w[:50], "start")
+    count = conversions("stewart.cueing")
+    result = stewart.cueing.washout(log, PlatformParams.preset("motion_simulator"), simulate=True)
+    assert len(result.poses) == 50 and result.simulation.completed
+    assert count == {"stewart.cueing.runners": 1, "compiled": 1}

@@ -1,4 +1,4 @@
-"""MPC cueing keeps the platform's limits by construction (stewart.cueing.predictive): on
+"""MPC cueing keeps the platform's limits by construction (stewart.cueing.planner): on
 random realistic logs (steps and ramps of specific force up to 1 g, sustained tilt
 coordination, rate spikes, rough flight; 50 to 1000 Hz) and on a car's lane change ended by
 hard braking that stops abruptly, on both presets, the reference MPC writes holds the stroke,
@@ -14,7 +14,7 @@ import pytest
 from cli_run import call
 
 import stewart
-from stewart.cueing import VehicleLog, mpc, predictive
+from stewart.cueing import VehicleLog, mpc, planner
 from stewart.model.reachability import reachability
 
 G = 9.81
@@ -152,7 +152,7 @@ def test_brake_step_holds_the_forces_when_no_plan_holds_the_legs(platforms):
     """A platform driven at a stroke end faster than any input can stop it within a sample: no
     level has a plan, and the brake step's forces are within the limit, exactly."""
     platform = platforms["motion_simulator"]
-    qp = predictive.CueingQP(platform, stewart.cueing.MPCParams.for_platform(platform), 0.01)
+    qp = planner.CueingQP(platform, stewart.cueing.MPCParams.for_platform(platform), 0.01)
     lo, hi = platform.params.leg_length_limits
     x0 = qp.home.copy()
     while np.max(platform.leg_lengths(x0 + [0, 0, 0.001, 0, 0, 0])) < hi:  # up to the legs' longest
@@ -174,8 +174,8 @@ def test_next_sample_holds_where_the_linearization_passes_it(platforms, monkeypa
     platform = platforms["narayan2017"]
 
     def next_sample(tightenings):
-        monkeypatch.setattr(predictive, "TIGHTENINGS", tightenings)
-        qp = predictive.CueingQP(platform, stewart.cueing.MPCParams.for_platform(platform), 0.1)
+        monkeypatch.setattr(planner, "TIGHTENINGS", tightenings)
+        qp = planner.CueingQP(platform, stewart.cueing.MPCParams.for_platform(platform), 0.1)
         x0 = qp.home.copy()
         while platform.leg_lengths(x0 + [0, 1e-3, 0, 0, 0, 0]).max() < platform.params.leg_length_limits[1] - 0.02:
             x0[1] += 1e-3
@@ -184,7 +184,7 @@ def test_next_sample_holds_where_the_linearization_passes_it(platforms, monkeypa
         low, high = qp.next_limits
         return info, bool(np.all(values >= low) and np.all(values <= high))
 
-    info, within = next_sample(predictive.TIGHTENINGS)
+    info, within = next_sample(planner.TIGHTENINGS)
     assert info["tightened"] >= 1 and within
     assert not next_sample(0)[1]
 

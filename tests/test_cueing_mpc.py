@@ -1,4 +1,4 @@
-"""MPC cueing (stewart.cueing.predictive): the rider's signals and their Jacobians against
+"""MPC cueing (stewart.cueing.planner): the rider's signals and their Jacobians against
 the independent numpy implementation, the vestibular sections against the transfer
 functions, one step's QP against a dense solver, the linearized force constraint against
 the exact inverse dynamics, convergence to the vehicle's perception as the horizon grows,
@@ -15,7 +15,7 @@ from hypothesis import strategies as st
 from scipy import signal
 
 import stewart
-from stewart.cueing import MPCParams, VehicleLog, mpc, prediction, predictive, read_log, vestibular
+from stewart.cueing import MPCParams, VehicleLog, horizon, mpc, planner, read_log, vestibular
 from stewart.motion.trajectory import SampledTrajectory
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -37,10 +37,13 @@ def _richardson(f, x, j, h=1e-3):
     return (4 * central(h / 2) - central(h)) / 3
 
 
-def test_signals_and_jacobians_against_platform_signals():
+def test_rider_signals_against_platform_signals(simulator):
+    """The prediction's signals (Platform.rider_signals) against vestibular.platform_signals, their
+    Jacobians against Richardson differences of it."""
     rng = np.random.default_rng(3)
     x, v, u = rng.normal(size=(3, 8, 6)) * [[0.2] * 3 + [0.4] * 3]
-    y, dx, dv, du = prediction.signals_and_jacobians(x, v, u, 9.81)
+    assert simulator.params.gravity == 9.81
+    y, dx, dv, du = simulator.rider_signals(x, v, u)
     f, w = vestibular.platform_signals(x, v, u, 9.81)
     assert np.max(np.abs(y - np.column_stack([f, w]))) < 1e-14  # reached 1.1e-16
     for arg, jac in ((0, dx), (1, dv), (2, du)):
@@ -53,7 +56,7 @@ def test_signals_and_jacobians_against_platform_signals():
             assert np.max(np.abs(_richardson(signals, [x, v, u][arg], j) - jac[:, :, j])) < 3e-10
 
 
-def test_joint_cosines_and_gradients_against_reachability(simulator):
+def test_joint_cosines_against_reachability(simulator):
     """The cone constraints' cosines against stewart.model.reachability.joint_angles, their
     gradients against Richardson differences."""
     from stewart.model.reachability import joint_angles, neutral_axes
@@ -61,17 +64,16 @@ def test_joint_cosines_and_gradients_against_reachability(simulator):
     p = simulator.params
     x = simulator.home_pose + np.random.default_rng(4).normal(size=(6, 6)) * 0.08
     neutral = neutral_axes(simulator)
-    cos, grad = prediction.joint_cosines_and_gradients(x, p.base_points, p.platform_points, neutral)
+    cos, grad = simulator.joint_cosines(x, neutral)
     universal, spherical = joint_angles(p, x)
     assert np.max(np.abs(cos - np.cos(np.concatenate([universal, spherical], axis=1)))) < 1e-14  # reached 2.2e-16
     for j in range(6):
-        numeric = _richardson(lambda y: prediction.joint_cosines_and_gradients(
-            y, p.base_points, p.platform_points, neutral)[0], x, j)
+        numeric = _richardson(lambda y: np.cos(np.concatenate(joint_angles(p, y), axis=1)), x, j)
         assert np.max(np.abs(numeric - grad[:, :, j])) < 5e-11  # reached 6.3e-13 (Richardson's error)
 
 
 def test_vestibular_sections_match_transfer_functions():
-    states = prediction.VestibularStates()
+    states = horizon.VestibularStates()
     w = np.logspace(-3, 3, 200)
     for channel, tf in ((0, vestibular.otolith()), (3, vestibular.canal())):
         _, expected = signal.freqresp(tf, w)
@@ -85,7 +87,7 @@ def test_vestibular_sections_match_transfer_functions():
 
 def _qp(platform, **settings):
     params = MPCParams.for_platform(platform, **settings)
-    return predictive.CueingQP(platform, params, 0.01)
+    return planner.CueingQP(platform, params, 0.01)
 
 
 def _soft_qp_kkt(H, q, rows, lo, hi, soft, u, active=1e-9):
@@ -101,7 +103,7 @@ def _soft_qp_kkt(H, q, rows, lo, hi, soft, u, active=1e-9):
     violation = np.where(r > hi, r - hi, np.where(r < lo, r - lo, 0.0))
     is_soft = np.zeros(len(r), bool)
     is_soft[soft] = True
-    gradient = H @ u + q + rows.T @ np.where(is_soft, predictive.SOFT_WEIGHT / metric * violation, 0.0)
+    gradient = H @ u + q + rows.T @ np.where(is_soft, planner.SOFT_WEIGHT / metric * violation, 0.0)
     at_hi, at_lo = ~is_soft & (np.abs(r - hi) <= active), ~is_soft & (np.abs(r - lo) <= active)
     act = np.flatnonzero(at_hi | at_lo)
     lam = np.linalg.lstsq(rows[act].T, -gradient, rcond=None)[0]
@@ -123,9 +125,9 @@ def test_one_step_qp_against_its_kkt_conditions(simulator):
     u, _, _, info = qp.solve(x0, v0, z0, vehicle)
     assert info["level"] == "plan" and info["tightened"] == 0
     assert info["exitflag"] == 2  # DAQP: optimal with soft constraints violated
-    soft = np.flatnonzero(qp.levels["plan"] == predictive.SOFT)
+    soft = np.flatnonzero(qp.levels["plan"] == planner.SOFT)
     rest = np.arange(qp.rows["rest"].start, qp.rows["rest"].stop)  # hard, lo = hi: equalities
-    assert np.all(qp.levels["plan"][rest] == predictive.HARD) and np.all(lo[rest] == hi[rest])
+    assert np.all(qp.levels["plan"][rest] == planner.HARD) and np.all(lo[rest] == hi[rest])
     scaled, low, high = M / qp.row_scale[:, None], lo / qp.row_scale, hi / qp.row_scale
     r = scaled[soft] @ u.ravel()
     assert np.any((r < low[soft]) | (r > high[soft]))  # soft limits bind
@@ -142,7 +144,7 @@ def test_one_step_qp_against_its_kkt_conditions(simulator):
 def test_a_soft_limit_is_overstepped_by_its_documented_share():
     """One soft row of a random strictly convex QP, solved with the steps' settings: a plan whose
     unconstrained optimum oversteps the row by delta oversteps it by delta / (1 + SOFT_WEIGHT),
-    whatever the row's scale (the penalty of stewart.cueing.predictive's docstring)."""
+    whatever the row's scale (the penalty of stewart.cueing.planner's docstring)."""
     import daqp
 
     rng = np.random.default_rng(4)
@@ -154,10 +156,10 @@ def test_a_soft_limit_is_overstepped_by_its_documented_share():
         delta = 0.5 * scale
         bound = row @ free - delta
         u, _, exitflag, _ = daqp.solve(H, q, row[None, :], np.array([bound]), np.array([-1e30]),
-                                       np.array([predictive.SOFT], dtype=np.intc), **predictive.SOLVER_SETTINGS)
-        assert exitflag in predictive.SOLVED
+                                       np.array([planner.SOFT], dtype=np.intc), **planner.SOLVER_SETTINGS)
+        assert exitflag in planner.SOLVED
         # reached 3.8e-10 (DAQP's solution of the one soft row; 5.4e-11 on another machine)
-        np.testing.assert_allclose(row @ u - bound, delta / (1.0 + predictive.SOFT_WEIGHT), rtol=1e-8)
+        np.testing.assert_allclose(row @ u - bound, delta / (1.0 + planner.SOFT_WEIGHT), rtol=1e-8)
 
 
 def test_linearized_force_is_exact_to_second_order(simulator):
@@ -419,7 +421,7 @@ def test_step_times_are_the_wall_times_of_the_steps(simulator):
     t = np.arange(25) * 0.02
     log = VehicleLog(t, np.column_stack([2.0 * np.sin(3 * t), 0 * t, 9.81 + 0 * t]), np.zeros((len(t), 3)), "short")
     start = time.perf_counter()
-    run = predictive.plan(log, simulator, MPCParams.for_platform(simulator))
+    run = planner.plan(log, simulator, MPCParams.for_platform(simulator))
     wall = time.perf_counter() - start
     assert run.failures == 0 and np.all(run.step_time > 0)
     assert np.all(run.step_time >= run.solve_time)
@@ -429,7 +431,7 @@ def test_step_times_are_the_wall_times_of_the_steps(simulator):
 def _rider_signals(x, v, a, gravity):
     """Eq. 8 written out, complex-safe for complex-step derivatives: ``f = R^T (a + g e_z)``
     and ``w = R^T J_A [psi', theta', phi']`` at {P}'s origin."""
-    from stewart.model.kinematics import euler_rate_jacobian, rotation
+    from stewart.oracles.frames import euler_rate_jacobian, rotation
 
     r = rotation(x)
     f = np.einsum("nji,nj->ni", r, a[:, :3] + np.array([0.0, 0.0, gravity]))
@@ -438,7 +440,7 @@ def _rider_signals(x, v, a, gravity):
 
 
 def _integrate(qp, x0, v0, z0, vehicle, u):
-    """The prediction model of stewart.cueing.prediction's docstring, integrated here: per
+    """The prediction model of stewart.cueing.horizon's docstring, integrated here: per
     interval ``h`` the input ``u_k`` held (``p+ = p + h v + h^2/2 u``, ``v+ = v + h u``), the
     rider's signals at the interval's midpoint, and the vestibular error states advanced by
     the zero-order hold of ``(A, B)`` (scipy's ``cont2discrete``) under the platform's signals
@@ -470,7 +472,7 @@ def test_qp_rows_are_the_exact_model_at_the_last_plans_inputs(simulator):
     from stewart.model.reachability import joint_angles
 
     dt = 0.01
-    qp = predictive.CueingQP(simulator, MPCParams.for_platform(simulator, steps=5, duration=5 * dt), dt)
+    qp = planner.CueingQP(simulator, MPCParams.for_platform(simulator, steps=5, duration=5 * dt), dt)
     n, home = qp.n, qp.home
     rng = np.random.default_rng(7)
     vehicle = np.array([3.0, -2.0, 9.81, 0.2, -0.3, 0.1]) + 0.5 * rng.normal(size=(n, 6))
@@ -508,7 +510,7 @@ def test_qp_rows_are_the_exact_model_at_the_last_plans_inputs(simulator):
     cones = np.repeat([pp.universal_joint_max_angle, pp.spherical_joint_max_angle], 6)
     next_low = np.concatenate([np.full(6, pp.leg_length_limits[0]), np.full(6, -prm.leg_velocity), np.cos(cones)])
     horizon_low = {"stroke": pp.leg_length_limits[0] + prm.stroke_margin, "speed": -(1 - prm.margin) * prm.leg_velocity,
-                   "cones": np.tile(np.cos(cones - predictive.CONE_MARGIN), n)}
+                   "cones": np.tile(np.cos(cones - planner.CONE_MARGIN), n)}
 
     def exact(u):
         """The legs rows at the next sample (u_0 held over dt), the stroke, speed and cone rows
@@ -627,7 +629,7 @@ def test_the_plan_leaves_rest_when_the_vehicles_signals_it_sees_do(simulator, pr
     f = np.tile([0.0, 0.0, 9.81], (len(t), 1))
     f[t >= 0.4 - dt / 2, 0] = 2.0
     log = VehicleLog(t, f, np.zeros((len(t), 3)), "step")
-    run = predictive.plan(log, simulator, MPCParams.for_platform(simulator, duration=0.4, steps=4, preview=preview))
+    run = planner.plan(log, simulator, MPCParams.for_platform(simulator, duration=0.4, steps=4, preview=preview))
     first = 2 if preview else 20
     assert np.all(run.u[:first] == 0.0) and np.all(run.x[:first + 1] == simulator.home_pose)
     assert np.max(np.abs(run.u[first])) > 1e-3

@@ -10,7 +10,7 @@ import pytest
 
 import stewart
 from stewart.model import kinematics
-from stewart.oracles import newton_euler as ne
+from stewart.oracles import frames, newton_euler as ne
 from stewart.oracles.physics import COMPLEX_STEP, random_states, relative_error
 
 from conftest import random_params
@@ -49,8 +49,8 @@ def test_random_general_platform_against_newton_euler(seed, figures):
 def _platform_twist_rates(x, xd, xdd):
     """omega and alpha = d omega / dt of the platform (eq. 8), alpha by complex step."""
     h = COMPLEX_STEP
-    omega = np.einsum("nij,nj->ni", kinematics.euler_rate_jacobian(x), xd[:, 3:])
-    moving = np.einsum("nij,nj->ni", kinematics.euler_rate_jacobian(x + 1j * h * xd), xd[:, 3:] + 1j * h * xdd[:, 3:])
+    omega = np.einsum("nij,nj->ni", frames.euler_rate_jacobian(x), xd[:, 3:])
+    moving = np.einsum("nij,nj->ni", frames.euler_rate_jacobian(x + 1j * h * xd), xd[:, 3:] + 1j * h * xdd[:, 3:])
     return omega, moving.imag / h
 
 
@@ -63,7 +63,7 @@ def test_legs_in_the_papers_frames_balance_the_platform(figures):
     params = random_params(np.random.default_rng(73), axisymmetric=False)
     x, xd, xdd = random_states(params, 200, np.random.default_rng(74))
     forces = stewart.Platform(params).joint_reactions(x, xd, xdd)
-    rot = kinematics.rotation(x)
+    rot = frames.rotation(x)
     arms = np.einsum("nij,kj->nki", rot, params.platform_points)
     omega, alpha = _platform_twist_rates(x, xd, xdd)
     inertia = rot @ np.diag(params.platform_inertia) @ np.swapaxes(rot, -1, -2)

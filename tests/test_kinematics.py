@@ -1,11 +1,13 @@
-"""Kinematics against the seed paper's worked example, complex-step derivatives and
-forward/inverse round trips."""
+"""Kinematics against the seed paper's worked example, complex-step derivatives (of the
+oracles' own numpy kinematics, stewart.oracles.frames: the compiled model takes real states)
+and forward/inverse round trips."""
 
 import numpy as np
 import pytest
 
 import stewart
 from conftest import random_params, random_states
+from stewart.oracles import frames
 from stewart.model.presets import narayan2017_target_pose
 
 # Narayan Rao et al. (2017), section IX, in the paper's y-up frame.
@@ -51,7 +53,7 @@ def test_jacobian_matches_complex_step_of_leg_lengths(preset_params, figures):
     x, _, _ = random_states(preset_params, 50, rng)
     worst = 0.0
     for pose in x:
-        numeric = _complex_step_columns(lambda z: stewart.leg_lengths(preset_params, z), pose)
+        numeric = _complex_step_columns(lambda z: frames.leg_lengths(preset_params, z), pose)
         analytic = stewart.jacobian(preset_params, pose) @ stewart.twist_transform(pose)
         np.testing.assert_allclose(stewart.euler_jacobian(preset_params, pose), analytic, rtol=0, atol=0)
         worst = np.maximum(worst, np.max(np.abs(numeric - analytic)) / np.max(np.abs(numeric)))
@@ -65,7 +67,7 @@ def test_euler_rate_jacobian_gives_angular_velocity_of_rotation():
         x = rng.uniform(-1, 1, 6)
         xd = rng.normal(size=6)
         h = 1e-30
-        rdot = stewart.rotation(x + 1j * h * xd).imag / h
+        rdot = frames.rotation(x + 1j * h * xd).imag / h
         omega_x = rdot @ stewart.rotation(x).T
         omega = stewart.euler_rate_jacobian(x) @ xd[3:]
         np.testing.assert_allclose([omega_x[2, 1], omega_x[0, 2], omega_x[1, 0]], omega, rtol=0, atol=2e-14)  # reached 4.4e-16
@@ -75,7 +77,7 @@ def test_leg_velocities_are_time_derivative_of_lengths():
     params = stewart.PlatformParams.preset("motion_simulator")
     x, xd, _ = random_states(params, 10, np.random.default_rng(3))
     h = 1e-30
-    numeric = stewart.leg_lengths(params, x + 1j * h * xd).imag / h
+    numeric = frames.leg_lengths(params, x + 1j * h * xd).imag / h
     np.testing.assert_allclose(stewart.leg_velocities(params, x, xd), numeric, rtol=1e-13, atol=1e-15)  # reached 1/29 of it
 
 

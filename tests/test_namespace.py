@@ -37,7 +37,8 @@ def test_a_moved_module_imports_with_a_warning_naming_its_new_path(old):
 
 
 #: Public names that moved to another module after 0.2.0: (old module, name, new module).
-MOVED_NAMES = [("stewart.cueing.washout", "axis_excursions", "stewart.model.reachability"),
+#: (stewart.cueing.washout's axis_excursions: that module's path moved to stewart.cueing.classical.)
+MOVED_NAMES = [("stewart.cueing.classical", "axis_excursions", "stewart.model.reachability"),
                ("stewart.cueing.settings", "read_sections", "stewart.io.tomlfile"),
                ("stewart.model.arguments", "platform_params", "stewart.model.params")]
 
@@ -51,6 +52,60 @@ def test_a_moved_name_works_from_its_old_module_with_a_warning(old, name, new):
         assert getattr(module, name) is getattr(importlib.import_module(new), name)
     with pytest.raises(AttributeError, match="has no attribute 'nonexistent'"):
         module.nonexistent
+
+
+#: Module paths of a sub-package that moved after 0.2.0: old path -> new path.
+MOVED_PATHS = {"stewart.cueing.washout": "stewart.cueing.classical",
+               "stewart.cueing.prediction": "stewart.cueing.horizon",
+               "stewart.cueing.predictive": "stewart.cueing.planner"}
+
+
+def _forget_path(old: str) -> None:
+    """Undo an earlier import of the moved path ``old`` in this process, so that the next one warns."""
+    sys.modules.pop(old, None)
+    package, _, name = old.rpartition(".")
+    if isinstance(vars(sys.modules[package]).get(name), types.ModuleType):
+        delattr(sys.modules[package], name)
+
+
+@pytest.mark.parametrize("old", sorted(MOVED_PATHS))
+def test_a_moved_path_of_a_subpackage_imports_as_its_new_module_with_a_warning(old):
+    new = MOVED_PATHS[old]
+    module = importlib.import_module(new)
+    package, _, name = old.rpartition(".")
+    _forget_path(old)
+    warning = f"^{old} is deprecated: it moved to {new} \\(use `from {package} import {new.rpartition('.')[2]}`\\)"
+    with pytest.warns(DeprecationWarning, match=warning):
+        assert importlib.import_module(old) is module
+    assert module.__spec__.name == new and module.__spec__.origin.endswith(f"{new.rpartition('.')[2]}.py")
+    _forget_path(old)
+    with pytest.warns(DeprecationWarning, match=warning):
+        exec(f"from {old} import __doc__ as doc", {})
+    _forget_path(old)
+    if name != "washout":  # the attribute path too (stewart.cueing.washout is the function)
+        with pytest.warns(DeprecationWarning, match=warning):
+            assert getattr(sys.modules[package], name) is module
+        _forget_path(old)
+
+
+def test_the_washout_function_keeps_its_name_beside_the_old_module_path():
+    """``stewart.cueing.washout`` is the runner before and after ``import stewart.cueing.washout``,
+    which (like ``from stewart.cueing.washout import ...``) gives the filters' module."""
+    from stewart import cueing
+    from stewart.cueing import classical, runners
+
+    _forget_path("stewart.cueing.washout")
+    assert cueing.washout is runners.washout
+    with pytest.warns(DeprecationWarning, match="^stewart.cueing.washout is deprecated: it moved to "
+                                                "stewart.cueing.classical "):
+        import stewart.cueing.washout  # noqa: F401
+    assert sys.modules["stewart.cueing.washout"] is classical
+    assert stewart.cueing.washout is runners.washout and cueing.washout is runners.washout
+    from stewart.cueing.washout import WashoutParams, reference_poses
+    assert (WashoutParams, reference_poses) == (classical.WashoutParams, classical.reference_poses)
+    from stewart.cueing import washout
+    assert washout is runners.washout
+    _forget_path("stewart.cueing.washout")
 
 
 def test_the_moved_paths_include_those_the_docs_of_0_1_0_showed():

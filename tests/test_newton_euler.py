@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import stewart
+from stewart.oracles import frames
 from stewart.oracles import newton_euler as ne
 from stewart.oracles import reference as ref
 from stewart.oracles.physics import COMPLEX_STEP as H
@@ -133,11 +134,11 @@ def _path(x, xd, xdd, t):
 
 def _bodies(params, pose):
     """Positions of the cylinder and piston centres of mass, leg units and R, at poses."""
-    legs = stewart.leg_vectors(params, pose)
+    legs = frames.leg_vectors(params, pose)
     units = legs / np.sqrt(np.sum(legs * legs, axis=-1))[..., None]
     cyl = params.base_points + params.cylinder_com_distance * units
     pis = params.base_points + legs - params.piston_com_distance * units
-    return {"cyl": cyl, "pis": pis, "u": units, "rot": stewart.rotation(pose)}
+    return {"cyl": cyl, "pis": pis, "u": units, "rot": frames.rotation(pose)}
 
 
 def _rates(params, x, xd, xdd, t):

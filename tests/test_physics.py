@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import stewart
+from stewart.oracles import frames
 from stewart.oracles import newton_euler as ne
 from stewart.oracles import reference as ref
 from stewart.oracles import validation
@@ -63,7 +64,7 @@ def _eq60_variant(params, x, xd, xdd):
 
     def jb_t(pose):
         jacs = ref.partial_velocity_jacobians(params, pose)
-        return jacs["cylinder_translation"] @ stewart.twist_transform(pose)[..., None, :, :]
+        return jacs["cylinder_translation"] @ frames.twist_transform(pose)[..., None, :, :]
 
     j_g_t = np.swapaxes(ref.partial_velocity_jacobians(params, x)["piston_translation"], -1, -2)
     wrong_m = params.piston_mass * (j_g_t @ jb_t(x)).sum(axis=-3)

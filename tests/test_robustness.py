@@ -238,9 +238,12 @@ def _public_calls(bad):
     """Every public function that takes a state, with ``bad`` as its state argument:
     ``(argument name, call, whether complex values are meaningful there)``."""
     x, z = X, ZERO
-    yield "x", lambda: stewart.leg_lengths(PARAMS, bad), True
+    yield "x", lambda: stewart.leg_lengths(PARAMS, bad), False
     yield "x", lambda: stewart.rotation(bad), True
-    yield "xd", lambda: stewart.leg_velocities(PARAMS, x, bad), True
+    yield "x", lambda: stewart.twist_transform(bad), True
+    yield "xd", lambda: stewart.leg_velocities(PARAMS, x, bad), False
+    yield "x", lambda: stewart.oracles.frames.leg_lengths(PARAMS, bad), True
+    yield "xd", lambda: stewart.oracles.frames.leg_velocities(PARAMS, x, bad), True
     yield "lengths", lambda: stewart.forward_kinematics(PARAMS, bad), False
     yield "x", lambda: reference.mass_matrix(PARAMS, bad), False
     yield "tau", lambda: reference.forward_dynamics(PARAMS, x, z, bad), True
@@ -263,8 +266,9 @@ def test_non_numbers_are_refused_everywhere(kind):
 
 
 def test_complex_states_are_refused_where_not_meaningful():
-    """Complex values make sense only in the kinematics and the reference's inverse and
-    forward dynamics, for complex-step derivatives."""
+    """Complex values make sense only for complex-step derivatives: in the oracles' kinematics,
+    the reference's inverse and forward dynamics, and the functions of the orientation alone
+    (a complex step, from the generated partials)."""
     for name, call, complex_ok in _public_calls(X + 1e-30j):
         if complex_ok:
             assert np.iscomplexobj(call())

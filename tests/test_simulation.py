@@ -344,6 +344,35 @@ def test_each_law_gives_the_loop_six_gains_per_leg():
             controller.kp = 0.0
 
 
+class _GainsOf(stewart.motion.control.Controller):
+    """A law of the compiled loop whose gains are whatever it is given (the loop checks them)."""
+
+    label = "gains as given"
+
+    def __init__(self, kp, ki, kd):
+        self.gains = (kp, ki, kd)
+
+    def loop_settings(self):
+        return (Mode.PID, *self.gains)
+
+
+@pytest.mark.parametrize("gains, message", [
+    ((np.ones(5), np.zeros(6), np.zeros(6)), r"kp: expected 6 values, one per leg, got shape \(5,\)"),
+    ((np.ones(6), np.zeros(7), np.zeros(6)), r"ki: expected 6 values, one per leg, got shape \(7,\)"),
+    ((np.ones(6), np.zeros(6), 30.0), r"kd: expected 6 values, one per leg, got shape \(\)"),
+    ((np.ones(6), np.zeros(6), [30.0] * 5 + [np.nan]), r"kd: expected finite values, got \[30.0, .*, nan\]"),
+])
+def test_the_loop_checks_each_gain_vector(plat, move, gains, message):
+    """The compiled loop takes six gains a leg from any law, or names the gain it cannot take
+    (a short vector was read past its end, a long one cut, a NaN passed on)."""
+    with pytest.raises(ValueError, match=f"^{message}$"):
+        stewart.simulate(plat, move, _GainsOf(*gains), dt=1e-3)
+    tuned = stewart.PID.tuned(plat)
+    pid = stewart.PID(tuned.kp, 0.0, tuned.kd)  # no integral: _GainsOf's start (zero) is PID's
+    ours, theirs = (stewart.simulate(plat, move, law, dt=1e-3) for law in (pid, _GainsOf(pid.kp, pid.ki, pid.kd)))
+    np.testing.assert_array_equal(ours.x, theirs.x)
+
+
 def test_pid_bumpless_integral_leg_by_leg(plat):
     """``Ki I = tau_static(x0) - feedforward(0)`` on each leg with ``Ki > 0`` (the static forces of
     the numeric reference); zero on a leg with ``Ki = 0`` and on one whose ``Ki`` is too small for
@@ -686,3 +715,19 @@ def test_feedforward_may_return_a_read_only_view(plat):
     copies = stewart.simulate(plat, still, stewart.OpenLoop(), feedforward=lambda t: np.tile(hold, (len(t), 1)))
     np.testing.assert_array_equal(views.x, copies.x)
     assert np.max(np.abs(views.x - plat.home_pose)) < 1e-15  # reached 2.5e-17
+
+
+def test_simulate_converts_its_platform_once_where_it_enters(conversions):
+    """The rule of stewart.model: simulate converts its platform argument once, where it enters;
+    the functions it calls inside the motion package take the converted Platform. A
+    PlatformParams is compiled once; the motion package calls a converter once (the workspace
+    check calls stewart.model.reachability's public functions, which convert their own
+    argument)."""
+    params = stewart.PlatformParams.preset("narayan2017")
+    home = stewart.home_pose(params)
+    move = stewart.PointToPoint(home, home + np.array([0.01, 0.0, 0.0, 0.0, 0.0, 0.0]), 0.1)
+    controller = stewart.ComputedTorque.tuned(5.0)
+    count = conversions("stewart.motion")
+    result = stewart.simulate(params, move, controller, dt=0.01)
+    assert result.completed
+    assert count == {"stewart.motion.simulation": 1, "compiled": 1}

@@ -12,7 +12,7 @@ from scipy.optimize import least_squares
 import stewart
 from conftest import make_general, random_params
 from stewart.model.kinematics import euler_jacobian, leg_lengths, twist_transform
-from stewart.oracles import reference
+from stewart.oracles import frames, reference
 
 #: A realistic leg stiffness of the 1500 kg motion simulator [N/m] and a leg damper [N s/m].
 K_LEG, C_LEG = 2e7, 4e4
@@ -38,8 +38,9 @@ def _massless_legs(params):
 def _static_forces(params, q, x, tau, k):
     """The generalized force of the preloaded springs and gravity in pose coordinates,
     ``J_E^T (tau_spring - tau_s(q))`` (``J_E^T tau_s = T^T G``), complex-friendly."""
-    spring = tau + k * (leg_lengths(params, x) - leg_lengths(params, q))
-    return np.einsum("ji,j->i", euler_jacobian(params, q), spring - reference.inverse_dynamics(params, q, 0 * q, 0 * q))
+    spring = tau + k * (frames.leg_lengths(params, x) - frames.leg_lengths(params, q))
+    euler = frames.jacobian(params, q) @ frames.twist_transform(q)
+    return np.einsum("ji,j->i", euler, spring - reference.inverse_dynamics(params, q, 0 * q, 0 * q))
 
 
 def test_stiffness_is_the_hessian_of_the_potential(case, figures):
@@ -122,6 +123,32 @@ def test_damping_ratios_match_the_simulated_decay(case, figures):
         worst = np.maximum(worst, abs(-sigma / np.hypot(sigma, omega) / modes.damping_ratios[j] - 1))
     assert seen == set(range(6))
     figures("modes: damping ratio vs simulated decay (rel.)", worst, 1e-6)  # reached 6.9e-08
+
+
+def test_damping_ratios_of_repeated_overdamped_modes():
+    """At the motion simulator's home pose the modes come in repeated pairs (its symmetry), and
+    with dampers of 4e5 N s/m they are overdamped (zeta about 1.3-2): each repeated pair's
+    roots are equal, their eigenvectors mix the pair's modes arbitrarily. The ratios are
+    those of the quadratic eigenproblem: each mode's roots -zeta w +- w sqrt(zeta^2 - 1) are
+    among the eigenvalues of the linearized state matrix, and the modal damping is nearly
+    diagonal (off the diagonal: 6e-6 of it), so each ratio is d_jj / (2 w_j) (its classical
+    value) to second order in the coupling. (They were NaN.)"""
+    plat = stewart.Platform.preset("motion_simulator")
+    x, c = plat.home_pose, 10 * C_LEG
+    modes = plat.modes(x, K_LEG, c)
+    omega = 2 * np.pi * modes.frequencies
+    assert np.all(modes.damping_ratios > 1)
+    assert abs(omega[1] / omega[0] - 1) < 1e-12  # a repeated pair
+    jac = plat.jacobian(x)
+    damping = np.diag(modes.shapes.T @ (c * jac.T @ jac) @ modes.shapes)
+    np.testing.assert_allclose(modes.damping_ratios, damping / (2 * omega), rtol=2e-8)  # reached 2.2e-10
+    mass, stiffness = plat.twist_mass_matrix(x), plat.stiffness_matrix(x, K_LEG, coordinates="twist")
+    state = np.block([[np.zeros((6, 6)), np.eye(6)],
+                      [-np.linalg.solve(mass, stiffness), -np.linalg.solve(mass, c * jac.T @ jac)]])
+    roots = np.sort(np.linalg.eigvals(state).real)
+    zeta = modes.damping_ratios
+    ours = np.sort(np.concatenate([omega * (-zeta - np.sqrt(zeta**2 - 1)), omega * (-zeta + np.sqrt(zeta**2 - 1))]))
+    np.testing.assert_allclose(ours, roots, rtol=2e-8)  # reached 2.2e-10
 
 
 def test_modes_solve_the_generalized_eigenproblem(case):

@@ -17,7 +17,7 @@ from cli_run import call
 
 from stewart import Platform, reachability
 from stewart.cueing import VehicleLog, WashoutParams, read_log, washout
-from stewart.cueing.washout import reference_poses
+from stewart.cueing.classical import reference_poses
 from stewart.model.params import PlatformParams
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))

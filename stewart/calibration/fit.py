@@ -185,7 +185,8 @@ def calibrate(platform, data: CalibrationData, *, position_std: float = DEFAULT_
     nominal workspace (a :class:`~stewart.WorkspaceError`; the module docstring says which,
     and how the others are judged after the fit); an
     :class:`~stewart.calibration.identifiability.UnidentifiableError` saying what to measure
-    when the data cannot determine every parameter."""
+    when the data cannot determine every parameter; a :class:`~stewart.model.errors.ConvergenceError`
+    when the least squares stop without converging (never a result)."""
     nominal = platform_params(platform, "platform")
     if not isinstance(data, CalibrationData):
         raise ValueError(f"data: expected a stewart.calibration.CalibrationData, got {type(data).__name__}")
@@ -208,8 +209,14 @@ def calibrate(platform, data: CalibrationData, *, position_std: float = DEFAULT_
     fit = scipy.optimize.least_squares(lambda x: problem.residuals(free @ x + fixed), free.T @ problem.theta0,
                                        jac=lambda x: problem.data_jacobian(free @ x + fixed) @ free, method="lm",
                                        x_scale="jac", ftol=1e-12, xtol=1e-12, gtol=1e-12)
+    if not fit.success:  # the evaluations ran out (status 0): the last point tried is no estimate
+        raise ConvergenceError(f"{data.source}: the least squares did not converge: {fit.message} "
+                               f"({fit.nfev} evaluations, status {fit.status}); no calibration")
     theta = free @ fit.x + fixed
     jac = problem.data_jacobian(theta) @ free
+    if not problem.poses_converged:  # point data: the poses at the estimate are no least-squares poses
+        raise ConvergenceError(f"{data.source}: the platform's poses at the estimate did not converge in "
+                               f"{_POSE_ITERATIONS} Gauss-Newton iterations; no calibration")
     dof = len(jac) - problem.unknowns
     sigma = float(np.sqrt(2.0 * fit.cost / dof))
     norms = np.sqrt(np.sum(jac * jac, axis=0))
@@ -305,6 +312,8 @@ class _Problem:
         self.weight_points = 1.0 / position_std
         self.poses = poses
         self._solved = (None, poses)
+        #: Whether the last poses solved (point data) met :data:`_POSE_TOLERANCE`.
+        self.poses_converged = True
         if data.points is not None:
             # The pose of each data row of the Jacobian (legs, then targets).
             self.row_pose = np.concatenate([np.repeat(np.arange(self.count), 6), np.repeat(self.pose_of_row, 3)])
@@ -319,6 +328,7 @@ class _Problem:
         if self._solved[0] is not None and np.array_equal(self._solved[0], theta):
             return self._solved[1]
         poses = self._solved[1].copy()
+        self.poses_converged = False
         for _ in range(_POSE_ITERATIONS):
             data_rows = self._data_parts(theta, poses, columns=False)
             pose_cols = self._pose_columns(theta, poses)
@@ -326,6 +336,7 @@ class _Problem:
             step = -np.linalg.solve(normal, gradient)[..., 0]
             poses = poses + step
             if np.max(np.abs(step)) <= _POSE_TOLERANCE:
+                self.poses_converged = True
                 break
         self._solved = (np.array(theta, copy=True), poses)
         return poses

@@ -15,16 +15,25 @@ its exact partial derivatives are
 
 and with respect to the pose ``-[u_i, (R p_i) x u_i] T`` (``J_C`` of eq. 5 times ``T`` of
 eq. 18). A tracked target at ``c`` in {P} is at ``t + R c``; its residual ``q - (t + R c)``
-has the pose derivative ``-[I, -[R c]x J_A]``. Every function here is written with analytic
-operations only, so it takes complex parameters for complex-step checks.
+has the pose derivative ``-[I, -[R c]x J_A]``.
+
+The mathematics is generated: every residual and Jacobian here is the compiled model's
+(:meth:`stewart.Platform.leg_residuals`, :meth:`~stewart.Platform.leg_residual_jacobians`,
+:meth:`~stewart.Platform.target_positions`, :meth:`~stewart.Platform.target_jacobian`, derived in
+``codegen/calibration.py``) for the geometry ``theta``; this module keeps the parameters'
+bookkeeping and scatters each leg's 7 nonzero partials into the 42 columns.
 """
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
-from ..model.kinematics import POSE_AXES, euler_rate_jacobian, rotation
+from ..model import arguments
+from ..model.compiled import Kernel
 from ..model.params import PlatformParams
+from ..model.platform import Platform
 
 __all__ = ["PARAMETER_NAMES", "NUM_PARAMETERS", "parameter_vector", "with_parameters", "leg_residuals",
            "leg_jacobian", "leg_pose_jacobian", "target_positions", "target_pose_jacobian"]
@@ -55,56 +64,64 @@ def _split(theta):
     return theta[:18].reshape(6, 3), theta[18:36].reshape(6, 3), theta[36:42]
 
 
-def _legs(theta, poses):
-    """``R`` (K, 3, 3), ``R p_i`` (K, 6, 3) and ``l_i`` (K, 6, 3) at the poses (K, 6)."""
-    base, platform, _ = _split(theta)
-    rot = rotation(poses)
-    arms = np.einsum("kab,ib->kia", rot, platform)
-    return rot, arms, poses[:, None, :3] + arms - base
+_LEGS = np.arange(6)
+#: The columns among the 42 of each leg's 7 nonzero partials (``dr_dtheta`` of
+#: :meth:`stewart.Platform.leg_residual_jacobians`): ``b_i``, ``p_i``, ``delta_i``, (6, 7).
+_LEG_COLUMNS = np.column_stack([3 * _LEGS[:, None] + np.arange(3), 18 + 3 * _LEGS[:, None] + np.arange(3),
+                                36 + _LEGS])
+
+
+@lru_cache(maxsize=8)
+def _compiled(theta: bytes) -> Kernel:
+    """The compiled model of the geometry ``theta`` (42 float64 bytes), the kernel of
+    :class:`stewart.Platform` without its home pose: its functions here read the geometry only,
+    so the masses and inertias are placeholders of one unit."""
+    base, platform, offsets = _split(np.frombuffer(theta))
+    return Kernel(PlatformParams(
+        base_points=base, platform_points=platform, leg_length_offsets=offsets, platform_mass=1.0,
+        platform_inertia=np.ones(3), cylinder_mass=1.0, cylinder_inertia=np.ones(3), cylinder_com_distance=0.0,
+        piston_mass=1.0, piston_inertia=np.ones(3), piston_com_distance=0.0, name="calibration geometry"))
+
+
+def _kernel(theta) -> Kernel:
+    """:func:`_compiled` for the 42 parameters ``theta`` (``ValueError`` naming ``theta``
+    unless they are 42 real numbers)."""
+    theta = arguments.reals("theta", theta)
+    if theta.shape != (NUM_PARAMETERS,):
+        raise ValueError(f"theta: expected the {NUM_PARAMETERS} geometric parameters, got shape {theta.shape}")
+    return _compiled(np.ascontiguousarray(theta).tobytes())
+
+
+@lru_cache(maxsize=1)
+def _targets() -> Platform:
+    """A compiled model for the targets' functions, which read no parameter (the seed paper's)."""
+    return Platform(PlatformParams.preset("narayan2017"))
 
 
 def leg_residuals(theta, poses, readings) -> np.ndarray:
     """``r = e + delta - |l|`` (K, 6) at the poses (K, 6) with the encoder readings (K, 6)."""
-    _, _, legs = _legs(theta, poses)
-    return readings + _split(theta)[2] - np.sqrt(np.sum(legs * legs, axis=-1))
+    return _kernel(theta).leg_residuals(poses, readings)
 
 
 def leg_jacobian(theta, poses) -> np.ndarray:
     """The exact Jacobian ``dr/dtheta`` (K, 6, 42) of :func:`leg_residuals`."""
-    rot, _, legs = _legs(theta, poses)
-    units = legs / np.sqrt(np.sum(legs * legs, axis=-1))[..., None]
-    k = len(poses)
-    jac = np.zeros((k, 6, NUM_PARAMETERS), dtype=units.dtype)
-    legs_index = np.arange(6)
-    for a in range(3):
-        jac[:, legs_index, 3 * legs_index + a] = units[..., a]
-    jac[:, legs_index[:, None], 18 + 3 * legs_index[:, None] + np.arange(3)] = -np.einsum("kba,kib->kia", rot, units)
-    jac[:, legs_index, 36 + legs_index] = 1.0
+    block = _kernel(theta).leg_residual_jacobians(poses)[0]
+    jac = np.zeros(block.shape[:-1] + (NUM_PARAMETERS,))
+    jac[..., _LEGS[:, None], _LEG_COLUMNS] = block
     return jac
 
 
 def leg_pose_jacobian(theta, poses) -> np.ndarray:
     """``dr/dx`` (K, 6, 6) of :func:`leg_residuals` with respect to the poses' coordinates."""
-    _, arms, legs = _legs(theta, poses)
-    units = legs / np.sqrt(np.sum(legs * legs, axis=-1))[..., None]
-    angular = np.einsum("kia,kab->kib", np.cross(arms, units), euler_rate_jacobian(poses))
-    return -np.concatenate([units, angular], axis=-1)
+    return _kernel(theta).leg_residual_jacobians(poses)[1]
 
 
 def target_positions(poses, offsets) -> np.ndarray:
     """``t + R c`` (K, 3) of the targets at ``offsets`` (K, 3) in {P} at the poses (K, 6)."""
-    return poses[:, :3] + np.einsum("kab,kb->ka", rotation(poses), offsets)
+    return _targets().target_positions(poses, offsets)
 
 
 def target_pose_jacobian(poses, offsets) -> np.ndarray:
-    """``d(q - t - R c)/dx`` (K, 3, 6): ``-[I, -[R c]x J_A]``."""
-    arm = np.einsum("kab,kb->ka", rotation(poses), offsets)
-    jac_a = euler_rate_jacobian(poses)
-    # -[R c]x J_A w: the velocity omega x (R c) of the target for angle rates w (omega = J_A w).
-    cross = np.stack([np.cross(jac_a[:, :, j], arm) for j in range(3)], axis=-1)
-    out = np.zeros((len(poses), 3, 6), dtype=cross.dtype)
-    out[:, :, :3] = -np.eye(3)
-    out[:, :, 3:] = -cross
-    return out
-
-
+    """``d(q - t - R c)/dx`` (K, 3, 6): ``-[I, -[R c]x J_A]``, less the target's (the measured
+    ``q`` does not move with the pose)."""
+    return -_targets().target_jacobian(poses, offsets)

@@ -21,7 +21,7 @@ import numpy as np
 
 from ..io import csvfile
 from ..model import arguments
-from ..model.kinematics import POSE_AXES, leg_lengths
+from ..model.kinematics import POSE_AXES, encoder_readings
 from ..model.params import PlatformParams
 from .geometry import target_positions
 
@@ -167,7 +167,7 @@ def simulate_measurements(true_params: PlatformParams, poses, *, position_std: f
     ``position_std`` per coordinate (seeded)."""
     rng = np.random.default_rng(arguments.seed(seed))
     poses = np.atleast_2d(arguments.states("poses", poses))
-    readings = leg_lengths(true_params, poses) - true_params.leg_length_offsets
+    readings = encoder_readings(true_params, poses)
     readings = readings + rng.normal(0.0, length_std, readings.shape)
     if target_offsets is None:
         noise = rng.normal(size=poses.shape) * np.array([position_std] * 3 + [angle_std] * 3)

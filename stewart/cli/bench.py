@@ -511,14 +511,17 @@ def preset_figures(preset: str, batch: int, rounds: Rounds) -> dict:
     return {**rounds.measure(), **untimed}
 
 
-def main(presets=None, batch: int = 200_000, budget: float = BUDGET) -> dict:
-    """Measure every preset (or the given ones), print the table and return the figures."""
+def main(presets=None, batch: int = 200_000, budget: float = BUDGET, ratios_only: bool = False) -> dict:
+    """Measure every preset (or the given ones), print the table and return the figures; with
+    ``ratios_only``, only :func:`derivative_ratio_figures` (a few seconds a preset)."""
     rounds = Rounds(budget)
     results = {}
     rows = []
     for preset in presets or sorted(stewart.presets()):
         print(f"[bench] {preset} ...", flush=True)
-        fig = preset_figures(preset, batch, rounds)
+        if ratios_only:
+            derivative_ratio_figures(preset, rounds)
+        fig = rounds.measure() if ratios_only else preset_figures(preset, batch, rounds)
         results[preset] = figures_of(fig)
         rows += kernel_rows(preset, fig)
     print(yardstick_line(rounds))

@@ -11,7 +11,9 @@ import numpy as np
 from ..calibration import design, fit, validation
 from ..calibration.identifiability import UnidentifiableError
 from ..calibration.measurements import POSE_COLUMNS, CalibrationData
+from ..model.errors import ConvergenceError
 from ..model.reachability import WorkspaceError
+from ..motion.simulation import OUTCOMES
 from .common import (
     EXIT_WORKSPACE,
     UserError,
@@ -62,6 +64,8 @@ def cmd_calibrate(args) -> int:
         raise UserError(str(exc), EXIT_WORKSPACE) from None
     except UnidentifiableError as exc:
         raise UserError(str(exc)) from None
+    except ConvergenceError as exc:
+        raise UserError(str(exc), OUTCOMES["failed"]) from None
     except ValueError as exc:
         raise UserError(flag_names(str(exc), _FLAGS)) from None
     warning = result.stroke_warning()

@@ -84,7 +84,8 @@ def cmd_bench(args) -> int:
     from . import bench
 
     with contextlib.redirect_stdout(sys.stderr) if args.json else contextlib.nullcontext():
-        figures = bench.main([args.preset] if args.preset else None, batch=args.batch, budget=args.budget)
+        figures = bench.main([args.preset] if args.preset else None, batch=args.batch, budget=args.budget,
+                             ratios_only=args.ratios_only)
     if args.json:
         print(json.dumps({"command": "bench", "batch": args.batch, "exit_code": 0, "figures": figures}))
     return 0
@@ -97,4 +98,7 @@ def add_bench(sub) -> None:
     p.add_argument("--budget", type=non_negative, default=BUDGET, metavar="S",
                    help="seconds of rounds a figure with a target may take before it is judged as it stands "
                         "(default %(default)g; a figure without one gets a third)")
+    p.add_argument("--ratios-only", action="store_true",
+                   help="only the exact derivatives' cost over the values', a state each, on the avx2 and avx512 "
+                        "paths the CPU runs, with their targets (a few seconds)")
     add_json(p, "print only a JSON summary of the figures on stdout")

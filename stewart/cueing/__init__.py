@@ -1,191 +1,33 @@
 """Motion cueing: a vehicle's motion (:mod:`~stewart.cueing.log`) turned into a platform
 reference that a rider perceives (:mod:`~stewart.cueing.vestibular`) as close to the
-vehicle's as the platform's limits allow. :func:`washout` is the classical washout
-(:mod:`~stewart.cueing.washout`), :func:`mpc` model-predictive cueing within the legs'
-stroke, speed and force (:mod:`~stewart.cueing.predictive`); :func:`perceived` the vestibular
-model's view of a log or a platform motion; :mod:`~stewart.cueing.metrics` compares the two."""
+vehicle's as the platform's limits allow. The runs are in :mod:`~stewart.cueing.runners`:
+:func:`washout` the classical washout (its filters in :mod:`~stewart.cueing.classical`, its
+limiter in :mod:`~stewart.cueing.limiter`), :func:`mpc` model-predictive cueing within the
+legs' stroke, speed and force (the receding-horizon planner :mod:`~stewart.cueing.planner`
+over the prediction model of :mod:`~stewart.cueing.horizon`, with the settings of
+:mod:`~stewart.cueing.settings`), :func:`simulate_reference` a reference run through the
+closed loop and :func:`perceived` the vestibular model's view of a log or a platform motion;
+:mod:`~stewart.cueing.metrics` compares the two, :mod:`~stewart.cueing.result` holds a run's
+report and :mod:`~stewart.cueing.comparison` sets the two methods side by side.
+
+The module paths ``stewart.cueing.washout`` (now :mod:`~stewart.cueing.classical`: the name
+is the function :func:`washout`), ``stewart.cueing.prediction`` (now
+:mod:`~stewart.cueing.horizon`) and ``stewart.cueing.predictive`` (now
+:mod:`~stewart.cueing.planner`) are deprecated aliases of their new paths until 0.3.0."""
 
 from __future__ import annotations
 
-import os
-
-import numpy as np
-
-from .._modules import on_first_use
-from ..model.errors import WrongTypeError
-from ..model.platform import as_platform
-from ..model.reachability import reachability
-from ..motion.trajectory import SampledTrajectory
-from . import log as log_module
-from . import limiter, metrics, vestibular
-from . import predictive
+from .._modules import moved_modules, on_first_use
+from .classical import WashoutParams
 from .log import VehicleLog
+from .log import read as read_log
 from .result import CueingResult
+from .runners import mpc, perceived, simulate_reference, washout
 from .settings import MPCParams
-from .washout import WashoutParams, reference_poses
-
-__getattr__ = on_first_use(__name__, __path__)
 
 __all__ = ["VehicleLog", "WashoutParams", "MPCParams", "CueingResult", "read_log", "washout", "mpc", "perceived",
            "simulate_reference"]
 
-read_log = log_module.read
-
-
-def perceived(motion, gravity: float = 9.81) -> vestibular.Perceived:
-    """The perceived specific force and angular velocity of ``motion``: a
-    :class:`VehicleLog`, a :class:`~stewart.motion.simulation.SimulationResult` (its ``t``,
-    ``x``, ``xd``; the acceleration from differences of ``xd``) or a tuple ``(t, poses,
-    velocities, accelerations)`` of platform motion (rider at {P}'s origin)."""
-    if isinstance(motion, VehicleLog):
-        return vestibular.vehicle(motion)
-    if hasattr(motion, "xd") and hasattr(motion, "x"):
-        t, x, xd = motion.t, motion.x, motion.xd
-        return vestibular.platform_motion(t, x, xd, np.gradient(xd, t, axis=0), gravity)
-    t, x, xd, xdd = motion
-    return vestibular.platform_motion(t, x, xd, xdd, gravity)
-
-
-def washout(log, platform, params: WashoutParams | None = None, *, simulate: bool = False) -> CueingResult:
-    """The classical washout's reference for ``log`` (a :class:`VehicleLog` or a CSV path) on
-    ``platform`` (a :class:`~stewart.Platform` or :class:`~stewart.PlatformParams`) with
-    ``params`` (default :meth:`WashoutParams.for_platform`). Unless ``params.limiter_enabled``
-    is False, the poses are limited to the workspace (:func:`stewart.cueing.limiter.limit`;
-    ``result.limiting`` says where and how much). Every pose is checked with
-    :func:`stewart.reachability`; with ``simulate`` (and a reference inside the workspace)
-    the reference is run through :func:`stewart.simulate` under computed torque
-    (:func:`simulate_reference`) and the achieved motion's perception is compared too."""
-    log, plat = _arguments(log, platform, params, WashoutParams, simulate=simulate)
-    if params is None:
-        params = WashoutParams.for_platform(plat)
-    poses, _ = reference_poses(log, params, plat.home_pose)
-    limiting = None
-    if params.limiter_enabled:
-        poses, limiting = limiter.limit(log.t, poses, plat.home_pose, plat, margin=params.limiter_margin,
-                                        ramp_time=params.limiter_ramp_time)
-    reference = SampledTrajectory(log.t, poses)
-    _, velocities, accelerations = reference.sample(log.t)
-    result = _result("washout", log, plat, params, reference, poses, velocities, accelerations)
-    result.limiting = limiting
-    return _finish(result, plat, simulate)
-
-
-def mpc(log, platform, params: MPCParams | None = None, *, simulate: bool = False,
-        progress: bool = False) -> CueingResult:
-    """Model-predictive cueing (:mod:`stewart.cueing.predictive`) of ``log`` (a :class:`VehicleLog`
-    or a CSV path) on ``platform`` with ``params`` (default :meth:`MPCParams.for_platform`;
-    ``params.preview`` says whether the log's future is used). The reference is the
-    receding horizon's motion, checked pose by pose with :func:`stewart.reachability` and
-    against the leg-speed and force limits with the exact kinematics and inverse dynamics;
-    the report adds the time per step (``solve_time_s``). ``simulate`` as for
-    :func:`washout`."""
-    log, plat = _arguments(log, platform, params, MPCParams, simulate=simulate, progress=progress)
-    params = MPCParams.for_platform(plat) if params is None else params.for_platform_of(plat)
-    run = predictive.plan(log, plat, params, progress=progress)
-    result = _result("mpc", log, plat, params, SampledTrajectory(log.t, run.x, run.v), run.x, run.v, run.u)
-    result.solver = {"preview": params.preview, "steps": params.steps, "horizon_s": params.duration,
-                     "solve_time_s": _stats(run.step_time), "qp_time_s": _stats(run.solve_time),
-                     "qp_iterations": _stats(run.iterations), "qp_failures": run.failures,
-                     "qp_levels": {level: run.level.count(level) for level in predictive.LEVELS},
-                     "qp_tightened": run.tightened}
-    brakes = result.solver["qp_levels"]["brake"]
-    if brakes:
-        result.problems.append(f"at {brakes} of {len(run.step_time)} steps no plan held the machine's limits: the "
-                               f"platform braked within the present sample's force limits")
-    if run.failures:
-        flags = sorted({flag for flag in run.status if flag not in predictive.SOLVED})
-        result.problems.append(f"the QP solver (DAQP) found no solution at {run.failures} of {len(run.step_time)} "
-                               f"steps, exit flag(s) {flags} (the last plan's input was kept)")
-    _check_limits(result, plat, params.leg_velocity, params.force)
-    return _finish(result, plat, simulate)
-
-
-def _arguments(log, platform, params, settings: type, **flags) -> tuple[VehicleLog, object]:
-    """The log (read when ``log`` is a path) and the platform of a cueing call, its
-    ``params`` (``settings`` or ``None``) and boolean ``flags`` checked:
-    :class:`~stewart.WrongTypeError` naming the argument otherwise."""
-    for name, value in flags.items():
-        if not isinstance(value, (bool, np.bool_)):
-            raise WrongTypeError(f"{name}: expected True or False, got {type(value).__name__} {value!r:.40}")
-    if params is not None and not isinstance(params, settings):
-        raise WrongTypeError(f"params: expected a stewart.cueing.{settings.__name__} or None, got "
-                             f"{type(params).__name__}")
-    plat = as_platform(platform)
-    if isinstance(log, (str, os.PathLike)):
-        log = log_module.read(log)
-    elif not isinstance(log, VehicleLog):
-        raise WrongTypeError(f"log: expected a stewart.cueing.VehicleLog or the path of a CSV log, got "
-                             f"{type(log).__name__}")
-    return log, plat
-
-
-def _stats(values) -> dict:
-    values = np.asarray(values, dtype=float)
-    return {"median": float(np.median(values)), "max": float(np.max(values))}
-
-
-def _result(method, log, plat, params, reference, poses, velocities, accelerations) -> CueingResult:
-    seen_vehicle = vestibular.vehicle(log)
-    seen_platform = vestibular.platform_motion(log.t, poses, velocities, accelerations, params.gravity)
-    reach = reachability(plat, poses, name="reference")
-    _, leg_speeds = plat.leg_rates(poses, velocities)
-    forces = plat.inverse_dynamics(poses, velocities, accelerations)
-    result = CueingResult(method, plat.params.name or "unnamed", log, params, reference, poses, velocities,
-                          accelerations, seen_vehicle, seen_platform, metrics.compare(seen_vehicle, seen_platform),
-                          reach)
-    result.peaks = {"leg_velocity": float(np.max(np.abs(leg_speeds))), "force": float(np.max(np.abs(forces)))}
-    if not result.inside:
-        result.problems.append("the reference leaves the workspace: " + reach.message("pose", log.t))
-    return result
-
-
-def _check_limits(result: CueingResult, plat, leg_velocity: float, force: float) -> None:
-    """Note in ``result`` a reference whose exact leg speeds or forces pass the limits."""
-    result.limits = {"leg_velocity": leg_velocity, "force": force}
-    for name, unit in (("leg_velocity", "m/s"), ("force", "N")):
-        if result.peaks[name] > result.limits[name]:
-            result.beyond_limits = True
-            result.problems.append(f"the reference's {name.replace('_', ' ')} reaches {result.peaks[name]:.4g} {unit}, "
-                                   f"above the limit {result.limits[name]:.4g} {unit}")
-
-
-def _finish(result: CueingResult, plat, simulate: bool) -> CueingResult:
-    if simulate and result.inside and not result.beyond_limits:
-        simulate_reference(result, plat)
-    return result
-
-
-def simulate_reference(result: CueingResult, platform, bandwidth_hz: float = 5.0, steps_per_sample: int = 10):
-    """Run ``result.reference`` through :func:`stewart.simulate` with
-    :meth:`ComputedTorque.tuned(bandwidth_hz) <stewart.motion.control.ComputedTorque.tuned>`
-    (RK4, ``steps_per_sample`` steps per log sample) and fill ``result.simulation``,
-    ``result.achieved`` (perceived, at the log's times), ``result.achieved_metrics`` and
-    ``result.simulation_peaks``; the actuators saturate at ``result.limits["force"]`` (when
-    the method has limits); the run's problems (stroke, force, assembly mode, leg speed above
-    the limit) join ``result.problems``."""
-    from ..motion.control import Actuators, ComputedTorque
-    from ..motion.simulation import simulate
-
-    plat = as_platform(platform)
-    log = result.log
-    limits = result.limits or {}
-    actuators = Actuators(force_limit=limits.get("force", np.inf))
-    sim = simulate(plat, result.reference, ComputedTorque.tuned(bandwidth_hz), actuators=actuators,
-                   dt=log.dt / steps_per_sample, duration=float(log.t[-1]))
-    result.simulation = sim
-    result.problems += [f"simulation: {p}" for p in sim.problems]
-    if sim.completed and len(sim.t) > 2:
-        _, speeds = plat.leg_rates(sim.x, sim.xd)
-        result.simulation_peaks = {"leg_velocity": float(np.max(np.abs(speeds))),
-                                   "force": float(np.max(np.abs(sim.forces)))}
-        if "leg_velocity" in limits and result.simulation_peaks["leg_velocity"] > limits["leg_velocity"]:
-            result.simulation_beyond_limits = True
-            result.problems.append(f"simulation: the leg velocity reaches {result.simulation_peaks['leg_velocity']:.4g} "
-                                   f"m/s, above the limit {limits['leg_velocity']:.4g} m/s")
-        seen = perceived(sim, result.params.gravity)
-        inside = log.t <= sim.t[-1]
-        at = lambda a: np.column_stack([np.interp(log.t, sim.t, a[:, j]) for j in range(3)])  # noqa: E731
-        result.achieved = vestibular.Perceived(log.t, at(seen.f), at(seen.w))
-        if np.all(inside):
-            result.achieved_metrics = metrics.compare(result.vehicle, result.achieved)
-    return result
+moved_modules(__name__, {"washout": "stewart.cueing.classical", "prediction": "stewart.cueing.horizon",
+                         "predictive": "stewart.cueing.planner"})
+__getattr__ = on_first_use(__name__, __path__)

@@ -12,6 +12,7 @@ import numpy as np
 from ..model.platform import as_platform
 from . import log as log_module
 from .result import CueingResult
+from .runners import mpc, washout
 from .vestibular import CHANNELS, THRESHOLDS
 
 __all__ = ["compare", "format_table", "plot", "main_channel"]
@@ -43,8 +44,6 @@ def compare(platform, logs, *, simulate: bool = True, progress: bool = False) ->
     ``mpc`` (the error of that channel, its correlation and false cues, the RMS of all
     channels' errors in perception thresholds, the exit code and the peak force and leg
     speed), the ``limits`` MPC held and the two :class:`CueingResult`."""
-    from . import mpc, washout
-
     plat = as_platform(platform)
     rows = []
     for item in logs:

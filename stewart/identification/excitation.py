@@ -128,7 +128,13 @@ def limits(platform: Platform, centre, *, stroke_margin=None, max_leg_velocity=N
            force_limit=None, min_margin=None) -> Limits:
     """The :class:`Limits` of ``platform`` about the pose ``centre`` with the defaults of
     :func:`design_excitation`."""
-    platform = as_platform(platform)
+    return _limits(as_platform(platform), centre, stroke_margin, max_leg_velocity, max_leg_acceleration, force_limit,
+                   min_margin)
+
+
+def _limits(platform: Platform, centre, stroke_margin, max_leg_velocity, max_leg_acceleration, force_limit,
+            min_margin) -> Limits:
+    """:func:`limits` of the compiled ``platform``."""
     params = platform.params
     if params.leg_length_limits is None:
         raise ValueError("platform: its parameters set no leg_length_limits; an excitation needs the stroke")
@@ -438,8 +444,7 @@ def design_excitation(platform: Platform, *, period: float = DEFAULT_PERIOD, har
     max_iterations = arguments.count("max_iterations", max_iterations, 100_000)
     seed = arguments.seed(seed)
     centre = _centre(platform, centre)
-    bounds = limits(platform, centre, stroke_margin=stroke_margin, max_leg_velocity=max_leg_velocity,
-                    max_leg_acceleration=max_leg_acceleration, force_limit=force_limit, min_margin=min_margin)
+    bounds = _limits(platform, centre, stroke_margin, max_leg_velocity, max_leg_acceleration, force_limit, min_margin)
     base = base_parameters(platform, friction=friction) if base is None else base
     if 6 * samples < len(base.names):
         raise ValueError(f"samples: {samples} samples give {6 * samples} equations for {len(base.names)} base "

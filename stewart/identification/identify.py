@@ -53,7 +53,7 @@ from ..io import csvfile
 from ..model.errors import ConvergenceError, WrongTypeError
 from .base_parameters import BaseParameters, base_parameters
 from ..model.params import NonAxisymmetricLegWarning, PlatformParams
-from ..model.platform import as_platform
+from ..model.platform import Platform, as_platform
 
 __all__ = ["Measurements", "Identification", "identify", "estimate", "synthetic_measurements",
            "MAX_CONDITION", "FILTERS", "COLUMNS", "excitation_condition", "differentiate", "validation"]
@@ -215,6 +215,11 @@ def estimate(platform, x, xd, xdd, forces, *, friction: bool = True, base: BaseP
     x, xd, xdd = (arguments.states(n, v) for n, v in (("x", x), ("xd", xd), ("xdd", xdd)))
     forces = arguments.states("forces", forces)
     base = base or base_parameters(platform, samples=samples, friction=friction)
+    return _estimate(platform, x, xd, xdd, forces, base)
+
+
+def _estimate(platform: Platform, x, xd, xdd, forces, base: BaseParameters) -> Identification:
+    """:func:`estimate` on the compiled ``platform``, checked states and ``base``."""
     n = len(forces)
     if n * 6 < SAMPLES_PER_PARAMETER * base.rank:
         raise ValueError(f"measurements: too few samples ({n}) for {base.rank} base parameters; "
@@ -309,7 +314,7 @@ def identify(platform, measurements: Measurements, *, filter: str = "savgol", cu
     _checked_measurements(measurements)
     poses = _poses(platform, measurements)
     x, xd, xdd, forces = differentiate(measurements, poses, filter=filter, cutoff=cutoff)
-    return estimate(platform, x, xd, xdd, forces, friction=friction, base=base)
+    return _estimate(platform, x, xd, xdd, forces, base or base_parameters(platform, friction=friction))
 
 
 def validation(result: Identification, platform, measurements: Measurements, *, filter: str = "savgol",

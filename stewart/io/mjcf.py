@@ -59,7 +59,8 @@ from xml.sax.saxutils import quoteattr
 import numpy as np
 
 from ..model import arguments
-from ..model.kinematics import euler_rate_jacobian, home_pose, rotation
+from ..model.errors import SingularityError
+from ..model.kinematics import euler_rate_jacobian, home_pose, leg_vectors, platform_points_in_base, rotation
 from ..model.params import platform_params
 from ..model.params import PlatformParams
 
@@ -105,12 +106,15 @@ def _legs(params: PlatformParams, x: np.ndarray, name: str = "x"):
     """Arms ``R p_i``, leg frames (columns ``x = u_i``, ``y = a_i x u_i / |a_i x u_i|``,
     ``z = x x y``), lengths and ``|a_i x u_i|`` at the pose ``x``; a leg of zero length or
     parallel to its axis (the joint's gimbal lock) is a ``ValueError`` naming ``name``."""
-    arms = params.platform_points @ rotation(x).T
+    overflow = f"{name}: out of numeric range (its leg lengths overflow double precision)"
+    try:
+        arms, legs = platform_points_in_base(params, x), leg_vectors(params, x)
+    except SingularityError:  # leg vectors out of double precision
+        raise ValueError(overflow) from None
     with np.errstate(over="ignore", invalid="ignore"):
-        legs = x[:3] + arms - params.base_points
         lengths = np.linalg.norm(legs, axis=1)
     if not np.all(np.isfinite(lengths)):
-        raise ValueError(f"{name}: out of numeric range (its leg lengths overflow double precision)")
+        raise ValueError(overflow)
     with np.errstate(invalid="ignore", divide="ignore"):
         units = legs / lengths[:, None]
         axes = params.universal_joint_axes
@@ -150,10 +154,13 @@ def pose_accelerations(x, xd, qacc) -> np.ndarray:
     ``[psi'', theta'', phi''] = J_A^-1 (R omega'_P - J_A' [psi', theta', phi'])`` (eq. 8)."""
     x, xd = _pose("x", x), _pose("xd", xd)
     qacc = np.asarray(qacc, dtype=float)[-6:]
-    step = 1e-30  # J_A' = d/dt J_A(x + t xd), by complex step
-    j_a_rate = euler_rate_jacobian(x + 1j * step * xd).imag / step
-    angular = rotation(x) @ qacc[3:] - j_a_rate @ xd[3:]
-    return np.concatenate([qacc[:3], np.linalg.solve(euler_rate_jacobian(x), angular)])
+    # J_A' e': J_A's columns are e_z, Rz(psi) e_y (turning about e_z at psi') and R e_x (turning
+    # at omega = J_A e'), so J_A' e' = theta' psi' (e_z x J_A e_y) + phi' (omega x R e_x).
+    j_a = euler_rate_jacobian(x)
+    omega = j_a @ xd[3:]
+    j_a_rate = xd[4] * xd[3] * np.cross(j_a[:, 0], j_a[:, 1]) + xd[5] * np.cross(omega, j_a[:, 2])
+    angular = rotation(x) @ qacc[3:] - j_a_rate
+    return np.concatenate([qacc[:3], np.linalg.solve(j_a, angular)])
 
 
 def _moments(inertia) -> str:

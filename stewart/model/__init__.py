@@ -15,7 +15,9 @@ a ``Platform``), a function that works on the parameters alone (the kinematics o
 :mod:`~stewart.model.kinematics`, the oracles) by :func:`~stewart.model.params.platform_params`
 (a ``Platform`` gives its :attr:`~stewart.Platform.params`). Anything else raises
 :class:`~stewart.WrongTypeError` naming the argument. The functions they call inside
-take the converted value and do not check it again."""
+take the converted value and do not check it again; a public function of another module
+that they call (the workspace check of :mod:`~stewart.model.reachability`, say) is an entry
+of its own."""
 
 from .._modules import on_first_use
 

@@ -10,6 +10,8 @@ what the rest of the package uses. ``tests/test_layout.py`` holds every other mo
 - :class:`Peaks`, :func:`box_states`, :data:`PEAK_QUANTITIES`: the envelope's running peaks
   (:mod:`stewart.studies.envelope`).
 - :func:`modal_terms`, :data:`UNSTABLE`: the modal analysis (:mod:`stewart.model.stiffness`).
+- :class:`CueingStep`, :data:`CUEING_GROUPS`: one MPC cueing step's QP built in C
+  (:mod:`stewart.cueing.planner`).
 - :func:`build_info`, :func:`set_simd`, :data:`LANES`: the instruction-set path in use.
 """
 
@@ -17,7 +19,9 @@ from .._kernel import (
     LANES,
     PEAK_QUANTITIES,
     UNSTABLE,
+    CUEING_GROUPS,
     ClosedLoop,
+    CueingStep,
     Kernel,
     Mode,
     Outcome,
@@ -30,5 +34,6 @@ from .._kernel import (
     status_message,
 )
 
-__all__ = ["Kernel", "RotaryKernel", "ClosedLoop", "Mode", "Outcome", "status_message", "Peaks", "box_states", "PEAK_QUANTITIES",
-           "modal_terms", "UNSTABLE", "build_info", "set_simd", "LANES"]
+__all__ = ["Kernel", "RotaryKernel", "ClosedLoop", "Mode", "Outcome", "status_message", "Peaks", "box_states",
+           "PEAK_QUANTITIES", "modal_terms", "UNSTABLE", "CueingStep", "CUEING_GROUPS", "build_info", "set_simd",
+           "LANES"]

@@ -1,11 +1,17 @@
-"""Kinematics of the 6-UPS platform, in numpy, batched over a leading axis.
+"""Kinematics of the 6-UPS platform, batched over a leading axis.
 
 Every function takes one pose ``x = [x, y, z, psi, theta, phi]`` of shape ``(6,)`` or a
 batch ``(N, 6)`` and returns the matching shape. The orientation is ZYX Euler,
-``R = Rz(psi) Ry(theta) Rx(phi)`` (Lopes & Pires 2011, eqs. 3 and 8). The functions are
-written with analytic operations only (no ``abs``/``norm``), so they also accept complex
-arrays, which :mod:`stewart.oracles.reference` uses for exact complex-step derivatives. A zero-length
-leg or a result that overflows raises :class:`~stewart.SingularityError`.
+``R = Rz(psi) Ry(theta) Rx(phi)`` (Lopes & Pires 2011, eqs. 3 and 8). Per state, the
+mathematics is the generated C model's (the derivation in ``codegen/kinematics.py``, through
+the compiled kernel of the parameters: :class:`stewart.Platform`'s methods of the same names);
+the functions here keep the signatures that take a parameter set, and import the compiled
+extension when first called. :func:`home_pose` alone is numpy, a one-off search per call
+that needs no compiled model. A zero-length leg where a unit vector is needed, or a result that
+overflows, raises :class:`~stewart.SingularityError`. The functions of the orientation alone
+(:func:`rotation`, :func:`euler_rate_jacobian`, :func:`twist_transform`) take a complex pose
+as a complex step, from the generated partials; the others take real poses (complex-step
+derivatives of them take the oracles' own numpy kinematics, :mod:`stewart.oracles.frames`).
 """
 
 from __future__ import annotations
@@ -48,40 +54,80 @@ __all__ = [
 ]
 
 
-def rotation(x) -> np.ndarray:
-    """Orientation ``R = Rz(psi) Ry(theta) Rx(phi)`` of {P} in {B}, shape ``(..., 3, 3)``."""
+#: The reference geometry whose compiled kernel evaluates what does not depend on the parameters
+#: (the rotation, ``J_A``): any platform's gives the same values.
+_ANY_PLATFORM = "narayan2017"
+
+#: The last kernel built for a parameter set, ``(params, kernel)``, replaced whole (a kernel costs
+#: some 25 us to build, as much as a call; callers repeat the same parameters).
+_last = (None, None)
+
+
+def _kernel_of(params):
+    """The compiled model (:class:`stewart.model.compiled.Kernel`) of ``params`` (a
+    :class:`~stewart.PlatformParams`, or a :class:`~stewart.Platform`, whose own kernel it is),
+    built once for the last parameter set asked for."""
+    global _last
+    kernel = getattr(params, "kernel", None)
+    if kernel is not None and isinstance(getattr(params, "params", None), PlatformParams):
+        return kernel
+    params = platform_params(params)
+    last_params, kernel = _last
+    if last_params is not params:
+        from .compiled import Kernel
+
+        kernel = Kernel(params)
+        _last = (params, kernel)
+    return kernel
+
+
+def _geometry_free():
+    """A kernel for the functions that do not depend on the parameters."""
+    kernel = _last[1]
+    return _kernel_of(PlatformParams.preset(_ANY_PLATFORM)) if kernel is None else kernel
+
+
+#: The largest imaginary part of a complex pose, which is taken as a complex step (below it the
+#: first-order expansion is exact in double precision: its error is of the order of the square).
+COMPLEX_STEP_LIMIT = 1e-8
+
+
+def _stepped(function, x) -> np.ndarray:
+    """``function`` (a kernel's method of a state that depends on the Euler angles alone; with
+    ``partials=True`` its value and its partials along them) at the poses ``x``. A complex pose
+    ``x + i h`` is a complex step (|h| at most :data:`COMPLEX_STEP_LIMIT`): ``f(x) + i sum_k
+    df/de_k h_k``, its first-order expansion, which is what a complex-step derivative reads."""
     x = arguments.states("x", x, allow_complex=True)
-    with np.errstate(over="ignore", invalid="ignore"):  # complex angles: cosh overflows
-        cps, sps = np.cos(x[..., 3]), np.sin(x[..., 3])
-        cth, sth = np.cos(x[..., 4]), np.sin(x[..., 4])
-        cph, sph = np.cos(x[..., 5]), np.sin(x[..., 5])
-        rows = [
-            [cps * cth, cps * sth * sph - sps * cph, cps * sth * cph + sps * sph],
-            [sps * cth, sps * sth * sph + cps * cph, sps * sth * cph - cps * sph],
-            [-sth, cth * sph, cth * cph],
-        ]
-        rot = np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
-    return arguments.finite_result("rotation", rot, x)
+    if not np.iscomplexobj(x):
+        return function(x)
+    step = x.imag[..., 3:]
+    if not np.all(np.abs(step) <= COMPLEX_STEP_LIMIT):
+        raise ValueError(f"x: a complex pose is taken as a complex step x + i h with |h| <= {COMPLEX_STEP_LIMIT:g}, "
+                         f"got |h| up to {np.max(np.abs(step)):.3g}")
+    value, *partials = function(np.ascontiguousarray(x.real), partials=True)
+    return value + 1j * sum(partial * step[..., k, None, None] for k, partial in enumerate(partials))
+
+
+def rotation(x) -> np.ndarray:
+    """Orientation ``R = Rz(psi) Ry(theta) Rx(phi)`` of {P} in {B} (eq. 3), shape ``(..., 3, 3)``
+    (:meth:`stewart.Platform.rotation`); of a complex pose, a complex step (:data:`COMPLEX_STEP_LIMIT`)."""
+    return _stepped(_geometry_free().rotation, x)
 
 
 def euler_rate_jacobian(x) -> np.ndarray:
-    """``J_A`` of eq. 8: maps ``[psi', theta', phi']`` to the angular velocity in {B}."""
-    x = arguments.states("x", x, allow_complex=True)
-    with np.errstate(over="ignore", invalid="ignore"):  # complex angles: cosh overflows
-        cps, sps = np.cos(x[..., 3]), np.sin(x[..., 3])
-        cth, sth = np.cos(x[..., 4]), np.sin(x[..., 4])
-        zero, one = np.zeros_like(cps), np.ones_like(cps)
-        rows = [[zero, -sps, cps * cth], [zero, cps, sps * cth], [one, zero, -sth]]
-        j_a = np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
-    return arguments.finite_result("euler_rate_jacobian", j_a, x)
+    """``J_A`` of eq. 8: maps ``[psi', theta', phi']`` to the angular velocity in {B}
+    (:meth:`stewart.Platform.euler_rate_jacobian`); of a complex pose, a complex step
+    (:data:`COMPLEX_STEP_LIMIT`)."""
+    return _stepped(_geometry_free().euler_rate_jacobian, x)
 
 
 def twist_transform(x) -> np.ndarray:
-    """``T = blockdiag(I3, J_A)`` of eq. 18: the twist ``[v; omega] = T xdot``."""
-    x = arguments.states("x", x, allow_complex=True)
-    out = np.zeros(x.shape[:-1] + (6, 6), dtype=x.dtype)
+    """``T = blockdiag(I3, J_A)`` of eq. 18: the twist ``[v; omega] = T xdot``; of a complex pose,
+    a complex step (:data:`COMPLEX_STEP_LIMIT`)."""
+    j_a = euler_rate_jacobian(x)
+    out = np.zeros(j_a.shape[:-2] + (6, 6), dtype=j_a.dtype)
     out[..., 0, 0] = out[..., 1, 1] = out[..., 2, 2] = 1.0
-    out[..., 3:, 3:] = euler_rate_jacobian(x)
+    out[..., 3:, 3:] = j_a
     return out
 
 
@@ -90,47 +136,28 @@ def platform_points_in_base(params: PlatformParams, x) -> np.ndarray:
     return np.einsum("...jk,ik->...ij", rotation(x), platform_params(params).platform_points)
 
 
-def _legs(params: PlatformParams, x: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-    """``r_i = R p_i``, ``l_i`` (eq. 26) and ``|l_i|^2`` for a checked state, unchecked results."""
-    arms = platform_points_in_base(params, x)
-    legs = x[..., None, :3] + arms - params.base_points
-    with np.errstate(over="ignore", invalid="ignore"):
-        return arms, legs, np.sum(legs * legs, axis=-1)
-
-
-def _jacobian(arms: np.ndarray, legs: np.ndarray, length_sq: np.ndarray) -> np.ndarray:
-    """``J_C`` rows ``[u_i, r_i x u_i]`` (eq. 5), unchecked."""
-    with np.errstate(over="ignore", invalid="ignore", divide="ignore"):
-        units = legs / np.sqrt(length_sq)[..., None]
-        return np.concatenate([units, np.cross(arms, units)], axis=-1)
-
-
 def leg_vectors(params: PlatformParams, x) -> np.ndarray:
-    """Leg vectors ``l_i = p + R p_i - b_i`` of eq. 26, shape ``(..., 6, 3)``."""
-    x = arguments.states("x", x, allow_complex=True)
-    return _legs(platform_params(params), x)[1]
+    """Leg vectors ``l_i = p + R p_i - b_i`` of eq. 26, shape ``(..., 6, 3)``
+    (:meth:`stewart.Platform.leg_vectors`)."""
+    return _kernel_of(params).leg_vectors(x)
 
 
 def leg_lengths(params: PlatformParams, x) -> np.ndarray:
-    """Leg lengths ``|l_i|``, shape ``(..., 6)``."""
-    x = arguments.states("x", x, allow_complex=True)
-    return arguments.finite_result("leg_lengths", np.sqrt(_legs(platform_params(params), x)[2]), x)
+    """Leg lengths ``|l_i|``, shape ``(..., 6)`` (:meth:`stewart.Platform.leg_lengths`)."""
+    return _kernel_of(params).leg_lengths(x)
 
 
 def leg_unit_vectors(params: PlatformParams, x) -> np.ndarray:
     """Unit leg vectors ``l_i / |l_i|`` of eq. 25, shape ``(..., 6, 3)``; a zero-length leg
-    raises :class:`~stewart.SingularityError`."""
-    return jacobian(params, x)[..., :3]
+    raises :class:`~stewart.SingularityError` (:meth:`stewart.Platform.leg_unit_vectors`)."""
+    return _kernel_of(params).leg_unit_vectors(x)
 
 
 def jacobian(params: PlatformParams, x) -> np.ndarray:
     """Kinematic Jacobian ``J_C`` of eq. 5, ``Ldot = J_C [v; omega]``; row i is
     ``[u_i, (R p_i) x u_i]``. Shape ``(..., 6, 6)``; a zero-length leg raises
-    :class:`~stewart.SingularityError`."""
-    x = arguments.states("x", x, allow_complex=True)
-    arms, legs, length_sq = _legs(platform_params(params), x)
-    conditions.check("jacobian", x, conditions.leg_codes(length_sq))
-    return arguments.finite_result("jacobian", _jacobian(arms, legs, length_sq), x)
+    :class:`~stewart.SingularityError` (:meth:`stewart.Platform.jacobian`)."""
+    return _kernel_of(params).jacobian(x)
 
 
 def euler_jacobian(params: PlatformParams, x) -> np.ndarray:
@@ -139,61 +166,24 @@ def euler_jacobian(params: PlatformParams, x) -> np.ndarray:
 
 
 def leg_velocities(params: PlatformParams, x, xd) -> np.ndarray:
-    """Leg extension rates ``Ldot = J_E xdot`` (eq. 4), shape ``(..., 6)``."""
-    xd = arguments.states("xd", xd, allow_complex=True)
-    x = arguments.states("x", x, allow_complex=True)
-    arguments.same_batch(x=x, xd=xd)
-    with np.errstate(over="ignore", invalid="ignore"):
-        rates = np.einsum("...ij,...j->...i", euler_jacobian(params, x), xd)
-    return arguments.finite_result("leg_velocities", rates, x)
-
-
-def _angular_rates(x, xd, xdd) -> tuple[np.ndarray, np.ndarray]:
-    """The angular velocity ``omega = J_A e'`` and acceleration ``alpha = J_A e'' + J_A' e'``
-    in {B} (eq. 8, with ``e = [psi, theta, phi]``), each ``(..., 3)``."""
-    sps, cps = np.sin(x[..., 3]), np.cos(x[..., 3])
-    sth, cth = np.sin(x[..., 4]), np.cos(x[..., 4])
-    dps, dth, dph = xd[..., 3], xd[..., 4], xd[..., 5]
-    j_a = euler_rate_jacobian(x)
-    omega = np.einsum("...ij,...j->...i", j_a, xd[..., 3:])
-    j_a_dot_rates = np.stack([
-        -cps * dps * dth - sps * cth * dps * dph - cps * sth * dth * dph,
-        -sps * dps * dth + cps * cth * dps * dph - sps * sth * dth * dph,
-        -cth * dth * dph,
-    ], axis=-1)
-    return omega, np.einsum("...ij,...j->...i", j_a, xdd[..., 3:]) + j_a_dot_rates
+    """Leg extension rates ``Ldot = J_E xdot`` (eq. 4), shape ``(..., 6)``: those of
+    :meth:`stewart.Platform.leg_rates`."""
+    return _kernel_of(params).leg_rates(x, xd)[1]
 
 
 def leg_accelerations(params: PlatformParams, x, xd, xdd) -> np.ndarray:
-    """Leg extension accelerations ``Lddot``, shape ``(..., 6)``: the second time
-    derivative of ``L_i = |l_i|`` (eq. 26),
-    ``Lddot_i = u_i . a_i + (|v_i|^2 - Ldot_i^2) / L_i`` with the velocity
-    ``v_i = p' + omega x r_i`` and acceleration ``a_i = p'' + alpha x r_i + omega x (omega x r_i)``
-    of the spherical joint ``P_i`` and ``Ldot_i = u_i . v_i`` (eq. 4)."""
-    params = platform_params(params)
-    x = arguments.states("x", x)
-    xd = arguments.states("xd", xd)
-    xdd = arguments.states("xdd", xdd)
-    arguments.same_batch(x=x, xd=xd, xdd=xdd)
-    arms, legs, length_sq = _legs(params, x)
-    conditions.check("leg_accelerations", x, conditions.leg_codes(length_sq))
-    omega, alpha = _angular_rates(x, xd, xdd)
-    with np.errstate(over="ignore", invalid="ignore"):
-        lengths = np.sqrt(length_sq)
-        units = legs / lengths[..., None]
-        turn = np.cross(omega[..., None, :], arms)
-        velocity = xd[..., None, :3] + turn
-        acceleration = (xdd[..., None, :3] + np.cross(alpha[..., None, :], arms)
-                        + np.cross(omega[..., None, :], turn))
-        rates = np.sum(units * velocity, axis=-1)
-        result = (np.sum(units * acceleration, axis=-1)
-                  + (np.sum(velocity * velocity, axis=-1) - rates * rates) / lengths)
-    return arguments.finite_result("leg_accelerations", result, x)
+    """Leg extension accelerations ``Lddot``, shape ``(..., 6)``: the second time derivative of
+    ``L_i = |l_i|`` (eq. 26), ``Lddot_i = u_i . a_i + (|v_i|^2 - Ldot_i^2) / L_i`` with the
+    velocity ``v_i = p' + omega x r_i`` and acceleration ``a_i = p'' + alpha x r_i + omega x
+    (omega x r_i)`` of the spherical joint ``P_i`` and ``Ldot_i = u_i . v_i`` (eq. 4)
+    (:meth:`stewart.Platform.leg_accelerations`)."""
+    return _kernel_of(params).leg_accelerations(x, xd, xdd)
 
 
 def home_pose(params: PlatformParams, leg_length: float | None = None) -> np.ndarray:
     """The home pose: no rotation, {P}'s joint centroid above the base's, at the height
-    where the mean leg length equals ``leg_length``.
+    where the mean leg length equals ``leg_length`` (in numpy: a one-off bisection on the
+    legs' horizontal spans, which needs no compiled model).
 
     ``leg_length`` defaults to mid-stroke of ``params.leg_length_limits``; for a platform
     without limits, to the larger of the base's circumradius and sqrt(2) times the widest
@@ -278,7 +268,8 @@ def forward_kinematics(
 
     ``lengths`` is ``(6,)`` or ``(N, 6)``: true leg lengths ``|l_i|``, or with ``encoder=True``
     a machine's encoder readings, to which ``params.leg_length_offsets`` are added. The iteration starts from ``guess`` (one pose,
-    or one per row; default :func:`home_pose`) and uses ``J_E`` (eq. 4) as the Jacobian,
+    or one per row; default :func:`home_pose`) on the compiled model's leg lengths and uses ``J_E = J_C T``
+    (eqs. 4, 5, 18; the compiled ``J_C`` and ``J_A``) as the Jacobian,
     halving a step that does not reduce the residual; a row stops where ``J_E`` is singular
     by the model's test for ``J_C`` (:func:`stewart.model.conditions.jacobian_codes`). Raises
     :class:`~stewart.model.errors.ConvergenceError` naming the rows that did not reach
@@ -305,10 +296,13 @@ def forward_kinematics(
         x = np.broadcast_to(guess, target.shape).copy()
     scale = tol * target.max(axis=1)
 
+    kernel = _kernel_of(params)
+
     def residual(poses, rows=slice(None)):
         out = np.full(poses.shape, np.inf)  # a trial step may leave the floats
         fine = np.isfinite(poses).all(axis=1)
-        out[fine] = np.sqrt(_legs(params, poses[fine])[2]) - target[rows][fine]
+        out[fine] = kernel.leg_lengths(poses[fine], return_mask=True)[0] - target[rows][fine]
+        out[np.isnan(out)] = np.inf  # lengths that overflow
         return out
 
     res = residual(x)
@@ -318,8 +312,9 @@ def forward_kinematics(
         if not active.any():
             break
         idx = np.flatnonzero(active)
-        jac = _jacobian(*_legs(params, x[idx])) @ twist_transform(x[idx])
-        singular = conditions.jacobian_codes(jac) != conditions.Status.OK
+        jac, fine = kernel.jacobian(x[idx], return_mask=True)  # a zero-length leg: NaN, singular below
+        jac = jac @ twist_transform(x[idx])
+        singular = ~fine | (conditions.jacobian_codes(jac) != conditions.Status.OK)
         step = np.zeros((idx.size, 6))
         ok = ~singular
         step[ok] = np.linalg.solve(jac[ok], res[idx][ok][..., None])[..., 0]

@@ -15,7 +15,9 @@ from .params import PlatformParams
 from .results import JointReactions
 
 __all__ = ["Platform", "AllTerms", "InverseDynamicsDerivatives", "ForwardDynamicsDerivatives",
-           "StaticForceDerivatives", "Step", "StepDerivatives", "as_platform"]
+           "StaticForceDerivatives", "Step", "StepDerivatives", "LegResidualJacobians", "RotationPartials",
+           "EulerRateJacobianPartials", "LegUnitVectors", "ModalStiffness", "JointCosines",
+           "RiderSignals", "as_platform"]
 
 
 def _result_type(function, doc):
@@ -57,6 +59,33 @@ StepDerivatives = _result_type("rk4_step_derivatives", """The state after one RK
     (:meth:`Platform.rk4_step` with ``jacobians=True``): ``A = d(x+, xd+)/d(x, xd)`` (12 x 12),
     ``B = d(x+, xd+)/d tau`` (12 x 6), row = output, column = input.""")
 
+LegResidualJacobians = _result_type("leg_residual_jacobians", """The exact partials of the calibration residuals
+    (:meth:`Platform.leg_residual_jacobians`): ``dr_dtheta[..., i, :]`` those of leg i's residual in
+    its own geometric parameters ``(b_i, p_i, delta_i)``, ``[u_i, -R^T u_i, 1]`` (the other 35 of
+    the 42 are zero), and ``dr_dx`` (``(..., 6, 6)``, row = leg, column = pose coordinate).""")
+
+RotationPartials = _result_type("rotation_partials", """The rotation and its partials along the Euler angles
+    (:meth:`Platform.rotation` with ``partials=True``), each of shape ``(..., 3, 3)``.""")
+
+EulerRateJacobianPartials = _result_type("euler_rate_jacobian_partials", """``J_A`` and its partials along the Euler
+    angles (:meth:`Platform.euler_rate_jacobian` with ``partials=True``), each of shape ``(..., 3, 3)``.""")
+
+LegUnitVectors = _result_type("leg_unit_vector_gradients", """The unit leg vectors, ``(..., 6, 3)``, and their pose
+    gradients ``du_dx[..., i, a, j] = d u_i,a / d x_j``, ``(..., 6, 3, 6)`` (:meth:`Platform.leg_unit_vectors` with
+    ``gradients=True``).""")
+
+ModalStiffness = _result_type("modal_stiffness", """The twist-space stiffness ``Kt`` (not symmetrized), ``J_C`` and
+    the twist-space mass matrix ``Mt`` of the platform on preloaded leg springs (:meth:`Platform.modal_stiffness`),
+    each of shape ``(..., 6, 6)``.""")
+
+JointCosines = _result_type("joint_cosines", """The cosines of the joint angles and their gradient in the pose
+    (:meth:`Platform.joint_cosines`): ``cosines`` ``(..., 12)`` (universal joints, then spherical
+    joints), ``dcosines_dx[..., i, j] = d cosines_i / d x_j``.""")
+
+RiderSignals = _result_type("rider_signals", """What a rider at {P}'s origin senses and its Jacobians
+    (:meth:`Platform.rider_signals`): ``y = [f; w]`` ``(..., 6)``, row = output, column = input,
+    ``dy_dx[..., i, j] = d y_i / d x_j``.""")
+
 # The joint reactions' type (shared with the Newton-Euler oracle) has the fields of the C's results.
 _same_fields(JointReactions, "joint_reactions")
 
@@ -93,6 +122,8 @@ class Platform:
         self._kernel = Kernel(params, threads)
         # The kernel's call, bound once: the methods below call it without looking it up.
         self._call = self._kernel.call
+        # the joints' neutral axes, the legs' unit vectors at home (joint_cosines' default)
+        self._neutral = self.jacobian(self._home)[:, :3].copy()
 
     @classmethod
     def preset(cls, name: str, **options) -> "Platform":
@@ -161,6 +192,50 @@ class Platform:
         / L_i`` with ``v_i``, ``a_i`` the velocity and acceleration of the spherical joint P_i
         (:func:`stewart.model.kinematics.leg_accelerations`)."""
         return self._call("leg_accelerations", (x, xd, xdd), return_mask)
+
+    def rotation(self, x, *, partials=False, return_mask=False):
+        """The orientation ``R = Rz(psi) Ry(theta) Rx(phi)`` of {P} in {B} (eq. 3), shape ``(..., 3,
+        3)``; with ``partials``, a :class:`RotationPartials` ``(R, dR_dpsi, dR_dtheta, dR_dphi)``.
+        It does not depend on the platform's parameters."""
+        if partials:
+            return _named(RotationPartials, self._call("rotation_partials", (x,), return_mask), return_mask)
+        return self._call("rotation", (x,), return_mask)
+
+    def euler_rate_jacobian(self, x, *, partials=False, return_mask=False):
+        """``J_A`` (eq. 8): the angular velocity ``omega = J_A [psi', theta', phi']`` in {B},
+        shape ``(..., 3, 3)``; with ``partials``, an :class:`EulerRateJacobianPartials` ``(JA,
+        dJA_dpsi, dJA_dtheta, dJA_dphi)``."""
+        if partials:
+            return _named(EulerRateJacobianPartials, self._call("euler_rate_jacobian_partials", (x,), return_mask),
+                          return_mask)
+        return self._call("euler_rate_jacobian", (x,), return_mask)
+
+    def inverse_euler_rate_jacobian(self, x, *, return_mask=False):
+        """``J_A^-1`` (eq. 8 inverted): the Euler rates of an angular velocity in {B}, shape
+        ``(..., 3, 3)``; singular where ``cos(theta)`` is too small (``euler_singular``)."""
+        return self._call("inverse_euler_rate_jacobian", (x,), return_mask)
+
+    def leg_vectors(self, x, *, return_mask=False):
+        """The leg vectors ``l_i = p + R p_i - b_i`` (eq. 26), shape ``(..., 6, 3)``; a zero-length
+        leg is no error here."""
+        return self._call("leg_vectors", (x,), return_mask)
+
+    def leg_unit_vectors(self, x, *, gradients=False, return_mask=False):
+        """The unit leg vectors ``u_i = l_i / |l_i|`` (eqs. 25, 26), shape ``(..., 6, 3)``; with
+        ``gradients``, a :class:`LegUnitVectors` ``(u, du_dx)`` with their exact pose gradients
+        ``du_dx[..., i, a, j] = d u_i,a / d x_j``, shape ``(..., 6, 3, 6)``."""
+        if gradients:
+            return _named(LegUnitVectors, self._call("leg_unit_vector_gradients", (x,), return_mask), return_mask)
+        return self._call("leg_unit_vectors", (x,), return_mask)
+
+    def modal_stiffness(self, x, k, *, return_mask=False):
+        """The twist-space stiffness of the platform on leg springs ``k`` [N/m] (``(6,)`` one per
+        leg, or ``(N, 6)`` one set per state) preloaded to hold it at ``x``, a
+        :class:`ModalStiffness` ``(Kt, JC, Mt)``: ``K_t = J_C^T (diag(k) J_C + dtau_s/dx T^-1)``
+        with ``T^-1 = blockdiag(I, J_A^-1)`` (eqs. 5, 8, 18; not symmetrized), ``J_C`` and the
+        twist-space mass matrix ``M_t``, whose generalized eigenproblem ``K_t phi = w^2 M_t phi``
+        gives the modes (:meth:`modes`, :mod:`stewart.model.stiffness`)."""
+        return _named(ModalStiffness, self._call("modal_stiffness", (x, k), return_mask), return_mask)
 
     def mass_matrix(self, x, *, return_mask=False):
         """``M = sum_b J_b^T I_b J_b T`` (eqs. 22, 40, 52, 62, 70); multiplies ``xddot``."""
@@ -286,6 +361,33 @@ class Platform:
                       self._call("forward_dynamics_derivatives", (x, xd, tau), return_mask),
                       return_mask)
 
+    def joint_cosines(self, x, axes=None, *, return_mask=False):
+        """The cosines of the universal- and spherical-joint angles at poses ``x`` and their exact
+        gradient in the pose, a :class:`JointCosines` ``(cosines, dcosines_dx)``: leg i's unit
+        vector ``u_i = l_i / |l_i|`` (eq. 26) against its neutral axis ``a_i``, fixed in {B} for the
+        universal joint (``u_i . a_i``, columns 0-5) and in {P} for the spherical joint
+        (``u_i . R a_i``, columns 6-11); shapes ``(..., 12)`` and ``(..., 12, 6)``. ``axes``
+        ``(6, 3)`` (one per leg, a unit vector in each) defaults to the legs' unit vectors at the
+        home pose, the neutral axes of :func:`stewart.model.reachability.joint_angles`."""
+        if axes is None:
+            axes = self._neutral
+        else:
+            axes = arguments.states("axes", axes, 3)
+            if axes.shape != (6, 3):
+                raise ValueError(f"axes: expected shape (6, 3), one axis per leg, got {axes.shape}")
+        return _named(JointCosines, self._call("joint_cosines", (x, axes[:, 0], axes[:, 1], axes[:, 2]),
+                                               return_mask), return_mask)
+
+    def rider_signals(self, x, xd, xdd, *, return_mask=False):
+        """What a rider at the origin of {P} senses at poses ``x``, pose rates ``xd`` and pose
+        accelerations ``xdd``, with its exact Jacobians, a :class:`RiderSignals` ``(y, dy_dx,
+        dy_dxd, dy_dxdd)``: ``y = [f; w]``, the specific force ``f = R^T (a + g e_z)`` (``a`` the
+        acceleration of {P}'s origin, ``g`` the parameters' gravity) and the angular velocity ``w
+        = R^T J_A [psi', theta', phi']`` (eq. 8), both in {P}
+        (:func:`stewart.cueing.vestibular.platform_signals`); row = output, column = input, each
+        Jacobian of shape ``(..., 6, 6)``."""
+        return _named(RiderSignals, self._call("rider_signals", (x, xd, xdd), return_mask), return_mask)
+
     def rk4_step(self, x, xd, tau, dt, *, jacobians=False, return_mask=False):
         """One classic RK4 step of ``[x; xdot]`` under forces ``tau`` held over ``dt`` seconds (a
         positive finite number): the step :func:`stewart.simulate` takes in open loop. Returns a
@@ -300,6 +402,30 @@ class Platform:
             return _named(StepDerivatives, self._call("rk4_step_derivatives", (x, xd, tau), return_mask, dt),
                           return_mask)
         return _named(Step, self._call("rk4_step", (x, xd, tau), return_mask, dt), return_mask)
+
+    def leg_residuals(self, x, readings, *, return_mask=False):
+        """The inverse-kinematics residuals of kinematic calibration (Zhuang & Roth 1993):
+        ``r_i = e_i + delta_i - |l_i|``, the encoder ``readings`` e plus ``params.leg_length_offsets``
+        less the leg lengths of eq. 26 at the pose ``x``, shape ``(..., 6)``."""
+        return self._call("leg_residuals", (x, readings), return_mask)
+
+    def leg_residual_jacobians(self, x, *, return_mask=False):
+        """The exact partials of :meth:`leg_residuals` (Masory, Wang & Zhuang 1993), a
+        :class:`LegResidualJacobians` ``(dr_dtheta, dr_dx)``: per leg i, shape ``(..., 6, 7)``,
+        those in its own base joint ``b_i``, platform joint ``p_i`` (in {P}) and offset
+        ``delta_i``, ``[u_i, -R^T u_i, 1]`` with ``u_i = l_i / |l_i|`` (the other parameters'
+        are zero); and ``dr/dx = -J_C T`` (eqs. 5, 8, 18), shape ``(..., 6, 6)``."""
+        return _named(LegResidualJacobians, self._call("leg_residual_jacobians", (x,), return_mask), return_mask)
+
+    def target_positions(self, x, offsets, *, return_mask=False):
+        """The position ``t + R c`` in {B} of a target fixed to the platform at ``offsets`` ``c``
+        in {P} (``(3,)`` or ``(N, 3)``) at the pose ``x``, shape ``(..., 3)``."""
+        return self._call("target_positions", (x, _target_offsets(offsets)), return_mask)
+
+    def target_jacobian(self, x, offsets, *, return_mask=False):
+        """``d(t + R c)/dx = [E, -[R c]x J_A]`` (eq. 8) of :meth:`target_positions`, shape
+        ``(..., 3, 6)``: column ``3 + j`` is the target's velocity ``(J_A e_j) x R c``."""
+        return self._call("target_jacobian", (x, _target_offsets(offsets)), return_mask)
 
     def stiffness_matrix(self, x, stiffness=None, *, coordinates="pose", return_mask=False):
         """The stiffness of the platform on leg springs of ``stiffness`` [N/m] (one value or one
@@ -322,6 +448,13 @@ class Platform:
         ``point`` (in {P}, default its origin) under a unit wrench ``[f; m]`` there, all in {B},
         shape ``(..., 6, 6)`` (:func:`stewart.model.stiffness.compliance`)."""
         return _stiffness.compliance(self, x, stiffness, point, return_mask=return_mask)
+
+
+def _target_offsets(offsets) -> np.ndarray:
+    """Targets' positions in {P}, ``(3,)`` or ``(N, 3)``, as the C's input of 6 doubles a row
+    (the last three zero, not read)."""
+    arr = arguments.state_array("offsets", offsets, 3)
+    return np.concatenate([arr, np.zeros(arr.shape[:-1] + (3,))], axis=-1)
 
 
 def friction_law(params: PlatformParams, viscous=None, coulomb=None, velocity=None) -> tuple[np.ndarray, np.ndarray, float]:

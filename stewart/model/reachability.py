@@ -224,9 +224,9 @@ def _platform_radius(params: PlatformParams) -> float:
 
 def assembly_mode(platform, pose) -> float:
     """The sign of ``det J_C`` at ``pose``: +1 or -1 (0 at a singularity)."""
-    params = platform_params(platform, "platform")
+    platform_params(platform, "platform")
     with np.errstate(all="ignore"):
-        jac = kinematics.jacobian(params, pose)
+        jac = kinematics.jacobian(platform, pose)
         return float(np.nan_to_num(np.sign(np.linalg.det(jac))))
 
 
@@ -299,8 +299,7 @@ def joint_angles(params: PlatformParams, poses) -> tuple[np.ndarray, np.ndarray]
 
     plat = as_platform(params, "params")
     x = arguments.states("poses", poses)
-    units = kinematics.jacobian(plat.params, x)[..., :3]
-    return _joint_angles(units, kinematics.rotation(x), neutral_axes(plat))
+    return _joint_angles(plat.leg_unit_vectors(x), plat.rotation(x), neutral_axes(plat))
 
 
 def _joint_angles(units, rotations, neutral):
@@ -388,8 +387,8 @@ def _block(plat, x: np.ndarray, mode: float, neutral: np.ndarray) -> dict:
     if limits is not None:
         flags |= np.where(np.any(lengths < limits[0], axis=1), LEG_TOO_SHORT, 0)
         flags |= np.where(np.any(lengths > limits[1], axis=1), LEG_TOO_LONG, 0)
-    rotations = kinematics.rotation(x)
-    gap = _base_gaps(params, x, rotations)
+    rotations = plat.rotation(x)
+    gap = _base_gaps(params, x, rotations, plat.leg_vectors(x))
     clearance = params.base_clearance
     flags |= np.where(~(gap > 0.0) if clearance is None else ~(gap >= clearance), BELOW_BASE, 0)
     with np.errstate(all="ignore"):
@@ -442,19 +441,19 @@ def base_gaps(params, poses) -> np.ndarray:
     """The height [m] of the platform's lowest point above the base plane (the horizontal
     plane through the highest universal joint) at ``poses`` (``(6,)`` or ``(N, 6)``) of
     ``params`` (a :class:`~stewart.PlatformParams` or :class:`~stewart.Platform`): of the lowest spherical
-    joint, ``p_z + (R p_i)_z`` (eq. 3), and with ``params.plate_radius`` ``r`` of the lowest
+    joint, ``(b_i + l_i)_z`` (eq. 26), and with ``params.plate_radius`` ``r`` of the lowest
     point of the plate's rim, ``c_z - r sin(tilt)`` with ``c`` the plate's centre and
     ``sin(tilt) = |e_z x R^T e_z| = sqrt(1 - (R e_z)_z^2)`` (the rim's lowest point lies along the
     plate's steepest descent); ``(...)``."""
     x = arguments.states("poses", poses)
     rows = np.atleast_2d(x)
     with np.errstate(all="ignore"):
-        gaps = _base_gaps(platform_params(params), rows, kinematics.rotation(rows))
+        gaps = _base_gaps(platform_params(params), rows, kinematics.rotation(rows), kinematics.leg_vectors(params, rows))
     return arguments.finite_result("base_gaps", gaps[0] if x.ndim == 1 else gaps, x)
 
 
-def _base_gaps(params: PlatformParams, x: np.ndarray, rot: np.ndarray) -> np.ndarray:
-    heights = x[:, 2:3] + np.einsum("ik,nk->ni", params.platform_points, rot[:, 2, :])
+def _base_gaps(params: PlatformParams, x: np.ndarray, rot: np.ndarray, legs: np.ndarray) -> np.ndarray:
+    heights = legs[..., 2] + params.base_points[:, 2]  # of P_i = b_i + l_i
     lowest = np.min(heights, axis=1)
     if params.plate_radius is not None:
         tilt = np.hypot(rot[:, 2, 0], rot[:, 2, 1])  # sine of the plate's tilt: |e_z x R^T e_z|

@@ -26,8 +26,9 @@ legs included), ``K_t = T^-T K_q T^-1 = J_C^T (diag(k) J_C + dtau_s/dx T^-1)`` a
 ``K_t phi = w^2 M_t phi`` (the same frequencies as in pose coordinates, since ``T`` is
 invertible away from ``theta = +-90 deg``), the damping ratios those of the quadratic
 eigenproblem ``(s^2 M_t + s C_t + K_t) phi = 0``. Each pose's stiffness and undamped modes are
-computed in compiled code (``stewart/_modes.pxi``: the model's functions and LAPACK's
-``dsygv``); the damping ratios and the compliance in numpy.
+computed in compiled code (``stewart/_modes.pxi``: the generated ``modal_stiffness``,
+:meth:`stewart.Platform.modal_stiffness`, and LAPACK's ``dsygv``); the damping ratios and the
+compliance in numpy.
 """
 
 from __future__ import annotations
@@ -188,11 +189,43 @@ def stiffness_matrix(platform, x, stiffness=None, *, coordinates: str = "pose", 
     return _shaped(terms, result, return_mask)
 
 
+def _owners(weights: np.ndarray) -> np.ndarray:
+    """The mode of each of the 12 roots ``(n, 12)`` from their weights on the modes ``(n, 12, 6)``,
+    two roots a mode: greedily, the largest weight of a root not yet given to a mode not yet
+    holding two. Where each root's largest weight is on a different mode from all but one
+    other root's, that is its largest; where modes are repeated (equal frequencies: the roots'
+    eigenvectors mix them arbitrarily), it is one of the balanced choices, which may give a mode
+    a repeated root twice (:func:`_damping_ratios` tells that from a pair)."""
+    n = len(weights)
+    rows = np.arange(n)
+    w = weights.copy()
+    owner = np.zeros((n, 12), int)
+    held = np.zeros((n, 6), int)
+    for _ in range(12):
+        root, mode = np.divmod(np.argmax(w.reshape(n, -1), axis=1), 6)
+        owner[rows, root] = mode
+        held[rows, mode] += 1
+        w[rows, root, :] = -1.0                                   # the root is given
+        w = np.where((held == 2)[:, None, :], -1.0, w)            # the mode holds two
+    return owner
+
+
+#: Least relative distance of a mode's two real roots for their pair's ratio: nearer, they may be
+#: one repeated root given to the mode twice (:func:`_damping_ratios`).
+DISTINCT_ROOTS = 1e-6
+
+
 def _damping_ratios(values: np.ndarray, shapes: np.ndarray, c: np.ndarray, jac: np.ndarray) -> np.ndarray:
     """The damping ratio of each undamped mode from the quadratic eigenproblem, solved in the
-    modal coordinates: ``A = [[0, I], [-W^2, -Phi^T C_t Phi]]``; each pair of eigenvalues ``s``
-    belongs to the mode that dominates its displacement part, and gives
-    ``zeta = -(s1 + s2) / (2 sqrt(s1 s2))`` (``-Re s / |s|`` for a complex pair)."""
+    modal coordinates: ``A = [[0, I], [-W^2, -D]]``, ``D = Phi^T C_t Phi``. Two roots go to each
+    mode (:func:`_owners`: those whose eigenvectors it dominates), and its ratio is
+    ``zeta = -(s1 + s2) / (2 sqrt(s1 s2))`` (``-Re s / |s|`` for a complex pair), which with
+    ``sqrt(s1 s2)`` gives back the roots. Where the two are not a pair (a complex root and not its
+    conjugate, or two real roots nearer than :data:`DISTINCT_ROOTS`: a repeated mode's repeated
+    root given to it twice) each root gives its own ratio, that of the scalar quadratic
+    ``m s^2 + c s + k = 0`` of the displacement part ``eta`` of its eigenvector (``m = eta^H
+    eta``, ``c = eta^H D eta``, ``k = eta^H W^2 eta``), ``c / (2 sqrt(k m))``, the same for
+    each root of a mode where ``D`` is diagonal, and the mode the mean of its two."""
     n = len(values)
     damper = np.swapaxes(jac, -1, -2) @ (c[:, None] * jac)
     modal = np.swapaxes(shapes, -1, -2) @ damper @ shapes
@@ -201,16 +234,25 @@ def _damping_ratios(values: np.ndarray, shapes: np.ndarray, c: np.ndarray, jac: 
     state[:, 6:, :6] = -values[:, :, None] * np.eye(6)
     state[:, 6:, 6:] = -modal
     roots, vecs = np.linalg.eig(state)
-    owner = np.argmax(np.abs(vecs[:, :6, :]), axis=1)             # (n, root): the mode of each root
-    ratios = np.full((n, 6), np.nan)
+    eta = np.swapaxes(vecs[:, :6, :], -1, -2)                     # (n, root, mode)
+    power = np.abs(eta) ** 2
+    m = np.sum(power, axis=-1)
+    k = np.sum(power * values[:, None, :], axis=-1)
+    d = np.real(np.einsum("nri,nij,nrj->nr", eta.conj(), modal, eta))
+    with np.errstate(invalid="ignore", divide="ignore"):  # the rows that failed (all zero), NaN after
+        own = d / (2.0 * np.sqrt(k * m))
+        owner = _owners(power / m[..., None])
+    ratios = np.zeros((n, 6))
     for mode in range(6):
-        mine = owner == mode
-        paired = np.sum(mine, axis=1) == 2
-        pick = np.argsort(~mine, axis=1, kind="stable")[:, :2]    # the two roots of this mode
+        pick = np.argsort(owner != mode, axis=1, kind="stable")[:, :2]  # its two roots, in order
         s = np.take_along_axis(roots, pick, axis=1)
+        real = (s.imag == 0).all(axis=1)
+        pair = np.where(real, np.abs(s[:, 0] - s[:, 1]) > DISTINCT_ROOTS * np.abs(s[:, 0]),
+                        (s[:, 0].imag != 0) & (s[:, 1] == s[:, 0].conj()))
         product, total = np.real(s[:, 0] * s[:, 1]), np.real(s[:, 0] + s[:, 1])
         with np.errstate(invalid="ignore", divide="ignore"):
-            ratios[:, mode] = np.where(paired, -total / (2.0 * np.sqrt(product)), np.nan)
+            ratios[:, mode] = np.where(pair, -total / (2.0 * np.sqrt(product)),
+                                       np.take_along_axis(own, pick, axis=1).mean(axis=1))
     return ratios
 
 

@@ -73,6 +73,11 @@ def leg_masses(platform, x=None) -> np.ndarray:
     x = platform.home_pose if x is None else arguments.states("x", x)
     if x.shape != (6,):
         raise ValueError(f"x: expected one pose, shape (6,), got {x.shape}")
+    return _leg_masses(platform, x)
+
+
+def _leg_masses(platform: Platform, x: np.ndarray) -> np.ndarray:
+    """:func:`leg_masses` of the compiled ``platform`` at the checked pose ``x``."""
     jac = platform.jacobian(x)
     conditions.check("leg_masses", x, conditions.jacobian_codes(jac))
     with np.errstate(over="ignore", invalid="ignore"):
@@ -136,7 +141,7 @@ class PID(Controller):
             bandwidth_hz = PID_BANDWIDTH_HZ.get(platform.params.name, DEFAULT_BANDWIDTH_HZ)
         bandwidth_hz = _bandwidth(bandwidth_hz)
         w = np.float64(2.0 * np.pi * bandwidth_hz)
-        m = leg_masses(platform)
+        m = _leg_masses(platform, platform.home_pose)
         with np.errstate(over="ignore"):
             return cls(**_tuned_gains(bandwidth_hz, kp=3.0 * m * w**2, ki=m * w**3, kd=3.0 * m * w))
 

@@ -139,7 +139,11 @@ def initial_guess(platform: Platform, start, target, duration: float, intervals:
     """``(states (N+1, 12), forces (N, 6))``: the quintic :class:`stewart.PointToPoint` move
     at the nodes, and its inverse-dynamics forces at the middle of each interval (zero where
     undefined)."""
-    platform = as_platform(platform)
+    return _initial_guess(as_platform(platform), start, target, duration, intervals)
+
+
+def _initial_guess(platform: Platform, start, target, duration: float, intervals: int):
+    """:func:`initial_guess` of the compiled ``platform``."""
     t = np.linspace(0.0, duration, intervals + 1)
     move = PointToPoint(start, target, duration, "quintic")
     x, xd, _ = move.sample(t)
@@ -177,7 +181,7 @@ def minimum_effort_move(platform: Platform, target, duration: float, intervals: 
     max_iterations = arguments.count("max_iterations", max_iterations, 1_000_000)
 
     t = np.linspace(0.0, duration, intervals + 1)
-    guess = initial_guess(platform, start, target, duration, intervals)
+    guess = _initial_guess(platform, start, target, duration, intervals)
     dt = duration / intervals
     states, forces, effort, stats, seconds = solve_move(
         casadi_functions.rk4_step(platform, dt, intervals), casadi_functions.leg_lengths(platform, intervals + 1),

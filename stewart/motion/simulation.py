@@ -398,10 +398,11 @@ def _result(run: _Run, series: _Series, end: _End, wall: float, interrupted: boo
 
 
 def _check_workspace(platform, x0, poses, times) -> None:
-    start = reachability(platform, x0, mode=assembly_mode(platform, x0), name="x0")
+    mode = assembly_mode(platform, x0)
+    start = reachability(platform, x0, mode=mode, name="x0")
     if not start.ok[0]:
         raise WorkspaceError("x0: the start pose is outside the workspace: " + "; ".join(start.reasons(0)), start)
-    check = reachability(platform, poses, mode=assembly_mode(platform, x0), name="trajectory")
+    check = reachability(platform, poses, mode=mode, name="trajectory")
     if not check.ok.all():
         raise WorkspaceError("trajectory: " + check.message("reference pose", times), check, times)
 

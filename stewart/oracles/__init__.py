@@ -1,4 +1,5 @@
-"""The independent models and checks the compiled model is tested against: the numeric
+"""The independent models and checks the compiled model is tested against: their own numpy
+kinematics (:mod:`~stewart.oracles.frames`), the numeric
 reference (:mod:`~stewart.oracles.reference`, the paper's equations body by body), the
 Newton–Euler formulation (:mod:`~stewart.oracles.newton_euler`), the physics checks
 (:mod:`~stewart.oracles.physics`: energy, power balance, complex-step derivatives, statics),

@@ -78,7 +78,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..model import arguments, conditions
-from ..model.kinematics import euler_rate_jacobian, rotation
+from .frames import euler_rate_jacobian, rotation
 from ..model.params import platform_params
 from ..model.params import PlatformParams
 from ..model.results import JointReactions

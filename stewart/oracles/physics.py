@@ -24,7 +24,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..model import kinematics
-from . import newton_euler, reference
+from . import frames, newton_euler, reference
 from ..model import reachability
 from ..model.params import platform_params
 from ..model.params import PlatformParams
@@ -52,11 +52,15 @@ def energy(params: PlatformParams, x, xd) -> np.ndarray:
     energy is ``sum_k I_k (omega . e_k)^2 / 2``. Analytic operations only, so complex-step
     derivatives apply.
     """
-    params = platform_params(params)
+    return _energy(platform_params(params), x, xd)
+
+
+def _energy(params: PlatformParams, x, xd) -> np.ndarray:
+    """:func:`energy` of the converted ``params``."""
     x = np.asarray(x)
     xd = np.asarray(xd)
-    rot = kinematics.rotation(x)
-    omega = np.einsum("...ij,...j->...i", kinematics.euler_rate_jacobian(x), xd[..., 3:])
+    rot = frames.rotation(x)
+    omega = np.einsum("...ij,...j->...i", frames.euler_rate_jacobian(x), xd[..., 3:])
     arms = np.einsum("...jk,ik->...ij", rot, params.platform_points)
     legs = x[..., None, :3] + arms - params.base_points
     lengths = np.sqrt(np.sum(legs * legs, axis=-1))[..., None]
@@ -197,8 +201,8 @@ def power_balance(params: PlatformParams, x, xd, xdd, tau) -> float:
     is the complex-step derivative of :func:`energy` along ``(xd, xdd)``."""
     params = platform_params(params)
     h = COMPLEX_STEP
-    de_dt = energy(params, x + 1j * h * xd, xd + 1j * h * xdd).imag / h
-    power = tau * kinematics.leg_velocities(params, x, xd)
+    de_dt = _energy(params, x + 1j * h * xd, xd + 1j * h * xdd).imag / h
+    power = tau * frames.leg_velocities(params, x, xd)
     return float(np.max(np.abs(de_dt - power.sum(axis=-1)) / np.sum(np.abs(power), axis=-1)))
 
 
@@ -208,7 +212,7 @@ def twist_mass_matrix_figures(platform: Platform, x) -> tuple[float, float]:
     (eq. 18) relative to the mass matrix ``M``, and the worst condition number of ``M_t``
     (``inf`` where it is not positive definite)."""
     m_twist = platform.twist_mass_matrix(x)
-    mismatch = relative_error(m_twist @ kinematics.twist_transform(x), platform.mass_matrix(x))
+    mismatch = relative_error(m_twist @ frames.twist_transform(x), platform.mass_matrix(x))
     eig = np.linalg.eigvalsh(m_twist)
     positive = eig[..., 0] > 0.0
     cond = np.where(positive, eig[..., -1] / np.where(positive, eig[..., 0], 1.0), np.inf)
@@ -255,7 +259,7 @@ def energy_drift(params: PlatformParams, seconds: float = 1.0, seed: int = 0) ->
     # (stewart.model.conditions): the workspace's design limit on the unit-free condition of J_C.
     if np.max(reachability.reachability(plat, poses).condition) > reachability.CONDITION_LIMIT:
         return float("inf")
-    energies = energy(free, poses, rates)
+    energies = _energy(free, poses, rates)
     return float(np.max(np.abs(energies - energies[0])) / np.max(np.abs(energies)))
 
 
@@ -276,9 +280,9 @@ def statics_residuals(params: PlatformParams, x) -> dict[str, float]:
         weight = 1.0
     length = kinematics.home_pose(params)[2]
     e_z = np.array([0.0, 0.0, 1.0])
-    rot = kinematics.rotation(x)
+    rot = frames.rotation(x)
     arms = np.einsum("...jk,ik->...ij", rot, params.platform_points - params.platform_com_in_model)
-    legs = kinematics.leg_vectors(params, x)
+    legs = frames.leg_vectors(params, x)
     units = legs / np.linalg.norm(legs, axis=-1, keepdims=True)
     net = forces.platform.sum(axis=-2) - params.platform_mass * g * e_z
     moment = np.cross(arms, forces.platform).sum(axis=-2)

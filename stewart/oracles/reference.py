@@ -52,7 +52,7 @@ from typing import NamedTuple
 import numpy as np
 
 from ..model import arguments, conditions
-from ..model.kinematics import jacobian, leg_lengths, leg_vectors, platform_points_in_base, rotation, twist_transform
+from .frames import jacobian, leg_lengths, leg_vectors, platform_points_in_base, rotation, twist_transform
 from ..model.params import platform_params
 from ..model.params import PlatformParams
 

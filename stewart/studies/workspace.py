@@ -240,7 +240,11 @@ def position_bounds(params: PlatformParams, orientation=(0.0, 0.0, 0.0)) -> np.n
     the stroke limits: leg ``i`` reaches only the ball of radius ``L_max`` about
     ``b_i - R p_i``, so the positions lie in the intersection of the balls' boxes, above
     the height where a spherical joint meets the highest universal joint."""
-    params = platform_params(params)
+    return _position_bounds(platform_params(params), orientation)
+
+
+def _position_bounds(params: PlatformParams, orientation) -> np.ndarray:
+    """:func:`position_bounds` of the converted ``params``."""
     if params.leg_length_limits is None:
         raise ValueError("region: the parameters have no leg_length_limits; give the region to sample")
     reach = params.leg_length_limits[1]
@@ -339,7 +343,7 @@ def translational_workspace(platform, orientation=(0.0, 0.0, 0.0), *, region=Non
     params = platform_params(platform, "platform")
     orientation = _three("orientation", orientation)
     complete = region is None
-    region = position_bounds(params, orientation) if complete else _region("region", region)
+    region = _position_bounds(params, orientation) if complete else _region("region", region)
     return _study(params, "translational", orientation, region, complete, samples, grid, seed, chunk_size, client,
                   progress, stiffness)
 
@@ -417,7 +421,7 @@ def workspace_slice(platform, axes="xy", at=None, *, orientation=(0.0, 0.0, 0.0)
     home = plat.home_pose
     if kind == "translational":
         fixed = _three("orientation", orientation)
-        full = position_bounds(params, fixed) if region is None else None
+        full = _position_bounds(params, fixed) if region is None else None
         base = home[:3]
     else:
         fixed = home[:3] if position is None else _three("position", position)

@@ -143,6 +143,10 @@ BATCHED_1(gravity_vector)
 BATCHED_3(inverse_dynamics)
 BATCHED_3(forward_dynamics)
 BATCHED_3(regressor)
+/* The calibration's functions: xd stands for the encoder readings, and its first three for a target. */
+BATCHED_2(leg_residuals)
+BATCHED_2(target_positions)
+BATCHED_2(target_jacobian)
 
 #define MAX_ROWS 1003
 #define MAX_SIZE 228 /* doubles of the largest output row (the RK4 step with its Jacobians) */
@@ -234,6 +238,22 @@ static int batch_all_terms(const stewart_params *p, size_t n, const double *cons
     return first;
 }
 
+/* The calibration residuals' partials, [dr_dtheta (6 x 7); dr_dx (6 x 6)] (78 doubles) a row. */
+static int row_leg_residual_jacobians(const stewart_params *p, const double *const *in, double *out) {
+    return stewart_leg_residual_jacobians(p, in[0], out, out + 42);
+}
+
+static int batch_leg_residual_jacobians(const stewart_params *p, size_t n, const double *const *in, double *out,
+                                        int *status) {
+    static double own[MAX_ROWS * 42], pose[MAX_ROWS * 36];
+    int first = stewart_batch_leg_residual_jacobians(p, n, in[0], own, pose, status);
+    for (size_t r = 0; r < n; ++r) {
+        memcpy(out + 78 * r, own + 42 * r, sizeof(double[42]));
+        memcpy(out + 78 * r + 42, pose + 36 * r, sizeof(double[36]));
+    }
+    return first;
+}
+
 /* The joint reactions, [tau; f_base; f_platform; n_base] (60 doubles) a row. */
 static int row_joint_reactions(const stewart_params *p, const double *const *in, double *out) {
     return stewart_joint_reactions(p, in[0], in[1], in[2], out, out + 6, out + 24, out + 42);
@@ -276,6 +296,10 @@ static const struct {
     {"forward_dynamics_derivatives", row_forward_dynamics_derivatives, batch_forward_dynamics_derivatives, 114},
     {"static_force_derivatives", row_static_force_derivatives, batch_static_force_derivatives, 42},
     {"rk4_step_derivatives", row_rk4_step_derivatives, batch_rk4_step_derivatives, 228},
+    {"leg_residuals", row_leg_residuals, batch_leg_residuals, 6},
+    {"leg_residual_jacobians", row_leg_residual_jacobians, batch_leg_residual_jacobians, 78},
+    {"target_positions", row_target_positions, batch_target_positions, 3},
+    {"target_jacobian", row_target_jacobian, batch_target_jacobian, 18},
 };
 
 /* A number in [-1, 1) from the state of a linear congruential generator. */
@@ -393,6 +417,32 @@ int main(void) {
             for (int k = 0; k < 3; ++k) push[k] += joints[24 + 3 * i + k];
         for (int k = 0; k < 3; ++k) weight[k] = p->platform_mass * (rc->xdd[k] + (k == 2 ? p->gravity : 0.0));
         check_values("joint_reactions: platform's Newton equation", rc->name, st, push, weight, 3, &worst);
+
+        /* The calibration's functions against the leg lengths and the reference's J_C, with
+         * offsets of millimetres: the residuals r of readings e give back L = e + delta - r; per
+         * leg, the target at p_i is at b_i + L_i u_i (u_i the first three partials of dr_i/dtheta);
+         * the translation columns of dr/dx are -J_C's. */
+        stewart_params q = *p;
+        double L[6], e[6], r[6], back[6], own[42], pose[36], target[6] = {0.0}, at[3], end[3], u[18], JCu[18];
+        for (int i = 0; i < 6; ++i) q.leg_length_offsets[i] = 1e-3 * (i - 2.5);
+        stewart_leg_lengths(&q, rc->x, L);
+        for (int i = 0; i < 6; ++i) e[i] = L[i] - q.leg_length_offsets[i] + 1e-4 * i;
+        st = stewart_leg_residuals(&q, rc->x, e, r);
+        for (int i = 0; i < 6; ++i) back[i] = e[i] + q.leg_length_offsets[i] - r[i];
+        check_values("leg_residuals: e + delta - r = L", rc->name, st, back, L, 6, &worst);
+        st = stewart_leg_residual_jacobians(&q, rc->x, own, pose);
+        for (int i = 0; i < 6; ++i) {
+            for (int k = 0; k < 3; ++k) target[k] = q.platform_points[i][k];
+            int at_status = stewart_target_positions(&q, rc->x, target, at);
+            for (int k = 0; k < 3; ++k) {
+                end[k] = q.base_points[i][k] + L[i] * own[7 * i + k];
+                u[3 * i + k] = -pose[6 * i + k];
+                JCu[3 * i + k] = rc->JC[6 * i + k];
+            }
+            check_values("target_positions at p_i: b_i + L_i u_i", rc->name, st == STEWART_OK ? at_status : st, at,
+                         end, 3, &worst);
+        }
+        check_values("leg_residual_jacobians: dr/dx = -J_C T, translation", rc->name, st, u, JCu, 18, &worst);
 
         /* The derivative functions: their primal outputs equal the primal functions' to the
          * last bit, their Jacobians agree with central differences of the primal functions,

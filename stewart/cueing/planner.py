@@ -3,7 +3,7 @@ a receding horizon that minimize the rider's perceived-motion error within the p
 limits, one dense QP solved exactly by DAQP's dual active-set method (Arnström, Bemporad &
 Axehill 2022), warm-started from the last step's active set.
 
-The prediction (:mod:`stewart.cueing.prediction`) carries per interval ``k`` the state
+The prediction (:mod:`stewart.cueing.horizon`) carries per interval ``k`` the state
 ``s_k = [p_k, v_k, z_k]``: the pose from home, its rates and the difference of the platform's
 and the vehicle's vestibular states, whose output ``C z`` is the perceived error. The input
 is the pose acceleration ``u_k``; the states are affine in the inputs, so the QP is
@@ -21,7 +21,7 @@ error scaled by its perception threshold or the pose box) subject to
   exact);
 * the joints' cones (:class:`~stewart.PlatformParams` ``universal_joint_max_angle``,
   ``spherical_joint_max_angle``), the cosine of each joint angle linearized with its exact
-  gradient (:func:`~stewart.cueing.prediction.joint_cosines_and_gradients`);
+  gradient (:meth:`~stewart.Platform.joint_cosines`);
 * the tilt rate: roll and pitch rates between zero and the vehicle's, widened by
   ``tilt_rate`` (no rotation the vehicle does not have, beyond ``tilt_rate``);
 * the pose box ``|p_k| <= box``;
@@ -59,6 +59,11 @@ shifted by one sample. The intervals are equal; the first input is applied for o
 sample, the state advanced exactly, and the QP solved again (a short first interval would
 let the plan buy velocity cheaply for the long ones); at the last sample the plan's first
 input is written without being applied.
+
+The step's linearization, prediction, cost and rows run in C, next to the model
+(:class:`~stewart.model.compiled.CueingStep`, with the model's generated functions: the rider's
+signals, the leg rates and accelerations, the joints' cosines, the inverse dynamics' derivatives,
+each with its exact derivatives); DAQP solves the QP.
 """
 
 from __future__ import annotations
@@ -70,10 +75,10 @@ import daqp
 import numpy as np
 from threadpoolctl import threadpool_limits
 
-from ..model.kinematics import rotation
-from ..model.platform import as_platform
+from ..model.compiled import CUEING_GROUPS, CueingStep
+from ..model.platform import Platform, as_platform
 from ..model.reachability import neutral_axes
-from . import prediction, vestibular
+from . import horizon, vestibular
 from .settings import MPCParams
 
 __all__ = ["CueingQP", "Plan", "plan"]
@@ -92,16 +97,14 @@ SOLVER_SETTINGS = {"rho_soft": 1.0 / SOFT_WEIGHT, "primal_tol": PRIMAL_TOLERANCE
 SOLVED = (1, 2)
 #: DAQP's constraint kinds (:attr:`CueingQP.levels`): an inequality, a soft one.
 HARD, SOFT = 0, 8
-#: DAQP's infinite bound.
-_INFINITE = 1e30
-
-_P, _V, _NS = slice(0, 6), slice(6, 12), 12  # the state's pose and rate, the vestibular states' start
+#: The vestibular states' start in the state ``[p, v, z]``.
+_NS = 12
 #: The constraint groups in the order of the QP's rows: the machine's limits at the samples
 #: the step writes (``actuators``: the forces at the present sample; ``legs``: the leg lengths,
 #: leg speeds and joint cones at the next; ``next_tilt``: the roll and pitch rates there), then
 #: over the horizon the same limits less their margins, the tilt rate, the pose box and the
 #: rest at the horizon's end.
-GROUPS = ("actuators", "legs", "next_tilt", "force", "stroke", "speed", "cones", "tilt", "box", "rest")
+GROUPS = CUEING_GROUPS
 #: The groups held hard at each level of :meth:`CueingQP.solve` (the others soft), tried in
 #: turn until one has a plan: ``plan``; ``box`` when the box and the rest must yield to the
 #: machine's limits; ``tilt`` when the tilt rate must yield too (the vehicle's rotation
@@ -155,13 +158,16 @@ class CueingQP:
         self.dt = float(dt)
         self.h = params.intervals(self.dt)
         self.home = self.platform.home_pose
-        self.vestibular = prediction.VestibularStates()
+        self.vestibular = horizon.VestibularStates()
         self.ns = _NS + self.vestibular.n
         self.n = n = params.steps
         discrete = {h: self.vestibular.discrete(h) for h in np.unique(self.h)}
         self.ad = np.stack([discrete[h][0] for h in self.h])
         self.bd = np.stack([discrete[h][1] for h in self.h])
         self.ad_dt, self.bd_dt = self.vestibular.discrete(self.dt)
+        # the rider's signals with the MPC's gravity
+        rider = self.platform.params.replace(gravity=params.gravity)
+        self.rider = self.platform if rider == self.platform.params else Platform(rider)
         lo, hi = self.platform.params.leg_length_limits
         self.stroke = (lo + params.stroke_margin, hi - params.stroke_margin)
         self.force_limit = (1.0 - params.margin) * params.force
@@ -200,145 +206,56 @@ class CueingQP:
                 self.levels[level][self.rows[g]] = HARD
         # the brake step's weight on the pose rates after one sample: per axis, in pose boxes
         self._brake_weight = np.diag(1.0 / box ** 2)
-        self.Q, self.R = self._weights()
-        self._starts = np.concatenate([[0.0], np.cumsum(self.h)[:-1]])
-        self._weight = self.h[:, None, None] * self.Q
-        self._input_weight = np.repeat(self.h, 6) * np.tile(self.R, n)
-        self._inputs = np.zeros((n, 6, 6 * n))
-        for k in range(n):
-            self._inputs[k, :, 6 * k: 6 * k + 6] = np.eye(6)
-        self._unit = np.tile(np.eye(6), (n + 1, 1))
         self.multipliers = None  # the last solution's, whose signs give the next step's active set
-        self.last = None
-
+        self.step = self._compiled_step(edges, cone_limits)
     def _weights(self):
-        """The state and input weights ``(ns, ns)`` and ``(6,)`` per second of horizon."""
+        """The cost's weights per second of horizon ``(18,)``: on the pose and its rates (per
+        pose box), on the perceived channels (per perception threshold), and on the inputs
+        ``(6,)``."""
         prm = self.params
         thresholds = np.array([vestibular.THRESHOLDS[c] for c in vestibular.CHANNELS])
-        we = np.concatenate([prm.specific_force, prm.angular_velocity]) / thresholds ** 2
         box = np.asarray(prm.box)
-        q = np.zeros((self.ns, self.ns))
-        q[_NS:, _NS:] = self.vestibular.C.T @ np.diag(we) @ self.vestibular.C
-        q[_P, _P] = np.diag(np.asarray(prm.position) / box ** 2)
-        q[_V, _V] = np.diag(np.asarray(prm.velocity) / box ** 2)
-        return q, np.asarray(prm.acceleration) / box ** 2
+        states = np.concatenate([np.asarray(prm.position) / box ** 2, np.asarray(prm.velocity) / box ** 2,
+                                 np.concatenate([prm.specific_force, prm.angular_velocity]) / thresholds ** 2])
+        return states, np.asarray(prm.acceleration) / box ** 2
 
-    def _linearization_point(self, x0, v0):
-        """Predicted ``(x, v, u)`` at the start of each interval: the last plan shifted by one
-        sample, or the present state held."""
-        n = self.n
-        if self.last is None:
-            return np.tile(x0, (n, 1)), np.tile(v0, (n, 1)), np.zeros((n, 6))
-        t_prev, x_prev, v_prev, u_prev = self.last
-        # the plan at the intervals' starts one sample later: linear between its knots
-        times = np.minimum(self._starts + self.dt, t_prev[-1])
-        k = np.minimum(np.searchsorted(t_prev, times, side="right") - 1, n - 1)
-        w = ((times - t_prev[k]) / (t_prev[k + 1] - t_prev[k]))[:, None]
-        xs = x_prev[k] + w * (x_prev[k + 1] - x_prev[k])
-        vs = v_prev[k] + w * (v_prev[k + 1] - v_prev[k])
-        us = u_prev[k]
-        xs[0], vs[0] = x0, v0
-        return xs, vs, us
+    def _compiled_step(self, edges, cone_limits):
+        """The :class:`~stewart.model.compiled.CueingStep` of this QP."""
+        n, vs, prm = self.n, self.vestibular, self.params
+        channel = np.argmax(vs.B != 0, axis=1)          # the one input of each section
+        sections = np.arange(vs.n)
+        states, inputs = self._weights()
+        knots = np.concatenate([[0.0], np.cumsum(self.h)])
+        # the last plan at the intervals' starts one sample later: its knot and the weight of the next
+        starts = np.minimum(knots[:-1] + self.dt, knots[-1])
+        k = np.minimum(np.searchsorted(knots, starts, side="right") - 1, n - 1)
+        shift = np.column_stack([k, (starts - knots[k]) / (knots[k + 1] - knots[k])])
+        pp = self.platform.params
+        lo, hi = pp.leg_length_limits
+        limits = (prm.force, self.force_limit, self.stroke[0], self.stroke[1], self.speed_limit, prm.tilt_rate)
+        return CueingStep(self.platform.kernel, self.rider.kernel, self.h, self.dt, self.home, self.neutral,
+                          np.diagonal(self.ad, axis1=1, axis2=2), self.bd[:, sections, channel], channel,
+                          vs.C[channel, sections], states, np.repeat(self.h, 6) * np.tile(inputs, n), shift, edges,
+                          self.row_scale, self._inset, limits, self.cone_cosines, *self.next_limits, prm.box,
+                          np.diag(self.ad_dt), self.bd_dt[sections, channel])
 
     def condensed(self, x0, v0, z0, vehicle):
         """The QP's data for pose ``x0``, rates ``v0``, vestibular error states ``z0`` and the
-        vehicle's signals ``vehicle`` ``(N, 6)`` at the intervals' midpoints: ``(H, q, M, lo,
-        hi, S, d)`` with the cost ``u^T H u / 2 + q^T u`` (constant dropped), the constraint
-        rows ``lo <= M u <= hi`` (unscaled, without slacks) and the states ``s_1..s_N =
-        S u + d``."""
-        prm, plat, n, h, ns = self.params, self.platform, self.n, self.h, self.ns
-        xs, vs, us = self._linearization_point(x0, v0)
-        xm, vm = prediction.midpoint(xs, vs, us, h[:, None])
-        y, yx, yv, yu = prediction.signals_and_jacobians(xm, vm, us, prm.gravity)
-        half, eighth = (0.5 * h)[:, None, None], (0.125 * h * h)[:, None, None]
-        y_p, y_v, y_u = yx, yx * half + yv, yx * eighth + yv * half + yu
-        y0 = y - np.einsum("nij,nj->ni", y_p, xs - self.home) - np.einsum("nij,nj->ni", y_v, vs) \
-            - np.einsum("nij,nj->ni", y_u, us)
-        eye = np.eye(6)
-        a = np.zeros((n, ns, ns))
-        a[:, _P, _P] = a[:, _V, _V] = eye
-        a[:, _P, _V] = h[:, None, None] * eye
-        a[:, _NS:, _P] = self.bd @ y_p
-        a[:, _NS:, _V] = self.bd @ y_v
-        a[:, _NS:, _NS:] = self.ad
-        b = np.zeros((n, ns, 6))
-        b[:, _P] = (0.5 * h * h)[:, None, None] * eye
-        b[:, _V] = h[:, None, None] * eye
-        b[:, _NS:] = self.bd @ y_u
-        c = np.zeros((n, ns))
-        c[:, _NS:] = np.einsum("nij,nj->ni", self.bd, y0 - vehicle)
-        s_mat = np.zeros((n + 1, ns, 6 * n))
-        d = np.zeros((n + 1, ns))
-        d[0] = np.concatenate([x0 - self.home, v0, z0])
-        for k in range(n):
-            s_mat[k + 1] = a[k] @ s_mat[k]
-            s_mat[k + 1, :, 6 * k: 6 * k + 6] += b[k]
-            d[k + 1] = a[k] @ d[k] + c[k]
-        sq = (self._weight @ s_mat[1:]).reshape(-1, 6 * n)
-        H = s_mat[1:].reshape(-1, 6 * n).T @ sq
-        H[np.diag_indices(6 * n)] += self._input_weight
-        q = d[1:].reshape(-1) @ sq
-        # leg geometry at the next log sample (the first input held over dt) and at the
-        # predicted states s_1..s_N, each affine in u about the linearization point: ``A u + c``
-        dt = self.dt
-        x_bar = np.vstack([x0 + dt * v0 + 0.5 * dt * dt * us[0], xs + h[:, None] * vs + (0.5 * h * h)[:, None] * us])
-        v_bar = np.vstack([v0 + dt * us[0], vs + h[:, None] * us])
-        sp, sv = np.empty((n + 1, 6, 6 * n)), np.empty((n + 1, 6, 6 * n))
-        sp[0], sv[0] = 0.5 * dt * dt * self._inputs[0], dt * self._inputs[0]
-        sp[1:], sv[1:] = s_mat[1:, _P], s_mat[1:, _V]
-        dp = np.vstack([x0 - self.home + dt * v0, d[1:, _P]]) - (x_bar - self.home)    # from the point
-        dv = np.vstack([v0, d[1:, _V]])
-        lengths, rates = plat.leg_rates(np.repeat(x_bar, 6, axis=0), self._unit)
-        lengths = lengths[::6]
-        jl = np.transpose(rates.reshape(n + 1, 6, 6), (0, 2, 1))                   # dL/dx, column j: Ldot at e_j
-        probes = np.concatenate([v_bar[:, None, :] + eye, v_bar[:, None, :] - eye], axis=1)
-        quad = plat.leg_accelerations(np.repeat(x_bar, 12, axis=0), probes.reshape(-1, 6),
-                                      np.zeros((12 * (n + 1), 6))).reshape(n + 1, 12, 6)
-        hl = np.transpose(0.25 * (quad[:, :6] - quad[:, 6:]), (0, 2, 1))           # dLdot/dx along v
-        cones, cone_grad = prediction.joint_cosines_and_gradients(x_bar, plat.params.base_points,
-                                                                  plat.params.platform_points, self.neutral)
-        mv = lambda m, x: np.einsum("nij,nj->ni", m, x)  # noqa: E731
-        legs = (np.concatenate([jl @ sp, hl @ sp + jl @ sv, cone_grad @ sp], axis=1),
-                np.concatenate([lengths + mv(jl, dp), mv(jl, dv) + mv(hl, dp), cones + mv(cone_grad, dp)], axis=1))
-        deriv = plat.inverse_dynamics_derivatives(xs, vs, us)
-        t_dx, t_dv = deriv.dtau_dx, deriv.dtau_dxd
-        tau = t_dx @ s_mat[:-1, _P] + t_dv @ s_mat[:-1, _V] + deriv.dtau_dxdd @ self._inputs, \
-            deriv.tau + mv(t_dx, d[:-1, _P] - (xs - self.home)) + mv(t_dv, d[:-1, _V] - vs) - mv(deriv.dtau_dxdd, us)
-        box, speed, cone = np.asarray(prm.box), self.speed_limit, self.cone_cosines
-        # roll and pitch rates between zero and the vehicle's (w_y, w_x: theta', phi'), widened by tilt_rate
-        wv = vehicle[:, [4, 3]]
-        band = np.minimum(wv, 0.0) - prm.tilt_rate, np.maximum(wv, 0.0) + prm.tilt_rate
-        groups = {
-            "actuators": (tau[0][0], tau[1][0], -prm.force, prm.force),
-            "legs": (legs[0][0], legs[1][0], *self.next_limits),
-            "next_tilt": (sv[0, 4:6], dv[0, 4:6], band[0][0], band[1][0]),
-            "force": (tau[0], tau[1], -self.force_limit, self.force_limit),
-            "stroke": (legs[0][1:, :6], legs[1][1:, :6], self.stroke[0], self.stroke[1]),
-            "speed": (legs[0][1:, 6:12], legs[1][1:, 6:12], -speed, speed),
-            "cones": (legs[0][1:, 12:], legs[1][1:, 12:], cone, np.inf),
-            "tilt": (sv[1:, 4:6], dv[1:, 4:6], band[0], band[1]),
-            "box": (s_mat[1:, _P], d[1:, _P], -box, box),
-            "rest": (s_mat[-1:, _V], d[-1:, _V], 0.0, 0.0),
-        }
-        rows, lo, hi = np.empty((self.m, 6 * n)), np.empty(self.m), np.empty(self.m)
-        for g in GROUPS:
-            mat, const, low, high = groups[g]
-            at = self.rows[g]
-            rows[at] = mat.reshape(-1, 6 * n)
-            lo[at] = (low - const).reshape(-1)
-            hi[at] = (high - const).reshape(-1)
-        return H, q, rows, lo, hi, s_mat[1:], d[1:]
+        vehicle's signals ``vehicle`` ``(N, 6)`` at the intervals' midpoints, linearized about the
+        last plan: ``(H, q, M, lo, hi, S, d)`` with the cost ``u^T H u / 2 + q^T u`` (constant
+        dropped), the constraint rows ``lo <= M u <= hi`` (unscaled, without slacks) and the
+        states ``s_1..s_N = S u + d``, built in C (:class:`~stewart.model.compiled.CueingStep`);
+        copies, which the next step leaves alone."""
+        step = self.step
+        step.condense(x0, v0, z0, vehicle)
+        return (step.H.copy(), step.q.copy(), step.M.copy(), step.lo.copy(), step.hi.copy(), step.S[1:].copy(),
+                step.d[1:].copy())
 
     def next_values(self, x0, v0, u0):
         """The leg lengths, leg speeds and joint-angle cosines ``(24,)`` at the next log sample
         after ``u0`` held from pose ``x0`` and rates ``v0``, exact: the ``legs`` rows' values,
         within :attr:`next_limits` when the platform's limits hold there."""
-        x1, v1 = x0 + self.dt * v0 + 0.5 * self.dt ** 2 * u0, v0 + self.dt * u0
-        lengths, speeds = self.platform.leg_rates(x1, v1)
-        units = self.platform.jacobian(x1)[:, :3]  # the legs' unit vectors (eq. 5's J_C)
-        cones = np.concatenate([np.einsum("ia,ia->i", units, self.neutral),
-                                np.einsum("ia,ab,ib->i", units, rotation(x1), self.neutral)])
-        return np.concatenate([lengths, speeds, cones])
+        return self.step.next_values(x0, v0, u0)
 
     def solve(self, x0, v0, z0, vehicle):
         """The plan from pose ``x0``, rates ``v0`` and vestibular error states ``z0`` for the
@@ -353,18 +270,14 @@ class CueingQP:
         row's bound is moved in by the linearization's error there and the excess, and the plan
         solved again (at most :data:`TIGHTENINGS` times). The brake step minimizes the pose
         rates after one sample, in pose boxes, subject to the present forces alone."""
-        n = self.n
-        H, q, M, lo, hi, s_mat, d = self.condensed(x0, v0, z0, vehicle)
-        scale = 1.0 / self.row_scale
-        rows = M * scale[:, None]
+        n, step = self.n, self.step
+        step.condense(x0, v0, z0, vehicle)  # the QP, built in C into the step's own arrays
+        H, q, rows, M, lo, hi = step.H, step.q, step.A, step.M, step.lo, step.hi
         legs = self.rows["legs"]
         low, high = self.next_limits
-        with np.errstate(invalid="ignore"):  # (a joint without a cone: no bound either side)
-            constant = np.where(np.isfinite(low), low - lo[legs], high - hi[legs])  # the legs rows' A u + c
         iterations, solve_time, tightened = 0, 0.0, 0
         for level, sense in self.levels.items():
-            upper = np.minimum(hi * scale - self._inset, _INFINITE)
-            lower = np.maximum(lo * scale + self._inset, -_INFINITE)
+            upper, lower = step.upper, step.lower
             for attempt in range(TIGHTENINGS + 1):
                 u, _, exitflag, info = daqp.solve(H, q, rows, upper, lower, sense, dual_start=self.multipliers,
                                                   **SOLVER_SETTINGS)
@@ -372,17 +285,19 @@ class CueingQP:
                 solve_time += info["solve_time"]
                 if exitflag not in SOLVED:
                     break
-                values = self.next_values(x0, v0, u[:6])
+                values = step.next_values(x0, v0, u[:6])
                 above, below = np.maximum(values - high, 0.0), np.maximum(low - values, 0.0)
                 if not (np.any(above > 0) or np.any(below > 0)) or attempt == TIGHTENINGS:
                     break  # (what the last attempt leaves, the exact check of the reference reports)
                 # a row passed is bounded by its limit less the linearization's error there and the
                 # excess (the error grows as the plan moves along the row)
-                error = values - (M[legs] @ u + constant)
-                upper[legs] = np.where(above > 0, np.minimum(upper[legs], (hi[legs] - error - above) * scale[legs]
-                                                             - self._inset[legs]), upper[legs])
-                lower[legs] = np.where(below > 0, np.maximum(lower[legs], (lo[legs] - error + below) * scale[legs]
-                                                             + self._inset[legs]), lower[legs])
+                error = values - (M[legs] @ u + step.legs_constant)
+                scale, inset = 1.0 / self.row_scale[legs], self._inset[legs]
+                upper, lower = upper.copy(), lower.copy()
+                upper[legs] = np.where(above > 0, np.minimum(upper[legs], (hi[legs] - error - above) * scale - inset),
+                                       upper[legs])
+                lower[legs] = np.where(below > 0, np.maximum(lower[legs], (lo[legs] - error + below) * scale + inset),
+                                       lower[legs])
                 tightened += 1
             if exitflag in SOLVED:
                 break
@@ -391,7 +306,7 @@ class CueingQP:
             level = "brake"
             force = self.rows["actuators"]
             brake, _, exitflag, info = daqp.solve(self.dt ** 2 * self._brake_weight, self.dt * self._brake_weight @ v0,
-                                                  rows[force, :6], upper[force], lower[force],
+                                                  rows[force, :6], step.upper[force], step.lower[force],
                                                   np.full(6, HARD, dtype=np.intc), **SOLVER_SETTINGS)
             iterations += info["iterations"]
             solve_time += info["solve_time"]
@@ -400,12 +315,12 @@ class CueingQP:
         info.update(exitflag=exitflag, level=level, iterations=iterations, solve_time=solve_time, tightened=tightened)
         if exitflag not in SOLVED:
             return None, None, None, info
-        states = np.einsum("kaj,j->ka", s_mat, u) + d
-        x = np.vstack([x0, states[:, _P] + self.home])
-        v = np.vstack([v0, states[:, _V]])
+        x, v = step.states(u)
         # the next step linearizes about this plan (after a brake step: about the state held)
-        self.last = None if level == "brake" else (np.concatenate([[0.0], np.cumsum(self.h)]), x, v, u.reshape(n, 6))
-        if level != "brake":
+        if level == "brake":
+            step.forget()
+        else:
+            step.keep(u.reshape(n, 6), x, v)
             self.multipliers = info["lam"]
         return u.reshape(n, 6), x, v, info
 
@@ -439,7 +354,7 @@ def _plan(log, platform, params, progress):
     x[0] = qp.home
     vs = qp.vestibular
     z_vehicle = vs.steady_state(y_log[0])
-    y_rest = prediction.signals_and_jacobians(qp.home, np.zeros(6), np.zeros(6), prm.gravity)[0][0]
+    y_rest = qp.rider.rider_signals(qp.home, np.zeros(6), np.zeros(6)).y
     z_platform = vs.steady_state(y_rest)
     mid_offsets = np.concatenate([[0.0], np.cumsum(h)[:-1]]) + 0.5 * h
     step_time, solve_time, iterations, status, level = np.zeros(steps), np.zeros(steps), np.zeros(steps, int), [], []
@@ -472,8 +387,5 @@ def _plan(log, platform, params, progress):
             break
         x[k + 1] = x[k] + dt * v[k] + 0.5 * dt * dt * applied
         v[k + 1] = v[k] + dt * applied
-        xm, vm = prediction.midpoint(x[k], v[k], applied, dt)
-        y_mid = prediction.signals_and_jacobians(xm, vm, applied, prm.gravity)[0][0]
-        z_platform = qp.ad_dt @ z_platform + qp.bd_dt @ y_mid
-        z_vehicle = qp.ad_dt @ z_vehicle + qp.bd_dt @ (0.5 * (y_log[k] + y_log[k + 1]))
+        qp.step.advance(x[k], v[k], applied, y_log[k], y_log[k + 1], z_platform, z_vehicle)
     return Plan(x, v, u, step_time, solve_time, iterations, status, level, tightened, failures)

@@ -235,5 +235,5 @@ def reference_poses(log, params: WashoutParams, home) -> tuple[np.ndarray, dict]
     return pose, {"translation": position, "angles": angles, "tilt": tilt}
 
 
-#: Moved in 0.2.1, deprecated aliases until 0.3.0.
+#: Moved in 0.2.1 (from this module's old path, stewart.cueing.washout), deprecated aliases until 0.3.0.
 __getattr__ = moved_names(__name__, {"axis_excursions": "stewart.model.reachability"})
