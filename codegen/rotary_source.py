@@ -301,9 +301,10 @@ def _batch(function):
                                           + [f'out{k}[{size}]' for k, (_, size) in enumerate(function.sizes)]) + ';',
             f'    return batch_rows({call});', '}', '',
             prototype(function), '{', f'    return stewart_rotary_batch_{function.name}({single});', '}', '',
+            '#ifdef STEWART_TARGET  /* the call of this copy\'s table, below */',
             f'static int call_rotary_{function.name}(const stewart_params *p, size_t n, const double *const in[],'
             ' double scalar, double *const out[], int *status)', '{', '    (void)scalar;',
-            f'    return stewart_rotary_batch_{function.name}({adapter});', '}', '']
+            f'    return stewart_rotary_batch_{function.name}({adapter});', '}', '#endif', '']
 
 
 def source(kernels):

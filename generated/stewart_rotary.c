@@ -38,11 +38,13 @@ int stewart_rotary_crank_angles(const stewart_rotary_params *p, const double x[6
     return stewart_rotary_batch_crank_angles(p, 1, x, alpha, NULL);
 }
 
+#ifdef STEWART_TARGET  /* the call of this copy's table, below */
 static int call_rotary_crank_angles(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
 {
     (void)scalar;
     return stewart_rotary_batch_crank_angles(rotary_params_of(p), n, in[0], out[0], status);
 }
+#endif
 
 static stewart_vl vblock_rotary_jacobian(const stewart_params *opaque, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
 {
@@ -69,11 +71,13 @@ int stewart_rotary_jacobian(const stewart_rotary_params *p, const double x[6], d
     return stewart_rotary_batch_jacobian(p, 1, x, JR, NULL);
 }
 
+#ifdef STEWART_TARGET  /* the call of this copy's table, below */
 static int call_rotary_jacobian(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
 {
     (void)scalar;
     return stewart_rotary_batch_jacobian(rotary_params_of(p), n, in[0], out[0], status);
 }
+#endif
 
 static stewart_vl vblock_rotary_pose_jacobian(const stewart_params *opaque, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
 {
@@ -102,11 +106,13 @@ int stewart_rotary_pose_jacobian(const stewart_rotary_params *p, const double x[
     return stewart_rotary_batch_pose_jacobian(p, 1, x, JP, NULL);
 }
 
+#ifdef STEWART_TARGET  /* the call of this copy's table, below */
 static int call_rotary_pose_jacobian(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
 {
     (void)scalar;
     return stewart_rotary_batch_pose_jacobian(rotary_params_of(p), n, in[0], out[0], status);
 }
+#endif
 
 static stewart_vl vblock_rotary_crank_rates(const stewart_params *opaque, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
 {
@@ -134,11 +140,13 @@ int stewart_rotary_crank_rates(const stewart_rotary_params *p, const double x[6]
     return stewart_rotary_batch_crank_rates(p, 1, x, xd, ad, NULL);
 }
 
+#ifdef STEWART_TARGET  /* the call of this copy's table, below */
 static int call_rotary_crank_rates(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
 {
     (void)scalar;
     return stewart_rotary_batch_crank_rates(rotary_params_of(p), n, in[0], in[1], out[0], status);
 }
+#endif
 
 static stewart_vl vblock_rotary_twist_mass_matrix(const stewart_params *opaque, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
 {
@@ -165,11 +173,13 @@ int stewart_rotary_twist_mass_matrix(const stewart_rotary_params *p, const doubl
     return stewart_rotary_batch_twist_mass_matrix(p, 1, x, Mt, NULL);
 }
 
+#ifdef STEWART_TARGET  /* the call of this copy's table, below */
 static int call_rotary_twist_mass_matrix(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
 {
     (void)scalar;
     return stewart_rotary_batch_twist_mass_matrix(rotary_params_of(p), n, in[0], out[0], status);
 }
+#endif
 
 static stewart_vl vblock_rotary_mass_matrix(const stewart_params *opaque, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
 {
@@ -198,11 +208,13 @@ int stewart_rotary_mass_matrix(const stewart_rotary_params *p, const double x[6]
     return stewart_rotary_batch_mass_matrix(p, 1, x, M, NULL);
 }
 
+#ifdef STEWART_TARGET  /* the call of this copy's table, below */
 static int call_rotary_mass_matrix(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
 {
     (void)scalar;
     return stewart_rotary_batch_mass_matrix(rotary_params_of(p), n, in[0], out[0], status);
 }
+#endif
 
 static stewart_vl vblock_rotary_gravity_vector(const stewart_params *opaque, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
 {
@@ -229,11 +241,13 @@ int stewart_rotary_gravity_vector(const stewart_rotary_params *p, const double x
     return stewart_rotary_batch_gravity_vector(p, 1, x, G, NULL);
 }
 
+#ifdef STEWART_TARGET  /* the call of this copy's table, below */
 static int call_rotary_gravity_vector(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
 {
     (void)scalar;
     return stewart_rotary_batch_gravity_vector(rotary_params_of(p), n, in[0], out[0], status);
 }
+#endif
 
 static stewart_vl vblock_rotary_inverse_dynamics(const stewart_params *opaque, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
 {
@@ -264,11 +278,13 @@ int stewart_rotary_inverse_dynamics(const stewart_rotary_params *p, const double
     return stewart_rotary_batch_inverse_dynamics(p, 1, x, xd, xdd, tau, NULL);
 }
 
+#ifdef STEWART_TARGET  /* the call of this copy's table, below */
 static int call_rotary_inverse_dynamics(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
 {
     (void)scalar;
     return stewart_rotary_batch_inverse_dynamics(rotary_params_of(p), n, in[0], in[1], in[2], out[0], status);
 }
+#endif
 
 static stewart_vl vblock_rotary_forward_dynamics(const stewart_params *opaque, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
 {
@@ -306,11 +322,13 @@ int stewart_rotary_forward_dynamics(const stewart_rotary_params *p, const double
     return stewart_rotary_batch_forward_dynamics(p, 1, x, xd, tau, xdd, NULL);
 }
 
+#ifdef STEWART_TARGET  /* the call of this copy's table, below */
 static int call_rotary_forward_dynamics(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
 {
     (void)scalar;
     return stewart_rotary_batch_forward_dynamics(rotary_params_of(p), n, in[0], in[1], in[2], out[0], status);
 }
+#endif
 
 static stewart_vl vblock_rotary_inverse_dynamics_derivatives(const stewart_params *opaque, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
 {
@@ -362,11 +380,13 @@ int stewart_rotary_inverse_dynamics_derivatives(const stewart_rotary_params *p, 
     return stewart_rotary_batch_inverse_dynamics_derivatives(p, 1, x, xd, xdd, tau, dtau_dx, dtau_dxd, dtau_dxdd, NULL);
 }
 
+#ifdef STEWART_TARGET  /* the call of this copy's table, below */
 static int call_rotary_inverse_dynamics_derivatives(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
 {
     (void)scalar;
     return stewart_rotary_batch_inverse_dynamics_derivatives(rotary_params_of(p), n, in[0], in[1], in[2], out[0], out[1], out[2], out[3], status);
 }
+#endif
 
 #define STEWART_ROTARY_STRING_(a) #a
 #define STEWART_ROTARY_STRING(a) STEWART_ROTARY_STRING_(a)
