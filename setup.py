@@ -21,6 +21,7 @@ here is tagged for the plain platform (``linux_x86_64``), not ``manylinux``: it 
 run on this platform's C library, on any CPU of its architecture.
 """
 
+import fnmatch
 import glob
 import os
 import platform
@@ -59,6 +60,14 @@ MODEL_SOURCES = (sorted(glob.glob("generated/stewart_model*.c")) + sorted(glob.g
 MODEL = MODEL_SOURCES + ["generated/stewart_model.h", "generated/stewart_internal.h", "generated/stewart_dispatch.h",
                          "generated/stewart_rotary.h", "generated/stewart_rotary_internal.h",
                          "generated/stewart_rotary_dispatch.h"]
+#: The units whose compile time is mostly GCC's register allocation (LRA's hard register
+#: assignment: 62 % of the 7.6 s of stewart_rotary_inverse_dynamics_derivatives_x3.c at avx2),
+#: and the limit on the reload pseudos LRA considers there (default 500), which takes that unit
+#: to 4.2 s; it only allocates registers (the operations, their rounding, are the same), and
+#: the rotary torque derivatives' batches ran at the same speed (docs/rotary.md). Compilers
+#: without it (the probe in build_extensions) build these units without it.
+ALLOCATION_UNITS = "generated/stewart_rotary_inverse_dynamics_derivatives_*.c"
+ALLOCATION = ["--param=lra-max-considered-reload-pseudos=50"]
 #: The first copy of the model (the one that runs everywhere, with the public names), as a
 #: static library for the C test (tests/c), which links it instead of compiling the model again.
 MODEL_LIBRARY = ("stewart_model", "build")
@@ -113,6 +122,7 @@ class BuildKernel(build_ext):
         self.openmp = os.environ.get("STEWART_OPENMP", "1") != "0" and self._builds(
             OPENMP_PROBE, ["-fopenmp"], link=True)
         self.targets = self._targets()
+        self.allocation = ALLOCATION if self._builds("int main(void) { return 0; }\n", ALLOCATION + ["-Werror"]) else []
         # The wrapper runs on every CPU the base copy runs on, with the same rounding.
         wrapper = WRAPPER_OPTIMIZE + [flag for flag in self.targets[0][1] if flag not in OPTIMIZE]
         openmp = ["-fopenmp"] if self.openmp else []
@@ -161,6 +171,8 @@ class BuildKernel(build_ext):
             objects = self.compiler.object_filenames([source], output_dir=output_dir)
             if not self.force and not newer_group(MODEL + ["setup.py"], objects[0]):
                 return objects  # compiled already, from the same sources
+            if fnmatch.fnmatch(source, ALLOCATION_UNITS):
+                flags = flags + self.allocation
             return self.compiler.compile([source], output_dir=output_dir, macros=macros,
                                          include_dirs=["generated"], extra_postargs=flags, depends=MODEL)
         jobs = sorted(((index, source) for index in range(len(self.targets)) for source in MODEL_SOURCES),
