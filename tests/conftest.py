@@ -288,6 +288,8 @@ PLATFORM_METHODS = {
     "leg_vectors": ("x",),
     "leg_unit_vectors": ("x",),
     "modal_stiffness": ("x", "k"),
+    "joint_cosines": ("x",),
+    "rider_signals": ("x", "xd", "xdd"),
 }
 
 

@@ -73,6 +73,8 @@ def calls(plat, x, xd, xdd, tau):
         "leg_unit_vectors": lambda m: plat.leg_unit_vectors(x, return_mask=m),
         "leg_unit_vector_gradients": lambda m: plat.leg_unit_vectors(x, gradients=True, return_mask=m),
         "modal_stiffness": lambda m: plat.modal_stiffness(x, SPRINGS, return_mask=m),
+        "joint_cosines": lambda m: plat.joint_cosines(x, return_mask=m),
+        "rider_signals": lambda m: plat.rider_signals(x, xd, xdd, return_mask=m),
     }
 
 
