@@ -291,7 +291,7 @@ static stewart_vl vblock_rotary_forward_dynamics(const stewart_params *opaque, d
     const stewart_rotary_params *p = rotary_params_of(opaque);
     const stewart_vd *x = in[0];
     const stewart_vd *xd = in[1];
-    const stewart_vd *tau = in[2];
+    const stewart_vd *torque = in[2];
     stewart_vd *xdd = out[0];
     stewart_vd Mt[36], S2[6], rho2[6], JA[9], JAinv[9], ctheta[1], W[6], JR[36], FM[21], xdd0[6], rhs[6], y[6];
     stewart_vl status = vnone();
@@ -305,21 +305,21 @@ static stewart_vl vblock_rotary_forward_dynamics(const stewart_params *opaque, d
     status = vmerge(status, vzero(xdd0, 6));
     vkernel_rotary_inverse_dynamics(p, x, xd, xdd0, W, JR, S2, rho2);
     status = vmerge(status, vcheck_cranks(S2, rho2));
-    status = vmerge(status, vforward_rhs(JR, tau, W, rhs));
+    status = vmerge(status, vforward_rhs(JR, torque, W, rhs));
     status = vmerge(status, vldl_solve(FM, 1, 1, rhs, y));
     status = vmerge(status, vpose_accelerations(JAinv, 1, y, xdd));
     return status;
 }
 
-int stewart_rotary_batch_forward_dynamics(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, int *status)
+int stewart_rotary_batch_forward_dynamics(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *torque, double *xdd, int *status)
 {
     stewart_vd in0[6], in1[6], in2[6], out0[6];
-    return batch_rows(rotary_params_finite(p), (const stewart_params *)(const void *)p, vblock_rotary_forward_dynamics, 0.0, n, 3, (const double *const []){x, xd, tau}, (stewart_vd *const []){in0, in1, in2}, 1, (double *const []){xdd}, (stewart_vd *const []){out0}, (const int []){6}, status);
+    return batch_rows(rotary_params_finite(p), (const stewart_params *)(const void *)p, vblock_rotary_forward_dynamics, 0.0, n, 3, (const double *const []){x, xd, torque}, (stewart_vd *const []){in0, in1, in2}, 1, (double *const []){xdd}, (stewart_vd *const []){out0}, (const int []){6}, status);
 }
 
-int stewart_rotary_forward_dynamics(const stewart_rotary_params *p, const double x[6], const double xd[6], const double tau[6], double xdd[6])
+int stewart_rotary_forward_dynamics(const stewart_rotary_params *p, const double x[6], const double xd[6], const double torque[6], double xdd[6])
 {
-    return stewart_rotary_batch_forward_dynamics(p, 1, x, xd, tau, xdd, NULL);
+    return stewart_rotary_batch_forward_dynamics(p, 1, x, xd, torque, xdd, NULL);
 }
 
 #ifdef STEWART_TARGET  /* the call of this copy's table, below */

@@ -71,8 +71,8 @@ int stewart_rotary_mass_matrix(const stewart_rotary_params *p, const double x[6]
 int stewart_rotary_gravity_vector(const stewart_rotary_params *p, const double x[6], double G[6]);
 /* The motor torques tau = J_alpha^-T (M xdd + V xd + G), N m about +a_i. */
 int stewart_rotary_inverse_dynamics(const stewart_rotary_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6]);
-/* xdd = M^-1 (J_alpha^T tau - V xd - G); needs cos(theta) != 0. */
-int stewart_rotary_forward_dynamics(const stewart_rotary_params *p, const double x[6], const double xd[6], const double tau[6], double xdd[6]);
+/* xdd = M^-1 (J_alpha^T torque - V xd - G); needs cos(theta) != 0. */
+int stewart_rotary_forward_dynamics(const stewart_rotary_params *p, const double x[6], const double xd[6], const double torque[6], double xdd[6]);
 /* tau and its Jacobians (row = output, column = input): dtau/dq = J_alpha^-T dR/dq for q = x, xd, xdd, R = M_t T xdd + V xd + G - J_alpha^T tau at fixed tau. */
 int stewart_rotary_inverse_dynamics_derivatives(const stewart_rotary_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6], double dtau_dx[36], double dtau_dxd[36], double dtau_dxdd[36]);
 
@@ -84,7 +84,7 @@ int stewart_rotary_batch_twist_mass_matrix(const stewart_rotary_params *p, size_
 int stewart_rotary_batch_mass_matrix(const stewart_rotary_params *p, size_t n, const double *x, double *M, int *status);
 int stewart_rotary_batch_gravity_vector(const stewart_rotary_params *p, size_t n, const double *x, double *G, int *status);
 int stewart_rotary_batch_inverse_dynamics(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, int *status);
-int stewart_rotary_batch_forward_dynamics(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *tau, double *xdd, int *status);
+int stewart_rotary_batch_forward_dynamics(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *torque, double *xdd, int *status);
 int stewart_rotary_batch_inverse_dynamics_derivatives(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd, int *status);
 
 /* Operation counts of the rotary kernels:

@@ -133,7 +133,7 @@ FUNCTIONS = {
     ),
     'forward_dynamics': Function(
         index=8,
-        inputs=('x', 'xd', 'tau'),
+        inputs=('x', 'xd', 'torque'),
         scalar='',
         outputs=(('xdd', 6),),
         results=(('xdd', 0, 0, (6,)),),

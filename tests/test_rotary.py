@@ -273,3 +273,30 @@ def test_massless_legs_reduce_to_the_platforms_statics(figures):
                                ("J_alpha^T tau", np.einsum("nji,nj->ni", model.jacobian(x), tau), 1e-14)):  # 1.7e-16
         figures(f"rotary: massless legs, {name} against the platform's weight (relative)",
                 np.max(np.abs(value - expected)) / np.max(np.abs(expected)), bound)
+
+
+#: Every array-taking method of RotaryPlatform with its state arguments' names.
+ROTARY_METHODS = {"crank_angles": ("x",), "jacobian": ("x",), "mass_matrix": ("x",), "gravity_vector": ("x",),
+                  "inverse_dynamics": ("x", "xd", "xdd"), "forward_dynamics": ("x", "xd", "torque"),
+                  "inverse_dynamics_derivatives": ("x", "xd", "xdd")}
+
+
+@pytest.mark.parametrize("method", sorted(ROTARY_METHODS))
+@pytest.mark.parametrize("bad", ["nan", "inf", "short", "text", "complex", "ragged"])
+def test_every_method_refuses_bad_input_naming_the_argument(method, bad):
+    """Each argument of each method, made bad in turn, is refused with a ValueError or TypeError
+    whose message names it; a good call on the same arguments gives finite results."""
+    model = stewart.RotaryPlatform.preset("simrig100")
+    names = ROTARY_METHODS[method]
+    good = {"x": model.home + 0.01, "xd": np.full(6, 0.1), "xdd": np.full(6, 0.5)}
+    good["torque"] = model.inverse_dynamics(good["x"], good["xd"], good["xdd"])
+    args = [good[name] for name in names]
+    result = getattr(model, method)(*args)
+    assert all(np.all(np.isfinite(part)) for part in (result if isinstance(result, tuple) else (result,)))
+    for k, name in enumerate(names):
+        wrong = list(args)
+        wrong[k] = {"nan": np.where(np.arange(6) == 2, np.nan, args[k]), "inf": np.full(6, np.inf),
+                    "short": args[k][:5], "text": "abc", "complex": args[k] + 1j,
+                    "ragged": [[0.0] * 6, [0.0] * 5]}[bad]
+        with pytest.raises((ValueError, TypeError), match=rf"\b{name}\b"):
+            getattr(model, method)(*wrong)
