@@ -10,7 +10,7 @@ import sys
 
 from .. import __version__, build_info
 from . import calibration, checks, cueing, export, identification, model, modes, motion, sizing, workspace
-from .common import EXIT_CHECK_FAILED, EXIT_CODES, EXIT_INTERRUPTED, EXIT_USAGE, EXIT_WORKSPACE, UserError
+from .common import EXIT_CHECK_FAILED, EXIT_CODES, EXIT_INTERRUPTED, EXIT_USAGE, EXIT_WORKSPACE, UserError, refuse_rotary
 from .options import Formatter
 
 __all__ = ["main", "build_parser", "UserError", "EXIT_CHECK_FAILED", "EXIT_USAGE", "EXIT_WORKSPACE",
@@ -57,6 +57,11 @@ def main(argv=None) -> None:
     unless that is 0."""
     parser = build_parser()
     args = parser.parse_args(argv)
+    try:
+        refuse_rotary(args)
+    except UserError as exc:
+        print(f"stewart {args.command}: error: {exc}", file=sys.stderr)
+        sys.exit(exc.code)
     usage_error = getattr(args, "usage_error", None)
     message = usage_error(args) if usage_error else None
     if message:

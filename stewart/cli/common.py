@@ -11,7 +11,10 @@ import sys
 import numpy as np
 
 from ..io import csvfile
+from ..model import paramfile
 from ..model.params import PlatformParams
+from ..model.rotary_params import KIND as ROTARY, RotaryParams
+from ..model.rotary_presets import presets as rotary_presets
 from ..motion.simulation import OUTCOMES
 
 EXIT_CHECK_FAILED = 1
@@ -44,19 +47,45 @@ class UserError(Exception):
 
 
 def platform_params(args) -> tuple[PlatformParams, str]:
-    """The parameter set of ``--preset`` or ``--params`` and a label naming it."""
+    """The linear platform's parameter set of ``--preset`` or ``--params`` and a label naming it;
+    a rotary rig's file is refused (:func:`refuse_rotary`)."""
+    refuse_rotary(args)
+    return rig_params(args)
+
+
+def refuse_rotary(args) -> None:
+    """One line naming the command when ``--params`` holds a rotary rig (``kind = "rotary"``) and
+    the command serves linear platforms only (its ``--params`` added without ``rotary``)."""
+    path = getattr(args, "params", None)
+    if path and os.path.isfile(path) and not getattr(args, "serves_rotary", False):
+        try:
+            rotary = paramfile.read(path).get("kind") == ROTARY
+        except (ValueError, OSError, TypeError, RecursionError):
+            return  # rig_params names what is wrong with the file
+        if rotary:
+            raise UserError(f"--params {path}: a rotary rig's parameter file (kind = \"{ROTARY}\"); "
+                            f"stewart {args.command} serves linear platforms only")
+
+
+def rig_params(args) -> tuple[PlatformParams | RotaryParams, str]:
+    """The parameter set of ``--preset`` or ``--params`` and a label naming it: a
+    :class:`RotaryParams` for a rotary preset or a file holding ``kind = "rotary"``, a
+    :class:`PlatformParams` otherwise."""
     if not args.params:
-        return PlatformParams.preset(args.preset), f"{args.preset} (preset)"
+        kind = RotaryParams if args.preset in rotary_presets() else PlatformParams
+        return kind.preset(args.preset), f"{args.preset} (preset)"
     path = args.params
     if not os.path.exists(path):
         raise UserError(f"--params {path}: no such file")
     if os.path.isdir(path):
         raise UserError(f"--params {path}: is a directory, not a parameter file")
     try:
-        params = PlatformParams.load(path)
+        kind = RotaryParams if paramfile.read(path).get("kind") == ROTARY else PlatformParams
+        params = kind.load(path)
     except (ValueError, OSError, TypeError, RecursionError) as exc:
         message = str(exc)
         message = message[len("path: "):] if message.startswith("path: ") else message
+        message = message[len(path) + 2:] if message.startswith(path + ": ") else message
         raise UserError(f"--params {path}: {message}") from None
     return params, f"{params.name or 'unnamed'} (from {path})"
 

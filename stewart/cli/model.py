@@ -11,6 +11,7 @@ from .. import __version__, build_info
 from ..model.kinematics import POSE_AXES
 from ..model.platform import Platform
 from ..model.presets import presets as list_presets
+from ..model.rotary_presets import presets as list_rotary_presets
 from ..model.reachability import reachability
 from .common import EXIT_WORKSPACE, UserError, platform_params, check_output, print_table, read_csv
 from .options import ACCELERATION_UNITS, AXES, RATE_UNITS, UNITS, add_file, add_params, add_six, subcommand
@@ -34,6 +35,8 @@ def cmd_info(args) -> int:
 def cmd_presets(args) -> int:
     for name, desc in list_presets().items():
         print(f"{name:<18} {desc}")
+    for name, desc in list_rotary_presets().items():
+        print(f"{name:<18} rotary rig: {desc}")
     return 0
 
 

@@ -8,6 +8,7 @@ import math
 
 from ..model.kinematics import POSE_AXES, POSE_UNITS
 from ..model.presets import presets as list_presets
+from ..model.rotary_presets import presets as list_rotary_presets
 from ..motion.trajectory import PROFILES
 from .common import EXIT_CODES
 
@@ -88,12 +89,17 @@ def subcommand(sub, name: str, help_text: str, func):
 
 # ---------------------------------------------------------------------------- shared flags
 
-def add_params(parser) -> None:
-    """``--preset NAME`` or ``--params FILE``: the platform's parameters."""
+def add_params(parser, rotary: bool = False, default: str = "narayan2017") -> None:
+    """``--preset NAME`` or ``--params FILE``: the platform's parameters; with ``rotary`` the
+    command serves rotary rigs too (their presets and ``kind = "rotary"`` files,
+    :func:`stewart.cli.common.rig_params`)."""
+    parser.set_defaults(serves_rotary=rotary)
     group = parser.add_mutually_exclusive_group()
-    group.add_argument("--preset", default="narayan2017", choices=sorted(list_presets()),
-                       help="built-in parameter set")
-    group.add_argument("--params", metavar="FILE", help="parameter file, .toml or .json (instead of --preset)")
+    names = sorted(list_presets()) + (sorted(list_rotary_presets()) if rotary else [])
+    group.add_argument("--preset", default=default, choices=names,
+                       help="built-in parameter set" + (" (linear platforms, then rotary rigs)" if rotary else ""))
+    group.add_argument("--params", metavar="FILE", help="parameter file, .toml or .json (instead of --preset)"
+                       + ('; a rotary rig\'s holds kind = "rotary"' if rotary else ""))
 
 
 _METAVARS = {
