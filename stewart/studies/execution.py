@@ -247,8 +247,8 @@ def run_studies(studies, *, client=None, workers: int | None = None, progress: b
 class ModelJob:
     """A job that evaluates the compiled model of its ``params`` (a field of the job's
     dataclass, a :class:`~stewart.PlatformParams` or :class:`~stewart.RotaryParams`):
-    :attr:`platform`, the :class:`~stewart.Platform` (or :class:`~stewart.RotaryPlatform`), is built once per process, on first use, and shared by the
-    chunks the process runs. A job sent to a Dask worker is pickled without it (only the
+    :attr:`platform`, the :class:`~stewart.Platform` (or :class:`~stewart.RotaryPlatform`), is
+    built once per process, on first use, and shared by the chunks the process runs. A job sent to a Dask worker is pickled without it (only the
     parameters travel) and builds it there."""
 
     @functools.cached_property
