@@ -139,17 +139,21 @@ def test_arms_study_turns_the_cranks_and_finds_boundaries(tmp_path):
     np.testing.assert_array_equal(np.cross(inwards.motor_axes, inwards.crank_zero),
                                   np.cross(SIMRIG.motor_axes, SIMRIG.crank_zero))  # the tips still rise
     assert rotary_arms.with_arms(SIMRIG, "outwards") == SIMRIG.replace(name="simrig100, arms outwards")
-    study = rotary_arms.arms_study(SIMRIG, resolution=21)
-    for way in rotary_arms.ARMS:
-        rig = rotary_arms.with_arms(SIMRIG, way)
-        home = stewart.RotaryPlatform(rig).home
-        for axis, (low, high) in ((5, study.roll[way]), (4, study.pitch[way])):
-            for end in (low, high):
-                pose = home.copy()
-                pose[axis] += end
-                slack = _slacks(rig, pose, home)
-                assert min(slack.values()) <= 1e-8, (way, axis, end, slack)
-    assert study.roll["outwards"] != study.roll["inwards"]
+    for height in (None, 0.48):
+        study = rotary_arms.arms_study(SIMRIG, resolution=21, height=height)
+        for way in rotary_arms.ARMS:
+            rig = rotary_arms.with_arms(SIMRIG, way)
+            start = study.start[way]
+            assert start[2] == (stewart.RotaryPlatform(rig).home[2] if height is None else height)
+            for axis, (low, high) in ((5, study.roll[way]), (4, study.pitch[way])):
+                for end in (low, high):
+                    pose = start.copy()
+                    pose[axis] += end
+                    slack = _slacks(rig, pose, start)  # the joints centred at the start pose
+                    assert -1e-12 <= min(slack.values()) <= 1e-8, (way, axis, end, slack)
+        assert study.roll["outwards"] != study.roll["inwards"]
+    # held at 0.48 m, arms inwards stand 57.5 deg up their +-60 deg travel: less than a degree of roll is left
+    assert study.roll["inwards"][1] < np.radians(1.0) < np.radians(5.0) < study.roll["outwards"][1]
     assert study.plot(str(tmp_path / "arms.png")) and (tmp_path / "arms.png").stat().st_size > 0
     with pytest.raises(ValueError, match="way"):
         rotary_arms.with_arms(SIMRIG, "sideways")
@@ -279,10 +283,15 @@ def test_cli_workspace_arms_and_envelope(tmp_path):
     out = call("workspace", "--preset", "simrig100", "--kind", "orientation", "--samples", "2000", "--json",
                "--region", *[-0.5, 0.5] * 3)
     assert out.returncode == 0 and json.loads(out.stdout)["reachable"] > 0
-    out = call("workspace", "--preset", "simrig100", "--arms", "--json", "--resolution", "11")
-    arms = json.loads(out.stdout)["arms"]
-    study = rotary_arms.arms_study(SIMRIG, resolution=11)
-    assert arms["inwards"]["roll"] == list(study.roll["inwards"]) and arms["outwards"]["pitch"] == list(study.pitch["outwards"])
+    out = call("workspace", "--preset", "simrig100", "--arms", "--json", "--resolution", "11", "--arms-height", "0.48")
+    printed = json.loads(out.stdout)
+    study = rotary_arms.arms_study(SIMRIG, resolution=11, height=0.48)
+    assert printed["same_height"]["arms"]["inwards"]["roll"] == list(study.roll["inwards"])
+    assert printed["same_height"]["arms"]["outwards"]["pitch"] == list(study.pitch["outwards"])
+    assert printed["own_home"]["arms"]["inwards"]["roll"] == list(rotary_arms.arms_study(SIMRIG, resolution=11).roll["inwards"])
+    out = call("workspace", "--preset", "simrig100", "--arms", "--resolution", "11", "--slices", tmp_path / "arms")
+    assert out.returncode == 0 and "both at z = 0.4508 m (the rig's home)" in out.stdout
+    assert (tmp_path / "arms" / "arms_same_height.png").stat().st_size > 0
     out = call("envelope", "--params", path, "--lower", 0, 0, 0.44, 0, 0, 0, "--upper", 0, 0, 0.46, 0, 0, 0, "--velocity", *[0.1] * 6, "--acceleration", *[1.0] * 6,
                "--samples", "500")
     assert out.returncode == 0, out.stderr
@@ -297,6 +306,7 @@ def test_cli_workspace_arms_and_envelope(tmp_path):
     (["--preset", "simrig100", "--rod-crank-limits", "10", "200"], "--rod-crank-limits"),
     (["--preset", "simrig100", "--crank-joint-max-angle", "95"], "--crank-joint-max-angle"),
     (["--preset", "simrig100", "--arms", "--grid", "5"], "--arms"),
+    (["--preset", "simrig100", "--arms-height", "0.4"], "--arms-height"),
 ])
 def test_cli_bad_input_gives_one_line(argv, flag):
     out = call("workspace", *argv)

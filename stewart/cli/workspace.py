@@ -42,7 +42,7 @@ _WORKSPACE_FLAGS = {"region": "--region", "orientation": "--orientation", "posit
 #: The flags of one family's bounds: a linear platform's, a rotary rig's.
 _LINEAR_FLAGS = ("--universal-max-angle", "--spherical-max-angle", "--leg-diameter", "--plate-radius", "--stiffness")
 _ROTARY_FLAGS = ("--crank-joint-max-angle", "--platform-joint-max-angle", "--crank-limits", "--rod-crank-limits",
-                 "--arms")
+                 "--arms", "--arms-height")
 
 
 def _bounds(args, rotary: bool) -> dict:
@@ -94,6 +94,8 @@ def cmd_workspace(args) -> int:
     bounds = _bounds(args, rotary)
     if args.arms:
         return _arms(args, params.replace(**bounds) if bounds else params, label)
+    if args.arms_height is not None:
+        raise UserError("--arms-height: holds the platform of the arms study; give it with --arms")
     region = None if args.region is None else np.reshape(args.region, (3, 2))
     fixed = ({"orientation": args.orientation or (0.0, 0.0, 0.0)} if args.kind == "translational"
              else {"position": args.position})
@@ -155,24 +157,36 @@ def _arms(args, params, label) -> int:
             or args.csv:
         raise UserError("--arms: studies roll and pitch about home on its own; leave out --kind, --orientation, "
                         "--position, --region, --grid and --csv")
+    from ..model.rotary import RotaryPlatform
+
+    height = float(RotaryPlatform(params).home[2]) if args.arms_height is None else args.arms_height
     try:
-        study = arms_study(params, resolution=args.resolution)
+        studies = {"same_height": arms_study(params, height=height, resolution=args.resolution),
+                   "own_home": arms_study(params, resolution=args.resolution)}
     except ValueError as exc:
-        raise UserError(f"--arms: {exc}") from None
+        raise UserError(flag_names(str(exc), {"height": "--arms-height", "limit": "--arms",
+                                              "resolution": "--resolution"})) from None
     files = []
     if args.slices:
         os.makedirs(args.slices, exist_ok=True)
-        files.append(study.plot(os.path.join(args.slices, "arms.png")))
+        files += [study.plot(os.path.join(args.slices, f"arms_{case}.png")) for case, study in studies.items()]
     if args.json:
-        print(json.dumps({"command": "workspace", "platform_source": label, **study.summary(), "files": files}))
+        print(json.dumps({"command": "workspace", "platform_source": label,
+                          **{case: study.summary() for case, study in studies.items()}, "files": files}))
         return 0
-    print(f"platform {label}: roll and pitch reachable about home, each alone, arms outwards and inwards")
-    print(f"limits: {study.limits}")
-    print(f"{'arms':<10}{'home z [m]':>12}{'roll [deg]':>24}{'pitch [deg]':>24}")
-    for way in study.ways:
-        roll, pitch = (np.degrees(getattr(study, axis)[way]) for axis in ("roll", "pitch"))
-        print(f"{way:<10}{study.home[way][2]:>12.4f}{f'{roll[0]:+.3f} .. {roll[1]:+.3f}':>24}"
-              f"{f'{pitch[0]:+.3f} .. {pitch[1]:+.3f}':>24}")
+    print(f"platform {label}: roll and pitch reachable, each alone, arms outwards and inwards")
+    print(f"limits: {studies['own_home'].limits}")
+    for case, study in studies.items():
+        held = f"both at z = {height:.4g} m" + (" (the rig's home)" if args.arms_height is None else "")
+        print(f"{held if case == 'same_height' else 'each at its own home, cranks at zero'}:")
+        print(f"  {'arms':<10}{'z [m]':>8}{'roll [deg]':>22}{'pitch [deg]':>22}")
+        for way in study.ways:
+            if study.roll[way] is None:
+                print(f"  {way:<10}{study.start[way][2]:>8.4f}  cannot stand there: {'; '.join(study.reasons[way])}")
+                continue
+            roll, pitch = (np.degrees(getattr(study, axis)[way]) for axis in ("roll", "pitch"))
+            print(f"  {way:<10}{study.start[way][2]:>8.4f}{f'{roll[0]:+.3f} .. {roll[1]:+.3f}':>22}"
+                  f"{f'{pitch[0]:+.3f} .. {pitch[1]:+.3f}':>22}")
     print_written(files)
     return 0
 
@@ -256,8 +270,11 @@ def add_workspace(sub) -> None:
                    help="rotary rigs: limits of the angle between rod and crank at the crank tip [deg], 0 folded "
                         "over the crank, 180 stretched straight out (overrides the parameters')")
     p.add_argument("--arms", action="store_true",
-                   help="rotary rigs: instead of the workspace, the roll and pitch reachable about home with the "
-                        "arms outwards and inwards (with --slices DIR, their figure arms.png)")
+                   help="rotary rigs: instead of the workspace, the roll and pitch reachable with the arms outwards "
+                        "and inwards, both at the platform height of the rig's home and each at its own home (with "
+                        "--slices DIR, their figures arms_same_height.png and arms_own_home.png)")
+    p.add_argument("--arms-height", type=number, metavar="M", help="with --arms: the platform height both ways are "
+                   "held at [m] (default: the rig's home height)")
     add_chunk_size(p)
     add_scheduler(p)
     add_file(p, "--slices", "write PNG heat maps of the margin on the three coordinate planes through home, around "

@@ -169,33 +169,45 @@ def _rig(platform):
     raise ValueError(f"platform: expected a stewart.RotaryPlatform or RotaryParams, got {type(platform).__name__}")
 
 
-def assembly_mode(platform) -> float:
-    """The sign of ``det J_alpha`` at the rig's home pose: +1 or -1 (0 at a singularity)."""
+def assembly_mode(platform, pose=None) -> float:
+    """The sign of ``det J_alpha`` at ``pose`` (default: the rig's home): +1 or -1 (0 at a
+    singularity)."""
     rig = _rig(platform)
-    return float(np.sign(np.linalg.det(rig.jacobian(rig.home))))
+    return float(np.sign(np.linalg.det(rig.jacobian(rig.home if pose is None else pose))))
 
 
 _BLOCK = 50_000  # poses checked at a time
 
 
-def reachability(platform, poses, *, mode: float | None = None, name: str = "poses") -> RotaryReachability:
+def reachability(platform, poses, *, mode: float | None = None, reference=None,
+                 name: str = "poses") -> RotaryReachability:
     """Check ``poses`` (``(6,)`` or ``(N, 6)``) against the workspace of the rotary rig
-    ``platform`` (a :class:`~stewart.RotaryPlatform` or :class:`~stewart.RotaryParams`);
-    ``mode`` the sign of ``det J_alpha`` of the poses' assembly mode (default: the home pose's).
-    Returns a :class:`RotaryReachability`, one row per pose."""
+    ``platform`` (a :class:`~stewart.RotaryPlatform` or :class:`~stewart.RotaryParams`).
+    ``reference`` is the pose the rig is mounted at, where its ball joints are centred (default:
+    its home; :meth:`~stewart.RotaryPlatform.joint_cosines`); ``mode`` the sign of ``det J_alpha``
+    of the poses' assembly mode (default: the reference pose's). Returns a
+    :class:`RotaryReachability`, one row per pose."""
     rig = _rig(platform)
     x = np.atleast_2d(arguments.states(name, poses))
     if np.iscomplexobj(x):
         raise ValueError(f"{name}: expected real poses")
-    mode = assembly_mode(rig) if mode is None else mode
-    blocks = [_block(rig, x[i:i + _BLOCK], mode) for i in range(0, max(len(x), 1), _BLOCK)]
+    reference = rig.home if reference is None else _pose("reference", reference)
+    mode = assembly_mode(rig, reference) if mode is None else mode
+    blocks = [_block(rig, x[i:i + _BLOCK], mode, reference) for i in range(0, max(len(x), 1), _BLOCK)]
     parts = {key: np.concatenate([b[key] for b in blocks]) for key in blocks[0]}
     return RotaryReachability(**parts, params=rig.params)
 
 
-def _block(rig, x: np.ndarray, mode: float) -> dict:
+def _pose(name: str, value) -> np.ndarray:
+    pose = arguments.states(name, value)
+    if pose.ndim != 1:
+        raise ValueError(f"{name}: expected one pose (6,), got shape {pose.shape}")
+    return pose
+
+
+def _block(rig, x: np.ndarray, mode: float, reference: np.ndarray) -> dict:
     p = rig.params
-    joints, reached = rig.joint_cosines(x, return_mask=True)
+    joints, reached = rig.joint_cosines(x, reference, return_mask=True)
     reached = np.asarray(reached, bool)
     with np.errstate(all="ignore"):
         jac = rig.jacobian(x, return_mask=True)[0]
@@ -229,11 +241,11 @@ def _block(rig, x: np.ndarray, mode: float) -> dict:
                 base_gap=gap, condition=condition)
 
 
-def axis_range(platform, axis: int, *, start=None, limit: float = np.pi / 2, step: float = 1e-3,
+def axis_range(platform, axis: int, *, start=None, reference=None, limit: float = np.pi / 2, step: float = 1e-3,
                tol: float = 1e-10) -> tuple[float, float]:
     """How far the rig moves from ``start`` (default: home) along the pose coordinate ``axis``
     (0-5: x, y, z [m], psi, theta, phi [rad]) alone, each way, within the workspace of
-    :func:`reachability`: ``(low, high)``, the ends of the reachable interval about ``start``,
+    :func:`reachability` (the joints centred at ``reference``, default home): ``(low, high)``, the ends of the reachable interval about ``start``,
     found on steps of ``step`` up to ``limit`` and then by bisection to ``tol``, so that the end
     is reachable and a point within ``tol`` beyond it is not (``+-limit`` if every step is)."""
     rig = _rig(platform)
@@ -242,17 +254,16 @@ def axis_range(platform, axis: int, *, start=None, limit: float = np.pi / 2, ste
     for name, value in (("limit", limit), ("step", step), ("tol", tol)):
         if not arguments.real(name, value) > 0.0:
             raise ValueError(f"{name}: must be positive, got {value!r}")
-    home = rig.home if start is None else arguments.states("start", start)
-    if home.ndim != 1:
-        raise ValueError(f"start: expected one pose (6,), got shape {home.shape}")
-    mode = assembly_mode(rig)
+    home = rig.home if start is None else _pose("start", start)
+    reference = rig.home if reference is None else _pose("reference", reference)
+    mode = assembly_mode(rig, reference)
     steps = np.arange(1, int(np.ceil(limit / step)) + 1) * step
     steps[-1] = limit
     ends = []
     for sign in (-1.0, 1.0):
         poses = np.tile(home, (len(steps), 1))
         poses[:, axis] += sign * steps
-        ok = reachability(rig, poses, mode=mode).ok
+        ok = reachability(rig, poses, mode=mode, reference=reference).ok
         if ok.all():
             ends.append(sign * limit)
             continue
@@ -262,7 +273,7 @@ def axis_range(platform, axis: int, *, start=None, limit: float = np.pi / 2, ste
             mid = 0.5 * (good + bad)
             pose = home.copy()
             pose[axis] += sign * mid
-            if reachability(rig, pose, mode=mode).ok[0]:
+            if reachability(rig, pose, mode=mode, reference=reference).ok[0]:
                 good = mid
             else:
                 bad = mid
