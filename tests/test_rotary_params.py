@@ -89,7 +89,7 @@ def test_a_linear_command_refuses_a_rotary_file_in_one_line(tmp_path, capsys):
     path = tmp_path / "rig.toml"
     stewart.RotaryParams.preset("simrig100").save(path)
     with pytest.raises(SystemExit) as exit_info:
-        main(["envelope", "--params", str(path)])
+        main(["modes", "--params", str(path)])  # envelope serves rotary rigs; modes does not
     assert exit_info.value.code == 2
     lines = capsys.readouterr().err.strip().splitlines()
-    assert len(lines) == 1 and "kind = 'rotary', not a linear platform" in lines[0]
+    assert len(lines) == 1 and "a rotary rig's parameter file (kind = \"rotary\"); stewart modes serves linear" in lines[0]

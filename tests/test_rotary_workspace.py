@@ -221,11 +221,13 @@ def test_dask_gives_the_local_workspace_and_envelope():
     home = stewart.RotaryPlatform(rig).home
     box = env.Box(home - [0.03, 0.03, 0.03, 0.1, 0.1, 0.1], home + [0.03, 0.03, 0.03, 0.1, 0.1, 0.1],
                   np.full(6, 0.2), np.full(6, 2.0))
-    local = (workspace.translational_workspace(rig, samples=4000, chunk_size=1000).summary(),
+    region = np.column_stack([home[:3] - 0.1, home[:3] + 0.1])
+    local = (workspace.translational_workspace(rig, region=region, samples=4000, chunk_size=1000).summary(),
              env.envelope(rig, box, samples=4000, chunk_size=1000, progress=False))
     with distributed.LocalCluster(n_workers=2, threads_per_worker=1, processes=False,
                                   dashboard_address=None) as cluster, distributed.Client(cluster) as client:
-        remote = (workspace.translational_workspace(rig, samples=4000, chunk_size=1000, client=client).summary(),
+        remote = (workspace.translational_workspace(rig, region=region, samples=4000, chunk_size=1000,
+                                                    client=client).summary(),
                   env.envelope(rig, box, samples=4000, chunk_size=1000, progress=False, client=client))
     assert remote[0] == local[0] and local[0]["reachable"] > 0
     assert np.array_equal(remote[1].peak.value, local[1].peak.value)
@@ -276,7 +278,8 @@ def test_envelope_on_every_simd_path_alike():
 def test_cli_workspace_arms_and_envelope(tmp_path):
     path = tmp_path / "rig.toml"
     _limited(SIMRIG).save(path)
-    out = call("workspace", "--params", path, "--samples", "2000", "--slices", tmp_path / "maps", "--resolution", "15")
+    out = call("workspace", "--params", path, "--samples", "2000", "--slices", tmp_path / "maps", "--resolution", "15",
+               "--region", -0.1, 0.1, -0.1, 0.1, 0.35, 0.55)
     assert out.returncode == 0, out.stderr
     assert "limits: crank angles" in out.stdout and "1/cond J_alpha" in out.stdout
     assert (tmp_path / "maps" / "workspace_translational.png").stat().st_size > 0

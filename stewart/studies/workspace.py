@@ -273,24 +273,28 @@ def position_bounds(params: PlatformParams, orientation=(0.0, 0.0, 0.0)) -> np.n
     the stroke limits: leg ``i`` reaches only the ball of radius ``L_max`` about
     ``b_i - R p_i``, so the positions lie in the intersection of the balls' boxes, above
     the height where a spherical joint meets the highest universal joint; of a rotary rig
-    (:class:`~stewart.RotaryParams`), the balls of radius ``crank_length + rod_length`` about
-    ``b_i - R p_i``, above the height where a platform joint meets the highest motor point."""
+    (:class:`~stewart.RotaryParams`), at any orientation, the balls of radius ``crank_length +
+    rod_length + |p_i|`` about ``b_i``, above the base plane less the nearest joint's ``|p_i|``."""
     return _position_bounds(_params(params), orientation)
 
 
 def _position_bounds(params, orientation) -> np.ndarray:
-    """:func:`position_bounds` of the converted ``params``; of a rotary rig, leg ``i`` reaches
-    the ball of radius ``crank_length + rod_length`` about ``b_i - R p_i``."""
+    """:func:`position_bounds` of the converted ``params``; of a rotary rig, whatever the
+    orientation, leg ``i`` reaches the ball of radius ``crank_length + rod_length + |p_i|``
+    about ``b_i``, above the height where the platform joint nearest {P}'s origin meets the
+    highest motor point."""
     orientation = _three("orientation", orientation)
     if isinstance(params, RotaryParams):
-        reach = params.crank_length + params.rod_length
-        rotation = kinematics.rotation(np.r_[0.0, 0.0, 0.0, orientation])
-        arms = params.platform_points @ rotation.T
-    elif params.leg_length_limits is None:
+        arm = np.linalg.norm(params.platform_points, axis=1)
+        reach = (params.crank_length + params.rod_length + arm)[:, None]
+        box = np.column_stack([np.max(params.base_points - reach, axis=0),
+                               np.min(params.base_points + reach, axis=0)])
+        box[2, 0] = max(box[2, 0], np.max(params.base_points[:, 2]) - np.min(arm))
+        return box
+    if params.leg_length_limits is None:
         raise ValueError("region: the parameters have no leg_length_limits; give the region to sample")
-    else:
-        reach = params.leg_length_limits[1]
-        arms = kinematics.platform_points_in_base(params, np.r_[0.0, 0.0, 0.0, orientation])
+    reach = params.leg_length_limits[1]
+    arms = kinematics.platform_points_in_base(params, np.r_[0.0, 0.0, 0.0, orientation])
     centres = params.base_points - arms
     box = np.column_stack([np.max(centres - reach, axis=0), np.min(centres + reach, axis=0)])
     box[2, 0] = max(box[2, 0], np.max(params.base_points[:, 2]) - np.min(arms[:, 2]))
