@@ -326,28 +326,27 @@ def _is_rotary(value) -> bool:
 
 
 def _rotary_legs(rig: RotaryPlatform, x: np.ndarray, name: str = "x"):
-    """The crank angles at the pose ``x`` (the generated inverse kinematics, in each leg's
-    branch), the crank frames (columns ``u_i``, ``a_i x u_i``, ``a_i``), the rods' vectors
-    ``n_i = P_i - c_i`` and their frames (columns ``n_i / d``, the motor axis's part normal to
-    the rod, their cross product); a pose out of a crank's reach is a ``ValueError`` naming
-    ``name``."""
+    """At the pose ``x``, from the generated model: the crank angles (in each leg's branch),
+    the crank frames (columns ``u_i``, ``a_i x u_i``, ``a_i``), the rods' vectors
+    ``n_i = P_i - c_i`` (``J_alpha``'s row is ``[j_i, R p_i x j_i]`` with
+    ``j_i = n_i / (n_i . t_i)`` and ``sign(n_i . t_i)`` the leg's branch, so
+    ``n_i = branch_i d j_i / |j_i|``) and their frames (columns ``n_i / d``, the motor axis's
+    part normal to the rod, their cross product). A pose out of a crank's reach or on its edge
+    (``J_alpha`` singular) is a ``ValueError`` naming ``name``."""
     params = rig.params
     try:
         alpha = rig.crank_angles(x)
+        along = rig.jacobian(x)[:, :3]
     except SingularityError as exc:
         raise ValueError(f"{name}: {exc}") from None
+    along = params.crank_branch[:, None] * along / np.linalg.norm(along, axis=1, keepdims=True)
     a = params.motor_axes
     u = np.cos(alpha)[:, None] * params.crank_zero + np.sin(alpha)[:, None] * params.crank_tip_directions
     cranks = np.stack([u, np.cross(a, u), a], axis=-1)
-    rods = x[:3] + params.platform_points @ rotation(x).T - (params.base_points + params.crank_length * u)
-    along = rods / np.linalg.norm(rods, axis=1, keepdims=True)
+    # The motor axis is never along a rod off the edge of the crank's reach (n_i . t_i != 0, t_i normal to a_i).
     normal = a - np.sum(a * along, axis=1, keepdims=True) * along
-    # A rod along its motor axis is on the edge of the crank's reach (J_alpha singular): there,
-    # the crank's direction, normal to both.
-    flat = np.linalg.norm(normal, axis=1) < 1e-6
-    normal[flat] = u[flat] - np.sum(u[flat] * along[flat], axis=1, keepdims=True) * along[flat]
     normal /= np.linalg.norm(normal, axis=1, keepdims=True)
-    return alpha, cranks, rods, np.stack([along, normal, np.cross(along, normal)], axis=-1)
+    return alpha, cranks, params.rod_length * along, np.stack([along, normal, np.cross(along, normal)], axis=-1)
 
 
 def _quaternions(rot: np.ndarray) -> np.ndarray:
@@ -386,9 +385,10 @@ def _rotary_velocities(rig: RotaryPlatform, x: np.ndarray, xd: np.ndarray) -> np
     _, cranks, rods, frames = _rotary_legs(rig, x)
     rates = rig.crank_rates(x, xd)
     omega = euler_rate_jacobian(x) @ xd[3:]
-    arms = (rotation(x) @ params.platform_points.T).T
-    tips = rates[:, None] * params.crank_length * cranks[:, :, 1]  # alpha' a_i x (c_i - b_i)
-    rod_rates = xd[:3] + np.cross(omega, arms) - tips
+    tips = params.base_points + params.crank_length * cranks[:, :, 0]
+    arms = tips + rods - x[:3]  # R p_i = P_i - p
+    tip_rates = rates[:, None] * params.crank_length * cranks[:, :, 1]  # alpha' a_i x (c_i - b_i)
+    rod_rates = xd[:3] + np.cross(omega, arms) - tip_rates
     # The rod turns without spinning (omega_rod = n x n' / d^2), relative to its crank (alpha' a_i).
     spins = np.cross(rods, rod_rates) / np.sum(rods * rods, axis=1, keepdims=True) - rates[:, None] * params.motor_axes
     balls = np.einsum("ikj,ik->ij", frames, spins)
