@@ -164,6 +164,12 @@ def test_model_is_the_rig(name):
         np.testing.assert_allclose(tensor_in_base(rod), params.rod_inertia * transverse, rtol=0,
                                    atol=2 * mjcf.MOMENT_FLOOR + 1e-15 * params.rod_inertia)
     assert np.max(np.abs(data.efc_pos)) < 1e-15  # the loops close at the assembly pose
+    assert data.nefc == 18  # the three rows of each loop, no crank at its limit
+    limits = params.crank_angle_limits
+    assert np.all(model.jnt_range[model.jnt_type == mujoco.mjtJoint.mjJNT_HINGE] == limits)
+    data.qpos[5] = limits[1] + 0.01  # the limits bound the crank angle itself (the hinge's ref)
+    mujoco.mj_forward(model, data)
+    assert data.nefc == 19 and data.efc_pos[-1] == pytest.approx(-0.01, abs=1e-15)
 
 
 @pytest.mark.parametrize("name", list(RIGS))
