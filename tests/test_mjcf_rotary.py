@@ -352,3 +352,17 @@ def test_replay_of_our_torques(name, figures):
     figures(f"{label}: vs our open-loop replay, angle [rad]", angle, bounds[1])
     figures(f"{label}: vs the move, position [m]", np.max(np.abs(theirs - move[:, :3])), bounds[2])
     figures(f"{label}: loop gap [m]", gap, bounds[3])
+
+
+def test_a_rig_that_cannot_reach_its_home_gets_no_keyframe():
+    """Motor 0 moved out to 1.6 times its radius: no crank reaches the averaged home; the model
+    assembled at a pose it reaches has no keyframe, and its comment names the crank."""
+    params = stewart.RotaryParams.preset(PRESET)
+    base = params.base_points.copy()
+    base[0] *= 1.6
+    params = params.replace(base_points=base)
+    home = stewart.RotaryPlatform(params).home
+    with pytest.raises(ValueError, match=r"^pose: .*crank 0 cannot reach"):
+        stewart.to_mjcf(params)
+    text = stewart.to_mjcf(params, pose=home + [0.02, 0, -0.09, 0, 0, 0])
+    assert "<keyframe>" not in text and "no keyframe: home: " in text and "crank 0 cannot reach" in text

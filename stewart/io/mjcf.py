@@ -410,12 +410,12 @@ def _rotary_mjcf(rig: RotaryPlatform, pose, settings: dict[str, Any]) -> str:
     params = rig.params
     home = rig.home
     pose = home if pose is None else _pose("pose", pose)
-    alpha, cranks, rods, frames = _rotary_legs(rig, pose, "pose")
+    alpha, cranks, _, frames = _rotary_legs(rig, pose, "pose")
     try:
         keyframe = _rotary_positions(rig, home, pose, "home")
         holding = rig.inverse_dynamics(home, np.zeros(6), np.zeros(6))
     except ValueError as exc:  # an asymmetric rig's home out of a crank's reach, or singular
-        keyframe, note = None, f"no keyframe: {exc}"
+        keyframe, note = None, "no keyframe: " + str(exc).replace("--", "- -")  # no "--" in an XML comment
     else:
         if params.motor_torque_limit is not None:
             holding = np.clip(holding, -params.motor_torque_limit, params.motor_torque_limit)
