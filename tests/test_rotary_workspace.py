@@ -315,3 +315,23 @@ def test_cli_bad_input_gives_one_line(argv, flag):
     out = call("workspace", *argv)
     lines = out.stderr.strip().splitlines()
     assert out.returncode == 2 and len(lines) == 1 and flag in lines[0] and "Traceback" not in out.stderr, out.stderr
+
+
+def test_envelope_of_a_move_and_a_trajectory_file(tmp_path):
+    """A move sampled every 10 ms: the peaks and their sample indices are brute force's over the
+    oracle; the same move written as a trajectory file gives the same peaks from the command."""
+    model = stewart.RotaryPlatform(SIMRIG)
+    move = stewart.PointToPoint(model.home, model.home + [0.02, -0.01, 0.015, 0.03, 0.04, -0.05], 0.8)
+    result = env.envelope(SIMRIG, env.Trajectories([move], dt=0.01), progress=False)
+    states = move.sample(np.arange(81) * 0.01)
+    values = _brute(SIMRIG, *states)
+    assert result.states == 81 and result.outside_stroke == result.singular == 0
+    np.testing.assert_allclose(result.peak.value, values.max(axis=0), rtol=1e-12)
+    assert np.array_equal(result.peak.index, np.argmax(values, axis=0))
+    path = tmp_path / "move.csv"
+    np.savetxt(path, np.column_stack([np.arange(81) * 0.01, states[0]]), delimiter=",",
+               header="t,x,y,z,psi,theta,phi", comments="")
+    out = call("envelope", "--preset", "simrig100", "--trajectory", path, "--dt", "0.01", "--json", tmp_path / "e.json")
+    assert out.returncode == 0, out.stderr
+    written = json.loads((tmp_path / "e.json").read_text())
+    assert written["states"] == 81 and [row["quantity"] for row in written["peaks"][::6]] == ["torque", "speed", "power"]
