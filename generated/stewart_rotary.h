@@ -75,6 +75,8 @@ int stewart_rotary_inverse_dynamics(const stewart_rotary_params *p, const double
 int stewart_rotary_forward_dynamics(const stewart_rotary_params *p, const double x[6], const double xd[6], const double torque[6], double xdd[6]);
 /* tau and its Jacobians (row = output, column = input): dtau/dq = J_alpha^-T dR/dq for q = x, xd, xdd, R = M_t T xdd + V xd + G - J_alpha^T tau at fixed tau. */
 int stewart_rotary_inverse_dynamics_derivatives(const stewart_rotary_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6], double dtau_dx[36], double dtau_dxd[36], double dtau_dxdd[36]);
+/* What MPC cueing holds: the crank angles alpha, the crank rates alpha_dot, the reach s_i = sin^2(delta_i) (0 at the edge of crank i's reach) and their gradients grads = [J_alpha T (= d alpha/dx = d alpha_dot/dxd), d alpha_dot/dx, ds/dx]. */
+int stewart_rotary_cueing_rows(const stewart_rotary_params *p, const double x[6], const double xd[6], double alpha[6], double ad[6], double reach[6], double grads[108]);
 
 int stewart_rotary_batch_crank_angles(const stewart_rotary_params *p, size_t n, const double *x, double *alpha, int *status);
 int stewart_rotary_batch_jacobian(const stewart_rotary_params *p, size_t n, const double *x, double *JR, int *status);
@@ -86,6 +88,7 @@ int stewart_rotary_batch_gravity_vector(const stewart_rotary_params *p, size_t n
 int stewart_rotary_batch_inverse_dynamics(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, int *status);
 int stewart_rotary_batch_forward_dynamics(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *torque, double *xdd, int *status);
 int stewart_rotary_batch_inverse_dynamics_derivatives(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd, int *status);
+int stewart_rotary_batch_cueing_rows(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, double *alpha, double *ad, double *reach, double *grads, int *status);
 
 /* Operation counts of the rotary kernels:
  *   rotary_crank_angles                  413
@@ -100,6 +103,7 @@ int stewart_rotary_batch_inverse_dynamics_derivatives(const stewart_rotary_param
  *   rotary_inverse_dynamics_derivatives_xd3    6511
  *   rotary_inverse_dynamics_derivatives_xdd0    2082
  *   rotary_inverse_dynamics_derivatives_xdd3    2559
+ *   rotary_cueing_rows                  4960
  */
 
 #ifdef __cplusplus
