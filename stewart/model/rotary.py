@@ -64,6 +64,12 @@ class RotaryPlatform:
         return cls(RotaryParams.load(path))
 
     @property
+    def kernel(self) -> RotaryKernel:
+        """The compiled model (:class:`~stewart.model.compiled.RotaryKernel`), for the compiled
+        loops that call it without Python per state (MPC cueing's step)."""
+        return self._kernel
+
+    @property
     def params(self) -> RotaryParams:
         """The parameter set (immutable)."""
         return self._params
