@@ -19,11 +19,36 @@ cdef void _crank_call(CueingStep self, int rows, const double *x, const double *
         self._raise(self.crank_model, "cueing_rows", (self._array(<double *>x, rows), self._array(<double *>v, rows)))
 
 
+cdef bint _crank_points(CueingStep self) noexcept:
+    """The linearization point at the next sample and the intervals' ends (xbar, vbar) and the
+    generated cueing_rows there (into crank_out, crank_grads): whether every crank reaches every
+    point (a last plan may end beyond a crank's reach; condense then linearizes about the present
+    state held)."""
+    cdef int n = self.n, k, r, points = self.n + 1
+    cdef double dt = self.dt, hk
+    cdef const double *ins[2]
+    cdef double *outs[4]
+    for r in range(6):
+        self.xbar[r] = self.x0[r] + dt * self.v0[r] + 0.5 * dt * dt * self.us[r]
+        self.vbar[r] = self.v0[r] + dt * self.us[r]
+    for k in range(n):
+        hk = self.h[k]
+        for r in range(6):
+            self.xbar[6 * (k + 1) + r] = self.xs[6 * k + r] + hk * self.vs[6 * k + r] + 0.5 * hk * hk * self.us[6 * k + r]
+            self.vbar[6 * (k + 1) + r] = self.vs[6 * k + r] + hk * self.us[6 * k + r]
+    ins[0], ins[1] = self.xbar, self.vbar
+    outs[0], outs[1], outs[2], outs[3] = self.crank_out, self.crank_out + 6 * points, self.crank_out + 12 * points, \
+        self.crank_grads
+    self.rows_fn(<const stewart_params *>&self.crank_model.p, points, ins, 0.0, outs, self.status)
+    return not self._failed(points)
+
+
 cdef void _crank_rows(CueingStep self) except *:
     """The crank angles, crank rates and reaches at the next log sample (the first input held
     over dt) and at s_1..s_N, affine in u about the linearization point: alpha(x) ~ alpha +
     J (x - xbar), alpha_dot(x, v) ~ J v + (d alpha_dot/dx) (x - xbar) (alpha_dot = J v, J =
-    J_alpha T), reach(x) ~ reach + (d reach/dx) (x - xbar)."""
+    J_alpha T), reach(x) ~ reach + (d reach/dx) (x - xbar); the values at the linearization
+    point are :func:`_crank_points`' (condense called it)."""
     cdef int n = self.n, ns = self.ns, nu = self.nu, points = self.n + 1
     cdef int k, p, r, j, c, i, width, row, sp_stride
     cdef double dt = self.dt, hk, s, value
@@ -39,15 +64,6 @@ cdef void _crank_rows(CueingStep self) except *:
     cdef double *alpha = self.crank_out
     cdef double *rate = self.crank_out + 6 * points
     cdef double *reach = self.crank_out + 12 * points
-    for r in range(6):
-        self.xbar[r] = self.x0[r] + dt * self.v0[r] + 0.5 * dt * dt * self.us[r]
-        self.vbar[r] = self.v0[r] + dt * self.us[r]
-    for k in range(n):
-        hk = self.h[k]
-        for r in range(6):
-            self.xbar[6 * (k + 1) + r] = self.xs[6 * k + r] + hk * self.vs[6 * k + r] + 0.5 * hk * hk * self.us[6 * k + r]
-            self.vbar[6 * (k + 1) + r] = self.vs[6 * k + r] + hk * self.us[6 * k + r]
-    _crank_call(self, points, self.xbar, self.vbar, self.crank_out, self.crank_grads)
     for r in range(36):
         sp0[r], sv0[r] = 0.0, 0.0
     for r in range(6):
