@@ -375,12 +375,9 @@ cdef class CueingStep:
         for r in range(6):
             self.x0[r], self.v0[r] = x0[r], v0[r]
         self._linearization_point()
-        if self.rotary and not _crank_points(self):
-            self.has_last = False  # the last plan leaves a crank's reach: linearize about the state held
-            self._linearization_point()
-            if not _crank_points(self):
-                self._raise(self.crank_model, "cueing_rows", (self._array(self.xbar, self.n + 1),
-                                                              self._array(self.vbar, self.n + 1)))
+        if self.rotary:
+            _crank_starts(self)
+            _crank_points(self)
         # the rider's signals at the midpoints and their Jacobians in the start's state and input
         for k in range(n):
             hk = self.h[k]

@@ -21,11 +21,13 @@ cdef void _crank_call(CueingStep self, int rows, const double *x, const double *
 
 cdef bint _crank_points(CueingStep self) noexcept:
     """The linearization point at the next sample and the intervals' ends (xbar, vbar) and the
-    generated cueing_rows there (into crank_out, crank_grads): whether every crank reaches every
-    point (a last plan may end beyond a crank's reach; condense then linearizes about the present
-    state held)."""
-    cdef int n = self.n, k, r, points = self.n + 1
-    cdef double dt = self.dt, hk
+    generated cueing_rows there (into crank_out, crank_grads). A point where a crank is beyond
+    its reach or below the reach REACH_MIN (``next_low[12:]``; a last plan may end there) is moved
+    along the segment from the present pose to it, by bisection, to the last pose every crank
+    reaches (the rows are then linearized about it: still the exact values and gradients there)."""
+    cdef int n = self.n, k, r, p, it, points = self.n + 1
+    cdef double dt = self.dt, hk, lo, hi, mid
+    cdef double trial[6]
     cdef const double *ins[2]
     cdef double *outs[4]
     for r in range(6):
@@ -40,7 +42,87 @@ cdef bint _crank_points(CueingStep self) noexcept:
     outs[0], outs[1], outs[2], outs[3] = self.crank_out, self.crank_out + 6 * points, self.crank_out + 12 * points, \
         self.crank_grads
     self.rows_fn(<const stewart_params *>&self.crank_model.p, points, ins, 0.0, outs, self.status)
-    return not self._failed(points)
+    for p in range(points):
+        if self.status[p] == STEWART_OK and _reaches(self, self.crank_out + 12 * points + 6 * p):
+            continue
+        lo, hi = 0.0, 1.0
+        for it in range(40):
+            mid = 0.5 * (lo + hi)
+            if _crank_point(self, p, mid, trial):
+                lo = mid
+            else:
+                hi = mid
+        if not _crank_point(self, p, lo, trial):
+            return False
+        for r in range(6):
+            self.xbar[6 * p + r] = trial[r]
+    return True
+
+
+cdef void _crank_starts(CueingStep self) noexcept:
+    """The linearization point at the intervals' starts (xs, where the torque rows are
+    linearized): a pose where a crank is beyond or near the edge of its reach (below REACH_MIN)
+    is moved along the segment from the present pose to it, by bisection, to the last pose every
+    crank reaches."""
+    cdef int k, r, it
+    cdef double lo, hi, mid
+    cdef double trial[6]
+    cdef double target[6]
+    for k in range(1, self.n):
+        for r in range(6):
+            target[r] = self.xs[6 * k + r]
+        if _pose_reaches(self, 1.0, target, self.vs + 6 * k, trial):
+            continue
+        lo, hi = 0.0, 1.0
+        for it in range(40):
+            mid = 0.5 * (lo + hi)
+            if _pose_reaches(self, mid, target, self.vs + 6 * k, trial):
+                lo = mid
+            else:
+                hi = mid
+        _pose_reaches(self, lo, target, self.vs + 6 * k, trial)
+        for r in range(6):
+            self.xs[6 * k + r] = trial[r]
+
+
+cdef bint _pose_reaches(CueingStep self, double share, const double *target, const double *rates,
+                        double *pose) noexcept:
+    """Whether every crank reaches ``x0 + share (target - x0)`` (written into ``pose``) with
+    the reach REACH_MIN."""
+    cdef int r, status = 0
+    cdef double out[18]
+    cdef double grads[108]
+    cdef const double *ins[2]
+    cdef double *outs[4]
+    for r in range(6):
+        pose[r] = self.x0[r] + share * (target[r] - self.x0[r])
+    ins[0], ins[1] = pose, rates
+    outs[0], outs[1], outs[2], outs[3] = out, out + 6, out + 12, grads
+    self.rows_fn(<const stewart_params *>&self.crank_model.p, 1, ins, 0.0, outs, &status)
+    return status == STEWART_OK and _reaches(self, out + 12)
+
+
+cdef bint _reaches(CueingStep self, const double *reach) noexcept:
+    cdef int i
+    for i in range(6):
+        if not reach[i] >= self.next_low[12 + i]:
+            return False
+    return True
+
+
+cdef bint _crank_point(CueingStep self, int p, double share, double *pose) noexcept:
+    """cueing_rows at ``x0 + share (xbar_p - x0)`` with the rates vbar_p, written into point p's
+    place of crank_out and crank_grads; the pose into ``pose``; whether every crank reaches it."""
+    cdef int r, points = self.n + 1, status = 0
+    cdef const double *ins[2]
+    cdef double *outs[4]
+    for r in range(6):
+        pose[r] = self.x0[r] + share * (self.xbar[6 * p + r] - self.x0[r])
+    ins[0], ins[1] = pose, self.vbar + 6 * p
+    outs[0], outs[1] = self.crank_out + 6 * p, self.crank_out + 6 * points + 6 * p
+    outs[2], outs[3] = self.crank_out + 12 * points + 6 * p, self.crank_grads + 108 * p
+    self.rows_fn(<const stewart_params *>&self.crank_model.p, 1, ins, 0.0, outs, &status)
+    return status == STEWART_OK and _reaches(self, self.crank_out + 12 * points + 6 * p)
 
 
 cdef void _crank_rows(CueingStep self) except *:
