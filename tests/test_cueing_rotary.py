@@ -5,6 +5,8 @@ compiled step's rotary rows against a reference formulation (the oracle, affine 
 and its central differences); the generated cueing_rows against the oracle; the API and the
 command line's bad input."""
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 import rotary_oracle as oracle
@@ -12,7 +14,7 @@ from cli_run import call
 from test_cueing_limits import random_log
 
 import stewart
-from stewart.cueing import MPCParams, VehicleLog, mpc, planner, read_log, washout
+from stewart.cueing import MPCParams, VehicleLog, WashoutParams, mpc, planner, read_log, washout
 from stewart.cueing import rotary as crank
 
 LOG = "examples/cueing/hard_braking.csv"
@@ -86,8 +88,7 @@ def test_washout_holds_the_cranks(rig):
     """The washout's limiter brings a hard log back within the crank angles and reach."""
     log = read_log(LOG)
     hard = VehicleLog(log.t, log.f * np.array([3.0, 3.0, 1.0]), log.w, "hard braking x3")
-    unlimited = washout(hard, rig, stewart.cueing.WashoutParams.for_platform(rig).__class__(
-        limiter_enabled=False))
+    unlimited = washout(hard, rig, replace(WashoutParams.for_platform(rig), limiter_enabled=False))
     assert not unlimited.inside
     result = washout(hard, rig)
     assert result.limiting.report()["limited"]
@@ -130,7 +131,7 @@ def test_compiled_rotary_step_against_the_oracle(rig):
     H, q, M, lo, hi, S, d = qp.condensed(x0, v0, z0, np.tile([0, 0, 9.81, 0, 0, 0], (qp.n, 1)))
     act, legs = qp.rows["actuators"], qp.rows["legs"]
     for _ in range(3):
-        u = np.zeros(qp.nu if hasattr(qp, "nu") else 6 * qp.n)
+        u = np.zeros(6 * qp.n)
         u[:6] = rng.uniform(-3, 3, 6)
         tau = oracle.torques(p, x0, v0, u[:6])
         # lo <= M u <= hi is -limit - value <= M u <= limit - value: value = tau - M u
@@ -147,6 +148,60 @@ def test_compiled_rotary_step_against_the_oracle(rig):
     np.testing.assert_allclose(M[legs][:, :6], fd, rtol=0, atol=1e-7 * np.max(np.abs(fd)))
     # the exact next values are the oracle's
     np.testing.assert_allclose(qp.next_values(x0, v0, np.zeros(6)), exact, rtol=1e-12, atol=1e-13)
+
+
+def test_compiled_rotary_step_over_the_horizon_against_a_reference(rig):
+    """The horizon's rows (crank angles, rates, reaches at the intervals' ends, torques at their
+    starts) of the held-state linearization, at random inputs, against a reference written
+    here: the oracle's values at the linearization point plus its central-difference gradients
+    times the predicted states' offsets from it (the states from the step's own condensed
+    double integrator, checked against the integrator written out)."""
+    p = rig.params
+    qp = planner.CueingQP(rig, MPCParams.for_platform(rig), 0.01)
+    rng = np.random.default_rng(11)
+    x0 = rig.home + np.concatenate([rng.uniform(-0.02, 0.02, 3), rng.uniform(-0.05, 0.05, 3)])
+    v0 = rng.uniform(-0.1, 0.1, 6)
+    qp.step.forget()
+    _, _, M, lo, hi, _, _ = qp.condensed(x0, v0, np.zeros(qp.vestibular.n), np.tile([0, 0, 9.81, 0, 0, 0], (qp.n, 1)))
+    n, h = qp.n, qp.h[0]
+    u = rng.uniform(-0.5, 0.5, 6 * n)
+    x, v = qp.step.states(u)
+    # the double integrator written out
+    xe, ve = [x0], [v0]
+    for k in range(n):
+        xe.append(xe[-1] + h * ve[-1] + 0.5 * h * h * u[6 * k:6 * k + 6])
+        ve.append(ve[-1] + h * u[6 * k:6 * k + 6])
+    np.testing.assert_allclose(x, xe, rtol=0, atol=1e-14)
+    np.testing.assert_allclose(v, ve, rtol=0, atol=1e-14)
+    xbar, vbar = x0 + h * v0, v0  # every interval's end, from the state held
+    d = 1e-6
+    def grad(f):
+        return np.column_stack([(f(xbar + d * e) - f(xbar - d * e)) / (2 * d) for e in np.eye(6)])
+    J, DA, DS = (grad(lambda y: oracle.crank_angles(p, y)), grad(lambda y: oracle.crank_rates(p, y, vbar)),
+                 grad(lambda y: oracle_reach(p, y)))
+    alpha, rate, reach = oracle.crank_angles(p, xbar), oracle.crank_rates(p, xbar, vbar), oracle_reach(p, xbar)
+    for k in range(1, n + 1):
+        dx = x[k] - xbar
+        for group, expected, low in (("stroke", alpha + J @ dx, qp.stroke[0]),
+                                     ("speed", J @ v[k] + DA @ dx, -qp.speed_limit),
+                                     ("cones", reach + DS @ dx, crank.REACH_MARGIN)):
+            rows = np.arange(qp.rows[group].start + 6 * (k - 1), qp.rows[group].start + 6 * k)
+            got = M[rows] @ u + (low - lo[rows])
+            np.testing.assert_allclose(got, expected, rtol=0, atol=1e-7 * max(1.0, np.max(np.abs(expected)))), (group, k)
+    # the torques at the intervals' starts: linearized at (x0, v0, 0)
+    def torque_grad(which):
+        def at(delta):
+            args = [x0, v0, np.zeros(6)]
+            args[which] = args[which] + delta
+            return oracle.torques(p, *args)
+        return np.column_stack([(at(d * e) - at(-d * e)) / (2 * d) for e in np.eye(6)])
+    tau0 = oracle.torques(p, x0, v0, np.zeros(6))
+    TX, TV, TU = torque_grad(0), torque_grad(1), torque_grad(2)
+    for k in range(n):
+        rows = np.arange(qp.rows["force"].start + 6 * k, qp.rows["force"].start + 6 * k + 6)
+        expected = tau0 + TX @ (x[k] - x0) + TV @ (v[k] - v0) + TU @ u[6 * k:6 * k + 6]
+        got = M[rows] @ u + (-qp.force_limit - lo[rows])
+        np.testing.assert_allclose(got, expected, rtol=0, atol=1e-7 * np.max(np.abs(expected))), k
 
 
 def test_rotary_settings_for_each_preset():

@@ -115,8 +115,8 @@ class WashoutParams:
         free stroke along that axis (:func:`~stewart.model.reachability.axis_excursions`), and
         the tilt limit at half the smaller of the roll and pitch excursions (at most 10 deg)."""
         base = replace(cls(), **overrides)  # (a bad value's error names the settings' source)
-        rig = rotary.as_rig(platform)  # (a rotary rig's excursions within its cranks' angles and reach)
-        excursions = rotary.axis_excursions(rig) if rotary.is_rotary(rig) else reachability.axis_excursions(rig)
+        rig = rotary.rotary_rig(platform)  # (a rotary rig's excursions within its cranks' angles and reach)
+        excursions = reachability.axis_excursions(platform) if rig is None else rotary.axis_excursions(rig)
         cutoffs = []
         for i in range(3):
             if "translation_cutoff" in overrides:

@@ -77,7 +77,7 @@ from threadpoolctl import threadpool_limits
 
 from ..model.compiled import CUEING_GROUPS, CueingStep
 from ..model.params import PlatformParams
-from ..model.platform import Platform
+from ..model.platform import Platform, as_platform
 from ..model.reachability import neutral_axes
 from . import horizon, rotary, vestibular
 from .settings import MPCParams
@@ -156,7 +156,8 @@ class CueingQP:
     :meth:`solve` takes the present state and the vehicle's signals over the horizon."""
 
     def __init__(self, platform, params: MPCParams, dt: float):
-        self.platform = rotary.as_rig(platform)
+        rig = rotary.rotary_rig(platform)
+        self.platform = as_platform(platform) if rig is None else rig
         self.rotary = rotary.is_rotary(self.platform)
         self.params = params = params.for_platform_of(self.platform)
         self.dt = float(dt)

@@ -19,11 +19,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model.errors import WrongTypeError
-from ..model.platform import Platform, as_platform
+from ..model.platform import as_platform
 from ..model.rotary import RotaryPlatform
 from ..model.rotary_params import RotaryParams
 
-__all__ = ["as_rig", "is_rotary", "check_poses", "CrankCheck", "axis_excursions", "motor_limits", "home",
+__all__ = ["as_rig", "rotary_rig", "is_rotary", "check_poses", "CrankCheck", "axis_excursions", "motor_limits", "home",
            "REACH_MIN", "REACH_MARGIN", "CRANK_ANGLE_LIMIT", "CRANK_REACH", "FLAG_NAMES",
            "TORQUE_PER_STATIC", "SPEED_DEFAULT"]
 
@@ -41,19 +41,29 @@ TORQUE_PER_STATIC = 2.0
 SPEED_DEFAULT = 2 * np.pi
 
 
-def as_rig(value, name: str = "platform"):
-    """``value`` as a compiled rig: a :class:`~stewart.RotaryPlatform` (from itself or a
-    :class:`~stewart.RotaryParams`) or a :class:`~stewart.Platform` (:func:`as_platform`)."""
+def rotary_rig(value):
+    """``value`` as a :class:`~stewart.RotaryPlatform` when it is one or a
+    :class:`~stewart.RotaryParams` (compiled), else None (a linear platform, for
+    :func:`~stewart.model.platform.as_platform`)."""
     if isinstance(value, RotaryPlatform):
         return value
     if isinstance(value, RotaryParams):
         return RotaryPlatform(value)
-    if isinstance(value, (Platform,)) or not isinstance(value, (RotaryPlatform, RotaryParams)):
-        try:
-            return as_platform(value, name)
-        except WrongTypeError:
-            raise WrongTypeError(f"{name}: expected a stewart.Platform or stewart.RotaryPlatform, got "
-                                 f"{type(value).__name__}") from None
+    return None
+
+
+def as_rig(value, name: str = "platform"):
+    """``value`` as a compiled rig: a :class:`~stewart.RotaryPlatform` (:func:`rotary_rig`) or
+    a :class:`~stewart.Platform` (:func:`~stewart.model.platform.as_platform`, whose
+    :class:`~stewart.WrongTypeError` names ``name``)."""
+    rig = rotary_rig(value)
+    if rig is not None:
+        return rig
+    try:
+        return as_platform(value, name)
+    except WrongTypeError:
+        raise WrongTypeError(f"{name}: expected a stewart.Platform or stewart.RotaryPlatform, got "
+                             f"{type(value).__name__}") from None
 
 
 def is_rotary(rig) -> bool:

@@ -115,7 +115,8 @@ def _arguments(log, platform, params, settings: type, **flags) -> tuple[VehicleL
     if params is not None and not isinstance(params, settings):
         raise WrongTypeError(f"params: expected a stewart.cueing.{settings.__name__} or None, got "
                              f"{type(params).__name__}")
-    plat = rotary.as_rig(platform)
+    plat = rotary.rotary_rig(platform)
+    plat = as_platform(platform) if plat is None else plat
     if flags.get("simulate") and rotary.is_rotary(plat):
         raise ValueError("simulate: the closed loop of cueing runs on linear platforms only (run a rotary rig's "
                          "reference with stewart.simulate)")

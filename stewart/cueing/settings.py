@@ -39,6 +39,7 @@ import numpy as np
 from .._modules import moved_names
 from ..io import tomlfile
 from ..model import reachability
+from ..model.platform import as_platform
 from . import rotary, vestibular
 
 __all__ = ["MPCParams", "FORCE_LIMIT_PER_STATIC", "LEG_VELOCITY_PER_STROKE", "BOX_SHARE"]
@@ -147,7 +148,8 @@ class MPCParams:
         (:func:`stewart.cueing.rotary.motor_limits`), ``box`` :data:`BOX_SHARE` of the free
         excursion within the crank-angle limits and the cranks' reach
         (:func:`stewart.cueing.rotary.axis_excursions`); ``stroke_margin`` is unused."""
-        plat = rotary.as_rig(platform)
+        plat = rotary.rotary_rig(platform)
+        plat = as_platform(platform) if plat is None else plat
         base = cls(**overrides)
         changes = {}
         if rotary.is_rotary(plat):
