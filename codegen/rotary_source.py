@@ -89,6 +89,12 @@ FUNCTIONS = (
              results=('crank_angles', ('rod_crank', (6,)), ('crank_joint', (6,)), ('platform_joint', (6,)),
                       'platform_heights'),
              result_type='RotaryJointCosines'),
+    Function('cueing_rows',
+             'What MPC cueing holds: the crank angles alpha, the crank rates alpha_dot, the reach s_i ='
+             ' sin^2(delta_i) (0 at the edge of crank i\'s reach) and their gradients grads = [J_alpha T'
+             ' (= d alpha/dx = d alpha_dot/dxd), d alpha_dot/dx, ds/dx].',
+             ('x', 'xd'), (('alpha', (6,)), ('ad', (6,)), ('reach', (6,)), ('grads', (3, 6, 6))),
+             (rotary.rotary_cueing_rows_kernel,), steps=(('crank_angles', ('cs', 'alpha')),)),
 )
 
 #: The first status code of the cranks: STEWART_ERR_CRANK_REACH + i, crank i cannot reach the pose.

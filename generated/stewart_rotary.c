@@ -427,11 +427,49 @@ static int call_rotary_joint_cosines(const stewart_params *p, size_t n, const do
 }
 #endif
 
+static stewart_vl vblock_rotary_cueing_rows(const stewart_params *opaque, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    const stewart_rotary_params *p = rotary_params_of(opaque);
+    const stewart_vd *x = in[0];
+    const stewart_vd *xd = in[1];
+    stewart_vd *alpha = out[0];
+    stewart_vd *ad = out[1];
+    stewart_vd *reach = out[2];
+    stewart_vd *grads = out[3];
+    stewart_vd cs[12], S2[6], rho2[6];
+    stewart_vl status = vnone();
+    (void)scalar;
+    (void)p;
+    vkernel_rotary_cueing_rows(p, x, xd, cs, ad, reach, grads, S2, rho2);
+    status = vmerge(status, vcheck_cranks(S2, rho2));
+    status = vmerge(status, vcrank_angles(cs, alpha));
+    return status;
+}
+
+int stewart_rotary_batch_cueing_rows(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, double *alpha, double *ad, double *reach, double *grads, int *status)
+{
+    stewart_vd in0[6], in1[6], out0[6], out1[6], out2[6], out3[108];
+    return batch_rows(rotary_params_finite(p), (const stewart_params *)(const void *)p, vblock_rotary_cueing_rows, 0.0, n, 2, (const double *const []){x, xd}, (stewart_vd *const []){in0, in1}, 4, (double *const []){alpha, ad, reach, grads}, (stewart_vd *const []){out0, out1, out2, out3}, (const int []){6, 6, 6, 108}, status);
+}
+
+int stewart_rotary_cueing_rows(const stewart_rotary_params *p, const double x[6], const double xd[6], double alpha[6], double ad[6], double reach[6], double grads[108])
+{
+    return stewart_rotary_batch_cueing_rows(p, 1, x, xd, alpha, ad, reach, grads, NULL);
+}
+
+#ifdef STEWART_TARGET  /* the call of this copy's table, below */
+static int call_rotary_cueing_rows(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_rotary_batch_cueing_rows(rotary_params_of(p), n, in[0], in[1], out[0], out[1], out[2], out[3], status);
+}
+#endif
+
 #define STEWART_ROTARY_STRING_(a) #a
 #define STEWART_ROTARY_STRING(a) STEWART_ROTARY_STRING_(a)
 #ifdef STEWART_TARGET
 const stewart_rotary_table STEWART_JOIN(stewart_rotary_table, STEWART_TARGET) = {
     STEWART_ROTARY_STRING(STEWART_TARGET),
-    {call_rotary_crank_angles, call_rotary_jacobian, call_rotary_pose_jacobian, call_rotary_crank_rates, call_rotary_twist_mass_matrix, call_rotary_mass_matrix, call_rotary_gravity_vector, call_rotary_inverse_dynamics, call_rotary_forward_dynamics, call_rotary_inverse_dynamics_derivatives, call_rotary_joint_cosines},
+    {call_rotary_crank_angles, call_rotary_jacobian, call_rotary_pose_jacobian, call_rotary_crank_rates, call_rotary_twist_mass_matrix, call_rotary_mass_matrix, call_rotary_gravity_vector, call_rotary_inverse_dynamics, call_rotary_forward_dynamics, call_rotary_inverse_dynamics_derivatives, call_rotary_joint_cosines, call_rotary_cueing_rows},
 };
 #endif

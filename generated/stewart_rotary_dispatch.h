@@ -22,8 +22,9 @@
  *    8  forward_dynamics
  *    9  inverse_dynamics_derivatives
  *   10  joint_cosines
+ *   11  cueing_rows
  */
-#define STEWART_ROTARY_FUNCTIONS 11
+#define STEWART_ROTARY_FUNCTIONS 12
 
 typedef struct {
     const char *name;  /* the target, as the linear table's */

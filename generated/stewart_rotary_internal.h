@@ -19,6 +19,7 @@
 #define stewart_rotary_forward_dynamics STEWART_LOCAL(rotary_forward_dynamics)
 #define stewart_rotary_inverse_dynamics_derivatives STEWART_LOCAL(rotary_inverse_dynamics_derivatives)
 #define stewart_rotary_joint_cosines STEWART_LOCAL(rotary_joint_cosines)
+#define stewart_rotary_cueing_rows STEWART_LOCAL(rotary_cueing_rows)
 #define stewart_rotary_batch_crank_angles STEWART_LOCAL(rotary_batch_crank_angles)
 #define stewart_rotary_batch_jacobian STEWART_LOCAL(rotary_batch_jacobian)
 #define stewart_rotary_batch_pose_jacobian STEWART_LOCAL(rotary_batch_pose_jacobian)
@@ -30,6 +31,7 @@
 #define stewart_rotary_batch_forward_dynamics STEWART_LOCAL(rotary_batch_forward_dynamics)
 #define stewart_rotary_batch_inverse_dynamics_derivatives STEWART_LOCAL(rotary_batch_inverse_dynamics_derivatives)
 #define stewart_rotary_batch_joint_cosines STEWART_LOCAL(rotary_batch_joint_cosines)
+#define stewart_rotary_batch_cueing_rows STEWART_LOCAL(rotary_batch_cueing_rows)
 #define stewart_rotary_status_message STEWART_LOCAL(rotary_status_message)
 #define vkernel_rotary_crank_angles STEWART_LOCAL(vkernel_rotary_crank_angles)
 #define vkernel_rotary_jacobian STEWART_LOCAL(vkernel_rotary_jacobian)
@@ -45,6 +47,7 @@
 #define vkernel_rotary_inverse_dynamics_derivatives_xdd3 STEWART_LOCAL(vkernel_rotary_inverse_dynamics_derivatives_xdd3)
 #define vkernel_rotary_neutral_axes STEWART_LOCAL(vkernel_rotary_neutral_axes)
 #define vkernel_rotary_joint_cosines STEWART_LOCAL(vkernel_rotary_joint_cosines)
+#define vkernel_rotary_cueing_rows STEWART_LOCAL(vkernel_rotary_cueing_rows)
 #endif
 
 #include "stewart_rotary.h"
@@ -124,5 +127,6 @@ STEWART_HIDDEN void vkernel_rotary_inverse_dynamics_derivatives_xdd0(const stewa
 STEWART_HIDDEN void vkernel_rotary_inverse_dynamics_derivatives_xdd3(const stewart_rotary_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *tau, stewart_vd *ZT, stewart_vd *S2, stewart_vd *rho2);
 STEWART_HIDDEN void vkernel_rotary_neutral_axes(const stewart_rotary_params *p, const stewart_vd *x, stewart_vd *qc, stewart_vd *qp, stewart_vd *S2, stewart_vd *rho2);
 STEWART_HIDDEN void vkernel_rotary_joint_cosines(const stewart_rotary_params *p, const stewart_vd *x, const stewart_vd *qc, const stewart_vd *qp, stewart_vd *cs, stewart_vd *c, stewart_vd *z, stewart_vd *S2, stewart_vd *rho2);
+STEWART_HIDDEN void vkernel_rotary_cueing_rows(const stewart_rotary_params *p, const stewart_vd *x, const stewart_vd *xd, stewart_vd *cs, stewart_vd *ad, stewart_vd *reach, stewart_vd *grads, stewart_vd *S2, stewart_vd *rho2);
 
 #endif /* STEWART_ROTARY_INTERNAL_H */

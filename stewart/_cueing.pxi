@@ -13,7 +13,10 @@
 
 from scipy.linalg.cython_blas cimport dsyrk, dgemv
 
-#: The rows of the constraint groups, in the order of stewart.cueing.planner.GROUPS.
+#: The rows of the constraint groups, in the order of stewart.cueing.planner.GROUPS (on a rotary
+#: rig, stewart/_cueing_rotary.pxi: ``legs`` the crank angles, crank rates and reaches at the
+#: next sample, ``force`` the motor torques, ``stroke`` the crank angles, ``speed`` the crank
+#: rates and ``cones`` the reaches over the horizon).
 CUEING_GROUPS = ("actuators", "legs", "next_tilt", "force", "stroke", "speed", "cones", "tilt", "box", "rest")
 
 cdef enum:
@@ -21,6 +24,7 @@ cdef enum:
     CUE_V = 6
     CUE_Z = 12
     CUE_LEGS_ROWS = 24  # a sample's leg lengths, leg speeds and joint cosines
+    CUE_CRANK_ROWS = 18  # a rotary rig's: crank angles, crank rates and reaches
     CUE_COST_ROWS = 18  # a sample's weighted rows of the cost: pose, rates, perceived channels
 
 
@@ -56,6 +60,10 @@ cdef class CueingStep:
     ``legs`` rows' values at u = 0 (the arrays are the step's own, overwritten by the next)."""
 
     cdef Kernel dynamics, rider
+    cdef RotaryKernel crank_model  # a rotary rig's (stewart/_cueing_rotary.pxi), else None
+    cdef readonly bint rotary
+    cdef readonly int legs_rows    # the legs group's rows: 24, or 18 on a rotary rig
+    cdef stewart_call rows_fn, torques_fn
     cdef readonly int n, nz, ns, nu, m
     cdef double dt, force, force_limit, stroke_low, stroke_high, speed_limit, tilt_rate
     cdef int starts[11]
@@ -112,6 +120,9 @@ cdef class CueingStep:
     cdef double *tdx
     cdef double *tdv
     cdef double *tdu
+    cdef double *motor     # per actuator: its force (torque) limit, less its margin, its speed less its margin
+    cdef double *crank_out    # rotary: per point alpha, alpha_dot, reach (18)
+    cdef double *crank_grads  # rotary: per point J_alpha T, d alpha_dot/dx, d reach/dx (108)
     cdef double *last_x
     cdef double *last_v
     cdef double *last_u
@@ -128,11 +139,23 @@ cdef class CueingStep:
     cdef double *pd
     cdef double *plegs
 
-    def __cinit__(self, Kernel dynamics, Kernel rider, h, double dt, home, neutral, decay, gain, channel, output,
+    def __cinit__(self, dynamics, Kernel rider, h, double dt, home, neutral, decay, gain, channel, output,
                   weights, input_weight, shift, starts, row_scale, inset, limits, cone, next_low, next_high, box,
-                  decay_dt, gain_dt):
+                  decay_dt, gain_dt, motor=None):
         cdef int k, i, n = len(h), nz = np.shape(decay)[1], ns, nu
-        self.dynamics, self.rider = dynamics, rider
+        cdef _Function f
+        self.rider = rider
+        self.rotary = isinstance(dynamics, RotaryKernel)
+        if self.rotary:
+            self.crank_model = dynamics
+            f = _ROTARY["cueing_rows"]
+            self.rows_fn = _rotary_table().call[f.index]
+            f = _ROTARY["inverse_dynamics_derivatives"]
+            self.torques_fn = _rotary_table().call[f.index]
+            self.legs_rows = CUE_CRANK_ROWS
+        else:
+            self.dynamics = dynamics
+            self.legs_rows = CUE_LEGS_ROWS
         self.n, self.nz, self.ns, self.nu, self.dt = n, nz, CUE_Z + nz, 6 * n, dt
         if len(starts) != 11:
             raise ValueError("CueingStep: need the first row of each of the 10 groups and the rows' count")
@@ -159,9 +182,14 @@ cdef class CueingStep:
         self.input_weight = self._fixed(input_weight, nu)
         self.inv_scale = self._fixed(1.0 / np.asarray(row_scale, dtype=np.float64), self.m)
         self.inset = self._fixed(inset, self.m)
-        self.cone = self._fixed(cone, 12)
-        self.next_low = self._fixed(next_low, CUE_LEGS_ROWS)
-        self.next_high = self._fixed(next_high, CUE_LEGS_ROWS)
+        self.cone = self._fixed(cone, 6 if self.rotary else 12)
+        self.next_low = self._fixed(next_low, self.legs_rows)
+        self.next_high = self._fixed(next_high, self.legs_rows)
+        if motor is None:
+            motor = np.concatenate([np.full(6, self.force), np.full(6, self.force_limit), np.full(6, self.speed_limit)])
+        self.motor = self._fixed(motor, 18)
+        self.crank_out = self._buffer(18 * (n + 1))
+        self.crank_grads = self._buffer(108 * (n + 1))
         self.box = self._fixed(box, 6)
         self.decay_dt = self._fixed(decay_dt, nz)
         self.gain_dt = self._fixed(gain_dt, nz)
@@ -193,7 +221,7 @@ cdef class CueingStep:
         self.M, self.lo, self.hi = _zeros((self.m, nu)), _zeros(self.m), _zeros(self.m)
         self.A, self.upper, self.lower = _zeros((self.m, nu)), _zeros(self.m), _zeros(self.m)
         self.S, self.d = _zeros((n + 1, ns, nu)), _zeros((n + 1, ns))
-        self.legs_constant = _zeros(CUE_LEGS_ROWS)
+        self.legs_constant = _zeros(self.legs_rows)
         self.pH, self.pq, self.pM, self.plo, self.phi = _data(self.H), _data(self.q), _data(self.M), _data(self.lo), \
             _data(self.hi)
         self.pA, self.pup, self.plow = _data(self.A), _data(self.upper), _data(self.lower)
@@ -293,7 +321,10 @@ cdef class CueingStep:
 
     def next_values(self, x0, v0, u0):
         """The leg lengths, leg speeds and joint cosines ``(24,)`` at the next log sample after
-        ``u0`` held from pose ``x0`` and rates ``v0``, by the exact kinematics."""
+        ``u0`` held from pose ``x0`` and rates ``v0``, by the exact kinematics (on a rotary rig,
+        ``(18,)``: the crank angles, crank rates and reaches)."""
+        if self.rotary:
+            return _crank_next_values(self, x0, v0, u0)
         cdef double x1[6]
         cdef double v1[6]
         cdef double out[CUE_LEGS_ROWS]
@@ -324,7 +355,7 @@ cdef class CueingStep:
                 return True
         return False
 
-    cdef int _raise(self, Kernel kernel, str name, tuple arrays) except -1:
+    cdef int _raise(self, kernel, str name, tuple arrays) except -1:
         """Raise the model's error for a failed batch: its Python call on the same rows."""
         kernel.call(name, arrays)
         raise SingularityError(f"{name}: failed in the cueing step")  # (the call raised already)
@@ -344,6 +375,9 @@ cdef class CueingStep:
         for r in range(6):
             self.x0[r], self.v0[r] = x0[r], v0[r]
         self._linearization_point()
+        if self.rotary:
+            _crank_starts(self)
+            _crank_points(self)
         # the rider's signals at the midpoints and their Jacobians in the start's state and input
         for k in range(n):
             hk = self.h[k]
@@ -370,7 +404,10 @@ cdef class CueingStep:
                 self.y0[6 * k + r] = s - veh[6 * k + r]
         self._prediction(pz)
         self._cost()
-        _leg_rows(self)
+        if self.rotary:
+            _crank_rows(self)
+        else:
+            _leg_rows(self)
         _force_rows(self)
         _motion_rows(self, veh)
         _scaled(self)

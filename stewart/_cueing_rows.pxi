@@ -111,7 +111,7 @@ cdef void _leg_rows(CueingStep self) except *:
                 self.plegs[6 + i] = s
                 _bounds(self, row, s, self.next_low[6 + i], self.next_high[6 + i])
             else:
-                _bounds(self, row, s, -self.speed_limit, self.speed_limit)
+                _bounds(self, row, s, -self.motor[12 + i], self.motor[12 + i])
         for i in range(12):
             row = self.starts[1] + 12 + i if p == 0 else self.starts[6] + 12 * (p - 1) + i
             for c in range(width):
@@ -137,10 +137,17 @@ cdef void _force_rows(CueingStep self) except *:
     cdef double s
     cdef const double *Sp
     cdef const double *Sv
-    T.batch_inverse_dynamics_derivatives(&self.dynamics.p, n, self.xs, self.vs, self.us, self.tau, self.tdx,
-                                         self.tdv, self.tdu, self.status)
+    cdef const double *ins[3]
+    cdef double *outs[4]
+    if self.rotary:
+        ins[0], ins[1], ins[2] = self.xs, self.vs, self.us
+        outs[0], outs[1], outs[2], outs[3] = self.tau, self.tdx, self.tdv, self.tdu
+        self.torques_fn(<const stewart_params *>&self.crank_model.p, n, ins, 0.0, outs, self.status)
+    else:
+        T.batch_inverse_dynamics_derivatives(&self.dynamics.p, n, self.xs, self.vs, self.us, self.tau, self.tdx,
+                                             self.tdv, self.tdu, self.status)
     if self._failed(n):
-        self._raise(self.dynamics, "inverse_dynamics_derivatives",
+        self._raise(self.crank_model if self.rotary else self.dynamics, "inverse_dynamics_derivatives",
                     (self._array(self.xs, n), self._array(self.vs, n), self._array(self.us, n)))
     for k in range(n):
         width = 6 * k
@@ -159,10 +166,10 @@ cdef void _force_rows(CueingStep self) except *:
                 s += self.tdx[36 * k + 6 * i + j] * (self.pd[k * ns + CUE_P + j] - (self.xs[6 * k + j] - self.home[j])) \
                     + self.tdv[36 * k + 6 * i + j] * (self.pd[k * ns + CUE_V + j] - self.vs[6 * k + j]) \
                     - self.tdu[36 * k + 6 * i + j] * self.us[6 * k + j]
-            _bounds(self, row, s, -self.force_limit, self.force_limit)
+            _bounds(self, row, s, -self.motor[6 + i], self.motor[6 + i])
             if k == 0:
                 memcpy(self.pM + (self.starts[0] + i) * nu, self.pM + row * nu, nu * sizeof(double))
-                _bounds(self, self.starts[0] + i, s, -self.force, self.force)
+                _bounds(self, self.starts[0] + i, s, -self.motor[i], self.motor[i])
 
 
 cdef void _motion_rows(CueingStep self, const double *veh) noexcept:

@@ -163,4 +163,14 @@ FUNCTIONS = {
         method='joint_cosines',
         option='',
     ),
+    'cueing_rows': Function(
+        index=11,
+        inputs=('x', 'xd'),
+        scalar='',
+        outputs=(('alpha', 6), ('ad', 6), ('reach', 6), ('grads', 108)),
+        results=(('alpha', 0, 0, (6,)), ('ad', 1, 0, (6,)), ('reach', 2, 0, (6,)), ('grads', 3, 0, (3, 6, 6))),
+        result_type='',
+        method='cueing_rows',
+        option='',
+    ),
 }

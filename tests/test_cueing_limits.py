@@ -121,6 +121,22 @@ def test_random_logs_give_references_within_every_limit(platforms, seed):
     assert_within_limits(mpc(random_log(seed), platform, simulate=True), platform)
 
 
+@pytest.mark.parametrize("seed", SEEDS[:2] if len(SEEDS) == 4 else SEEDS)
+def test_random_logs_on_simrig100_give_references_within_every_limit(seed):
+    """The same random logs on the rotary sim-racing rig: every crank angle, crank rate, reach
+    and motor torque within its limit (tests/test_cueing_rotary.py checks them by the oracle)."""
+    from stewart.cueing import rotary
+
+    rig = stewart.RotaryPlatform.preset("simrig100")
+    result = mpc(random_log(seed), rig)
+    assert result.inside and not result.beyond_limits, result.problems
+    assert result.solver["qp_failures"] == 0 and result.solver["qp_levels"]["brake"] == 0, result.solver
+    assert np.all(rotary.check_poses(rig, result.poses).ok)
+    assert np.all(np.abs(rig.crank_rates(result.poses, result.velocities)) <= rig.params.motor_speed_limit)
+    torques = rig.inverse_dynamics(result.poses, result.velocities, result.accelerations)
+    assert np.all(np.abs(torques) <= rig.params.motor_torque_limit)
+
+
 def test_step_end_on_narayan2017(platforms):
     platform = platforms["narayan2017"]
     assert_within_limits(mpc(step_end_log(), platform, simulate=True), platform)

@@ -166,7 +166,7 @@ def test_inverse_dynamics_derivatives_against_complex_step(rig, figures):
 
 FUNCTIONS = {"crank_angles": 1, "jacobian": 1, "pose_jacobian": 1, "crank_rates": 2, "mass_matrix": 1,
              "twist_mass_matrix": 1, "gravity_vector": 1, "inverse_dynamics": 3, "forward_dynamics": 3,
-             "inverse_dynamics_derivatives": 3, "joint_cosines": 1}
+             "inverse_dynamics_derivatives": 3, "joint_cosines": 1, "cueing_rows": 2}
 
 
 @pytest.mark.parametrize("name", FUNCTIONS)
@@ -177,7 +177,7 @@ def test_alone_as_in_a_batch_bit_for_bit_on_every_path(name):
     x, xd, xdd = random_states(rig, 7, n=13)
     model = stewart.RotaryPlatform(rig)
     tau = model.inverse_dynamics(x, xd, xdd)
-    inputs = {"crank_rates": (x, xd), "inverse_dynamics": (x, xd, xdd), "forward_dynamics": (x, xd, tau),
+    inputs = {"crank_rates": (x, xd), "cueing_rows": (x, xd), "inverse_dynamics": (x, xd, xdd), "forward_dynamics": (x, xd, tau),
               "inverse_dynamics_derivatives": (x, xd, xdd)}.get(name, (x,))
     function, first = getattr(model, name), None
     previous = stewart.set_simd(None)
@@ -278,7 +278,7 @@ def test_massless_legs_reduce_to_the_platforms_statics(figures):
 #: Every array-taking method of RotaryPlatform with its state arguments' names.
 ROTARY_METHODS = {"crank_angles": ("x",), "jacobian": ("x",), "mass_matrix": ("x",), "gravity_vector": ("x",),
                   "inverse_dynamics": ("x", "xd", "xdd"), "forward_dynamics": ("x", "xd", "torque"),
-                  "inverse_dynamics_derivatives": ("x", "xd", "xdd"), "joint_cosines": ("x", "reference")}
+                  "inverse_dynamics_derivatives": ("x", "xd", "xdd"), "joint_cosines": ("x", "reference"), "cueing_rows": ("x", "xd")}
 
 
 @pytest.mark.parametrize("method", sorted(ROTARY_METHODS))

@@ -10,13 +10,15 @@ from dataclasses import replace
 
 from ..cueing import MPCParams, WashoutParams, mpc, read_log, washout
 from ..model.platform import Platform
+from ..model.rotary import RotaryPlatform
+from ..model.rotary_params import RotaryParams
 from .common import (
     EXIT_USAGE,
     UserError,
     check_output,
     check_outputs,
     check_plotting,
-    platform_params,
+    rig_params,
     print_written,
     progress,
 )
@@ -34,8 +36,12 @@ def cmd_cueing(args) -> int:
     check_output("--plot", args.plot, directory=True)
     if args.plot:
         check_plotting("--plot")
-    params, label = platform_params(args)
-    plat = Platform(params)
+    params, label = rig_params(args)
+    rotary = isinstance(params, RotaryParams)
+    if rotary and args.simulate:
+        raise UserError("--simulate: the closed loop of cueing runs on linear platforms only; give the rotary rig's "
+                        "reference to stewart simulate", EXIT_USAGE)
+    plat = RotaryPlatform(params) if rotary else Platform(params)
     try:
         log = read_log(args.log)
     except ValueError as exc:
@@ -102,7 +108,7 @@ def add_cueing(sub) -> None:
     p.add_argument("log", metavar="LOG.csv", help="vehicle log: specific force [m/s^2] and angular velocity "
                    "[rad/s] in the vehicle frame (x forward, y left, z up), constant sample rate")
     p.add_argument("--method", choices=["washout", "mpc"], default="washout", help="cueing algorithm")
-    add_params(p)
+    add_params(p, rotary=True)
     p.set_defaults(preset="motion_simulator", usage_error=_usage_error)
     p.add_argument("--cueing", metavar="C.toml", help="washout or MPC settings (default: scaled to the platform; "
                    "see docs/cueing.md)")
@@ -113,6 +119,7 @@ def add_cueing(sub) -> None:
     p.add_argument("--no-limiter", action="store_true", help="washout: leave the reference unlimited (one that "
                    "leaves the workspace is refused, exit 3) instead of scaling it back smoothly (see docs/cueing.md)")
     p.add_argument("--simulate", action="store_true", help="run the reference through the closed loop "
-                   "(computed torque) and report the achieved motion's perceived error and problems")
+                   "(computed torque) and report the achieved motion's perceived error and problems (linear "
+                   "platforms)")
     add_json(p)
     add_progress(p)

@@ -39,7 +39,7 @@ from scipy import optimize, signal
 from .._modules import moved_names
 from ..io import tomlfile
 from ..model import reachability
-from . import vestibular
+from . import rotary, vestibular
 
 __all__ = ["WashoutParams", "filters", "reference_poses", "DESIGN_ACCELERATION"]
 
@@ -115,7 +115,8 @@ class WashoutParams:
         free stroke along that axis (:func:`~stewart.model.reachability.axis_excursions`), and
         the tilt limit at half the smaller of the roll and pitch excursions (at most 10 deg)."""
         base = replace(cls(), **overrides)  # (a bad value's error names the settings' source)
-        excursions = reachability.axis_excursions(platform)
+        rig = rotary.rotary_rig(platform)  # (a rotary rig's excursions within its cranks' angles and reach)
+        excursions = reachability.axis_excursions(platform) if rig is None else rotary.axis_excursions(rig)
         cutoffs = []
         for i in range(3):
             if "translation_cutoff" in overrides:

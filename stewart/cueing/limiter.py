@@ -13,7 +13,8 @@ own poses once it is back inside. ``s`` comes in three steps:
 1. **Need.** A pose is *inside the margin* when its excursion stretched by ``1 + margin``
    stays in the workspace: every point of the ray from home to ``home + (1 + margin) (pose -
    home)`` reachable (:func:`stewart.reachability`: stroke, joint cones, clearance, plate,
-   conditioning; checked at :data:`RAY_POINTS` points of the ray, then the first crossing
+   conditioning; on a rotary rig :func:`stewart.cueing.rotary.check_poses`: the crank-angle
+   limits and the cranks' reach; checked at :data:`RAY_POINTS` points of the ray, then the first crossing
    found by bisection to :data:`RAY_TOLERANCE`). Where the ray leaves the workspace at
    ``c (pose - home)``, the pose needs ``s <= c / (1 + margin)``; inside the margin, 1.
 2. **Envelope.** The needed deficit ``1 - s`` is spread by a moving maximum over
@@ -44,6 +45,7 @@ from scipy import ndimage, signal
 
 from ..model.kinematics import POSE_AXES
 from ..model.reachability import FLAG_NAMES, FLAGS, reachability
+from . import rotary
 
 __all__ = ["Limiting", "limit", "RAY_POINTS", "RAY_TOLERANCE", "TIGHTEN", "MAX_PASSES"]
 
@@ -75,6 +77,7 @@ class Limiting:
     margin: float
     ramp_time: float
     passes: int
+    rotary: bool = False  # ``limits`` in :data:`stewart.cueing.rotary.FLAG_NAMES` bits
 
     @property
     def active(self) -> np.ndarray:
@@ -90,9 +93,10 @@ class Limiting:
         for a, b in zip(np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)):
             k = a + int(np.argmin(self.scale[a:b]))
             bits = np.bitwise_or.reduce(self.limits[a:b])
+            names = rotary.FLAG_NAMES if self.rotary else FLAG_NAMES
             out.append({"start_s": float(self.t[a]), "end_s": float(self.t[b - 1]),
                         "min_scale": float(self.scale[k]), "at_s": float(self.t[k]),
-                        "limits": [FLAG_NAMES[bit] for bit in FLAGS if bits & bit]})
+                        "limits": [name for bit, name in names.items() if bits & bit]})
         return out
 
     def report(self) -> dict:
@@ -116,13 +120,22 @@ class Limiting:
         return f"limiter: scaled the excursion from home {where}"
 
 
+def _check(plat, poses, name):
+    """The workspace's check of ``poses``: :func:`stewart.reachability`, or on a rotary rig
+    :func:`stewart.cueing.rotary.check_poses` (the crank angles within their limits, each crank
+    within its reach)."""
+    if rotary.is_rotary(plat):
+        return rotary.check_poses(plat, poses)
+    return reachability(plat, poses, name=name)
+
+
 def _ray_need(plat, home: np.ndarray, excursion: np.ndarray, reach: float) -> tuple[np.ndarray, np.ndarray]:
     """The largest ``c`` in ``[0, reach]`` up to which the ray ``home + c' excursion`` stays
     reachable (``reach`` itself when the whole ray does) and the flags where it leaves."""
     n = len(excursion)
     steps = reach * np.arange(1, RAY_POINTS + 1) / RAY_POINTS
     grid = home + steps[None, :, None] * excursion[:, None, :]
-    ok = reachability(plat, grid.reshape(-1, 6), name="limiter").ok.reshape(n, RAY_POINTS)
+    ok = _check(plat, grid.reshape(-1, 6), "limiter").ok.reshape(n, RAY_POINTS)
     crossing = np.where(ok.all(axis=1), RAY_POINTS, np.argmin(ok, axis=1))
     need = np.full(n, reach)
     flags = np.zeros(n, dtype=np.int64)
@@ -132,10 +145,10 @@ def _ray_need(plat, home: np.ndarray, excursion: np.ndarray, reach: float) -> tu
         hi = steps[crossing[rows]]
         while np.max(hi - lo) > RAY_TOLERANCE * reach:
             mid = 0.5 * (lo + hi)
-            inside = reachability(plat, home + mid[:, None] * excursion[rows], name="limiter").ok
+            inside = _check(plat, home + mid[:, None] * excursion[rows], "limiter").ok
             lo, hi = np.where(inside, mid, lo), np.where(inside, hi, mid)
         need[rows] = lo
-        flags[rows] = reachability(plat, home + hi[:, None] * excursion[rows], name="limiter").flags
+        flags[rows] = _check(plat, home + hi[:, None] * excursion[rows], "limiter").flags
     return need, flags
 
 
@@ -167,10 +180,11 @@ def limit(t, poses, home, platform, *, margin: float, ramp_time: float) -> tuple
         # a deficit below round-off of 1 is none: the pose stays the washout's own
         scale = np.where(deficit > 0, np.minimum(1.0 - deficit, need), 1.0)
         limited = np.where((scale < 1.0)[:, None], home + scale[:, None] * excursion, poses)
-        check = reachability(platform, limited, name="limited reference")
+        check = _check(platform, limited, "limited reference")
         outside = ~check.ok
         limits[outside] |= check.flags[outside]
         if not outside.any() or passes == MAX_PASSES:
             break
         need[outside] = np.minimum(need[outside], TIGHTEN * scale[outside])
-    return limited, Limiting(t, scale, need, limits, limited - poses, margin, ramp_time, passes)
+    return limited, Limiting(t, scale, need, limits, limited - poses, margin, ramp_time, passes,
+                             rotary.is_rotary(platform))

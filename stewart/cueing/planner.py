@@ -76,9 +76,10 @@ import numpy as np
 from threadpoolctl import threadpool_limits
 
 from ..model.compiled import CUEING_GROUPS, CueingStep
+from ..model.params import PlatformParams
 from ..model.platform import Platform, as_platform
 from ..model.reachability import neutral_axes
-from . import horizon, vestibular
+from . import horizon, rotary, vestibular
 from .settings import MPCParams
 
 __all__ = ["CueingQP", "Plan", "plan"]
@@ -122,6 +123,8 @@ LEVELS = (*HARD_GROUPS, "brake")
 TIGHTENINGS = 3
 #: Kept from each joint's cone half-angle [rad] over the horizon (the QP holds it to first order).
 CONE_MARGIN = 0.005
+#: On a rotary rig: kept from each end of ``crank_angle_limits`` [rad] over the horizon.
+ANGLE_MARGIN = 0.02
 
 
 @dataclass
@@ -153,11 +156,13 @@ class CueingQP:
     :meth:`solve` takes the present state and the vehicle's signals over the horizon."""
 
     def __init__(self, platform, params: MPCParams, dt: float):
-        self.platform = as_platform(platform)
+        rig = rotary.rotary_rig(platform)
+        self.platform = as_platform(platform) if rig is None else rig
+        self.rotary = rotary.is_rotary(self.platform)
         self.params = params = params.for_platform_of(self.platform)
         self.dt = float(dt)
         self.h = params.intervals(self.dt)
-        self.home = self.platform.home_pose
+        self.home = rotary.home(self.platform)
         self.vestibular = horizon.VestibularStates()
         self.ns = _NS + self.vestibular.n
         self.n = n = params.steps
@@ -165,6 +170,10 @@ class CueingQP:
         self.ad = np.stack([discrete[h][0] for h in self.h])
         self.bd = np.stack([discrete[h][1] for h in self.h])
         self.ad_dt, self.bd_dt = self.vestibular.discrete(self.dt)
+        self.multipliers = None  # the last solution's, whose signs give the next step's active set
+        if self.rotary:
+            self._rotary_rows(params)
+            return
         # the rider's signals with the MPC's gravity
         rider = self.platform.params.replace(gravity=params.gravity)
         self.rider = self.platform if rider == self.platform.params else Platform(rider)
@@ -192,6 +201,12 @@ class CueingQP:
                   "stroke": np.full(6 * n, hi - lo), "speed": np.full(6 * n, params.leg_velocity),
                   "cones": np.ones(12 * n), "tilt": np.full(2 * n, params.tilt_rate), "box": np.tile(box, n),
                   "rest": np.ones(6)}
+        edges = self._finish(sizes, scales)
+        self.step = self._compiled_step(edges, cone_limits)
+
+    def _finish(self, sizes, scales):
+        """The rows' slices, count, scales, insets and the levels' senses from the groups' sizes
+        and scales; returns the groups' first rows."""
         edges = np.cumsum([0] + [sizes[g] for g in GROUPS])
         self.rows = {g: slice(edges[i], edges[i + 1]) for i, g in enumerate(GROUPS)}
         self.m = int(edges[-1])
@@ -205,9 +220,45 @@ class CueingQP:
             for g in hard:
                 self.levels[level][self.rows[g]] = HARD
         # the brake step's weight on the pose rates after one sample: per axis, in pose boxes
-        self._brake_weight = np.diag(1.0 / box ** 2)
-        self.multipliers = None  # the last solution's, whose signs give the next step's active set
-        self.step = self._compiled_step(edges, cone_limits)
+        self._brake_weight = np.diag(1.0 / np.asarray(self.params.box) ** 2)
+        return edges
+
+    def _rotary_rows(self, prm):
+        """A rotary rig's rows (stewart/_cueing_rotary.pxi): ``actuators`` and ``force`` the
+        motor torques within ``min(force, motor_torque_limit)`` (less ``margin`` over the
+        horizon), ``legs`` the crank angles within ``crank_angle_limits`` (:data:`ANGLE_MARGIN`
+        in from them over the horizon, ``stroke``), the crank rates within ``min(leg_velocity,
+        motor_speed_limit)`` (less ``margin``, ``speed``) and the reaches above
+        :data:`~stewart.cueing.rotary.REACH_MIN` (:data:`~stewart.cueing.rotary.REACH_MARGIN`,
+        ``cones``) at the next sample and over the horizon."""
+        n, rig = self.n, self.platform
+        # the rider's signals depend on the pose and gravity alone: a linear platform's kernel serves
+        self.rider = Platform(PlatformParams.preset("motion_simulator").replace(gravity=prm.gravity))
+        torque, speed = rotary.motor_limits(rig)
+        self.torque = np.minimum(torque, prm.force)
+        self.speed = np.minimum(speed, prm.leg_velocity)
+        lo, hi = rig.params.crank_angle_limits or (-np.pi, np.pi)
+        self.angle_limits = (lo, hi)
+        self.stroke = (lo + ANGLE_MARGIN, hi - ANGLE_MARGIN)
+        self.force_limit = (1.0 - prm.margin) * self.torque
+        self.speed_limit = (1.0 - prm.margin) * self.speed
+        self.cone_cosines = np.full(6, rotary.REACH_MARGIN)
+        self.neutral = np.zeros((6, 3))
+        self.next_limits = (np.concatenate([np.full(6, lo), -self.speed, np.full(6, rotary.REACH_MIN)]),
+                            np.concatenate([np.full(6, hi), self.speed, np.full(6, np.inf)]))
+        box = np.asarray(prm.box)
+        sizes = {"actuators": 6, "legs": 18, "next_tilt": 2, "force": 6 * n, "stroke": 6 * n, "speed": 6 * n,
+                 "cones": 6 * n, "tilt": 2 * n, "box": 6 * n, "rest": 6}
+        scales = {"actuators": self.torque,
+                  "legs": np.concatenate([np.full(6, hi - lo), self.speed, np.ones(6)]),
+                  "next_tilt": np.full(2, prm.tilt_rate), "force": np.tile(self.torque, n),
+                  "stroke": np.full(6 * n, hi - lo), "speed": np.tile(self.speed, n),
+                  "cones": np.ones(6 * n), "tilt": np.full(2 * n, prm.tilt_rate), "box": np.tile(box, n),
+                  "rest": np.ones(6)}
+        edges = self._finish(sizes, scales)
+        motor = np.concatenate([self.torque, self.force_limit, self.speed_limit])
+        self.step = self._compiled_step(edges, None, motor)
+
     def _weights(self):
         """The cost's weights per second of horizon ``(18,)``: on the pose and its rates (per
         pose box), on the perceived channels (per perception threshold), and on the inputs
@@ -219,7 +270,7 @@ class CueingQP:
                                  np.concatenate([prm.specific_force, prm.angular_velocity]) / thresholds ** 2])
         return states, np.asarray(prm.acceleration) / box ** 2
 
-    def _compiled_step(self, edges, cone_limits):
+    def _compiled_step(self, edges, cone_limits, motor=None):
         """The :class:`~stewart.model.compiled.CueingStep` of this QP."""
         n, vs, prm = self.n, self.vestibular, self.params
         channel = np.argmax(vs.B != 0, axis=1)          # the one input of each section
@@ -230,14 +281,13 @@ class CueingQP:
         starts = np.minimum(knots[:-1] + self.dt, knots[-1])
         k = np.minimum(np.searchsorted(knots, starts, side="right") - 1, n - 1)
         shift = np.column_stack([k, (starts - knots[k]) / (knots[k + 1] - knots[k])])
-        pp = self.platform.params
-        lo, hi = pp.leg_length_limits
-        limits = (prm.force, self.force_limit, self.stroke[0], self.stroke[1], self.speed_limit, prm.tilt_rate)
+        limits = (prm.force, np.min(self.force_limit), self.stroke[0], self.stroke[1], np.min(self.speed_limit),
+                  prm.tilt_rate)
         return CueingStep(self.platform.kernel, self.rider.kernel, self.h, self.dt, self.home, self.neutral,
                           np.diagonal(self.ad, axis1=1, axis2=2), self.bd[:, sections, channel], channel,
                           vs.C[channel, sections], states, np.repeat(self.h, 6) * np.tile(inputs, n), shift, edges,
                           self.row_scale, self._inset, limits, self.cone_cosines, *self.next_limits, prm.box,
-                          np.diag(self.ad_dt), self.bd_dt[sections, channel])
+                          np.diag(self.ad_dt), self.bd_dt[sections, channel], motor)
 
     def condensed(self, x0, v0, z0, vehicle):
         """The QP's data for pose ``x0``, rates ``v0``, vestibular error states ``z0`` and the

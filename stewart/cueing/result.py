@@ -99,7 +99,7 @@ class CueingResult:
                "exit_code": self.exit_code, "inside_workspace": self.inside, "problems": list(self.problems),
                "settings": self.params.to_dict(), **self.metrics,
                "peak_excursion": dict(zip(POSE_AXES, np.max(np.abs(self.poses - self.poses[0]), axis=0).tolist())),
-               "peak_leg_velocity": self.peaks.get("leg_velocity"), "peak_force": self.peaks.get("force")}
+               **{f"peak_{name}": value for name, value in self.peaks.items()}}
         if self.limits is not None:
             out["limits"] = dict(self.limits)
         if self.solver is not None:

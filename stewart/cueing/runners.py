@@ -15,7 +15,7 @@ from ..model.errors import WrongTypeError
 from ..model.platform import as_platform
 from ..model.reachability import reachability
 from ..motion.trajectory import SampledTrajectory
-from . import limiter, metrics, planner, vestibular
+from . import limiter, metrics, planner, rotary, vestibular
 from . import log as log_module
 from .classical import WashoutParams, reference_poses
 from .log import VehicleLog
@@ -56,15 +56,18 @@ def washout(log, platform, params: WashoutParams | None = None, *, simulate: boo
     log, plat = _arguments(log, platform, params, WashoutParams, simulate=simulate)
     if params is None:
         params = WashoutParams.for_platform(plat)
-    poses, _ = reference_poses(log, params, plat.home_pose)
+    home = rotary.home(plat)
+    poses, _ = reference_poses(log, params, home)
     limiting = None
     if params.limiter_enabled:
-        poses, limiting = limiter.limit(log.t, poses, plat.home_pose, plat, margin=params.limiter_margin,
+        poses, limiting = limiter.limit(log.t, poses, home, plat, margin=params.limiter_margin,
                                         ramp_time=params.limiter_ramp_time)
     reference = SampledTrajectory(log.t, poses)
     _, velocities, accelerations = reference.sample(log.t)
     result = _result("washout", log, plat, params, reference, poses, velocities, accelerations)
     result.limiting = limiting
+    if rotary.is_rotary(plat):
+        _check_limits(result, plat, *rotary.motor_limits(plat)[::-1])
     return _finish(result, plat, simulate)
 
 
@@ -94,7 +97,11 @@ def mpc(log, platform, params: MPCParams | None = None, *, simulate: bool = Fals
         flags = sorted({flag for flag in run.status if flag not in planner.SOLVED})
         result.problems.append(f"the QP solver (DAQP) found no solution at {run.failures} of {len(run.step_time)} "
                                f"steps, exit flag(s) {flags} (the last plan's input was kept)")
-    _check_limits(result, plat, params.leg_velocity, params.force)
+    if rotary.is_rotary(plat):
+        torque, speed = rotary.motor_limits(plat)
+        _check_limits(result, plat, np.minimum(speed, params.leg_velocity), np.minimum(torque, params.force))
+    else:
+        _check_limits(result, plat, params.leg_velocity, params.force)
     return _finish(result, plat, simulate)
 
 
@@ -108,7 +115,11 @@ def _arguments(log, platform, params, settings: type, **flags) -> tuple[VehicleL
     if params is not None and not isinstance(params, settings):
         raise WrongTypeError(f"params: expected a stewart.cueing.{settings.__name__} or None, got "
                              f"{type(params).__name__}")
-    plat = as_platform(platform)
+    plat = rotary.rotary_rig(platform)
+    plat = as_platform(platform) if plat is None else plat
+    if flags.get("simulate") and rotary.is_rotary(plat):
+        raise ValueError("simulate: the closed loop of cueing runs on linear platforms only (run a rotary rig's "
+                         "reference with stewart.simulate)")
     if isinstance(log, (str, os.PathLike)):
         log = log_module.read(log)
     elif not isinstance(log, VehicleLog):
@@ -125,22 +136,37 @@ def _stats(values) -> dict:
 def _result(method, log, plat, params, reference, poses, velocities, accelerations) -> CueingResult:
     seen_vehicle = vestibular.vehicle(log)
     seen_platform = vestibular.platform_motion(log.t, poses, velocities, accelerations, params.gravity)
-    reach = reachability(plat, poses, name="reference")
-    _, leg_speeds = plat.leg_rates(poses, velocities)
-    forces = plat.inverse_dynamics(poses, velocities, accelerations)
+    if rotary.is_rotary(plat):
+        reach = rotary.check_poses(plat, poses)
+        leg_speeds, _ = plat.crank_rates(poses, velocities, return_mask=True)
+        forces, _ = plat.inverse_dynamics(poses, velocities, accelerations, return_mask=True)
+        names = ("crank_speed", "torque")
+    else:
+        reach = reachability(plat, poses, name="reference")
+        _, leg_speeds = plat.leg_rates(poses, velocities)
+        forces = plat.inverse_dynamics(poses, velocities, accelerations)
+        names = ("leg_velocity", "force")
     result = CueingResult(method, plat.params.name or "unnamed", log, params, reference, poses, velocities,
                           accelerations, seen_vehicle, seen_platform, metrics.compare(seen_vehicle, seen_platform),
                           reach)
-    result.peaks = {"leg_velocity": float(np.max(np.abs(leg_speeds))), "force": float(np.max(np.abs(forces)))}
+    # (a rotary pose out of a crank's reach gives NaN rows, which the workspace check reports)
+    result.peaks = {names[0]: float(np.nanmax(np.abs(leg_speeds), initial=0.0)),
+                    names[1]: float(np.nanmax(np.abs(forces), initial=0.0))}
     if not result.inside:
         result.problems.append("the reference leaves the workspace: " + reach.message("pose", log.t))
     return result
 
 
-def _check_limits(result: CueingResult, plat, leg_velocity: float, force: float) -> None:
-    """Note in ``result`` a reference whose exact leg speeds or forces pass the limits."""
-    result.limits = {"leg_velocity": leg_velocity, "force": force}
-    for name, unit in (("leg_velocity", "m/s"), ("force", "N")):
+def _check_limits(result: CueingResult, plat, leg_velocity, force) -> None:
+    """Note in ``result`` a reference whose exact leg speeds or forces (on a rotary rig: crank
+    speeds and motor torques, against the least of the motors' limits) pass the limits."""
+    if rotary.is_rotary(plat):
+        result.limits = {"crank_speed": float(np.min(leg_velocity)), "torque": float(np.min(force))}
+        units = (("crank_speed", "rad/s"), ("torque", "N m"))
+    else:
+        result.limits = {"leg_velocity": leg_velocity, "force": force}
+        units = (("leg_velocity", "m/s"), ("force", "N"))
+    for name, unit in units:
         if result.peaks[name] > result.limits[name]:
             result.beyond_limits = True
             result.problems.append(f"the reference's {name.replace('_', ' ')} reaches {result.peaks[name]:.4g} {unit}, "

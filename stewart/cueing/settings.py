@@ -38,9 +38,9 @@ import numpy as np
 
 from .._modules import moved_names
 from ..io import tomlfile
-from ..model.platform import as_platform
 from ..model import reachability
-from . import vestibular
+from ..model.platform import as_platform
+from . import rotary, vestibular
 
 __all__ = ["MPCParams", "FORCE_LIMIT_PER_STATIC", "LEG_VELOCITY_PER_STROKE", "BOX_SHARE"]
 
@@ -140,10 +140,27 @@ class MPCParams:
         :data:`FORCE_LIMIT_PER_STATIC` times its largest static leg force at home,
         ``leg_velocity`` at :data:`LEG_VELOCITY_PER_STROKE` strokes per second (the stroke of
         ``leg_length_limits``), ``box`` :data:`BOX_SHARE` of the free excursion along each
-        pose axis (:func:`stewart.model.reachability.axis_excursions`)."""
-        plat = as_platform(platform)
+        pose axis (:func:`stewart.model.reachability.axis_excursions`).
+
+        On a rotary rig (:class:`~stewart.RotaryPlatform` or :class:`~stewart.RotaryParams`),
+        ``force`` is the motors' torque [N m] and ``leg_velocity`` their speed [rad/s] at the crank:
+        by default the least of ``motor_torque_limit`` and ``motor_speed_limit``
+        (:func:`stewart.cueing.rotary.motor_limits`), ``box`` :data:`BOX_SHARE` of the free
+        excursion within the crank-angle limits and the cranks' reach
+        (:func:`stewart.cueing.rotary.axis_excursions`); ``stroke_margin`` is unused."""
+        plat = rotary.rotary_rig(platform)
+        plat = as_platform(platform) if plat is None else plat
         base = cls(**overrides)
         changes = {}
+        if rotary.is_rotary(plat):
+            torque, speed = rotary.motor_limits(plat)
+            if base.force is None:
+                changes["force"] = float(np.min(torque))
+            if base.leg_velocity is None:
+                changes["leg_velocity"] = float(np.min(speed))
+            if base.box is None:
+                changes["box"] = tuple(BOX_SHARE * rotary.axis_excursions(plat))
+            return replace(base, **changes)
         if base.force is None:
             home = plat.home_pose
             static = plat.inverse_dynamics(home, np.zeros(6), np.zeros(6))

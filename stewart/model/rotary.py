@@ -14,7 +14,7 @@ from .errors import ConvergenceError
 from .platform import InverseDynamicsDerivatives
 from .rotary_params import RotaryParams, rotary_params
 
-__all__ = ["RotaryPlatform", "RotaryJointCosines"]
+__all__ = ["RotaryPlatform", "RotaryJointCosines", "CueingRows"]
 
 
 class RotaryJointCosines(NamedTuple):
@@ -30,6 +30,19 @@ class RotaryJointCosines(NamedTuple):
     crank_joint: np.ndarray
     platform_joint: np.ndarray
     platform_heights: np.ndarray
+
+
+
+class CueingRows(NamedTuple):
+    """:meth:`RotaryPlatform.cueing_rows`: crank angles ``alpha``, ``JP = J_alpha T``, crank
+    rates ``ad`` and ``dad_dx``, the reach ``reach = sin^2(delta)`` and ``dreach_dx``."""
+
+    alpha: np.ndarray
+    JP: np.ndarray
+    ad: np.ndarray
+    dad_dx: np.ndarray
+    reach: np.ndarray
+    dreach_dx: np.ndarray
 
 #: Most Newton iterations :meth:`RotaryPlatform.forward_kinematics` allows.
 MAX_ITERATIONS = 10_000
@@ -65,6 +78,12 @@ class RotaryPlatform:
     def load(cls, path) -> "RotaryPlatform":
         """The model of a rotary rig's TOML or JSON parameter file (``kind = "rotary"``)."""
         return cls(RotaryParams.load(path))
+
+    @property
+    def kernel(self) -> RotaryKernel:
+        """The compiled model (:class:`~stewart.model.compiled.RotaryKernel`), for the compiled
+        loops that call it without Python per state (MPC cueing's step)."""
+        return self._kernel
 
     @property
     def params(self) -> RotaryParams:
@@ -135,6 +154,19 @@ class RotaryPlatform:
         if return_mask:
             return tuple.__new__(InverseDynamicsDerivatives, result[0]), result[1]
         return tuple.__new__(InverseDynamicsDerivatives, result)
+
+    def cueing_rows(self, x, xd, return_mask: bool = False):
+        """What MPC cueing holds of the rig (:mod:`stewart.cueing.planner`), a
+        :class:`CueingRows` ``(alpha, JP, ad, dad_dx, reach, dreach_dx)``: the crank angles, the
+        pose Jacobian ``J_alpha T`` (``d alpha/dx = d alpha_dot/dxd``), the crank rates and their
+        exact partials in ``x``, the reach ``s_i = sin^2(delta_i)`` (codegen/rotary.py
+        ``crank_geometry``: 0 at the edge of crank i's reach, where ``J_alpha`` is singular) and
+        ``ds/dx``, by forward mode on the derivation (codegen/rotary.py ``rotary_cueing_rows_kernel``)."""
+        result = self._call("cueing_rows", (x, xd), return_mask)
+        alpha, rates, reach, grads = result[0] if return_mask else result
+        grads = np.moveaxis(grads, -3, 0)
+        rows = CueingRows(alpha, grads[0], rates, grads[1], reach, grads[2])
+        return (rows, result[1]) if return_mask else rows
 
     def forward_dynamics(self, x, xd, torque, return_mask: bool = False):
         """The pose accelerations ``xdd`` under the motor torques ``torque``."""
