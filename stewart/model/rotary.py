@@ -55,6 +55,13 @@ class RotaryPlatform:
         return self._params
 
     @property
+    def kernel(self) -> RotaryKernel:
+        """The compiled rotary model (:class:`stewart.model.compiled.RotaryKernel`) whose batch
+        functions the methods call, for the compiled loops that take one
+        (:class:`stewart.model.compiled.RotaryLoop` of the simulator)."""
+        return self._kernel
+
+    @property
     def home(self) -> np.ndarray:
         """A level pose above the base's origin with the cranks near their zero angle: the
         height at which each rod reaches from its crank tip at ``alpha = 0`` to its platform
