@@ -15,7 +15,7 @@ import numpy as np
 
 from ..model.compiled import ClosedLoop, Outcome, RotaryLoop, rotary_status_message, status_message
 from ..model.errors import WrongTypeError
-from ..model.platform import Platform
+from ..model.platform import Platform, as_platform
 from ..model.params import PlatformParams
 from ..model.reachability import WorkspaceError, assembly_mode, reachability
 from ..model.rotary import RotaryPlatform
@@ -204,11 +204,13 @@ class Rotary(Linear):
 
 
 def mechanism(value, name: str = "platform") -> Linear:
-    """The mechanism of a platform argument: :class:`Rotary` of a :class:`stewart.RotaryPlatform`
-    or :class:`stewart.RotaryParams`, :class:`Linear` of a :class:`stewart.Platform` or
-    :class:`stewart.PlatformParams`; :class:`~stewart.WrongTypeError` naming ``name`` otherwise."""
+    """The mechanism of a platform argument, converted once where it enters (a parameter set
+    compiled): :class:`Rotary` of a :class:`stewart.RotaryPlatform` or :class:`stewart.RotaryParams`,
+    :class:`Linear` of a :class:`stewart.Platform` or :class:`stewart.PlatformParams`
+    (:func:`~stewart.model.platform.as_platform`); :class:`~stewart.WrongTypeError` naming
+    ``name`` otherwise."""
     if isinstance(value, (RotaryPlatform, RotaryParams)):
         return Rotary(value if isinstance(value, RotaryPlatform) else RotaryPlatform(value))
     if isinstance(value, (Platform, PlatformParams)):
-        return Linear(value if isinstance(value, Platform) else Platform(value))
+        return Linear(as_platform(value, name))
     raise WrongTypeError(f"{name}: expected a stewart.Platform or stewart.RotaryPlatform, got {type(value).__name__}")
