@@ -10,7 +10,11 @@
 # (stewart_friction_forces, on the crank rates).
 #
 # State ``y = [x (6), xdot (6), integral of the crank-angle error (6)]``; the controller,
-# torque saturation and friction are evaluated at every RK4 stage (one smooth ODE).
+# torque saturation and friction are evaluated at every RK4 stage (one smooth ODE). A reference
+# row is ``[x_r, xd_r, xdd_r, alpha_r, alpha_dot_r]`` (REFERENCE_WIDTH): the reference's crank
+# angles and rates come with it, evaluated beforehand by the same generated functions on the
+# whole batch of reference rows (NaN where a crank cannot reach the reference, whose status the
+# loop then asks of crank_angles), so that each stage evaluates them at the state alone.
 
 from libc.math cimport M_PI, isfinite, remainder
 
@@ -19,6 +23,11 @@ cdef int _RCRANK_ANGLES = ROTARY_FUNCTIONS["crank_angles"].index
 cdef int _RCRANK_RATES = ROTARY_FUNCTIONS["crank_rates"].index
 cdef int _RINVERSE = ROTARY_FUNCTIONS["inverse_dynamics"].index
 cdef int _RFORWARD = ROTARY_FUNCTIONS["forward_dynamics"].index
+# The columns of a reference row of RotaryLoop: x_r, xd_r, xdd_r, alpha_r, alpha_dot_r.
+cdef enum:
+    _RWIDTH = 30
+#: The columns of a reference row of RotaryLoop: x_r, xd_r, xdd_r, alpha_r, alpha_dot_r.
+REFERENCE_WIDTH = _RWIDTH
 
 
 cdef inline int _rcall(const stewart_rotary_table *table, const stewart_rotary_params *p, int index,
@@ -79,8 +88,8 @@ cdef class RotaryLoop:
         crank angles and crank rates at ``y``: the status of the first function that fails (the
         outputs then not all set)."""
         cdef const stewart_rotary_params *p = &self.kernel.p
-        cdef double ar[6]
-        cdef double adr[6]
+        cdef const double *ar = ref + 18
+        cdef const double *adr = ref + 24
         cdef double acc[6]
         cdef double loss[6]
         cdef double applied[6]
@@ -91,11 +100,10 @@ cdef class RotaryLoop:
         if status != STEWART_OK:
             return status
         if self.loop.mode == STEWART_PID:
-            status = _rcall(self.table, p, _RCRANK_ANGLES, ref, NULL, NULL, ar)
-            if status == STEWART_OK:
-                status = _rcall(self.table, p, _RCRANK_RATES, ref, ref + 6, NULL, adr)
-            if status != STEWART_OK:
-                return status
+            for k in range(6):
+                if not (isfinite(ar[k]) and isfinite(adr[k])):  # a reference out of a crank's reach
+                    status = _rcall(self.table, p, _RCRANK_RATES, ref, ref + 6, NULL, acc)
+                    return status if status != STEWART_OK else STEWART_ERR_NONFINITE
             for k in range(6):
                 ydot[12 + k] = remainder(ar[k] - alpha[k], 2.0 * M_PI)
                 torque[k] = (self.loop.kp[k] * ydot[12 + k] + self.loop.ki[k] * y[12 + k]
@@ -122,13 +130,13 @@ cdef class RotaryLoop:
 
     def derivative(self, y, ref, feedforward):
         """``(ydot, commanded torque, alpha, alpha_dot, status)`` at one state (for adaptive
-        integrators); the arguments are C-contiguous float64 arrays (y and ref of 18,
-        feedforward of 6)."""
+        integrators); the arguments are C-contiguous float64 arrays (y of 18, ref of
+        REFERENCE_WIDTH, feedforward of 6)."""
         cdef cnp.ndarray cy = _c_array("y", y, cnp.NPY_DOUBLE, 1, False)
         cdef cnp.ndarray cref = _c_array("ref", ref, cnp.NPY_DOUBLE, 1, False)
         cdef cnp.ndarray cff = _c_array("feedforward", feedforward, cnp.NPY_DOUBLE, 1, False)
-        if cy.shape[0] != 18 or cref.shape[0] != 18 or cff.shape[0] != 6:
-            raise ValueError("derivative: need y (18,), ref (18,) and feedforward (6,)")
+        if cy.shape[0] != 18 or cref.shape[0] != _RWIDTH or cff.shape[0] != 6:
+            raise ValueError(f"derivative: need y (18,), ref ({REFERENCE_WIDTH},) and feedforward (6,)")
         self.table = _rotary_table()  # the copy in use (stewart.set_simd may have changed it)
         cdef cnp.ndarray ydot = np.zeros(18)
         cdef cnp.ndarray out = np.zeros((3, 6))
@@ -160,13 +168,13 @@ cdef class RotaryLoop:
             for stage in range(4):
                 row = 2 * n + <size_t>((stage + 1) // 2)
                 if stage == 0:
-                    status = self._derivative(y, refs + 18 * row, ff + 6 * row, k[0], torques + 6 * n,
+                    status = self._derivative(y, refs + _RWIDTH * row, ff + 6 * row, k[0], torques + 6 * n,
                                               angles + 6 * n, rates + 6 * n)
                 else:
                     h = (1.0 if stage == 3 else 0.5) * dt
                     for j in range(18):
                         t[j] = y[j] + h * k[stage - 1][j]
-                    status = self._derivative(t, refs + 18 * row, ff + 6 * row, k[stage], scratch, scratch + 6,
+                    status = self._derivative(t, refs + _RWIDTH * row, ff + 6 * row, k[stage], scratch, scratch + 6,
                                               scratch + 12)
                 if status != STEWART_OK:
                     break
@@ -195,7 +203,7 @@ cdef class RotaryLoop:
     def rk4(self, y, refs, feedforward, double dt, Py_ssize_t start, Py_ssize_t stop, double min_angle,
             double max_angle, states, torques, angles, rates):
         """Advance ``y`` in place from step ``start`` to ``stop`` with classic RK4, as
-        :meth:`ClosedLoop.rk4`: row ``k`` of ``states``, ``torques``, ``angles`` and ``rates``
+        :meth:`ClosedLoop.rk4` (``refs`` rows of REFERENCE_WIDTH): row ``k`` of ``states``, ``torques``, ``angles`` and ``rates``
         receives the state, commanded motor torques (before saturation), crank angles and crank
         rates at ``t_k``; ``[min_angle, max_angle]`` are the crank-angle limits. Returns
         ``(outcome, step, crank)``: ``STOP_FINISHED``, ``STOP_LEG_SHORT`` / ``STOP_LEG_LONG`` (a
@@ -209,7 +217,7 @@ cdef class RotaryLoop:
         cdef cnp.ndarray cangles = _c_array("angles", angles, cnp.NPY_DOUBLE, 2, True)
         cdef cnp.ndarray crates = _c_array("rates", rates, cnp.NPY_DOUBLE, 2, True)
         if not (0 <= start <= stop and cy.shape[0] == 18 and crefs.shape[0] >= 2 * stop + 1
-                and crefs.shape[1] == 18 and cff.shape[0] >= 2 * stop + 1 and cff.shape[1] == 6
+                and crefs.shape[1] == _RWIDTH and cff.shape[0] >= 2 * stop + 1 and cff.shape[1] == 6
                 and cstates.shape[0] >= stop and cstates.shape[1] == 18
                 and ctorques.shape[0] >= stop and ctorques.shape[1] == 6 and cangles.shape[0] >= stop
                 and cangles.shape[1] == 6 and crates.shape[0] >= stop and crates.shape[1] == 6):

@@ -166,7 +166,7 @@ def test_loop_derivative_is_the_generated_functions_bit_for_bit(simd_path):
     xd, ff = rng.normal(scale=0.2, size=6), rng.normal(scale=10.0, size=6)
     loop = RotaryLoop(rig.kernel, Mode.OPEN_LOOP, np.zeros(6), np.zeros(6), np.zeros(6), np.full(6, np.inf),
                       (np.zeros(6), np.zeros(6), 1e-3), (np.zeros(6), np.zeros(6), 1e-3))
-    ydot, torque, alpha, rate, status = loop.derivative(np.concatenate([x, xd, np.zeros(6)]), np.zeros(18), ff)
+    ydot, torque, alpha, rate, status = loop.derivative(np.concatenate([x, xd, np.zeros(6)]), np.zeros(30), ff)
     assert status == 0
     batch = np.vstack([x, x + 0.001, x])
     np.testing.assert_array_equal(ydot[6:12], rig.forward_dynamics(batch, np.vstack([xd] * 3), ff)[2])

@@ -34,7 +34,7 @@ __all__ = ["Controller", "PID", "ComputedTorque", "OpenLoop", "Actuators", "PID_
 #: Closed-loop bandwidth of the tuned leg PID for each preset, in Hz. The small
 #: ``narayan2017`` platform is stiff and light; the 1500 kg ``motion_simulator`` is tuned
 #: well below its hydraulic/electric actuators' typical 10-20 Hz bandwidth.
-PID_BANDWIDTH_HZ = {"narayan2017": 2.5, "motion_simulator": 3.0, "simrig100": 2.0, "desktop_servo": 5.0}
+PID_BANDWIDTH_HZ = {"narayan2017": 2.5, "motion_simulator": 3.0}
 DEFAULT_BANDWIDTH_HZ = 5.0
 
 

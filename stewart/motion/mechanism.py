@@ -65,6 +65,10 @@ class Linear:
     def default_actuators(self) -> Actuators:
         return Actuators()
 
+    def reference_rows(self, rows: np.ndarray) -> np.ndarray:
+        """The compiled loop's reference rows from ``[x_r, xd_r, xdd_r]`` ``(N, 18)``: those."""
+        return rows
+
     def loop(self, mode, kp, ki, kd, actuators: Actuators):
         """The compiled closed loop: the legs lose the actuators' friction; computed torque adds
         back the model's own (the platform's parameters, Actuators' defaults)."""
@@ -174,6 +178,15 @@ class Rotary(Linear):
         """The rig's motors: saturated at ``motor_torque_limit`` (none without it), no friction."""
         limit = self.params.motor_torque_limit
         return Actuators(force_limit=np.inf if limit is None else limit)
+
+    def reference_rows(self, rows: np.ndarray) -> np.ndarray:
+        """``[x_r, xd_r, xdd_r, alpha_r, alpha_dot_r]`` (30 columns, the loop's): the
+        reference's crank angles and rates by the generated functions on the whole batch (NaN
+        where a crank cannot reach it; the loop then reports the crank)."""
+        x_r, xd_r = rows[:, :6], rows[:, 6:12]
+        angles = self.platform.crank_angles(x_r, return_mask=True)[0]
+        rates = self.platform.crank_rates(x_r, xd_r, return_mask=True)[0]
+        return np.hstack([rows, angles, rates])
 
     def loop(self, mode, kp, ki, kd, actuators: Actuators):
         """The compiled rotary loop: the cranks lose the actuators' friction (none by default);

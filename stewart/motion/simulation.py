@@ -238,7 +238,8 @@ class _Run:
 
     def references(self, times) -> tuple[np.ndarray, np.ndarray]:
         """``([x_r, xdot_r, xddot_r] (N, 18), feed-forward forces (N, 6))`` at ``times``,
-        checked."""
+        checked (a rotary rig's reference rows with the crank angles and rates,
+        :meth:`~stewart.motion.mechanism.Rotary.reference_rows`)."""
         x_r, xd_r, xdd_r = arguments.sampled("trajectory", self.trajectory, times)
         if self.feedforward is None:
             ff = np.zeros((len(times), 6))
@@ -251,7 +252,8 @@ class _Run:
             raise ValueError("feedforward: must return finite forces of shape (N, 6) for N times")
         # Copies: the user's array may be a read-only view (np.broadcast_to), which the
         # compiled loop cannot take.
-        return np.ascontiguousarray(np.hstack([x_r, xd_r, xdd_r])), np.array(ff, dtype=float, order="C")
+        rows = self.rig.reference_rows(np.hstack([x_r, xd_r, xdd_r]))
+        return np.ascontiguousarray(rows), np.array(ff, dtype=float, order="C")
 
 
 def _checked_run(platform, trajectory, controller, *, duration, dt, method, actuators, feedforward, x0, xd0,
