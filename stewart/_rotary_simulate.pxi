@@ -203,10 +203,10 @@ cdef class RotaryLoop:
     def rk4(self, y, refs, feedforward, double dt, Py_ssize_t start, Py_ssize_t stop, double min_angle,
             double max_angle, states, torques, angles, rates):
         """Advance ``y`` in place from step ``start`` to ``stop`` with classic RK4, as
-        :meth:`ClosedLoop.rk4` (``refs`` rows of REFERENCE_WIDTH): row ``k`` of ``states``, ``torques``, ``angles`` and ``rates``
-        receives the state, commanded motor torques (before saturation), crank angles and crank
-        rates at ``t_k``; ``[min_angle, max_angle]`` are the crank-angle limits. Returns
-        ``(outcome, step, crank)``: ``STOP_FINISHED``, ``STOP_LEG_SHORT`` / ``STOP_LEG_LONG`` (a
+        :meth:`ClosedLoop.rk4` (``refs`` rows of REFERENCE_WIDTH): row ``k`` of ``states``,
+        ``torques``, ``angles`` and ``rates`` receives the state, commanded motor torques (before
+        saturation), crank angles and crank rates at ``t_k``; ``[min_angle, max_angle]`` are the
+        crank-angle limits. Returns ``(outcome, step, crank)``: ``STOP_FINISHED``, ``STOP_LEG_SHORT`` / ``STOP_LEG_LONG`` (a
         crank at its lower / upper angle limit), ``STOP_NONFINITE`` or the kernel's status code
         (a crank out of reach: ``STEWART_ERR_CRANK_REACH_0 + i``)."""
         cdef cnp.ndarray cy = _c_array("y", y, cnp.NPY_DOUBLE, 1, True)

@@ -81,10 +81,10 @@ class Linear:
         lo, hi = self.limits
         if outcome == Outcome.STOP_FINISHED:
             return "completed"
-        if outcome == Outcome.STOP_LEG_SHORT:
-            return f"{self.joint} {index} reached its minimum {self.coordinate} {lo:g} {self.coordinate_unit} at t = {t:.4f} s"
-        if outcome == Outcome.STOP_LEG_LONG:
-            return f"{self.joint} {index} reached its maximum {self.coordinate} {hi:g} {self.coordinate_unit} at t = {t:.4f} s"
+        if outcome in (Outcome.STOP_LEG_SHORT, Outcome.STOP_LEG_LONG):
+            side, bound = ("minimum", lo) if outcome == Outcome.STOP_LEG_SHORT else ("maximum", hi)
+            return (f"{self.joint} {index} reached its {side} {self.coordinate} {bound:g} {self.coordinate_unit} "
+                    f"at t = {t:.4f} s")
         if outcome == Outcome.STOP_NONFINITE:
             return f"the state became non-finite at t = {t:.4f} s"
         return f"{self.message(outcome)} at t = {t:.4f} s"
@@ -191,8 +191,8 @@ class Rotary(Linear):
     def loop(self, mode, kp, ki, kd, actuators: Actuators):
         """The compiled rotary loop: the cranks lose the actuators' friction (none by default);
         computed torque adds back none (a rotary rig's parameters hold no friction)."""
-        return RotaryLoop(self.platform.kernel, mode, kp, ki, kd, actuators.force_limit, actuators.friction(self.params),
-                          Actuators().friction(self.params))
+        return RotaryLoop(self.platform.kernel, mode, kp, ki, kd, actuators.force_limit,
+                          actuators.friction(self.params), Actuators().friction(self.params))
 
     def message(self, status: int) -> str:
         return rotary_status_message(status)
