@@ -84,15 +84,13 @@ def _trajectory(args, rig):
 def _actuators(args, rig) -> Actuators:
     """The actuators of ``--force-limit`` (legs) or ``--torque-limit`` (a rotary rig's motors),
     with ``--viscous`` and ``--coulomb``; the flag of the other family refused."""
-    rotary = rig.kind == "rotary"
-    wrong = ("--force-limit", args.force_limit, "a linear platform's leg forces; a rotary rig takes --torque-limit") \
-        if rotary else ("--torque-limit", args.torque_limit, "a rotary rig's motor torques; a linear platform takes "
-                        "--force-limit")
-    if wrong[1] is not None:
-        raise UserError(f"{wrong[0]}: limits {wrong[2]}")
-    limit = args.torque_limit if rotary else args.force_limit
-    default = rig.default_actuators().force_limit
-    return Actuators(force_limit=default if limit is None else limit, viscous=args.viscous, coulomb=args.coulomb)
+    if rig.kind == "rotary" and args.force_limit is not None:
+        raise UserError("--force-limit: limits a linear platform's leg forces; a rotary rig takes --torque-limit")
+    if rig.kind != "rotary" and args.torque_limit is not None:
+        raise UserError("--torque-limit: limits a rotary rig's motor torques; a linear platform takes --force-limit")
+    given = args.torque_limit if rig.kind == "rotary" else args.force_limit
+    bound = rig.default_actuators().force_limit if given is None else given
+    return Actuators(force_limit=bound, viscous=args.viscous, coulomb=args.coulomb)
 
 
 def cmd_simulate(args) -> int:

@@ -207,7 +207,9 @@ class OpenLoop(Controller):
 class Actuators:
     """Actuator limits and losses per leg.
 
-    ``force_limit`` (N) saturates the commanded force; the leg then receives
+    ``force_limit`` (N; a rotary rig's motor torque limit in N m, by default in
+    :func:`stewart.simulate` the rig's ``motor_torque_limit``) saturates the commanded force;
+    the leg then receives
     ``tau - F_v Ldot - F_c tanh(Ldot / v_c)``: the friction law of
     :meth:`stewart.Platform.friction_forces` (a smooth Coulomb law, so the closed loop
     stays a smooth ODE).
