@@ -296,6 +296,11 @@ def test_csv_and_plots_name_crank_angles_and_torques(tmp_path):
                             + [f"torque{i}" for i in range(6)])
     data = np.loadtxt(tmp_path / "run.csv", delimiter=",", comments="#", skiprows=1)
     np.testing.assert_allclose(data[:, -18:-12], rig.crank_angles(run.x), rtol=1e-9, atol=1e-12)
+    run.to_npz(tmp_path / "run.npz")
+    with np.load(tmp_path / "run.npz") as npz:
+        assert str(npz["kind"]) == "rotary"
+        np.testing.assert_array_equal(npz["torques"], run.torques)
+        np.testing.assert_array_equal(npz["crank_angles"], rig.crank_angles(run.x))
     pytest.importorskip("matplotlib")
     from stewart.io.plots import plot_run
 

@@ -147,14 +147,20 @@ class SimulationResult:
         csvfile.write(path, names, data, self.describe(), fmt="%.10g")
 
     def to_npz(self, path) -> None:
-        """Write every series and the run's outcome to a compressed ``.npz`` file."""
+        """Write every series and the run's outcome to a compressed ``.npz`` file (``kind``: a
+        rotary rig's run, whose ``lengths``, ``leg_velocities`` and ``forces`` are its crank angles,
+        crank rates and motor torques, also written as ``crank_angles``, ``crank_rates`` and
+        ``torques``)."""
         commanded = {} if self.commanded_forces is None else {"commanded_forces": self.commanded_forces}
+        if self.rotary:
+            commanded.update(crank_angles=self.lengths, crank_rates=self.leg_velocities, torques=self.forces)
         np.savez_compressed(
             path, t=self.t, x=self.x, xd=self.xd, reference=self.reference,
             reference_velocity=self.reference_velocity, lengths=self.lengths,
             leg_velocities=self.leg_velocities, forces=self.forces, completed=self.completed, reason=self.reason,
             method=self.method, outcome=self.outcome, problems=np.array(self.problems, dtype=str),
             platform=self.metadata.get("platform", "unnamed"), controller=self.metadata.get("controller", ""),
+            kind=self.metadata.get("kind", "linear"),
             **commanded,
         )
 
