@@ -234,6 +234,9 @@ def test_crank_limit_stops_the_run_and_the_workspace_check_refuses_it():
     with pytest.raises(stewart.WorkspaceError, match=r"trajectory: reference pose at t = .*crank \d at .* deg, "
                                                      r"outside its limits \[-60, 60\] deg"):
         stewart.simulate(rig, move)
+    with pytest.raises(stewart.WorkspaceError, match=r"^x0: the start pose is outside the workspace: crank 0 "
+                                                     r"cannot reach the pose$"):
+        stewart.simulate(rig, move, x0=rig.home + [0, 0, 0.2, 0, 0, 0])
     run = stewart.simulate(rig, move, stewart.ComputedTorque.tuned(), check_workspace=False,
                            actuators=stewart.Actuators(force_limit=np.inf))
     assert run.outcome == "failed" and run.exit_code == 4

@@ -112,33 +112,39 @@ class Linear:
 @dataclass(frozen=True)
 class CrankReach:
     """Which poses a rotary rig's cranks reach within their angle limits (the ``reachability``
-    of a :class:`WorkspaceError` of a rotary run): ``ok`` per pose, and ``reasons`` per pose."""
+    of a :class:`WorkspaceError` of a rotary run): ``ok`` per pose, the generated crank
+    angles (NaN where a crank cannot reach the pose, ``reach`` False there), and
+    :meth:`reason` of a pose."""
 
     ok: np.ndarray
-    reasons: list
+    reach: np.ndarray
+    angles: np.ndarray
+    rig: RotaryPlatform
+    poses: np.ndarray
 
     @classmethod
     def of(cls, rig: RotaryPlatform, poses: np.ndarray) -> "CrankReach":
         """The generated crank angles of ``poses`` (N, 6), checked against the reach of each crank
         in its branch and ``crank_angle_limits``."""
-        angles, ok = rig.crank_angles(poses, return_mask=True)
-        limits = rig.params.crank_angle_limits
-        reasons = []
-        for row, (good, alpha) in enumerate(zip(ok, angles)):
-            if not good:
-                reasons.append(_unreachable(rig, poses[row]))
-                continue
-            out = [] if limits is None else [
-                f"crank {i} at {np.degrees(a):.4g} deg, outside its limits [{np.degrees(limits[0]):.4g}, "
-                f"{np.degrees(limits[1]):.4g}] deg" for i, a in enumerate(alpha) if not limits[0] <= a <= limits[1]]
-            reasons.append("; ".join(out))
-        return cls(np.array([not r for r in reasons]), reasons)
+        angles, reach = rig.crank_angles(poses, return_mask=True)
+        lo, hi = rig.params.crank_angle_limits or (-np.inf, np.inf)
+        with np.errstate(invalid="ignore"):
+            within = np.all((angles >= lo) & (angles <= hi), axis=1)
+        return cls(reach & within, reach, angles, rig, poses)
+
+    def reason(self, row: int) -> str:
+        """Why pose ``row`` is out: the crank that cannot reach it, or those outside their limits."""
+        if not self.reach[row]:
+            return _unreachable(self.rig, self.poses[row])
+        lo, hi = self.rig.params.crank_angle_limits
+        return "; ".join(f"crank {i} at {np.degrees(a):.4g} deg, outside its limits [{np.degrees(lo):.4g}, "
+                         f"{np.degrees(hi):.4g}] deg" for i, a in enumerate(self.angles[row]) if not lo <= a <= hi)
 
     def message(self, what: str, times: np.ndarray) -> str:
         rows = np.flatnonzero(~self.ok)
         first = rows[0]
         more = f" (and {rows.size - 1} more sample(s) up to t = {times[rows[-1]]:.4f} s)" if rows.size > 1 else ""
-        return f"{what} at t = {times[first]:.4f} s: {self.reasons[first]}{more}"
+        return f"{what} at t = {times[first]:.4f} s: {self.reason(first)}{more}"
 
 
 def _unreachable(rig: RotaryPlatform, pose: np.ndarray) -> str:
@@ -210,7 +216,7 @@ class Rotary(Linear):
         pose or a reference pose in its branch, or would leave ``crank_angle_limits`` there."""
         start = CrankReach.of(self.platform, x0[None, :])
         if not start.ok[0]:
-            raise WorkspaceError("x0: the start pose is outside the workspace: " + start.reasons[0], start)
+            raise WorkspaceError("x0: the start pose is outside the workspace: " + start.reason(0), start)
         check = CrankReach.of(self.platform, poses)
         if not check.ok.all():
             raise WorkspaceError("trajectory: " + check.message("reference pose", times), check, times)
