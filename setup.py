@@ -210,7 +210,7 @@ extensions = [
         # Cython declarations, is cimported by stewart/_kernel.pxd.
         depends=["stewart/_kernel.pxd", "stewart/_simulate.pxi", "stewart/_envelope.pxi", "stewart/_modes.pxi",
                  "stewart/_cueing.pxi", "stewart/_cueing_rows.pxi", "stewart/_rotary.pxi",
-                 "stewart/_rotary_envelope.pxi"] + MODEL
+                 "stewart/_rotary_envelope.pxi", "stewart/_rotary_simulate.pxi", "stewart/_cueing_rotary.pxi"] + MODEL
         + ["generated/stewart_model.pxd", "generated/stewart_rotary.pxd", "setup.py"],
     ),
 ]

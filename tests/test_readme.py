@@ -372,29 +372,41 @@ def check_simulate(argv, out: str) -> None:
     sinusoidal move to ``--target`` or the ``--trajectory`` file; PID tuned for the
     platform, or computed torque at 5 Hz; RK4 at 1 ms): the printed report (peak forces
     ``%.4g``, final and RMS errors ``%.3e``), the ``--csv`` series (``%.10g``) and the
-    ``--json`` summary to the last bit. (The wall time is a measurement.)"""
+    ``--json`` summary to the last bit. (The wall time is a measurement.) A rotary rig (its
+    preset, or a file of ``kind = "rotary"``): the motor torques, crank angles and rates, the
+    preset's default move without ``--target``."""
+    from stewart.model import paramfile
+    from stewart.model.rotary_presets import presets as rotary_presets
+    from stewart.motion.mechanism import mechanism
     from stewart.motion.trajectory import load
 
-    plat = stewart.Platform(params_of(source(argv)))
+    flag, name = source(argv)
+    rotary = name in rotary_presets() if flag == "--preset" else \
+        paramfile.read(name).get("kind") == "rotary"
+    rig = mechanism((stewart.RotaryParams.load(name) if flag == "--params" else stewart.RotaryParams.preset(name))
+                    if rotary else params_of((flag, name)))
+    plat = rig.platform
+    target = option(argv, "--target", 6)
     move = load(option(argv, "--trajectory")) if option(argv, "--trajectory") else \
-        stewart.PointToPoint(plat.home_pose, option(argv, "--target", 6), 5.0)
+        stewart.PointToPoint(rig.home, rig.default_target if target is None else target, 5.0)
     controller = stewart.ComputedTorque.tuned(5.0) if option(argv, "--controller") == "ct" else None
     tolerance = {"tolerance": tuple(values(argv, "--tolerance"))} if "--tolerance" in argv else {}
     run = stewart.simulate(plat, move, controller, **tolerance)
     summary = run.summary()
+    effort = "torque" if rotary else "force"
     if "--json" in argv:
         assert_json_equal(json.loads(out), {
             "controller": run.metadata["controller"], "method": run.method, "dt": run.metadata["dt"],
             "outcome": run.outcome, "ok": run.ok, "exit_code": run.exit_code, "problems": run.problems,
-            "completed": run.completed, "reason": run.reason, "peak_force": summary["peak_force"].tolist(),
-            "peak_commanded_force": float(np.max(np.abs(run.commanded_forces))),
+            "completed": run.completed, "reason": run.reason, f"peak_{effort}": summary["peak_force"].tolist(),
+            f"peak_commanded_{effort}": float(np.max(np.abs(run.commanded_forces))),
             **{key: summary[key] for key in ("final_position_error", "final_angle_error", "rms_position_error",
                                              "rms_angle_error", "simulated_time")}})
         return
     assert f", controller {run.metadata['controller']}, {run.method}, dt = {run.metadata['dt']:g} s\n" in out
     assert f"outcome: {run.outcome}\n" in out
-    assert_printed(line_after(out, "peak force per leg [N]: ").split(": ")[1].split(), summary["peak_force"], ".4g",
-                   "peak force")
+    peak = "peak torque per motor [N m]: " if rotary else "peak force per leg [N]: "
+    assert_printed(line_after(out, peak).split(": ")[1].split(), summary["peak_force"], ".4g", "peak force")
     for label, what in (("final error:", "final"), ("RMS error:", "rms")):
         assert_printed(numbers(line_after(out, label)),
                        [summary[f"{what}_position_error"], summary[f"{what}_angle_error"]], ".3e", label)
@@ -404,7 +416,9 @@ def check_simulate(argv, out: str) -> None:
         for name, series in (("", run.x), ("_dot", run.xd), ("_ref", run.reference),
                              ("_dot_ref", run.reference_velocity)):
             columns.update({f"{p}{name}": series[:, k] for k, p in enumerate(POSE)})
-        for name, series in (("L{}", run.lengths), ("L{}_dot", run.leg_velocities), ("force{}", run.forces)):
+        joint = "alpha" if rotary else "L"
+        for name, series in ((joint + "{}", run.lengths), (joint + "{}_dot", run.leg_velocities),
+                             (effort + "{}", run.forces)):
             columns.update({name.format(i): series[:, i] for i in range(6)})
         check_csv_columns(option(argv, "--csv"), columns, ".10g")
 
@@ -549,8 +563,10 @@ def test_readme_command_runs(line, argv, code, in_examples_dir, capsys):
         OUTPUT_CHECKS[argv[0]](argv, out)
     if option(argv, "--plot"):
         assert len(list(pathlib.Path(option(argv, "--plot")).glob("*.png"))) >= 4
-        if argv[0] == "simulate":  # its four figures (tests/test_cli.py leaves --plot to this run)
-            for name in ("pose", "error", "forces", "leg_velocities"):
+        if argv[0] == "simulate":  # its figures (tests/test_cli.py leaves --plot to this run)
+            rotary = any(name in argv for name in ("simrig100", "desktop_servo"))
+            for name in ("pose", "error", *(("torques", "crank_angles", "crank_rates") if rotary
+                                            else ("forces", "leg_velocities"))):
                 assert (pathlib.Path(option(argv, "--plot")) / f"simulation_{name}.png").stat().st_size > 10_000
 
 

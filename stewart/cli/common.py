@@ -33,7 +33,7 @@ exit codes:
   4    the run failed: the platform left its assembly mode or passed a singularity, hit a
        stroke limit, the state became non-finite or the solver used its step budget
   5    the run finished but the final tracking error is above --tolerance
-  6    the commanded actuator force exceeded --force-limit (the actuators saturated)
+  6    the commanded actuator force exceeded --force-limit, or a motor torque --torque-limit (saturated)
   130  interrupted (Ctrl-C); what was computed is saved
 With several problems the lowest code >= 3 is returned; every problem is printed."""
 

@@ -13,6 +13,7 @@ from ..model.kinematics import POSE_AXES
 from ..model.platform import Platform
 from ..model.reachability import WorkspaceError
 from ..motion.control import PID, Actuators, ComputedTorque
+from ..motion.mechanism import mechanism
 from ..motion.simulation import (
     DEFAULT_TOLERANCE,
     MAX_ADAPTIVE_STEPS,
@@ -34,6 +35,7 @@ from .common import (
     platform_params,
     print_written,
     progress,
+    rig_params,
 )
 from .options import (
     AXES,
@@ -48,6 +50,7 @@ from .options import (
     add_progress,
     add_six,
     count,
+    limit,
     non_negative,
     positive,
     subcommand,
@@ -59,7 +62,7 @@ from .options import (
 _SIMULATE_FLAGS = {"dt": "--dt", "duration": "--duration", "max_steps": "--max-steps", "tolerance": "--tolerance"}
 
 
-def _trajectory(args, plat):
+def _trajectory(args, rig):
     if args.trajectory:
         try:
             return load_trajectory(args.trajectory), f"--trajectory {args.trajectory}"
@@ -67,12 +70,27 @@ def _trajectory(args, plat):
             message = str(exc)
             prefix = "" if message.startswith(args.trajectory) else f"{args.trajectory}: "
             raise UserError(f"--trajectory {prefix}{message}") from None
-    if args.target:
+    target, source = args.target, "--target"
+    if not target and rig.default_target is not None:  # a rotary preset's default move
+        target, source = rig.default_target, f"the default move of {rig.params.name}"
+    if target is not None:
         try:
-            return PointToPoint(plat.home_pose, args.target, args.move_time, args.profile), "--target"
+            return PointToPoint(rig.home, target, args.move_time, args.profile), source
         except ValueError as exc:
             raise UserError(f"--target, --move-time: {exc}") from None
     raise UserError("give --target (a pose to move to) or --trajectory (a CSV file)")
+
+
+def _actuators(args, rig) -> Actuators:
+    """The actuators of ``--force-limit`` (legs) or ``--torque-limit`` (a rotary rig's motors),
+    with ``--viscous`` and ``--coulomb``; the flag of the other family refused."""
+    if rig.kind == "rotary" and args.force_limit is not None:
+        raise UserError("--force-limit: limits a linear platform's leg forces; a rotary rig takes --torque-limit")
+    if rig.kind != "rotary" and args.torque_limit is not None:
+        raise UserError("--torque-limit: limits a rotary rig's motor torques; a linear platform takes --force-limit")
+    given = args.torque_limit if rig.kind == "rotary" else args.force_limit
+    bound = rig.default_actuators().force_limit if given is None else given
+    return Actuators(force_limit=bound, viscous=args.viscous, coulomb=args.coulomb)
 
 
 def cmd_simulate(args) -> int:
@@ -80,12 +98,13 @@ def cmd_simulate(args) -> int:
     check_output("--plot", args.plot, directory=True)
     if args.plot:
         check_plotting("--plot")
-    params, label = platform_params(args)
-    plat = Platform(params)
-    trajectory, source = _trajectory(args, plat)
+    params, label = rig_params(args)
+    rig = mechanism(params)
+    plat = rig.platform
+    trajectory, source = _trajectory(args, rig)
     controller = PID.tuned(plat, args.bandwidth) if args.controller == "pid" else \
         ComputedTorque.tuned(args.bandwidth or 5.0)
-    actuators = Actuators(force_limit=args.force_limit, viscous=args.viscous, coulomb=args.coulomb)
+    actuators = _actuators(args, rig)
     try:
         result = simulate(plat, trajectory, controller, duration=args.duration, dt=args.dt, method=args.method,
                           actuators=actuators, progress=progress(args), tolerance=tuple(args.tolerance),
@@ -115,14 +134,16 @@ def cmd_simulate(args) -> int:
 
 
 def _summary(result, label: str, files: list[str]) -> dict:
-    """The JSON summary of a run."""
+    """The JSON summary of a run (a rotary rig's peaks named ``peak_torque``, in N m)."""
     s = result.summary()
+    effort = "torque" if result.rotary else "force"
     return {
         "command": "simulate", "platform": result.metadata["platform"], "platform_source": label,
         "controller": result.metadata["controller"], "method": result.method, "dt": result.metadata["dt"],
         "outcome": result.outcome, "ok": result.ok, "exit_code": result.exit_code, "problems": result.problems,
         "completed": result.completed, "reason": result.reason,
-        "peak_force": s["peak_force"].tolist(), "peak_commanded_force": float(np.max(np.abs(result.commanded_forces))),
+        f"peak_{effort}": s["peak_force"].tolist(),
+        f"peak_commanded_{effort}": float(np.max(np.abs(result.commanded_forces))),
         "final_position_error": s["final_position_error"], "final_angle_error": s["final_angle_error"],
         "rms_position_error": s["rms_position_error"], "rms_angle_error": s["rms_angle_error"],
         "simulated_time": s["simulated_time"], "wall_time": s["wall_time"], "files": files,
@@ -135,7 +156,8 @@ def _report(result, label: str, args) -> None:
     print(f"outcome: {result.outcome}" + ("" if result.ok else f" (exit code {result.exit_code})"))
     for problem in result.problems:
         print(f"  problem: {problem}")
-    print("peak force per leg [N]: " + "  ".join(f"{v:.4g}" for v in s["peak_force"]))
+    what = "torque per motor [N m]" if result.rotary else "force per leg [N]"
+    print(f"peak {what}: " + "  ".join(f"{v:.4g}" for v in s["peak_force"]))
     print(f"final error: position {s['final_position_error']:.3e} m, angle {s['final_angle_error']:.3e} rad")
     print(f"RMS error:   position {s['rms_position_error']:.3e} m, angle {s['rms_angle_error']:.3e} rad")
     print(f"wall time {1e3 * s['wall_time']:.1f} ms for {s['simulated_time']:g} s simulated")
@@ -163,10 +185,12 @@ def _save(args, result, quiet: bool = False) -> list[str]:
 
 
 def add_simulate(sub) -> None:
-    p = subcommand(sub, "simulate", "simulate a move under PID or computed-torque control", cmd_simulate)
-    add_params(p)
+    p = subcommand(sub, "simulate", "simulate a move under PID or computed-torque control (a rotary rig: PID on "
+                   "the crank angles, motor torques out)", cmd_simulate)
+    add_params(p, rotary=True)
     goal = p.add_mutually_exclusive_group()
-    add_six(goal, "--target", f"pose to move to from home: {AXES} [{UNITS}]")
+    add_six(goal, "--target", f"pose to move to from home: {AXES} [{UNITS}] (a rotary preset has a default move "
+            "within its reach)")
     goal.add_argument("--trajectory", metavar="FILE", help=f"follow t,{','.join(POSE_AXES)} rows of a CSV file "
                       "instead (a header naming these columns picks them from a wider file, e.g. a simulation's "
                       "--csv), or the Fourier series of a .toml/.json file written by stewart excitation --output")
@@ -182,11 +206,14 @@ def add_simulate(sub) -> None:
     p.add_argument("--tolerance", nargs=2, type=positive, metavar=("METRES", "RADIANS"),
                    default=list(DEFAULT_TOLERANCE),
                    help="largest final tracking error accepted: position and Euler-angle norms")
-    add_force_limit(p, "actuator force saturation [N]")
-    p.add_argument("--viscous", type=non_negative, help="viscous friction of every leg [N s/m] (default: the "
-                   "platform's viscous_friction, none without it)")
-    p.add_argument("--coulomb", type=non_negative, help="Coulomb friction of every leg [N] (default: the "
-                   "platform's coulomb_friction, none without it)")
+    p.add_argument("--force-limit", type=limit, help="actuator force saturation [N] of a linear platform's "
+                   "legs (default: none)")
+    p.add_argument("--torque-limit", type=limit, help="motor torque saturation [N m at the crank] of a rotary "
+                   "rig (default: its motor_torque_limit)")
+    p.add_argument("--viscous", type=non_negative, help="viscous friction of every leg [N s/m] or motor "
+                   "[N m s/rad] (default: the platform's viscous_friction; a rotary rig's none)")
+    p.add_argument("--coulomb", type=non_negative, help="Coulomb friction of every leg [N] or motor [N m] "
+                   "(default: the platform's coulomb_friction; a rotary rig's none)")
     add_progress(p)
     add_file(p, "--csv", "write the time series as CSV")
     add_file(p, "--npz", "write the time series as NPZ")

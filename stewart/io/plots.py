@@ -44,7 +44,8 @@ def run_title(result) -> str:
 
 def plot_run(result, directory, prefix: str = "run", title: str | None = None) -> list[str]:
     """Write ``{prefix}_pose.png``, ``_error.png``, ``_forces.png`` and
-    ``_leg_velocities.png`` into ``directory``; returns their paths.
+    ``_leg_velocities.png`` into ``directory`` (for a rotary rig's run ``_torques.png``,
+    ``_crank_angles.png`` and ``_crank_rates.png`` instead of the last two); returns their paths.
 
     Each figure's title names the platform and the controller (:func:`run_title`) unless
     ``title`` is given."""
@@ -72,17 +73,19 @@ def plot_run(result, directory, prefix: str = "run", title: str | None = None) -
         ax.set_ylabel(f"{_POSE[k][0]} error [{unit}]")
     paths.append(_save(plt, fig, directory, prefix, "error", axes[3:]))
 
-    fig, axes = _figure(plt, f"{label}actuator forces")
-    for k, ax in enumerate(axes):
-        ax.plot(t, result.forces[:, k])
-        ax.set_ylabel(f"leg {k} force [N]")
-    paths.append(_save(plt, fig, directory, prefix, "forces", axes[3:]))
-
-    fig, axes = _figure(plt, f"{label}leg velocities")
-    for k, ax in enumerate(axes):
-        ax.plot(t, 1e3 * result.leg_velocities[:, k])
-        ax.set_ylabel(f"leg {k} velocity [mm/s]")
-    paths.append(_save(plt, fig, directory, prefix, "leg_velocities", axes[3:]))
+    if getattr(result, "rotary", False):  # a rotary rig's cranks (issue 40)
+        figures = (("motor torques", "motor {} torque [N m]", result.forces, 1.0, "torques"),
+                   ("crank angles", "crank {} angle [deg]", result.lengths, 180.0 / np.pi, "crank_angles"),
+                   ("crank rates", "crank {} rate [rad/s]", result.leg_velocities, 1.0, "crank_rates"))
+    else:
+        figures = (("actuator forces", "leg {} force [N]", result.forces, 1.0, "forces"),
+                   ("leg velocities", "leg {} velocity [mm/s]", result.leg_velocities, 1e3, "leg_velocities"))
+    for what, ylabel, values, scale, name in figures:
+        fig, axes = _figure(plt, f"{label}{what}")
+        for k, ax in enumerate(axes):
+            ax.plot(t, scale * values[:, k])
+            ax.set_ylabel(ylabel.format(k))
+        paths.append(_save(plt, fig, directory, prefix, name, axes[3:]))
     return paths
 
 

@@ -6,7 +6,8 @@ what the rest of the package uses. ``tests/test_layout.py`` holds every other mo
   ``FUNCTIONS`` table (what :class:`~stewart.Platform` calls); :class:`RotaryKernel`, that of a
   rotary rig (what :class:`~stewart.RotaryPlatform` calls).
 - :class:`ClosedLoop`, :class:`Mode`, :class:`Outcome`, :func:`status_message`: the
-  simulator's compiled loop (:mod:`stewart.motion.simulation`, :mod:`stewart.motion.control`).
+  simulator's compiled loop (:mod:`stewart.motion.simulation`, :mod:`stewart.motion.control`);
+  :class:`RotaryLoop` and :func:`rotary_status_message`, a rotary rig's.
 - :class:`Peaks`, :func:`box_states`, :data:`PEAK_QUANTITIES`: the envelope's running peaks
   (:mod:`stewart.studies.envelope`); :class:`RotaryPeaks`, :data:`ROTARY_PEAK_QUANTITIES`, a
   rotary rig's.
@@ -30,13 +31,16 @@ from .._kernel import (
     Peaks,
     RotaryKernel,
     RotaryPeaks,
+    RotaryLoop,
     box_states,
     build_info,
     modal_terms,
+    rotary_status_message,
     set_simd,
     status_message,
 )
 
-__all__ = ["Kernel", "RotaryKernel", "ClosedLoop", "Mode", "Outcome", "status_message", "Peaks", "box_states",
+__all__ = ["Kernel", "RotaryKernel", "ClosedLoop", "RotaryLoop", "rotary_status_message", "Mode", "Outcome",
+           "status_message", "Peaks", "box_states",
            "PEAK_QUANTITIES", "RotaryPeaks", "ROTARY_PEAK_QUANTITIES", "modal_terms", "UNSTABLE", "CueingStep", "CUEING_GROUPS", "build_info", "set_simd",
            "LANES"]

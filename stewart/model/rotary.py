@@ -80,20 +80,16 @@ class RotaryPlatform:
         return cls(RotaryParams.load(path))
 
     @property
-    def kernel(self) -> RotaryKernel:
-        """The compiled model (:class:`~stewart.model.compiled.RotaryKernel`), for the compiled
-        loops that call it without Python per state (MPC cueing's step)."""
-        return self._kernel
-
-    @property
     def params(self) -> RotaryParams:
         """The parameter set (immutable)."""
         return self._params
 
     @property
     def kernel(self) -> RotaryKernel:
-        """The compiled rotary model (:class:`stewart.model.compiled.RotaryKernel`), for the loops
-        in C over it (the envelope's :class:`~stewart.model.compiled.RotaryPeaks`)."""
+        """The compiled rotary model (:class:`stewart.model.compiled.RotaryKernel`) whose batch
+        functions the methods call, for the compiled loops in C over it (the simulator's
+        :class:`~stewart.model.compiled.RotaryLoop`, the envelope's
+        :class:`~stewart.model.compiled.RotaryPeaks`, the MPC cueing step)."""
         return self._kernel
 
     @property

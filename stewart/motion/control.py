@@ -26,6 +26,8 @@ from ..model import arguments, conditions
 from ..model.compiled import Mode
 from ..model.params import PlatformParams
 from ..model.platform import Platform, as_platform, friction_law
+from ..model.rotary import RotaryPlatform
+from ..model.rotary_params import RotaryParams
 
 __all__ = ["Controller", "PID", "ComputedTorque", "OpenLoop", "Actuators", "PID_BANDWIDTH_HZ", "leg_masses"]
 
@@ -66,11 +68,25 @@ def _tuned_gains(bandwidth_hz: float, **gains: np.ndarray) -> dict[str, np.ndarr
     return gains
 
 
+def _rig(value):
+    """A rotary rig's :class:`~stewart.RotaryPlatform` (of itself or its params), else
+    :func:`~stewart.model.platform.as_platform` of ``value``."""
+    if isinstance(value, RotaryParams):
+        return RotaryPlatform(value)
+    return value if isinstance(value, RotaryPlatform) else as_platform(value)
+
+
+def _home(platform) -> np.ndarray:
+    return platform.home if isinstance(platform, RotaryPlatform) else platform.home_pose
+
+
 def leg_masses(platform, x=None) -> np.ndarray:
     """Effective mass each actuator moves at pose ``x`` (default home): the diagonal of the
-    leg-space mass matrix ``J_C^-T M_t J_C^-1``, with ``M_t`` the twist-space mass matrix."""
-    platform = as_platform(platform)
-    x = platform.home_pose if x is None else arguments.states("x", x)
+    leg-space mass matrix ``J_C^-T M_t J_C^-1``, with ``M_t`` the twist-space mass matrix; of
+    a rotary rig (:class:`~stewart.RotaryPlatform`), the effective inertia [kg m^2] each motor
+    turns, the diagonal of ``J_alpha^-T M_t J_alpha^-1``."""
+    platform = _rig(platform)
+    x = _home(platform) if x is None else arguments.states("x", x)
     if x.shape != (6,):
         raise ValueError(f"x: expected one pose, shape (6,), got {x.shape}")
     return _leg_masses(platform, x)
@@ -105,7 +121,9 @@ class Controller:
 
 @dataclass(frozen=True)
 class PID(Controller):
-    """Joint-space PID gains per leg (N/m, N/(m s), N s/m); scalars apply to every leg."""
+    """Joint-space PID gains per leg (N/m, N/(m s), N s/m); scalars apply to every leg. On a
+    rotary rig (:class:`~stewart.RotaryPlatform`) the joints are the cranks and the gains act on
+    the crank angles with motor torques as output: N m/rad, N m/(rad s), N m s/rad."""
 
     label: ClassVar[str] = "PID"
     kp: np.ndarray
@@ -134,14 +152,15 @@ class PID(Controller):
         damped) for the leg's effective mass ``m`` (:func:`leg_masses`):
         ``Kp = 3 m w^2``, ``Ki = m w^3``, ``Kd = 3 m w``.
 
-        ``f`` defaults to :data:`PID_BANDWIDTH_HZ` for a preset, else 5 Hz.
+        ``f`` defaults to :data:`PID_BANDWIDTH_HZ` for a preset, else 5 Hz. For a rotary rig
+        ``m`` is each crank's effective inertia (:func:`leg_masses`), the gains in N m/rad.
         """
-        platform = as_platform(platform)
+        platform = _rig(platform)
         if bandwidth_hz is None:
             bandwidth_hz = PID_BANDWIDTH_HZ.get(platform.params.name, DEFAULT_BANDWIDTH_HZ)
         bandwidth_hz = _bandwidth(bandwidth_hz)
         w = np.float64(2.0 * np.pi * bandwidth_hz)
-        m = _leg_masses(platform, platform.home_pose)
+        m = _leg_masses(platform, _home(platform))
         with np.errstate(over="ignore"):
             return cls(**_tuned_gains(bandwidth_hz, kp=3.0 * m * w**2, ki=m * w**3, kd=3.0 * m * w))
 
@@ -188,7 +207,9 @@ class OpenLoop(Controller):
 class Actuators:
     """Actuator limits and losses per leg.
 
-    ``force_limit`` (N) saturates the commanded force; the leg then receives
+    ``force_limit`` (N; a rotary rig's motor torque limit in N m, by default in
+    :func:`stewart.simulate` the rig's ``motor_torque_limit``) saturates the commanded force;
+    the leg then receives
     ``tau - F_v Ldot - F_c tanh(Ldot / v_c)``: the friction law of
     :meth:`stewart.Platform.friction_forces` (a smooth Coulomb law, so the closed loop
     stays a smooth ODE).
@@ -219,7 +240,15 @@ class Actuators:
                 raise ValueError(f"coulomb_velocity: must be > 0, got {velocity}")
             object.__setattr__(self, "coulomb_velocity", velocity)
 
-    def friction(self, params: PlatformParams) -> tuple[np.ndarray, np.ndarray, float]:
+    def friction(self, params: PlatformParams | RotaryParams) -> tuple[np.ndarray, np.ndarray, float]:
         """``(F_v (6,), F_c (6,), v_c)`` on a platform with parameters ``params``: the values
-        given here, else the platform's (zeros where it has none)."""
+        given here, else the platform's (zeros where it has none). A rotary rig's
+        (:class:`~stewart.RotaryParams`) parameters hold no friction: its motors lose what is
+        given here, at the crank rates (``F_v`` in N m s/rad, ``F_c`` in N m, ``v_c`` in rad/s,
+        by default that of :class:`~stewart.PlatformParams`), else nothing."""
+        if isinstance(params, RotaryParams):
+            default = PlatformParams.__dataclass_fields__["coulomb_velocity"].default
+            return (np.zeros(6) if self.viscous is None else self.viscous,
+                    np.zeros(6) if self.coulomb is None else self.coulomb,
+                    default if self.coulomb_velocity is None else self.coulomb_velocity)
         return friction_law(params, self.viscous, self.coulomb, self.coulomb_velocity)

@@ -18,10 +18,10 @@ from typing import Callable, NamedTuple
 import numpy as np
 
 from ..model import arguments
-from ..model.compiled import ClosedLoop, Outcome, status_message
+from ..model.compiled import ClosedLoop, Outcome
 from .control import PID, Actuators, Controller
-from ..model.platform import Platform, as_platform
-from ..model.reachability import WorkspaceError, assembly_mode, reachability
+from ..model.reachability import WorkspaceError
+from .mechanism import Linear, mechanism
 from .simulation_result import OUTCOMES, SimulationInterrupted, SimulationResult
 
 __all__ = ["simulate", "SimulationResult", "SimulationInterrupted", "WorkspaceError", "MAX_STEPS",
@@ -45,18 +45,6 @@ MAX_SHORT_EVALUATIONS = 120
 DEFAULT_TOLERANCE = (1e-3, 1e-2)
 
 _RK4_CHUNK = 2000  # steps between checks for Ctrl-C and progress updates
-
-
-def _reason(outcome: int, t: float, leg: int, params) -> str:
-    if outcome == Outcome.STOP_FINISHED:
-        return "completed"
-    if outcome == Outcome.STOP_LEG_SHORT:
-        return f"leg {leg} reached its minimum length {params.leg_length_limits[0]:g} m at t = {t:.4f} s"
-    if outcome == Outcome.STOP_LEG_LONG:
-        return f"leg {leg} reached its maximum length {params.leg_length_limits[1]:g} m at t = {t:.4f} s"
-    if outcome == Outcome.STOP_NONFINITE:
-        return f"the state became non-finite at t = {t:.4f} s"
-    return f"{status_message(outcome)} at t = {t:.4f} s"
 
 
 class _Progress:
@@ -128,7 +116,7 @@ def _tolerance(tolerance) -> tuple[float, float]:
 
 
 def simulate(
-    platform: Platform,
+    platform,
     trajectory,
     controller=None,
     *,
@@ -147,6 +135,18 @@ def simulate(
     check_workspace: bool = True,
 ) -> SimulationResult:
     """Simulate ``platform`` following ``trajectory`` under ``controller``.
+
+    ``platform`` is a linear machine (:class:`stewart.Platform` or its
+    :class:`~stewart.PlatformParams`) or a rotary rig (:class:`stewart.RotaryPlatform` or its
+    :class:`~stewart.RotaryParams`, issue 40). For a rotary rig the loop's joints are the
+    cranks: the PID acts on the crank angles (the reference's from the generated
+    ``crank_angles`` and ``crank_rates``) with motor torques [N m] as output, computed torque
+    is the rig's generated ``inverse_dynamics`` with the same pose-space feedback, the
+    actuators' ``force_limit`` is the motors' torque limit (default: the rig's
+    ``motor_torque_limit``) and their friction acts at the crank rates (default: none); the
+    result's ``lengths``, ``leg_velocities`` and ``forces`` hold the crank angles, crank
+    rates and motor torques (also as ``crank_angles``, ``crank_rates`` and ``torques``), and
+    the run stops when a crank leaves ``crank_angle_limits`` or cannot reach the pose.
 
     ``trajectory`` has ``sample(t) -> (x, xdot, xddot)`` and ``duration``
     (:mod:`stewart.motion.trajectory`); its output is checked (shapes, dtype, finiteness) before
@@ -200,7 +200,7 @@ def simulate(
     wall = time.perf_counter() - wall
     bar.close()
     result = _result(run, series, end, wall, interrupt.requested, bar.reached)
-    _judge(result, run.platform, run.actuators, run.tolerance, interrupt.requested)
+    _judge(result, run.rig, run.actuators, run.tolerance, interrupt.requested)
     if interrupt.requested:
         raise SimulationInterrupted(result)
     return result
@@ -210,7 +210,7 @@ def simulate(
 class _Run:
     """The checked arguments of one run (see :func:`simulate`)."""
 
-    platform: Platform
+    rig: Linear  # the mechanism (stewart.motion.mechanism): Linear or Rotary
     trajectory: object
     controller: Controller
     actuators: Actuators
@@ -227,13 +227,19 @@ class _Run:
     xd0: np.ndarray
 
     @property
+    def platform(self):
+        """The compiled model: a :class:`stewart.Platform` or :class:`stewart.RotaryPlatform`."""
+        return self.rig.platform
+
+    @property
     def limits(self) -> tuple[float, float]:
-        """The leg length limits (none: ``(0, inf)``)."""
-        return self.platform.params.leg_length_limits or (0.0, np.inf)
+        """The joint limits: leg lengths (none: ``(0, inf)``) or crank angles (none: ``(-inf, inf)``)."""
+        return self.rig.limits
 
     def references(self, times) -> tuple[np.ndarray, np.ndarray]:
         """``([x_r, xdot_r, xddot_r] (N, 18), feed-forward forces (N, 6))`` at ``times``,
-        checked."""
+        checked (a rotary rig's reference rows with the crank angles and rates,
+        :meth:`~stewart.motion.mechanism.Rotary.reference_rows`)."""
         x_r, xd_r, xdd_r = arguments.sampled("trajectory", self.trajectory, times)
         if self.feedforward is None:
             ff = np.zeros((len(times), 6))
@@ -246,21 +252,23 @@ class _Run:
             raise ValueError("feedforward: must return finite forces of shape (N, 6) for N times")
         # Copies: the user's array may be a read-only view (np.broadcast_to), which the
         # compiled loop cannot take.
-        return np.ascontiguousarray(np.hstack([x_r, xd_r, xdd_r])), np.array(ff, dtype=float, order="C")
+        rows = self.rig.reference_rows(np.hstack([x_r, xd_r, xdd_r]))
+        return np.ascontiguousarray(rows), np.array(ff, dtype=float, order="C")
 
 
 def _checked_run(platform, trajectory, controller, *, duration, dt, method, actuators, feedforward, x0, xd0,
                  rtol, atol, tolerance, max_steps) -> _Run:
     """The arguments of :func:`simulate` checked, with their defaults filled in; each
     problem raises ``ValueError`` naming its argument."""
-    platform = as_platform(platform)
+    rig = mechanism(platform)
+    platform = rig.platform
     arguments.trajectory("trajectory", trajectory)
     if controller is None:
         controller = PID.tuned(platform)
     if not isinstance(controller, Controller):
         raise ValueError(f"controller: expected a stewart.PID, ComputedTorque or OpenLoop instance, "
                          f"got {controller!r:.80}")
-    actuators = Actuators() if actuators is None else actuators
+    actuators = rig.default_actuators() if actuators is None else actuators
     if not isinstance(actuators, Actuators):
         raise ValueError(f"actuators: expected a stewart.Actuators, got {type(actuators).__name__}")
     if method not in ("rk4", "adaptive"):
@@ -291,7 +299,7 @@ def _checked_run(platform, trajectory, controller, *, duration, dt, method, actu
     xd0 = start_ref[1] if xd0 is None else arguments.states("xd0", xd0)
     if x0.shape != (6,) or xd0.shape != (6,) or np.iscomplexobj(x0) or np.iscomplexobj(xd0):
         raise ValueError("x0, xd0: expected one real state each, shape (6,)")
-    return _Run(platform, trajectory, controller, actuators, feedforward, method, dt, duration,
+    return _Run(rig, trajectory, controller, actuators, feedforward, method, dt, duration,
                 max(1, int(round(steps))), budget, tolerance, rtol, atol, x0, xd0)
 
 
@@ -320,13 +328,8 @@ def _set_up(run: _Run, check_workspace: bool) -> tuple[ClosedLoop, _Series, np.n
     refs, ff = run.references(grid)
     if check_workspace:
         every = 2 if run.method == "rk4" else 1  # the poses at the output samples
-        _check_workspace(run.platform, run.x0, refs[::every, :6], times)
-    actuators = run.actuators
-    # The legs lose the actuators' friction; computed torque adds back the model's own
-    # (the platform's parameters, Actuators' defaults).
-    params = run.platform.params
-    loop = ClosedLoop(run.platform.kernel, *run.controller.loop_settings(), actuators.force_limit,
-                      actuators.friction(params), Actuators().friction(params))
+        run.rig.check_workspace(run.x0, refs[::every, :6], times)
+    loop = run.rig.loop(*run.controller.loop_settings(), run.actuators)
     n = steps + 1
     series = _Series(times, refs, ff, np.zeros((n, 18)), *(np.zeros((n, 6)) for _ in range(3)))
     y = np.concatenate([run.x0, run.xd0, run.controller.initial_integral(run.platform, run.x0, ff[0])])
@@ -380,10 +383,10 @@ def _result(run: _Run, series: _Series, end: _End, wall: float, interrupted: boo
         reference_velocity=ref_xd, lengths=series.lengths[rows], leg_velocities=series.rates[rows],
         forces=np.clip(series.commanded[rows], -limit, limit), commanded_forces=series.commanded[rows].copy(),
         completed=end.outcome == Outcome.STOP_FINISHED and end.limit is None and not interrupted,
-        reason=_reason(end.outcome, times[end.last], end.leg, params),
+        reason=run.rig.reason(end.outcome, times[end.last], end.leg),
         wall_time=wall, method=run.method, stopped_leg=None if end.leg < 0 else int(end.leg),
         metadata={"dt": run.dt, "platform": params.name or "unnamed", "controller": run.controller.label,
-                  "tolerance": run.tolerance, "force_limit": limit.tolist()},
+                  "tolerance": run.tolerance, "force_limit": limit.tolist(), "kind": run.rig.kind},
     )
     if end.limit == _BUDGET:
         result.reason = (f"the adaptive solver used its budget of {run.budget} steps before t = {reached:.4g} s "
@@ -397,33 +400,23 @@ def _result(run: _Run, series: _Series, end: _End, wall: float, interrupted: boo
     return result
 
 
-def _check_workspace(platform, x0, poses, times) -> None:
-    mode = assembly_mode(platform, x0)
-    start = reachability(platform, x0, mode=mode, name="x0")
-    if not start.ok[0]:
-        raise WorkspaceError("x0: the start pose is outside the workspace: " + "; ".join(start.reasons(0)), start)
-    check = reachability(platform, poses, mode=mode, name="trajectory")
-    if not check.ok.all():
-        raise WorkspaceError("trajectory: " + check.message("reference pose", times), check, times)
-
-
-def _judge(result: SimulationResult, platform, actuators, tolerance, interrupted: bool) -> None:
+def _judge(result: SimulationResult, rig: Linear, actuators, tolerance, interrupted: bool) -> None:
     """Set ``outcome`` and ``problems`` from the run's series."""
     problems = {name: [] for name in OUTCOMES}
     if interrupted:
         problems["interrupted"].append(result.reason)
     elif not result.completed:
         problems["failed"].append(result.reason)
-    # det J_C is continuous along the motion, so a sign change means the platform passed a
-    # singularity into another assembly mode (checked at every sample: a crossing between
-    # samples still changes the sign). Likewise a sign change of cos(theta) is a passage
-    # through the Euler-angle singularity theta = +-90 deg.
-    det = np.linalg.det(platform.jacobian(result.x, return_mask=True)[0])
+    # det J_C (J_alpha of a rotary rig) is continuous along the motion, so a sign change means
+    # the platform passed a singularity into another assembly mode (checked at every sample: a
+    # crossing between samples still changes the sign). Likewise a sign change of cos(theta) is
+    # a passage through the Euler-angle singularity theta = +-90 deg.
+    det = np.linalg.det(rig.jacobian(result.x))
     flips = np.flatnonzero(~(np.sign(det) == np.sign(det[0])))
     if flips.size:
         problems["failed"].append(
-            f"the platform passed a singularity and left its assembly mode (det J_C changed sign) at "
-            f"t = {result.t[flips[0]]:.4f} s")
+            f"the platform passed a singularity and left its assembly mode (det {rig.jacobian_name} changed sign) "
+            f"at t = {result.t[flips[0]]:.4f} s")
     cos_theta = np.cos(result.x[:, 4])
     turns = np.flatnonzero(np.sign(cos_theta) != np.sign(cos_theta[0]))
     if turns.size:
@@ -437,10 +430,12 @@ def _judge(result: SimulationResult, platform, actuators, tolerance, interrupted
     if over.any():
         row, leg = np.argwhere(over)[0]
         share = over.any(axis=1).mean()
+        unit = rig.effort_unit
         problems["saturated"].append(
-            f"commanded force {result.commanded_forces[row, leg]:.6g} N on leg {leg} at t = {result.t[row]:.4f} s "
-            f"exceeded the actuator limit {actuators.force_limit[leg]:g} N (saturated at {100 * share:.3g}% of "
-            f"the samples; peak {np.max(np.abs(result.commanded_forces)):.4g} N)")
+            f"commanded {rig.effort} {result.commanded_forces[row, leg]:.6g} {unit} on {rig.actor} {leg} at "
+            f"t = {result.t[row]:.4f} s "
+            f"exceeded the actuator limit {actuators.force_limit[leg]:g} {unit} (saturated at {100 * share:.3g}% of "
+            f"the samples; peak {np.max(np.abs(result.commanded_forces)):.4g} {unit})")
     result.problems = [p for name in OUTCOMES for p in problems[name]]
     failing = [name for name in OUTCOMES if problems[name]]
     result.outcome = "interrupted" if interrupted else (failing[0] if failing else "completed")

@@ -30,6 +30,11 @@ class SimulationResult:
     ``commanded_forces`` the controller's output before it; friction, when modelled, is
     subtracted from ``forces`` before they act on the legs.
 
+    For a rotary rig (``metadata["kind"] == "rotary"``, issue 40) the joints are the cranks:
+    ``lengths``, ``leg_velocities`` and ``forces`` hold the crank angles [rad], crank rates
+    [rad/s] and motor torques [N m] (also :attr:`crank_angles`, :attr:`crank_rates` and
+    :attr:`torques`), and the CSV names them ``alpha0..5``, ``alpha0_dot..`` and ``torque0..5``.
+
     ``outcome`` is ``"completed"`` for a successful run, else ``"failed"`` (the platform
     hit a stroke limit, left its assembly mode, passed a singularity, became non-finite or
     used up its step budget), ``"inaccurate"`` (final tracking error above the tolerance),
@@ -68,6 +73,31 @@ class SimulationResult:
         return OUTCOMES[self.outcome]
 
     @property
+    def rotary(self) -> bool:
+        """True for a rotary rig's run (the joints are cranks)."""
+        return self.metadata.get("kind") == "rotary"
+
+    def _of_rotary(self, name: str, values: np.ndarray) -> np.ndarray:
+        if not self.rotary:
+            raise AttributeError(f"{name}: a linear platform's run has leg lengths, rates and forces")
+        return values
+
+    @property
+    def crank_angles(self) -> np.ndarray:
+        """A rotary rig's crank angles [rad] at every sample, ``(N, 6)`` (``lengths``)."""
+        return self._of_rotary("crank_angles", self.lengths)
+
+    @property
+    def crank_rates(self) -> np.ndarray:
+        """A rotary rig's crank rates [rad/s] at every sample (``leg_velocities``)."""
+        return self._of_rotary("crank_rates", self.leg_velocities)
+
+    @property
+    def torques(self) -> np.ndarray:
+        """A rotary rig's motor torques [N m] after saturation at every sample (``forces``)."""
+        return self._of_rotary("torques", self.forces)
+
+    @property
     def tracking_error(self) -> np.ndarray:
         """``reference - x`` at every sample, ``(N, 6)``."""
         return self.reference - self.x
@@ -88,15 +118,16 @@ class SimulationResult:
 
     def _columns(self):
         pose = list(POSE_AXES)
+        joint, effort = ("alpha", "torque") if self.rotary else ("L", "force")
         cols = [("t", self.t[:, None])]
         cols += [
             (pose, self.x),
             ([f"{p}_dot" for p in pose], self.xd),
             ([f"{p}_ref" for p in pose], self.reference),
             ([f"{p}_dot_ref" for p in pose], self.reference_velocity),
-            ([f"L{i}" for i in range(6)], self.lengths),
-            ([f"L{i}_dot" for i in range(6)], self.leg_velocities),
-            ([f"force{i}" for i in range(6)], self.forces),
+            ([f"{joint}{i}" for i in range(6)], self.lengths),
+            ([f"{joint}{i}_dot" for i in range(6)], self.leg_velocities),
+            ([f"{effort}{i}" for i in range(6)], self.forces),
         ]
         names = []
         for name, _ in cols:
@@ -116,14 +147,20 @@ class SimulationResult:
         csvfile.write(path, names, data, self.describe(), fmt="%.10g")
 
     def to_npz(self, path) -> None:
-        """Write every series and the run's outcome to a compressed ``.npz`` file."""
+        """Write every series and the run's outcome to a compressed ``.npz`` file (``kind``: a
+        rotary rig's run, whose ``lengths``, ``leg_velocities`` and ``forces`` are its crank angles,
+        crank rates and motor torques, also written as ``crank_angles``, ``crank_rates`` and
+        ``torques``)."""
         commanded = {} if self.commanded_forces is None else {"commanded_forces": self.commanded_forces}
+        if self.rotary:
+            commanded.update(crank_angles=self.lengths, crank_rates=self.leg_velocities, torques=self.forces)
         np.savez_compressed(
             path, t=self.t, x=self.x, xd=self.xd, reference=self.reference,
             reference_velocity=self.reference_velocity, lengths=self.lengths,
             leg_velocities=self.leg_velocities, forces=self.forces, completed=self.completed, reason=self.reason,
             method=self.method, outcome=self.outcome, problems=np.array(self.problems, dtype=str),
             platform=self.metadata.get("platform", "unnamed"), controller=self.metadata.get("controller", ""),
+            kind=self.metadata.get("kind", "linear"),
             **commanded,
         )
 
