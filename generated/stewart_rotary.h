@@ -75,6 +75,12 @@ int stewart_rotary_inverse_dynamics(const stewart_rotary_params *p, const double
 int stewart_rotary_forward_dynamics(const stewart_rotary_params *p, const double x[6], const double xd[6], const double torque[6], double xdd[6]);
 /* tau and its Jacobians (row = output, column = input): dtau/dq = J_alpha^-T dR/dq for q = x, xd, xdd, R = M_t T xdd + V xd + G - J_alpha^T tau at fixed tau. */
 int stewart_rotary_inverse_dynamics_derivatives(const stewart_rotary_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6], double dtau_dx[36], double dtau_dxd[36], double dtau_dxdd[36]);
+/* xdd and its Jacobians (row = output, column = input): dxdd/dq = -T^-1 M_t^-1 dR/dq for q = x, xd, dxdd/dtau = T^-1 M_t^-1 J_alpha^T (tau: the torque), R = M_t T xdd + V xd + G - J_alpha^T torque at fixed torque (the partials of inverse_dynamics_derivatives at the forward dynamics' xdd); needs cos(theta) != 0. */
+int stewart_rotary_forward_dynamics_derivatives(const stewart_rotary_params *p, const double x[6], const double xd[6], const double torque[6], double xdd[6], double dxdd_dx[36], double dxdd_dxd[36], double dxdd_dtau[36]);
+/* One classic RK4 step of s = [x; xd], ds/dt = [xd; xdd(x, xd, torque)], torque constant (zero-order hold): [xn; xdn] after dt. */
+int stewart_rotary_rk4_step(const stewart_rotary_params *p, const double x[6], const double xd[6], const double torque[6], double dt, double xn[6], double xdn[6]);
+/* The RK4 step and its Jacobians A = d[xn; xdn]/d[x; xd] (12 x 12) and B = d[xn; xdn]/dtorque (12 x 6), row-major, by the chain rule through the stages. */
+int stewart_rotary_rk4_step_derivatives(const stewart_rotary_params *p, const double x[6], const double xd[6], const double torque[6], double dt, double xn[6], double xdn[6], double A[144], double B[72]);
 
 int stewart_rotary_batch_crank_angles(const stewart_rotary_params *p, size_t n, const double *x, double *alpha, int *status);
 int stewart_rotary_batch_jacobian(const stewart_rotary_params *p, size_t n, const double *x, double *JR, int *status);
@@ -86,6 +92,9 @@ int stewart_rotary_batch_gravity_vector(const stewart_rotary_params *p, size_t n
 int stewart_rotary_batch_inverse_dynamics(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, int *status);
 int stewart_rotary_batch_forward_dynamics(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *torque, double *xdd, int *status);
 int stewart_rotary_batch_inverse_dynamics_derivatives(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd, int *status);
+int stewart_rotary_batch_forward_dynamics_derivatives(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *torque, double *xdd, double *dxdd_dx, double *dxdd_dxd, double *dxdd_dtau, int *status);
+int stewart_rotary_batch_rk4_step(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *torque, double dt, double *xn, double *xdn, int *status);
+int stewart_rotary_batch_rk4_step_derivatives(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *torque, double dt, double *xn, double *xdn, double *A, double *B, int *status);
 
 /* Operation counts of the rotary kernels:
  *   rotary_crank_angles                  413

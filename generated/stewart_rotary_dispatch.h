@@ -21,8 +21,11 @@
  *    7  inverse_dynamics
  *    8  forward_dynamics
  *    9  inverse_dynamics_derivatives
+ *   10  forward_dynamics_derivatives
+ *   11  rk4_step
+ *   12  rk4_step_derivatives
  */
-#define STEWART_ROTARY_FUNCTIONS 10
+#define STEWART_ROTARY_FUNCTIONS 13
 
 typedef struct {
     const char *name;  /* the target, as the linear table's */
