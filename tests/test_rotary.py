@@ -254,6 +254,26 @@ def test_rk4_step_refuses_a_bad_time_step():
     assert np.array_equal(model.rk4_step(*args, np.float32(1e-3)).xd, model.rk4_step(*args, float(np.float32(1e-3))).xd)
 
 
+def test_derivatives_and_rk4_step_mask_the_rows_out_of_reach():
+    """A pose no crank reaches (20 cm above the hand rig's) in a batch: a NaN row and a False
+    mask with return_mask, the other rows as alone; without the mask SingularityError naming
+    the crank and the row."""
+    model = stewart.RotaryPlatform(_hand_rig(1))
+    x = np.array([[0.0, 0.0, 0.3, 0.0, 0.0, 0.0], [0.0, 0.0, 0.5, 0.0, 0.0, 0.0], [0.01, 0.0, 0.3, 0.0, 0.02, 0.0]])
+    xd, torque = np.zeros((3, 6)), np.ones((3, 6))
+    calls = {"forward_dynamics_derivatives": lambda rows, **o: model.forward_dynamics_derivatives(*rows, **o),
+             "rk4_step": lambda rows, **o: model.rk4_step(*rows, DT, **o),
+             "rk4_step_jacobians": lambda rows, **o: model.rk4_step(*rows, DT, jacobians=True, **o)}
+    for name, call in calls.items():
+        result, ok = call((x, xd, torque), return_mask=True)
+        assert ok.tolist() == [True, False, True], name
+        assert all(np.isnan(part[1]).all() and np.isfinite(part[[0, 2]]).all() for part in result), name
+        for k in (0, 2):
+            assert _same(call((x[k], xd[k], torque[k])), _rows(result, k)), name
+        with pytest.raises(stewart.SingularityError, match=r"crank 0 cannot reach the pose.*\b1\b"):
+            call((x, xd, torque))
+
+
 def _rk4(model, x, xd, torque, **options):
     return model.rk4_step(x, xd, torque, DT, **options)
 
