@@ -30,7 +30,7 @@ import stewart
 from stewart.cli import bench
 from stewart.cli.options import non_negative
 
-from . import batch_loop, calibration, cueing, identification, report, studies
+from . import batch_loop, calibration, cueing, identification, report, rotary_kernel, studies
 from .peers.common import peer_available
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
@@ -166,6 +166,9 @@ def main(argv=None) -> int:
         print(f"[bench] kernel, reference, simulation loop, general model, derivatives, modes: {preset} ...",
               flush=True)
         results["kernel"][preset] = bench.figures_of(bench.preset_figures(preset, args.batch, rounds))
+    print(f"[bench] rotary rig {rotary_kernel.ROTARY} against linear {rotary_kernel.LINEAR}, a state each ...",
+          flush=True)
+    results["rotary_kernel"] = rotary_kernel.figures(rounds)
     print("[bench] batch functions against the single-state ones, C loop ...", flush=True)
     results["batch_loop"] = batch_loop.figures("narayan2017", min(args.batch, 100_000), rounds)
     if peer_available("distributed"):
@@ -187,7 +190,8 @@ def main(argv=None) -> int:
     results["peers"] = peer_figures(peers, args.batch, args.jacobian_compile_cap)
     table_rows = report.our_rows(results)
     tables = [table_rows, batch_loop.rows(results["batch_loop"])] + [
-        module.rows(results[name]) for name, module in (("studies", studies), ("identification", identification),
+        module.rows(results[name]) for name, module in (("rotary_kernel", rotary_kernel), ("studies", studies),
+                                                        ("identification", identification),
                                                         ("calibration", calibration), ("cueing", cueing))
         if name in results]
     every = [row for table in tables for row in table]
@@ -198,6 +202,8 @@ def main(argv=None) -> int:
     print(bench.format_table(table_rows))
     print()
     print(batch_loop.format_rows(results["batch_loop"]))
+    print()
+    print(rotary_kernel.format_rows(results["rotary_kernel"]))
     if "studies" in results:
         print()
         print(studies.format_rows(results["studies"]))

@@ -38,6 +38,12 @@ _DERIVATIVES = {name: tuple((first, partial(rotary.rotary_inverse_dynamics_deriv
                             for first in range(0, 6, rotary.DERIVATIVE_COLUMNS))
                 for name in rotary.DERIVATIVE_INPUTS}
 
+#: xdd from M_t y = J_alpha^T torque - W(x, xd, 0), xdd = [y_v; J_A^-1 y_w] (M_t factored in FM).
+_FORWARD_STEPS = (_MT, _EULER, ('check_euler', ('ctheta',)), ('ldl_factor', ('Mt', 'FM')), ('zero', ('xdd0', '6')),
+                  Kernels(_ID, ('x', 'xd', 'xdd0')), ('forward_rhs', ('JR', 'torque', 'W', 'rhs')),
+                  ('ldl_solve', ('FM', '1', '1', 'rhs', 'y')), ('pose_accelerations', ('JAinv', '1', 'y', 'xdd')))
+_FORWARD_SCRATCH = (_LDL, ('xdd0', 6), ('rhs', 6), ('y', 6))
+
 #: The rotary family's public functions, `stewart_rotary_<name>`.
 FUNCTIONS = (
     Function('crank_angles', 'The crank angles alpha_i in their branches (crank_branch), in (-pi, pi].',
@@ -59,11 +65,7 @@ FUNCTIONS = (
              steps=(('bareiss_factor', ('JR', 'FJ')), ('bareiss_solve', ('FJ', '1', '1', 'W', 'tau'))),
              scratch=(_BAREISS,)),
     Function('forward_dynamics', 'xdd = M^-1 (J_alpha^T torque - V xd - G); needs cos(theta) != 0.',
-             ('x', 'xd', 'torque'), (('xdd', (6,)),), (),
-             steps=(_MT, _EULER, ('check_euler', ('ctheta',)), ('ldl_factor', ('Mt', 'FM')), ('zero', ('xdd0', '6')),
-                    Kernels(_ID, ('x', 'xd', 'xdd0')), ('forward_rhs', ('JR', 'torque', 'W', 'rhs')),
-                    ('ldl_solve', ('FM', '1', '1', 'rhs', 'y')), ('pose_accelerations', ('JAinv', '1', 'y', 'xdd'))),
-             scratch=(_LDL, ('xdd0', 6), ('rhs', 6), ('y', 6))),
+             ('x', 'xd', 'torque'), (('xdd', (6,)),), (), steps=_FORWARD_STEPS, scratch=_FORWARD_SCRATCH),
     Function('inverse_dynamics_derivatives',
              'tau and its Jacobians (row = output, column = input): dtau/dq = J_alpha^-T dR/dq for q = x, xd,'
              ' xdd, R = M_t T xdd + V xd + G - J_alpha^T tau at fixed tau.',
@@ -95,7 +97,39 @@ FUNCTIONS = (
              ' (= d alpha/dx = d alpha_dot/dxd), d alpha_dot/dx, ds/dx].',
              ('x', 'xd'), (('alpha', (6,)), ('ad', (6,)), ('reach', (6,)), ('grads', (3, 6, 6))),
              (rotary.rotary_cueing_rows_kernel,), steps=(('crank_angles', ('cs', 'alpha')),)),
+    # The forward dynamics' derivatives and the RK4 step with its Jacobians (issue 40), as the
+    # linear model's (codegen/model.py): keep these entries together, at the end of the table.
+    Function('forward_dynamics_derivatives',
+             'xdd and its Jacobians (row = output, column = input): dxdd/dq = -T^-1 M_t^-1 dR/dq for q = x, xd,'
+             ' dxdd/dtau = T^-1 M_t^-1 J_alpha^T (tau: the torque), R = M_t T xdd + V xd + G - J_alpha^T torque at fixed torque'
+             ' (the partials of inverse_dynamics_derivatives at the forward dynamics\' xdd); needs cos(theta) != 0.',
+             ('x', 'xd', 'torque'),
+             (('xdd', (6,)), ('dxdd_dx', (6, 6)), ('dxdd_dxd', (6, 6)), ('dxdd_dtau', (6, 6))), (),
+             steps=(*_FORWARD_STEPS,
+                    *(step for name in ('x', 'xd')
+                      for step in (*(Kernels((build,), ('x', 'xd', 'xdd', 'torque'), (('ZT', f'Z{name}T + {6 * first}'),))
+                                     for first, build in _DERIVATIVES[name]),
+                                   ('negated_transpose', (f'Z{name}T', 'Z')),
+                                   ('ldl_solve', ('FM', '6', '6', 'Z', 'Y')),
+                                   ('pose_accelerations', ('JAinv', '6', 'Y', f'dxdd_d{name}')))),
+                    ('transpose', ('JR', 'Z')), ('ldl_solve', ('FM', '6', '6', 'Z', 'Y')),
+                    ('pose_accelerations', ('JAinv', '6', 'Y', 'dxdd_dtau'))),
+             scratch=(*_FORWARD_SCRATCH, ('ZxT', 36), ('ZxdT', 36), ('Z', 36), ('Y', 36)),
+             result_type='ForwardDynamicsDerivatives'),
+    Function('rk4_step', 'One classic RK4 step of s = [x; xd], ds/dt = [xd; xdd(x, xd, torque)], torque constant'
+             ' (zero-order hold): [xn; xdn] after dt.', ('x', 'xd', 'torque'), (('xn', (6,)), ('xdn', (6,))), (),
+             scalars=('dt',), template='vector.c', results=('x', 'xd'), result_type='Step'),
+    Function('rk4_step_derivatives', 'The RK4 step and its Jacobians A = d[xn; xdn]/d[x; xd] (12 x 12) and'
+             ' B = d[xn; xdn]/dtorque (12 x 6), row-major, by the chain rule through the stages.',
+             ('x', 'xd', 'torque'), (('xn', (6,)), ('xdn', (6,)), ('A', (12, 12)), ('B', (12, 6))), (),
+             scalars=('dt',), template='vector.c', results=('x', 'xd', 'A', 'B'), result_type='StepDerivatives',
+             option=('rk4_step', 'jacobians')),
 )
+
+#: The block functions of the rotary functions written in C (codegen/templates/vector.c's RK4
+#: step over the rotary forward dynamics), by name.
+VECTOR_TEMPLATES = {'rk4_step': 'vrk4(opaque, vblock_rotary_forward_dynamics, 0, scalar, in, out)',
+                    'rk4_step_derivatives': 'vrk4(opaque, vblock_rotary_forward_dynamics_derivatives, 1, scalar, in, out)'}
 
 #: The first status code of the cranks: STEWART_ERR_CRANK_REACH + i, crank i cannot reach the pose.
 CRANK_REACH = 16
@@ -116,6 +150,7 @@ def _fields_struct():
 def _arguments(function, batch):
     args = ['const stewart_rotary_params *p'] + (['size_t n'] if batch else [])
     args += [f'const double *{name}' if batch else f'const double {name}[6]' for name in function.inputs]
+    args += [f'double {name}' for name in function.scalars]
     args += [f'double *{name}' if batch else f'double {name}[{size}]' for name, size in function.sizes]
     return ', '.join(args + (['int *status'] if batch else []))
 
@@ -229,6 +264,17 @@ static stewart_vl vcrank_angles(const stewart_vd cs[12], stewart_vd alpha[6])
     }
     return vnone();
 }
+
+/* Z = -ZT^T of a 6 x 6 matrix (row-major), over a block: the residual's partials, written by
+ * columns (ZT), as the right-hand sides of M_t T dxdd/dq = -dR/dq. */
+static stewart_vl vnegated_transpose(const stewart_vd ZT[36], stewart_vd Z[36])
+{
+    int i, j;
+    for (i = 0; i < 6; ++i)
+        for (j = 0; j < 6; ++j)
+            Z[6 * j + i] = -ZT[6 * i + j];
+    return vnone();
+}
 #if defined(__GNUC__)
 #pragma GCC diagnostic pop
 #endif
@@ -264,7 +310,12 @@ def kernel_unit(kernel):
 
 def _block(function, kernels):
     """C lines of `vblock_rotary_<name>`: its kernels and steps on a block of states, each
-    rotary kernel followed by the cranks' check, the statuses merged."""
+    rotary kernel followed by the cranks' check, the statuses merged (for a function written
+    in C, its block function in `VECTOR_TEMPLATES`)."""
+    if function.template:
+        return [f'static stewart_vl vblock_rotary_{function.name}(const stewart_params *opaque, double scalar,'
+                ' const stewart_vd *const in[], stewart_vd *const out[])', '{',
+                f'    return {VECTOR_TEMPLATES[function.name]};', '}', '']
     listed = kernel_runs(function, kernels)
     runs = iter(listed)
     outputs = dict(function.sizes)
@@ -306,15 +357,15 @@ def _batch(function):
     nin, nout = len(function.inputs), len(function.outputs)
     arrays = lambda kind, names: '(' + kind + '[]){' + ', '.join(names) + '}'
     call = ', '.join(['rotary_params_finite(p)', '(const stewart_params *)(const void *)p',
-                      f'vblock_rotary_{function.name}', '0.0', 'n', str(nin),
+                      f'vblock_rotary_{function.name}', function.scalars[0] if function.scalars else '0.0', 'n', str(nin),
                       arrays('const double *const ', function.inputs),
                       arrays('stewart_vd *const ', [f'in{k}' for k in range(nin)]), str(nout),
                       arrays('double *const ', [name for name, _ in function.sizes]),
                       arrays('stewart_vd *const ', [f'out{k}' for k in range(nout)]),
                       arrays('const int ', [str(size) for _, size in function.sizes]), 'status'])
-    single = ', '.join(['p', '1', *function.inputs, *(name for name, _ in function.sizes), 'NULL'])
+    single = ', '.join(['p', '1', *function.inputs, *function.scalars, *(name for name, _ in function.sizes), 'NULL'])
     adapter = ', '.join(['rotary_params_of(p)', 'n', *(f'in[{k}]' for k in range(nin)),
-                         *(f'out[{k}]' for k in range(nout)), 'status'])
+                         *(['scalar'] if function.scalars else []), *(f'out[{k}]' for k in range(nout)), 'status'])
     return [prototype(function, True), '{',
             '    stewart_vd ' + ', '.join([f'in{k}[6]' for k in range(nin)]
                                           + [f'out{k}[{size}]' for k, (_, size) in enumerate(function.sizes)]) + ';',
@@ -322,7 +373,7 @@ def _batch(function):
             prototype(function), '{', f'    return stewart_rotary_batch_{function.name}({single});', '}', '',
             '#ifdef STEWART_TARGET  /* the call of this copy\'s table, below */',
             f'static int call_rotary_{function.name}(const stewart_params *p, size_t n, const double *const in[],'
-            ' double scalar, double *const out[], int *status)', '{', '    (void)scalar;',
+            ' double scalar, double *const out[], int *status)', '{', *([] if function.scalars else ['    (void)scalar;']),
             f'    return stewart_rotary_batch_{function.name}({adapter});', '}', '#endif', '']
 
 
@@ -460,10 +511,10 @@ FUNCTIONS = {
 
 
 def _function(index, function):
-    fields = {'index': index, 'inputs': tuple(function.inputs), 'scalar': '',
+    fields = {'index': index, 'inputs': tuple(function.inputs), 'scalar': function.scalars[0] if function.scalars else '',
               'outputs': tuple((name, math.prod(shape)) for name, shape in function.outputs),
-              'results': results(function), 'result_type': function.result_type, 'method': function.name,
-              'option': ''}
+              'results': results(function), 'result_type': function.result_type,
+              'method': (function.option or (function.name, ''))[0], 'option': (function.option or ('', ''))[1]}
     return f'    {function.name!r}: Function(\n' + ''.join(f'        {k}={v!r},\n' for k, v in fields.items()) + '    ),'
 
 

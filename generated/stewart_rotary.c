@@ -465,11 +465,121 @@ static int call_rotary_cueing_rows(const stewart_params *p, size_t n, const doub
 }
 #endif
 
+static stewart_vl vblock_rotary_forward_dynamics_derivatives(const stewart_params *opaque, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    const stewart_rotary_params *p = rotary_params_of(opaque);
+    const stewart_vd *x = in[0];
+    const stewart_vd *xd = in[1];
+    const stewart_vd *torque = in[2];
+    stewart_vd *xdd = out[0];
+    stewart_vd *dxdd_dx = out[1];
+    stewart_vd *dxdd_dxd = out[2];
+    stewart_vd *dxdd_dtau = out[3];
+    stewart_vd Mt[36], S2[6], rho2[6], JA[9], JAinv[9], ctheta[1], W[6], JR[36], FM[21], xdd0[6], rhs[6], y[6], ZxT[36], ZxdT[36], Z[36], Y[36];
+    stewart_vl status = vnone();
+    (void)scalar;
+    (void)p;
+    vkernel_rotary_twist_mass_matrix(p, x, Mt, S2, rho2);
+    status = vmerge(status, vcheck_cranks(S2, rho2));
+    vkernel_euler_maps(opaque, x, JA, JAinv, ctheta);
+    status = vmerge(status, vcheck_euler(ctheta));
+    status = vmerge(status, vldl_factor(Mt, FM));
+    status = vmerge(status, vzero(xdd0, 6));
+    vkernel_rotary_inverse_dynamics(p, x, xd, xdd0, W, JR, S2, rho2);
+    status = vmerge(status, vcheck_cranks(S2, rho2));
+    status = vmerge(status, vforward_rhs(JR, torque, W, rhs));
+    status = vmerge(status, vldl_solve(FM, 1, 1, rhs, y));
+    status = vmerge(status, vpose_accelerations(JAinv, 1, y, xdd));
+    vkernel_rotary_inverse_dynamics_derivatives_x0(p, x, xd, xdd, torque, ZxT + 0, S2, rho2);
+    status = vmerge(status, vcheck_cranks(S2, rho2));
+    vkernel_rotary_inverse_dynamics_derivatives_x3(p, x, xd, xdd, torque, ZxT + 18, S2, rho2);
+    status = vmerge(status, vcheck_cranks(S2, rho2));
+    status = vmerge(status, vnegated_transpose(ZxT, Z));
+    status = vmerge(status, vldl_solve(FM, 6, 6, Z, Y));
+    status = vmerge(status, vpose_accelerations(JAinv, 6, Y, dxdd_dx));
+    vkernel_rotary_inverse_dynamics_derivatives_xd0(p, x, xd, xdd, torque, ZxdT + 0, S2, rho2);
+    status = vmerge(status, vcheck_cranks(S2, rho2));
+    vkernel_rotary_inverse_dynamics_derivatives_xd3(p, x, xd, xdd, torque, ZxdT + 18, S2, rho2);
+    status = vmerge(status, vcheck_cranks(S2, rho2));
+    status = vmerge(status, vnegated_transpose(ZxdT, Z));
+    status = vmerge(status, vldl_solve(FM, 6, 6, Z, Y));
+    status = vmerge(status, vpose_accelerations(JAinv, 6, Y, dxdd_dxd));
+    status = vmerge(status, vtranspose(JR, Z));
+    status = vmerge(status, vldl_solve(FM, 6, 6, Z, Y));
+    status = vmerge(status, vpose_accelerations(JAinv, 6, Y, dxdd_dtau));
+    return status;
+}
+
+int stewart_rotary_batch_forward_dynamics_derivatives(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *torque, double *xdd, double *dxdd_dx, double *dxdd_dxd, double *dxdd_dtau, int *status)
+{
+    stewart_vd in0[6], in1[6], in2[6], out0[6], out1[36], out2[36], out3[36];
+    return batch_rows(rotary_params_finite(p), (const stewart_params *)(const void *)p, vblock_rotary_forward_dynamics_derivatives, 0.0, n, 3, (const double *const []){x, xd, torque}, (stewart_vd *const []){in0, in1, in2}, 4, (double *const []){xdd, dxdd_dx, dxdd_dxd, dxdd_dtau}, (stewart_vd *const []){out0, out1, out2, out3}, (const int []){6, 36, 36, 36}, status);
+}
+
+int stewart_rotary_forward_dynamics_derivatives(const stewart_rotary_params *p, const double x[6], const double xd[6], const double torque[6], double xdd[6], double dxdd_dx[36], double dxdd_dxd[36], double dxdd_dtau[36])
+{
+    return stewart_rotary_batch_forward_dynamics_derivatives(p, 1, x, xd, torque, xdd, dxdd_dx, dxdd_dxd, dxdd_dtau, NULL);
+}
+
+#ifdef STEWART_TARGET  /* the call of this copy's table, below */
+static int call_rotary_forward_dynamics_derivatives(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_rotary_batch_forward_dynamics_derivatives(rotary_params_of(p), n, in[0], in[1], in[2], out[0], out[1], out[2], out[3], status);
+}
+#endif
+
+static stewart_vl vblock_rotary_rk4_step(const stewart_params *opaque, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    return vrk4(opaque, vblock_rotary_forward_dynamics, 0, scalar, in, out);
+}
+
+int stewart_rotary_batch_rk4_step(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *torque, double dt, double *xn, double *xdn, int *status)
+{
+    stewart_vd in0[6], in1[6], in2[6], out0[6], out1[6];
+    return batch_rows(rotary_params_finite(p), (const stewart_params *)(const void *)p, vblock_rotary_rk4_step, dt, n, 3, (const double *const []){x, xd, torque}, (stewart_vd *const []){in0, in1, in2}, 2, (double *const []){xn, xdn}, (stewart_vd *const []){out0, out1}, (const int []){6, 6}, status);
+}
+
+int stewart_rotary_rk4_step(const stewart_rotary_params *p, const double x[6], const double xd[6], const double torque[6], double dt, double xn[6], double xdn[6])
+{
+    return stewart_rotary_batch_rk4_step(p, 1, x, xd, torque, dt, xn, xdn, NULL);
+}
+
+#ifdef STEWART_TARGET  /* the call of this copy's table, below */
+static int call_rotary_rk4_step(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    return stewart_rotary_batch_rk4_step(rotary_params_of(p), n, in[0], in[1], in[2], scalar, out[0], out[1], status);
+}
+#endif
+
+static stewart_vl vblock_rotary_rk4_step_derivatives(const stewart_params *opaque, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    return vrk4(opaque, vblock_rotary_forward_dynamics_derivatives, 1, scalar, in, out);
+}
+
+int stewart_rotary_batch_rk4_step_derivatives(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *torque, double dt, double *xn, double *xdn, double *A, double *B, int *status)
+{
+    stewart_vd in0[6], in1[6], in2[6], out0[6], out1[6], out2[144], out3[72];
+    return batch_rows(rotary_params_finite(p), (const stewart_params *)(const void *)p, vblock_rotary_rk4_step_derivatives, dt, n, 3, (const double *const []){x, xd, torque}, (stewart_vd *const []){in0, in1, in2}, 4, (double *const []){xn, xdn, A, B}, (stewart_vd *const []){out0, out1, out2, out3}, (const int []){6, 6, 144, 72}, status);
+}
+
+int stewart_rotary_rk4_step_derivatives(const stewart_rotary_params *p, const double x[6], const double xd[6], const double torque[6], double dt, double xn[6], double xdn[6], double A[144], double B[72])
+{
+    return stewart_rotary_batch_rk4_step_derivatives(p, 1, x, xd, torque, dt, xn, xdn, A, B, NULL);
+}
+
+#ifdef STEWART_TARGET  /* the call of this copy's table, below */
+static int call_rotary_rk4_step_derivatives(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    return stewart_rotary_batch_rk4_step_derivatives(rotary_params_of(p), n, in[0], in[1], in[2], scalar, out[0], out[1], out[2], out[3], status);
+}
+#endif
+
 #define STEWART_ROTARY_STRING_(a) #a
 #define STEWART_ROTARY_STRING(a) STEWART_ROTARY_STRING_(a)
 #ifdef STEWART_TARGET
 const stewart_rotary_table STEWART_JOIN(stewart_rotary_table, STEWART_TARGET) = {
     STEWART_ROTARY_STRING(STEWART_TARGET),
-    {call_rotary_crank_angles, call_rotary_jacobian, call_rotary_pose_jacobian, call_rotary_crank_rates, call_rotary_twist_mass_matrix, call_rotary_mass_matrix, call_rotary_gravity_vector, call_rotary_inverse_dynamics, call_rotary_forward_dynamics, call_rotary_inverse_dynamics_derivatives, call_rotary_joint_cosines, call_rotary_cueing_rows},
+    {call_rotary_crank_angles, call_rotary_jacobian, call_rotary_pose_jacobian, call_rotary_crank_rates, call_rotary_twist_mass_matrix, call_rotary_mass_matrix, call_rotary_gravity_vector, call_rotary_inverse_dynamics, call_rotary_forward_dynamics, call_rotary_inverse_dynamics_derivatives, call_rotary_joint_cosines, call_rotary_cueing_rows, call_rotary_forward_dynamics_derivatives, call_rotary_rk4_step, call_rotary_rk4_step_derivatives},
 };
 #endif

@@ -79,6 +79,12 @@ int stewart_rotary_inverse_dynamics_derivatives(const stewart_rotary_params *p, 
 int stewart_rotary_joint_cosines(const stewart_rotary_params *p, const double x[6], const double x0[6], double alpha[6], double c[18], double z[6]);
 /* What MPC cueing holds: the crank angles alpha, the crank rates alpha_dot, the reach s_i = sin^2(delta_i) (0 at the edge of crank i's reach) and their gradients grads = [J_alpha T (= d alpha/dx = d alpha_dot/dxd), d alpha_dot/dx, ds/dx]. */
 int stewart_rotary_cueing_rows(const stewart_rotary_params *p, const double x[6], const double xd[6], double alpha[6], double ad[6], double reach[6], double grads[108]);
+/* xdd and its Jacobians (row = output, column = input): dxdd/dq = -T^-1 M_t^-1 dR/dq for q = x, xd, dxdd/dtau = T^-1 M_t^-1 J_alpha^T (tau: the torque), R = M_t T xdd + V xd + G - J_alpha^T torque at fixed torque (the partials of inverse_dynamics_derivatives at the forward dynamics' xdd); needs cos(theta) != 0. */
+int stewart_rotary_forward_dynamics_derivatives(const stewart_rotary_params *p, const double x[6], const double xd[6], const double torque[6], double xdd[6], double dxdd_dx[36], double dxdd_dxd[36], double dxdd_dtau[36]);
+/* One classic RK4 step of s = [x; xd], ds/dt = [xd; xdd(x, xd, torque)], torque constant (zero-order hold): [xn; xdn] after dt. */
+int stewart_rotary_rk4_step(const stewart_rotary_params *p, const double x[6], const double xd[6], const double torque[6], double dt, double xn[6], double xdn[6]);
+/* The RK4 step and its Jacobians A = d[xn; xdn]/d[x; xd] (12 x 12) and B = d[xn; xdn]/dtorque (12 x 6), row-major, by the chain rule through the stages. */
+int stewart_rotary_rk4_step_derivatives(const stewart_rotary_params *p, const double x[6], const double xd[6], const double torque[6], double dt, double xn[6], double xdn[6], double A[144], double B[72]);
 
 int stewart_rotary_batch_crank_angles(const stewart_rotary_params *p, size_t n, const double *x, double *alpha, int *status);
 int stewart_rotary_batch_jacobian(const stewart_rotary_params *p, size_t n, const double *x, double *JR, int *status);
@@ -92,6 +98,9 @@ int stewart_rotary_batch_forward_dynamics(const stewart_rotary_params *p, size_t
 int stewart_rotary_batch_inverse_dynamics_derivatives(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd, int *status);
 int stewart_rotary_batch_joint_cosines(const stewart_rotary_params *p, size_t n, const double *x, const double *x0, double *alpha, double *c, double *z, int *status);
 int stewart_rotary_batch_cueing_rows(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, double *alpha, double *ad, double *reach, double *grads, int *status);
+int stewart_rotary_batch_forward_dynamics_derivatives(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *torque, double *xdd, double *dxdd_dx, double *dxdd_dxd, double *dxdd_dtau, int *status);
+int stewart_rotary_batch_rk4_step(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *torque, double dt, double *xn, double *xdn, int *status);
+int stewart_rotary_batch_rk4_step_derivatives(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *torque, double dt, double *xn, double *xdn, double *A, double *B, int *status);
 
 /* Operation counts of the rotary kernels:
  *   rotary_crank_angles                  413

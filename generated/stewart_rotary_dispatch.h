@@ -23,8 +23,11 @@
  *    9  inverse_dynamics_derivatives
  *   10  joint_cosines
  *   11  cueing_rows
+ *   12  forward_dynamics_derivatives
+ *   13  rk4_step
+ *   14  rk4_step_derivatives
  */
-#define STEWART_ROTARY_FUNCTIONS 12
+#define STEWART_ROTARY_FUNCTIONS 15
 
 typedef struct {
     const char *name;  /* the target, as the linear table's */

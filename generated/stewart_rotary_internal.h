@@ -20,6 +20,9 @@
 #define stewart_rotary_inverse_dynamics_derivatives STEWART_LOCAL(rotary_inverse_dynamics_derivatives)
 #define stewart_rotary_joint_cosines STEWART_LOCAL(rotary_joint_cosines)
 #define stewart_rotary_cueing_rows STEWART_LOCAL(rotary_cueing_rows)
+#define stewart_rotary_forward_dynamics_derivatives STEWART_LOCAL(rotary_forward_dynamics_derivatives)
+#define stewart_rotary_rk4_step STEWART_LOCAL(rotary_rk4_step)
+#define stewart_rotary_rk4_step_derivatives STEWART_LOCAL(rotary_rk4_step_derivatives)
 #define stewart_rotary_batch_crank_angles STEWART_LOCAL(rotary_batch_crank_angles)
 #define stewart_rotary_batch_jacobian STEWART_LOCAL(rotary_batch_jacobian)
 #define stewart_rotary_batch_pose_jacobian STEWART_LOCAL(rotary_batch_pose_jacobian)
@@ -32,6 +35,9 @@
 #define stewart_rotary_batch_inverse_dynamics_derivatives STEWART_LOCAL(rotary_batch_inverse_dynamics_derivatives)
 #define stewart_rotary_batch_joint_cosines STEWART_LOCAL(rotary_batch_joint_cosines)
 #define stewart_rotary_batch_cueing_rows STEWART_LOCAL(rotary_batch_cueing_rows)
+#define stewart_rotary_batch_forward_dynamics_derivatives STEWART_LOCAL(rotary_batch_forward_dynamics_derivatives)
+#define stewart_rotary_batch_rk4_step STEWART_LOCAL(rotary_batch_rk4_step)
+#define stewart_rotary_batch_rk4_step_derivatives STEWART_LOCAL(rotary_batch_rk4_step_derivatives)
 #define stewart_rotary_status_message STEWART_LOCAL(rotary_status_message)
 #define vkernel_rotary_crank_angles STEWART_LOCAL(vkernel_rotary_crank_angles)
 #define vkernel_rotary_jacobian STEWART_LOCAL(vkernel_rotary_jacobian)
@@ -106,6 +112,17 @@ static stewart_vl vcrank_angles(const stewart_vd cs[12], stewart_vd alpha[6])
             alpha[i][lane] = a == -atan2(0.0, -1.0) ? -a : a;
         }
     }
+    return vnone();
+}
+
+/* Z = -ZT^T of a 6 x 6 matrix (row-major), over a block: the residual's partials, written by
+ * columns (ZT), as the right-hand sides of M_t T dxdd/dq = -dR/dq. */
+static stewart_vl vnegated_transpose(const stewart_vd ZT[36], stewart_vd Z[36])
+{
+    int i, j;
+    for (i = 0; i < 6; ++i)
+        for (j = 0; j < 6; ++j)
+            Z[6 * j + i] = -ZT[6 * i + j];
     return vnone();
 }
 #if defined(__GNUC__)

@@ -36,9 +36,10 @@ cdef class RotaryKernel:
     def __cinit__(self, params):
         stewart_rotary_params_fill(&self.p, params)
 
-    def call(self, str name, tuple arrays, bint return_mask=False):
-        """The rotary function ``name`` on ``arrays``, its inputs: its result (each of shape
-        ``(N,) +`` its row shape for a batch); with ``return_mask``, ``(result, ok)``.
+    def call(self, str name, tuple arrays, bint return_mask=False, double scalar=0.0):
+        """The rotary function ``name`` on ``arrays``, its inputs, with its scalar input
+        ``scalar`` (the RK4 step's ``dt``; ignored by a function without one): its result (each
+        of shape ``(N,) +`` its row shape for a batch); with ``return_mask``, ``(result, ok)``.
         SingularityError naming the rows that fail, without ``return_mask``."""
         cdef _Function f = _ROTARY.get(name)
         cdef const double *ins[STEWART_MAX_INPUTS]
@@ -72,7 +73,7 @@ cdef class RotaryKernel:
         status = cnp.PyArray_ZEROS(1, &n, cnp.NPY_INT, 0)
         cdef int *ps = <int *>cnp.PyArray_DATA(status)
         with nogil:
-            fn(<const stewart_params *>&self.p, n, ins, 0.0, outs, ps)
+            fn(<const stewart_params *>&self.p, n, ins, scalar, outs, ps)
         result = outputs[0] if f.whole and f.nout == 1 else (tuple(outputs) if f.whole else f.split(tuple(outputs)))
         ok = status == STEWART_OK
         if return_mask:

@@ -11,6 +11,9 @@ read by its attribute names only).
   weights, tau = (d alpha' / d xd)^-T Q, the partials taken as the velocities at xd = e_k.
 - The energy T + V of the bodies, in complex arithmetic as well, for the power balance
   dE/dt = tau . alpha' by complex step.
+- The forward dynamics from the torques alone (they are affine in the accelerations: seven
+  evaluations give the matrix and the offset), and a classic RK4 step over it, both in
+  complex arithmetic as well, for complex-step derivatives.
 """
 
 import numpy as np
@@ -175,3 +178,26 @@ def energy(rig, x, xd, alpha):
         z_R = c[2] + rig.rod_com_distance / rig.rod_length * (P - c)[2]
         V += rig.gravity * (rig.crank_mass * (rig.base_points[i][2] + rig.crank_com_distance * u[2]) + rig.rod_mass * z_R)
     return T + V
+
+
+def forward_dynamics(rig, x, xd, torque):
+    """The pose accelerations under `torque`: `torques` is affine in xdd, tau = A xdd + b with
+    b = torques(x, xd, 0) and column k of A = torques(x, xd, e_k) - b, so xdd = A^-1 (torque - b)
+    (complex arithmetic allowed); one step of iterative refinement on the residual
+    torque - torques(x, xd, xdd) recovers the digits the differences of A lose to b."""
+    b = torques(rig, x, xd, np.zeros(6))
+    A = np.array([torques(rig, x, xd, e) for e in np.eye(6)]).T - b[:, None]
+    xdd = np.linalg.solve(A, torque - b)
+    return xdd + np.linalg.solve(A, torque - torques(rig, x, xd, xdd))
+
+
+def rk4_step(rig, x, xd, torque, dt):
+    """One classic RK4 step of s = [x; xd], s' = [xd; forward_dynamics], torque held."""
+    def f(s):
+        return np.concatenate([s[6:], forward_dynamics(rig, s[:6], s[6:], torque)])
+    s = np.concatenate([x, xd])
+    k1 = f(s)
+    k2 = f(s + dt / 2 * k1)
+    k3 = f(s + dt / 2 * k2)
+    k4 = f(s + dt * k3)
+    return s + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4)

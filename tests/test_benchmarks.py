@@ -393,3 +393,24 @@ def test_cueing_rows_mark_the_target():
         step, faster = cueing.rows({**fig, **measured})[:2]
         assert step[2:] == (f"{low:.2f}-{high:.2f} (2)", "<= 1 ms", verdict)
         assert faster[2:] == (f"{3.0 - high:.2f}-{3.0 - low:.2f} (2)", ">= 2x", verdict)
+
+
+def test_rotary_kernel_rows_mark_the_targets():
+    """The rotary torques and forward dynamics over the linear model's carry the 1.5x target
+    (met, MISSED, unsettled by the interval); the derivatives' rows carry none."""
+    from benchmarks import rotary_kernel
+
+    names = list(rotary_kernel.FUNCTIONS)
+    for median, low, high, verdict in ((1.2, 1.1, 1.3, "met"), (1.7, 1.6, 1.8, "MISSED"),
+                                       (1.5, 1.4, 1.6, "unsettled")):
+        measured = {**{f"rotary_over_linear_{n}": Measurement(median, low, high, 5) for n in names},
+                    **{f"rotary_batch_{n}_us": Measurement(0.2, 0.19, 0.21, 5) for n in names}}
+        out = rotary_kernel.rows({"rotary": "simrig100", "linear": "motion_simulator", "path": "avx2",
+                                  **bench.figures_of(measured)})
+        assert len(out) == 2 * len(names)
+        by_name = dict(zip((f"{kind}_{n}" for n in names for kind in ("batch", "ratio")), out))
+        for n in ("inverse_dynamics", "forward_dynamics"):
+            assert by_name[f"ratio_{n}"][1:] == (f"{median:.2f}x", f"{low:.2f}-{high:.2f} (5)", "<= 1.5x", verdict)
+        for n in names[2:]:
+            assert by_name[f"ratio_{n}"][3:] == ("", "") and by_name[f"batch_{n}"][1] == "0.200 us/state"
+        assert "avx2" in by_name["ratio_forward_dynamics"][0] and "simrig100" in by_name["batch_inverse_dynamics"][0]

@@ -164,9 +164,124 @@ def test_inverse_dynamics_derivatives_against_complex_step(rig, figures):
     figures("rotary: torques' Jacobians against complex step of the oracle (relative)", worst, 2e-13)  # reached 4.0e-15
 
 
+def test_forward_dynamics_derivatives_against_complex_step(rig, figures):
+    """xdd and its Jacobians against complex step of the oracle's forward dynamics (the torques
+    inverted by their affine dependence on xdd), on states with random torques."""
+    x, xd, xdd = random_states(rig, 10, n=3)
+    model = stewart.RotaryPlatform(rig)
+    torque = model.inverse_dynamics(x, xd, xdd)
+    result = model.forward_dynamics_derivatives(x, xd, torque)
+    assert type(result).__name__ == "ForwardDynamicsDerivatives"
+    assert np.array_equal(result.xdd, model.forward_dynamics(x, xd, torque))
+    worst = 0.0
+    for k, state in enumerate(zip(x, xd, torque)):
+        for slot, name in enumerate(("dxdd_dx", "dxdd_dxd", "dxdd_dtau")):
+            step = np.array([oracle.forward_dynamics(rig, *(s + 1j * H * e if j == slot else s
+                                                            for j, s in enumerate(state))).imag / H
+                             for e in np.eye(6)]).T
+            worst = np.maximum(worst, np.max(np.abs(getattr(result, name)[k] - step)) / np.max(np.abs(step)))
+    figures("rotary: forward dynamics' Jacobians against complex step of the oracle (relative)", worst, 5e-14)  # reached 5.2e-15
+
+
+def test_forward_dynamics_derivatives_invert_the_torques_derivatives(rig, figures):
+    """At xdd = forward_dynamics(x, xd, tau): dxdd/dtau = (dtau/dxdd)^-1 and dxdd/dq =
+    -(dtau/dxdd)^-1 dtau/dq for q = x, xd (implicit differentiation of tau(x, xd, xdd) = tau)."""
+    x, xd, xdd = random_states(rig, 11)
+    model = stewart.RotaryPlatform(rig)
+    torque = model.inverse_dynamics(x, xd, xdd)
+    fd = model.forward_dynamics_derivatives(x, xd, torque)
+    inv = model.inverse_dynamics_derivatives(x, xd, fd.xdd)
+    worst = 0.0
+    for expected, got in ((np.linalg.inv(inv.dtau_dxdd), fd.dxdd_dtau),
+                          (-np.linalg.solve(inv.dtau_dxdd, inv.dtau_dx), fd.dxdd_dx),
+                          (-np.linalg.solve(inv.dtau_dxdd, inv.dtau_dxd), fd.dxdd_dxd)):
+        worst = max(worst, np.max(np.abs(got - expected)) / np.max(np.abs(expected)))
+    figures("rotary: forward dynamics' Jacobians against the torques' (relative)", worst, 5e-14)  # reached 6.3e-15
+
+
+#: The RK4 step of the tests [s]: a 1 kHz control loop's.
+DT = 1e-3
+
+
+def test_rk4_step_against_the_oracles_rk4(rig, figures):
+    """The step and its increment against a numpy RK4 over the oracle's forward dynamics; the
+    Jacobians alone give the same step."""
+    x, xd, xdd = random_states(rig, 12, n=4)
+    model = stewart.RotaryPlatform(rig)
+    torque = model.inverse_dynamics(x, xd, xdd)
+    torque += np.random.default_rng(0).normal(scale=0.1 * np.max(np.abs(torque)), size=torque.shape)
+    step = model.rk4_step(x, xd, torque, DT)
+    assert type(step).__name__ == "Step"
+    expected = np.array([oracle.rk4_step(rig, *state, DT) for state in zip(x, xd, torque)])
+    got = np.concatenate([step.x, step.xd], axis=1)
+    start = np.concatenate([x, xd], axis=1)
+    figures("rotary: RK4 step's increment against numpy RK4 of the oracle (relative)",
+            np.max(np.abs((got - start) - (expected - start))) / np.max(np.abs(expected - start)), 1e-13)  # reached 1.2e-14
+    with_jacobians = model.rk4_step(x, xd, torque, DT, jacobians=True)
+    assert type(with_jacobians).__name__ == "StepDerivatives"
+    assert np.array_equal(with_jacobians.x, step.x) and np.array_equal(with_jacobians.xd, step.xd)
+
+
+def test_rk4_step_jacobians_against_complex_step(figures):
+    """A = d(x+, xd+)/d(x, xd) and B = d(x+, xd+)/dtorque against complex step of the oracle's
+    RK4 step, on an asymmetric rig and on desktop_servo."""
+    worst = 0.0
+    for rig in (RIGS[0], RIGS[3]):
+        x, xd, xdd = random_states(rig, 13, n=2)
+        model = stewart.RotaryPlatform(rig)
+        torque = model.inverse_dynamics(x, xd, xdd)
+        step = model.rk4_step(x, xd, torque, DT, jacobians=True)
+        for k in range(len(x)):
+            A = np.array([oracle.rk4_step(rig, x[k] + 1j * H * e[:6], xd[k] + 1j * H * e[6:], torque[k], DT).imag / H
+                          for e in np.eye(12)]).T
+            B = np.array([oracle.rk4_step(rig, x[k], xd[k], torque[k] + 1j * H * e, DT).imag / H
+                          for e in np.eye(6)]).T
+            for got, expected in ((step.A[k], A), (step.B[k], B)):
+                worst = max(worst, np.max(np.abs(got - expected)) / np.max(np.abs(expected)))
+    figures("rotary: RK4 step's A and B against complex step of the oracle's RK4 (relative)", worst, 2e-14)  # reached 1.8e-15
+
+
+def test_rk4_step_refuses_a_bad_time_step():
+    model = stewart.RotaryPlatform.preset("desktop_servo")
+    args = (model.home, np.zeros(6), np.zeros(6))
+    for dt, message in ((0.0, "positive"), (-1e-3, "positive"), (np.nan, "finite"), (np.inf, "finite"),
+                        ("abc", "expected"), (1e-3 + 1j, "complex"), ([1e-3, 2e-3], "one number")):
+        with pytest.raises(ValueError, match=rf"^dt: .*{message}"):
+            model.rk4_step(*args, dt)
+        with pytest.raises(ValueError, match=rf"^dt: .*{message}"):
+            model.rk4_step(*args, dt, jacobians=True)
+    # any real number type of a positive step is taken as its float
+    assert np.array_equal(model.rk4_step(*args, np.float32(1e-3)).xd, model.rk4_step(*args, float(np.float32(1e-3))).xd)
+
+
+def test_derivatives_and_rk4_step_mask_the_rows_out_of_reach():
+    """A pose no crank reaches (20 cm above the hand rig's) in a batch: a NaN row and a False
+    mask with return_mask, the other rows as alone; without the mask SingularityError naming
+    the crank and the row."""
+    model = stewart.RotaryPlatform(_hand_rig(1))
+    x = np.array([[0.0, 0.0, 0.3, 0.0, 0.0, 0.0], [0.0, 0.0, 0.5, 0.0, 0.0, 0.0], [0.01, 0.0, 0.3, 0.0, 0.02, 0.0]])
+    xd, torque = np.zeros((3, 6)), np.ones((3, 6))
+    calls = {"forward_dynamics_derivatives": lambda rows, **o: model.forward_dynamics_derivatives(*rows, **o),
+             "rk4_step": lambda rows, **o: model.rk4_step(*rows, DT, **o),
+             "rk4_step_jacobians": lambda rows, **o: model.rk4_step(*rows, DT, jacobians=True, **o)}
+    for name, call in calls.items():
+        result, ok = call((x, xd, torque), return_mask=True)
+        assert ok.tolist() == [True, False, True], name
+        assert all(np.isnan(part[1]).all() and np.isfinite(part[[0, 2]]).all() for part in result), name
+        for k in (0, 2):
+            assert _same(call((x[k], xd[k], torque[k])), _rows(result, k)), name
+        with pytest.raises(stewart.SingularityError, match=r"crank 0 cannot reach the pose.*\b1\b"):
+            call((x, xd, torque))
+
+
+def _rk4(model, x, xd, torque, **options):
+    return model.rk4_step(x, xd, torque, DT, **options)
+
+
 FUNCTIONS = {"crank_angles": 1, "jacobian": 1, "pose_jacobian": 1, "crank_rates": 2, "mass_matrix": 1,
              "twist_mass_matrix": 1, "gravity_vector": 1, "inverse_dynamics": 3, "forward_dynamics": 3,
-             "inverse_dynamics_derivatives": 3, "joint_cosines": 1, "cueing_rows": 2}
+             "inverse_dynamics_derivatives": 3, "joint_cosines": 1, "cueing_rows": 2,
+             "forward_dynamics_derivatives": 3, "rk4_step": 3, "rk4_step_jacobians": 3}
 
 
 @pytest.mark.parametrize("name", FUNCTIONS)
@@ -178,8 +293,11 @@ def test_alone_as_in_a_batch_bit_for_bit_on_every_path(name):
     model = stewart.RotaryPlatform(rig)
     tau = model.inverse_dynamics(x, xd, xdd)
     inputs = {"crank_rates": (x, xd), "cueing_rows": (x, xd), "inverse_dynamics": (x, xd, xdd), "forward_dynamics": (x, xd, tau),
-              "inverse_dynamics_derivatives": (x, xd, xdd)}.get(name, (x,))
-    function, first = getattr(model, name), None
+              "inverse_dynamics_derivatives": (x, xd, xdd), "forward_dynamics_derivatives": (x, xd, tau),
+              "rk4_step": (x, xd, tau), "rk4_step_jacobians": (x, xd, tau)}.get(name, (x,))
+    function = {"rk4_step": lambda *a: _rk4(model, *a),
+                "rk4_step_jacobians": lambda *a: _rk4(model, *a, jacobians=True)}.get(name) or getattr(model, name)
+    first = None
     previous = stewart.set_simd(None)
     try:
         for path in stewart.build_info()["supported"]:
@@ -278,7 +396,8 @@ def test_massless_legs_reduce_to_the_platforms_statics(figures):
 #: Every array-taking method of RotaryPlatform with its state arguments' names.
 ROTARY_METHODS = {"crank_angles": ("x",), "jacobian": ("x",), "mass_matrix": ("x",), "gravity_vector": ("x",),
                   "inverse_dynamics": ("x", "xd", "xdd"), "forward_dynamics": ("x", "xd", "torque"),
-                  "inverse_dynamics_derivatives": ("x", "xd", "xdd"), "joint_cosines": ("x", "reference"), "cueing_rows": ("x", "xd")}
+                  "inverse_dynamics_derivatives": ("x", "xd", "xdd"), "joint_cosines": ("x", "reference"), "cueing_rows": ("x", "xd"),
+                  "forward_dynamics_derivatives": ("x", "xd", "torque"), "rk4_step": ("x", "xd", "torque", "dt")}
 
 
 @pytest.mark.parametrize("method", sorted(ROTARY_METHODS))
@@ -290,13 +409,18 @@ def test_every_method_refuses_bad_input_naming_the_argument(method, bad):
     names = ROTARY_METHODS[method]
     good = {"x": model.home + 0.01, "xd": np.full(6, 0.1), "xdd": np.full(6, 0.5), "reference": model.home}
     good["torque"] = model.inverse_dynamics(good["x"], good["xd"], good["xdd"])
+    good["dt"] = DT
     args = [good[name] for name in names]
     result = getattr(model, method)(*args)
     assert all(np.all(np.isfinite(part)) for part in (result if isinstance(result, tuple) else (result,)))
     for k, name in enumerate(names):
         wrong = list(args)
-        wrong[k] = {"nan": np.where(np.arange(6) == 2, np.nan, args[k]), "inf": np.full(6, np.inf),
-                    "short": args[k][:5], "text": "abc", "complex": args[k] + 1j,
-                    "ragged": [[0.0] * 6, [0.0] * 5]}[bad]
+        if name == "dt":  # a scalar: "short" is a step of zero seconds, "ragged" two steps
+            wrong[k] = {"nan": np.nan, "inf": np.inf, "short": 0.0, "text": "abc", "complex": DT + 1j,
+                        "ragged": [DT, DT]}[bad]
+        else:
+            wrong[k] = {"nan": np.where(np.arange(6) == 2, np.nan, args[k]), "inf": np.full(6, np.inf),
+                        "short": args[k][:5], "text": "abc", "complex": args[k] + 1j,
+                        "ragged": [[0.0] * 6, [0.0] * 5]}[bad]
         with pytest.raises((ValueError, TypeError), match=rf"\b{name}\b"):
             getattr(model, method)(*wrong)

@@ -75,6 +75,17 @@ def real(name: str, value: Any) -> float:
     return val
 
 
+def time_step(name: str, value: Any) -> float:
+    """``value`` as a positive finite number of seconds (a step of the RK4 integrators);
+    ``ValueError`` naming ``name`` otherwise."""
+    if type(value) is float and 0.0 < value < np.inf:  # a positive finite float passes as it is
+        return value
+    value = real(name, value)
+    if not value > 0:
+        raise ValueError(f"{name}: must be a positive number of seconds, got {value}")
+    return value
+
+
 def state_array(name: str, value: Any, width: int = 6, *, allow_complex: bool = False) -> np.ndarray:
     """``value`` as a float (or complex) array of shape ``(width,)`` or ``(N, width)``,
     finiteness not checked: the compiled kernel checks it row by row itself."""

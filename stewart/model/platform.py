@@ -394,10 +394,7 @@ class Platform:
         :class:`Step` ``(x, xd)``, or with ``jacobians`` a :class:`StepDerivatives` ``(x, xd,
         A, B)`` with ``A = d(x+, xd+)/d(x, xd)`` of shape ``(..., 12, 12)`` and ``B = d(x+,
         xd+)/d tau`` of shape ``(..., 12, 6)``, exact (the chain rule through the stages)."""
-        if type(dt) is not float or not 0.0 < dt < np.inf:  # a positive finite float passes as it is
-            dt = arguments.real("dt", dt)
-            if not dt > 0:
-                raise ValueError(f"dt: must be a positive number of seconds, got {dt}")
+        dt = arguments.time_step("dt", dt)
         if jacobians:
             return _named(StepDerivatives, self._call("rk4_step_derivatives", (x, xd, tau), return_mask, dt),
                           return_mask)

@@ -11,7 +11,7 @@ import numpy as np
 from . import arguments
 from .compiled import RotaryKernel
 from .errors import ConvergenceError
-from .platform import InverseDynamicsDerivatives
+from .platform import ForwardDynamicsDerivatives, InverseDynamicsDerivatives, Step, StepDerivatives
 from .rotary_params import RotaryParams, rotary_params
 
 __all__ = ["RotaryPlatform", "RotaryJointCosines", "CueingRows"]
@@ -182,6 +182,33 @@ class RotaryPlatform:
         if return_mask:
             return tuple.__new__(RotaryJointCosines, result[0]), result[1]
         return tuple.__new__(RotaryJointCosines, result)
+
+    def forward_dynamics_derivatives(self, x, xd, torque, return_mask: bool = False):
+        """The pose accelerations and their exact Jacobians, a
+        :class:`~stewart.ForwardDynamicsDerivatives` ``(xdd, dxdd_dx, dxdd_dxd, dxdd_dtau)``
+        (row = output, column = input; ``dxdd_dtau`` by the torque): with
+        ``R = M_t T xdd + V xd + G - J_alpha^T torque`` (the residual of
+        :meth:`inverse_dynamics_derivatives`, at the accelerations ``xdd`` of
+        :meth:`forward_dynamics` and fixed torque), ``dxdd/dq = -T^-1 M_t^-1 dR/dq`` for ``q = x,
+        xd`` and ``dxdd/dtorque = T^-1 M_t^-1 J_alpha^T``, ``T = blockdiag(E, J_A)`` (eq. 18)."""
+        result = self._call("forward_dynamics_derivatives", (x, xd, torque), return_mask)
+        if return_mask:
+            return tuple.__new__(ForwardDynamicsDerivatives, result[0]), result[1]
+        return tuple.__new__(ForwardDynamicsDerivatives, result)
+
+    def rk4_step(self, x, xd, torque, dt, *, jacobians: bool = False, return_mask: bool = False):
+        """One classic RK4 step of ``[x; xdot]`` under motor torques ``torque`` held over ``dt``
+        seconds (zero-order hold; a positive finite number), as :meth:`stewart.Platform.rk4_step`:
+        a :class:`~stewart.Step` ``(x, xd)``, or with ``jacobians`` a
+        :class:`~stewart.StepDerivatives` ``(x, xd, A, B)``, ``A = d(x+, xd+)/d(x, xd)``
+        ``(..., 12, 12)`` and ``B = d(x+, xd+)/d torque`` ``(..., 12, 6)``, exact (the chain rule
+        through the stages with :meth:`forward_dynamics_derivatives`)."""
+        dt = arguments.time_step("dt", dt)
+        kind, name = (StepDerivatives, "rk4_step_derivatives") if jacobians else (Step, "rk4_step")
+        result = self._call(name, (x, xd, torque), return_mask, dt)
+        if return_mask:
+            return tuple.__new__(kind, result[0]), result[1]
+        return tuple.__new__(kind, result)
 
     def forward_kinematics(self, alpha, guess=None, *, tol: float = 1e-12, max_iter: int = 50) -> np.ndarray:
         """The pose(s) whose crank angles are ``alpha`` ((6,) or (N, 6), radians; e.g. the
