@@ -200,6 +200,10 @@ def cmd_fk(args) -> int:
     from ..model.rotary import RotaryPlatform
 
     params, label = rotary_rig_params(args)
+    if args.input and args.angles is not None:
+        raise UserError("--input cannot be combined with --angles")
+    if not args.input and args.angles is None:
+        raise UserError("give --angles or --input CSV")
     check_output("--csv", args.csv)
     times = None
     if args.input:
@@ -224,18 +228,9 @@ def cmd_fk(args) -> int:
     return 0
 
 
-def fk_usage_error(args) -> str | None:
-    if args.input and args.angles is not None:
-        return "fk: --input cannot be combined with --angles"
-    if not args.input and args.angles is None:
-        return "fk: give --angles or --input CSV"
-    return None
-
-
 def add_fk(sub) -> None:
     p = subcommand(sub, "fk", "the pose from a rotary rig's crank angles, e.g. its encoders' (forward kinematics: "
                    f"Newton from the rig's home); prints {AXES} [{UNITS}]. Rotary rigs only", cmd_fk)
-    p.set_defaults(usage_error=fk_usage_error)
     add_params(p, rotary=True, default="simrig100")
     p.add_argument("--angles", nargs=6, type=number, metavar=tuple(ANGLE_COLUMNS),
                    help="the six crank angles [rad, or deg with --degrees]")
