@@ -514,7 +514,28 @@ def check_validate(argv, out: str) -> None:
 
 #: The check of the numbers each command prints and writes (``bench``'s are measurements:
 #: :func:`check_bench`; the other commands print none, or names and paths).
-OUTPUT_CHECKS = {"ik": check_kinematics, "id": check_kinematics, "fd": check_kinematics,
+def check_motor_sizing(argv, out: str) -> None:
+    """``motor-sizing``: the printed table at the crank (``%.6g``) and the ``--report`` against
+    :func:`stewart.studies.motor_sizing.motor_sizing` on the same file."""
+    from stewart.studies.motor_sizing import motor_sizing, read_reference
+
+    where = source(argv)
+    params = stewart.RotaryParams.load(where[1]) if where[0] == "--params" else stewart.RotaryParams.preset(where[1])
+    ref = read_reference(argv[1])
+    m = motor_sizing(params, ref.x, ref.xd, ref.xdd, t=ref.t, gear_ratio=float(option(argv, "--gear-ratio") or 1)).motors
+    lines = out.splitlines()
+    rows = np.array([line.split()[:7] for line in lines[2:8]], dtype=float)
+    assert_printed(rows[:, 0], np.arange(6), ".0f")
+    for column, key in ((1, "peak_torque"), (3, "rms_torque"), (4, "peak_speed"), (6, "peak_power")):
+        assert_printed(rows[:, column], m[key], ".6g", key)
+    assert rows[:, 2].tolist() == m["peak_torque_sample"].tolist() and rows[:, 5].tolist() == m["peak_speed_sample"].tolist()
+    if option(argv, "--report"):
+        report = json.loads(pathlib.Path(option(argv, "--report")).read_text())
+        for key in ("peak_torque", "rms_torque", "peak_speed", "torque_headroom"):
+            np.testing.assert_allclose([motor[key] for motor in report["motors"]], m[key], rtol=1e-15, err_msg=key)
+
+
+OUTPUT_CHECKS = {"motor-sizing": check_motor_sizing, "ik": check_kinematics, "id": check_kinematics, "fd": check_kinematics,
                  "exactness": check_exactness, "excitation": check_excitation,
                  "calibration-poses": check_calibration_poses_command, "calibrate": check_calibrate,
                  "modes": check_modes, "workspace": check_workspace, "simulate": check_simulate,

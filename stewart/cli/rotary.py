@@ -69,7 +69,7 @@ def cmd_motor_sizing(args) -> int:
         raise UserError(f"{args.reference}: {str(exc).removeprefix('x: ')}", EXIT_WORKSPACE) from None
     m, n = result.motors, result.gear_ratio
     span = "" if ref.t is None else f" over {ref.t[-1] - ref.t[0]:.6g} s"
-    print(f"# rig {label}: {result.samples:,} samples{span} ({ref.layout}), figures at the crank")
+    print(f"# rig {label}: {result.samples:,} samples{span} ({LAYOUT_WORDS[ref.layout]}), figures at the crank")
     print(f"{'motor':>5}{'peak torque [N m]':>19}{'sample':>9}{'RMS torque [N m]':>18}{'peak speed [rad/s]':>20}"
           f"{'sample':>9}{'peak power [W]':>16}{'crank angles [deg]':>22}")
     for k in range(6):
