@@ -372,3 +372,28 @@ def test_fk_bad_input(files, tmp_path):
     _one_line(call("fk", *rig, "--input", tmp_path / "a.csv"), "fk", f"--input {tmp_path / 'a.csv'}: line 1")
     _one_line(call("fk", *rig, "--angles", *["0"] * 6, "--csv", tmp_path / "no" / "p.csv"), "fk",
               f"--csv {tmp_path / 'no' / 'p.csv'}: the directory")
+
+
+# ---------------------------------------------------------------------------- ik, id and fd
+
+def test_ik_id_fd_serve_rotary_rigs(files, tmp_path):
+    """Crank angles, motor torques and the accelerations under them, from a CSV, against the oracle."""
+    rows = slice(0, 240, 37)
+    names = POSE + [f"{p}_dot" for p in POSE] + [f"{p}_ddot" for p in POSE]
+    csvfile.write(tmp_path / "s.csv", names, np.column_stack([X, XD, XDD])[rows], "test", fmt="%.17g")
+    torque = np.column_stack([X, XD, TAU])[rows]
+    csvfile.write(tmp_path / "f.csv", names[:12] + [f"tau{i}" for i in range(6)], torque, "test", fmt="%.17g")
+    rig = ["--params", files / "rig.toml"]
+    for command, path, columns, expected, tol in (
+            ("ik", "s.csv", [f"alpha_{i}" for i in range(6)], ALPHA[rows], 1e-12),
+            ("id", "s.csv", [f"tau{i}" for i in range(6)], TAU[rows], 1e-11 * np.max(np.abs(TAU))),
+            ("fd", "f.csv", [f"{p}_ddot" for p in POSE], XDD[rows], 1e-10)):
+        result = call(command, *rig, "--input", tmp_path / path, "--csv", tmp_path / f"{command}.csv")
+        assert result.returncode == 0, result.stderr
+        got = csvfile.read(tmp_path / f"{command}.csv", columns)
+        np.testing.assert_allclose(got, expected, rtol=0, atol=tol, err_msg=command)
+    far = ["--pose", "0", "0", "2", "0", "0", "0"]
+    _one_line(call("ik", *rig, *far), "ik", "--pose: the model is undefined at row(s) [0]", code=3)
+    result = call("ik", *rig, *far, "--on-unreachable", "warn")
+    assert result.returncode == 0 and result.stdout.splitlines()[1].split()[-1] == "reachable"
+    assert result.stdout.splitlines()[2].split()[-1] == "0"

@@ -170,13 +170,23 @@ def params_of(where: tuple[str, str]) -> stewart.PlatformParams:
 def check_kinematics(argv, out: str) -> None:
     """``ik``, ``id``, ``fd``: the printed (``%.10g``) or written (``--csv``, ``%.12g``) rows."""
     command = argv[0]
-    plat = stewart.Platform(params_of(source(argv)))
+    flag, name = source(argv)
+    rotary = name in stewart.model.rotary_presets.presets() if flag == "--preset" else \
+        stewart.model.paramfile.read(name).get("kind") == "rotary"
+    if rotary:  # a rotary rig: crank angles, motor torques, accelerations under them
+        rig = stewart.RotaryPlatform(stewart.RotaryParams.preset(name) if flag == "--preset" else
+                                     stewart.RotaryParams.load(name))
+    else:
+        plat = stewart.Platform(params_of((flag, name)))
     if option(argv, "--input"):
         data = np.loadtxt(option(argv, "--input"), delimiter=",", comments="#", ndmin=2)
     else:
         extra = {"ik": [], "id": ["--vel", "--acc"], "fd": ["--vel", "--force"]}[command]
         data = np.atleast_2d(np.concatenate([option(argv, f, 6) for f in ["--pose", *extra]]))
-    if command == "ik":  # the encoder readings: leg lengths less the offsets
+    if rotary:
+        method = {"ik": rig.crank_angles, "id": rig.inverse_dynamics, "fd": rig.forward_dynamics}[command]
+        expected = method(data[:, :6]) if command == "ik" else method(data[:, :6], data[:, 6:12], data[:, 12:])
+    elif command == "ik":  # the encoder readings: leg lengths less the offsets
         expected = plat.leg_lengths(data) - plat.params.leg_length_offsets
     elif command == "id":
         expected = plat.inverse_dynamics(data[:, :6], data[:, 6:12], data[:, 12:])
