@@ -30,7 +30,7 @@ import stewart
 from stewart.cli import bench
 from stewart.cli.options import non_negative
 
-from . import batch_loop, calibration, cueing, identification, report, rotary_kernel, studies
+from . import batch_loop, calibration, cueing, identification, motor_sizing, report, rotary_kernel, studies
 from .peers.common import peer_available
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
@@ -182,6 +182,8 @@ def main(argv=None) -> int:
     results["calibration"] = calibration.figures("narayan2017", rounds=rounds)
     print("[bench] MPC cueing, time per step ...", flush=True)
     results["cueing"] = cueing.figures("motion_simulator", rounds=rounds)
+    print("[bench] motor sizing of a rotary rig from an hour of 60 Hz telemetry ...", flush=True)
+    results["motor_sizing"] = motor_sizing.figures("simrig100", rounds=rounds)
     if not args.skip_build:
         print("[bench] generation and clean build ...", flush=True)
         results["generation"] = generation_figures(rounds)
@@ -192,7 +194,8 @@ def main(argv=None) -> int:
     tables = [table_rows, batch_loop.rows(results["batch_loop"])] + [
         module.rows(results[name]) for name, module in (("rotary_kernel", rotary_kernel), ("studies", studies),
                                                         ("identification", identification),
-                                                        ("calibration", calibration), ("cueing", cueing))
+                                                        ("calibration", calibration), ("cueing", cueing),
+                                                        ("motor_sizing", motor_sizing))
         if name in results]
     every = [row for table in tables for row in table]
     results["targets"] = report.targets(every)
@@ -213,6 +216,8 @@ def main(argv=None) -> int:
     print(calibration.format_rows(results["calibration"]))
     print()
     print(cueing.format_rows(results["cueing"]))
+    print()
+    print(motor_sizing.format_rows(results["motor_sizing"]))
     if results["peers"]:
         ops = results["code"]["operation_counts"]
         ours = {"ops": {"inverse_dynamics": ops.get("inverse_dynamics_axisym"),

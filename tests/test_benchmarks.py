@@ -414,3 +414,18 @@ def test_rotary_kernel_rows_mark_the_targets():
         for n in names[2:]:
             assert by_name[f"ratio_{n}"][3:] == ("", "") and by_name[f"batch_{n}"][1] == "0.200 us/state"
         assert "avx2" in by_name["ratio_forward_dynamics"][0] and "simrig100" in by_name["batch_inverse_dynamics"][0]
+
+
+def test_motor_sizing_rows_mark_the_target():
+    from benchmarks import motor_sizing
+
+    fig = {"preset": "simrig100", "samples": 216_000, "megabytes": 65.0}
+    for median, low, high, verdict in ((0.9, 0.8, 0.95, "met"), (1.1, 1.05, 1.2, "MISSED"),
+                                       (1.0, 0.9, 1.1, "unsettled")):
+        measured = bench.figures_of({"motor_sizing_s": Measurement(median / 4, low / 4, high / 4, 3),
+                                     "motor_sizing_read_s": Measurement(median, low, high, 3),
+                                     "motor_sizing_read_and_size_s": Measurement(median, low, high, 3)})
+        size, read, both = motor_sizing.rows({**fig, **measured})
+        assert size[3:] == ("<= 1 s", "met") and read[3:] == ("", "")
+        assert both[1:] == (f"{median:.2f} s", f"{low:.2f}-{high:.2f} (3)", "<= 1 s", verdict)
+        assert "216,000 samples" in both[0] and "reading and sizing" in both[0]

@@ -170,13 +170,23 @@ def params_of(where: tuple[str, str]) -> stewart.PlatformParams:
 def check_kinematics(argv, out: str) -> None:
     """``ik``, ``id``, ``fd``: the printed (``%.10g``) or written (``--csv``, ``%.12g``) rows."""
     command = argv[0]
-    plat = stewart.Platform(params_of(source(argv)))
+    flag, name = source(argv)
+    rotary = name in stewart.model.rotary_presets.presets() if flag == "--preset" else \
+        stewart.model.paramfile.read(name).get("kind") == "rotary"
+    if rotary:  # a rotary rig: crank angles, motor torques, accelerations under them
+        rig = stewart.RotaryPlatform(stewart.RotaryParams.preset(name) if flag == "--preset" else
+                                     stewart.RotaryParams.load(name))
+    else:
+        plat = stewart.Platform(params_of((flag, name)))
     if option(argv, "--input"):
         data = np.loadtxt(option(argv, "--input"), delimiter=",", comments="#", ndmin=2)
     else:
         extra = {"ik": [], "id": ["--vel", "--acc"], "fd": ["--vel", "--force"]}[command]
         data = np.atleast_2d(np.concatenate([option(argv, f, 6) for f in ["--pose", *extra]]))
-    if command == "ik":  # the encoder readings: leg lengths less the offsets
+    if rotary:
+        method = {"ik": rig.crank_angles, "id": rig.inverse_dynamics, "fd": rig.forward_dynamics}[command]
+        expected = method(data[:, :6]) if command == "ik" else method(data[:, :6], data[:, 6:12], data[:, 12:])
+    elif command == "ik":  # the encoder readings: leg lengths less the offsets
         expected = plat.leg_lengths(data) - plat.params.leg_length_offsets
     elif command == "id":
         expected = plat.inverse_dynamics(data[:, :6], data[:, 6:12], data[:, 12:])
@@ -528,7 +538,28 @@ def check_validate(argv, out: str) -> None:
 
 #: The check of the numbers each command prints and writes (``bench``'s are measurements:
 #: :func:`check_bench`; the other commands print none, or names and paths).
-OUTPUT_CHECKS = {"ik": check_kinematics, "id": check_kinematics, "fd": check_kinematics,
+def check_motor_sizing(argv, out: str) -> None:
+    """``motor-sizing``: the printed table at the crank (``%.6g``) and the ``--report`` against
+    :func:`stewart.studies.motor_sizing.motor_sizing` on the same file."""
+    from stewart.studies.motor_sizing import motor_sizing, read_reference
+
+    where = source(argv)
+    params = stewart.RotaryParams.load(where[1]) if where[0] == "--params" else stewart.RotaryParams.preset(where[1])
+    ref = read_reference(argv[1])
+    m = motor_sizing(params, ref.x, ref.xd, ref.xdd, t=ref.t, gear_ratio=float(option(argv, "--gear-ratio") or 1)).motors
+    lines = out.splitlines()
+    rows = np.array([line.split()[:7] for line in lines[2:8]], dtype=float)
+    assert_printed(rows[:, 0], np.arange(6), ".0f")
+    for column, key in ((1, "peak_torque"), (3, "rms_torque"), (4, "peak_speed"), (6, "peak_power")):
+        assert_printed(rows[:, column], m[key], ".6g", key)
+    assert rows[:, 2].tolist() == m["peak_torque_sample"].tolist() and rows[:, 5].tolist() == m["peak_speed_sample"].tolist()
+    if option(argv, "--report"):
+        report = json.loads(pathlib.Path(option(argv, "--report")).read_text())
+        for key in ("peak_torque", "rms_torque", "peak_speed", "torque_headroom"):
+            np.testing.assert_allclose([motor[key] for motor in report["motors"]], m[key], rtol=1e-15, err_msg=key)
+
+
+OUTPUT_CHECKS = {"motor-sizing": check_motor_sizing, "ik": check_kinematics, "id": check_kinematics, "fd": check_kinematics,
                  "exactness": check_exactness, "excitation": check_excitation,
                  "calibration-poses": check_calibration_poses_command, "calibrate": check_calibrate,
                  "modes": check_modes, "workspace": check_workspace, "simulate": check_simulate,

@@ -33,6 +33,16 @@ def _commands():
 COMMANDS = _commands()
 
 
+def _rotary_only():
+    """The commands of rotary rigs only: their ``--preset`` defaults to a rotary preset."""
+    sub = next(a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
+    return sorted(name for name, parser in sub.choices.items() for a in parser._actions
+                  if "--preset" in a.option_strings and a.default in rotary_presets())
+
+
+ROTARY_ONLY = _rotary_only()
+
+
 def test_commands_found():
     names = {name for name, _, _ in COMMANDS}
     assert {"id", "simulate", "cueing", "envelope", "workspace", "c-export"} <= names
@@ -64,3 +74,24 @@ def test_presets_lists_both_families():
     for name in list(stewart.presets()) + list(rotary_presets()):
         assert any(line.split()[0] == name for line in out.splitlines()), name
     assert sum("rotary rig:" in line for line in out.splitlines()) == len(rotary_presets())
+
+
+def test_rotary_only_commands_found():
+    assert {"motor-sizing", "servo-angles", "fk"} <= set(ROTARY_ONLY)
+    assert set(ROTARY_ONLY) <= {name for name, serves, _ in COMMANDS if serves}
+
+
+@pytest.mark.parametrize("name", ROTARY_ONLY)
+def test_rotary_only_commands_refuse_linear_platforms(name, tmp_path):
+    """Before reading anything else: one line on stderr naming the preset or file, exit 2."""
+    path = tmp_path / "linear.toml"
+    stewart.PlatformParams.preset("narayan2017").save(path)
+    required = next(args for n, _, args in COMMANDS if n == name)
+    args = [a if a.startswith("-") or a == "1" else tmp_path / f"missing-{a}" for a in required]
+    for given, what in ((["--params", path], f"--params {path}: a linear platform's parameter file"),
+                        (["--preset", "narayan2017"], "--preset narayan2017: a linear platform")):
+        result = call(name, *args, *given)
+        assert result.returncode == 2, (name, result.stderr)
+        assert result.stderr.strip().splitlines() == [f"stewart {name}: error: {what}; stewart {name} serves "
+                                                      "rotary rigs only"], result.stderr
+        assert result.stdout == ""

@@ -9,7 +9,7 @@ import argparse
 import sys
 
 from .. import __version__, build_info
-from . import calibration, checks, cueing, export, identification, model, modes, motion, sizing, workspace
+from . import calibration, checks, cueing, export, identification, model, modes, motion, rotary, sizing, workspace
 from .common import EXIT_CHECK_FAILED, EXIT_CODES, EXIT_INTERRUPTED, EXIT_USAGE, EXIT_WORKSPACE, UserError, refuse_rotary
 from .options import Formatter
 
@@ -20,11 +20,14 @@ __all__ = ["main", "build_parser", "UserError", "EXIT_CHECK_FAILED", "EXIT_USAGE
 COMMANDS = (
     model.add_info,  # info, presets
     model.add_state_commands,  # ik, id, fd
+    rotary.add_fk,
     motion.add_simulate,
     motion.add_optimize,
     cueing.add_cueing,
     identification.add_excitation,
     sizing.add_envelope,
+    rotary.add_motor_sizing,
+    rotary.add_servo_angles,
     workspace.add_workspace,
     modes.add_modes,
     sizing.add_sweep,

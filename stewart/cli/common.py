@@ -67,6 +67,17 @@ def refuse_rotary(args) -> None:
                             f"stewart {args.command} serves linear platforms only")
 
 
+def rotary_rig_params(args) -> tuple[RotaryParams, str]:
+    """The rotary rig of ``--preset`` or ``--params`` (:func:`rig_params`) and its label; a
+    linear platform's preset or file is refused in one line naming the command."""
+    params, label = rig_params(args)
+    if not isinstance(params, RotaryParams):
+        given = f"--params {args.params}: a linear platform's parameter file" if args.params else \
+            f"--preset {args.preset}: a linear platform"
+        raise UserError(f"{given}; stewart {args.command} serves rotary rigs only")
+    return params, label
+
+
 def rig_params(args) -> tuple[PlatformParams | RotaryParams, str]:
     """The parameter set of ``--preset`` or ``--params`` and a label naming it: a
     :class:`RotaryParams` for a rotary preset or a file holding ``kind = "rotary"``, a

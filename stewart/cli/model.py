@@ -13,7 +13,8 @@ from ..model.platform import Platform
 from ..model.presets import presets as list_presets
 from ..model.rotary_presets import presets as list_rotary_presets
 from ..model.reachability import reachability
-from .common import EXIT_WORKSPACE, UserError, platform_params, check_output, print_table, read_csv
+from ..model.rotary_params import RotaryParams
+from .common import EXIT_WORKSPACE, UserError, check_output, print_table, read_csv, rig_params
 from .options import ACCELERATION_UNITS, AXES, RATE_UNITS, UNITS, add_file, add_params, add_six, subcommand
 
 POSE = list(POSE_AXES)
@@ -54,18 +55,25 @@ STATE_COMMANDS = {
 }
 
 
+#: What ``ik``, ``id`` and ``fd`` compute for a rotary rig: the crank angles [rad], the motor
+#: torques [N m] and the accelerations under motor torques.
+ROTARY_HEADERS = {"ik": [f"alpha_{i}" for i in range(6)], "id": [f"tau{i}" for i in range(6)], "fd": [f"{p}_ddot" for p in POSE]}
+
+
 def cmd_state(args) -> int:
     """``ik``, ``id`` and ``fd``: states from the command line or a CSV file."""
     vectors, more_columns, header = STATE_COMMANDS[args.command]
     check_output("--csv", args.csv)
-    params, label = platform_params(args)
-    plat = Platform(params)
+    params, label = rig_params(args)
     if args.input:
         data = read_csv("--input", args.input, POSE + more_columns)
         source = f"--input {args.input}"
     else:
         data = np.atleast_2d(np.concatenate([args.pose] + [getattr(args, v) for v in vectors]))
         source = "--pose"
+    if isinstance(params, RotaryParams):
+        return _rotary_state(args, params, label, data, source)
+    plat = Platform(params)
     poses = data[:, :6]
     check = reachability(plat, poses, name=source)
     if args.command == "ik":
@@ -92,6 +100,36 @@ def cmd_state(args) -> int:
     return 0
 
 
+def _rotary_state(args, params, label, data, source) -> int:
+    """``ik``, ``id`` and ``fd`` of a rotary rig (:class:`stewart.RotaryPlatform`): the crank
+    angles, the motor torques, the accelerations under motor torques; a pose out of a crank's
+    reach is an error (exit 3), or with ``--on-unreachable warn`` a NaN row and a ``reachable``
+    column."""
+    from ..model.rotary import RotaryPlatform
+
+    rig = RotaryPlatform(params)
+    poses, header = data[:, :6], list(ROTARY_HEADERS[args.command])
+    if args.command == "ik":
+        values, computed = rig.crank_angles(poses, return_mask=True)
+    elif args.command == "id":
+        values, computed = rig.inverse_dynamics(poses, data[:, 6:12], data[:, 12:], return_mask=True)
+    else:
+        values, computed = rig.forward_dynamics(poses, data[:, 6:12], data[:, 12:], return_mask=True)
+    computed = np.atleast_1d(computed)
+    if not computed.all():
+        failed = np.flatnonzero(~computed)
+        text = (f"{source}: the model is undefined at row(s) {failed[:10].tolist()} (a pose out of a crank's reach, "
+                "or a singular state)")
+        if args.on_unreachable == "error":
+            raise UserError(text + " (use --on-unreachable warn to compute anyway)", EXIT_WORKSPACE)
+        print(f"stewart {args.command}: warning: {text}", file=sys.stderr)
+    values = np.atleast_2d(values)
+    if args.on_unreachable == "warn":
+        values, header = np.column_stack([values, computed.astype(float)]), header + ["reachable"]
+    print_table(label, header, values, args.csv)
+    return 0
+
+
 def state_usage_error(args) -> str | None:
     """What is wrong with the vectors of an ``ik``, ``id`` or ``fd`` command line, if anything."""
     vectors = ["pose"] + STATE_COMMANDS[args.command][0]
@@ -110,20 +148,20 @@ def add_state_commands(sub) -> None:
     rates = ("--vel", f"pose rates [{RATE_UNITS}]")
     state_commands = [
         ("ik", "encoder readings of poses: the leg lengths (inverse kinematics) less the parameters' "
-         "leg_length_offsets", [], f"poses, one per row: {','.join(POSE)}"),
-        ("id", "actuator forces for a motion (inverse dynamics)",
+         "leg_length_offsets; for a rotary rig the crank angles [rad]", [], f"poses, one per row: {','.join(POSE)}"),
+        ("id", "actuator forces for a motion (inverse dynamics); for a rotary rig the motor torques [N m]",
          [rates, ("--acc", f"pose accelerations [{ACCELERATION_UNITS}]")],
          f"rows of pose, velocity, acceleration (18 columns; a header {first},...,{last},{first}_dot,...,{last}_dot,"
          f"{first}_ddot,...,{last}_ddot picks them by name)"),
-        ("fd", "accelerations under actuator forces (forward dynamics)",
-         [rates, ("--force", "actuator forces [N]")],
+        ("fd", "accelerations under actuator forces (forward dynamics); for a rotary rig under motor torques",
+         [rates, ("--force", "actuator forces [N]; for a rotary rig motor torques [N m]")],
          f"rows of pose, velocity, forces (18 columns; a header {first},...,{last},{first}_dot,...,{last}_dot,"
          "tau0,...,tau5 picks them by name)"),
     ]
     for name, help_text, extra, input_help in state_commands:
         p = subcommand(sub, name, help_text, cmd_state)
         p.set_defaults(usage_error=state_usage_error)
-        add_params(p)
+        add_params(p, rotary=True)
         add_six(p, "--pose", f"{AXES} [{UNITS}]")
         for flag, flag_help in extra:
             add_six(p, flag, flag_help)

@@ -12,7 +12,7 @@ import numpy as np
 from ..model.kinematics import POSE_AXES, POSE_UNITS
 
 __all__ = ["pyplot", "plot_run", "plot_move", "plot_excitation", "plot_bars", "run_title", "plot_workspace_slices",
-           "plot_force_prediction"]
+           "plot_force_prediction", "plot_torque_speed"]
 
 _POSE = list(zip(POSE_AXES, POSE_UNITS, strict=True))
 
@@ -263,5 +263,47 @@ def plot_force_prediction(t, predicted, measured, path: str, title: str = "") ->
         ax.set_xlabel("time [s]")
     axes[0].legend(loc="best")
     fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return path
+
+
+def plot_torque_speed(speeds, torques, torque_limit, speed_limit, path: str, title: str = "") -> str:
+    """One panel per motor: where the torque-speed points ``(speeds[:, k], torques[:, k])``
+    (N, 6) lie (samples per cell of a 160 x 160 grid, on a log scale: a figure of an hour of
+    60 Hz samples is drawn in a second) against the box of the motor's limits ``|torque| <=
+    torque_limit[k]``, ``|speed| <= speed_limit[k]`` (either None: no limit), the peak torque
+    and the peak speed marked."""
+    from matplotlib.colors import LogNorm
+
+    plt = pyplot()
+    speeds, torques = np.atleast_2d(speeds), np.atleast_2d(torques)
+    fig, axes = plt.subplots(2, 3, figsize=(12, 7), sharex=True, sharey=True, constrained_layout=True)
+    fig.suptitle(title)
+    w_span = 1.08 * max(np.max(np.abs(speeds)), 0.0 if speed_limit is None else np.max(speed_limit)) or 1.0
+    t_span = 1.08 * max(np.max(np.abs(torques)), 0.0 if torque_limit is None else np.max(torque_limit)) or 1.0
+    image = None
+    for k, ax in enumerate(axes.ravel()):
+        counts, w_edges, t_edges = np.histogram2d(speeds[:, k], torques[:, k], bins=160,
+                                                  range=[[-w_span, w_span], [-t_span, t_span]])
+        image = ax.pcolormesh(w_edges, t_edges, np.ma.masked_equal(counts.T, 0), norm=LogNorm(vmin=1),
+                              cmap="viridis", rasterized=True)
+        for i, (sample, label) in enumerate(((np.argmax(np.abs(torques[:, k])), "peak torque"),
+                                             (np.argmax(np.abs(speeds[:, k])), "peak speed"))):
+            ax.plot(speeds[sample, k], torques[sample, k], "o^"[i], mfc="none", ms=9, color=f"C{3 - i}", label=label)
+        if torque_limit is not None or speed_limit is not None:
+            tau = t_span * 2 if torque_limit is None else torque_limit[k]
+            w = w_span * 2 if speed_limit is None else speed_limit[k]
+            ax.plot([-w, w, w, -w, -w], [-tau, -tau, tau, tau, -tau], "k--", lw=1, label="limits")
+        ax.set_xlim(-w_span, w_span)
+        ax.set_ylim(-t_span, t_span)
+        ax.set_title(f"motor {k}")
+        ax.grid(True, alpha=0.3)
+        if k >= 3:
+            ax.set_xlabel("speed [rad/s]")
+        if k % 3 == 0:
+            ax.set_ylabel("torque [N m]")
+    axes.ravel()[0].legend(loc="lower left", fontsize=7)
+    fig.colorbar(image, ax=axes, label="samples per cell", shrink=0.8)
+    fig.savefig(path, dpi=90)
     plt.close(fig)
     return path
