@@ -13,10 +13,11 @@ workspace slices, the force and joint-load envelope of the move and of a box aro
 washout against MPC cueing on the shipped maneuvers, closed loop, on the seed paper's platform
 and on ``motion_simulator``; a calibration study (:func:`calibration_run`): the platform as
 built, with a hidden geometry error, measured by a tracker at designed poses, calibrated, and
-checked on held-out poses; and a modal study (:func:`modal_run`) of the ``motion_simulator``
+checked on held-out poses; a modal study (:func:`modal_run`) of the ``motion_simulator``
 preset on legs of a realistic stiffness: its frequencies at home, a map of the lowest frequency
 over the workspace, and how much the payload's preload and the legs' inertia move each
-frequency.
+frequency; and a sim-racing rig (:func:`sim_racing_run`): the rotary ``simrig100`` cueing a GT
+car's lap by MPC within its motors' limits, and its motors sized along the reference it plays.
 """
 
 from __future__ import annotations
@@ -52,6 +53,8 @@ TRACKER_NOISE = (1e-5, 1e-4)
 EXAMPLES = os.path.join(os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__)))), "examples")
 SWEEP_FILE = os.path.join(EXAMPLES, "sweep.toml")
 MANEUVER_DIR = os.path.join(EXAMPLES, "cueing")
+#: The vehicle log of the sim-racing rig's section (:func:`sim_racing_run`), in MANEUVER_DIR.
+RACING_LAP = "racing_lap.csv"
 
 
 def _row(label: str, values, fmt: str = "{:>10.4f}", width: int = 34) -> str:
@@ -175,6 +178,34 @@ def main(argv=None) -> None:
 
         paths += plot_calibration(calibration["result"], args.out, calibration["held_out"])
         _written(args.out, paths + plot_modal(modal, args.out))
+    sim_racing_run(args.out, plots=not args.no_plots)
+
+
+def sim_racing_run(out: str, plots: bool = True) -> None:
+    """A sim-racing rig, the rotary ``simrig100`` (100 kg of driver and seat, 750 W servos at
+    50:1), plays a GT car's flying lap (examples/cueing/racing_lap.csv) by MPC cueing within its
+    motors' torque and speed limits and its cranks' travel, and its motors are sized along the
+    reference it plays, at the motor through the gearbox: the two commands a rig builder runs,
+    in this process. A command's nonzero exit ends the demo with it."""
+    from stewart.cli import main as stewart_main
+
+    lap = os.path.relpath(os.path.join(MANEUVER_DIR, RACING_LAP))
+    if not os.path.isfile(lap):
+        print(f"\nSim-racing rig: skipped, {lap} not found (make demo runs from a checkout)")
+        return
+    os.makedirs(out, exist_ok=True)
+    reference = os.path.join(out, "racing_lap_simrig100.csv")
+    print("\nSim-racing rig simrig100 (rotary): a GT car's 59 s lap by MPC cueing, then motor sizing of the "
+          "reference it plays", flush=True)
+    for argv in (["cueing", lap, "--preset", "simrig100", "--method", "mpc", "--output", reference],
+                 ["motor-sizing", reference, "--preset", "simrig100", "--gear-ratio", "50",
+                  *(["--plot", out] if plots else [])]):
+        print("$ stewart " + " ".join(argv), flush=True)
+        try:
+            stewart_main(argv)
+        except SystemExit as exc:
+            if exc.code:
+                raise SystemExit(f"make demo: stewart {argv[0]} exited with code {exc.code}") from None
 
 
 def _written(out: str, paths: list[str]) -> None:
@@ -260,7 +291,8 @@ def cueing_run(presets) -> dict[str, list[dict]]:
     if not os.path.isdir(MANEUVER_DIR):
         print(f"\nCueing: skipped, {MANEUVER_DIR} not found (make demo runs from a checkout)")
         return {}
-    logs = sorted(os.path.join(MANEUVER_DIR, f) for f in os.listdir(MANEUVER_DIR) if f.endswith(".csv"))
+    logs = sorted(os.path.join(MANEUVER_DIR, f) for f in os.listdir(MANEUVER_DIR)
+                  if f.endswith(".csv") and f != RACING_LAP)  # the lap is the sim-racing rig's
     out = {}
     for preset in presets:
         print(f"\nCueing on {preset}: washout (W) against MPC, closed loop; perceived-error RMS of the main "
