@@ -134,6 +134,12 @@ def installed(request, tmp_path_factory):
     return root / "exp", root / "prefix", env
 
 
+def _output(command, env=None) -> str:
+    done = subprocess.run([str(c) for c in command], capture_output=True, text=True, env=env)
+    assert done.returncode == 0, f"{command}: exit {done.returncode}\n{done.stdout}{done.stderr}"
+    return done.stdout
+
+
 def _printed(output: str) -> dict[str, np.ndarray]:
     return {name: np.array(values, dtype=float) for name, *values in (line.split() for line in output.splitlines())}
 
@@ -148,31 +154,32 @@ def test_installed_library_links_from_cmake_and_pkg_config(installed, tmp_path):
     assert os.readlink(lib / "libstewart.so") == f"libstewart.so.{version.rsplit('.', 1)[0]}"
     assert sorted(p.name for p in (prefix / "include" / "stewart").iterdir()) == [capi.HEADER, capi.PARAMS_HEADER]
     # Only the header's functions leave the shared library.
-    symbols = run_command(["nm", "-D", "--defined-only", shared]).split()
+    symbols = _output(["nm", "-D", "--defined-only", shared]).split()
     exported = {s for s in symbols[2::3]}
     assert exported == set(cmake.public_functions((exp / capi.HEADER).read_text()))
-    soname = run_command(["readelf", "-d", shared])
+    soname = _output(["readelf", "-d", shared])
     assert f"Library soname: [libstewart.so.{version.rsplit('.', 1)[0]}]" in soname
 
-    want = None
     consumer = _consumer(tmp_path / "consumer")
     for command in (["-S", consumer, "-B", tmp_path / "b", f"-DCMAKE_PREFIX_PATH={prefix}"], ["--build", tmp_path / "b"]):
         done = _cmake(*command, env=env)
         assert done.returncode == 0, done.stdout + done.stderr
-    environment = dict(env, LD_LIBRARY_PATH=str(lib))
-    runs = [run_command([tmp_path / "b" / "consumer"]), run_command([tmp_path / "b" / "consumer_shared"], env=environment)]
-    # pkg-config, the shared library found by the run-time linker's path.
+    # The shared library found through the build tree's run path, then (pkg-config) the run-time
+    # linker's path.
+    runs = [_output([tmp_path / "b" / "consumer"]), _output([tmp_path / "b" / "consumer_shared"])]
+    assert "libstewart.so" in _output(["ldd", tmp_path / "b" / "consumer_shared"])
     pkg_env = dict(env, PKG_CONFIG_PATH=str(lib / "pkgconfig"))
-    flags = run_command(["pkg-config", "--cflags", "--libs", "stewart"], env=pkg_env).split()
-    assert flags == [f"-I{prefix / 'include' / 'stewart'}", f"-L{lib}", "-lstewart"]
-    assert run_command(["pkg-config", "--modversion", "stewart"], env=pkg_env).strip() == version
-    run_command([env["CC"], "-std=c99", C_EXAMPLE, *flags, "-o", tmp_path / "pc_example"])
-    runs.append(run_command([tmp_path / "pc_example"], env=environment))
+    flags = _output(["pkg-config", "--cflags", "--libs", "stewart"], pkg_env).split()
+    assert [flag[:2] for flag in flags] == ["-I", "-L", "-l"] and flags[2] == "-lstewart"
+    assert Path(flags[0][2:]).resolve() == prefix / "include" / "stewart" and Path(flags[1][2:]).resolve() == lib
+    assert _output(["pkg-config", "--modversion", "stewart"], pkg_env).strip() == version
+    _output([env["CC"], "-std=c99", C_EXAMPLE, *flags, "-o", tmp_path / "pc_example"])
+    runs.append(_output([tmp_path / "pc_example"], dict(env, LD_LIBRARY_PATH=str(lib))))
     for output in runs:
         printed = _printed(output)
         want = stewart.Platform(_params()).inverse_dynamics(printed["x"], printed["xd"], printed["xdd"])
         np.testing.assert_array_equal(printed["tau"], want)  # bit for bit
-    assert np.all(np.abs(want) > 1.0)
+        assert np.all(np.abs(want) > 1.0)
 
 
 def _simulated(dt: float = 1e-3, duration: float = 1.0):
@@ -208,7 +215,11 @@ def simulated():
     return _simulated()
 
 
-def _build_example(prefix: Path, env: dict, build: Path) -> Path:
+@pytest.fixture(scope="module")
+def example(installed, tmp_path_factory) -> Path:
+    """The example controller built by the compiler of ``installed`` against its install."""
+    _, prefix, env = installed
+    build = tmp_path_factory.mktemp("example")
     for command in (["-S", EXAMPLE, "-B", build, f"-DCMAKE_PREFIX_PATH={prefix}", "-DCMAKE_BUILD_TYPE=Release"],
                     ["--build", build]):
         done = _cmake(*command, env=env)
@@ -217,6 +228,8 @@ def _build_example(prefix: Path, env: dict, build: Path) -> Path:
 
 
 def _run_example(build: Path, settings: Path, *args) -> tuple[np.ndarray, str]:
+    """The example's rows (step, x, xd, commanded forces) and what it said on stderr, run with
+    the interposed allocator."""
     env = dict(os.environ, LD_PRELOAD=str(build / "liballoc_counter.so"))
     done = subprocess.run([build / "cpp_controller", settings, *args], capture_output=True, text=True, env=env)
     assert done.returncode == 0, done.stderr
@@ -224,10 +237,9 @@ def _run_example(build: Path, settings: Path, *args) -> tuple[np.ndarray, str]:
 
 
 @pytest.mark.control
-def test_cpp_controller_equals_simulate_and_allocates_nothing(installed, simulated, tmp_path):
-    _, prefix, env = installed
+def test_cpp_controller_equals_simulate_and_allocates_nothing(example, simulated, tmp_path):
     platform, controller, result, refs, text, steps = simulated
-    build = _build_example(prefix, env, tmp_path / "example")
+    build = example
     settings = tmp_path / "settings.txt"
     settings.write_text(text)
     rows, log = _run_example(build, settings)
@@ -250,3 +262,35 @@ def test_cpp_controller_equals_simulate_and_allocates_nothing(installed, simulat
     counted = re.search(r"allocations: (\d+) at initialization, (\d+) in the loop", log)
     assert counted, log
     assert int(counted.group(1)) > 0 and int(counted.group(2)) == 0
+
+
+@pytest.mark.control
+def test_cpp_controller_holding_its_forces_converges_to_simulate(example, tmp_path):
+    """--plant hold, the real 1 kHz loop: the controller once a period, its forces held over the
+    step. stewart.simulate's law is continuous (evaluated at every RK4 stage), so the two differ
+    by the hold, O(dt): at 1 ms by 1.1e-4 m at most over the move (a hundredth of the tracking
+    error), halving with the step (measured 2.01 and 2.00 from 1 ms to 0.25 ms)."""
+    differences = []
+    for dt in (1e-3, 5e-4):
+        _, _, result, _, text, steps = _simulated(dt)
+        settings = tmp_path / f"settings_{dt}.txt"
+        settings.write_text(text)
+        rows, log = _run_example(example, settings, "--plant", "hold")
+        assert rows.shape == (steps, 19) and "0 in the loop" in log
+        differences.append(np.max(np.abs(rows[:, 1:7] - result.x[:steps])))
+        tracking = np.max(np.abs(result.x - result.reference))
+        assert 0.0 < differences[-1] < 0.02 * tracking
+    assert 1.9 < differences[0] / differences[1] < 2.1
+
+
+@pytest.mark.control
+def test_cpp_controller_refuses_bad_settings(example, tmp_path):
+    """The example's own arguments: a bad plant, a bad file, a short reference: exit 2, one line."""
+    settings = tmp_path / "settings.txt"
+    for text, args, message in [("dt 0.001 steps 2 refs 1 2 3", (), "field 'refs': expected numbers"),
+                                ("dt 0.001 steps 1 bogus 3", (), "unknown field 'bogus'"),
+                                ("steps 1", (), "needs dt > 0"),
+                                ("dt 0.001", ("--plant", "later"), "--plant: expected stages or hold, got 'later'")]:
+        settings.write_text(text)
+        done = subprocess.run([example / "cpp_controller", settings, *args], capture_output=True, text=True)
+        assert done.returncode == 2 and message in done.stderr and len(done.stderr.splitlines()) == 1, done.stderr

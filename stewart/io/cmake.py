@@ -69,6 +69,8 @@ file(WRITE ${CMAKE_CURRENT_BINARY_DIR}/stewartConfig.cmake
      "set(stewart_ROUNDING_FLAGS ${STEWART_ROUNDING_FLAGS})\\n")
 install(FILES ${CMAKE_CURRENT_BINARY_DIR}/stewartConfig.cmake ${CMAKE_CURRENT_SOURCE_DIR}/stewartConfigVersion.cmake
         DESTINATION ${STEWART_INSTALL_CMAKEDIR})
+# stewart.pc finds the prefix from where it lies (pkg-config's pcfiledir): relocatable.
+string(REGEX REPLACE "[^/]+" ".." STEWART_PC_PREFIX "${CMAKE_INSTALL_LIBDIR}/pkgconfig")
 configure_file(${CMAKE_CURRENT_SOURCE_DIR}/stewart.pc.in ${CMAKE_CURRENT_BINARY_DIR}/stewart.pc @ONLY)
 install(FILES ${CMAKE_CURRENT_BINARY_DIR}/stewart.pc DESTINATION ${CMAKE_INSTALL_LIBDIR}/pkgconfig)
 """
@@ -179,7 +181,7 @@ endif()
 
 _PKG_CONFIG = """\
 # stewart.pc -- the Stewart platform model @VERSION@ for pkg-config (written by its CMake install).
-prefix=@CMAKE_INSTALL_PREFIX@
+prefix=${pcfiledir}/@STEWART_PC_PREFIX@
 libdir=${prefix}/@CMAKE_INSTALL_LIBDIR@
 includedir=${prefix}/@CMAKE_INSTALL_INCLUDEDIR@/stewart
 
