@@ -21,7 +21,6 @@ import numpy as np
 import pytest
 
 import stewart
-from c_example import run_command
 from stewart.io import capi, cmake
 from stewart.model.kinematics import home_pose
 from stewart.model.platform import friction_law
@@ -184,7 +183,8 @@ def test_installed_library_links_from_cmake_and_pkg_config(installed, tmp_path):
 
 def _simulated(dt: float = 1e-3, duration: float = 1.0):
     """The seed paper's move, shortened, under ComputedTorque with saturating, lossy actuators:
-    (platform, controller, actuators, result, settings text for the example, steps)."""
+    (platform, controller, result, the reference on the half-step grid, the settings text for
+    the example, steps)."""
     params = _params()
     platform = stewart.Platform(params)
     start = home_pose(params)
