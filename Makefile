@@ -9,7 +9,7 @@ INSTALLED := $(VENV)/.installed
 BUILD_REQUIRES := $(VENV)/build-requires.txt
 KERNEL := build/.kernel-built
 KERNEL_SOURCES := stewart/_kernel.pyx stewart/_kernel.pxd stewart/_simulate.pxi stewart/_envelope.pxi stewart/_modes.pxi \
-	stewart/_cueing.pxi stewart/_cueing_rows.pxi stewart/_rotary.pxi \
+	stewart/_cueing.pxi stewart/_cueing_rows.pxi stewart/_rotary.pxi stewart/_rotary_envelope.pxi \
 	$(wildcard generated/*) setup.py
 # Python keeps the bytecode of what it imports (in .venv and the checkout's __pycache__/, both
 # ignored by git), whatever the environment says: the test suite starts some thirty interpreters

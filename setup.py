@@ -209,7 +209,8 @@ extensions = [
         # the model, its header or this script change. generated/stewart_model.pxd, the model's
         # Cython declarations, is cimported by stewart/_kernel.pxd.
         depends=["stewart/_kernel.pxd", "stewart/_simulate.pxi", "stewart/_envelope.pxi", "stewart/_modes.pxi",
-                 "stewart/_cueing.pxi", "stewart/_cueing_rows.pxi", "stewart/_rotary.pxi"] + MODEL
+                 "stewart/_cueing.pxi", "stewart/_cueing_rows.pxi", "stewart/_rotary.pxi",
+                 "stewart/_rotary_envelope.pxi"] + MODEL
         + ["generated/stewart_model.pxd", "generated/stewart_rotary.pxd", "setup.py"],
     ),
 ]

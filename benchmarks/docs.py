@@ -19,7 +19,10 @@ command that produced it:
     our own rows of the last ``make bench`` run, read from its JSON figures
     (``out/benchmarks.json``), each target met, missed or unsettled;
 ``exactness`` (``docs/exactness.md``)
-    what ``stewart exactness`` measures for both presets (the legs' spin), as one table.
+    what ``stewart exactness`` measures for both presets (the legs' spin), as one table;
+``arms`` (``docs/rotary.md``)
+    the output of ``stewart workspace --preset simrig100 --arms`` at the rig's home height and
+    at :data:`ARMS_HEIGHT`, with their figures (``docs/images/arms_*.png``).
 
 Everything apart from the measured numbers, the date and the machine is deterministic.
 ``python -m benchmarks.docs validate checks`` rewrites only those blocks.
@@ -38,10 +41,12 @@ import sys
 ROOT = pathlib.Path(__file__).resolve().parent.parent
 DOCS = ROOT / "docs"
 BENCH_JSON = ROOT / "out" / "benchmarks.json"
-SECTIONS = ("validate", "checks", "mujoco", "performance", "exactness")
+SECTIONS = ("validate", "checks", "mujoco", "performance", "exactness", "arms")
 #: The page of ``docs/`` that holds each generated block.
 PAGES = {"validate": "checks.md", "checks": "checks.md", "mujoco": "mujoco.md",
-         "performance": "performance.md", "exactness": "exactness.md"}
+         "performance": "performance.md", "exactness": "exactness.md", "arms": "rotary.md"}
+#: The platform height [m] of simrig100 at which the arms study shows a preview's swing.
+ARMS_HEIGHT = 0.483
 #: The presets ``make validate`` reports on, in its order.
 VALIDATE_PRESETS = ("narayan2017", "motion_simulator")
 #: The preset whose kernel rows the performance page's table shows (all presets count
@@ -127,6 +132,25 @@ def exactness_block() -> str:
                  for n in VALIDATE_PRESETS]
         lines.append(f"| {label} | " + " | ".join(cells) + " |")
     return "\n".join(lines)
+
+
+def arms_block() -> str:
+    """``stewart workspace --preset simrig100 --arms`` at the home height and at
+    :data:`ARMS_HEIGHT`, verbatim, the figures written into docs/images."""
+    import contextlib
+    import io
+
+    from stewart.cli import main as stewart_main
+
+    parts = [f"Output of the commands below, {where()}:", ""]
+    for extra, folder in (([], "home"), (["--arms-height", str(ARMS_HEIGHT)], "height")):
+        argv = ["workspace", "--preset", "simrig100", "--arms", "--resolution", "121", *extra]
+        out = io.StringIO()
+        with contextlib.redirect_stdout(out):
+            stewart_main(argv + ["--slices", str(DOCS / "images" / f"arms_{folder}")])
+        printed = [line for line in out.getvalue().splitlines() if not line.startswith("written:")]
+        parts += ["```text", "$ stewart " + " ".join(argv), *printed, "```", ""]
+    return "\n".join(parts)
 
 
 def _cell(text: str) -> str:
@@ -228,7 +252,7 @@ def main(argv=None) -> None:
         print(f"[docs] {name} ...", flush=True)
         body = {"validate": validate_block, "mujoco": mujoco_block,
                 "checks": lambda: checks_block(args.pytest_output and args.pytest_output.read_text()),
-                "exactness": exactness_block,
+                "exactness": exactness_block, "arms": arms_block,
                 "performance": lambda: performance_block(args.bench_json)}[name]()
         page = DOCS / PAGES[name]
         page.write_text(replace_block(page.read_text(), name, body, str(page)))

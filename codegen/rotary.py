@@ -76,6 +76,8 @@ ROTARY_LEFT_OUT = {
     'motor_speed_limit': 'a sizing bound, checked in Python',
     'crank_joint_max_angle': 'a workspace bound, checked in Python',
     'platform_joint_max_angle': 'a workspace bound, checked in Python',
+    'rod_crank_angle_limits': 'a workspace bound, checked in Python',
+    'base_clearance': 'a workspace bound, checked in Python',
     'name': 'a label, not a model input',
 }
 

@@ -21,7 +21,7 @@ block functions and the dispatch table's `stewart_call` carry the parameters as 
 import math
 from functools import partial
 
-from . import linsolve, rotary
+from . import linsolve, rotary, rotary_joints
 from .csource import kernel_runs, params_finite
 from .kinematics import euler_maps_kernel
 from .model import Function, Kernels
@@ -76,6 +76,19 @@ FUNCTIONS = (
                                    ('bareiss_solve', ('FJ', '6', '6', f'Z{name}', f'dtau_d{name}'))))),
              scratch=(_BAREISS, *((f'Z{name}{t}', 36) for name in rotary.DERIVATIVE_INPUTS for t in ('T', ''))),
              result_type='InverseDynamicsDerivatives'),
+    # ---- the workspace's joints (codegen/rotary_joints.py) ----
+    Function('joint_cosines',
+             'The crank angles alpha (6), the cosines c (18) of the rod-crank angles (-u_i . n_i / d: 1 where the rod'
+             ' folds over its crank), of the crank joints\' and of the platform joints\' angles from their neutral'
+             ' axes (the rod at the reference pose x0, fixed in the crank and in {P}), and the platform joints\''
+             ' heights z (6) in {B}.',
+             ('x', 'x0'), (('alpha', (6,)), ('c', (18,)), ('z', (6,))), (),
+             steps=(Kernels((rotary_joints.rotary_neutral_axes_kernel,), ('x0',)),
+                    Kernels((rotary_joints.rotary_joint_cosines_kernel,), ('x', 'qc', 'qp')),
+                    ('crank_angles', ('cs', 'alpha'))),
+             results=('crank_angles', ('rod_crank', (6,)), ('crank_joint', (6,)), ('platform_joint', (6,)),
+                      'platform_heights'),
+             result_type='RotaryJointCosines'),
 )
 
 #: The first status code of the cranks: STEWART_ERR_CRANK_REACH + i, crank i cannot reach the pose.

@@ -388,11 +388,50 @@ static int call_rotary_inverse_dynamics_derivatives(const stewart_params *p, siz
 }
 #endif
 
+static stewart_vl vblock_rotary_joint_cosines(const stewart_params *opaque, double scalar, const stewart_vd *const in[], stewart_vd *const out[])
+{
+    const stewart_rotary_params *p = rotary_params_of(opaque);
+    const stewart_vd *x = in[0];
+    const stewart_vd *x0 = in[1];
+    stewart_vd *alpha = out[0];
+    stewart_vd *c = out[1];
+    stewart_vd *z = out[2];
+    stewart_vd qc[18], qp[18], S2[6], rho2[6], cs[12];
+    stewart_vl status = vnone();
+    (void)scalar;
+    (void)p;
+    vkernel_rotary_neutral_axes(p, x0, qc, qp, S2, rho2);
+    status = vmerge(status, vcheck_cranks(S2, rho2));
+    vkernel_rotary_joint_cosines(p, x, qc, qp, cs, c, z, S2, rho2);
+    status = vmerge(status, vcheck_cranks(S2, rho2));
+    status = vmerge(status, vcrank_angles(cs, alpha));
+    return status;
+}
+
+int stewart_rotary_batch_joint_cosines(const stewart_rotary_params *p, size_t n, const double *x, const double *x0, double *alpha, double *c, double *z, int *status)
+{
+    stewart_vd in0[6], in1[6], out0[6], out1[18], out2[6];
+    return batch_rows(rotary_params_finite(p), (const stewart_params *)(const void *)p, vblock_rotary_joint_cosines, 0.0, n, 2, (const double *const []){x, x0}, (stewart_vd *const []){in0, in1}, 3, (double *const []){alpha, c, z}, (stewart_vd *const []){out0, out1, out2}, (const int []){6, 18, 6}, status);
+}
+
+int stewart_rotary_joint_cosines(const stewart_rotary_params *p, const double x[6], const double x0[6], double alpha[6], double c[18], double z[6])
+{
+    return stewart_rotary_batch_joint_cosines(p, 1, x, x0, alpha, c, z, NULL);
+}
+
+#ifdef STEWART_TARGET  /* the call of this copy's table, below */
+static int call_rotary_joint_cosines(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
+{
+    (void)scalar;
+    return stewart_rotary_batch_joint_cosines(rotary_params_of(p), n, in[0], in[1], out[0], out[1], out[2], status);
+}
+#endif
+
 #define STEWART_ROTARY_STRING_(a) #a
 #define STEWART_ROTARY_STRING(a) STEWART_ROTARY_STRING_(a)
 #ifdef STEWART_TARGET
 const stewart_rotary_table STEWART_JOIN(stewart_rotary_table, STEWART_TARGET) = {
     STEWART_ROTARY_STRING(STEWART_TARGET),
-    {call_rotary_crank_angles, call_rotary_jacobian, call_rotary_pose_jacobian, call_rotary_crank_rates, call_rotary_twist_mass_matrix, call_rotary_mass_matrix, call_rotary_gravity_vector, call_rotary_inverse_dynamics, call_rotary_forward_dynamics, call_rotary_inverse_dynamics_derivatives},
+    {call_rotary_crank_angles, call_rotary_jacobian, call_rotary_pose_jacobian, call_rotary_crank_rates, call_rotary_twist_mass_matrix, call_rotary_mass_matrix, call_rotary_gravity_vector, call_rotary_inverse_dynamics, call_rotary_forward_dynamics, call_rotary_inverse_dynamics_derivatives, call_rotary_joint_cosines},
 };
 #endif

@@ -75,6 +75,8 @@ int stewart_rotary_inverse_dynamics(const stewart_rotary_params *p, const double
 int stewart_rotary_forward_dynamics(const stewart_rotary_params *p, const double x[6], const double xd[6], const double torque[6], double xdd[6]);
 /* tau and its Jacobians (row = output, column = input): dtau/dq = J_alpha^-T dR/dq for q = x, xd, xdd, R = M_t T xdd + V xd + G - J_alpha^T tau at fixed tau. */
 int stewart_rotary_inverse_dynamics_derivatives(const stewart_rotary_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6], double dtau_dx[36], double dtau_dxd[36], double dtau_dxdd[36]);
+/* The crank angles alpha (6), the cosines c (18) of the rod-crank angles (-u_i . n_i / d: 1 where the rod folds over its crank), of the crank joints' and of the platform joints' angles from their neutral axes (the rod at the reference pose x0, fixed in the crank and in {P}), and the platform joints' heights z (6) in {B}. */
+int stewart_rotary_joint_cosines(const stewart_rotary_params *p, const double x[6], const double x0[6], double alpha[6], double c[18], double z[6]);
 
 int stewart_rotary_batch_crank_angles(const stewart_rotary_params *p, size_t n, const double *x, double *alpha, int *status);
 int stewart_rotary_batch_jacobian(const stewart_rotary_params *p, size_t n, const double *x, double *JR, int *status);
@@ -86,6 +88,7 @@ int stewart_rotary_batch_gravity_vector(const stewart_rotary_params *p, size_t n
 int stewart_rotary_batch_inverse_dynamics(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, int *status);
 int stewart_rotary_batch_forward_dynamics(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *torque, double *xdd, int *status);
 int stewart_rotary_batch_inverse_dynamics_derivatives(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd, int *status);
+int stewart_rotary_batch_joint_cosines(const stewart_rotary_params *p, size_t n, const double *x, const double *x0, double *alpha, double *c, double *z, int *status);
 
 /* Operation counts of the rotary kernels:
  *   rotary_crank_angles                  413
@@ -100,6 +103,8 @@ int stewart_rotary_batch_inverse_dynamics_derivatives(const stewart_rotary_param
  *   rotary_inverse_dynamics_derivatives_xd3    6511
  *   rotary_inverse_dynamics_derivatives_xdd0    2082
  *   rotary_inverse_dynamics_derivatives_xdd3    2559
+ *   rotary_neutral_axes                  811
+ *   rotary_joint_cosines                 883
  */
 
 #ifdef __cplusplus

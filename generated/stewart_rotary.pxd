@@ -26,7 +26,7 @@ cdef extern from "stewart_rotary_dispatch.h" nogil:
     const char *stewart_rotary_status_message(int status)
     ctypedef struct stewart_rotary_table:
         const char *name
-        stewart_call call[10]
+        stewart_call call[11]
     const stewart_rotary_table **stewart_rotary_tables
 
 

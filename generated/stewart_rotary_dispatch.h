@@ -21,8 +21,9 @@
  *    7  inverse_dynamics
  *    8  forward_dynamics
  *    9  inverse_dynamics_derivatives
+ *   10  joint_cosines
  */
-#define STEWART_ROTARY_FUNCTIONS 10
+#define STEWART_ROTARY_FUNCTIONS 11
 
 typedef struct {
     const char *name;  /* the target, as the linear table's */

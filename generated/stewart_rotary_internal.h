@@ -18,6 +18,7 @@
 #define stewart_rotary_inverse_dynamics STEWART_LOCAL(rotary_inverse_dynamics)
 #define stewart_rotary_forward_dynamics STEWART_LOCAL(rotary_forward_dynamics)
 #define stewart_rotary_inverse_dynamics_derivatives STEWART_LOCAL(rotary_inverse_dynamics_derivatives)
+#define stewart_rotary_joint_cosines STEWART_LOCAL(rotary_joint_cosines)
 #define stewart_rotary_batch_crank_angles STEWART_LOCAL(rotary_batch_crank_angles)
 #define stewart_rotary_batch_jacobian STEWART_LOCAL(rotary_batch_jacobian)
 #define stewart_rotary_batch_pose_jacobian STEWART_LOCAL(rotary_batch_pose_jacobian)
@@ -28,6 +29,7 @@
 #define stewart_rotary_batch_inverse_dynamics STEWART_LOCAL(rotary_batch_inverse_dynamics)
 #define stewart_rotary_batch_forward_dynamics STEWART_LOCAL(rotary_batch_forward_dynamics)
 #define stewart_rotary_batch_inverse_dynamics_derivatives STEWART_LOCAL(rotary_batch_inverse_dynamics_derivatives)
+#define stewart_rotary_batch_joint_cosines STEWART_LOCAL(rotary_batch_joint_cosines)
 #define stewart_rotary_status_message STEWART_LOCAL(rotary_status_message)
 #define vkernel_rotary_crank_angles STEWART_LOCAL(vkernel_rotary_crank_angles)
 #define vkernel_rotary_jacobian STEWART_LOCAL(vkernel_rotary_jacobian)
@@ -41,6 +43,8 @@
 #define vkernel_rotary_inverse_dynamics_derivatives_xd3 STEWART_LOCAL(vkernel_rotary_inverse_dynamics_derivatives_xd3)
 #define vkernel_rotary_inverse_dynamics_derivatives_xdd0 STEWART_LOCAL(vkernel_rotary_inverse_dynamics_derivatives_xdd0)
 #define vkernel_rotary_inverse_dynamics_derivatives_xdd3 STEWART_LOCAL(vkernel_rotary_inverse_dynamics_derivatives_xdd3)
+#define vkernel_rotary_neutral_axes STEWART_LOCAL(vkernel_rotary_neutral_axes)
+#define vkernel_rotary_joint_cosines STEWART_LOCAL(vkernel_rotary_joint_cosines)
 #endif
 
 #include "stewart_rotary.h"
@@ -118,5 +122,7 @@ STEWART_HIDDEN void vkernel_rotary_inverse_dynamics_derivatives_xd0(const stewar
 STEWART_HIDDEN void vkernel_rotary_inverse_dynamics_derivatives_xd3(const stewart_rotary_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *tau, stewart_vd *ZT, stewart_vd *S2, stewart_vd *rho2);
 STEWART_HIDDEN void vkernel_rotary_inverse_dynamics_derivatives_xdd0(const stewart_rotary_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *tau, stewart_vd *ZT, stewart_vd *S2, stewart_vd *rho2);
 STEWART_HIDDEN void vkernel_rotary_inverse_dynamics_derivatives_xdd3(const stewart_rotary_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *tau, stewart_vd *ZT, stewart_vd *S2, stewart_vd *rho2);
+STEWART_HIDDEN void vkernel_rotary_neutral_axes(const stewart_rotary_params *p, const stewart_vd *x, stewart_vd *qc, stewart_vd *qp, stewart_vd *S2, stewart_vd *rho2);
+STEWART_HIDDEN void vkernel_rotary_joint_cosines(const stewart_rotary_params *p, const stewart_vd *x, const stewart_vd *qc, const stewart_vd *qp, stewart_vd *cs, stewart_vd *c, stewart_vd *z, stewart_vd *S2, stewart_vd *rho2);
 
 #endif /* STEWART_ROTARY_INTERNAL_H */

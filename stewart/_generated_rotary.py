@@ -34,6 +34,8 @@ PARAMS_LEFT_OUT = {
     'motor_speed_limit': 'a sizing bound, checked in Python',
     'crank_joint_max_angle': 'a workspace bound, checked in Python',
     'platform_joint_max_angle': 'a workspace bound, checked in Python',
+    'rod_crank_angle_limits': 'a workspace bound, checked in Python',
+    'base_clearance': 'a workspace bound, checked in Python',
     'name': 'a label, not a model input',
 }
 
@@ -149,6 +151,16 @@ FUNCTIONS = {
         results=(('tau', 0, 0, (6,)), ('dtau_dx', 1, 0, (6, 6)), ('dtau_dxd', 2, 0, (6, 6)), ('dtau_dxdd', 3, 0, (6, 6))),
         result_type='InverseDynamicsDerivatives',
         method='inverse_dynamics_derivatives',
+        option='',
+    ),
+    'joint_cosines': Function(
+        index=10,
+        inputs=('x', 'x0'),
+        scalar='',
+        outputs=(('alpha', 6), ('c', 18), ('z', 6)),
+        results=(('crank_angles', 0, 0, (6,)), ('rod_crank', 1, 0, (6,)), ('crank_joint', 1, 6, (6,)), ('platform_joint', 1, 12, (6,)), ('platform_heights', 2, 0, (6,))),
+        result_type='RotaryJointCosines',
+        method='joint_cosines',
         option='',
     ),
 }

@@ -108,7 +108,9 @@ def test_platform_rotation_rate_in_its_frame():
 def test_maneuvers_are_reproduced(tmp_path):
     subprocess.run([sys.executable, os.path.join(EXAMPLES, "make_maneuvers.py"), str(tmp_path)], check=True,
                    capture_output=True)
-    for name in MANEUVERS:
+    made_names = sorted(path.stem for path in tmp_path.glob("*.csv"))
+    assert made_names == sorted(MANEUVERS + ["racing_lap"])
+    for name in made_names:
         made, shipped = (np.loadtxt(path, delimiter=",", skiprows=2) for path in
                          (tmp_path / f"{name}.csv", os.path.join(EXAMPLES, f"{name}.csv")))
         # to the files' ten significant digits: a value on a rounding tie may print either way
@@ -370,3 +372,16 @@ def test_the_washout_converts_its_platform_once_where_it_enters(conversions):
     result = stewart.cueing.washout(log, PlatformParams.preset("motion_simulator"), simulate=True)
     assert len(result.poses) == 50 and result.simulation.completed
     assert count == {"stewart.cueing.runners": 1, "compiled": 1}
+
+
+def test_racing_lap_stays_within_its_grip():
+    """The lap's car never exceeds the grip its docstring names: 14 m/s^2 cornering (to the
+    interpolation between path samples), 6 m/s^2 traction, 12 m/s^2 braking; a flying lap."""
+    lap = np.loadtxt(os.path.join(EXAMPLES, "racing_lap.csv"), delimiter=",", skiprows=2)
+    t, ax, ay, fz, wz = lap[:, 0], lap[:, 1], lap[:, 2], lap[:, 3], lap[:, 6]
+    assert np.all(np.diff(t) > 0) and 50.0 < t[-1] < 70.0
+    assert -12.0 - 1e-6 <= ax.min() and ax.max() <= 6.0 + 1e-6
+    assert 13.0 < np.abs(ay).max() <= 14.0 * 1.01
+    speed = ay[np.abs(wz) > 0.05] / wz[np.abs(wz) > 0.05]  # ay = v^2 kappa, wz = v kappa
+    assert speed.min() > 5.0 and speed.max() < 70.0
+    assert np.count_nonzero(fz != 9.81) > 0 and np.abs(fz - 9.81).max() <= 2.5

@@ -166,7 +166,7 @@ def test_inverse_dynamics_derivatives_against_complex_step(rig, figures):
 
 FUNCTIONS = {"crank_angles": 1, "jacobian": 1, "pose_jacobian": 1, "crank_rates": 2, "mass_matrix": 1,
              "twist_mass_matrix": 1, "gravity_vector": 1, "inverse_dynamics": 3, "forward_dynamics": 3,
-             "inverse_dynamics_derivatives": 3}
+             "inverse_dynamics_derivatives": 3, "joint_cosines": 1}
 
 
 @pytest.mark.parametrize("name", FUNCTIONS)
@@ -278,7 +278,7 @@ def test_massless_legs_reduce_to_the_platforms_statics(figures):
 #: Every array-taking method of RotaryPlatform with its state arguments' names.
 ROTARY_METHODS = {"crank_angles": ("x",), "jacobian": ("x",), "mass_matrix": ("x",), "gravity_vector": ("x",),
                   "inverse_dynamics": ("x", "xd", "xdd"), "forward_dynamics": ("x", "xd", "torque"),
-                  "inverse_dynamics_derivatives": ("x", "xd", "xdd")}
+                  "inverse_dynamics_derivatives": ("x", "xd", "xdd"), "joint_cosines": ("x", "reference")}
 
 
 @pytest.mark.parametrize("method", sorted(ROTARY_METHODS))
@@ -288,7 +288,7 @@ def test_every_method_refuses_bad_input_naming_the_argument(method, bad):
     whose message names it; a good call on the same arguments gives finite results."""
     model = stewart.RotaryPlatform.preset("simrig100")
     names = ROTARY_METHODS[method]
-    good = {"x": model.home + 0.01, "xd": np.full(6, 0.1), "xdd": np.full(6, 0.5)}
+    good = {"x": model.home + 0.01, "xd": np.full(6, 0.1), "xdd": np.full(6, 0.5), "reference": model.home}
     good["torque"] = model.inverse_dynamics(good["x"], good["xd"], good["xdd"])
     args = [good[name] for name in names]
     result = getattr(model, method)(*args)

@@ -82,14 +82,3 @@ def test_immutable():
         rig.crank_length = 1.0
     assert rig.replace(crank_branch=-np.ones(6)).crank_branch.tolist() == [-1.0] * 6
 
-
-def test_a_linear_command_refuses_a_rotary_file_in_one_line(tmp_path, capsys):
-    from stewart.cli import main
-
-    path = tmp_path / "rig.toml"
-    stewart.RotaryParams.preset("simrig100").save(path)
-    with pytest.raises(SystemExit) as exit_info:
-        main(["envelope", "--params", str(path)])
-    assert exit_info.value.code == 2
-    lines = capsys.readouterr().err.strip().splitlines()
-    assert len(lines) == 1 and "kind = 'rotary', not a linear platform" in lines[0]

@@ -7,7 +7,10 @@ rest) from simple kinematic vehicle models:
 * constant_radius_turn.csv: 15 m/s on a 50 m radius (4.5 m/s^2, 0.3 rad/s), ramped in and out;
 * slalom.csv: 15 m/s through cones 18 m apart, lateral amplitude 0.6 m;
 * takeoff_roll.csv: an aircraft accelerating at 3 m/s^2 to 60 m/s, then rotating at 3 deg/s
-  to 10 deg nose up.
+  to 10 deg nose up;
+* racing_lap.csv: a GT car on a 2.2 km circuit of straights, a hairpin, a chicane and fast
+  sweepers, at the limit of 14 m/s^2 of cornering, 6 m/s^2 of traction and 12 m/s^2 of braking,
+  with kerb strikes in the chicane (vertical specific force bursts).
 
 The cars follow their path with the heading of its tangent (no side slip): lateral specific
 force ``fy = ydd`` and yaw rate ``wz = ydd / v`` for small heading angles. Run
@@ -92,12 +95,51 @@ def takeoff_roll():
     return np.column_stack([t, fx, zero, fz, zero, -q, zero])  # nose up is a negative pitch rate (y left)
 
 
+#: The circuit of racing_lap: (length [m], turn angle [deg], positive left) a segment; a
+#: straight has no angle.
+CIRCUIT = (
+    (350.0, 0.0), (60.0, -90.0), (180.0, 0.0), (50.0, 180.0), (260.0, 0.0),
+    (35.0, 45.0), (35.0, -45.0), (240.0, 0.0), (220.0, -110.0), (160.0, 0.0),
+    (120.0, 75.0), (250.0, 0.0), (90.0, -100.0), (200.0, 0.0),
+)
+
+
+def racing_lap():
+    ds = 0.5  # path step [m]
+    curvature = np.concatenate([np.full(int(round(length / ds)), np.radians(angle) / length)
+                                for length, angle in CIRCUIT])
+    window = np.hanning(int(round(30.0 / ds)))  # turn-in over ~30 m, as a clothoid entry
+    curvature = np.convolve(curvature, window / window.sum(), mode="same")
+    cornering, traction, braking, top = 14.0, 6.0, 12.0, 70.0
+    v2 = np.minimum(top**2, cornering / np.maximum(np.abs(curvature), 1e-9))
+    v2[0] = 40.0**2  # a flying lap
+    for k in range(1, v2.size):  # traction-limited acceleration
+        v2[k] = min(v2[k], v2[k - 1] + 2 * traction * ds)
+    for k in range(v2.size - 2, -1, -1):  # braking-limited deceleration
+        v2[k] = min(v2[k], v2[k + 1] + 2 * braking * ds)
+    v = np.sqrt(v2)
+    s_path = np.arange(v.size) * ds
+    elapsed = np.concatenate([[0.0], np.cumsum(2 * ds / (v[1:] + v[:-1]))])
+    t = times(np.floor(elapsed[-1] * RATE) / RATE)
+    speed = np.interp(t, elapsed, v)
+    kappa = np.interp(t, elapsed, curvature)
+    ax = np.gradient(speed, t)
+    ay = speed**2 * kappa
+    wz = speed * kappa
+    chicane = sum(length for length, _ in CIRCUIT[:5]), sum(length for length, _ in CIRCUIT[:7])
+    on_kerb = (np.interp(t, elapsed, s_path) > chicane[0]) & (np.interp(t, elapsed, s_path) < chicane[1])
+    kerb = 2.5 * np.sin(2 * np.pi * 12.0 * t) * on_kerb  # 12 Hz kerb rumble
+    zero = np.zeros_like(t)
+    return np.column_stack([t, ax, ay, G + kerb, zero, zero, wz])
+
+
 MANEUVERS = {
     "double_lane_change": double_lane_change,
     "hard_braking": hard_braking,
     "constant_radius_turn": constant_radius_turn,
     "slalom": slalom,
     "takeoff_roll": takeoff_roll,
+    "racing_lap": racing_lap,
 }
 
 

@@ -7,7 +7,8 @@ import os
 import sys
 
 from ..io.mjcf import SOLVERS, to_mjcf
-from .common import UserError, check_output, platform_params
+from ..model.rotary_params import RotaryParams
+from .common import UserError, check_output, platform_params, rig_params
 from .options import AXES, UNITS, add_file, add_params, add_six, subcommand
 
 
@@ -38,7 +39,7 @@ def add_c_export(sub) -> None:
 
 def cmd_export_mjcf(args) -> int:
     check_output("--output", args.output)
-    params, label = platform_params(args)
+    params, label = rig_params(args)
     try:
         text = to_mjcf(params, pose=args.pose, solver=args.solver)
     except ValueError as exc:
@@ -52,15 +53,18 @@ def cmd_export_mjcf(args) -> int:
             handle.write(text)
     except OSError as exc:
         raise UserError(f"--output {args.output}: {exc.strerror or exc}") from None
-    print(f"wrote {args.output}: MuJoCo model of platform {label}, solver settings '{args.solver}'")
+    kind = "rotary rig" if isinstance(params, RotaryParams) else "platform"
+    print(f"wrote {args.output}: MuJoCo model of {kind} {label}, solver settings '{args.solver}'")
     return 0
 
 
 def add_export_mjcf(sub) -> None:
     p = subcommand(sub, "export-mjcf", "write the platform as a standalone MuJoCo model (MJCF): universal "
-                   "joints, actuated slides, ball joints as equality constraints; ctrl = actuator forces [N]",
+                   "joints, actuated slides, ball joints as equality constraints; ctrl = actuator forces [N]. "
+                   "A rotary rig: motor hinges (reading the crank angles), rods on ball joints, the loops "
+                   "closed at the platform by equality constraints; ctrl = motor torques [N m]",
                    cmd_export_mjcf)
-    add_params(p)
+    add_params(p, rotary=True)
     add_file(p, "--output", "write the model to FILE (default: standard output)")
     add_six(p, "--pose", f"assembly pose: {AXES} [{UNITS}] (default: home)")
     p.add_argument("--solver", choices=list(SOLVERS), default="default",

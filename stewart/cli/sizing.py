@@ -17,8 +17,8 @@ from .common import (
     check_plotting,
     chunking,
     flag_names,
-    platform_params,
     progress,
+    rig_params,
     scheduler,
 )
 from .options import (
@@ -55,6 +55,17 @@ def _envelope_spec(args, params):
         raise UserError(flag_names(str(exc), _ENVELOPE_FLAGS)) from None
 
 
+def _home(params):
+    """The home pose of ``params``: a linear platform's, or a rotary rig's (RotaryPlatform.home)."""
+    from ..model.rotary_params import RotaryParams
+
+    if isinstance(params, RotaryParams):
+        from ..model.rotary import RotaryPlatform
+
+        return RotaryPlatform(params).home
+    return kinematics.home_pose(params)
+
+
 def _envelope_arguments(args, params):
     from ..studies import envelope
 
@@ -75,7 +86,7 @@ def _envelope_arguments(args, params):
         if any(v is not None for v in box):
             raise UserError("--target cannot be combined with the box flags (--lower, --upper, ...)")
         try:
-            move = PointToPoint(kinematics.home_pose(params), args.target, args.move_time, args.profile)
+            move = PointToPoint(_home(params), args.target, args.move_time, args.profile)
         except ValueError as exc:
             raise UserError(f"--target, --move-time: {exc}") from None
         if args.margin is None:
@@ -100,12 +111,12 @@ def _write(args, result) -> None:
 
 
 def cmd_envelope(args) -> int:
-    from ..studies.envelope import QUANTITIES, envelope
+    from ..studies.envelope import envelope
 
     check_outputs(args, "--csv", "--json", "--plot")
     if args.plot:
         check_plotting("--plot")
-    params, label = platform_params(args)
+    params, label = rig_params(args)
     spec, what, flags = _envelope_spec(args, params)
     if args.trajectory or (args.target is not None and args.margin is None):
         if args.samples is not None:
@@ -118,10 +129,10 @@ def cmd_envelope(args) -> int:
         raise UserError(flag_names(str(exc), {"spec": flags, "samples": "--samples", "seed": "--seed",
                                               "chunk_size": "--chunk-size"})) from None
     print(f"# platform {label}: envelope over {what}, {result.states:,} states "
-          f"({result.outside_stroke:,} outside the stroke, {result.singular:,} singular, left out)")
-    print(f"{'leg':>4}" + "".join(f"{f'{q} [{u}]':>22}" for q, u in QUANTITIES))
+          f"({result.outside_stroke:,} {result.outside_words}, {result.singular:,} singular, left out)")
+    print(f"{result.member:>4}" + "".join(f"{f'{q} [{u}]':>22}" for q, u in result.quantities))
     for leg in range(6):
-        print(f"{leg:>4}" + "".join(f"{result.value(q)[leg]:>22.6g}" for q, _ in QUANTITIES))
+        print(f"{leg:>4}" + "".join(f"{result.value(q)[leg]:>22.6g}" for q, _ in result.quantities))
     _write(args, result)
     if result.outside_stroke + result.singular == result.states:
         print("stewart envelope: error: no state of the specification is reachable", file=sys.stderr)
@@ -130,9 +141,10 @@ def cmd_envelope(args) -> int:
 
 
 def add_envelope(sub) -> None:
-    p = subcommand(sub, "envelope", "peak actuator force, velocity and power and joint forces per leg over a "
-                   "box of poses with velocity and acceleration bounds, a move or trajectory files", cmd_envelope)
-    add_params(p)
+    p = subcommand(sub, "envelope", "peak actuator force, velocity and power and joint forces per leg (a rotary "
+                   "rig's: motor torque, crank speed and mechanical power per motor) over a box of poses with "
+                   "velocity and acceleration bounds, a move or trajectory files", cmd_envelope)
+    add_params(p, rotary=True)
     add_six(p, "--lower", f"lowest pose of the box: {AXES} [{UNITS}]")
     add_six(p, "--upper", f"highest pose of the box [{UNITS}]")
     add_six(p, "--velocity", f"largest |rate| per axis [{RATE_UNITS}]")

@@ -1,18 +1,19 @@
 """``stewart workspace``: the reachable workspace's volume, bounding box and singularity
-margin, and its slices through home as heat maps."""
+margin, and its slices through home as heat maps, of a linear platform or a rotary rig; and
+for a rotary rig the arms study (``--arms``: the roll and pitch it reaches with its arms
+outwards and inwards)."""
 
 from __future__ import annotations
 
 import itertools
 import json
-import math
 import os
 
 import numpy as np
 
 from ..io import csvfile
 from ..model.kinematics import POSE_AXES, POSE_UNITS
-from ..model.reachability import limits_in_force
+from ..model.rotary_params import RotaryParams
 from .common import (
     EXIT_WORKSPACE,
     UserError,
@@ -20,9 +21,9 @@ from .common import (
     check_plotting,
     chunking,
     flag_names,
-    platform_params,
     print_written,
     progress,
+    rig_params,
     scheduler,
 )
 from .options import add_chunk_size, add_file, add_json, add_params, add_progress, add_scheduler, add_seed, count, \
@@ -33,7 +34,42 @@ _WORKSPACE_FLAGS = {"region": "--region", "orientation": "--orientation", "posit
                     "samples": "--samples", "grid": "--grid", "seed": "--seed", "chunk_size": "--chunk-size",
                     "resolution": "--resolution", "universal_joint_max_angle": "--universal-max-angle",
                     "spherical_joint_max_angle": "--spherical-max-angle", "leg_diameter": "--leg-diameter",
-                    "plate_radius": "--plate-radius", "base_clearance": "--base-clearance", "stiffness": "--stiffness"}
+                    "plate_radius": "--plate-radius", "base_clearance": "--base-clearance", "stiffness": "--stiffness",
+                    "crank_joint_max_angle": "--crank-joint-max-angle",
+                    "platform_joint_max_angle": "--platform-joint-max-angle", "crank_angle_limits": "--crank-limits",
+                    "rod_crank_angle_limits": "--rod-crank-limits"}
+
+#: The flags of one family's bounds: a linear platform's, a rotary rig's.
+_LINEAR_FLAGS = ("--universal-max-angle", "--spherical-max-angle", "--leg-diameter", "--plate-radius", "--stiffness")
+_ROTARY_FLAGS = ("--crank-joint-max-angle", "--platform-joint-max-angle", "--crank-limits", "--rod-crank-limits",
+                 "--arms", "--arms-height")
+
+
+def _bounds(args, rotary: bool) -> dict:
+    """The parameters the bound flags override (radians from degrees), after refusing in one line
+    a flag of the other family."""
+    given = lambda flag: getattr(args, flag[2:].replace("-", "_")) not in (None, False)  # noqa: E731
+    for flag in _ROTARY_FLAGS if not rotary else _LINEAR_FLAGS:
+        if given(flag):
+            raise UserError(f"{flag}: bounds a {'linear platform' if rotary else 'rotary rig'}; the parameters are "
+                            f"a {'rotary rig' if rotary else 'linear platform'}'s (its bounds: "
+                            f"{', '.join(_ROTARY_FLAGS[:4] if rotary else _LINEAR_FLAGS[:4])}, --base-clearance)")
+    cones = ("--crank-joint-max-angle", "--platform-joint-max-angle") if rotary else \
+        ("--universal-max-angle", "--spherical-max-angle")
+    for flag in cones:
+        value = getattr(args, flag[2:].replace("-", "_"))
+        if value is not None and value > 90.0:
+            raise UserError(f"{flag}: a cone half-angle needs 0 < DEG <= 90, got {value:g}")
+    if rotary:
+        bounds = {"crank_joint_max_angle": args.crank_joint_max_angle,
+                  "platform_joint_max_angle": args.platform_joint_max_angle,
+                  "crank_angle_limits": args.crank_limits, "rod_crank_angle_limits": args.rod_crank_limits}
+    else:
+        bounds = {"universal_joint_max_angle": args.universal_max_angle,
+                  "spherical_joint_max_angle": args.spherical_max_angle, "leg_diameter": args.leg_diameter,
+                  "plate_radius": args.plate_radius}
+    bounds["base_clearance"] = args.base_clearance
+    return {key: (np.radians(v).tolist() if "angle" in key else v) for key, v in bounds.items() if v is not None}
 
 #: The slices drawn by ``stewart workspace --slices``: the three coordinate planes through home.
 _SLICES = {"translational": tuple("".join(pair) for pair in itertools.combinations(POSE_AXES[:3], 2)),
@@ -53,20 +89,18 @@ def cmd_workspace(args) -> int:
     if args.kind == "translational" and args.position is not None:
         raise UserError("--position: holds the position of an orientation workspace; "
                         "with --kind translational give --orientation")
-    for flag, value in (("--universal-max-angle", args.universal_max_angle),
-                        ("--spherical-max-angle", args.spherical_max_angle)):
-        if value is not None and value > 90.0:
-            raise UserError(f"{flag}: a cone half-angle needs 0 < DEG <= 90, got {value:g}")
-    params, label = platform_params(args)
-    bounds = {"universal_joint_max_angle": args.universal_max_angle, "spherical_joint_max_angle":
-              args.spherical_max_angle, "leg_diameter": args.leg_diameter, "plate_radius": args.plate_radius,
-              "base_clearance": args.base_clearance}
+    params, label = rig_params(args)
+    rotary = isinstance(params, RotaryParams)
+    bounds = _bounds(args, rotary)
+    if args.arms:
+        return _arms(args, params.replace(**bounds) if bounds else params, label)
+    if args.arms_height is not None:
+        raise UserError("--arms-height: holds the platform of the arms study; give it with --arms")
     region = None if args.region is None else np.reshape(args.region, (3, 2))
     fixed = ({"orientation": args.orientation or (0.0, 0.0, 0.0)} if args.kind == "translational"
              else {"position": args.position})
     try:
-        params = params.replace(**{key: math.radians(v) if "angle" in key else v
-                                   for key, v in bounds.items() if v is not None})
+        params = params.replace(**bounds)
         study = workspace.translational_workspace if args.kind == "translational" else workspace.orientation_workspace
         with scheduler(args.scheduler) as client:
             result = study(params, **fixed, region=region, samples=None if args.grid else args.samples,
@@ -98,12 +132,63 @@ def cmd_workspace(args) -> int:
     if args.json:
         print(json.dumps(summary))
     else:
-        _workspace_report(result, label, files, limits_in_force(params))
+        _workspace_report(result, label, files, _limits(params), "J_alpha" if rotary else "J_C")
     if not result.reachable:
         excluded = ", ".join(f"{name} {n}" for name, n in result.excluded.items())
         raise UserError(f"no sampled pose is reachable ({result.samples} samples; excluded: {excluded})",
                         EXIT_WORKSPACE)
     return code
+
+
+def _limits(params) -> str:
+    """The limits in force of ``params``, in words (its family's ``limits_in_force``)."""
+    from ..model import reachability, rotary_reachability
+
+    family = rotary_reachability if isinstance(params, RotaryParams) else reachability
+    return family.limits_in_force(params)
+
+
+def _arms(args, params, label) -> int:
+    """``--arms``: the roll and pitch ranges of the rig with its arms outwards and inwards, the
+    figure of their pitch-roll slices into ``--slices DIR``."""
+    from ..studies.rotary_arms import arms_study
+
+    if args.kind != "translational" or args.orientation or args.position or args.region or args.grid \
+            or args.csv:
+        raise UserError("--arms: studies roll and pitch about home on its own; leave out --kind, --orientation, "
+                        "--position, --region, --grid and --csv")
+    from ..model.rotary import RotaryPlatform
+
+    height = float(RotaryPlatform(params).home[2]) if args.arms_height is None else args.arms_height
+    try:
+        studies = {"same_height": arms_study(params, height=height, resolution=args.resolution),
+                   "own_home": arms_study(params, resolution=args.resolution)}
+    except ValueError as exc:
+        raise UserError(flag_names(str(exc), {"height": "--arms-height", "limit": "--arms",
+                                              "resolution": "--resolution"})) from None
+    files = []
+    if args.slices:
+        os.makedirs(args.slices, exist_ok=True)
+        files += [study.plot(os.path.join(args.slices, f"arms_{case}.png")) for case, study in studies.items()]
+    if args.json:
+        print(json.dumps({"command": "workspace", "platform_source": label,
+                          **{case: study.summary() for case, study in studies.items()}, "files": files}))
+        return 0
+    print(f"platform {label}: roll and pitch reachable, each alone, arms outwards and inwards")
+    print(f"limits: {studies['own_home'].limits}")
+    for case, study in studies.items():
+        held = f"both at z = {height:.4g} m" + (" (the rig's home)" if args.arms_height is None else "")
+        print(f"{held if case == 'same_height' else 'each at its own home, cranks at zero'}:")
+        print(f"  {'arms':<10}{'z [m]':>8}{'roll [deg]':>22}{'pitch [deg]':>22}")
+        for way in study.ways:
+            if study.roll[way] is None:
+                print(f"  {way:<10}{study.start[way][2]:>8.4f}  cannot stand there: {'; '.join(study.reasons[way])}")
+                continue
+            roll, pitch = (np.degrees(getattr(study, axis)[way]) for axis in ("roll", "pitch"))
+            print(f"  {way:<10}{study.start[way][2]:>8.4f}{f'{roll[0]:+.3f} .. {roll[1]:+.3f}':>22}"
+                  f"{f'{pitch[0]:+.3f} .. {pitch[1]:+.3f}':>22}")
+    print_written(files)
+    return 0
 
 
 def _zoom(result, axes: str):
@@ -119,7 +204,7 @@ def _zoom(result, axes: str):
     return np.column_stack([np.maximum(box[:, 0] - pad, region[:, 0]), np.minimum(box[:, 1] + pad, region[:, 1])])
 
 
-def _workspace_report(result, label: str, files: list[str], limits: str) -> None:
+def _workspace_report(result, label: str, files: list[str], limits: str, jacobian: str) -> None:
     unit = result.unit
     axes = ", ".join(result.axes)
     held = "orientation" if result.kind == "translational" else "position"
@@ -132,7 +217,7 @@ def _workspace_report(result, label: str, files: list[str], limits: str) -> None
     if result.bounding_box is not None:
         for name, (lo, hi) in zip(result.axes, result.bounding_box):
             print(f"  {name:<6} {lo:+.5g} .. {hi:+.5g} {unit}")
-        print(f"singularity margin (1/cond J_C): min {result.margin_min:.3g}, mean {result.margin_mean:.3g}, "
+        print(f"singularity margin (1/cond {jacobian}): min {result.margin_min:.3g}, mean {result.margin_mean:.3g}, "
               f"max {result.margin_max:.3g}")
     if result.stiffness is not None:
         print(f"on legs of {' '.join(f'{k:g}' for k in np.unique(result.stiffness))} N/m: lowest natural frequency "
@@ -147,8 +232,8 @@ def _workspace_report(result, label: str, files: list[str], limits: str) -> None
 
 def add_workspace(sub) -> None:
     p = subcommand(sub, "workspace", "the reachable workspace: volume with its error, bounding box, singularity "
-                   "margin, and slices as heat maps", cmd_workspace)
-    add_params(p)
+                   "margin, and slices as heat maps (linear platforms and rotary rigs)", cmd_workspace)
+    add_params(p, rotary=True)
     p.add_argument("--kind", choices=["translational", "orientation"], default="translational",
                    help="positions at a constant orientation, or orientations at a position")
     position, orientation = POSE_AXES[:3], POSE_AXES[3:]
@@ -173,6 +258,23 @@ def add_workspace(sub) -> None:
                    "the base and clear of the legs [m] (overrides the parameters')")
     p.add_argument("--base-clearance", type=positive, metavar="M", help="smallest gap between the platform and the "
                    "base plane [m] (overrides the parameters')")
+    p.add_argument("--crank-joint-max-angle", type=positive, metavar="DEG",
+                   help="rotary rigs: cone half-angle of the ball joints at the crank tips [deg] (overrides the "
+                        "parameters')")
+    p.add_argument("--platform-joint-max-angle", type=positive, metavar="DEG",
+                   help="rotary rigs: cone half-angle of the ball joints on the platform [deg] (overrides the "
+                        "parameters')")
+    p.add_argument("--crank-limits", nargs=2, type=number, metavar=("MIN", "MAX"),
+                   help="rotary rigs: crank angle limits [deg] (overrides the parameters')")
+    p.add_argument("--rod-crank-limits", nargs=2, type=number, metavar=("MIN", "MAX"),
+                   help="rotary rigs: limits of the angle between rod and crank at the crank tip [deg], 0 folded "
+                        "over the crank, 180 stretched straight out (overrides the parameters')")
+    p.add_argument("--arms", action="store_true",
+                   help="rotary rigs: instead of the workspace, the roll and pitch reachable with the arms outwards "
+                        "and inwards, both at the platform height of the rig's home and each at its own home (with "
+                        "--slices DIR, their figures arms_same_height.png and arms_own_home.png)")
+    p.add_argument("--arms-height", type=number, metavar="M", help="with --arms: the platform height both ways are "
+                   "held at [m] (default: the rig's home height)")
     add_chunk_size(p)
     add_scheduler(p)
     add_file(p, "--slices", "write PNG heat maps of the margin on the three coordinate planes through home, around "

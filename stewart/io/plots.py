@@ -198,12 +198,15 @@ def plot_bars(labels, series: dict[str, np.ndarray], ylabel: str, title: str, pa
     return path
 
 
-def plot_workspace_slices(slices, path: str, title: str = "", quantity: str = "margin") -> str:
+def plot_workspace_slices(slices, path: str, title: str = "", quantity: str = "margin", titles=None,
+                          marks=None) -> str:
     """One heat map per :class:`stewart.studies.workspace.Slice` side by side with one colour
     scale: of the singularity margin (``quantity="margin"``) or of the lowest natural frequency
     on the preloaded leg springs (``"frequency"``, slices with a stiffness); unreachable cells (and
     for the frequency, cells the legs cannot hold) are grey. Angles are drawn in degrees. Under
-    ``title`` the figure names the slices' limits in force (``Slice.limits``)."""
+    ``title`` the figure names the slices' limits in force (``Slice.limits``). ``titles`` (one per
+    slice) replace the panels' titles; ``marks`` (one per slice, each ``(u, v)`` pairs in the
+    slices' units, or None) are drawn on them as points (the ends of reachable ranges)."""
     plt = pyplot()
     from matplotlib.patches import Patch
 
@@ -214,16 +217,20 @@ def plot_workspace_slices(slices, path: str, title: str = "", quantity: str = "m
     finite = [m[np.isfinite(m)] for m in maps if np.isfinite(m).any()]
     low = 0.0 if quantity == "margin" or not finite else min(float(f.min()) for f in finite)
     top = max([float(f.max()) for f in finite] or [1.0])
-    for ax, s, values in zip(axes[0], slices, maps):
+    for k, (ax, s, values) in enumerate(zip(axes[0], slices, maps)):
         scale, unit = (180.0 / np.pi, "deg") if s.unit == "rad" else (1.0, s.unit)
         mesh = ax.pcolormesh(scale * s.u, scale * s.v, np.ma.masked_invalid(values), cmap=cmap, vmin=low,
                              vmax=top, shading="nearest")
         ax.set_xlabel(f"{s.axes[0]} [{unit}]")
         ax.set_ylabel(f"{s.axes[1]} [{unit}]")
-        ax.set_title(f"{s.at[0]} = {np.round(scale * s.at[1], 9):.4g} {unit}", fontsize=10)  # 1e-16 shows as 0
+        ax.set_title(titles[k] if titles else f"{s.at[0]} = {np.round(scale * s.at[1], 9):.4g} {unit}",
+                     fontsize=10)  # 1e-16 shows as 0
+        if marks and marks[k] is not None:
+            points = scale * np.asarray(marks[k], dtype=float).reshape(-1, 2)
+            ax.plot(points[:, 0], points[:, 1], "o", color="tab:red", markersize=4)
         ax.set_aspect("equal")
     if quantity == "margin":
-        label, grey = "singularity margin, 1 / cond(J_C) (unit-free)", "unreachable"
+        label, grey = f"singularity margin, 1 / cond({slices[0].jacobian}) (unit-free)", "unreachable"
     else:
         stiffness = slices[0].stiffness
         legs = f"{stiffness[0]:.3g} N/m" if np.all(stiffness == stiffness[0]) else "the legs' stiffness"

@@ -8,7 +8,8 @@ what the rest of the package uses. ``tests/test_layout.py`` holds every other mo
 - :class:`ClosedLoop`, :class:`Mode`, :class:`Outcome`, :func:`status_message`: the
   simulator's compiled loop (:mod:`stewart.motion.simulation`, :mod:`stewart.motion.control`).
 - :class:`Peaks`, :func:`box_states`, :data:`PEAK_QUANTITIES`: the envelope's running peaks
-  (:mod:`stewart.studies.envelope`).
+  (:mod:`stewart.studies.envelope`); :class:`RotaryPeaks`, :data:`ROTARY_PEAK_QUANTITIES`, a
+  rotary rig's.
 - :func:`modal_terms`, :data:`UNSTABLE`: the modal analysis (:mod:`stewart.model.stiffness`).
 - :class:`CueingStep`, :data:`CUEING_GROUPS`: one MPC cueing step's QP built in C
   (:mod:`stewart.cueing.planner`).
@@ -18,6 +19,7 @@ what the rest of the package uses. ``tests/test_layout.py`` holds every other mo
 from .._kernel import (
     LANES,
     PEAK_QUANTITIES,
+    ROTARY_PEAK_QUANTITIES,
     UNSTABLE,
     CUEING_GROUPS,
     ClosedLoop,
@@ -27,6 +29,7 @@ from .._kernel import (
     Outcome,
     Peaks,
     RotaryKernel,
+    RotaryPeaks,
     box_states,
     build_info,
     modal_terms,
@@ -35,5 +38,5 @@ from .._kernel import (
 )
 
 __all__ = ["Kernel", "RotaryKernel", "ClosedLoop", "Mode", "Outcome", "status_message", "Peaks", "box_states",
-           "PEAK_QUANTITIES", "modal_terms", "UNSTABLE", "CueingStep", "CUEING_GROUPS", "build_info", "set_simd",
+           "PEAK_QUANTITIES", "RotaryPeaks", "ROTARY_PEAK_QUANTITIES", "modal_terms", "UNSTABLE", "CueingStep", "CUEING_GROUPS", "build_info", "set_simd",
            "LANES"]

@@ -50,7 +50,7 @@ from .params import PlatformParams
 
 __all__ = ["WorkspaceError", "Reachability", "reachability", "axis_excursions", "assembly_mode", "margins", "CONDITION_LIMIT",
            "FLAG_NAMES", "joint_angles", "neutral_axes", "segment_distances", "FLAGS", "limits_in_force", "base_gaps",
-           "plate_crossings"]
+           "plate_crossings", "jacobian_margins"]
 
 #: Largest unit-free condition number of ``J_C`` (and of the Euler-angle map) accepted.
 CONDITION_LIMIT = 1e3
@@ -364,6 +364,19 @@ def _margin(jac: np.ndarray) -> np.ndarray:
                 margin[close] = sv[:, -1] / sv[:, 0]
         out[finite] = np.nan_to_num(margin)
     return out
+
+
+def jacobian_margins(jac: np.ndarray, platform_points: np.ndarray) -> np.ndarray:
+    """The singularity margin ``sigma_min / sigma_max`` of Jacobians in the twist ``jac``
+    ``(N, 6, 6)`` (``J_C``, or a rotary rig's ``J_alpha``), their rotational columns divided by
+    the radius of ``platform_points`` (the largest distance from their centroid) so that it does
+    not depend on the units: 0 where a matrix is not finite (:func:`margins`)."""
+    points = np.asarray(platform_points, dtype=float)
+    radius = float(np.max(np.sqrt(np.sum((points - points.mean(axis=0)) ** 2, axis=1))))
+    scaled = np.array(jac, dtype=float)
+    with np.errstate(all="ignore"):
+        scaled[..., 3:] /= radius
+    return _margin(scaled)
 
 
 def margins(platform, poses) -> np.ndarray:

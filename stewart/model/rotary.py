@@ -4,6 +4,8 @@ the facade of the rotary functions of the generated C (codegen/rotary.py; their 
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
 import numpy as np
 
 from . import arguments
@@ -12,7 +14,22 @@ from .errors import ConvergenceError
 from .platform import InverseDynamicsDerivatives
 from .rotary_params import RotaryParams, rotary_params
 
-__all__ = ["RotaryPlatform"]
+__all__ = ["RotaryPlatform", "RotaryJointCosines"]
+
+
+class RotaryJointCosines(NamedTuple):
+    """The rig's joints at a pose (:meth:`RotaryPlatform.joint_cosines`, codegen/rotary_joints.py):
+    ``crank_angles`` (..., 6) [rad]; ``rod_crank`` (..., 6) the cosines of the rod-crank angles
+    (``-u_i . n_i / d``: 1 where the rod folds back over its crank, -1 where it stretches straight
+    out); ``crank_joint`` and ``platform_joint`` (..., 6) the cosines of the ball joints' angles
+    from their neutral axes (the rod's direction at the reference pose, fixed in the crank and in
+    {P}); ``platform_heights`` (..., 6) [m] the heights of the platform joints ``(P_i)_z`` in {B}."""
+
+    crank_angles: np.ndarray
+    rod_crank: np.ndarray
+    crank_joint: np.ndarray
+    platform_joint: np.ndarray
+    platform_heights: np.ndarray
 
 #: Most Newton iterations :meth:`RotaryPlatform.forward_kinematics` allows.
 MAX_ITERATIONS = 10_000
@@ -53,6 +70,12 @@ class RotaryPlatform:
     def params(self) -> RotaryParams:
         """The parameter set (immutable)."""
         return self._params
+
+    @property
+    def kernel(self) -> RotaryKernel:
+        """The compiled rotary model (:class:`stewart.model.compiled.RotaryKernel`), for the loops
+        in C over it (the envelope's :class:`~stewart.model.compiled.RotaryPeaks`)."""
+        return self._kernel
 
     @property
     def home(self) -> np.ndarray:
@@ -116,6 +139,21 @@ class RotaryPlatform:
     def forward_dynamics(self, x, xd, torque, return_mask: bool = False):
         """The pose accelerations ``xdd`` under the motor torques ``torque``."""
         return self._call("forward_dynamics", (x, xd, torque), return_mask)
+
+    def joint_cosines(self, x, reference=None, return_mask: bool = False):
+        """The crank angles, the cosines of the rod-crank angles and of the ball joints' angles,
+        and the platform joints' heights at poses ``x``, a :class:`RotaryJointCosines`, all from
+        the generated C (codegen/rotary_joints.py). The joints' neutral axes are the rods'
+        directions at the pose ``reference`` (one pose, default :attr:`home`: the rig as it is
+        mounted), fixed in each crank for the joint at its tip and in {P} for the joint on the
+        platform, as the linear model's joints are centred at home."""
+        reference = self.home if reference is None else arguments.states("reference", reference)
+        if reference.ndim != 1:
+            raise ValueError(f"reference: expected one pose (6,), got shape {reference.shape}")
+        result = self._call("joint_cosines", (x, reference), return_mask)
+        if return_mask:
+            return tuple.__new__(RotaryJointCosines, result[0]), result[1]
+        return tuple.__new__(RotaryJointCosines, result)
 
     def forward_kinematics(self, alpha, guess=None, *, tol: float = 1e-12, max_iter: int = 50) -> np.ndarray:
         """The pose(s) whose crank angles are ``alpha`` ((6,) or (N, 6), radians; e.g. the

@@ -54,15 +54,16 @@ def _branches(value: Any) -> np.ndarray:
     return arr.astype(float, copy=True)
 
 
-def _angle_limits(value: Any) -> tuple[float, float] | None:
+def _angle_limits(value: Any, name: str = "crank_angle_limits", low: float = -np.pi) -> tuple[float, float] | None:
+    """``(min, max)`` radians with ``low <= min < max <= pi``, or ``None``."""
     if value is None:
         return None
-    arr = arguments.reals("crank_angle_limits", value)
+    arr = arguments.reals(name, value)
     if arr.shape != (2,):
-        raise ValueError(f"crank_angle_limits: expected (min, max), got {value!r}")
+        raise ValueError(f"{name}: expected (min, max), got {value!r}")
     lo, hi = arr.tolist()
-    if not -np.pi <= lo < hi <= np.pi:
-        raise ValueError(f"crank_angle_limits: need -pi <= min < max <= pi (radians), got ({lo}, {hi})")
+    if not low <= lo < hi <= np.pi:
+        raise ValueError(f"{name}: need {'-pi' if low else '0'} <= min < max <= pi (radians), got ({lo}, {hi})")
     return (lo, hi)
 
 
@@ -100,7 +101,15 @@ class RotaryParams:
     motor_torque_limit, motor_speed_limit : optional limits at the crank, N m and rad/s, one
         value or one per motor.
     crank_joint_max_angle, platform_joint_max_angle : optional cone half-angles in radians
-        (0 < angle <= pi/2) of the ball joints at the crank tips and on the platform.
+        (0 < angle <= pi/2) of the ball joints at the crank tips and on the platform, about
+        their neutral axes (the rod's direction at the home pose, fixed in the crank and in {P}).
+    rod_crank_angle_limits : optional (min, max) in radians, 0 <= min < max <= pi, of the
+        rod-crank angle at the crank tip, between the crank (from the tip back to the motor
+        axis) and the rod: 0 where the rod folds back over its crank, pi where it stretches
+        straight out of it; both are singular (the rod normal to the tip's motion), so a rig is
+        kept away from them.
+    base_clearance : optional smallest height [m] of the platform's joints above the base
+        plane, the horizontal plane through the highest motor point b_i (default: above it).
     name : optional label.
 
     Arrays are stored read-only; construction checks every field and raises ``ValueError``
@@ -129,6 +138,8 @@ class RotaryParams:
     motor_speed_limit: np.ndarray | None = None
     crank_joint_max_angle: float | None = None
     platform_joint_max_angle: float | None = None
+    rod_crank_angle_limits: tuple[float, float] | None = None
+    base_clearance: float | None = None
     name: str | None = None
 
     def __post_init__(self) -> None:
@@ -157,6 +168,9 @@ class RotaryParams:
             "crank_joint_max_angle": fields.optional_bound("crank_joint_max_angle", self.crank_joint_max_angle, cone),
             "platform_joint_max_angle": fields.optional_bound("platform_joint_max_angle",
                                                               self.platform_joint_max_angle, cone),
+            "rod_crank_angle_limits": _angle_limits(self.rod_crank_angle_limits, "rod_crank_angle_limits", 0.0),
+            "base_clearance": fields.optional_bound("base_clearance", self.base_clearance,
+                                                    fields.BOUNDS["base_clearance"]),
             "name": self._checked_name(self.name),
         }
         for key, val in checked.items():

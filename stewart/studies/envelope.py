@@ -32,6 +32,15 @@ A motion specification is
   :class:`~stewart.PointToPoint` and :class:`~stewart.SampledTrajectory`, the latter also
   from CSV files), sampled every ``dt`` seconds from 0 to their duration.
 
+For a rotary rig (a :class:`~stewart.RotaryParams` or :class:`~stewart.RotaryPlatform`, issue 40)
+the quantities are, per motor, the motor torque ``|tau_i|`` (``J_alpha^T tau = M_t T xddot + V
+xdot + G``), the crank speed ``|alpha_dot_i|`` (``alpha_dot = J_alpha T xdot``) and the mechanical
+power ``|tau_i alpha_dot_i|``, from the generated rotary batch functions
+(:class:`stewart.model.compiled.RotaryPeaks`); states with a crank outside
+``params.crank_angle_limits`` are left out as the linear legs outside their stroke are, and those
+a crank cannot reach as singular. The torques are affine in ``xddot`` and the speeds linear in
+``xdot``, so a box's vertices serve as they do for the legs.
+
 The states are generated and reduced chunk by chunk (:mod:`stewart.studies.execution`), locally or
 on a Dask cluster (``client=``), with the same result for the same seed. Within a chunk the
 compiled model evaluates them and keeps the running peaks in C (:class:`stewart.model.compiled.Peaks`),
@@ -56,8 +65,10 @@ from ..model.errors import WrongTypeError
 from .execution import Peak
 from ..model.params import platform_params
 from ..model.params import PlatformParams
+from ..model.rotary_params import RotaryParams
 
-__all__ = ["Box", "Trajectories", "Envelope", "envelope", "QUANTITIES", "AXES", "study_job", "from_partials"]
+__all__ = ["Box", "Trajectories", "Envelope", "envelope", "QUANTITIES", "ROTARY_QUANTITIES", "AXES", "study_job",
+           "from_partials"]
 
 #: The pose coordinates, in the order of a state, with their units.
 AXES = tuple(zip(POSE_AXES, POSE_UNITS, strict=True))
@@ -65,6 +76,12 @@ AXES = tuple(zip(POSE_AXES, POSE_UNITS, strict=True))
 #: The enveloped quantities (each one column per leg, in the order stewart.model.compiled.Peaks
 #: computes them), with their units.
 QUANTITIES = tuple(zip(compiled.PEAK_QUANTITIES, ("N", "m/s", "W", "N", "N"), strict=True))
+
+#: A rotary rig's enveloped quantities (each one column per motor), with their units.
+ROTARY_QUANTITIES = tuple(zip(compiled.ROTARY_PEAK_QUANTITIES, ("N m", "rad/s", "W"), strict=True))
+
+_ROTARY_LABELS = {"torque": "motor torque |tau|", "speed": "crank speed |alpha_dot|",
+                  "power": "mechanical power |tau alpha_dot|"}
 
 _LABELS = {"force": "actuator force |tau|", "velocity": "leg velocity |Ldot|", "power": "actuator power |tau Ldot|",
            "universal_joint": "universal-joint force", "spherical_joint": "spherical-joint force"}
@@ -267,11 +284,14 @@ class _EnvelopeJob(execution.ModelJob):
     """One chunk of an envelope: generate the states, evaluate, reduce (:mod:`stewart.studies.execution`),
     with the compiled model built once per process (:class:`~stewart.studies.execution.ModelJob`)."""
 
-    params: PlatformParams
+    params: PlatformParams | RotaryParams
     spec: Box | Trajectories
 
     def __call__(self, chunk: execution.Chunk):
-        peaks = compiled.Peaks(self.platform.kernel, self.params.leg_length_limits)
+        if isinstance(self.params, RotaryParams):
+            peaks = compiled.RotaryPeaks(self.platform.kernel, self.params.crank_angle_limits)
+        else:
+            peaks = compiled.Peaks(self.platform.kernel, self.params.leg_length_limits)
         self.spec.add_to(peaks, chunk)
         return {"peak": Peak(peaks.value, peaks.state, peaks.index), "states": chunk.size,
                 "outside_stroke": peaks.outside, "singular": peaks.singular}
@@ -282,17 +302,34 @@ class Envelope:
     """The peaks of an envelope: ``peak`` a :class:`~stewart.studies.execution.Peak` over the
     ``6 * len(QUANTITIES)`` columns (quantity-major, leg-minor; the state of a peak is
     ``[x, xdot, xddot]``), ``states`` the states drawn, ``outside_stroke`` and ``singular``
-    those left out."""
+    those left out. A ``rotary`` rig's columns are those of :data:`ROTARY_QUANTITIES`, one per
+    motor, and its ``outside_stroke`` counts the states with a crank outside its angle limits."""
 
     peak: Peak
     states: int
     outside_stroke: int
     singular: int
     platform: str = ""
+    rotary: bool = False
+
+    @property
+    def quantities(self) -> tuple:
+        """(name, unit) of the enveloped quantities: :data:`QUANTITIES` or :data:`ROTARY_QUANTITIES`."""
+        return ROTARY_QUANTITIES if self.rotary else QUANTITIES
+
+    @property
+    def member(self) -> str:
+        """What a column belongs to: ``"leg"``, or a rotary rig's ``"motor"``."""
+        return "motor" if self.rotary else "leg"
+
+    @property
+    def outside_words(self) -> str:
+        """What the states left out as :attr:`outside_stroke` are outside of."""
+        return "outside the crank angle limits" if self.rotary else "outside the stroke"
 
     def value(self, quantity: str) -> np.ndarray:
-        """The six legs' peaks of one quantity of :data:`QUANTITIES`."""
-        k = [name for name, _ in QUANTITIES].index(quantity)
+        """The six legs' (motors') peaks of one quantity of :attr:`quantities`."""
+        k = [name for name, _ in self.quantities].index(quantity)
         return self.peak.value[6 * k:6 * k + 6]
 
     def rows(self) -> list[dict]:
@@ -300,17 +337,18 @@ class Envelope:
         index of the state causing it and that state."""
         out = []
         names = [f"{a}" for a, _ in AXES] + [f"{a}_dot" for a, _ in AXES] + [f"{a}_ddot" for a, _ in AXES]
-        for k, (quantity, unit) in enumerate(QUANTITIES):
+        for k, (quantity, unit) in enumerate(self.quantities):
             for leg in range(6):
                 col = 6 * k + leg
-                row = {"quantity": quantity, "leg": leg, "peak": float(self.peak.value[col]), "unit": unit,
+                row = {"quantity": quantity, self.member: leg, "peak": float(self.peak.value[col]), "unit": unit,
                        "state_index": int(self.peak.index[col])}
                 row.update(zip(names, self.peak.state[col].tolist()))
                 out.append(row)
         return out
 
     def summary(self) -> dict:
-        return {"platform": self.platform, "states": self.states, "outside_stroke": self.outside_stroke,
+        outside = "outside_crank_limits" if self.rotary else "outside_stroke"
+        return {"platform": self.platform, "states": self.states, outside: self.outside_stroke,
                 "singular": self.singular}
 
     def to_csv(self, path) -> None:
@@ -330,17 +368,18 @@ class Envelope:
         from ..io.plots import pyplot
 
         plt = pyplot()
-        fig, axes = plt.subplots(1, len(QUANTITIES), figsize=(15, 3.6), constrained_layout=True)
+        quantities, labels = self.quantities, _ROTARY_LABELS if self.rotary else _LABELS
+        fig, axes = plt.subplots(1, len(quantities), figsize=(3 * len(quantities), 3.6), constrained_layout=True)
         legs = np.arange(6)
-        for ax, (quantity, unit) in zip(axes, QUANTITIES):
+        for ax, (quantity, unit) in zip(axes, quantities):
             ax.bar(legs, self.value(quantity), color="tab:blue")
-            ax.set_title(_LABELS[quantity], fontsize=10)
-            ax.set_xlabel("leg")
+            ax.set_title(labels[quantity], fontsize=10)
+            ax.set_xlabel(self.member)
             ax.set_ylabel(f"peak [{unit}]")
             ax.set_xticks(legs)
             ax.grid(True, axis="y", alpha=0.3)
         fig.suptitle(f"Envelope of {self.platform or 'the platform'}: peaks over {self.states:,} states "
-                     f"({self.outside_stroke:,} outside the stroke, {self.singular:,} singular, left out)")
+                     f"({self.outside_stroke:,} {self.outside_words}, {self.singular:,} singular, left out)")
         os.makedirs(os.path.dirname(os.path.abspath(path)), exist_ok=True)
         fig.savefig(path, dpi=90)
         plt.close(fig)
@@ -350,16 +389,24 @@ class Envelope:
 def envelope(platform, spec, *, samples: int | None = None, seed: int = 0, client=None,
              chunk_size: int = execution.DEFAULT_CHUNK_SIZE, progress: bool = True) -> Envelope:
     """The :class:`Envelope` of ``platform`` (a :class:`~stewart.Platform` or
-    :class:`~stewart.PlatformParams`) over ``spec`` (a :class:`Box`, of ``samples`` states,
+    :class:`~stewart.PlatformParams`; a rotary rig's :class:`~stewart.RotaryPlatform` or
+    :class:`~stewart.RotaryParams`) over ``spec`` (a :class:`Box`, of ``samples`` states,
     default :data:`DEFAULT_SAMPLES`, drawn from ``seed``; or :class:`Trajectories`).
     ``client``, ``chunk_size`` and ``progress`` as in :func:`stewart.studies.execution.run`."""
-    job, n = study_job(platform_params(platform, "platform"), spec, samples)
+    job, n = study_job(_params(platform), spec, samples)
     total = execution.run(job, n, seed=seed, chunk_size=chunk_size, client=client, progress=progress,
                           desc="envelope")
     return from_partials(total, job.params)
 
 
-def study_job(params: PlatformParams, spec, samples: int | None) -> tuple[_EnvelopeJob, int]:
+def _params(platform):
+    """The parameters of ``platform``: a rotary rig's, or a linear platform's (:func:`platform_params`)."""
+    if isinstance(getattr(platform, "params", None), RotaryParams):
+        return platform.params
+    return platform if isinstance(platform, RotaryParams) else platform_params(platform, "platform")
+
+
+def study_job(params: PlatformParams | RotaryParams, spec, samples: int | None) -> tuple[_EnvelopeJob, int]:
     """The job of the envelope of ``params`` over ``spec`` and its number of states: with
     :func:`from_partials`, the seam through which :mod:`stewart.studies.sweep` runs envelopes
     of many designs in one :func:`~stewart.studies.execution.run_all`."""
@@ -368,12 +415,14 @@ def study_job(params: PlatformParams, spec, samples: int | None) -> tuple[_Envel
     return _EnvelopeJob(params, spec), spec.count(samples)
 
 
-def from_partials(total: dict, params: PlatformParams) -> Envelope:
+def from_partials(total: dict, params: PlatformParams | RotaryParams) -> Envelope:
     """The :class:`Envelope` of the combined partials ``total`` of the jobs of :func:`study_job`."""
     peak = total["peak"]
+    rotary = isinstance(params, RotaryParams)
+    quantities, member = (ROTARY_QUANTITIES, "motor") if rotary else (QUANTITIES, "leg")
     overflow = np.flatnonzero(~(np.isfinite(peak.value) | np.isneginf(peak.value)))  # -inf: no state counted
     if overflow.size:
         column = overflow[0]
-        raise ValueError(f"spec: the {QUANTITIES[column // 6][0]} of leg {column % 6} overflows double precision at "
+        raise ValueError(f"spec: the {quantities[column // 6][0]} of {member} {column % 6} overflows double precision at "
                          f"state {peak.index[column]} of the study (rates too large for the platform)")
-    return Envelope(peak, total["states"], total["outside_stroke"], total["singular"], params.name or "")
+    return Envelope(peak, total["states"], total["outside_stroke"], total["singular"], params.name or "", rotary)

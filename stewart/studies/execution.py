@@ -246,9 +246,9 @@ def run_studies(studies, *, client=None, workers: int | None = None, progress: b
 
 class ModelJob:
     """A job that evaluates the compiled model of its ``params`` (a field of the job's
-    dataclass, a :class:`~stewart.PlatformParams`): :attr:`platform`, the
-    :class:`~stewart.Platform`, is built once per process, on first use, and shared by the
-    chunks the process runs. A job sent to a Dask worker is pickled without it (only the
+    dataclass, a :class:`~stewart.PlatformParams` or :class:`~stewart.RotaryParams`):
+    :attr:`platform`, the :class:`~stewart.Platform` (or :class:`~stewart.RotaryPlatform`), is
+    built once per process, on first use, and shared by the chunks the process runs. A job sent to a Dask worker is pickled without it (only the
     parameters travel) and builds it there."""
 
     @functools.cached_property
@@ -264,8 +264,11 @@ class ModelJob:
 
 @functools.lru_cache(maxsize=8)
 def _compiled(params):
-    """``Platform(params)``, built once per process: the jobs of the same parameters (the tasks
-    a Dask worker unpickles one by one) share it."""
+    """``Platform(params)`` (``RotaryPlatform(params)`` for a rotary rig), built once per
+    process: the jobs of the same parameters (the tasks a Dask worker unpickles one by one)
+    share it."""
     from ..model.platform import Platform
+    from ..model.rotary import RotaryPlatform
+    from ..model.rotary_params import RotaryParams
 
-    return Platform(params)
+    return RotaryPlatform(params) if isinstance(params, RotaryParams) else Platform(params)

@@ -1,7 +1,8 @@
 """Workspace studies: the reachable set of a family of poses (translational, orientation, a
 2-D slice), estimated on a grid or by sampling, chunk by chunk on the execution engine
 (:mod:`stewart.studies.execution`), from the reachability test of
-:mod:`stewart.model.reachability`."""
+:mod:`stewart.model.reachability`, or for a rotary rig (a :class:`~stewart.RotaryParams` or
+:class:`~stewart.RotaryPlatform`) that of :mod:`stewart.model.rotary_reachability`."""
 
 from __future__ import annotations
 
@@ -15,6 +16,8 @@ from ..model import arguments, kinematics
 from ..model.params import platform_params
 from ..model.params import PlatformParams
 from ..model.platform import as_platform
+from ..model import rotary_reachability
+from ..model.rotary_params import RotaryParams
 from ..model.stiffness import leg_coefficients, modal_metrics
 from ..model.reachability import (
     BELOW_BASE,
@@ -55,6 +58,36 @@ KINDS = {"translational": (POSE_AXES[:3], "m"), "orientation": (POSE_AXES[3:], "
 
 #: Poses checked per chunk (one task of :mod:`stewart.studies.execution`).
 CHUNK_SIZE = 20_000
+
+
+def _params(platform):
+    """The parameters of ``platform``: a rotary rig's (:class:`~stewart.RotaryParams`, or an
+    object whose ``params`` is one) or a linear platform's (:func:`platform_params`)."""
+    if isinstance(getattr(platform, "params", None), RotaryParams):
+        return platform.params
+    return platform if isinstance(platform, RotaryParams) else platform_params(platform, "platform")
+
+
+def _family(params):
+    """``(reachability, FLAGS, FLAG_NAMES, limits_in_force)`` of the family of ``params``."""
+    if isinstance(params, RotaryParams):
+        r = rotary_reachability
+        return r.reachability, r.FLAGS, r.FLAG_NAMES, r.limits_in_force
+    return reachability, FLAGS, FLAG_NAMES, limits_in_force
+
+
+def _model(platform):
+    """The compiled model of ``platform``: a :class:`~stewart.RotaryPlatform` for a rotary rig."""
+    params = _params(platform)
+    if isinstance(params, RotaryParams):
+        from ..model.rotary import RotaryPlatform
+
+        return platform if isinstance(platform, RotaryPlatform) else RotaryPlatform(params)
+    return as_platform(platform)
+
+
+def _home(model) -> np.ndarray:
+    return model.home if isinstance(model.params, RotaryParams) else model.home_pose
 
 
 @dataclass(frozen=True)
@@ -146,7 +179,7 @@ class WorkspaceJob(execution.ModelJob):
     never the poses; with a leg ``stiffness``, the modal metrics of the reachable poses
     (:func:`stewart.model.stiffness.modal_metrics`) too."""
 
-    params: PlatformParams
+    params: PlatformParams | RotaryParams
     kind: str
     fixed: np.ndarray
     region: np.ndarray
@@ -165,7 +198,7 @@ class WorkspaceJob(execution.ModelJob):
 
     def __call__(self, chunk) -> dict:
         poses = self.poses(chunk)
-        check = reachability(self.platform, poses)
+        check, flags = _family(self.params)[0](self.platform, poses), _family(self.params)[1]
         ok = check.ok[:, None]
         coords = poses[:, :3] if self.kind == "translational" else poses[:, 3:]
         margin = np.where(ok, check.margin[:, None], np.nan)
@@ -177,7 +210,7 @@ class WorkspaceJob(execution.ModelJob):
             # elsewhere): the extremes with the poses where they occur.
             margin=Peak.of(np.hstack([-margin, margin]), poses, chunk.start),
             extent=Peak.of(np.hstack([-coords, coords]), poses, chunk.start),
-            excluded=np.array([np.count_nonzero(check.flags & bit) for bit in FLAGS]),
+            excluded=np.array([np.count_nonzero(check.flags & bit) for bit in flags]),
         )
         if self.stiffness is not None:
             frequency, compliance = np.full(len(poses), np.nan), np.full(len(poses), np.nan)
@@ -239,16 +272,28 @@ def position_bounds(params: PlatformParams, orientation=(0.0, 0.0, 0.0)) -> np.n
     """A box ``(3, 2)`` [m] that holds every position reachable at ``orientation`` within
     the stroke limits: leg ``i`` reaches only the ball of radius ``L_max`` about
     ``b_i - R p_i``, so the positions lie in the intersection of the balls' boxes, above
-    the height where a spherical joint meets the highest universal joint."""
-    return _position_bounds(platform_params(params), orientation)
+    the height where a spherical joint meets the highest universal joint; of a rotary rig
+    (:class:`~stewart.RotaryParams`), at any orientation, the balls of radius ``crank_length +
+    rod_length + |p_i|`` about ``b_i``, above the base plane less the nearest joint's ``|p_i|``."""
+    return _position_bounds(_params(params), orientation)
 
 
-def _position_bounds(params: PlatformParams, orientation) -> np.ndarray:
-    """:func:`position_bounds` of the converted ``params``."""
+def _position_bounds(params, orientation) -> np.ndarray:
+    """:func:`position_bounds` of the converted ``params``; of a rotary rig, whatever the
+    orientation, leg ``i`` reaches the ball of radius ``crank_length + rod_length + |p_i|``
+    about ``b_i``, above the height where the platform joint nearest {P}'s origin meets the
+    highest motor point."""
+    orientation = _three("orientation", orientation)
+    if isinstance(params, RotaryParams):
+        arm = np.linalg.norm(params.platform_points, axis=1)
+        reach = (params.crank_length + params.rod_length + arm)[:, None]
+        box = np.column_stack([np.max(params.base_points - reach, axis=0),
+                               np.min(params.base_points + reach, axis=0)])
+        box[2, 0] = max(box[2, 0], np.max(params.base_points[:, 2]) - np.min(arm))
+        return box
     if params.leg_length_limits is None:
         raise ValueError("region: the parameters have no leg_length_limits; give the region to sample")
     reach = params.leg_length_limits[1]
-    orientation = _three("orientation", orientation)
     arms = kinematics.platform_points_in_base(params, np.r_[0.0, 0.0, 0.0, orientation])
     centres = params.base_points - arms
     box = np.column_stack([np.max(centres - reach, axis=0), np.min(centres + reach, axis=0)])
@@ -270,8 +315,19 @@ def study_job(params, kind, fixed, region, samples, grid, stiffness=None) -> tup
         raise ValueError("samples, grid: give exactly one (random samples, or grid points per axis)")
     resolution = 0 if grid is None else arguments.count("grid", grid, 1000)
     total = resolution ** 3 if grid is not None else arguments.count("samples", samples, 10 ** 12)
-    stiffness = params.leg_stiffness if stiffness is None else leg_coefficients("stiffness", stiffness, positive=True)
+    stiffness = _stiffness(params, stiffness)
     return WorkspaceJob(params, kind, fixed, region, resolution, stiffness), total
+
+
+def _stiffness(params, stiffness):
+    """The legs' stiffness of a study: ``stiffness`` checked, or the parameters' (a linear
+    platform's ``leg_stiffness``); a rotary rig has no leg springs."""
+    if isinstance(params, RotaryParams):
+        if stiffness is not None:
+            raise ValueError("stiffness: the modal metrics are the linear machines' (legs as springs); a rotary "
+                             "rig has none")
+        return None
+    return params.leg_stiffness if stiffness is None else leg_coefficients("stiffness", stiffness, positive=True)
 
 
 def _study(params, kind, fixed, region, complete, samples, grid, seed, chunk_size, client, progress,
@@ -319,7 +375,7 @@ def from_partials(job: WorkspaceJob, parts: dict, total: int, complete: bool, se
         margin_min=float(-margin[0]) if count else nan, margin_mean=parts["margin_sum"] / count if count else nan,
         margin_max=float(margin[1]) if count else nan,
         margin_min_pose=parts["margin"].state[0] if count else None,
-        excluded={FLAG_NAMES[bit]: int(n) for bit, n in zip(FLAGS, parts["excluded"]) if n},
+        excluded={_family(params)[2][bit]: int(n) for bit, n in zip(_family(params)[1], parts["excluded"]) if n},
         seed=None if grid is not None else int(seed), platform=params.name or "unnamed", **modal,
     )
 
@@ -340,7 +396,7 @@ def translational_workspace(platform, orientation=(0.0, 0.0, 0.0), *, region=Non
     compliance over the workspace are found too.
     Returns a :class:`Workspace`.
     """
-    params = platform_params(platform, "platform")
+    params = _params(platform)
     orientation = _three("orientation", orientation)
     complete = region is None
     region = _position_bounds(params, orientation) if complete else _region("region", region)
@@ -357,8 +413,9 @@ def orientation_workspace(platform, position=None, *, region=None, samples=None,
     orientation); the other arguments are those of :func:`translational_workspace`.
     The volume is measured in Euler-angle coordinates [rad^3].
     """
-    params = platform_params(platform, "platform")
-    position = kinematics.home_pose(params)[:3] if position is None else _three("position", position)
+    params = _params(platform)
+    position = (_home(_model(params)) if isinstance(params, RotaryParams) else kinematics.home_pose(params))[:3] \
+        if position is None else _three("position", position)
     complete = region is None
     region = ORIENTATION_REGION if complete else _region("region", region)
     return _study(params, "orientation", position, region, complete, samples, grid, seed, chunk_size, client,
@@ -374,7 +431,8 @@ class Slice:
     problem bits of :func:`reachability` there. With legs of ``stiffness`` [N/m], ``frequency``
     ``(len(v), len(u))`` is the lowest natural frequency [Hz] (NaN where the pose is unreachable
     or the preloaded legs cannot hold it); None without. ``limits`` names the limits in force
-    (:func:`~stewart.model.reachability.limits_in_force`), which its figures print."""
+    (:func:`~stewart.model.reachability.limits_in_force`), which its figures print; ``jacobian``
+    the matrix whose conditioning the margin measures (``J_C``, or a rotary rig's ``J_alpha``)."""
 
     axes: tuple[str, str]
     unit: str
@@ -388,6 +446,7 @@ class Slice:
     stiffness: np.ndarray | None = None
     frequency: np.ndarray | None = None
     limits: str = ""
+    jacobian: str = "J_C"
 
 
 def _axes(value) -> tuple[str, tuple[int, int, int]]:
@@ -415,10 +474,11 @@ def workspace_slice(platform, axes="xy", at=None, *, orientation=(0.0, 0.0, 0.0)
     parameters' ``leg_stiffness``, if any) adds the lowest natural frequency on the preloaded
     leg springs.
     """
-    plat = as_platform(platform)
+    plat = _model(platform)
     params = plat.params
+    check_poses, _, _, limits = _family(params)
     kind, (first, second, third) = _axes(axes)
-    home = plat.home_pose
+    home = _home(plat)
     if kind == "translational":
         fixed = _three("orientation", orientation)
         full = _position_bounds(params, fixed) if region is None else None
@@ -442,8 +502,8 @@ def workspace_slice(platform, axes="xy", at=None, *, orientation=(0.0, 0.0, 0.0)
     coords[:, first], coords[:, second], coords[:, third] = uu.ravel(), vv.ravel(), at
     fixed_rows = np.broadcast_to(fixed, (n * n, 3))
     poses = np.hstack([coords, fixed_rows] if kind == "translational" else [fixed_rows, coords])
-    stiffness = params.leg_stiffness if stiffness is None else leg_coefficients("stiffness", stiffness, positive=True)
-    check = reachability(plat, poses)
+    stiffness = _stiffness(params, stiffness)
+    check = check_poses(plat, poses)
     margin = np.where(check.ok, check.margin, np.nan).reshape(n, n)
     frequency = None
     if stiffness is not None:
@@ -455,4 +515,5 @@ def workspace_slice(platform, axes="xy", at=None, *, orientation=(0.0, 0.0, 0.0)
     names, unit = KINDS[kind]
     return Slice(axes=(names[first], names[second]), unit=unit, u=u, v=v, at=(names[third], at), fixed=fixed,
                  margin=margin, flags=check.flags.reshape(n, n), platform=params.name or "unnamed",
-                 stiffness=stiffness, frequency=frequency, limits=limits_in_force(params))
+                 stiffness=stiffness, frequency=frequency, limits=limits(params),
+                 jacobian="J_alpha" if isinstance(params, RotaryParams) else "J_C")

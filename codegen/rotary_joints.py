@@ -1,0 +1,66 @@
+"""The rotary rig's joints against their limits (issue 40: the workspace of a 6-RSS rig), on
+the geometry of `rotary.crank_geometry` (leg i: the crank's direction u_i, the rod
+n_i = P_i - c_i of length d, the crank tip's motion per unit rate t_i = r a_i x u_i).
+
+* The rod-crank angle gamma_i, at the crank tip between the crank (from the tip back to the
+  motor axis, -u_i) and the rod: cos(gamma_i) = -u_i . n_i / d; gamma = 0 where the rod folds
+  back over its crank, pi where it stretches straight out from it (both singular: the rod is
+  then normal to the tip's motion, n . t = 0).
+* The ball joints' angles against their neutral axes: the rod's direction at a reference pose
+  x0 (the rig as it is mounted, by default its home), fixed in the crank for the joint at the
+  crank tip and in {P} for the joint on the platform.  In the crank's frame (u, a x u, a) the
+  crank joint's axis has the components q_c = [n0 . u0, n0 . (a x u0), n0 . a] / d, at x the
+  direction q_c0 u + q_c1 (a x u) + q_c2 a; the platform joint's axis is q_p = R0^T n0 / d in
+  {P}, at x the direction R q_p.  The cosines are those directions dotted with n / d.
+* The platform joints' heights (P_i)_z in {B}, for the platform's clearance above the base.
+"""
+
+import sympy as sp
+
+from .graph import Graph, KernelSpec, dot, symbols
+from .kinematics import NUM_LEGS, X
+from .rotary import RPARAMS, crank_checks, rotary_kinematics
+
+#: The neutral axes' components, leg by leg (three per leg): the crank joint's in the crank's
+#: frame (u, a x u, a), the platform joint's in {P}.
+QC_IN = symbols('qc', 3 * NUM_LEGS)
+QP_IN = symbols('qp', 3 * NUM_LEGS)
+
+
+def rotary_neutral_axes_kernel():
+    """The joints' neutral axes of the rods at the reference pose x (module docstring): the
+    crank joints' q_c (18, three per leg in the crank's frame (u, a x u, a)) and the platform
+    joints' q_p = R^T n / d (18, three per leg in {P})."""
+    g = Graph({})
+    kin, cranks = rotary_kinematics(g)
+    P = RPARAMS
+    qc, qp = [], []
+    for i, c in enumerate(cranks):
+        w = c.t / P.r  # a x u
+        qc += [g.define(f'qc{i}_{k}', dot(c.n, e) / P.d) for k, e in enumerate((c.u, w, P.axes[i]))]
+        qp += [g.define(f'qp{i}_{k}', e) for k, e in enumerate(kin.R.T * c.n / P.d)]
+    return KernelSpec('rotary_neutral_axes', rotary_neutral_axes_kernel.__doc__, g, [('x', X)],
+                      [('qc', qc), ('qp', qp)] + crank_checks(cranks))
+
+
+def rotary_joint_cosines_kernel():
+    """cos and sin of the crank angles (`rotary.rotary_crank_angles_kernel`), the cosines of
+    the rod-crank angles, the crank joints' and the platform joints' angles (18), and the
+    platform joints' heights (module docstring), at the pose x for the neutral axes qc, qp."""
+    g = Graph({})
+    kin, cranks = rotary_kinematics(g)
+    P = RPARAMS
+    fold, crank_joint, platform_joint, heights = [], [], [], []
+    for i, c in enumerate(cranks):
+        qc = QC_IN[3 * i:3 * i + 3]
+        qp = sp.Matrix(QP_IN[3 * i:3 * i + 3])
+        axis = g.vector(f'Ac{i}', qc[0] * c.u + qc[1] * c.t / P.r + qc[2] * P.axes[i])
+        fold.append(g.define(f'cg{i}', -dot(c.u, c.n) / P.d))
+        crank_joint.append(g.define(f'cc{i}', dot(c.n, axis) / P.d))
+        platform_joint.append(g.define(f'cp{i}', dot(c.n, kin.R * qp) / P.d))
+        heights.append(g.define(f'zP{i}', kin.legs[i].l[2] + P.base[i][2]))
+    return KernelSpec('rotary_joint_cosines', rotary_joint_cosines_kernel.__doc__, g,
+                      [('x', X), ('qc', QC_IN), ('qp', QP_IN)],
+                      [('cs', [c.cos for c in cranks] + [c.sin for c in cranks]),
+                       ('c', fold + crank_joint + platform_joint), ('z', heights)] + crank_checks(cranks))
+
