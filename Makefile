@@ -23,7 +23,7 @@ C_TEST := tests/c/test_model
 # The model's rounding flags (STEWART_ROUNDING_FLAGS of the generated header).
 ROUNDING = $(shell sed -n 's/^\#define STEWART_ROUNDING_FLAGS "\(.*\)"/\1/p' generated/stewart_model.h)
 
-.PHONY: all test test-cueing-sweep mutation coverage test-peers test-ports test-wheels demo generate build dist bench validate docs serve-docs clean
+.PHONY: all test test-cueing-sweep mutation coverage test-peers test-ports test-control test-wheels demo generate build dist bench validate docs serve-docs clean
 
 all: build
 
@@ -63,7 +63,7 @@ $(C_TEST): tests/c/test_model.c tests/c/reference_values.h $(KERNEL)
 # Every test but the comparisons with the heavy peer models (make test-peers) and those of make
 # test-ports (the other builds, and the wheels of make test-wheels). Of the packaging check it
 # runs the sdist's: the complete source and nothing else.
-SUITE := -m "not peers and not ports and not packaging"
+SUITE := -m "not peers and not ports and not packaging and not control"
 test: build $(C_TEST)
 	./$(C_TEST)
 	$(VENV)/bin/lint-imports
@@ -100,6 +100,15 @@ test-ports: build
 	$(PY) tests/c/ports.py
 	$(PY) -m pytest -q -m ports tests/test_build.py
 	$(MAKE) test-wheels
+
+# The CMake package of `stewart c-export` and the C++ example controller (examples/cpp_controller;
+# the tests marked control), each built with gcc and with clang: the library built, installed and
+# linked from CMake and pkg-config, the example's loop against stewart.simulate bit for bit and
+# its allocations counted. The compilers, CMake and pkg-config are installed with apt-get where
+# missing (as root; tests/c/ports.py --tools).
+test-control: build
+	$(PY) tests/c/ports.py --tools gcc g++ clang clang++ cmake pkg-config nm readelf
+	$(PY) -m pytest -q -n 0 -m control tests/test_cmake_package.py
 
 # The packaging check's wheels (the tests marked packaging), on each supported Python found
 # (python3.X on the PATH, or pyenv's), the running one included: the wheel for other machines

@@ -10,7 +10,7 @@ import pytest
 import stewart
 from c_example import CFLAGS, EXAMPLE, check_example, run_command
 from conftest import random_params
-from stewart.io import capi
+from stewart.io import capi, cmake
 from stewart._kernel import PARAM_FIELDS, PARAM_INPUTS, PARAM_SOURCES, PARAMS_LEFT_OUT
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
@@ -31,6 +31,11 @@ def test_c_files_are_the_generators_output():
 def _model_files():
     """The model's files an export copies: the header, the shared header, the sources."""
     return [capi.HEADER, capi.INTERNAL_HEADER] + [pathlib.Path(path).name for path in stewart.c_sources()]
+
+
+#: The package files an export writes after them (tests/test_cmake_package.py checks them).
+PACKAGE_FILES = [cmake.PROJECT, cmake.TARGETS, cmake.CONFIG, cmake.CONFIG_VERSION, cmake.PKG_CONFIG,
+                 cmake.VERSION_SCRIPT]
 
 
 #: The model as the build compiled it (setup.py's MODEL_LIBRARY: its first copy, with the
@@ -55,7 +60,7 @@ def test_c_example_matches_the_package(tmp_path, figures):
     (installed_smoke.py, make test-wheels) and tests/c/ports.py's."""
     params = stewart.PlatformParams.preset("narayan2017")
     written = capi.export(tmp_path / "c", params)
-    assert written == [str(tmp_path / "c" / name) for name in _model_files() + [capi.PARAMS_HEADER]]
+    assert written == [str(tmp_path / "c" / name) for name in _model_files() + [capi.PARAMS_HEADER] + PACKAGE_FILES]
     for name in _model_files():
         assert (tmp_path / "c" / name).read_bytes() == (ROOT / "generated" / name).read_bytes()
     library = _built_model()
@@ -69,9 +74,9 @@ def test_docs_show_the_example_as_shipped():
     assert example[example.index("#include"):] in (ROOT / "docs" / "c.md").read_text()
 
 
-def test_export_without_params_writes_the_model_only(tmp_path):
-    assert capi.export(tmp_path) == [str(tmp_path / name) for name in _model_files()]
-    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(_model_files())
+def test_export_without_params_writes_the_model_and_the_package_only(tmp_path):
+    assert capi.export(tmp_path) == [str(tmp_path / name) for name in _model_files() + PACKAGE_FILES]
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(_model_files() + PACKAGE_FILES)
 
 
 def test_export_refuses_other_params(tmp_path):

@@ -25,12 +25,14 @@ def cmd_c_export(args) -> int:
     for path in written:
         print(f"wrote {path}")
     print(f"platform {label}: stewart_platform_params in {capi.PARAMS_HEADER}")
+    print(f"C/C++ library: cmake -S {args.directory} -B BUILD && cmake --build BUILD && cmake --install BUILD "
+          "--prefix PREFIX; then find_package(stewart CONFIG) gives stewart::stewart, or pkg-config stewart")
     return 0
 
 
 def add_c_export(sub) -> None:
-    p = subcommand(sub, "c-export", "write the generated C model and a platform's parameter header into a "
-                   "directory, for C programs", cmd_c_export)
+    p = subcommand(sub, "c-export", "write the generated C model, a platform's parameter header and a CMake "
+                   "and pkg-config package of it into a directory, for C and C++ programs", cmd_c_export)
     add_params(p)
     p.add_argument("directory", metavar="DIR", help="directory to write into (created if missing)")
 

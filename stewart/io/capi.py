@@ -23,8 +23,10 @@ from typing import Any
 
 import numpy as np
 
+from .. import __version__
 from .._generated import PARAM_FIELDS, PARAM_INPUTS, PARAM_SOURCES, PARAMS_LEFT_OUT
 from ..model.params import PlatformParams
+from . import cmake
 
 __all__ = ["c_include_dir", "c_flags", "c_sources", "export", "params_header", "params_initializer", "HEADER",
            "INTERNAL_HEADER", "SOURCE", "SOURCES", "PARAMS_HEADER"]
@@ -75,8 +77,10 @@ def export(directory: Any, params: PlatformParams | None = None) -> list[str]:
     (:func:`c_sources`) into ``directory`` (created if needed).
 
     With ``params``, also write ``stewart_platform_params.h``, which defines
-    ``static const stewart_params stewart_platform_params`` with those parameters. Returns
-    the paths written.
+    ``static const stewart_params stewart_platform_params`` with those parameters. Then the
+    package files of :mod:`stewart.io.cmake`: a CMake project and package (``find_package(stewart
+    CONFIG)``: ``stewart::stewart``) and a pkg-config file, for C and C++ programs that link the
+    model as a library. Returns the paths written.
     """
     if params is not None and not isinstance(params, PlatformParams):
         raise TypeError(f"params: expected a stewart.PlatformParams or None, got {type(params).__name__}")
@@ -91,6 +95,11 @@ def export(directory: Any, params: PlatformParams | None = None) -> list[str]:
         with open(target / PARAMS_HEADER, "w", encoding="ascii", newline="\n") as f:
             f.write(params_header(params))
         written.append(str(target / PARAMS_HEADER))
+    header = (source / HEADER).read_text(encoding="ascii")
+    for name, text in cmake.package_files(__version__, header).items():
+        with open(target / name, "w", encoding="ascii", newline="\n") as f:
+            f.write(text)
+        written.append(str(target / name))
     return written
 
 

@@ -2,6 +2,7 @@
 than make test's: clang for x86-64, and gcc and clang for aarch64, run under qemu-user.
 
     python tests/c/ports.py [PORT ...]      # make test-ports; no PORT: all of them
+    python tests/c/ports.py --tools TOOL ...  # install the tools missing (make test-control)
 
 The model's rounding flags (STEWART_ROUNDING_FLAGS of the generated header) are GCC's
 spellings; ROUNDING_SPELLING says them for each compiler, and a probe shows that with them
@@ -249,7 +250,30 @@ def finish(port: Port, flags: list[str], sources: list[Path], futures: list[Futu
     return f"FAILED: exit {done.returncode}; {summary}"
 
 
+#: The Debian package of each tool ``--tools`` can install.
+TOOL_PACKAGES = {"gcc": "gcc", "g++": "g++", "clang": "clang", "clang++": "clang", "pkg-config": "pkgconf",
+                 "cmake": "cmake", "nm": "binutils", "readelf": "binutils"}
+
+
+def provide_tools(tools: list[str]) -> int:
+    """Install the Debian packages of the ``tools`` not found (``TOOL_PACKAGES``); 0, or 1 with
+    why not (the tests that need them then fail naming them)."""
+    unknown = [tool for tool in tools if tool not in TOOL_PACKAGES]
+    if unknown:
+        print(f"--tools: unknown tool(s) {unknown}; the tools: {sorted(TOOL_PACKAGES)}")
+        return 2
+    lacking = [tool for tool in tools if shutil.which(tool) is None]
+    why = install(sorted({TOOL_PACKAGES[tool] for tool in lacking})) if lacking else None
+    still = [tool for tool in tools if shutil.which(tool) is None]
+    if still:
+        print(f"{', '.join(still)} not found" + (f"; {why}" if why else ""))
+        return 1
+    return 0
+
+
 def main(argv: list[str]) -> int:
+    if argv[:1] == ["--tools"]:
+        return provide_tools(argv[1:])
     chosen = [p for p in PORTS if not argv or p.name in argv]
     unknown = set(argv) - {p.name for p in PORTS}
     if unknown:
