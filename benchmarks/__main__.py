@@ -30,7 +30,7 @@ import stewart
 from stewart.cli import bench
 from stewart.cli.options import non_negative
 
-from . import batch_loop, calibration, cueing, identification, report, studies
+from . import acados_nmpc, batch_loop, calibration, cueing, identification, report, studies
 from .peers.common import peer_available
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
@@ -179,6 +179,8 @@ def main(argv=None) -> int:
     results["calibration"] = calibration.figures("narayan2017", rounds=rounds)
     print("[bench] MPC cueing, time per step ...", flush=True)
     results["cueing"] = cueing.figures("motion_simulator", rounds=rounds)
+    print("[bench] acados NMPC's RTI step against the CasADi route (in .venv-acados) ...", flush=True)
+    results["acados"] = acados_nmpc.figures()
     if not args.skip_build:
         print("[bench] generation and clean build ...", flush=True)
         results["generation"] = generation_figures(rounds)
@@ -188,7 +190,8 @@ def main(argv=None) -> int:
     table_rows = report.our_rows(results)
     tables = [table_rows, batch_loop.rows(results["batch_loop"])] + [
         module.rows(results[name]) for name, module in (("studies", studies), ("identification", identification),
-                                                        ("calibration", calibration), ("cueing", cueing))
+                                                        ("calibration", calibration), ("cueing", cueing),
+                                                        ("acados", acados_nmpc))
         if name in results]
     every = [row for table in tables for row in table]
     results["targets"] = report.targets(every)
@@ -207,6 +210,8 @@ def main(argv=None) -> int:
     print(calibration.format_rows(results["calibration"]))
     print()
     print(cueing.format_rows(results["cueing"]))
+    print()
+    print(acados_nmpc.format_rows(results["acados"]))
     if results["peers"]:
         ops = results["code"]["operation_counts"]
         ours = {"ops": {"inverse_dynamics": ops.get("inverse_dynamics_axisym"),
