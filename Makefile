@@ -100,8 +100,10 @@ acados-env: $(ACADOS_INSTALLED)
 
 # The NMPC tests (tests/acados/, in .venv-acados): acados's evaluation of the exported dynamics
 # against rk4_step bit for bit, its first QP against the model's linearization, and SQP-RTI
-# closed loops on the package's simulator. It fails, never skips, when acados cannot be set up.
+# closed loops on the package's simulator (the extension for .venv-acados's Python recompiled
+# first when its sources changed). It fails, never skips, when acados cannot be set up.
 test-acados: $(ACADOS_INSTALLED)
+	$(ACADOS_PY) setup.py -q build_ext -b .
 	STEWART_ACADOS_TESTS=1 $(ACADOS_PY) -m pytest -q -n 0 -p no:cacheprovider tests/acados
 
 # MPC cueing on 40 random vehicle logs (tests/test_cueing_limits.py; make test runs 4), on the
