@@ -135,3 +135,28 @@ def test_cli_user_mistakes_are_one_line_and_exit_2(tmp_path):
         assert ("--dt" in err) or ("--integrator" in err)
         assert "Traceback" not in err
     assert not (tmp_path / "d").exists() and not (tmp_path / "a b").exists()
+
+
+def test_stewart_acados_imports_without_acados_and_says_where_it_is(tmp_path):
+    """make test's environment has no acados: the module imports, reads an export and checks
+    its arguments, and its first call into acados names the environment that has it."""
+    import importlib.util
+
+    import stewart.acados as nmpc
+
+    if importlib.util.find_spec("acados") is None and importlib.util.find_spec("acados_template") is None:
+        with pytest.raises(ImportError, match="make acados-env"):
+            nmpc.template()
+    params = stewart.PlatformParams.preset("narayan2017")
+    acados_export.export(tmp_path, params, 0.02)
+    export = nmpc.load(tmp_path)
+    assert export.params == params and export.dt == 0.02 and export.functions == acados_export.FUNCTIONS
+    assert export.compile_flags == acados_export.compile_flags(tmp_path)
+    with pytest.raises(FileNotFoundError, match="export-acados"):
+        nmpc.load(tmp_path / "missing")
+    weights = nmpc.Weights(position=4.0, angle=3.0, rate=2.0, force=1.0, terminal=10.0)
+    assert np.array_equal(np.diag(weights.stage()), [4.0] * 3 + [3.0] * 3 + [2.0] * 6 + [1.0] * 6)
+    assert np.array_equal(np.diag(weights.final()), [40.0] * 3 + [30.0] * 3 + [20.0] * 6)
+    for bad in ({"position": -1.0}, {"angle": math.inf}, {"rate": math.nan}, {"force": 0.0}, {"terminal": "x"}):
+        with pytest.raises(ValueError, match=next(iter(bad))):
+            nmpc.Weights(**bad)
