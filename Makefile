@@ -23,7 +23,7 @@ C_TEST := tests/c/test_model
 # The model's rounding flags (STEWART_ROUNDING_FLAGS of the generated header).
 ROUNDING = $(shell sed -n 's/^\#define STEWART_ROUNDING_FLAGS "\(.*\)"/\1/p' generated/stewart_model.h)
 
-.PHONY: all test test-cueing-sweep mutation coverage test-peers test-ports test-control test-wheels demo generate build dist bench validate docs serve-docs clean
+.PHONY: all test test-acados acados-env test-cueing-sweep mutation coverage test-peers test-ports test-control test-wheels demo generate build dist bench validate docs serve-docs clean
 
 all: build
 
@@ -68,6 +68,43 @@ test: build $(C_TEST)
 	./$(C_TEST)
 	$(VENV)/bin/lint-imports
 	$(PY) -m pytest -q $(SUITE)
+
+# acados (nonlinear MPC on the exported model, docs/acados.md) in an environment of its own,
+# .venv-acados: the PyPI package comma-deps-acados ships acados's libraries, its Python
+# template and its template renderer (t_renderer), with a casadi 3.6.7 of its own built for
+# CPython 3.12 that would replace the casadi>=3.8 of .venv. So .venv-acados runs on Python
+# 3.12 (python3.12 on the PATH, else pyenv's newest 3.12, or PYTHON312=...), with the package
+# installed editable (its extension compiled for 3.12 beside .venv's). stewart.acados points
+# acados at the package's install directory (ACADOS_SOURCE_DIR), so that it never offers to
+# download a renderer.
+ACADOS_VENV := .venv-acados
+ACADOS_PY := $(ACADOS_VENV)/bin/python
+ACADOS_INSTALLED := $(ACADOS_VENV)/.installed
+ACADOS_PACKAGE := comma-deps-acados==0.2.2.post104
+# The first of these that runs as CPython 3.12 (a pyenv shim on the PATH may not: its version
+# is not selected).
+PYTHON312 ?= $(shell for py in "$$(command -v python3.12)" $$(ls -d $${PYENV_ROOT:-$$HOME/.pyenv}/versions/3.12*/bin/python3.12 2>/dev/null | sort -rV); do \
+	[ -n "$$py" ] && "$$py" -c 'import sys; assert sys.version_info[:2] == (3, 12)' >/dev/null 2>&1 && { echo "$$py"; break; }; done)
+
+$(ACADOS_INSTALLED): pyproject.toml $(BUILD_REQUIRES)
+	@test -n "$(PYTHON312)" && "$(PYTHON312)" -c 'import sys; assert sys.version_info[:2] == (3, 12)' 2>/dev/null || { \
+		echo "make acados-env: no Python 3.12 found (tried python3.12 on the PATH and pyenv's versions; acados's wheel, $(ACADOS_PACKAGE), vendors a casadi built for CPython 3.12): put python3.12 on the PATH, install it with 'pyenv install 3.12', or run make acados-env PYTHON312=/path/to/python3.12" >&2; exit 1; }
+	"$(PYTHON312)" -m venv $(ACADOS_VENV)
+	$(ACADOS_PY) -m pip install -q uv
+	$(ACADOS_VENV)/bin/uv pip install -q --python $(ACADOS_PY) -r $(BUILD_REQUIRES) $(ACADOS_PACKAGE) "pytest>=7" "pytest-xdist>=3" "hypothesis>=6"
+	$(ACADOS_VENV)/bin/uv pip install -q --python $(ACADOS_PY) --no-build-isolation -e .
+	$(ACADOS_PY) -c "import acados; acados.smoketest()"
+	touch $@
+
+acados-env: $(ACADOS_INSTALLED)
+
+# The NMPC tests (tests/acados/, in .venv-acados): acados's evaluation of the exported dynamics
+# against rk4_step bit for bit, its first QP against the model's linearization, and SQP-RTI
+# closed loops on the package's simulator (the extension for .venv-acados's Python recompiled
+# first when its sources changed). It fails, never skips, when acados cannot be set up.
+test-acados: $(ACADOS_INSTALLED)
+	$(ACADOS_PY) setup.py -q build_ext -b .
+	STEWART_ACADOS_TESTS=1 $(ACADOS_PY) -m pytest -q -n 0 -p no:cacheprovider tests/acados
 
 # MPC cueing on 40 random vehicle logs (tests/test_cueing_limits.py; make test runs 4), on the
 # two presets in turn, each reference and closed loop checked against every limit (minutes).
@@ -131,7 +168,9 @@ demo: build
 generate: $(INSTALLED)
 	$(PY) -m codegen
 
+# The acados NMPC rows run in .venv-acados (made here when missing; without it they say why).
 bench: build
+	$(MAKE) acados-env || echo "[bench] make acados-env failed: the acados NMPC rows report it"
 	$(PY) -m benchmarks
 
 validate: build

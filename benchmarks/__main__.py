@@ -30,7 +30,7 @@ import stewart
 from stewart.cli import bench
 from stewart.cli.options import non_negative
 
-from . import batch_loop, calibration, cueing, identification, motor_sizing, report, rotary_kernel, studies
+from . import acados_nmpc, batch_loop, calibration, cueing, identification, motor_sizing, report, rotary_kernel, studies
 from .peers.common import peer_available
 
 ROOT = pathlib.Path(__file__).resolve().parent.parent
@@ -184,6 +184,8 @@ def main(argv=None) -> int:
     results["cueing"] = cueing.figures("motion_simulator", rounds=rounds)
     print("[bench] motor sizing of a rotary rig from an hour of 60 Hz telemetry ...", flush=True)
     results["motor_sizing"] = motor_sizing.figures("simrig100", rounds=rounds)
+    print("[bench] acados NMPC's RTI step against the CasADi route (in .venv-acados) ...", flush=True)
+    results["acados"] = acados_nmpc.figures()
     if not args.skip_build:
         print("[bench] generation and clean build ...", flush=True)
         results["generation"] = generation_figures(rounds)
@@ -195,7 +197,7 @@ def main(argv=None) -> int:
         module.rows(results[name]) for name, module in (("rotary_kernel", rotary_kernel), ("studies", studies),
                                                         ("identification", identification),
                                                         ("calibration", calibration), ("cueing", cueing),
-                                                        ("motor_sizing", motor_sizing))
+                                                        ("motor_sizing", motor_sizing), ("acados", acados_nmpc))
         if name in results]
     every = [row for table in tables for row in table]
     results["targets"] = report.targets(every)
@@ -218,6 +220,7 @@ def main(argv=None) -> int:
     print(cueing.format_rows(results["cueing"]))
     print()
     print(motor_sizing.format_rows(results["motor_sizing"]))
+    print(acados_nmpc.format_rows(results["acados"]))
     if results["peers"]:
         ops = results["code"]["operation_counts"]
         ours = {"ops": {"inverse_dynamics": ops.get("inverse_dynamics_axisym"),

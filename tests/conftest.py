@@ -22,6 +22,10 @@ hypothesis_settings.register_profile("repeatable", derandomize=True, database=No
 hypothesis_settings.register_profile("explore", derandomize=False, print_blob=True)
 hypothesis_settings.load_profile(os.environ.get("STEWART_HYPOTHESIS", "repeatable"))
 
+#: The acados tests (tests/acados/) run in acados's own environment, by make test-acados, which
+#: sets STEWART_ACADOS_TESTS: make test's environment has no acados (docs/realtime.md, "Nonlinear MPC with acados").
+collect_ignore = [] if os.environ.get("STEWART_ACADOS_TESTS") else ["acados"]
+
 
 def pytest_configure(config):
     """In a pytest-xdist worker, BLAS (OpenBLAS, numpy's and scipy's) runs on the worker's share

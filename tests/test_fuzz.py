@@ -1047,6 +1047,7 @@ COMMANDS = {
     "export-mjcf": Command([], {"--output": [OUT["a.xml"]], "--pose": ["0", "0", "0.28", "0", "0.02", "0"],
                                 "--solver": ["default"]}, examples=15),
     "c-export": Command([OUT["c"]], {}, examples=6),
+    "export-acados": Command([OUT["c"]], {"--dt": ["0.01"], "--integrator": ["rk4"]}, required=("--dt",), examples=6),
     "optimize": Command([], {"--target": TARGET, "--move-time": ["1"], "--intervals": ["3"], "--max-iterations": ["40"],
                              "--force-limit": ["1000"], "--json": [], "--csv": [OUT["a.csv"]]},
                         required=("--intervals", "--max-iterations"), examples=6),
@@ -1138,5 +1139,6 @@ test_cli_orientation_workspace_keeps_the_contract = _command_test("workspace (or
 test_cli_sweep_keeps_the_contract = _command_test("sweep")
 test_cli_export_mjcf_keeps_the_contract = _command_test("export-mjcf")
 test_cli_c_export_keeps_the_contract = _command_test("c-export")
+test_cli_export_acados_keeps_the_contract = _command_test("export-acados")
 test_cli_optimize_keeps_the_contract = _command_test("optimize")
 test_cli_exactness_keeps_the_contract = _command_test("exactness")

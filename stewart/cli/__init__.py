@@ -37,6 +37,7 @@ COMMANDS = (
     checks.add_validate,
     checks.add_exactness,
     export.add_c_export,
+    export.add_export_acados,
     export.add_export_mjcf,
     checks.add_bench,
 )

@@ -1,5 +1,6 @@
-"""``stewart c-export`` (the generated C with a platform's parameter header, for C programs)
-and ``stewart export-mjcf`` (the platform as a MuJoCo model)."""
+"""``stewart c-export`` (the generated C with a platform's parameter header, for C programs),
+``stewart export-acados`` (the one-step map as acados's generic discrete dynamics) and
+``stewart export-mjcf`` (the platform as a MuJoCo model)."""
 
 from __future__ import annotations
 
@@ -9,7 +10,7 @@ import sys
 from ..io.mjcf import SOLVERS, to_mjcf
 from ..model.rotary_params import RotaryParams
 from .common import UserError, check_output, platform_params, rig_params
-from .options import AXES, UNITS, add_file, add_params, add_six, subcommand
+from .options import AXES, UNITS, add_file, add_params, add_six, positive, subcommand
 
 
 def cmd_c_export(args) -> int:
@@ -35,6 +36,38 @@ def add_c_export(sub) -> None:
                    "and pkg-config package of it into a directory, for C and C++ programs", cmd_c_export)
     add_params(p)
     p.add_argument("directory", metavar="DIR", help="directory to write into (created if missing)")
+
+
+def cmd_export_acados(args) -> int:
+    from ..io import acados_export
+
+    params, label = platform_params(args)
+    if os.path.exists(args.directory) and not os.path.isdir(args.directory):
+        raise UserError(f"DIR {args.directory}: exists and is not a directory")
+    try:
+        acados_export.compile_flags(args.directory)
+    except ValueError as exc:
+        raise UserError(f"DIR {args.directory}: {str(exc).partition(': ')[2]}") from None
+    try:
+        written = acados_export.export(args.directory, params, args.dt, args.integrator)
+    except OSError as exc:
+        raise UserError(f"DIR {args.directory}: {exc.strerror or exc}") from None
+    for path in written:
+        print(f"wrote {path}")
+    print(f"platform {label}: {args.integrator} step of {args.dt:g} s as acados's generic discrete dynamics in "
+          f"{acados_export.SOURCE} (stewart.acados builds the model and a tracking OCP from {args.directory})")
+    return 0
+
+
+def add_export_acados(sub) -> None:
+    p = subcommand(sub, "export-acados", "write the platform's one-step map with its Jacobians as acados's generic "
+                   "discrete dynamics (state [x, xd], input the six actuator forces), for nonlinear MPC",
+                   cmd_export_acados)
+    add_params(p)
+    p.add_argument("directory", metavar="DIR", help="directory to write into (created if missing)")
+    p.add_argument("--dt", type=positive, required=True, help="the step of the discrete dynamics [s]")
+    p.add_argument("--integrator", choices=["rk4"], default="rk4", help="the one-step map: classic RK4 "
+                   "(Platform.rk4_step)")
 
 
 def cmd_export_mjcf(args) -> int:

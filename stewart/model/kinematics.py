@@ -42,6 +42,7 @@ __all__ = [
     "twist_transform",
     "leg_vectors",
     "leg_lengths",
+    "leg_length_expressions",
     "leg_unit_vectors",
     "jacobian",
     "euler_jacobian",
@@ -145,6 +146,26 @@ def leg_vectors(params: PlatformParams, x) -> np.ndarray:
 def leg_lengths(params: PlatformParams, x) -> np.ndarray:
     """Leg lengths ``|l_i|``, shape ``(..., 6)`` (:meth:`stewart.Platform.leg_lengths`)."""
     return _kernel_of(params).leg_lengths(x)
+
+
+def leg_length_expressions(params: PlatformParams, x, ops) -> list:
+    """The six leg lengths ``|p + R p_i - b_i|`` (eq. 26) as expressions of the pose ``x`` (six
+    scalars: ``x[0]`` .. ``x[5]``) in the arithmetic of ``ops``, a module with ``cos``, ``sin``
+    and ``sqrt``: CasADi's, for a symbolic framework that takes constraints as expressions only
+    (acados's ``con_h``), or numpy's. The same mathematics as :func:`leg_lengths` (the compiled
+    model's), written out once here for such frameworks, with the parameters as constants."""
+    params = platform_params(params)
+    cps, sps = ops.cos(x[3]), ops.sin(x[3])
+    cth, sth = ops.cos(x[4]), ops.sin(x[4])
+    cph, sph = ops.cos(x[5]), ops.sin(x[5])
+    rot = ((cps * cth, cps * sth * sph - sps * cph, cps * sth * cph + sps * sph),
+           (sps * cth, sps * sth * sph + cps * cph, sps * sth * cph - cps * sph),
+           (-sth, cth * sph, cth * cph))
+    lengths = []
+    for joint, anchor in zip(params.platform_points.tolist(), params.base_points.tolist()):
+        leg = [x[k] + sum(rot[k][j] * joint[j] for j in range(3)) - anchor[k] for k in range(3)]
+        lengths.append(ops.sqrt(leg[0] * leg[0] + leg[1] * leg[1] + leg[2] * leg[2]))
+    return lengths
 
 
 def leg_unit_vectors(params: PlatformParams, x) -> np.ndarray:
