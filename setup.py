@@ -42,12 +42,12 @@ from setuptools.modified import newer_group
 X86_TARGETS = (("baseline", "x86-64", ""), ("avx2", "x86-64-v3", "x86-64-v3"), ("avx512", "x86-64-v4", "x86-64-v4"))
 #: The optimisation of the model's copies; no debug information (Python's CFLAGS ask for -g),
 #: which adds about a fifth to the model's compile time.
-OPTIMIZE = ["-O3", "-g0"]
+OPTIMIZE = ["-O3", "-g0", "-pipe"]
 #: The optimisation of the Cython wrapper (stewart._kernel's own C: Python glue and the loops
 #: around the model's calls): at -O1 it compiles in half the time of -O3 (7 s of CPU instead of
 #: 14), for 1-4 % more instructions in its loops (callgrind, the model's included: 500 RK4
 #: steps 25.7 M against 25.1 M, the envelope's peaks of 20000 states 59.8 M against 57.4 M).
-WRAPPER_OPTIMIZE = ["-O1", "-g0"]
+WRAPPER_OPTIMIZE = ["-O1", "-g0", "-pipe"]
 #: The model's rounding (STEWART_ROUNDING_FLAGS of the generated header): its operations as
 #: written, so that a state gives the same bits on every instruction set. Every extension is
 #: compiled with them.
@@ -68,6 +68,14 @@ MODEL = MODEL_SOURCES + ["generated/stewart_model.h", "generated/stewart_interna
 #: without it (the probe in build_extensions) build these units without it.
 ALLOCATION_UNITS = "generated/stewart_rotary_inverse_dynamics_derivatives_*.c"
 ALLOCATION = ["--param=lra-max-considered-reload-pseudos=50"]
+#: The units of the public functions (their argument checks, the steps between the kernels and
+#: the batch loops over the kernels' blocks), compiled at -O2: GCC's -O3 passes take them from
+#: 0.9 to 2.7 s (stewart_model.c) and from 0.7 to 1.7 s (stewart_rotary.c) of CPU per copy, with
+#: no gain in their batches' speed (benchmarks.rotary_kernel and stewart bench, same figures
+#: within their intervals); the kernels' units keep -O3. The operations, and their rounding, are
+#: the same at either level (STEWART_ROUNDING_FLAGS).
+GLUE_UNITS = ("generated/stewart_model.c", "generated/stewart_rotary.c")
+GLUE_OPTIMIZE = ["-O2"]
 #: The first copy of the model (the one that runs everywhere, with the public names), as a
 #: static library for the C test (tests/c), which links it instead of compiling the model again.
 MODEL_LIBRARY = ("stewart_model", "build")
@@ -173,6 +181,8 @@ class BuildKernel(build_ext):
                 return objects  # compiled already, from the same sources
             if fnmatch.fnmatch(source, ALLOCATION_UNITS):
                 flags = flags + self.allocation
+            if source in GLUE_UNITS:
+                flags = flags + GLUE_OPTIMIZE
             return self.compiler.compile([source], output_dir=output_dir, macros=macros,
                                          include_dirs=["generated"], extra_postargs=flags, depends=MODEL)
         jobs = sorted(((index, source) for index in range(len(self.targets)) for source in MODEL_SOURCES),
