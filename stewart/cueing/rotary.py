@@ -4,6 +4,12 @@ poses' check (:func:`check_poses`: the crank angles within ``crank_angle_limits`
 crank within its reach, :data:`REACH_MIN`), the rig's free excursion along each pose axis
 (:func:`axis_excursions`, the MPC's default box) and its motor limits (:func:`motor_limits`).
 
+:func:`check_poses` is the rotary workspace's own check
+(:func:`stewart.model.rotary_reachability.reachability`: crank angles, rod-crank angles, both
+ball-joint cones about the joints' neutral axes at home, base clearance, conditioning and
+assembly mode) with the cueing's reach floor :data:`REACH_MIN` on top: one check, the
+workspace's, for every pose a cueing run writes.
+
 The reach of crank i is ``s_i = sin^2(delta_i)`` (codegen/rotary.py ``crank_geometry``): 1 with
 the rod along the crank tip's motion, 0 where the rod is tangent to the tip's circle, the edge
 of the crank's reach, where ``J_alpha`` is singular and the motor holds no load. Every pose a
@@ -18,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..model import rotary_reachability as workspace
 from ..model.errors import WrongTypeError
 from ..model.platform import as_platform
 from ..model.rotary import RotaryPlatform
@@ -31,10 +38,12 @@ __all__ = ["as_rig", "rotary_rig", "is_rotary", "check_poses", "CrankCheck", "ax
 REACH_MIN = 0.01
 #: The least reach over the MPC's horizon (sin(delta) >= 0.2), a margin the plan keeps where it can.
 REACH_MARGIN = 0.04
-#: :attr:`CrankCheck.flags` bits: a crank angle beyond ``crank_angle_limits``; a crank out of (or
-#: too near the edge of) its reach.
-CRANK_ANGLE_LIMIT, CRANK_REACH = 1, 2
-FLAG_NAMES = {CRANK_ANGLE_LIMIT: "crank_angle_limit", CRANK_REACH: "crank_reach"}
+#: :attr:`CrankCheck.flags` bits: those of the rotary workspace
+#: (:data:`stewart.model.rotary_reachability.FLAGS`) and :data:`CRANK_REACH`, a crank that
+#: reaches the pose but nearer the edge of its reach than :data:`REACH_MIN`.
+CRANK_ANGLE_LIMIT = workspace.CRANK_ANGLE_LIMIT
+CRANK_REACH = 65536
+FLAG_NAMES = {**workspace.FLAG_NAMES, CRANK_REACH: "crank_reach"}
 #: Without ``motor_torque_limit``: this many times the largest static torque at home.
 TORQUE_PER_STATIC = 2.0
 #: Without ``motor_speed_limit``: one radian per second per radian of crank-angle range (or 2 pi rad/s).
@@ -79,46 +88,52 @@ def home(rig) -> np.ndarray:
 class CrankCheck:
     """:func:`check_poses` of a rotary rig: ``flags`` per pose (:data:`FLAG_NAMES` bits, 0 for a
     pose the rig can take), the crank angles ``alpha`` and reaches ``reach`` ``(N, 6)`` (NaN
-    where a crank cannot reach), the angle ``limits`` (or None)."""
+    where a crank cannot reach), the angle ``limits`` (or None) and ``workspace``, the
+    :class:`~stewart.model.rotary_reachability.RotaryReachability` of the poses (the angles of
+    every joint, the base gap, the conditioning)."""
 
     flags: np.ndarray
     alpha: np.ndarray
     reach: np.ndarray
     limits: tuple | None
+    workspace: workspace.RotaryReachability | None = None
 
     @property
     def ok(self) -> np.ndarray:
         return self.flags == 0
 
     def message(self, what: str = "pose", times=None) -> str:
-        """One line: how many rows are outside and, per kind, the first."""
+        """One line: how many rows are outside and, per kind, the first (with its legs and
+        angles)."""
         bad = np.flatnonzero(~self.ok)
         if bad.size == 0:
             return f"every {what} is reachable"
         parts = []
-        for bit, words in ((CRANK_ANGLE_LIMIT, f"crank angle beyond the limits {self.limits} rad"),
-                           (CRANK_REACH, f"crank out of its reach (sin^2 delta < {REACH_MIN:g})")):
+        for bit in (*workspace.FLAGS, CRANK_REACH):
             rows = np.flatnonzero(self.flags & bit)
             if rows.size:
-                where = f"t = {float(times[rows[0]]):.4g} s" if times is not None else f"row {rows[0]}"
+                row = rows[0]
+                if bit == CRANK_REACH:
+                    words = f"crank out of its reach (sin^2 delta < {REACH_MIN:g})"
+                else:
+                    words = self.workspace._reason(bit, row)
+                where = f"t = {float(times[row]):.4g} s" if times is not None else f"row {row}"
                 parts.append(f"{words} at {where}" + (f" and {rows.size - 1} more" if rows.size > 1 else ""))
         return f"{bad.size} of {len(self.flags)} {what}(s) outside the workspace: " + "; ".join(parts)
 
 
 def check_poses(rig: RotaryPlatform, poses) -> CrankCheck:
-    """The rotary rig's check of ``poses`` ``(N, 6)``: each crank within its reach (with
-    ``s_i >= REACH_MIN``) and within ``crank_angle_limits``."""
+    """The rotary rig's check of ``poses`` ``(N, 6)``: every limit of the rotary workspace
+    (:func:`stewart.model.rotary_reachability.reachability`, the joints centred at home) and
+    each crank at least :data:`REACH_MIN` within its reach."""
     poses = np.atleast_2d(np.asarray(poses, dtype=float))
     rows, ok = rig.cueing_rows(poses, np.zeros_like(poses), return_mask=True)
-    flags = np.zeros(len(poses), dtype=np.int64)
-    reach_bad = ~ok | ~np.all(rows.reach >= REACH_MIN, axis=1)
-    flags[reach_bad] |= CRANK_REACH
-    limits = rig.params.crank_angle_limits
-    if limits is not None:
-        with np.errstate(invalid="ignore"):
-            outside = np.any((rows.alpha < limits[0]) | (rows.alpha > limits[1]), axis=1)
-        flags[outside & ~reach_bad] |= CRANK_ANGLE_LIMIT
-    return CrankCheck(flags, rows.alpha, rows.reach, limits)
+    space = workspace.reachability(rig, poses, name="poses")
+    flags = np.asarray(space.flags, dtype=np.int64).copy()
+    with np.errstate(invalid="ignore"):
+        near_edge = ~np.asarray(ok, bool) | ~np.all(rows.reach >= REACH_MIN, axis=1)
+    flags[near_edge & ((flags & (workspace.OUT_OF_REACH | workspace.OUT_OF_RANGE)) == 0)] |= CRANK_REACH
+    return CrankCheck(flags, rows.alpha, rows.reach, rig.params.crank_angle_limits, space)
 
 
 def motor_limits(rig: RotaryPlatform) -> tuple[np.ndarray, np.ndarray]:
