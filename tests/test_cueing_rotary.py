@@ -3,7 +3,11 @@ and speed limits, the crank-angle limits and the cranks' reach, checked by the i
 oracle (tests/rotary_oracle.py: crank angles by atan2 and acos, torques by virtual power); the
 compiled step's rotary rows against a reference formulation (the oracle, affine in the inputs,
 and its central differences); the generated cueing_rows against the oracle; the API and the
-command line's bad input."""
+command line's bad input. Every reference's ball-joint cones, rod-crank angles and base
+clearance are checked by numpy geometry (tests/test_rotary_workspace.py ``_geometry``): the washout
+holds them; the MPC does not yet (its rows hold the motors, crank angles and reach), so the MPC
+tests of the limits it holds run on simrig100 with its cones lifted (:func:`uncapped`), and on the
+rig itself its passes must be reported, exactly where the geometry puts them."""
 
 from dataclasses import replace
 
@@ -12,10 +16,12 @@ import pytest
 import rotary_oracle as oracle
 from cli_run import call
 from test_cueing_limits import random_log
+from test_rotary_workspace import _geometry
 
 import stewart
 from stewart.cueing import MPCParams, VehicleLog, WashoutParams, mpc, planner, read_log, washout
 from stewart.cueing import rotary as crank
+from stewart.model import rotary_reachability as rr
 
 LOG = "examples/cueing/hard_braking.csv"
 
@@ -23,6 +29,35 @@ LOG = "examples/cueing/hard_braking.csv"
 @pytest.fixture(scope="module")
 def rig():
     return stewart.RotaryPlatform.preset("simrig100")
+
+
+def uncapped(rig):
+    """``rig`` with its ball-joint cones lifted: the limits the MPC's rows hold."""
+    return stewart.RotaryPlatform(rig.params.replace(crank_joint_max_angle=None, platform_joint_max_angle=None))
+
+
+@pytest.fixture(scope="module")
+def free_rig(rig):
+    return uncapped(rig)
+
+
+def geometry_slacks(p, poses):
+    """Per pose, by numpy geometry on the oracle's crank angles (joints centred at home): the
+    least slack of the crank-joint cone, the platform-joint cone, the rod-crank angle limits and
+    the base clearance (rad, rad, rad, m; +inf where the parameters set no limit)."""
+    home = stewart.RotaryPlatform(p).home
+    out = np.full((len(poses), 4), np.inf)
+    for k, x in enumerate(poses):
+        _, fold, cj, pj, heights = _geometry(p, x, home)
+        fold, cj, pj = (np.arccos(np.clip(c, -1, 1)) for c in (fold, cj, pj))
+        if p.crank_joint_max_angle is not None:
+            out[k, 0] = np.min(p.crank_joint_max_angle - cj)
+        if p.platform_joint_max_angle is not None:
+            out[k, 1] = np.min(p.platform_joint_max_angle - pj)
+        if p.rod_crank_angle_limits is not None:
+            out[k, 2] = np.min(np.minimum(fold - p.rod_crank_angle_limits[0], p.rod_crank_angle_limits[1] - fold))
+        out[k, 3] = np.min(heights) - np.max(p.base_points[:, 2]) - (p.base_clearance or 0.0)
+    return out
 
 
 def oracle_reach(p, x):
@@ -54,9 +89,12 @@ def assert_holds_every_limit(result, rig, every=1):
         assert np.all(oracle_reach(p, x) >= crank.REACH_MIN), k
         assert np.all(np.abs(oracle.crank_rates(p, x, xd)) <= p.motor_speed_limit), k
         assert np.all(np.abs(oracle.torques(p, x, xd, xdd)) <= p.motor_torque_limit), k
+    slacks = geometry_slacks(p, result.poses[::every])
+    assert np.all(slacks[:, :3] >= 0.0) and np.all(slacks[:, 3] > 0.0), np.min(slacks, axis=0)
 
 
-def test_mpc_on_a_braking_log_holds_every_limit_by_the_oracle(rig):
+def test_mpc_on_a_braking_log_holds_every_limit_by_the_oracle(free_rig):
+    rig = free_rig
     result = mpc(LOG, rig)
     assert result.solver["qp_failures"] == 0 and result.solver["qp_levels"]["brake"] == 0
     assert set(result.peaks) == {"crank_speed", "torque"}
@@ -67,8 +105,9 @@ def test_mpc_on_a_braking_log_holds_every_limit_by_the_oracle(rig):
     assert_holds_every_limit(result, rig, every=3)
 
 
-def test_mpc_holds_a_tight_torque_limit(rig):
+def test_mpc_holds_a_tight_torque_limit(free_rig):
     """A torque limit the braking cue would pass binds: the plan keeps it, sample by sample."""
+    rig = free_rig
     tight = rig.params.replace(motor_torque_limit=30.0)
     free = mpc(LOG, rig).peaks["torque"]
     assert free > 30.0
@@ -78,10 +117,38 @@ def test_mpc_holds_a_tight_torque_limit(rig):
 
 
 @pytest.mark.parametrize("seed", [0, 1])
-def test_random_logs_on_simrig100(rig, seed):
+def test_random_logs_on_simrig100(free_rig, seed):
     """(The random-log sweep of tests/test_cueing_limits.py runs these on simrig100 too.)"""
-    result = mpc(random_log(seed), rig)
-    assert_holds_every_limit(result, rig, every=5)
+    result = mpc(random_log(seed), free_rig)
+    assert_holds_every_limit(result, free_rig, every=5)
+
+
+@pytest.mark.parametrize("path", sorted(__import__("glob").glob("examples/cueing/*.csv")))
+def test_washout_holds_every_limit_on_the_shipped_logs(rig, path):
+    """Every limit of the rotary workspace, the cones included, by numpy geometry: the limiter
+    scales the washout back within them (on the racing lap the crank-joint cones bind)."""
+    result = washout(path, rig)
+    assert result.exit_code == 0, result.problems
+    assert_holds_every_limit(result, rig, every=4)
+    if "racing_lap" in path:
+        assert any("crank_joint_limit" in span["limits"] for span in result.limiting.intervals())
+
+
+def test_mpc_passing_the_cones_is_reported_where_the_geometry_puts_it(rig):
+    """The MPC's rows do not hold the cones yet: on simrig100 its braking plan passes the crank
+    joints' 30 deg cones, and the result says so (exit 3), on exactly the rows numpy geometry
+    finds beyond a cone, and on a rig with the cones opened to 80 deg on none."""
+    result = mpc(LOG, rig)
+    assert result.exit_code == 3 and not result.inside
+    assert any("crank ball-joint cone" in problem for problem in result.problems), result.problems
+    slacks = geometry_slacks(rig.params, result.poses)
+    beyond = np.min(slacks[:, :2], axis=1) < 0.0
+    assert beyond.sum() > 100
+    flagged = (result.reachability.flags & (rr.CRANK_JOINT_LIMIT | rr.PLATFORM_JOINT_LIMIT)) != 0
+    clear = np.abs(np.min(slacks[:, :2], axis=1)) > 1e-9  # (rows on a cone's edge either way)
+    np.testing.assert_array_equal(flagged[clear], beyond[clear])
+    opened = rig.params.replace(crank_joint_max_angle=np.radians(80), platform_joint_max_angle=np.radians(80))
+    assert mpc(LOG, opened).exit_code == 0
 
 
 def test_washout_holds_the_cranks(rig):
@@ -234,9 +301,16 @@ def test_api_bad_input(rig):
         mpc(LOG, rig.params, progress="yes")
 
 
+def test_cli_reports_a_plan_passing_a_cone(tmp_path):
+    """A plan beyond a ball-joint cone is a problem on the command line: exit 3, the cone named."""
+    run = call("cueing", LOG, "--preset", "simrig100", "--method", "mpc", "--output", tmp_path / "ref.csv")
+    assert run.returncode == 3, run.stderr
+    assert "crank ball-joint cone" in run.stderr, run.stderr
+
+
 def test_cli_serves_a_rotary_file(tmp_path):
     path = tmp_path / "rig.toml"
-    stewart.RotaryParams.preset("desktop_servo").save(path)
+    uncapped(stewart.RotaryPlatform.preset("desktop_servo")).params.save(path)
     run = call("cueing", LOG, "--params", path, "--method", "mpc", "--output", tmp_path / "ref.csv",
                "--report", tmp_path / "report.json")
     assert run.returncode == 0, run.stderr
