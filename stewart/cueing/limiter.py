@@ -13,8 +13,8 @@ own poses once it is back inside. ``s`` comes in three steps:
 1. **Need.** A pose is *inside the margin* when its excursion stretched by ``1 + margin``
    stays in the workspace: every point of the ray from home to ``home + (1 + margin) (pose -
    home)`` reachable (:func:`stewart.reachability`: stroke, joint cones, clearance, plate,
-   conditioning; on a rotary rig :func:`stewart.cueing.rotary.check_poses`: the crank-angle
-   limits and the cranks' reach; checked at :data:`RAY_POINTS` points of the ray, then the first crossing
+   conditioning; on a rotary rig :func:`stewart.cueing.rotary.check_poses`: every limit of the
+   rotary workspace, the cones included, and the cranks' reach; checked at :data:`RAY_POINTS` points of the ray, then the first crossing
    found by bisection to :data:`RAY_TOLERANCE`). Where the ray leaves the workspace at
    ``c (pose - home)``, the pose needs ``s <= c / (1 + margin)``; inside the margin, 1.
 2. **Envelope.** The needed deficit ``1 - s`` is spread by a moving maximum over
@@ -122,8 +122,8 @@ class Limiting:
 
 def _check(plat, poses, name):
     """The workspace's check of ``poses``: :func:`stewart.reachability`, or on a rotary rig
-    :func:`stewart.cueing.rotary.check_poses` (the crank angles within their limits, each crank
-    within its reach)."""
+    :func:`stewart.cueing.rotary.check_poses` (every limit of the rotary workspace and each
+    crank within its reach)."""
     if rotary.is_rotary(plat):
         return rotary.check_poses(plat, poses)
     return reachability(plat, poses, name=name)

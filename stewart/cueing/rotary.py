@@ -150,7 +150,8 @@ def motor_limits(rig: RotaryPlatform) -> tuple[np.ndarray, np.ndarray]:
 
 
 def axis_excursions(rig: RotaryPlatform, tolerance: float = 1e-5) -> np.ndarray:
-    """The free excursion from home along each pose axis ``(6,)`` [m, m, m, rad, rad, rad]:
+    """The free excursion from home along each pose axis ``(6,)`` [m, m, m, rad, rad, rad]
+(within every limit :func:`check_poses` applies, the ball-joint cones included):
     the least over both directions of the largest step the rig takes with every pose between
     home and it passing :func:`check_poses` (checked on 64 points, then bisected)."""
     start = home(rig)

@@ -146,7 +146,7 @@ class MPCParams:
         ``force`` is the motors' torque [N m] and ``leg_velocity`` their speed [rad/s] at the crank:
         by default the least of ``motor_torque_limit`` and ``motor_speed_limit``
         (:func:`stewart.cueing.rotary.motor_limits`), ``box`` :data:`BOX_SHARE` of the free
-        excursion within the crank-angle limits and the cranks' reach
+        excursion within every limit of the rotary workspace and the cranks' reach
         (:func:`stewart.cueing.rotary.axis_excursions`); ``stroke_margin`` is unused."""
         plat = rotary.rotary_rig(platform)
         plat = as_platform(platform) if plat is None else plat
