@@ -38,9 +38,6 @@ def cmd_cueing(args) -> int:
         check_plotting("--plot")
     params, label = rig_params(args)
     rotary = isinstance(params, RotaryParams)
-    if rotary and args.simulate:
-        raise UserError("--simulate: the closed loop of cueing runs on linear platforms only; give the rotary rig's "
-                        "reference to stewart simulate", EXIT_USAGE)
     plat = RotaryPlatform(params) if rotary else Platform(params)
     try:
         log = read_log(args.log)
@@ -119,7 +116,7 @@ def add_cueing(sub) -> None:
     p.add_argument("--no-limiter", action="store_true", help="washout: leave the reference unlimited (one that "
                    "leaves the workspace is refused, exit 3) instead of scaling it back smoothly (see docs/cueing.md)")
     p.add_argument("--simulate", action="store_true", help="run the reference through the closed loop "
-                   "(computed torque) and report the achieved motion's perceived error and problems (linear "
-                   "platforms)")
+                   "(computed torque) and report the achieved motion's perceived error and problems (on a "
+                   "rotary rig: crank speeds, motor torques and the achieved poses' workspace)")
     add_json(p)
     add_progress(p)

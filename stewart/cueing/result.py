@@ -112,7 +112,8 @@ class CueingResult:
                                  "problems": list(sim.problems),
                                  "peak_force": np.max(np.abs(sim.forces), axis=0).tolist()}
             if self.simulation_peaks is not None:
-                out["simulation"]["peak_leg_velocity"] = self.simulation_peaks["leg_velocity"]
+                speed = "crank_speed" if "crank_speed" in self.simulation_peaks else "leg_velocity"
+                out["simulation"][f"peak_{speed}"] = self.simulation_peaks[speed]
             if self.achieved_metrics is not None:
                 out["simulation"].update(self.achieved_metrics)
         return out

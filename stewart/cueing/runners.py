@@ -117,9 +117,6 @@ def _arguments(log, platform, params, settings: type, **flags) -> tuple[VehicleL
                              f"{type(params).__name__}")
     plat = rotary.rotary_rig(platform)
     plat = as_platform(platform) if plat is None else plat
-    if flags.get("simulate") and rotary.is_rotary(plat):
-        raise ValueError("simulate: the closed loop of cueing runs on linear platforms only (run a rotary rig's "
-                         "reference with stewart.simulate)")
     if isinstance(log, (str, os.PathLike)):
         log = log_module.read(log)
     elif not isinstance(log, VehicleLog):
@@ -188,7 +185,8 @@ def simulate_reference(result: CueingResult, platform, bandwidth_hz: float = BAN
     ``result.simulation_peaks``; the actuators saturate at ``result.limits["force"]`` (when
     the method has limits); the run's problems (stroke, force, assembly mode, leg speed above
     the limit) join ``result.problems``."""
-    return _closed_loop(result, as_platform(platform), bandwidth_hz, steps_per_sample)
+    rig = rotary.rotary_rig(platform)
+    return _closed_loop(result, as_platform(platform) if rig is None else rig, bandwidth_hz, steps_per_sample)
 
 
 def _closed_loop(result: CueingResult, plat, bandwidth_hz: float, steps_per_sample: int) -> CueingResult:
@@ -198,19 +196,27 @@ def _closed_loop(result: CueingResult, plat, bandwidth_hz: float, steps_per_samp
 
     log = result.log
     limits = result.limits or {}
-    actuators = Actuators(force_limit=limits.get("force", np.inf))
+    spinning = rotary.is_rotary(plat)  # (a rotary rig: crank rates and motor torques)
+    actuators = Actuators(force_limit=limits.get("torque" if spinning else "force", np.inf))
     sim = simulate(plat, result.reference, ComputedTorque.tuned(bandwidth_hz), actuators=actuators,
                    dt=log.dt / steps_per_sample, duration=float(log.t[-1]))
     result.simulation = sim
     result.problems += [f"simulation: {p}" for p in sim.problems]
     if sim.completed and len(sim.t) > 2:
-        _, speeds = plat.leg_rates(sim.x, sim.xd)
-        result.simulation_peaks = {"leg_velocity": float(np.max(np.abs(speeds))),
-                                   "force": float(np.max(np.abs(sim.forces)))}
-        if "leg_velocity" in limits and result.simulation_peaks["leg_velocity"] > limits["leg_velocity"]:
+        speeds = sim.leg_velocities if spinning else plat.leg_rates(sim.x, sim.xd)[1]
+        speed, unit = ("crank_speed", "rad/s") if spinning else ("leg_velocity", "m/s")
+        result.simulation_peaks = {speed: float(np.max(np.abs(speeds))),
+                                   "torque" if spinning else "force": float(np.max(np.abs(sim.forces)))}
+        if speed in limits and result.simulation_peaks[speed] > limits[speed]:
             result.simulation_beyond_limits = True
-            result.problems.append(f"simulation: the leg velocity reaches {result.simulation_peaks['leg_velocity']:.4g} "
-                                   f"m/s, above the limit {limits['leg_velocity']:.4g} m/s")
+            result.problems.append(f"simulation: the {speed.replace('_', ' ')} reaches "
+                                   f"{result.simulation_peaks[speed]:.4g} {unit}, above the limit {limits[speed]:.4g} {unit}")
+        if spinning:
+            check = rotary.check_poses(plat, sim.x)
+            if not np.all(check.ok):
+                result.simulation_beyond_limits = True
+                result.problems.append("simulation: the achieved motion leaves the workspace: "
+                                       + check.message("pose", sim.t))
         seen = perceived(sim, result.params.gravity)
         inside = log.t <= sim.t[-1]
         at = lambda a: np.column_stack([np.interp(log.t, sim.t, a[:, j]) for j in range(3)])  # noqa: E731
