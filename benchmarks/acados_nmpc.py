@@ -48,7 +48,7 @@ SEED_TARGET = (0.04565, -0.0102, 0.192, -0.0863, 0.1046, 0.0960)
 DURATION = 5.5
 #: RTI steps of one side in a round, and the rounds (the closed loop restarts when it ends).
 BLOCK = 25
-ROUNDS = int(__import__("os").environ.get("STEWART_ACADOS_ROUNDS", "40"))
+ROUNDS = int(__import__("os").environ.get("STEWART_ACADOS_ROUNDS", "40"))  # fewer for a short run
 #: The longest a route's compile may take [s] before it is reported as not finished (capped in
 #: the row; the CasADi route with the solve kept a call compiles in well under it).
 COMPILE_CAP_S = 600.0
