@@ -236,6 +236,27 @@ def _optimization_rows(opt: dict | None) -> list[tuple[str, str, str, str]]:
          f"{cas['solve_s'] / ours['solve_s']:.0f}x"),
         (f"{label}: wall time per iteration", f"{ours['per_iteration_ms']:.3g} ms", f"{cas['per_iteration_ms']:.3g} ms",
          f"{cas['per_iteration_ms'] / ours['per_iteration_ms']:.0f}x"),
+    ] + _jit_rows(opt)
+
+
+def _jit_rows(opt: dict) -> list[tuple[str, str, str, str]]:
+    """Rows of the same NLP with CasADi's ``jit=True`` (:func:`benchmarks.peers.casadi_optimize.jit_figures`)."""
+    jit, ours = opt.get("casadi_jit"), opt["ours"]
+    if not jit:
+        return []
+    label = (f"IPOPT, minimum-effort move ({opt['intervals']} RK4 intervals; CasADi jit=True {jit.get('flags', '')}, "
+             "its model with the solve a call)")
+    if "error" in jit:
+        return [(f"{label}", "", jit["error"], "")]
+    return [
+        (f"{label}: optimum sum |tau|^2 dt [N^2 s]", f"{ours['effort']:.10g}", f"{jit['effort']:.10g}",
+         f"{opt['jit_effort_relative_difference']:.1e} apart"),
+        (f"{label}: iterations", str(ours["iterations"]), str(jit["iterations"]), ""),
+        (f"{label}: JIT compile (ours: compiled at make build)", "-", f"{jit['compile_s']:.3g} s", ""),
+        (f"{label}: wall time per solve", f"{ours['solve_s']:.3g} s", f"{jit['solve_s']:.3g} s",
+         f"{jit['solve_s'] / ours['solve_s']:.1f}x"),
+        (f"{label}: wall time per iteration", f"{ours['per_iteration_ms']:.3g} ms",
+         f"{jit['per_iteration_ms']:.3g} ms", f"{jit['per_iteration_ms'] / ours['per_iteration_ms']:.1f}x"),
     ]
 
 

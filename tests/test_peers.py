@@ -100,3 +100,19 @@ def test_sympy_routes_match_kernel(figures, tmp_path):
     # reached 1.4e-15 and 3.2e-15 by autowrap (PyDy, when installed, evaluates the same expressions)
     figures("sympy route tau vs kernel", relative_error(tau_s, tau), 1e-13)
     figures("sympy route xdd vs kernel", relative_error(xdd_s, xdd), 2e-13)
+
+
+def test_casadi_compact_step_matches_rk4_step(figures):
+    """The JIT anchor's RK4 step (CasADi's model with its 6x6 solve kept a call) against the
+    package's compiled RK4 step at random states and forces."""
+    pytest.importorskip("casadi")
+    from benchmarks.peers import casadi_optimize
+
+    plat = stewart.Platform.preset("narayan2017")
+    dt = 0.1
+    step = casadi_optimize.compact_step(plat.params, dt)
+    x, xd, xdd = bench.states(plat.params, 20, seed=11)
+    tau = plat.inverse_dynamics(x, xd, xdd)
+    ours = np.array([np.concatenate(plat.rk4_step(x[i], xd[i], tau[i], dt)) for i in range(20)])
+    theirs = np.array([np.asarray(step(np.concatenate([x[i], xd[i]]), tau[i])).ravel() for i in range(20)])
+    figures("CasADi compact RK4 step vs rk4_step", relative_error(theirs, ours), 1e-13)  # reached 5.4e-16

@@ -13,7 +13,11 @@ import numpy as np
 
 from . import casadi_model
 
-__all__ = ["casadi_functions", "minimum_effort_move", "figures"]
+__all__ = ["casadi_functions", "compact_step", "jit_figures", "minimum_effort_move", "figures"]
+
+#: The JIT anchor's compile flags and its cap [s] (the JIT runs in a subprocess, stopped past it).
+JIT_FLAGS = ["-O1"]
+JIT_CAP_S = 600.0
 
 
 def casadi_functions(params, dt: float):
@@ -43,6 +47,80 @@ def casadi_functions(params, dt: float):
             for i in range(6)]
     lengths = ca.Function("casadi_leg_lengths", [x], [ca.vertcat(*[ca.norm_2(leg) for leg in legs])])
     return step, lengths
+
+
+def compact_step(params, dt: float):
+    """The RK4 step of CasADi's model with its 6x6 solve kept a call: SX functions of the mass
+    matrix ``M(x)``, the right-hand side ``J_C^T tau - (V xd + G)`` and ``solve(M, b)`` of a
+    symbolic ``M``, called from an MX step. As one SX expression (:func:`casadi_functions`)
+    the step's Jacobian is some 2 million SX instructions, C that no JIT compiles in minutes;
+    a CasADi user who JIT-compiles keeps the solve a node of its own."""
+    import casadi as ca
+
+    from .common import param_vector
+
+    sym = casadi_model.symbolic_model()
+    p = ca.DM(param_vector(params))
+    mass = ca.Function("peer_mass", [sym["x"]], [ca.substitute(sym["M"], sym["p"], p)])
+    rest = ca.substitute(sym["W"], sym["xdd"], ca.SX.zeros(6))
+    rhs = ca.Function("peer_rhs", [sym["x"], sym["xd"], sym["tau"]],
+                      [ca.substitute(sym["JC"].T @ sym["tau"] - rest, sym["p"], p)])
+    m, b = ca.SX.sym("M", 6, 6), ca.SX.sym("b", 6)
+    solve = ca.Function("peer_solve", [m, b], [ca.solve(m, b)])
+    s, tau = ca.MX.sym("s", 12), ca.MX.sym("tau", 6)
+
+    def rate(state):
+        return ca.vertcat(state[6:], solve(mass(state[:6]), rhs(state[:6], state[6:], tau)))
+
+    k1 = rate(s)
+    k2 = rate(s + dt / 2 * k1)
+    k3 = rate(s + dt / 2 * k2)
+    k4 = rate(s + dt * k3)
+    return ca.Function("casadi_rk4_step_compact", [s, tau], [s + dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4)])
+
+
+def _jit_run(preset, intervals, force_limit, queue):
+    import time
+
+    import stewart
+    from stewart.motion import optimize
+
+    plat = stewart.Platform.preset(preset)
+    target = np.array([0.04565, -0.0102, 0.192, -0.0863, 0.1046, 0.0960])
+    duration = 5.0
+    step = compact_step(plat.params, duration / intervals)
+    _, lengths = casadi_functions(plat.params, duration / intervals)
+    guess = optimize.initial_guess(plat, plat.home_pose, target, duration, intervals)
+    options = {"jit": True, "compiler": "shell", "jit_cleanup": True, "jit_options": {"flags": JIT_FLAGS}}
+    started = time.perf_counter()
+    _, _, effort, stats, seconds = optimize.solve_move(
+        step.map(intervals), lengths.map(intervals + 1), plat.home_pose, target, duration, intervals,
+        initial_guess=guess, force_limit=force_limit, stroke=plat.params.leg_length_limits, solver_options=options)
+    total = time.perf_counter() - started
+    queue.put({"effort": effort, "iterations": int(stats["iter_count"]), "status": str(stats["return_status"]),
+               "solve_s": seconds, "compile_s": total - seconds,
+               "per_iteration_ms": 1e3 * seconds / max(1, int(stats["iter_count"]))})
+
+
+def jit_figures(preset: str = "narayan2017", intervals: int = 50, force_limit: float = 60.0,
+                cap_s: float = JIT_CAP_S) -> dict:
+    """The same NLP over :func:`compact_step` with ``nlpsol``'s ``jit=True`` (CasADi's shell
+    compiler, :data:`JIT_FLAGS`): the JIT's compile time (the NLP's construction and compile,
+    before the solve) and the solve's; in a subprocess stopped past ``cap_s``."""
+    import multiprocessing
+
+    context = multiprocessing.get_context("spawn")
+    queue = context.Queue()
+    process = context.Process(target=_jit_run, args=(preset, intervals, force_limit, queue))
+    process.start()
+    try:
+        return queue.get(timeout=cap_s) | {"flags": " ".join(JIT_FLAGS)}
+    except Exception:
+        return {"error": f"not compiled and solved within {cap_s:g} s (capped)", "flags": " ".join(JIT_FLAGS)}
+    finally:
+        if process.is_alive():
+            process.kill()
+        process.join()
 
 
 def minimum_effort_move(platform, target, duration: float, intervals: int, force_limit=None):
@@ -93,4 +171,8 @@ def figures(preset: str = "narayan2017", intervals: int = 50, force_limit: float
         out[name] = {"effort": effort, "iterations": int(stats["iter_count"]), "status": str(stats["return_status"]),
                      "solve_s": seconds, "per_iteration_ms": 1e3 * seconds / max(1, int(stats["iter_count"]))}
     out["effort_relative_difference"] = abs(out["ours"]["effort"] - out["casadi"]["effort"]) / out["casadi"]["effort"]
+    out["casadi_jit"] = jit_figures(preset, intervals, force_limit)
+    if "effort" in out["casadi_jit"]:
+        out["jit_effort_relative_difference"] = (abs(out["ours"]["effort"] - out["casadi_jit"]["effort"])
+                                                 / out["casadi_jit"]["effort"])
     return out

@@ -89,13 +89,16 @@ def _force_bounds(force_limit, n: int) -> tuple[np.ndarray, np.ndarray]:
 
 
 def solve_move(dynamics, lengths, start, target, duration: float, intervals: int, *, initial_guess,
-               force_limit=None, stroke=None, tolerance: float = 1e-8, max_iterations: int = 1000):
+               force_limit=None, stroke=None, tolerance: float = 1e-8, max_iterations: int = 1000,
+               solver_options: dict | None = None):
     """Solve the move's NLP for any model given as CasADi functions over the whole horizon:
     ``dynamics(S, U) -> S_next`` (one step over ``duration / intervals`` of each column of
     ``S`` (12 x N) under the column of ``U`` (6 x N)) and ``lengths(X) -> L`` (6 x (N + 1)).
     Returns
     ``(states (N+1, 12), forces (N, 6), effort, stats, seconds)``. The benchmarks solve the
-    same NLP with CasADi's own model through this function."""
+    same NLP with CasADi's own model through this function; ``solver_options`` are added to
+    ``nlpsol``'s options (the benchmarks' ``jit``). ``seconds`` is the solve's wall time,
+    the NLP's construction (and any JIT compile) before it."""
     import casadi as ca
 
     n = intervals
@@ -113,7 +116,7 @@ def solve_move(dynamics, lengths, start, target, duration: float, intervals: int
     nlp = {"x": ca.vertcat(ca.vec(states), ca.vec(forces)), "f": effort, "g": ca.vertcat(*constraints)}
     options = {"print_time": False, "ipopt.print_level": 0, "ipopt.sb": "yes", "ipopt.tol": tolerance,
                "ipopt.max_iter": max_iterations, "ipopt.hessian_approximation": "limited-memory"}
-    solver = ca.nlpsol("minimum_effort_move", "ipopt", nlp, options)
+    solver = ca.nlpsol("minimum_effort_move", "ipopt", nlp, options | dict(solver_options or {}))
     # The end points are fixed by bounds: at rest at the start and at the target.
     state_lower = np.full((12, n + 1), -np.inf)
     state_upper = np.full((12, n + 1), np.inf)
