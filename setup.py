@@ -42,12 +42,12 @@ from setuptools.modified import newer_group
 X86_TARGETS = (("baseline", "x86-64", ""), ("avx2", "x86-64-v3", "x86-64-v3"), ("avx512", "x86-64-v4", "x86-64-v4"))
 #: The optimisation of the model's copies; no debug information (Python's CFLAGS ask for -g),
 #: which adds about a fifth to the model's compile time.
-OPTIMIZE = ["-O3", "-g0", "-pipe"]
+OPTIMIZE = ["-O3", "-g0"]
 #: The optimisation of the Cython wrapper (stewart._kernel's own C: Python glue and the loops
 #: around the model's calls): at -O1 it compiles in half the time of -O3 (7 s of CPU instead of
 #: 14), for 1-4 % more instructions in its loops (callgrind, the model's included: 500 RK4
 #: steps 25.7 M against 25.1 M, the envelope's peaks of 20000 states 59.8 M against 57.4 M).
-WRAPPER_OPTIMIZE = ["-O1", "-g0", "-pipe"]
+WRAPPER_OPTIMIZE = ["-O1", "-g0"]
 #: The model's rounding (STEWART_ROUNDING_FLAGS of the generated header): its operations as
 #: written, so that a state gives the same bits on every instruction set. Every extension is
 #: compiled with them.
@@ -76,6 +76,9 @@ ALLOCATION = ["--param=lra-max-considered-reload-pseudos=50"]
 #: the same at either level (STEWART_ROUNDING_FLAGS).
 GLUE_UNITS = ("generated/stewart_model.c", "generated/stewart_rotary.c")
 GLUE_OPTIMIZE = ["-O2"]
+#: Every compile hands its assembly to the assembler through a pipe, not a temporary file (a
+#: way of building, not a flag of the model's: build_info does not list it).
+PIPE = ["-pipe"]
 #: The first copy of the model (the one that runs everywhere, with the public names), as a
 #: static library for the C test (tests/c), which links it instead of compiling the model again.
 MODEL_LIBRARY = ("stewart_model", "build")
@@ -138,7 +141,7 @@ class BuildKernel(build_ext):
         if any(level for _, _, level in self.targets):
             tables.append(("STEWART_CPU_LEVELS", "1"))
         for ext in self.extensions:
-            ext.extra_compile_args = wrapper + openmp
+            ext.extra_compile_args = wrapper + openmp + PIPE
             ext.extra_link_args = openmp
             ext.define_macros = ext.define_macros + tables
         super().build_extensions()
@@ -184,7 +187,7 @@ class BuildKernel(build_ext):
             if source in GLUE_UNITS:
                 flags = flags + GLUE_OPTIMIZE
             return self.compiler.compile([source], output_dir=output_dir, macros=macros,
-                                         include_dirs=["generated"], extra_postargs=flags, depends=MODEL)
+                                         include_dirs=["generated"], extra_postargs=flags + PIPE, depends=MODEL)
         jobs = sorted(((index, source) for index in range(len(self.targets)) for source in MODEL_SOURCES),
                       key=lambda job: -os.path.getsize(job[1]))
         return {job: pool.submit(compile_unit, job) for job in jobs}
