@@ -93,7 +93,7 @@ def main(argv=None):
         'stewart_model.c': csource.source(public, batch),
         **{f'stewart_model_{family}.c': csource.kernel_unit(family, units) for family, units in families.items()},
         'stewart_model.pxd': pxd.pxd(schema.PARAM_FIELDS, model.FUNCTIONS),
-        'stewart_dispatch.h': csource.dispatch_header(model.FUNCTIONS),
+        'stewart_dispatch.h': csource.dispatch_header(model.FUNCTIONS, rotary_source.FUNCTIONS),
         'stewart_target.c': csource.target_source(model.FUNCTIONS),
         'stewart_rotary.h': rotary_source.header([(k.name, k.ops) for k in rotary_emitted]),
         'stewart_rotary_internal.h': rotary_source.internal_header(rotary_emitted),

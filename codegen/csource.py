@@ -199,15 +199,17 @@ typedef struct {
 '''
 
 
-def dispatch_header(functions):
+def dispatch_header(functions, others=()):
     """stewart_dispatch.h: the table of the public `functions` (`model.Function`s, after the
-    fixed ones) and the fixed choice between the compiled copies (codegen/templates/dispatch/dispatch.h)."""
+    fixed ones) and the fixed choice between the compiled copies (codegen/templates/dispatch/dispatch.h);
+    its largest counts of inputs and outputs cover the `others` too (the rotary family's, called
+    through the same `stewart_call`)."""
     entries = ''.join(f'    {declaration};\n' for _, declaration in table_entries(functions))
     index = ''.join(f' *   {k:2d}  {f.name}\n' for k, f in enumerate(functions))
     return (DISPATCH.replace('@ENTRIES@', entries).replace('@INDEX@', index)
             .replace('@COUNT@', str(len(functions)))
-            .replace('@MAX_INPUTS@', str(max(len(f.inputs) for f in functions)))
-            .replace('@MAX_OUTPUTS@', str(max(len(f.outputs) for f in functions)))
+            .replace('@MAX_INPUTS@', str(max(len(f.inputs) for f in (*functions, *others))))
+            .replace('@MAX_OUTPUTS@', str(max(len(f.outputs) for f in (*functions, *others))))
             .replace('@TEMPLATE@', (TEMPLATES / 'dispatch' / 'dispatch.h').read_text(encoding='ascii')))
 
 

@@ -43,12 +43,10 @@ def rotary_neutral_axes_kernel():
                       [('qc', qc), ('qp', qp)] + crank_checks(cranks))
 
 
-def rotary_joint_cosines_kernel():
-    """cos and sin of the crank angles (`rotary.rotary_crank_angles_kernel`), the cosines of
-    the rod-crank angles, the crank joints' and the platform joints' angles (18), and the
-    platform joints' heights (module docstring), at the pose x for the neutral axes qc, qp."""
-    g = Graph({})
-    kin, cranks = rotary_kinematics(g)
+def _joints(g, kin, cranks):
+    """The joints' values at the pose of `kin` for the neutral axes QC_IN, QP_IN (module
+    docstring): the rod-crank cosines, the crank joints' and the platform joints' cosines, each
+    (6), and the platform joints' heights (6)."""
     P = RPARAMS
     fold, crank_joint, platform_joint, heights = [], [], [], []
     for i, c in enumerate(cranks):
@@ -59,8 +57,31 @@ def rotary_joint_cosines_kernel():
         crank_joint.append(g.define(f'cc{i}', dot(c.n, axis) / P.d))
         platform_joint.append(g.define(f'cp{i}', dot(c.n, kin.R * qp) / P.d))
         heights.append(g.define(f'zP{i}', kin.legs[i].l[2] + P.base[i][2]))
+    return fold, crank_joint, platform_joint, heights
+
+
+def rotary_joint_cosines_kernel():
+    """cos and sin of the crank angles (`rotary.rotary_crank_angles_kernel`), the cosines of
+    the rod-crank angles, the crank joints' and the platform joints' angles (18), and the
+    platform joints' heights (module docstring), at the pose x for the neutral axes qc, qp."""
+    g = Graph({})
+    kin, cranks = rotary_kinematics(g)
+    fold, crank_joint, platform_joint, heights = _joints(g, kin, cranks)
     return KernelSpec('rotary_joint_cosines', rotary_joint_cosines_kernel.__doc__, g,
                       [('x', X), ('qc', QC_IN), ('qp', QP_IN)],
                       [('cs', [c.cos for c in cranks] + [c.sin for c in cranks]),
                        ('c', fold + crank_joint + platform_joint), ('z', heights)] + crank_checks(cranks))
 
+
+def rotary_joint_rows_kernel():
+    """What MPC cueing holds of the joints (stewart/_cueing_rotary.pxi): the 24 values of
+    `rotary_joint_cosines_kernel` (the rod-crank, crank-joint and platform-joint cosines, the
+    platform joints' heights) at the pose x for the neutral axes qc, qp, and their exact
+    partials in x (forward mode on the definitions, `Graph.partials`), 24 x 6 row-major."""
+    g = Graph({})
+    kin, cranks = rotary_kinematics(g)
+    values = [v for part in _joints(g, kin, cranks) for v in part]
+    return KernelSpec('rotary_joint_rows', rotary_joint_rows_kernel.__doc__, g,
+                      [('x', X), ('qc', QC_IN), ('qp', QP_IN)],
+                      [('joints', values), ('djoints_dx', [d for row in g.partials(values, X, 'j') for d in row])]
+                      + crank_checks(cranks))

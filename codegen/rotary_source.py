@@ -93,10 +93,15 @@ FUNCTIONS = (
              result_type='RotaryJointCosines'),
     Function('cueing_rows',
              'What MPC cueing holds: the crank angles alpha, the crank rates alpha_dot, the reach s_i ='
-             ' sin^2(delta_i) (0 at the edge of crank i\'s reach) and their gradients grads = [J_alpha T'
-             ' (= d alpha/dx = d alpha_dot/dxd), d alpha_dot/dx, ds/dx].',
-             ('x', 'xd'), (('alpha', (6,)), ('ad', (6,)), ('reach', (6,)), ('grads', (3, 6, 6))),
-             (rotary.rotary_cueing_rows_kernel,), steps=(('crank_angles', ('cs', 'alpha')),)),
+             ' sin^2(delta_i) (0 at the edge of crank i\'s reach), their gradients grads = [J_alpha T'
+             ' (= d alpha/dx = d alpha_dot/dxd), d alpha_dot/dx, ds/dx], the joints (24: the values of joint_cosines'
+             ' c and z, the ball joints centred at the reference pose x0) and their gradient djoints_dx.',
+             ('x', 'xd', 'x0'),
+             (('alpha', (6,)), ('ad', (6,)), ('reach', (6,)), ('grads', (3, 6, 6)), ('joints', (24,)),
+              ('djoints_dx', (24, 6))), (),
+             steps=(Kernels((rotary.rotary_cueing_rows_kernel,), ('x', 'xd')), ('crank_angles', ('cs', 'alpha')),
+                    Kernels((rotary_joints.rotary_neutral_axes_kernel,), ('x0',)),
+                    Kernels((rotary_joints.rotary_joint_rows_kernel,), ('x', 'qc', 'qp')))),
     # The forward dynamics' derivatives and the RK4 step with its Jacobians (issue 40), as the
     # linear model's (codegen/model.py): keep these entries together, at the end of the table.
     Function('forward_dynamics_derivatives',

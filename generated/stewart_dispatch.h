@@ -47,7 +47,7 @@
 #define STEWART_FUNCTIONS 34
 /* The most input arrays and output arrays a public function has. */
 #define STEWART_MAX_INPUTS 4
-#define STEWART_MAX_OUTPUTS 4
+#define STEWART_MAX_OUTPUTS 6
 
 /* A public function in one calling convention (the table's `call`): its batch function on n
  * rows with its input arrays in[], its scalar input (ignored by a function without one) and

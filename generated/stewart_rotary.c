@@ -432,36 +432,43 @@ static stewart_vl vblock_rotary_cueing_rows(const stewart_params *opaque, double
     const stewart_rotary_params *p = rotary_params_of(opaque);
     const stewart_vd *x = in[0];
     const stewart_vd *xd = in[1];
+    const stewart_vd *x0 = in[2];
     stewart_vd *alpha = out[0];
     stewart_vd *ad = out[1];
     stewart_vd *reach = out[2];
     stewart_vd *grads = out[3];
-    stewart_vd cs[12], S2[6], rho2[6];
+    stewart_vd *joints = out[4];
+    stewart_vd *djoints_dx = out[5];
+    stewart_vd cs[12], S2[6], rho2[6], qc[18], qp[18];
     stewart_vl status = vnone();
     (void)scalar;
     (void)p;
     vkernel_rotary_cueing_rows(p, x, xd, cs, ad, reach, grads, S2, rho2);
     status = vmerge(status, vcheck_cranks(S2, rho2));
     status = vmerge(status, vcrank_angles(cs, alpha));
+    vkernel_rotary_neutral_axes(p, x0, qc, qp, S2, rho2);
+    status = vmerge(status, vcheck_cranks(S2, rho2));
+    vkernel_rotary_joint_rows(p, x, qc, qp, joints, djoints_dx, S2, rho2);
+    status = vmerge(status, vcheck_cranks(S2, rho2));
     return status;
 }
 
-int stewart_rotary_batch_cueing_rows(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, double *alpha, double *ad, double *reach, double *grads, int *status)
+int stewart_rotary_batch_cueing_rows(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *x0, double *alpha, double *ad, double *reach, double *grads, double *joints, double *djoints_dx, int *status)
 {
-    stewart_vd in0[6], in1[6], out0[6], out1[6], out2[6], out3[108];
-    return batch_rows(rotary_params_finite(p), (const stewart_params *)(const void *)p, vblock_rotary_cueing_rows, 0.0, n, 2, (const double *const []){x, xd}, (stewart_vd *const []){in0, in1}, 4, (double *const []){alpha, ad, reach, grads}, (stewart_vd *const []){out0, out1, out2, out3}, (const int []){6, 6, 6, 108}, status);
+    stewart_vd in0[6], in1[6], in2[6], out0[6], out1[6], out2[6], out3[108], out4[24], out5[144];
+    return batch_rows(rotary_params_finite(p), (const stewart_params *)(const void *)p, vblock_rotary_cueing_rows, 0.0, n, 3, (const double *const []){x, xd, x0}, (stewart_vd *const []){in0, in1, in2}, 6, (double *const []){alpha, ad, reach, grads, joints, djoints_dx}, (stewart_vd *const []){out0, out1, out2, out3, out4, out5}, (const int []){6, 6, 6, 108, 24, 144}, status);
 }
 
-int stewart_rotary_cueing_rows(const stewart_rotary_params *p, const double x[6], const double xd[6], double alpha[6], double ad[6], double reach[6], double grads[108])
+int stewart_rotary_cueing_rows(const stewart_rotary_params *p, const double x[6], const double xd[6], const double x0[6], double alpha[6], double ad[6], double reach[6], double grads[108], double joints[24], double djoints_dx[144])
 {
-    return stewart_rotary_batch_cueing_rows(p, 1, x, xd, alpha, ad, reach, grads, NULL);
+    return stewart_rotary_batch_cueing_rows(p, 1, x, xd, x0, alpha, ad, reach, grads, joints, djoints_dx, NULL);
 }
 
 #ifdef STEWART_TARGET  /* the call of this copy's table, below */
 static int call_rotary_cueing_rows(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
 {
     (void)scalar;
-    return stewart_rotary_batch_cueing_rows(rotary_params_of(p), n, in[0], in[1], out[0], out[1], out[2], out[3], status);
+    return stewart_rotary_batch_cueing_rows(rotary_params_of(p), n, in[0], in[1], in[2], out[0], out[1], out[2], out[3], out[4], out[5], status);
 }
 #endif
 

@@ -14,9 +14,9 @@
 from scipy.linalg.cython_blas cimport dsyrk, dgemv
 
 #: The rows of the constraint groups, in the order of stewart.cueing.planner.GROUPS (on a rotary
-#: rig, stewart/_cueing_rotary.pxi: ``legs`` the crank angles, crank rates and reaches at the
-#: next sample, ``force`` the motor torques, ``stroke`` the crank angles, ``speed`` the crank
-#: rates and ``cones`` the reaches over the horizon).
+#: rig, stewart/_cueing_rotary.pxi: ``legs`` the crank angles, crank rates, reaches and joints
+#: at the next sample, ``force`` the motor torques, ``stroke`` the crank angles, ``speed`` the
+#: crank rates and ``cones`` the reaches and joints over the horizon).
 CUEING_GROUPS = ("actuators", "legs", "next_tilt", "force", "stroke", "speed", "cones", "tilt", "box", "rest")
 
 cdef enum:
@@ -24,7 +24,9 @@ cdef enum:
     CUE_V = 6
     CUE_Z = 12
     CUE_LEGS_ROWS = 24  # a sample's leg lengths, leg speeds and joint cosines
-    CUE_CRANK_ROWS = 18  # a rotary rig's: crank angles, crank rates and reaches
+    CUE_CRANK_ROWS = 42  # a rotary rig's: crank angles, crank rates, reaches and joints
+    CUE_JOINT_ROWS = 24  # a rotary point's joints: rod-crank, crank-joint, platform-joint cosines, heights
+    CUE_HORIZON_ROWS = 30  # a rotary horizon point's cones rows: the reaches, then the joints
     CUE_COST_ROWS = 18  # a sample's weighted rows of the cost: pose, rates, perceived channels
 
 
@@ -52,7 +54,10 @@ cdef class CueingStep:
     ``limits``: ``(force, force_limit, stroke low, stroke high, speed_limit, tilt_rate)``,
     ``cone`` ``(12,)`` the cosines' bounds over the horizon, ``next_low``, ``next_high``
     ``(24,)`` the ``legs`` rows' and ``box`` ``(6,)``; ``decay_dt`` and ``gain_dt`` ``(nz,)`` the
-    sections discretized over one log sample (:meth:`advance`).
+    sections discretized over one log sample (:meth:`advance`). On a rotary rig (``dynamics`` a
+    RotaryKernel): ``cone`` ``(60,)`` the ``cones`` rows' lower bounds (30: the reaches, the
+    joints), then their upper; ``next_low``, ``next_high`` ``(42,)``; ``motor`` ``(18,)`` the
+    torque limits, less their margin, and the speed limits less theirs.
 
     :meth:`condense` fills ``H``, ``q``, the rows ``M`` and bounds ``lo``, ``hi`` (unscaled),
     DAQP's ``A``, ``upper``, ``lower`` (scaled, inset, infinite bounds at 1e30), the states'
@@ -62,7 +67,7 @@ cdef class CueingStep:
     cdef Kernel dynamics, rider
     cdef RotaryKernel crank_model  # a rotary rig's (stewart/_cueing_rotary.pxi), else None
     cdef readonly bint rotary
-    cdef readonly int legs_rows    # the legs group's rows: 24, or 18 on a rotary rig
+    cdef readonly int legs_rows    # the legs group's rows: 24, or 42 on a rotary rig
     cdef stewart_call rows_fn, torques_fn
     cdef readonly int n, nz, ns, nu, m
     cdef double dt, force, force_limit, stroke_low, stroke_high, speed_limit, tilt_rate
@@ -121,8 +126,10 @@ cdef class CueingStep:
     cdef double *tdv
     cdef double *tdu
     cdef double *motor     # per actuator: its force (torque) limit, less its margin, its speed less its margin
-    cdef double *crank_out    # rotary: per point alpha, alpha_dot, reach (18)
+    cdef double *crank_out    # rotary: per point alpha, alpha_dot, reach (18), the joints (24)
     cdef double *crank_grads  # rotary: per point J_alpha T, d alpha_dot/dx, d reach/dx (108)
+    cdef double *joint_grads  # rotary: per point d joints/dx (144)
+    cdef double *refs         # rotary: the pose the joints are centred at (home), once per point
     cdef double *last_x
     cdef double *last_v
     cdef double *last_u
@@ -182,14 +189,16 @@ cdef class CueingStep:
         self.input_weight = self._fixed(input_weight, nu)
         self.inv_scale = self._fixed(1.0 / np.asarray(row_scale, dtype=np.float64), self.m)
         self.inset = self._fixed(inset, self.m)
-        self.cone = self._fixed(cone, 6 if self.rotary else 12)
+        self.cone = self._fixed(cone, 2 * CUE_HORIZON_ROWS if self.rotary else 12)
         self.next_low = self._fixed(next_low, self.legs_rows)
         self.next_high = self._fixed(next_high, self.legs_rows)
         if motor is None:
             motor = np.concatenate([np.full(6, self.force), np.full(6, self.force_limit), np.full(6, self.speed_limit)])
         self.motor = self._fixed(motor, 18)
-        self.crank_out = self._buffer(18 * (n + 1))
+        self.crank_out = self._buffer(CUE_CRANK_ROWS * (n + 1))
         self.crank_grads = self._buffer(108 * (n + 1))
+        self.joint_grads = self._buffer(6 * CUE_JOINT_ROWS * (n + 1))
+        self.refs = self._fixed(np.tile(np.asarray(home, dtype=np.float64), n + 1), 6 * (n + 1))
         self.box = self._fixed(box, 6)
         self.decay_dt = self._fixed(decay_dt, nz)
         self.gain_dt = self._fixed(gain_dt, nz)

@@ -165,10 +165,10 @@ FUNCTIONS = {
     ),
     'cueing_rows': Function(
         index=11,
-        inputs=('x', 'xd'),
+        inputs=('x', 'xd', 'x0'),
         scalar='',
-        outputs=(('alpha', 6), ('ad', 6), ('reach', 6), ('grads', 108)),
-        results=(('alpha', 0, 0, (6,)), ('ad', 1, 0, (6,)), ('reach', 2, 0, (6,)), ('grads', 3, 0, (3, 6, 6))),
+        outputs=(('alpha', 6), ('ad', 6), ('reach', 6), ('grads', 108), ('joints', 24), ('djoints_dx', 144)),
+        results=(('alpha', 0, 0, (6,)), ('ad', 1, 0, (6,)), ('reach', 2, 0, (6,)), ('grads', 3, 0, (3, 6, 6)), ('joints', 4, 0, (24,)), ('djoints_dx', 5, 0, (24, 6))),
         result_type='',
         method='cueing_rows',
         option='',

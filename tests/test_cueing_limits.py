@@ -123,14 +123,13 @@ def test_random_logs_give_references_within_every_limit(platforms, seed):
 
 @pytest.mark.parametrize("seed", SEEDS[:2] if len(SEEDS) == 4 else SEEDS)
 def test_random_logs_on_simrig100_give_references_within_every_limit(seed):
-    """The same random logs on the rotary sim-racing rig: every crank angle, crank rate, reach
-    and motor torque within its limit (tests/test_cueing_rotary.py checks them by the oracle;
-    the MPC's rows do not hold the ball-joint cones yet, so they are lifted here, and
-    tests/test_cueing_rotary.py checks a plan passing them is reported)."""
+    """The same random logs on the rotary sim-racing rig: every pose within the rig's workspace
+    (crank angles, reach, rod-crank angles, ball-joint cones, base clearance), every crank rate
+    and motor torque within its limit (tests/test_cueing_rotary.py checks them by the oracle and
+    numpy geometry)."""
     from stewart.cueing import rotary
 
-    params = stewart.RotaryParams.preset("simrig100")
-    rig = stewart.RotaryPlatform(params.replace(crank_joint_max_angle=None, platform_joint_max_angle=None))
+    rig = stewart.RotaryPlatform.preset("simrig100")
     result = mpc(random_log(seed), rig)
     assert result.inside and not result.beyond_limits, result.problems
     assert result.solver["qp_failures"] == 0 and result.solver["qp_levels"]["brake"] == 0, result.solver

@@ -1,13 +1,11 @@
 """MPC cueing and the washout on rotary rigs (issue 40): every reference holds the motors' torque
 and speed limits, the crank-angle limits and the cranks' reach, checked by the independent
-oracle (tests/rotary_oracle.py: crank angles by atan2 and acos, torques by virtual power); the
-compiled step's rotary rows against a reference formulation (the oracle, affine in the inputs,
-and its central differences); the generated cueing_rows against the oracle; the API and the
-command line's bad input. Every reference's ball-joint cones, rod-crank angles and base
-clearance are checked by numpy geometry (tests/test_rotary_workspace.py ``_geometry``): the washout
-holds them; the MPC does not yet (its rows hold the motors, crank angles and reach), so the MPC
-tests of the limits it holds run on simrig100 with its cones lifted (:func:`uncapped`), and on the
-rig itself its passes must be reported, exactly where the geometry puts them."""
+oracle (tests/rotary_oracle.py: crank angles by atan2 and acos, torques by virtual power), and
+the ball-joint cones, rod-crank angles and base clearance, checked by numpy geometry
+(tests/test_rotary_workspace.py ``_geometry``); the compiled step's rotary rows against a
+reference formulation (the oracle and the geometry, affine in the inputs, and their central
+differences); the generated cueing_rows against the oracle and the geometry; the API and the
+command line's bad input."""
 
 from dataclasses import replace
 
@@ -29,16 +27,6 @@ LOG = "examples/cueing/hard_braking.csv"
 @pytest.fixture(scope="module")
 def rig():
     return stewart.RotaryPlatform.preset("simrig100")
-
-
-def uncapped(rig):
-    """``rig`` with its ball-joint cones lifted: the limits the MPC's rows hold."""
-    return stewart.RotaryPlatform(rig.params.replace(crank_joint_max_angle=None, platform_joint_max_angle=None))
-
-
-@pytest.fixture(scope="module")
-def free_rig(rig):
-    return uncapped(rig)
 
 
 def geometry_slacks(p, poses):
@@ -75,9 +63,17 @@ def oracle_reach(p, x):
     return out
 
 
+def geometry_joints(p, x):
+    """The joints of ``RotaryPlatform.cueing_rows`` at ``x`` by numpy geometry (joints centred at
+    home): the rod-crank, crank-joint and platform-joint cosines and the platform joints'
+    heights ``(24,)``."""
+    return np.concatenate(_geometry(p, x, stewart.RotaryPlatform(p).home)[1:])
+
+
 def assert_holds_every_limit(result, rig, every=1):
     """The reference's poses, rates and accelerations (every ``every``-th sample) within the
-    motors' torque and speed limits, the crank-angle limits and the reach, by the oracle."""
+    motors' torque and speed limits, the crank-angle limits and the reach, by the oracle, and
+    within the cones, rod-crank angles and base clearance, by numpy geometry."""
     p = rig.params
     assert result.inside and not result.beyond_limits, result.problems
     lo, hi = p.crank_angle_limits
@@ -93,8 +89,7 @@ def assert_holds_every_limit(result, rig, every=1):
     assert np.all(slacks[:, :3] >= 0.0) and np.all(slacks[:, 3] > 0.0), np.min(slacks, axis=0)
 
 
-def test_mpc_on_a_braking_log_holds_every_limit_by_the_oracle(free_rig):
-    rig = free_rig
+def test_mpc_on_a_braking_log_holds_every_limit_by_the_oracle(rig):
     result = mpc(LOG, rig)
     assert result.solver["qp_failures"] == 0 and result.solver["qp_levels"]["brake"] == 0
     assert set(result.peaks) == {"crank_speed", "torque"}
@@ -105,9 +100,8 @@ def test_mpc_on_a_braking_log_holds_every_limit_by_the_oracle(free_rig):
     assert_holds_every_limit(result, rig, every=3)
 
 
-def test_mpc_holds_a_tight_torque_limit(free_rig):
+def test_mpc_holds_a_tight_torque_limit(rig):
     """A torque limit the braking cue would pass binds: the plan keeps it, sample by sample."""
-    rig = free_rig
     tight = rig.params.replace(motor_torque_limit=30.0)
     free = mpc(LOG, rig).peaks["torque"]
     assert free > 30.0
@@ -117,10 +111,10 @@ def test_mpc_holds_a_tight_torque_limit(free_rig):
 
 
 @pytest.mark.parametrize("seed", [0, 1])
-def test_random_logs_on_simrig100(free_rig, seed):
+def test_random_logs_on_simrig100(rig, seed):
     """(The random-log sweep of tests/test_cueing_limits.py runs these on simrig100 too.)"""
-    result = mpc(random_log(seed), free_rig)
-    assert_holds_every_limit(result, free_rig, every=5)
+    result = mpc(random_log(seed), rig)
+    assert_holds_every_limit(result, rig, every=5)
 
 
 @pytest.mark.parametrize("path", sorted(__import__("glob").glob("examples/cueing/*.csv")))
@@ -134,21 +128,29 @@ def test_washout_holds_every_limit_on_the_shipped_logs(rig, path):
         assert any("crank_joint_limit" in span["limits"] for span in result.limiting.intervals())
 
 
-def test_mpc_passing_the_cones_is_reported_where_the_geometry_puts_it(rig):
-    """The MPC's rows do not hold the cones yet: on simrig100 its braking plan passes the crank
-    joints' 30 deg cones, and the result says so (exit 3), on exactly the rows numpy geometry
-    finds beyond a cone, and on a rig with the cones opened to 80 deg on none."""
-    result = mpc(LOG, rig)
-    assert result.exit_code == 3 and not result.inside
-    assert any("crank ball-joint cone" in problem for problem in result.problems), result.problems
-    slacks = geometry_slacks(rig.params, result.poses)
-    beyond = np.min(slacks[:, :2], axis=1) < 0.0
-    assert beyond.sum() > 100
-    flagged = (result.reachability.flags & (rr.CRANK_JOINT_LIMIT | rr.PLATFORM_JOINT_LIMIT)) != 0
-    clear = np.abs(np.min(slacks[:, :2], axis=1)) > 1e-9  # (rows on a cone's edge either way)
-    np.testing.assert_array_equal(flagged[clear], beyond[clear])
-    opened = rig.params.replace(crank_joint_max_angle=np.radians(80), platform_joint_max_angle=np.radians(80))
-    assert mpc(LOG, opened).exit_code == 0
+#: Joint limits near the braking log's motion on simrig100: (the limit's parameters, the
+#: column of :func:`geometry_slacks` it binds).
+TIGHT_JOINTS = {"cones": (dict(crank_joint_max_angle=np.radians(21.0), platform_joint_max_angle=np.radians(9.0)),
+                          (0, 1)),
+                "rod_crank": (dict(rod_crank_angle_limits=(np.radians(80.0), np.radians(118.0))), (2,)),
+                "clearance": (dict(base_clearance=0.438), (3,))}
+
+
+@pytest.mark.parametrize("kind", TIGHT_JOINTS)
+def test_mpc_holds_tight_joint_limits(rig, kind):
+    """Each kind of joint limit, tightened until the braking cue on simrig100 (as it is) would
+    pass it, binds: the plan keeps every sample within it by numpy geometry, and comes within a
+    hundredth of it (a row of the wrong sign or gradient would let the plan through, or hold it
+    far from the limit)."""
+    values, columns = TIGHT_JOINTS[kind]
+    free = geometry_slacks(rig.params.replace(**values), mpc(LOG, rig).poses)
+    assert np.min(free[:, columns]) < 0.0  # the cue as planned without the limit passes it
+    tight = stewart.RotaryPlatform(rig.params.replace(**values))
+    result = mpc(LOG, tight)
+    assert result.exit_code == 0 and result.solver["qp_levels"]["brake"] == 0, (result.problems, result.solver)
+    assert_holds_every_limit(result, tight)
+    slack = np.min(geometry_slacks(tight.params, result.poses)[:, columns])
+    assert 0.0 <= slack < 0.01 * (0.1 if kind == "clearance" else 1.0), slack
 
 
 def test_washout_holds_the_cranks(rig):
@@ -181,6 +183,16 @@ def test_cueing_rows_against_the_oracle(rig):
                     ("dreach_dx", lambda y: oracle_reach(p, y))):
         fd = np.column_stack([(f(x + h * e) - f(x - h * e)) / (2 * h) for e in np.eye(6)])
         np.testing.assert_allclose(getattr(rows, name), fd, rtol=0, atol=2e-8 * np.max(np.abs(fd))), name
+    # the joints, centred at home and at another reference, against numpy geometry
+    np.testing.assert_allclose(rows.joints, geometry_joints(p, x), rtol=0, atol=1e-14)
+    reference = rig.home + np.concatenate([rng.uniform(-0.02, 0.02, 3), rng.uniform(-0.05, 0.05, 3)])
+    joints = np.concatenate(_geometry(p, x, reference)[1:])
+    np.testing.assert_allclose(rig.cueing_rows(x, xd, reference).joints, joints, rtol=0, atol=1e-14)
+    # their gradient against the geometry's five-point differences (2.3e-11 off at h = 3e-5)
+    f, h = (lambda y: geometry_joints(p, y)), 3e-5  # noqa: E731
+    fd = np.column_stack([(8 * (f(x + h * e) - f(x - h * e)) - (f(x + 2 * h * e) - f(x - 2 * h * e))) / (12 * h)
+                          for e in np.eye(6)])
+    np.testing.assert_allclose(rows.djoints_dx, fd, rtol=0, atol=1e-10)
 
 
 def test_compiled_rotary_step_against_the_oracle(rig):
@@ -205,12 +217,14 @@ def test_compiled_rotary_step_against_the_oracle(rig):
         value = qp.torque - hi[act]
         np.testing.assert_allclose(M[act] @ u + value, tau, rtol=1e-11, atol=1e-11 * np.max(np.abs(tau)))
     x1, v1 = x0 + 0.01 * v0, v0
-    exact = np.concatenate([oracle.crank_angles(p, x1), oracle.crank_rates(p, x1, v1), oracle_reach(p, x1)])
+    exact = np.concatenate([oracle.crank_angles(p, x1), oracle.crank_rates(p, x1, v1), oracle_reach(p, x1),
+                            geometry_joints(p, x1)])
     np.testing.assert_allclose(qp.step.legs_constant, exact, rtol=1e-12, atol=1e-13)
     h = 1e-3
     def legs_at(u0):
         y, w = x1 + 0.5e-4 * u0, v1 + 0.01 * u0
-        return np.concatenate([oracle.crank_angles(p, y), oracle.crank_rates(p, y, w), oracle_reach(p, y)])
+        return np.concatenate([oracle.crank_angles(p, y), oracle.crank_rates(p, y, w), oracle_reach(p, y),
+                               geometry_joints(p, y)])
     fd = np.column_stack([(legs_at(h * e) - legs_at(-h * e)) / (2 * h) for e in np.eye(6)])
     np.testing.assert_allclose(M[legs][:, :6], fd, rtol=0, atol=1e-7 * np.max(np.abs(fd)))
     # the exact next values are the oracle's
@@ -244,15 +258,21 @@ def test_compiled_rotary_step_over_the_horizon_against_a_reference(rig):
     d = 1e-6
     def grad(f):
         return np.column_stack([(f(xbar + d * e) - f(xbar - d * e)) / (2 * d) for e in np.eye(6)])
-    J, DA, DS = (grad(lambda y: oracle.crank_angles(p, y)), grad(lambda y: oracle.crank_rates(p, y, vbar)),
-                 grad(lambda y: oracle_reach(p, y)))
+    J, DA, DS, DJ = (grad(lambda y: oracle.crank_angles(p, y)), grad(lambda y: oracle.crank_rates(p, y, vbar)),
+                     grad(lambda y: oracle_reach(p, y)), grad(lambda y: geometry_joints(p, y)))
     alpha, rate, reach = oracle.crank_angles(p, xbar), oracle.crank_rates(p, xbar, vbar), oracle_reach(p, xbar)
+    joints = geometry_joints(p, xbar)
+    # the cones rows' lower bounds per point: the reaches' margin, the joints' (-inf where unlimited)
+    cone_low = qp.cone_cosines[:30]
     for k in range(1, n + 1):
         dx = x[k] - xbar
-        for group, expected, low in (("stroke", alpha + J @ dx, qp.stroke[0]),
-                                     ("speed", J @ v[k] + DA @ dx, -qp.speed_limit),
-                                     ("cones", reach + DS @ dx, crank.REACH_MARGIN)):
-            rows = np.arange(qp.rows[group].start + 6 * (k - 1), qp.rows[group].start + 6 * k)
+        for group, expected, low, size in (("stroke", alpha + J @ dx, qp.stroke[0], 6),
+                                           ("speed", J @ v[k] + DA @ dx, -qp.speed_limit, 6),
+                                           ("cones", np.concatenate([reach + DS @ dx, joints + DJ @ dx]), cone_low, 30)):
+            rows = np.arange(qp.rows[group].start + size * (k - 1), qp.rows[group].start + size * k)
+            finite = np.isfinite(lo[rows])
+            rows, expected = rows[finite], expected[finite]
+            low = np.broadcast_to(low, finite.shape)[finite]
             got = M[rows] @ u + (low - lo[rows])
             np.testing.assert_allclose(got, expected, rtol=0, atol=1e-7 * max(1.0, np.max(np.abs(expected)))), (group, k)
     # the torques at the intervals' starts: linearized at (x0, v0, 0)
@@ -301,16 +321,21 @@ def test_api_bad_input(rig):
         mpc(LOG, rig.params, progress="yes")
 
 
-def test_cli_reports_a_plan_passing_a_cone(tmp_path):
-    """A plan beyond a ball-joint cone is a problem on the command line: exit 3, the cone named."""
-    run = call("cueing", LOG, "--preset", "simrig100", "--method", "mpc", "--output", tmp_path / "ref.csv")
-    assert run.returncode == 3, run.stderr
-    assert "crank ball-joint cone" in run.stderr, run.stderr
+def test_cli_mpc_on_simrig100_holds_the_cones(tmp_path):
+    """On the command line the MPC's reference on the sim-racing rig, its 30 deg cones as they
+    are, exits 0 and its report says so, within the motors' limits."""
+    import json
+
+    run = call("cueing", LOG, "--preset", "simrig100", "--method", "mpc", "--output", tmp_path / "ref.csv",
+               "--report", tmp_path / "report.json")
+    assert run.returncode == 0, run.stderr
+    report = json.loads((tmp_path / "report.json").read_text())
+    assert report["ok"] and report["peak_torque"] <= report["limits"]["torque"]
 
 
 def test_cli_serves_a_rotary_file(tmp_path):
     path = tmp_path / "rig.toml"
-    uncapped(stewart.RotaryPlatform.preset("desktop_servo")).params.save(path)
+    stewart.RotaryParams.preset("desktop_servo").save(path)
     run = call("cueing", LOG, "--params", path, "--method", "mpc", "--output", tmp_path / "ref.csv",
                "--report", tmp_path / "report.json")
     assert run.returncode == 0, run.stderr

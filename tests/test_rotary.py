@@ -397,7 +397,8 @@ def test_massless_legs_reduce_to_the_platforms_statics(figures):
 #: Every array-taking method of RotaryPlatform with its state arguments' names.
 ROTARY_METHODS = {"crank_angles": ("x",), "jacobian": ("x",), "mass_matrix": ("x",), "gravity_vector": ("x",),
                   "inverse_dynamics": ("x", "xd", "xdd"), "forward_dynamics": ("x", "xd", "torque"),
-                  "inverse_dynamics_derivatives": ("x", "xd", "xdd"), "joint_cosines": ("x", "reference"), "cueing_rows": ("x", "xd"),
+                  "inverse_dynamics_derivatives": ("x", "xd", "xdd"), "joint_cosines": ("x", "reference"),
+                  "cueing_rows": ("x", "xd", "reference"),
                   "forward_dynamics_derivatives": ("x", "xd", "torque"), "rk4_step": ("x", "xd", "torque", "dt")}
 
 

@@ -125,6 +125,9 @@ TIGHTENINGS = 3
 CONE_MARGIN = 0.005
 #: On a rotary rig: kept from each end of ``crank_angle_limits`` [rad] over the horizon.
 ANGLE_MARGIN = 0.02
+#: On a rotary rig: kept above the base plane and ``base_clearance`` [m] over the horizon (the
+#: rod-crank angle limits and the ball-joint cones keep :data:`CONE_MARGIN`).
+CLEARANCE_MARGIN = 0.001
 
 
 @dataclass
@@ -226,11 +229,12 @@ class CueingQP:
     def _rotary_rows(self, prm):
         """A rotary rig's rows (stewart/_cueing_rotary.pxi): ``actuators`` and ``force`` the
         motor torques within ``min(force, motor_torque_limit)`` (less ``margin`` over the
-        horizon), ``legs`` the crank angles within ``crank_angle_limits`` (:data:`ANGLE_MARGIN`
-        in from them over the horizon, ``stroke``), the crank rates within ``min(leg_velocity,
-        motor_speed_limit)`` (less ``margin``, ``speed``) and the reaches above
-        :data:`~stewart.cueing.rotary.REACH_MIN` (:data:`~stewart.cueing.rotary.REACH_MARGIN`,
-        ``cones``) at the next sample and over the horizon."""
+        horizon); at the next sample (``legs``) and over the horizon the crank angles within
+        ``crank_angle_limits`` (:data:`ANGLE_MARGIN` in from them over the horizon, ``stroke``),
+        the crank rates within ``min(leg_velocity, motor_speed_limit)`` (less ``margin``,
+        ``speed``), and (``cones`` over the horizon) the reaches above
+        :data:`~stewart.cueing.rotary.REACH_MIN` (:data:`~stewart.cueing.rotary.REACH_MARGIN`)
+        and the joints (:meth:`_joint_bounds`)."""
         n, rig = self.n, self.platform
         # the rider's signals depend on the pose and gravity alone: a linear platform's kernel serves
         self.rider = Platform(PlatformParams.preset("motion_simulator").replace(gravity=prm.gravity))
@@ -242,22 +246,45 @@ class CueingQP:
         self.stroke = (lo + ANGLE_MARGIN, hi - ANGLE_MARGIN)
         self.force_limit = (1.0 - prm.margin) * self.torque
         self.speed_limit = (1.0 - prm.margin) * self.speed
-        self.cone_cosines = np.full(6, rotary.REACH_MARGIN)
+        joints_low, joints_high = self._joint_bounds(0.0, 0.0)
+        margin_low, margin_high = self._joint_bounds(CONE_MARGIN, CLEARANCE_MARGIN)
+        self.cone_cosines = np.concatenate([np.full(6, rotary.REACH_MARGIN), margin_low, np.full(6, np.inf),
+                                            margin_high])
         self.neutral = np.zeros((6, 3))
-        self.next_limits = (np.concatenate([np.full(6, lo), -self.speed, np.full(6, rotary.REACH_MIN)]),
-                            np.concatenate([np.full(6, hi), self.speed, np.full(6, np.inf)]))
+        self.next_limits = (np.concatenate([np.full(6, lo), -self.speed, np.full(6, rotary.REACH_MIN), joints_low]),
+                            np.concatenate([np.full(6, hi), self.speed, np.full(6, np.inf), joints_high]))
         box = np.asarray(prm.box)
-        sizes = {"actuators": 6, "legs": 18, "next_tilt": 2, "force": 6 * n, "stroke": 6 * n, "speed": 6 * n,
-                 "cones": 6 * n, "tilt": 2 * n, "box": 6 * n, "rest": 6}
+        joints_scale = np.concatenate([np.ones(18), np.full(6, rig.params.crank_length)])
+        sizes = {"actuators": 6, "legs": 42, "next_tilt": 2, "force": 6 * n, "stroke": 6 * n, "speed": 6 * n,
+                 "cones": 30 * n, "tilt": 2 * n, "box": 6 * n, "rest": 6}
         scales = {"actuators": self.torque,
-                  "legs": np.concatenate([np.full(6, hi - lo), self.speed, np.ones(6)]),
+                  "legs": np.concatenate([np.full(6, hi - lo), self.speed, np.ones(6), joints_scale]),
                   "next_tilt": np.full(2, prm.tilt_rate), "force": np.tile(self.torque, n),
                   "stroke": np.full(6 * n, hi - lo), "speed": np.tile(self.speed, n),
-                  "cones": np.ones(6 * n), "tilt": np.full(2 * n, prm.tilt_rate), "box": np.tile(box, n),
-                  "rest": np.ones(6)}
+                  "cones": np.tile(np.concatenate([np.ones(6), joints_scale]), n),
+                  "tilt": np.full(2 * n, prm.tilt_rate), "box": np.tile(box, n), "rest": np.ones(6)}
         edges = self._finish(sizes, scales)
         motor = np.concatenate([self.torque, self.force_limit, self.speed_limit])
         self.step = self._compiled_step(edges, None, motor)
+
+    def _joint_bounds(self, angle_margin, height_margin):
+        """The bounds ``(24,)`` each, low and high, of a rotary rig's joints (the generated
+        :meth:`~stewart.RotaryPlatform.cueing_rows` ``joints``, centred at home as
+        :func:`~stewart.cueing.rotary.check_poses` centres them): the rod-crank cosines within
+        ``rod_crank_angle_limits``, the crank and platform joints' cosines above the cosines of
+        their cones, each limit ``angle_margin`` [rad] in; the platform joints' heights
+        ``height_margin`` [m] above the base plane plus ``base_clearance`` (none: the plane)."""
+        p = self.platform.params
+        fold = (-np.inf, np.inf)
+        if p.rod_crank_angle_limits is not None:
+            least, most = p.rod_crank_angle_limits
+            fold = (np.cos(most - angle_margin), np.cos(least + angle_margin))
+        cones = [np.cos(limit - angle_margin) if limit is not None else -np.inf
+                 for limit in (p.crank_joint_max_angle, p.platform_joint_max_angle)]
+        floor = np.max(p.base_points[:, 2]) + (p.base_clearance or 0.0) + height_margin
+        low = np.concatenate([np.full(6, fold[0]), np.full(6, cones[0]), np.full(6, cones[1]), np.full(6, floor)])
+        high = np.concatenate([np.full(6, fold[1]), np.full(12, np.inf), np.full(6, np.inf)])
+        return low, high
 
     def _weights(self):
         """The cost's weights per second of horizon ``(18,)``: on the pose and its rates (per
@@ -302,9 +329,10 @@ class CueingQP:
                 step.d[1:].copy())
 
     def next_values(self, x0, v0, u0):
-        """The leg lengths, leg speeds and joint-angle cosines ``(24,)`` at the next log sample
-        after ``u0`` held from pose ``x0`` and rates ``v0``, exact: the ``legs`` rows' values,
-        within :attr:`next_limits` when the platform's limits hold there."""
+        """The leg lengths, leg speeds and joint-angle cosines ``(24,)`` (on a rotary rig the
+        crank angles, crank rates, reaches and joints ``(42,)``) at the next log sample after
+        ``u0`` held from pose ``x0`` and rates ``v0``, exact: the ``legs`` rows' values, within
+        :attr:`next_limits` when the platform's limits hold there."""
         return self.step.next_values(x0, v0, u0)
 
     def solve(self, x0, v0, z0, vehicle):

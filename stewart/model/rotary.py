@@ -35,7 +35,9 @@ class RotaryJointCosines(NamedTuple):
 
 class CueingRows(NamedTuple):
     """:meth:`RotaryPlatform.cueing_rows`: crank angles ``alpha``, ``JP = J_alpha T``, crank
-    rates ``ad`` and ``dad_dx``, the reach ``reach = sin^2(delta)`` and ``dreach_dx``."""
+    rates ``ad`` and ``dad_dx``, the reach ``reach = sin^2(delta)`` and ``dreach_dx``, the
+    ``joints`` (..., 24): the rod-crank, crank-joint and platform-joint cosines and the platform
+    joints' heights of :class:`RotaryJointCosines`, in that order, and ``djoints_dx`` (..., 24, 6)."""
 
     alpha: np.ndarray
     JP: np.ndarray
@@ -43,6 +45,8 @@ class CueingRows(NamedTuple):
     dad_dx: np.ndarray
     reach: np.ndarray
     dreach_dx: np.ndarray
+    joints: np.ndarray
+    djoints_dx: np.ndarray
 
 #: Most Newton iterations :meth:`RotaryPlatform.forward_kinematics` allows.
 MAX_ITERATIONS = 10_000
@@ -151,17 +155,20 @@ class RotaryPlatform:
             return tuple.__new__(InverseDynamicsDerivatives, result[0]), result[1]
         return tuple.__new__(InverseDynamicsDerivatives, result)
 
-    def cueing_rows(self, x, xd, return_mask: bool = False):
+    def cueing_rows(self, x, xd, reference=None, return_mask: bool = False):
         """What MPC cueing holds of the rig (:mod:`stewart.cueing.planner`), a
-        :class:`CueingRows` ``(alpha, JP, ad, dad_dx, reach, dreach_dx)``: the crank angles, the
-        pose Jacobian ``J_alpha T`` (``d alpha/dx = d alpha_dot/dxd``), the crank rates and their
-        exact partials in ``x``, the reach ``s_i = sin^2(delta_i)`` (codegen/rotary.py
-        ``crank_geometry``: 0 at the edge of crank i's reach, where ``J_alpha`` is singular) and
-        ``ds/dx``, by forward mode on the derivation (codegen/rotary.py ``rotary_cueing_rows_kernel``)."""
-        result = self._call("cueing_rows", (x, xd), return_mask)
-        alpha, rates, reach, grads = result[0] if return_mask else result
+        :class:`CueingRows` ``(alpha, JP, ad, dad_dx, reach, dreach_dx, joints, djoints_dx)``: the
+        crank angles, the pose Jacobian ``J_alpha T`` (``d alpha/dx = d alpha_dot/dxd``), the
+        crank rates and their exact partials in ``x``, the reach ``s_i = sin^2(delta_i)``
+        (codegen/rotary.py ``crank_geometry``: 0 at the edge of crank i's reach, where ``J_alpha``
+        is singular) and ``ds/dx``, and the joints of :meth:`joint_cosines` (centred at the pose
+        ``reference``, default :attr:`home`) with their gradient, by forward mode on the derivation
+        (codegen/rotary.py ``rotary_cueing_rows_kernel``, codegen/rotary_joints.py
+        ``rotary_joint_rows_kernel``)."""
+        result = self._call("cueing_rows", (x, xd, self._reference(reference)), return_mask)
+        alpha, rates, reach, grads, joints, djoints = result[0] if return_mask else result
         grads = np.moveaxis(grads, -3, 0)
-        rows = CueingRows(alpha, grads[0], rates, grads[1], reach, grads[2])
+        rows = CueingRows(alpha, grads[0], rates, grads[1], reach, grads[2], joints, djoints)
         return (rows, result[1]) if return_mask else rows
 
     def forward_dynamics(self, x, xd, torque, return_mask: bool = False):
@@ -175,13 +182,17 @@ class RotaryPlatform:
         directions at the pose ``reference`` (one pose, default :attr:`home`: the rig as it is
         mounted), fixed in each crank for the joint at its tip and in {P} for the joint on the
         platform, as the linear model's joints are centred at home."""
-        reference = self.home if reference is None else arguments.states("reference", reference)
-        if reference.ndim != 1:
-            raise ValueError(f"reference: expected one pose (6,), got shape {reference.shape}")
-        result = self._call("joint_cosines", (x, reference), return_mask)
+        result = self._call("joint_cosines", (x, self._reference(reference)), return_mask)
         if return_mask:
             return tuple.__new__(RotaryJointCosines, result[0]), result[1]
         return tuple.__new__(RotaryJointCosines, result)
+
+    def _reference(self, reference) -> np.ndarray:
+        """The pose the joints are centred at: ``reference`` (one pose), default :attr:`home`."""
+        reference = self.home if reference is None else arguments.states("reference", reference)
+        if reference.ndim != 1:
+            raise ValueError(f"reference: expected one pose (6,), got shape {reference.shape}")
+        return reference
 
     def forward_dynamics_derivatives(self, x, xd, torque, return_mask: bool = False):
         """The pose accelerations and their exact Jacobians, a
