@@ -17,7 +17,7 @@ checked on held-out poses; a modal study (:func:`modal_run`) of the ``motion_sim
 preset on legs of a realistic stiffness: its frequencies at home, a map of the lowest frequency
 over the workspace, and how much the payload's preload and the legs' inertia move each
 frequency; and a sim-racing rig (:func:`sim_racing_run`): the rotary ``simrig100`` cueing a GT
-car's lap by washout within its limits, and its motors sized along the reference it plays.
+car's lap by MPC within its limits, and its motors sized along the reference it plays.
 """
 
 from __future__ import annotations
@@ -183,12 +183,11 @@ def main(argv=None) -> None:
 
 def sim_racing_run(out: str, plots: bool = True) -> None:
     """A sim-racing rig, the rotary ``simrig100`` (100 kg of driver and seat, 750 W servos at
-    50:1), plays a GT car's flying lap (examples/cueing/racing_lap.csv) by washout cueing, its
-    limiter holding every limit of the rig's workspace (cranks, rods, ball joints), and its
-    motors are sized along the reference it plays, at the motor through the gearbox: the two
-    commands a rig builder runs, in this process. (MPC cueing does not yet hold a rotary rig's
-    ball-joint cones, and its plan of the lap passes simrig100's: the command says so and exits
-    3.) A command's nonzero exit ends the demo with it."""
+    50:1), plays a GT car's flying lap (examples/cueing/racing_lap.csv) by MPC cueing, its plans
+    holding the motors' torque and speed and every limit of the rig's workspace (cranks, rods,
+    ball joints, clearance), and its motors are sized along the reference it plays, at the motor
+    through the gearbox: the two commands a rig builder runs, in this process. A command's
+    nonzero exit ends the demo with it."""
     from stewart.cli import main as stewart_main
 
     lap = os.path.relpath(os.path.join(MANEUVER_DIR, RACING_LAP))
@@ -197,9 +196,9 @@ def sim_racing_run(out: str, plots: bool = True) -> None:
         return
     os.makedirs(out, exist_ok=True)
     reference = os.path.join(out, "racing_lap_simrig100.csv")
-    print("\nSim-racing rig simrig100 (rotary): a GT car's 59 s lap by washout cueing, then motor sizing of the "
+    print("\nSim-racing rig simrig100 (rotary): a GT car's 59 s lap by MPC cueing, then motor sizing of the "
           "reference it plays", flush=True)
-    for argv in (["cueing", lap, "--preset", "simrig100", "--method", "washout", "--output", reference],
+    for argv in (["cueing", lap, "--preset", "simrig100", "--method", "mpc", "--output", reference],
                  ["motor-sizing", reference, "--preset", "simrig100", "--gear-ratio", "50",
                   *(["--plot", out] if plots else [])]):
         print("$ stewart " + " ".join(argv), flush=True)
