@@ -304,22 +304,3 @@ def rotary_inverse_dynamics_derivatives_kernel(name, first):
                       rotary_inverse_dynamics_derivatives_kernel.__doc__, g,
                       [('x', X), ('xd', XD), ('xdd', XDD), ('tau', TAU_IN)],
                       [('ZT', [row[j] for j in range(len(inputs)) for row in rows])] + crank_checks(cranks))
-
-
-def rotary_cueing_rows_kernel():
-    """What MPC cueing holds of a rotary rig (stewart.cueing.planner), with the exact partials
-    (forward mode on the definitions, `Graph.partials`): cos(alpha_i) then sin(alpha_i); the
-    crank rates alpha' = J_alpha T xd; the reach s_i = S_i^2 / rho_i^2 = sin^2(delta_i)
-    (`crank_geometry`: 1 with the rod along the tip's motion, 0 at the edge of the reach, where
-    J_alpha is singular); grads, three 6 x 6 row-major: J_alpha T = d alpha' / d xd = d alpha / d x,
-    d alpha' / d x and d s / d x."""
-    g = Graph({})
-    kin, cranks = rotary_kinematics(g)
-    v, omega = twist(g, kin, XD, 'q')
-    rates = [g.define(f'ad{i}', dot(c.j, v + cross(omega, c.r))) for i, c in enumerate(cranks)]
-    reach = [g.define(f'sr{i}', c.S2 / c.rho2) for i, c in enumerate(cranks)]
-    flat = lambda rows: [d for row in rows for d in row]  # noqa: E731
-    return KernelSpec('rotary_cueing_rows', rotary_cueing_rows_kernel.__doc__, g, [('x', X), ('xd', XD)],
-                      [('cs', [c.cos for c in cranks] + [c.sin for c in cranks]), ('ad', rates), ('reach', reach),
-                       ('grads', flat(g.partials(rates, XD, 'v')) + flat(g.partials(rates, X, 'x'))
-                        + flat(g.partials(reach, X, 'y')))] + crank_checks(cranks))

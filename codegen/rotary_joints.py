@@ -17,8 +17,8 @@ n_i = P_i - c_i of length d, the crank tip's motion per unit rate t_i = r a_i x 
 
 import sympy as sp
 
-from .graph import Graph, KernelSpec, dot, symbols
-from .kinematics import NUM_LEGS, X
+from .graph import Graph, KernelSpec, cross, dot, symbols
+from .kinematics import NUM_LEGS, X, XD, twist
 from .rotary import RPARAMS, crank_checks, rotary_kinematics
 
 #: The neutral axes' components, leg by leg (three per leg): the crank joint's in the crank's
@@ -73,15 +73,26 @@ def rotary_joint_cosines_kernel():
                        ('c', fold + crank_joint + platform_joint), ('z', heights)] + crank_checks(cranks))
 
 
-def rotary_joint_rows_kernel():
-    """What MPC cueing holds of the joints (stewart/_cueing_rotary.pxi): the 24 values of
-    `rotary_joint_cosines_kernel` (the rod-crank, crank-joint and platform-joint cosines, the
-    platform joints' heights) at the pose x for the neutral axes qc, qp, and their exact
-    partials in x (forward mode on the definitions, `Graph.partials`), 24 x 6 row-major."""
+def rotary_cueing_rows_kernel():
+    """What MPC cueing holds of a rotary rig (stewart.cueing.planner), with the exact partials
+    (forward mode on the definitions, `Graph.partials`, one tangent per pose coordinate shared by
+    every row): cos(alpha_i) then sin(alpha_i); the crank rates alpha' = J_alpha T xd; the
+    reach s_i = S_i^2 / rho_i^2 = sin^2(delta_i) (`rotary.crank_geometry`: 1 with the rod along
+    the tip's motion, 0 at the edge of the reach, where J_alpha is singular); grads, three 6 x 6
+    row-major: J_alpha T = d alpha' / d xd = d alpha / d x, d alpha' / d x and d s / d x; the 24
+    joints of `rotary_joint_cosines_kernel` (the rod-crank, crank-joint and platform-joint
+    cosines, the platform joints' heights) for the neutral axes qc, qp, and their partials in x,
+    24 x 6 row-major."""
     g = Graph({})
     kin, cranks = rotary_kinematics(g)
-    values = [v for part in _joints(g, kin, cranks) for v in part]
-    return KernelSpec('rotary_joint_rows', rotary_joint_rows_kernel.__doc__, g,
-                      [('x', X), ('qc', QC_IN), ('qp', QP_IN)],
-                      [('joints', values), ('djoints_dx', [d for row in g.partials(values, X, 'j') for d in row])]
-                      + crank_checks(cranks))
+    v, omega = twist(g, kin, XD, 'q')
+    rates = [g.define(f'ad{i}', dot(c.j, v + cross(omega, c.r))) for i, c in enumerate(cranks)]
+    reach = [g.define(f'sr{i}', c.S2 / c.rho2) for i, c in enumerate(cranks)]
+    joints = [value for part in _joints(g, kin, cranks) for value in part]
+    flat = lambda rows: [d for row in rows for d in row]  # noqa: E731
+    by_pose = g.partials(rates + reach + joints, X, 'x')
+    return KernelSpec('rotary_cueing_rows', rotary_cueing_rows_kernel.__doc__, g,
+                      [('x', X), ('xd', XD), ('qc', QC_IN), ('qp', QP_IN)],
+                      [('cs', [c.cos for c in cranks] + [c.sin for c in cranks]), ('ad', rates), ('reach', reach),
+                       ('grads', flat(g.partials(rates, XD, 'v')) + flat(by_pose[:12])),
+                       ('joints', joints), ('djoints_dx', flat(by_pose[12:]))] + crank_checks(cranks))

@@ -99,9 +99,9 @@ FUNCTIONS = (
              ('x', 'xd', 'x0'),
              (('alpha', (6,)), ('ad', (6,)), ('reach', (6,)), ('grads', (3, 6, 6)), ('joints', (24,)),
               ('djoints_dx', (24, 6))), (),
-             steps=(Kernels((rotary.rotary_cueing_rows_kernel,), ('x', 'xd')), ('crank_angles', ('cs', 'alpha')),
-                    Kernels((rotary_joints.rotary_neutral_axes_kernel,), ('x0',)),
-                    Kernels((rotary_joints.rotary_joint_rows_kernel,), ('x', 'qc', 'qp')))),
+             steps=(Kernels((rotary_joints.rotary_neutral_axes_kernel,), ('x0',)),
+                    Kernels((rotary_joints.rotary_cueing_rows_kernel,), ('x', 'xd', 'qc', 'qp')),
+                    ('crank_angles', ('cs', 'alpha')))),
     # The forward dynamics' derivatives and the RK4 step with its Jacobians (issue 40), as the
     # linear model's (codegen/model.py): keep these entries together, at the end of the table.
     Function('forward_dynamics_derivatives',

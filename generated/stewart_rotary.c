@@ -439,17 +439,15 @@ static stewart_vl vblock_rotary_cueing_rows(const stewart_params *opaque, double
     stewart_vd *grads = out[3];
     stewart_vd *joints = out[4];
     stewart_vd *djoints_dx = out[5];
-    stewart_vd cs[12], S2[6], rho2[6], qc[18], qp[18];
+    stewart_vd qc[18], qp[18], S2[6], rho2[6], cs[12];
     stewart_vl status = vnone();
     (void)scalar;
     (void)p;
-    vkernel_rotary_cueing_rows(p, x, xd, cs, ad, reach, grads, S2, rho2);
-    status = vmerge(status, vcheck_cranks(S2, rho2));
-    status = vmerge(status, vcrank_angles(cs, alpha));
     vkernel_rotary_neutral_axes(p, x0, qc, qp, S2, rho2);
     status = vmerge(status, vcheck_cranks(S2, rho2));
-    vkernel_rotary_joint_rows(p, x, qc, qp, joints, djoints_dx, S2, rho2);
+    vkernel_rotary_cueing_rows(p, x, xd, qc, qp, cs, ad, reach, grads, joints, djoints_dx, S2, rho2);
     status = vmerge(status, vcheck_cranks(S2, rho2));
+    status = vmerge(status, vcrank_angles(cs, alpha));
     return status;
 }
 

@@ -117,8 +117,7 @@ int stewart_rotary_batch_rk4_step_derivatives(const stewart_rotary_params *p, si
  *   rotary_inverse_dynamics_derivatives_xdd3    2559
  *   rotary_neutral_axes                  811
  *   rotary_joint_cosines                 883
- *   rotary_cueing_rows                  4960
- *   rotary_joint_rows                   5199
+ *   rotary_cueing_rows                  7003
  */
 
 #ifdef __cplusplus
