@@ -13,6 +13,9 @@ n_i = P_i - c_i of length d, the crank tip's motion per unit rate t_i = r a_i x 
   direction q_c0 u + q_c1 (a x u) + q_c2 a; the platform joint's axis is q_p = R0^T n0 / d in
   {P}, at x the direction R q_p.  The cosines are those directions dotted with n / d.
 * The platform joints' heights (P_i)_z in {B}, for the platform's clearance above the base.
+
+And what MPC cueing holds of the rig (`rotary_cueing_rows_kernel`): the cranks' angles, rates
+and reach, and these joints, each with its exact pose gradient.
 """
 
 import sympy as sp

@@ -2,16 +2,16 @@
 # stewart/_cueing_rows.pxi; CueingStep.condense calls them when its model is a RotaryKernel):
 # the crank angles, crank rates, reaches and joints (the rod-crank and ball-joint cosines, the
 # platform joints' heights) at the next log sample and over the horizon, from the generated
-# rotary function cueing_rows (codegen/rotary.py rotary_cueing_rows_kernel and
-# codegen/rotary_joints.py rotary_joint_rows_kernel: the values and their exact pose gradients),
-# each affine in the inputs about the linearization point; the motor torques are _force_rows'
-# (the rotary inverse_dynamics_derivatives).
+# rotary function cueing_rows (codegen/rotary_joints.py rotary_cueing_rows_kernel: the values and
+# their exact pose gradients), each affine in the inputs about the linearization point; the
+# motor torques are _force_rows' (the rotary inverse_dynamics_derivatives).
 
 cdef void _rows_call(CueingStep self, int rows, const double *x, const double *v, double *out, int points, int p,
                      double *grads, double *joint_grads, int *status) noexcept:
-    """The generated cueing_rows on ``rows`` states (the joints centred at home), written from point ``p`` on into ``out`` laid out as ``crank_out`` for ``points``
-    points (alpha, alpha_dot and reach blocks of 6 ``points``, then the joints, 24 a point) and
-    into ``grads`` (108 a point) and ``joint_grads`` (144 a point)."""
+    """The generated cueing_rows on ``rows`` states (the joints centred at home), written from
+    point ``p`` on into ``out``, laid out as ``crank_out`` for ``points`` points (alpha,
+    alpha_dot and reach blocks of 6 ``points``, then the joints, 24 a point), and into
+    ``grads`` (108 a point) and ``joint_grads`` (144 a point)."""
     cdef const double *ins[3]
     cdef double *outs[6]
     ins[0], ins[1], ins[2] = x, v, self.refs

@@ -163,8 +163,7 @@ class RotaryPlatform:
         (codegen/rotary.py ``crank_geometry``: 0 at the edge of crank i's reach, where ``J_alpha``
         is singular) and ``ds/dx``, and the joints of :meth:`joint_cosines` (centred at the pose
         ``reference``, default :attr:`home`) with their gradient, by forward mode on the derivation
-        (codegen/rotary.py ``rotary_cueing_rows_kernel``, codegen/rotary_joints.py
-        ``rotary_joint_rows_kernel``)."""
+        (codegen/rotary_joints.py ``rotary_cueing_rows_kernel``)."""
         result = self._call("cueing_rows", (x, xd, self._reference(reference)), return_mask)
         alpha, rates, reach, grads, joints, djoints = result[0] if return_mask else result
         grads = np.moveaxis(grads, -3, 0)
