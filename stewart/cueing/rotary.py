@@ -27,6 +27,7 @@ import numpy as np
 from ..model import rotary_reachability as workspace
 from ..model.errors import WrongTypeError
 from ..model.platform import as_platform
+from ..model.reachability import outside_message
 from ..model.rotary import RotaryPlatform
 from ..model.rotary_params import RotaryParams
 
@@ -105,21 +106,12 @@ class CrankCheck:
     def message(self, what: str = "pose", times=None) -> str:
         """One line: how many rows are outside and, per kind, the first (with its legs and
         angles)."""
-        bad = np.flatnonzero(~self.ok)
-        if bad.size == 0:
-            return f"every {what} is reachable"
-        parts = []
-        for bit in (*workspace.FLAGS, CRANK_REACH):
-            rows = np.flatnonzero(self.flags & bit)
-            if rows.size:
-                row = rows[0]
-                if bit == CRANK_REACH:
-                    words = f"crank out of its reach (sin^2 delta < {REACH_MIN:g})"
-                else:
-                    words = self.workspace._reason(bit, row)
-                where = f"t = {float(times[row]):.4g} s" if times is not None else f"row {row}"
-                parts.append(f"{words} at {where}" + (f" and {rows.size - 1} more" if rows.size > 1 else ""))
-        return f"{bad.size} of {len(self.flags)} {what}(s) outside the workspace: " + "; ".join(parts)
+        def reason(bit, row):
+            if bit == CRANK_REACH:
+                return f"crank out of its reach (sin^2 delta < {REACH_MIN:g})"
+            return self.workspace._reason(bit, row)
+
+        return outside_message(self.flags, (*workspace.FLAGS, CRANK_REACH), reason, what, times)
 
 
 def check_poses(rig: RotaryPlatform, poses) -> CrankCheck:

@@ -48,7 +48,7 @@ from . import arguments, kinematics
 from .params import platform_params
 from .params import PlatformParams
 
-__all__ = ["WorkspaceError", "Reachability", "reachability", "axis_excursions", "assembly_mode", "margins", "CONDITION_LIMIT",
+__all__ = ["WorkspaceError", "Reachability", "reachability", "outside_message", "axis_excursions", "assembly_mode", "margins", "CONDITION_LIMIT",
            "FLAG_NAMES", "joint_angles", "neutral_axes", "segment_distances", "FLAGS", "limits_in_force", "base_gaps",
            "plate_crossings", "jacobian_margins"]
 
@@ -176,17 +176,7 @@ class Reachability:
     def message(self, what: str = "pose", times=None) -> str:
         """One line: how many rows are outside, and for each kind of problem the first row
         (or time) where it occurs and how many rows share it."""
-        bad = np.flatnonzero(~self.ok)
-        if bad.size == 0:
-            return f"every {what} is reachable"
-        parts = []
-        for bit in FLAGS:
-            rows = np.flatnonzero(self.flags & bit)
-            if rows.size:
-                where = f"t = {float(times[rows[0]]):.4g} s" if times is not None else f"row {rows[0]}"
-                more = f" and {rows.size - 1} more" if rows.size > 1 else ""
-                parts.append(f"{self._reason(bit, rows[0])} at {where}{more}")
-        return f"{bad.size} of {len(self.flags)} {what}(s) outside the workspace: " + "; ".join(parts)
+        return outside_message(self.flags, FLAGS, self._reason, what, times)
 
 
 #: The flags of :attr:`Reachability.flags`, in the order their counts are reported.
@@ -228,6 +218,24 @@ def assembly_mode(platform, pose) -> float:
     with np.errstate(all="ignore"):
         jac = kinematics.jacobian(platform, pose)
         return float(np.nan_to_num(np.sign(np.linalg.det(jac))))
+
+
+
+def outside_message(flags, bits, reason, what: str = "pose", times=None) -> str:
+    """One line for per-row problem ``flags``: how many rows are outside, and for each of the
+    ``bits`` in turn the first row (or time, ``times``) where it occurs, in the words of
+    ``reason(bit, row)``, and how many rows share it."""
+    bad = np.flatnonzero(flags != 0)
+    if bad.size == 0:
+        return f"every {what} is reachable"
+    parts = []
+    for bit in bits:
+        rows = np.flatnonzero(flags & bit)
+        if rows.size:
+            where = f"t = {float(times[rows[0]]):.4g} s" if times is not None else f"row {rows[0]}"
+            more = f" and {rows.size - 1} more" if rows.size > 1 else ""
+            parts.append(f"{reason(bit, rows[0])} at {where}{more}")
+    return f"{bad.size} of {len(flags)} {what}(s) outside the workspace: " + "; ".join(parts)
 
 
 def reachability(platform, poses, *, mode: float | None = None, name: str = "poses") -> Reachability:

@@ -41,6 +41,7 @@ from .reachability import (
     OUT_OF_RANGE,
     SINGULAR,
     jacobian_margins,
+    outside_message,
 )
 from .rotary_params import RotaryParams
 
@@ -145,18 +146,10 @@ class RotaryReachability:
         """Human sentences for the problems of one row."""
         return [self._reason(bit, row) for bit in FLAGS if self.flags[row] & bit]
 
-    def message(self, what: str = "pose") -> str:
-        """One line: how many rows are outside, and for each kind of problem the first row."""
-        bad = np.flatnonzero(~self.ok)
-        if bad.size == 0:
-            return f"every {what} is reachable"
-        parts = []
-        for bit in FLAGS:
-            rows = np.flatnonzero(self.flags & bit)
-            if rows.size:
-                more = f" and {rows.size - 1} more" if rows.size > 1 else ""
-                parts.append(f"{self._reason(bit, rows[0])} at row {rows[0]}{more}")
-        return f"{bad.size} of {len(self.flags)} {what}(s) outside the workspace: " + "; ".join(parts)
+    def message(self, what: str = "pose", times=None) -> str:
+        """One line: how many rows are outside, and for each kind of problem the first row
+        (or time) where it occurs and how many rows share it."""
+        return outside_message(self.flags, FLAGS, self._reason, what, times)
 
 
 def _rig(platform):
