@@ -5,14 +5,31 @@ arguments."""
 
 from __future__ import annotations
 
+import dataclasses
 from typing import Any
 
 import numpy as np
 
 from . import arguments
 
-__all__ = ["TOLERANCE", "BOUNDS", "vector3", "scalar", "points", "inertia", "inertia_tensor", "optional_bound",
+__all__ = ["dataclass_from", "TOLERANCE", "BOUNDS", "vector3", "scalar", "points", "inertia", "inertia_tensor", "optional_bound",
            "joint_axes", "friction", "leg_coefficients", "offsets", "positive", "readonly"]
+
+
+def dataclass_from(cls, data) -> Any:
+    """The parameter dataclass ``cls`` from a mapping of its fields (the layout of its
+    ``to_dict``): a name it does not have, or one of its required fields left out, is a
+    ``ValueError`` naming them; each field's own check is the constructor's."""
+    names = {f.name for f in dataclasses.fields(cls)}
+    unknown = sorted(str(key) for key in set(data) - names)
+    if unknown:
+        raise ValueError(f"unknown parameter field(s): {', '.join(unknown)}")
+    missing = sorted(f.name for f in dataclasses.fields(cls)
+                     if f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING
+                     and f.name not in data)
+    if missing:
+        raise ValueError(f"missing parameter field(s): {', '.join(missing)}")
+    return cls(**data)
 
 
 def vector3(name: str, value: Any) -> np.ndarray:

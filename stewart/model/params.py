@@ -436,18 +436,7 @@ class PlatformParams:
         """Build from the layout of :meth:`to_dict`; unknown keys are an error."""
         if not isinstance(data, Mapping):
             raise ValueError(f"data: expected a mapping of parameter fields, got {type(data).__name__}")
-        names = {f.name for f in dataclasses.fields(cls)}
-        unknown = sorted(str(key) for key in set(data) - names)
-        if unknown:
-            raise ValueError(f"unknown parameter field(s): {', '.join(unknown)}")
-        missing = sorted(
-            f.name
-            for f in dataclasses.fields(cls)
-            if f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING and f.name not in data
-        )
-        if missing:
-            raise ValueError(f"missing parameter field(s): {', '.join(missing)}")
-        return cls(**data)
+        return fields.dataclass_from(cls, data)
 
     @classmethod
     def preset(cls, name: str) -> "PlatformParams":

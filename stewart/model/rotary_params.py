@@ -250,15 +250,7 @@ class RotaryParams:
         kind = data.pop("kind", KIND)
         if kind != KIND:
             raise ValueError(f"kind: {kind!r} is not a rotary rig's (kind = {KIND!r})")
-        names = {f.name for f in dataclasses.fields(cls)}
-        unknown = sorted(str(key) for key in set(data) - names)
-        if unknown:
-            raise ValueError(f"unknown parameter field(s): {', '.join(unknown)}")
-        missing = sorted(f.name for f in dataclasses.fields(cls)
-                         if f.default is dataclasses.MISSING and f.name not in data)
-        if missing:
-            raise ValueError(f"missing parameter field(s): {', '.join(missing)}")
-        return cls(**data)
+        return fields.dataclass_from(cls, data)
 
     @classmethod
     def preset(cls, name: str) -> "RotaryParams":
