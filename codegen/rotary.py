@@ -78,6 +78,7 @@ ROTARY_LEFT_OUT = {
     'platform_joint_max_angle': 'a workspace bound, checked in Python',
     'rod_crank_angle_limits': 'a workspace bound, checked in Python',
     'base_clearance': 'a workspace bound, checked in Python',
+    'crank_pin_max_tilt': 'a workspace bound, checked in Python',
     'name': 'a label, not a model input',
 }
 

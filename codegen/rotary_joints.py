@@ -13,6 +13,9 @@ n_i = P_i - c_i of length d, the crank tip's motion per unit rate t_i = r a_i x 
   direction q_c0 u + q_c1 (a x u) + q_c2 a; the platform joint's axis is q_p = R0^T n0 / d in
   {P}, at x the direction R q_p.  The cosines are those directions dotted with n / d.
 * The platform joints' heights (P_i)_z in {B}, for the platform's clearance above the base.
+* The sine of the rod's tilt out of the crank's plane of motion, n_i . a_i / d: the
+  misalignment of a rod end on a pin parallel to the motor axis (the usual mount on a crank or
+  a servo horn), which turns freely about its pin.
 
 And what MPC cueing holds of the rig (`rotary_cueing_rows_kernel`): the cranks' angles, rates
 and reach, and these joints, each with its exact pose gradient.
@@ -48,10 +51,10 @@ def rotary_neutral_axes_kernel():
 
 def _joints(g, kin, cranks):
     """The joints' values at the pose of `kin` for the neutral axes QC_IN, QP_IN (module
-    docstring): the rod-crank cosines, the crank joints' and the platform joints' cosines, each
-    (6), and the platform joints' heights (6)."""
+    docstring): the rod-crank cosines, the crank joints' and the platform joints' cosines, the
+    platform joints' heights and the sines of the rods' tilts out of the cranks' planes, each (6)."""
     P = RPARAMS
-    fold, crank_joint, platform_joint, heights = [], [], [], []
+    fold, crank_joint, platform_joint, heights, tilt = [], [], [], [], []
     for i, c in enumerate(cranks):
         qc = QC_IN[3 * i:3 * i + 3]
         qp = sp.Matrix(QP_IN[3 * i:3 * i + 3])
@@ -60,20 +63,22 @@ def _joints(g, kin, cranks):
         crank_joint.append(g.define(f'cc{i}', dot(c.n, axis) / P.d))
         platform_joint.append(g.define(f'cp{i}', dot(c.n, kin.R * qp) / P.d))
         heights.append(g.define(f'zP{i}', kin.legs[i].l[2] + P.base[i][2]))
-    return fold, crank_joint, platform_joint, heights
+        tilt.append(g.define(f'st{i}', dot(c.n, P.axes[i]) / P.d))
+    return fold, crank_joint, platform_joint, heights, tilt
 
 
 def rotary_joint_cosines_kernel():
     """cos and sin of the crank angles (`rotary.rotary_crank_angles_kernel`), the cosines of
-    the rod-crank angles, the crank joints' and the platform joints' angles (18), and the
-    platform joints' heights (module docstring), at the pose x for the neutral axes qc, qp."""
+    the rod-crank angles, the crank joints' and the platform joints' angles (18), the platform
+    joints' heights and the sines of the rods' tilts out of the cranks' planes (module
+    docstring), at the pose x for the neutral axes qc, qp."""
     g = Graph({})
     kin, cranks = rotary_kinematics(g)
-    fold, crank_joint, platform_joint, heights = _joints(g, kin, cranks)
+    fold, crank_joint, platform_joint, heights, tilt = _joints(g, kin, cranks)
     return KernelSpec('rotary_joint_cosines', rotary_joint_cosines_kernel.__doc__, g,
                       [('x', X), ('qc', QC_IN), ('qp', QP_IN)],
                       [('cs', [c.cos for c in cranks] + [c.sin for c in cranks]),
-                       ('c', fold + crank_joint + platform_joint), ('z', heights)] + crank_checks(cranks))
+                       ('c', fold + crank_joint + platform_joint), ('z', heights), ('s', tilt)] + crank_checks(cranks))
 
 
 def rotary_cueing_rows_kernel():
@@ -82,10 +87,10 @@ def rotary_cueing_rows_kernel():
     every row): cos(alpha_i) then sin(alpha_i); the crank rates alpha' = J_alpha T xd; the
     reach s_i = S_i^2 / rho_i^2 = sin^2(delta_i) (`rotary.crank_geometry`: 1 with the rod along
     the tip's motion, 0 at the edge of the reach, where J_alpha is singular); grads, three 6 x 6
-    row-major: J_alpha T = d alpha' / d xd = d alpha / d x, d alpha' / d x and d s / d x; the 24
+    row-major: J_alpha T = d alpha' / d xd = d alpha / d x, d alpha' / d x and d s / d x; the 30
     joints of `rotary_joint_cosines_kernel` (the rod-crank, crank-joint and platform-joint
-    cosines, the platform joints' heights) for the neutral axes qc, qp, and their partials in x,
-    24 x 6 row-major."""
+    cosines, the platform joints' heights, the sines of the rods' tilts out of the cranks'
+    planes) for the neutral axes qc, qp, and their partials in x, 30 x 6 row-major."""
     g = Graph({})
     kin, cranks = rotary_kinematics(g)
     v, omega = twist(g, kin, XD, 'q')

@@ -82,23 +82,23 @@ FUNCTIONS = (
     Function('joint_cosines',
              'The crank angles alpha (6), the cosines c (18) of the rod-crank angles (-u_i . n_i / d: 1 where the rod'
              ' folds over its crank), of the crank joints\' and of the platform joints\' angles from their neutral'
-             ' axes (the rod at the reference pose x0, fixed in the crank and in {P}), and the platform joints\''
-             ' heights z (6) in {B}.',
-             ('x', 'x0'), (('alpha', (6,)), ('c', (18,)), ('z', (6,))), (),
+             ' axes (the rod at the reference pose x0, fixed in the crank and in {P}), the platform joints\''
+             ' heights z (6) in {B} and the sines s (6) of the rods\' tilts out of the cranks\' planes (n_i . a_i / d).',
+             ('x', 'x0'), (('alpha', (6,)), ('c', (18,)), ('z', (6,)), ('s', (6,))), (),
              steps=(Kernels((rotary_joints.rotary_neutral_axes_kernel,), ('x0',)),
                     Kernels((rotary_joints.rotary_joint_cosines_kernel,), ('x', 'qc', 'qp')),
                     ('crank_angles', ('cs', 'alpha'))),
              results=('crank_angles', ('rod_crank', (6,)), ('crank_joint', (6,)), ('platform_joint', (6,)),
-                      'platform_heights'),
+                      'platform_heights', 'pin_tilt_sines'),
              result_type='RotaryJointCosines'),
     Function('cueing_rows',
              'What MPC cueing holds: the crank angles alpha, the crank rates alpha_dot, the reach s_i ='
              ' sin^2(delta_i) (0 at the edge of crank i\'s reach), their gradients grads = [J_alpha T'
-             ' (= d alpha/dx = d alpha_dot/dxd), d alpha_dot/dx, ds/dx], the joints (24: the values of joint_cosines'
-             ' c and z, the ball joints centred at the reference pose x0) and their gradient djoints_dx.',
+             ' (= d alpha/dx = d alpha_dot/dxd), d alpha_dot/dx, ds/dx], the joints (30: the values of joint_cosines'
+             ' c, z and s, the ball joints centred at the reference pose x0) and their gradient djoints_dx.',
              ('x', 'xd', 'x0'),
-             (('alpha', (6,)), ('ad', (6,)), ('reach', (6,)), ('grads', (3, 6, 6)), ('joints', (24,)),
-              ('djoints_dx', (24, 6))), (),
+             (('alpha', (6,)), ('ad', (6,)), ('reach', (6,)), ('grads', (3, 6, 6)), ('joints', (30,)),
+              ('djoints_dx', (30, 6))), (),
              steps=(Kernels((rotary_joints.rotary_neutral_axes_kernel,), ('x0',)),
                     Kernels((rotary_joints.rotary_cueing_rows_kernel,), ('x', 'xd', 'qc', 'qp')),
                     ('crank_angles', ('cs', 'alpha')))),

@@ -396,34 +396,35 @@ static stewart_vl vblock_rotary_joint_cosines(const stewart_params *opaque, doub
     stewart_vd *alpha = out[0];
     stewart_vd *c = out[1];
     stewart_vd *z = out[2];
+    stewart_vd *s = out[3];
     stewart_vd qc[18], qp[18], S2[6], rho2[6], cs[12];
     stewart_vl status = vnone();
     (void)scalar;
     (void)p;
     vkernel_rotary_neutral_axes(p, x0, qc, qp, S2, rho2);
     status = vmerge(status, vcheck_cranks(S2, rho2));
-    vkernel_rotary_joint_cosines(p, x, qc, qp, cs, c, z, S2, rho2);
+    vkernel_rotary_joint_cosines(p, x, qc, qp, cs, c, z, s, S2, rho2);
     status = vmerge(status, vcheck_cranks(S2, rho2));
     status = vmerge(status, vcrank_angles(cs, alpha));
     return status;
 }
 
-int stewart_rotary_batch_joint_cosines(const stewart_rotary_params *p, size_t n, const double *x, const double *x0, double *alpha, double *c, double *z, int *status)
+int stewart_rotary_batch_joint_cosines(const stewart_rotary_params *p, size_t n, const double *x, const double *x0, double *alpha, double *c, double *z, double *s, int *status)
 {
-    stewart_vd in0[6], in1[6], out0[6], out1[18], out2[6];
-    return batch_rows(rotary_params_finite(p), (const stewart_params *)(const void *)p, vblock_rotary_joint_cosines, 0.0, n, 2, (const double *const []){x, x0}, (stewart_vd *const []){in0, in1}, 3, (double *const []){alpha, c, z}, (stewart_vd *const []){out0, out1, out2}, (const int []){6, 18, 6}, status);
+    stewart_vd in0[6], in1[6], out0[6], out1[18], out2[6], out3[6];
+    return batch_rows(rotary_params_finite(p), (const stewart_params *)(const void *)p, vblock_rotary_joint_cosines, 0.0, n, 2, (const double *const []){x, x0}, (stewart_vd *const []){in0, in1}, 4, (double *const []){alpha, c, z, s}, (stewart_vd *const []){out0, out1, out2, out3}, (const int []){6, 18, 6, 6}, status);
 }
 
-int stewart_rotary_joint_cosines(const stewart_rotary_params *p, const double x[6], const double x0[6], double alpha[6], double c[18], double z[6])
+int stewart_rotary_joint_cosines(const stewart_rotary_params *p, const double x[6], const double x0[6], double alpha[6], double c[18], double z[6], double s[6])
 {
-    return stewart_rotary_batch_joint_cosines(p, 1, x, x0, alpha, c, z, NULL);
+    return stewart_rotary_batch_joint_cosines(p, 1, x, x0, alpha, c, z, s, NULL);
 }
 
 #ifdef STEWART_TARGET  /* the call of this copy's table, below */
 static int call_rotary_joint_cosines(const stewart_params *p, size_t n, const double *const in[], double scalar, double *const out[], int *status)
 {
     (void)scalar;
-    return stewart_rotary_batch_joint_cosines(rotary_params_of(p), n, in[0], in[1], out[0], out[1], out[2], status);
+    return stewart_rotary_batch_joint_cosines(rotary_params_of(p), n, in[0], in[1], out[0], out[1], out[2], out[3], status);
 }
 #endif
 
@@ -453,11 +454,11 @@ static stewart_vl vblock_rotary_cueing_rows(const stewart_params *opaque, double
 
 int stewart_rotary_batch_cueing_rows(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *x0, double *alpha, double *ad, double *reach, double *grads, double *joints, double *djoints_dx, int *status)
 {
-    stewart_vd in0[6], in1[6], in2[6], out0[6], out1[6], out2[6], out3[108], out4[24], out5[144];
-    return batch_rows(rotary_params_finite(p), (const stewart_params *)(const void *)p, vblock_rotary_cueing_rows, 0.0, n, 3, (const double *const []){x, xd, x0}, (stewart_vd *const []){in0, in1, in2}, 6, (double *const []){alpha, ad, reach, grads, joints, djoints_dx}, (stewart_vd *const []){out0, out1, out2, out3, out4, out5}, (const int []){6, 6, 6, 108, 24, 144}, status);
+    stewart_vd in0[6], in1[6], in2[6], out0[6], out1[6], out2[6], out3[108], out4[30], out5[180];
+    return batch_rows(rotary_params_finite(p), (const stewart_params *)(const void *)p, vblock_rotary_cueing_rows, 0.0, n, 3, (const double *const []){x, xd, x0}, (stewart_vd *const []){in0, in1, in2}, 6, (double *const []){alpha, ad, reach, grads, joints, djoints_dx}, (stewart_vd *const []){out0, out1, out2, out3, out4, out5}, (const int []){6, 6, 6, 108, 30, 180}, status);
 }
 
-int stewart_rotary_cueing_rows(const stewart_rotary_params *p, const double x[6], const double xd[6], const double x0[6], double alpha[6], double ad[6], double reach[6], double grads[108], double joints[24], double djoints_dx[144])
+int stewart_rotary_cueing_rows(const stewart_rotary_params *p, const double x[6], const double xd[6], const double x0[6], double alpha[6], double ad[6], double reach[6], double grads[108], double joints[30], double djoints_dx[180])
 {
     return stewart_rotary_batch_cueing_rows(p, 1, x, xd, x0, alpha, ad, reach, grads, joints, djoints_dx, NULL);
 }

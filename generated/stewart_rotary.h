@@ -75,10 +75,10 @@ int stewart_rotary_inverse_dynamics(const stewart_rotary_params *p, const double
 int stewart_rotary_forward_dynamics(const stewart_rotary_params *p, const double x[6], const double xd[6], const double torque[6], double xdd[6]);
 /* tau and its Jacobians (row = output, column = input): dtau/dq = J_alpha^-T dR/dq for q = x, xd, xdd, R = M_t T xdd + V xd + G - J_alpha^T tau at fixed tau. */
 int stewart_rotary_inverse_dynamics_derivatives(const stewart_rotary_params *p, const double x[6], const double xd[6], const double xdd[6], double tau[6], double dtau_dx[36], double dtau_dxd[36], double dtau_dxdd[36]);
-/* The crank angles alpha (6), the cosines c (18) of the rod-crank angles (-u_i . n_i / d: 1 where the rod folds over its crank), of the crank joints' and of the platform joints' angles from their neutral axes (the rod at the reference pose x0, fixed in the crank and in {P}), and the platform joints' heights z (6) in {B}. */
-int stewart_rotary_joint_cosines(const stewart_rotary_params *p, const double x[6], const double x0[6], double alpha[6], double c[18], double z[6]);
-/* What MPC cueing holds: the crank angles alpha, the crank rates alpha_dot, the reach s_i = sin^2(delta_i) (0 at the edge of crank i's reach), their gradients grads = [J_alpha T (= d alpha/dx = d alpha_dot/dxd), d alpha_dot/dx, ds/dx], the joints (24: the values of joint_cosines c and z, the ball joints centred at the reference pose x0) and their gradient djoints_dx. */
-int stewart_rotary_cueing_rows(const stewart_rotary_params *p, const double x[6], const double xd[6], const double x0[6], double alpha[6], double ad[6], double reach[6], double grads[108], double joints[24], double djoints_dx[144]);
+/* The crank angles alpha (6), the cosines c (18) of the rod-crank angles (-u_i . n_i / d: 1 where the rod folds over its crank), of the crank joints' and of the platform joints' angles from their neutral axes (the rod at the reference pose x0, fixed in the crank and in {P}), the platform joints' heights z (6) in {B} and the sines s (6) of the rods' tilts out of the cranks' planes (n_i . a_i / d). */
+int stewart_rotary_joint_cosines(const stewart_rotary_params *p, const double x[6], const double x0[6], double alpha[6], double c[18], double z[6], double s[6]);
+/* What MPC cueing holds: the crank angles alpha, the crank rates alpha_dot, the reach s_i = sin^2(delta_i) (0 at the edge of crank i's reach), their gradients grads = [J_alpha T (= d alpha/dx = d alpha_dot/dxd), d alpha_dot/dx, ds/dx], the joints (30: the values of joint_cosines c, z and s, the ball joints centred at the reference pose x0) and their gradient djoints_dx. */
+int stewart_rotary_cueing_rows(const stewart_rotary_params *p, const double x[6], const double xd[6], const double x0[6], double alpha[6], double ad[6], double reach[6], double grads[108], double joints[30], double djoints_dx[180]);
 /* xdd and its Jacobians (row = output, column = input): dxdd/dq = -T^-1 M_t^-1 dR/dq for q = x, xd, dxdd/dtau = T^-1 M_t^-1 J_alpha^T (tau: the torque), R = M_t T xdd + V xd + G - J_alpha^T torque at fixed torque (the partials of inverse_dynamics_derivatives at the forward dynamics' xdd); needs cos(theta) != 0. */
 int stewart_rotary_forward_dynamics_derivatives(const stewart_rotary_params *p, const double x[6], const double xd[6], const double torque[6], double xdd[6], double dxdd_dx[36], double dxdd_dxd[36], double dxdd_dtau[36]);
 /* One classic RK4 step of s = [x; xd], ds/dt = [xd; xdd(x, xd, torque)], torque constant (zero-order hold): [xn; xdn] after dt. */
@@ -96,7 +96,7 @@ int stewart_rotary_batch_gravity_vector(const stewart_rotary_params *p, size_t n
 int stewart_rotary_batch_inverse_dynamics(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, int *status);
 int stewart_rotary_batch_forward_dynamics(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *torque, double *xdd, int *status);
 int stewart_rotary_batch_inverse_dynamics_derivatives(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *xdd, double *tau, double *dtau_dx, double *dtau_dxd, double *dtau_dxdd, int *status);
-int stewart_rotary_batch_joint_cosines(const stewart_rotary_params *p, size_t n, const double *x, const double *x0, double *alpha, double *c, double *z, int *status);
+int stewart_rotary_batch_joint_cosines(const stewart_rotary_params *p, size_t n, const double *x, const double *x0, double *alpha, double *c, double *z, double *s, int *status);
 int stewart_rotary_batch_cueing_rows(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *x0, double *alpha, double *ad, double *reach, double *grads, double *joints, double *djoints_dx, int *status);
 int stewart_rotary_batch_forward_dynamics_derivatives(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *torque, double *xdd, double *dxdd_dx, double *dxdd_dxd, double *dxdd_dtau, int *status);
 int stewart_rotary_batch_rk4_step(const stewart_rotary_params *p, size_t n, const double *x, const double *xd, const double *torque, double dt, double *xn, double *xdn, int *status);
@@ -116,8 +116,8 @@ int stewart_rotary_batch_rk4_step_derivatives(const stewart_rotary_params *p, si
  *   rotary_inverse_dynamics_derivatives_xdd0    2082
  *   rotary_inverse_dynamics_derivatives_xdd3    2559
  *   rotary_neutral_axes                  811
- *   rotary_joint_cosines                 883
- *   rotary_cueing_rows                  7003
+ *   rotary_joint_cosines                 919
+ *   rotary_cueing_rows                  7254
  */
 
 #ifdef __cplusplus

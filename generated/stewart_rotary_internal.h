@@ -143,7 +143,7 @@ STEWART_HIDDEN void vkernel_rotary_inverse_dynamics_derivatives_xd3(const stewar
 STEWART_HIDDEN void vkernel_rotary_inverse_dynamics_derivatives_xdd0(const stewart_rotary_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *tau, stewart_vd *ZT, stewart_vd *S2, stewart_vd *rho2);
 STEWART_HIDDEN void vkernel_rotary_inverse_dynamics_derivatives_xdd3(const stewart_rotary_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *xdd, const stewart_vd *tau, stewart_vd *ZT, stewart_vd *S2, stewart_vd *rho2);
 STEWART_HIDDEN void vkernel_rotary_neutral_axes(const stewart_rotary_params *p, const stewart_vd *x, stewart_vd *qc, stewart_vd *qp, stewart_vd *S2, stewart_vd *rho2);
-STEWART_HIDDEN void vkernel_rotary_joint_cosines(const stewart_rotary_params *p, const stewart_vd *x, const stewart_vd *qc, const stewart_vd *qp, stewart_vd *cs, stewart_vd *c, stewart_vd *z, stewart_vd *S2, stewart_vd *rho2);
+STEWART_HIDDEN void vkernel_rotary_joint_cosines(const stewart_rotary_params *p, const stewart_vd *x, const stewart_vd *qc, const stewart_vd *qp, stewart_vd *cs, stewart_vd *c, stewart_vd *z, stewart_vd *s, stewart_vd *S2, stewart_vd *rho2);
 STEWART_HIDDEN void vkernel_rotary_cueing_rows(const stewart_rotary_params *p, const stewart_vd *x, const stewart_vd *xd, const stewart_vd *qc, const stewart_vd *qp, stewart_vd *cs, stewart_vd *ad, stewart_vd *reach, stewart_vd *grads, stewart_vd *joints, stewart_vd *djoints_dx, stewart_vd *S2, stewart_vd *rho2);
 
 #endif /* STEWART_ROTARY_INTERNAL_H */

@@ -3,9 +3,10 @@
 #include "stewart_rotary_internal.h"
 
 /* cos and sin of the crank angles (`rotary.rotary_crank_angles_kernel`), the cosines of
-    the rod-crank angles, the crank joints' and the platform joints' angles (18), and the
-    platform joints' heights (module docstring), at the pose x for the neutral axes qc, qp. */
-void vkernel_rotary_joint_cosines(const stewart_rotary_params *p, const stewart_vd *x, const stewart_vd *qc, const stewart_vd *qp, stewart_vd *cs, stewart_vd *c, stewart_vd *z, stewart_vd *S2, stewart_vd *rho2)
+    the rod-crank angles, the crank joints' and the platform joints' angles (18), the platform
+    joints' heights and the sines of the rods' tilts out of the cranks' planes (module
+    docstring), at the pose x for the neutral axes qc, qp. */
+void vkernel_rotary_joint_cosines(const stewart_rotary_params *p, const stewart_vd *x, const stewart_vd *qc, const stewart_vd *qp, stewart_vd *cs, stewart_vd *c, stewart_vd *z, stewart_vd *s, stewart_vd *S2, stewart_vd *rho2)
 {
     const double b0_x = p->base_points[0][0];
     const double b0_y = p->base_points[0][1];
@@ -334,6 +335,7 @@ void vkernel_rotary_joint_cosines(const stewart_rotary_params *p, const stewart_
     const stewart_vd cc0 = c32*(Ac0_x*nR0_x + Ac0_y*nR0_y + Ac0_z*nR0_z);
     const stewart_vd cp0 = c32*(nR0_x*(qp_0*R_00 + qp_1*R_01 + qp_2*R_02) + nR0_y*(qp_0*R_10 + qp_1*R_11 + qp_2*R_12) + nR0_z*(qp_0*R_20 + qp_1*R_21 + qp_2*R_22));
     const stewart_vd zP0 = b0_z + l0_z;
+    const stewart_vd st0 = c32*(a0_x*nR0_x + a0_z*nR0_z + a0_y*nR0_y);
     const stewart_vd c33 = c30*qc_4;
     const stewart_vd Ac1_x = qc_5*a1_x + qc_3*uK1_x + c33*tK1_x;
     const stewart_vd Ac1_y = qc_5*a1_y + qc_3*uK1_y + c33*tK1_y;
@@ -342,6 +344,7 @@ void vkernel_rotary_joint_cosines(const stewart_rotary_params *p, const stewart_
     const stewart_vd cc1 = c32*(Ac1_x*nR1_x + Ac1_y*nR1_y + Ac1_z*nR1_z);
     const stewart_vd cp1 = c32*(nR1_x*(qp_3*R_00 + qp_4*R_01 + qp_5*R_02) + nR1_y*(qp_3*R_10 + qp_4*R_11 + qp_5*R_12) + nR1_z*(qp_3*R_20 + qp_4*R_21 + qp_5*R_22));
     const stewart_vd zP1 = b1_z + l1_z;
+    const stewart_vd st1 = c32*(a1_x*nR1_x + a1_y*nR1_y + a1_z*nR1_z);
     const stewart_vd c34 = c30*qc_7;
     const stewart_vd Ac2_x = qc_8*a2_x + qc_6*uK2_x + c34*tK2_x;
     const stewart_vd Ac2_y = qc_8*a2_y + qc_6*uK2_y + c34*tK2_y;
@@ -350,6 +353,7 @@ void vkernel_rotary_joint_cosines(const stewart_rotary_params *p, const stewart_
     const stewart_vd cc2 = c32*(Ac2_x*nR2_x + Ac2_y*nR2_y + Ac2_z*nR2_z);
     const stewart_vd cp2 = c32*(nR2_x*(qp_6*R_00 + qp_7*R_01 + qp_8*R_02) + nR2_y*(qp_6*R_10 + qp_7*R_11 + qp_8*R_12) + nR2_z*(qp_6*R_20 + qp_7*R_21 + qp_8*R_22));
     const stewart_vd zP2 = b2_z + l2_z;
+    const stewart_vd st2 = c32*(a2_x*nR2_x + a2_y*nR2_y + a2_z*nR2_z);
     const stewart_vd c35 = c30*qc_10;
     const stewart_vd Ac3_x = a3_x*qc_11 + qc_9*uK3_x + c35*tK3_x;
     const stewart_vd Ac3_y = a3_y*qc_11 + qc_9*uK3_y + c35*tK3_y;
@@ -358,6 +362,7 @@ void vkernel_rotary_joint_cosines(const stewart_rotary_params *p, const stewart_
     const stewart_vd cc3 = c32*(Ac3_x*nR3_x + Ac3_y*nR3_y + Ac3_z*nR3_z);
     const stewart_vd cp3 = c32*(nR3_x*(qp_9*R_00 + R_01*qp_10 + R_02*qp_11) + nR3_y*(qp_9*R_10 + R_12*qp_11 + R_11*qp_10) + nR3_z*(qp_9*R_20 + R_21*qp_10 + R_22*qp_11));
     const stewart_vd zP3 = b3_z + l3_z;
+    const stewart_vd st3 = c32*(a3_x*nR3_x + a3_y*nR3_y + a3_z*nR3_z);
     const stewart_vd c36 = c30*qc_13;
     const stewart_vd Ac4_x = a4_x*qc_14 + qc_12*uK4_x + c36*tK4_x;
     const stewart_vd Ac4_y = a4_y*qc_14 + qc_12*uK4_y + c36*tK4_y;
@@ -366,6 +371,7 @@ void vkernel_rotary_joint_cosines(const stewart_rotary_params *p, const stewart_
     const stewart_vd cc4 = c32*(Ac4_x*nR4_x + Ac4_y*nR4_y + Ac4_z*nR4_z);
     const stewart_vd cp4 = c32*(nR4_x*(R_00*qp_12 + R_01*qp_13 + R_02*qp_14) + nR4_y*(R_10*qp_12 + R_11*qp_13 + R_12*qp_14) + nR4_z*(R_20*qp_12 + R_21*qp_13 + R_22*qp_14));
     const stewart_vd zP4 = b4_z + l4_z;
+    const stewart_vd st4 = c32*(a4_x*nR4_x + a4_y*nR4_y + a4_z*nR4_z);
     const stewart_vd c37 = c30*qc_16;
     const stewart_vd Ac5_x = a5_x*qc_17 + qc_15*uK5_x + c37*tK5_x;
     const stewart_vd Ac5_y = a5_y*qc_17 + qc_15*uK5_y + c37*tK5_y;
@@ -374,6 +380,7 @@ void vkernel_rotary_joint_cosines(const stewart_rotary_params *p, const stewart_
     const stewart_vd cc5 = c32*(Ac5_x*nR5_x + Ac5_y*nR5_y + Ac5_z*nR5_z);
     const stewart_vd cp5 = c32*(nR5_x*(R_00*qp_15 + R_01*qp_16 + R_02*qp_17) + nR5_y*(R_10*qp_15 + R_11*qp_16 + R_12*qp_17) + nR5_z*(R_20*qp_15 + R_21*qp_16 + R_22*qp_17));
     const stewart_vd zP5 = b5_z + l5_z;
+    const stewart_vd st5 = c32*(a5_x*nR5_x + a5_y*nR5_y + a5_z*nR5_z);
     cs[0] = ca_0;
     cs[1] = ca_1;
     cs[2] = ca_2;
@@ -410,6 +417,12 @@ void vkernel_rotary_joint_cosines(const stewart_rotary_params *p, const stewart_
     z[3] = zP3;
     z[4] = zP4;
     z[5] = zP5;
+    s[0] = st0;
+    s[1] = st1;
+    s[2] = st2;
+    s[3] = st3;
+    s[4] = st4;
+    s[5] = st5;
     S2[0] = S2_0;
     S2[1] = S2_1;
     S2[2] = S2_2;

@@ -24,9 +24,9 @@ cdef enum:
     CUE_V = 6
     CUE_Z = 12
     CUE_LEGS_ROWS = 24  # a sample's leg lengths, leg speeds and joint cosines
-    CUE_CRANK_ROWS = 42  # a rotary rig's: crank angles, crank rates, reaches and joints
-    CUE_JOINT_ROWS = 24  # a rotary point's joints: rod-crank, crank-joint, platform-joint cosines, heights
-    CUE_HORIZON_ROWS = 30  # a rotary horizon point's cones rows: the reaches, then the joints
+    CUE_CRANK_ROWS = 48  # a rotary rig's: crank angles, crank rates, reaches and joints
+    CUE_JOINT_ROWS = 30  # a rotary point's joints: rod-crank, crank-joint, platform-joint cosines, heights, pins
+    CUE_HORIZON_ROWS = 36  # a rotary horizon point's cones rows: the reaches, then the joints
     CUE_COST_ROWS = 18  # a sample's weighted rows of the cost: pose, rates, perceived channels
 
 
@@ -55,8 +55,8 @@ cdef class CueingStep:
     ``cone`` ``(12,)`` the cosines' bounds over the horizon, ``next_low``, ``next_high``
     ``(24,)`` the ``legs`` rows' and ``box`` ``(6,)``; ``decay_dt`` and ``gain_dt`` ``(nz,)`` the
     sections discretized over one log sample (:meth:`advance`). On a rotary rig (``dynamics`` a
-    RotaryKernel): ``cone`` ``(60,)`` the ``cones`` rows' lower bounds (30: the reaches, the
-    joints), then their upper; ``next_low``, ``next_high`` ``(42,)``; ``motor`` ``(18,)`` the
+    RotaryKernel): ``cone`` ``(72,)`` the ``cones`` rows' lower bounds (36: the reaches, the
+    joints), then their upper; ``next_low``, ``next_high`` ``(48,)``; ``motor`` ``(18,)`` the
     torque limits, less their margin, and the speed limits less theirs.
 
     :meth:`condense` fills ``H``, ``q``, the rows ``M`` and bounds ``lo``, ``hi`` (unscaled),
@@ -67,7 +67,7 @@ cdef class CueingStep:
     cdef Kernel dynamics, rider
     cdef RotaryKernel crank_model  # a rotary rig's (stewart/_cueing_rotary.pxi), else None
     cdef readonly bint rotary
-    cdef readonly int legs_rows    # the legs group's rows: 24, or 42 on a rotary rig
+    cdef readonly int legs_rows    # the legs group's rows: 24, or 48 on a rotary rig
     cdef stewart_call rows_fn, torques_fn
     cdef readonly int n, nz, ns, nu, m
     cdef double dt, force, force_limit, stroke_low, stroke_high, speed_limit, tilt_rate
@@ -126,9 +126,9 @@ cdef class CueingStep:
     cdef double *tdv
     cdef double *tdu
     cdef double *motor     # per actuator: its force (torque) limit, less its margin, its speed less its margin
-    cdef double *crank_out    # rotary: per point alpha, alpha_dot, reach (18), the joints (24)
+    cdef double *crank_out    # rotary: per point alpha, alpha_dot, reach (18), the joints (30)
     cdef double *crank_grads  # rotary: per point J_alpha T, d alpha_dot/dx, d reach/dx (108)
-    cdef double *joint_grads  # rotary: per point d joints/dx (144)
+    cdef double *joint_grads  # rotary: per point d joints/dx (180)
     cdef double *refs         # rotary: the pose the joints are centred at (home), once per point
     cdef double *last_x
     cdef double *last_v

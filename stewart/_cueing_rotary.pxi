@@ -10,13 +10,14 @@ cdef void _rows_call(CueingStep self, int rows, const double *x, const double *v
                      double *grads, double *joint_grads, int *status) noexcept:
     """The generated cueing_rows on ``rows`` states (the joints centred at home), written from
     point ``p`` on into ``out``, laid out as ``crank_out`` for ``points`` points (alpha,
-    alpha_dot and reach blocks of 6 ``points``, then the joints, 24 a point), and into
-    ``grads`` (108 a point) and ``joint_grads`` (144 a point)."""
+    alpha_dot and reach blocks of 6 ``points``, then the joints, CUE_JOINT_ROWS a point), and
+    into ``grads`` (108 a point) and ``joint_grads`` (6 CUE_JOINT_ROWS a point)."""
     cdef const double *ins[3]
     cdef double *outs[6]
     ins[0], ins[1], ins[2] = x, v, self.refs
     outs[0], outs[1], outs[2] = out + 6 * p, out + 6 * points + 6 * p, out + 12 * points + 6 * p
-    outs[3], outs[4], outs[5] = grads + 108 * p, out + 18 * points + CUE_JOINT_ROWS * p, joint_grads + 144 * p
+    outs[3], outs[4], outs[5] = grads + 108 * p, out + 18 * points + CUE_JOINT_ROWS * p, \
+        joint_grads + 6 * CUE_JOINT_ROWS * p
     self.rows_fn(<const stewart_params *>&self.crank_model.p, rows, ins, 0.0, outs, status)
 
 
@@ -230,7 +231,7 @@ cdef inline void _pose_row(CueingStep self, int row, const double *grad, const d
 
 
 cdef object _crank_next_values(CueingStep self, x0, v0, u0):
-    """The crank angles, crank rates, reaches and joints ``(42,)`` at the next log sample after
+    """The crank angles, crank rates, reaches and joints ``(48,)`` at the next log sample after
     ``u0`` held from pose ``x0`` and rates ``v0``, exact (the generated cueing_rows)."""
     cdef double x1[6]
     cdef double v1[6]

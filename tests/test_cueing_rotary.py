@@ -31,12 +31,13 @@ def rig():
 
 def geometry_slacks(p, poses):
     """Per pose, by numpy geometry on the oracle's crank angles (joints centred at home): the
-    least slack of the crank-joint cone, the platform-joint cone, the rod-crank angle limits and
-    the base clearance (rad, rad, rad, m; +inf where the parameters set no limit)."""
+    least slack of the crank-joint cone, the platform-joint cone, the rod-crank angle limits, the
+    base clearance and the crank pins' tilt (rad, rad, rad, m, rad; +inf where the parameters set
+    no limit)."""
     home = stewart.RotaryPlatform(p).home
-    out = np.full((len(poses), 4), np.inf)
+    out = np.full((len(poses), 5), np.inf)
     for k, x in enumerate(poses):
-        _, fold, cj, pj, heights = _geometry(p, x, home)
+        _, fold, cj, pj, heights, tilt = _geometry(p, x, home)
         fold, cj, pj = (np.arccos(np.clip(c, -1, 1)) for c in (fold, cj, pj))
         if p.crank_joint_max_angle is not None:
             out[k, 0] = np.min(p.crank_joint_max_angle - cj)
@@ -45,6 +46,8 @@ def geometry_slacks(p, poses):
         if p.rod_crank_angle_limits is not None:
             out[k, 2] = np.min(np.minimum(fold - p.rod_crank_angle_limits[0], p.rod_crank_angle_limits[1] - fold))
         out[k, 3] = np.min(heights) - np.max(p.base_points[:, 2]) - (p.base_clearance or 0.0)
+        if p.crank_pin_max_tilt is not None:
+            out[k, 4] = np.min(p.crank_pin_max_tilt - np.abs(np.arcsin(tilt)))
     return out
 
 
@@ -63,10 +66,16 @@ def oracle_reach(p, x):
     return out
 
 
+def every_limit(rig):
+    """``rig`` with every joint limit set (wide), so that every row of the compiled step is bounded."""
+    return stewart.RotaryPlatform(rig.params.replace(rod_crank_angle_limits=(0.3, 2.8), base_clearance=0.3,
+                                                     crank_pin_max_tilt=np.radians(40.0)))
+
+
 def geometry_joints(p, x):
     """The joints of ``RotaryPlatform.cueing_rows`` at ``x`` by numpy geometry (joints centred at
-    home): the rod-crank, crank-joint and platform-joint cosines and the platform joints'
-    heights ``(24,)``."""
+    home): the rod-crank, crank-joint and platform-joint cosines, the platform joints' heights
+    and the sines of the rods' tilts out of the cranks' planes ``(30,)``."""
     return np.concatenate(_geometry(p, x, stewart.RotaryPlatform(p).home)[1:])
 
 
@@ -86,7 +95,7 @@ def assert_holds_every_limit(result, rig, every=1):
         assert np.all(np.abs(oracle.crank_rates(p, x, xd)) <= p.motor_speed_limit), k
         assert np.all(np.abs(oracle.torques(p, x, xd, xdd)) <= p.motor_torque_limit), k
     slacks = geometry_slacks(p, result.poses[::every])
-    assert np.all(slacks[:, :3] >= 0.0) and np.all(slacks[:, 3] > 0.0), np.min(slacks, axis=0)
+    assert np.all(slacks[:, [0, 1, 2, 4]] >= 0.0) and np.all(slacks[:, 3] > 0.0), np.min(slacks, axis=0)
 
 
 def test_mpc_on_a_braking_log_holds_every_limit_by_the_oracle(rig):
@@ -128,12 +137,16 @@ def test_washout_holds_every_limit_on_the_shipped_logs(rig, path):
         assert any("crank_joint_limit" in span["limits"] for span in result.limiting.intervals())
 
 
+#: The crank pins' tilt limit [deg] of the tight test: simrig100's rods lean 17.8 deg out of
+#: the cranks' planes at home, the braking plan tilts them to 27.8 deg.
+PIN_TILT = 24.0
 #: Joint limits near the braking log's motion on simrig100: (the limit's parameters, the
 #: column of :func:`geometry_slacks` it binds).
 TIGHT_JOINTS = {"cones": (dict(crank_joint_max_angle=np.radians(21.0), platform_joint_max_angle=np.radians(9.0)),
                           (0, 1)),
                 "rod_crank": (dict(rod_crank_angle_limits=(np.radians(80.0), np.radians(118.0))), (2,)),
-                "clearance": (dict(base_clearance=0.438), (3,))}
+                "clearance": (dict(base_clearance=0.438), (3,)),
+                "pin": (dict(crank_pin_max_tilt=np.radians(PIN_TILT)), (4,))}
 
 
 @pytest.mark.parametrize("kind", TIGHT_JOINTS)
@@ -237,6 +250,7 @@ def test_compiled_rotary_step_over_the_horizon_against_a_reference(rig):
     here: the oracle's values at the linearization point plus its central-difference gradients
     times the predicted states' offsets from it (the states from the step's own condensed
     double integrator, checked against the integrator written out)."""
+    rig = every_limit(rig)
     p = rig.params
     qp = planner.CueingQP(rig, MPCParams.for_platform(rig), 0.01)
     rng = np.random.default_rng(11)
@@ -263,12 +277,12 @@ def test_compiled_rotary_step_over_the_horizon_against_a_reference(rig):
     alpha, rate, reach = oracle.crank_angles(p, xbar), oracle.crank_rates(p, xbar, vbar), oracle_reach(p, xbar)
     joints = geometry_joints(p, xbar)
     # the cones rows' lower bounds per point: the reaches' margin, the joints' (-inf where unlimited)
-    cone_low = qp.cone_cosines[:30]
+    cone_low = qp.cone_cosines[:36]
     for k in range(1, n + 1):
         dx = x[k] - xbar
         for group, expected, low, size in (("stroke", alpha + J @ dx, qp.stroke[0], 6),
                                            ("speed", J @ v[k] + DA @ dx, -qp.speed_limit, 6),
-                                           ("cones", np.concatenate([reach + DS @ dx, joints + DJ @ dx]), cone_low, 30)):
+                                           ("cones", np.concatenate([reach + DS @ dx, joints + DJ @ dx]), cone_low, 36)):
             rows = np.arange(qp.rows[group].start + size * (k - 1), qp.rows[group].start + size * k)
             finite = np.isfinite(lo[rows])
             rows, expected = rows[finite], expected[finite]

@@ -66,6 +66,8 @@ def _fields(**changes):
     ({"motor_torque_limit": [1.0, 2.0]}, "motor_torque_limit: expected one value or one per leg"),
     ({"motor_speed_limit": 0.0}, "motor_speed_limit: must be finite and > 0"),
     ({"crank_joint_max_angle": 2.0}, "crank_joint_max_angle: need 0 < angle"),
+    ({"crank_pin_max_tilt": 0.0}, "crank_pin_max_tilt: need 0 < angle"),
+    ({"crank_pin_max_tilt": "wide"}, "crank_pin_max_tilt"),
     ({"kind": "linear"}, "kind: 'linear' is not a rotary"),
     ({"stroke": 1.0}, "unknown parameter field"),
 ])

@@ -24,7 +24,8 @@ SIMRIG = stewart.RotaryParams.preset("simrig100")
 def _geometry(rig, x, reference):
     """Per leg, by numpy on the oracle's crank angles: alpha, the cosine of the rod-crank angle,
     of the crank joint's and the platform joint's angles from the rod at ``reference`` (fixed in
-    the crank and in {P}), and the platform joint's height."""
+    the crank and in {P}), the platform joint's height and the sine of the rod's tilt out of the
+    crank's plane (its component along the motor axis)."""
     def legs(pose):
         alpha = oracle.crank_angles(rig, pose)
         R = oracle.rotation(pose[3:])
@@ -41,7 +42,7 @@ def _geometry(rig, x, reference):
     for (alpha, u, n, R, P, a), (_, u0, n0, R0, _, _) in zip(legs(x), legs(reference)):
         frame0, frame = np.array([u0, np.cross(a, u0), a]), np.array([u, np.cross(a, u), a])
         crank_axis = frame.T @ (frame0 @ n0)
-        rows.append((alpha, -u @ n, n @ crank_axis, n @ (R @ (R0.T @ n0)), P[2]))
+        rows.append((alpha, -u @ n, n @ crank_axis, n @ (R @ (R0.T @ n0)), P[2], n @ a))
     return [np.array(column) for column in zip(*rows)]
 
 
@@ -67,14 +68,14 @@ def _limited(rig):
     """The rig with every limit set, tight enough that each excludes some poses near home."""
     return rig.replace(crank_angle_limits=(-0.5, 0.6), rod_crank_angle_limits=(np.radians(60.0), np.radians(150.0)),
                        crank_joint_max_angle=np.radians(12.0), platform_joint_max_angle=np.radians(11.0),
-                       base_clearance=0.41)
+                       base_clearance=0.41, crank_pin_max_tilt=np.radians(22.0))
 
 
 def _slacks(rig, pose, home):
     """Per limit, how far inside it (> 0) the pose lies, by numpy on the oracle; None out of reach."""
     if oracle.crank_angles(rig, pose) is None:
         return None
-    alpha, fold, crank, platform, heights = _geometry(rig, pose, home)
+    alpha, fold, crank, platform, heights, tilt = _geometry(rig, pose, home)
     fold, crank, platform = (np.arccos(np.clip(c, -1, 1)) for c in (fold, crank, platform))
     lo, hi = rig.crank_angle_limits
     flo, fhi = rig.rod_crank_angle_limits or (-np.inf, np.inf)
@@ -82,6 +83,7 @@ def _slacks(rig, pose, home):
             rr.ROD_CRANK_ANGLE_LIMIT: np.min(np.minimum(fold - flo, fhi - fold)),
             rr.CRANK_JOINT_LIMIT: np.min(rig.crank_joint_max_angle - crank),
             rr.PLATFORM_JOINT_LIMIT: np.min(rig.platform_joint_max_angle - platform),
+            rr.CRANK_PIN_LIMIT: np.min((rig.crank_pin_max_tilt or np.inf) - np.abs(np.arcsin(tilt))),
             stewart.model.reachability.BELOW_BASE: np.min(heights) - np.max(rig.base_points[:, 2])
             - (rig.base_clearance or 0.0)}
 
@@ -181,7 +183,8 @@ def test_bad_arguments_name_themselves():
                                           ("rod_crank_angle_limits", (-0.1, 1.0)),
                                           ("rod_crank_angle_limits", (1.0, 0.5)),
                                           ("rod_crank_angle_limits", (1.0,)), ("base_clearance", -0.1),
-                                          ("base_clearance", "x")])
+                                          ("base_clearance", "x"), ("crank_pin_max_tilt", 1.7),
+                                          ("crank_pin_max_tilt", np.nan)])
 def test_new_limits_are_checked(field, value):
     with pytest.raises(ValueError, match=field):
         SIMRIG.replace(**{field: value})
@@ -192,7 +195,9 @@ def test_new_limits_round_trip(tmp_path):
     for ext in ("toml", "json"):
         rig.save(tmp_path / f"rig.{ext}")
         assert stewart.RotaryParams.load(tmp_path / f"rig.{ext}") == rig
-    assert "rod-crank angles 60 to 150 deg" in rr.limits_in_force(rig) and "base clearance 0.41 m" in rr.limits_in_force(rig)
+    words = rr.limits_in_force(rig)
+    assert "rod-crank angles 60 to 150 deg" in words and "base clearance 0.41 m" in words
+    assert "crank pins' tilt 22 deg" in words
 
 
 def test_workspace_study_counts_what_the_test_excludes():
@@ -308,6 +313,8 @@ def test_cli_workspace_arms_and_envelope(tmp_path):
     (["--preset", "narayan2017", "--arms"], "--arms"),
     (["--preset", "simrig100", "--rod-crank-limits", "10", "200"], "--rod-crank-limits"),
     (["--preset", "simrig100", "--crank-joint-max-angle", "95"], "--crank-joint-max-angle"),
+    (["--preset", "simrig100", "--crank-pin-max-tilt", "95"], "--crank-pin-max-tilt"),
+    (["--preset", "narayan2017", "--crank-pin-max-tilt", "20"], "--crank-pin-max-tilt"),
     (["--preset", "simrig100", "--arms", "--grid", "5"], "--arms"),
     (["--preset", "simrig100", "--arms-height", "0.4"], "--arms-height"),
 ])

@@ -37,12 +37,16 @@ _WORKSPACE_FLAGS = {"region": "--region", "orientation": "--orientation", "posit
                     "plate_radius": "--plate-radius", "base_clearance": "--base-clearance", "stiffness": "--stiffness",
                     "crank_joint_max_angle": "--crank-joint-max-angle",
                     "platform_joint_max_angle": "--platform-joint-max-angle", "crank_angle_limits": "--crank-limits",
-                    "rod_crank_angle_limits": "--rod-crank-limits"}
+                    "rod_crank_angle_limits": "--rod-crank-limits", "crank_pin_max_tilt": "--crank-pin-max-tilt"}
+
+#: The parameters the bound flags give in degrees, stored in radians.
+_ANGLES = ("universal_joint_max_angle", "spherical_joint_max_angle", "crank_joint_max_angle", "platform_joint_max_angle",
+           "crank_angle_limits", "rod_crank_angle_limits", "crank_pin_max_tilt")
 
 #: The flags of one family's bounds: a linear platform's, a rotary rig's.
 _LINEAR_FLAGS = ("--universal-max-angle", "--spherical-max-angle", "--leg-diameter", "--plate-radius", "--stiffness")
 _ROTARY_FLAGS = ("--crank-joint-max-angle", "--platform-joint-max-angle", "--crank-limits", "--rod-crank-limits",
-                 "--arms", "--arms-height")
+                 "--crank-pin-max-tilt", "--arms", "--arms-height")
 
 
 def _bounds(args, rotary: bool) -> dict:
@@ -54,22 +58,25 @@ def _bounds(args, rotary: bool) -> dict:
             raise UserError(f"{flag}: bounds a {'linear platform' if rotary else 'rotary rig'}; the parameters are "
                             f"a {'rotary rig' if rotary else 'linear platform'}'s (its bounds: "
                             f"{', '.join(_ROTARY_FLAGS[:4] if rotary else _LINEAR_FLAGS[:4])}, --base-clearance)")
-    cones = ("--crank-joint-max-angle", "--platform-joint-max-angle") if rotary else \
+    cones = ("--crank-joint-max-angle", "--platform-joint-max-angle", "--crank-pin-max-tilt") if rotary else \
         ("--universal-max-angle", "--spherical-max-angle")
     for flag in cones:
         value = getattr(args, flag[2:].replace("-", "_"))
         if value is not None and value > 90.0:
-            raise UserError(f"{flag}: a cone half-angle needs 0 < DEG <= 90, got {value:g}")
+            raise UserError(f"{flag}: {'a tilt' if flag == '--crank-pin-max-tilt' else 'a cone half-angle'} needs "
+                            f"0 < DEG <= 90, got {value:g}")
     if rotary:
         bounds = {"crank_joint_max_angle": args.crank_joint_max_angle,
                   "platform_joint_max_angle": args.platform_joint_max_angle,
-                  "crank_angle_limits": args.crank_limits, "rod_crank_angle_limits": args.rod_crank_limits}
+                  "crank_angle_limits": args.crank_limits, "rod_crank_angle_limits": args.rod_crank_limits,
+                  "crank_pin_max_tilt": args.crank_pin_max_tilt}
     else:
         bounds = {"universal_joint_max_angle": args.universal_max_angle,
                   "spherical_joint_max_angle": args.spherical_max_angle, "leg_diameter": args.leg_diameter,
                   "plate_radius": args.plate_radius}
     bounds["base_clearance"] = args.base_clearance
-    return {key: (np.radians(v).tolist() if "angle" in key else v) for key, v in bounds.items() if v is not None}
+    return {key: (np.radians(v).tolist() if key in _ANGLES else v)
+            for key, v in bounds.items() if v is not None}
 
 #: The slices drawn by ``stewart workspace --slices``: the three coordinate planes through home.
 _SLICES = {"translational": tuple("".join(pair) for pair in itertools.combinations(POSE_AXES[:3], 2)),
@@ -269,6 +276,9 @@ def add_workspace(sub) -> None:
     p.add_argument("--rod-crank-limits", nargs=2, type=number, metavar=("MIN", "MAX"),
                    help="rotary rigs: limits of the angle between rod and crank at the crank tip [deg], 0 folded "
                         "over the crank, 180 stretched straight out (overrides the parameters')")
+    p.add_argument("--crank-pin-max-tilt", type=positive, metavar="DEG",
+                   help="rotary rigs: largest tilt of a rod out of its crank's plane of motion, the misalignment of "
+                        "a rod end on a pin parallel to the motor axis [deg] (overrides the parameters')")
     p.add_argument("--arms", action="store_true",
                    help="rotary rigs: instead of the workspace, the roll and pitch reachable with the arms outwards "
                         "and inwards, both at the platform height of the rig's home and each at its own home (with "

@@ -79,6 +79,7 @@ from ..model.compiled import CUEING_GROUPS, CueingStep
 from ..model.params import PlatformParams
 from ..model.platform import Platform, as_platform
 from ..model.reachability import neutral_axes
+from ..model.rotary_reachability import base_plane
 from . import horizon, rotary, vestibular
 from .settings import MPCParams
 
@@ -254,9 +255,9 @@ class CueingQP:
         self.next_limits = (np.concatenate([np.full(6, lo), -self.speed, np.full(6, rotary.REACH_MIN), joints_low]),
                             np.concatenate([np.full(6, hi), self.speed, np.full(6, np.inf), joints_high]))
         box = np.asarray(prm.box)
-        joints_scale = np.concatenate([np.ones(18), np.full(6, rig.params.crank_length)])
-        sizes = {"actuators": 6, "legs": 42, "next_tilt": 2, "force": 6 * n, "stroke": 6 * n, "speed": 6 * n,
-                 "cones": 30 * n, "tilt": 2 * n, "box": 6 * n, "rest": 6}
+        joints_scale = np.concatenate([np.ones(18), np.full(6, rig.params.crank_length), np.ones(6)])
+        sizes = {"actuators": 6, "legs": 48, "next_tilt": 2, "force": 6 * n, "stroke": 6 * n, "speed": 6 * n,
+                 "cones": 36 * n, "tilt": 2 * n, "box": 6 * n, "rest": 6}
         scales = {"actuators": self.torque,
                   "legs": np.concatenate([np.full(6, hi - lo), self.speed, np.ones(6), joints_scale]),
                   "next_tilt": np.full(2, prm.tilt_rate), "force": np.tile(self.torque, n),
@@ -268,12 +269,14 @@ class CueingQP:
         self.step = self._compiled_step(edges, None, motor)
 
     def _joint_bounds(self, angle_margin, height_margin):
-        """The bounds ``(24,)`` each, low and high, of a rotary rig's joints (the generated
+        """The bounds ``(30,)`` each, low and high, of a rotary rig's joints (the generated
         :meth:`~stewart.RotaryPlatform.cueing_rows` ``joints``, centred at home as
         :func:`~stewart.cueing.rotary.check_poses` centres them): the rod-crank cosines within
         ``rod_crank_angle_limits``, the crank and platform joints' cosines above the cosines of
-        their cones, each limit ``angle_margin`` [rad] in; the platform joints' heights
-        ``height_margin`` [m] above the base plane plus ``base_clearance`` (none: the plane)."""
+        their cones, the sines of the rods' tilts out of the cranks' planes within
+        ``+-sin(crank_pin_max_tilt)``, each limit ``angle_margin`` [rad] in; the platform joints'
+        heights ``height_margin`` [m] above the base plane plus ``base_clearance`` (none: the
+        plane)."""
         p = self.platform.params
         fold = (-np.inf, np.inf)
         if p.rod_crank_angle_limits is not None:
@@ -281,9 +284,11 @@ class CueingQP:
             fold = (np.cos(most - angle_margin), np.cos(least + angle_margin))
         cones = [np.cos(limit - angle_margin) if limit is not None else -np.inf
                  for limit in (p.crank_joint_max_angle, p.platform_joint_max_angle)]
-        floor = np.max(p.base_points[:, 2]) + (p.base_clearance or 0.0) + height_margin
-        low = np.concatenate([np.full(6, fold[0]), np.full(6, cones[0]), np.full(6, cones[1]), np.full(6, floor)])
-        high = np.concatenate([np.full(6, fold[1]), np.full(12, np.inf), np.full(6, np.inf)])
+        floor = base_plane(p) + (p.base_clearance or 0.0) + height_margin
+        tilt = np.inf if p.crank_pin_max_tilt is None else np.sin(p.crank_pin_max_tilt - angle_margin)
+        low = np.concatenate([np.full(6, fold[0]), np.full(6, cones[0]), np.full(6, cones[1]), np.full(6, floor),
+                              np.full(6, -tilt)])
+        high = np.concatenate([np.full(6, fold[1]), np.full(18, np.inf), np.full(6, tilt)])
         return low, high
 
     def _weights(self):
@@ -330,7 +335,7 @@ class CueingQP:
 
     def next_values(self, x0, v0, u0):
         """The leg lengths, leg speeds and joint-angle cosines ``(24,)`` (on a rotary rig the
-        crank angles, crank rates, reaches and joints ``(42,)``) at the next log sample after
+        crank angles, crank rates, reaches and joints ``(48,)``) at the next log sample after
         ``u0`` held from pose ``x0`` and rates ``v0``, exact: the ``legs`` rows' values, within
         :attr:`next_limits` when the platform's limits hold there."""
         return self.step.next_values(x0, v0, u0)

@@ -23,21 +23,25 @@ class RotaryJointCosines(NamedTuple):
     (``-u_i . n_i / d``: 1 where the rod folds back over its crank, -1 where it stretches straight
     out); ``crank_joint`` and ``platform_joint`` (..., 6) the cosines of the ball joints' angles
     from their neutral axes (the rod's direction at the reference pose, fixed in the crank and in
-    {P}); ``platform_heights`` (..., 6) [m] the heights of the platform joints ``(P_i)_z`` in {B}."""
+    {P}); ``platform_heights`` (..., 6) [m] the heights of the platform joints ``(P_i)_z`` in {B};
+    ``pin_tilt_sines`` (..., 6) the sines of the rods' tilts out of the cranks' planes of motion
+    (``n_i . a_i / d``: the misalignment of a rod end on a pin parallel to the motor axis)."""
 
     crank_angles: np.ndarray
     rod_crank: np.ndarray
     crank_joint: np.ndarray
     platform_joint: np.ndarray
     platform_heights: np.ndarray
+    pin_tilt_sines: np.ndarray
 
 
 
 class CueingRows(NamedTuple):
     """:meth:`RotaryPlatform.cueing_rows`: crank angles ``alpha``, ``JP = J_alpha T``, crank
     rates ``ad`` and ``dad_dx``, the reach ``reach = sin^2(delta)`` and ``dreach_dx``, the
-    ``joints`` (..., 24): the rod-crank, crank-joint and platform-joint cosines and the platform
-    joints' heights of :class:`RotaryJointCosines`, in that order, and ``djoints_dx`` (..., 24, 6)."""
+    ``joints`` (..., 30): the rod-crank, crank-joint and platform-joint cosines, the platform
+    joints' heights and the pins' tilt sines of :class:`RotaryJointCosines`, in that order, and
+    ``djoints_dx`` (..., 30, 6)."""
 
     alpha: np.ndarray
     JP: np.ndarray

@@ -110,6 +110,11 @@ class RotaryParams:
         kept away from them.
     base_clearance : optional smallest height [m] of the platform's joints above the base
         plane, the horizontal plane through the highest motor point b_i (default: above it).
+    crank_pin_max_tilt : optional largest tilt in radians (0 < tilt <= pi/2) of each rod out of
+        its crank's plane of motion (the plane normal to the motor axis): the misalignment of a
+        rod end on a pin parallel to the motor axis, the usual mount on a crank or servo horn,
+        which turns freely about its pin (a cone about the rod's home direction,
+        ``crank_joint_max_angle``, models a ball joint instead).
     name : optional label.
 
     Arrays are stored read-only; construction checks every field and raises ``ValueError``
@@ -140,6 +145,7 @@ class RotaryParams:
     platform_joint_max_angle: float | None = None
     rod_crank_angle_limits: tuple[float, float] | None = None
     base_clearance: float | None = None
+    crank_pin_max_tilt: float | None = None
     name: str | None = None
 
     def __post_init__(self) -> None:
@@ -171,6 +177,7 @@ class RotaryParams:
             "rod_crank_angle_limits": _angle_limits(self.rod_crank_angle_limits, "rod_crank_angle_limits", 0.0),
             "base_clearance": fields.optional_bound("base_clearance", self.base_clearance,
                                                     fields.BOUNDS["base_clearance"]),
+            "crank_pin_max_tilt": fields.optional_bound("crank_pin_max_tilt", self.crank_pin_max_tilt, cone),
             "name": self._checked_name(self.name),
         }
         for key, val in checked.items():

@@ -15,6 +15,8 @@ A pose is reachable when
 * every ball joint lies within its cone, ``params.crank_joint_max_angle`` at the crank tips and
   ``params.platform_joint_max_angle`` on the platform (when set): the angle between the rod and
   the joint's neutral axis, the rod's direction at the home pose, fixed in the crank and in {P};
+* every rod's tilt out of its crank's plane of motion lies within ``params.crank_pin_max_tilt``
+  (when set): the misalignment of a rod end on a pin parallel to the motor axis;
 * the platform is above the base: its lowest joint lies above the base plane (the horizontal
   plane through the highest motor point ``b_i``) by more than nothing or by
   ``params.base_clearance`` (when set), as for the linear machines;
@@ -45,22 +47,25 @@ from .reachability import (
 )
 from .rotary_params import RotaryParams
 
-__all__ = ["RotaryReachability", "reachability", "limits_in_force", "axis_range", "FLAGS", "FLAG_NAMES",
-           "OUT_OF_REACH", "CRANK_ANGLE_LIMIT", "ROD_CRANK_ANGLE_LIMIT", "CRANK_JOINT_LIMIT", "PLATFORM_JOINT_LIMIT"]
+__all__ = ["RotaryReachability", "reachability", "limits_in_force", "axis_range", "base_plane", "FLAGS", "FLAG_NAMES",
+           "OUT_OF_REACH", "CRANK_ANGLE_LIMIT", "ROD_CRANK_ANGLE_LIMIT", "CRANK_JOINT_LIMIT", "PLATFORM_JOINT_LIMIT",
+           "CRANK_PIN_LIMIT"]
 
 OUT_OF_REACH = 2048
 CRANK_ANGLE_LIMIT = 4096
 ROD_CRANK_ANGLE_LIMIT = 8192
 CRANK_JOINT_LIMIT = 16384
 PLATFORM_JOINT_LIMIT = 32768
+CRANK_PIN_LIMIT = 131072  # (65536 is stewart.cueing.rotary.CRANK_REACH)
 
 #: The flags of :attr:`RotaryReachability.flags`, in the order their counts are reported.
 FLAGS = (OUT_OF_RANGE, OUT_OF_REACH, CRANK_ANGLE_LIMIT, ROD_CRANK_ANGLE_LIMIT, CRANK_JOINT_LIMIT,
-         PLATFORM_JOINT_LIMIT, BELOW_BASE, SINGULAR, EULER_SINGULAR, OTHER_ASSEMBLY_MODE)
+         PLATFORM_JOINT_LIMIT, CRANK_PIN_LIMIT, BELOW_BASE, SINGULAR, EULER_SINGULAR, OTHER_ASSEMBLY_MODE)
 #: The name of each flag in reports (a workspace study's exclusions).
 FLAG_NAMES = {OUT_OF_RANGE: "out_of_range", OUT_OF_REACH: "out_of_reach", CRANK_ANGLE_LIMIT: "crank_angle_limit",
               ROD_CRANK_ANGLE_LIMIT: "rod_crank_angle_limit", CRANK_JOINT_LIMIT: "crank_joint_limit",
-              PLATFORM_JOINT_LIMIT: "platform_joint_limit", BELOW_BASE: "below_base", SINGULAR: "singular",
+              PLATFORM_JOINT_LIMIT: "platform_joint_limit", CRANK_PIN_LIMIT: "crank_pin_limit",
+              BELOW_BASE: "below_base", SINGULAR: "singular",
               EULER_SINGULAR: "euler_singular", OTHER_ASSEMBLY_MODE: "other_assembly_mode"}
 
 
@@ -76,10 +81,11 @@ def limits_in_force(params: RotaryParams) -> str:
              (("crank", params.crank_joint_max_angle), ("platform", params.platform_joint_max_angle))
              if angle is not None]
     crank, fold = params.crank_angle_limits, params.rod_crank_angle_limits
-    clearance = params.base_clearance
+    clearance, tilt = params.base_clearance, params.crank_pin_max_tilt
+    pins = f"; crank pins' tilt {np.degrees(tilt):.4g} deg" if tilt is not None else ""
     return (f"crank angles {_degrees(crank) if crank else 'unlimited'}; rod-crank angles "
-            f"{_degrees(fold) if fold else 'unlimited'}; ball-joint cones {', '.join(cones) if cones else 'unlimited'}; "
-            f"base clearance {f'{clearance:g} m' if clearance is not None else 'none'}")
+            f"{_degrees(fold) if fold else 'unlimited'}; ball-joint cones {', '.join(cones) if cones else 'unlimited'}"
+            f"{pins}; base clearance {f'{clearance:g} m' if clearance is not None else 'none'}")
 
 
 @dataclass(frozen=True)
@@ -87,7 +93,8 @@ class RotaryReachability:
     """Per-row result of :func:`reachability`: ``flags`` one integer per pose, a sum of the
     problem bits of :data:`FLAGS` (0 for a reachable pose); ``crank_angles``, ``rod_crank_angles``,
     ``crank_joint_angles`` and ``platform_joint_angles`` ``(N, 6)`` [rad] (NaN where a crank
-    cannot reach the pose); ``base_gap`` ``(N,)`` [m] the height of the lowest platform joint over
+    cannot reach the pose); ``crank_pin_tilts`` ``(N, 6)`` [rad] each rod's tilt out of its crank's
+    plane of motion (signed along the motor axis); ``base_gap`` ``(N,)`` [m] the height of the lowest platform joint over
     the base plane; ``condition`` the unit-free condition number of ``J_alpha`` (inf where it is
     singular or undefined); ``params`` the parameter set checked."""
 
@@ -96,6 +103,7 @@ class RotaryReachability:
     rod_crank_angles: np.ndarray
     crank_joint_angles: np.ndarray
     platform_joint_angles: np.ndarray
+    crank_pin_tilts: np.ndarray
     base_gap: np.ndarray
     condition: np.ndarray
     params: RotaryParams
@@ -132,6 +140,10 @@ class RotaryReachability:
             limit = getattr(p, f"{kind}_joint_max_angle")
             return outside(getattr(self, f"{kind}_joint_angles")[row], 0.0, limit,
                            f"beyond the {kind} ball-joint cone half-angle {limit:g} rad: joint(s)")
+        if bit == CRANK_PIN_LIMIT:
+            limit = p.crank_pin_max_tilt
+            return outside(self.crank_pin_tilts[row], -limit, limit,
+                           f"a rod tilted out of its crank's plane beyond crank_pin_max_tilt {limit:g} rad: leg(s)")
         if bit == BELOW_BASE:
             need = f"less than the base clearance {p.base_clearance:g} m" if p.base_clearance is not None else \
                 "not above it"
@@ -150,6 +162,12 @@ class RotaryReachability:
         """One line: how many rows are outside, and for each kind of problem the first row
         (or time) where it occurs and how many rows share it."""
         return outside_message(self.flags, FLAGS, self._reason, what, times)
+
+
+def base_plane(params: RotaryParams) -> float:
+    """The base plane's height [m] in {B}: the horizontal plane through the highest motor point
+    ``b_i``, above which the platform's joints stay (by ``base_clearance``, when set)."""
+    return float(np.max(params.base_points[:, 2]))
 
 
 def _rig(platform):
@@ -209,7 +227,7 @@ def _block(rig, x: np.ndarray, mode: float, reference: np.ndarray) -> dict:
         det = np.linalg.det(np.nan_to_num(jac))
     angles = {key: np.arccos(np.clip(getattr(joints, key), -1.0, 1.0))
               for key in ("rod_crank", "crank_joint", "platform_joint")}
-    gap = np.min(joints.platform_heights, axis=1) - np.max(p.base_points[:, 2])
+    gap = np.min(joints.platform_heights, axis=1) - base_plane(p)
     finite = np.all(np.isfinite(x), axis=1)
     flags = np.where(finite, 0, OUT_OF_RANGE) | np.where(finite & ~reached, OUT_OF_REACH, 0)
     checks = []
@@ -221,6 +239,9 @@ def _block(rig, x: np.ndarray, mode: float, reference: np.ndarray) -> dict:
                             ("platform_joint", p.platform_joint_max_angle, PLATFORM_JOINT_LIMIT)):
         if limit is not None:
             checks.append((angles[key], -np.inf, limit, bit))
+    tilts = np.arcsin(np.clip(joints.pin_tilt_sines, -1.0, 1.0))
+    if p.crank_pin_max_tilt is not None:
+        checks.append((tilts, -p.crank_pin_max_tilt, p.crank_pin_max_tilt, CRANK_PIN_LIMIT))
     with np.errstate(invalid="ignore"):
         for values, lo, hi, bit in checks:
             flags |= np.where(reached & np.any(~((values >= lo) & (values <= hi)), axis=1), bit, 0)
@@ -231,7 +252,7 @@ def _block(rig, x: np.ndarray, mode: float, reference: np.ndarray) -> dict:
         flags |= np.where(reached & (np.sign(det) * mode < 0), OTHER_ASSEMBLY_MODE, 0)
     return dict(flags=flags, crank_angles=joints.crank_angles, rod_crank_angles=angles["rod_crank"],
                 crank_joint_angles=angles["crank_joint"], platform_joint_angles=angles["platform_joint"],
-                base_gap=gap, condition=condition)
+                crank_pin_tilts=tilts, base_gap=gap, condition=condition)
 
 
 def axis_range(platform, axis: int, *, start=None, reference=None, limit: float = np.pi / 2, step: float = 1e-3,
