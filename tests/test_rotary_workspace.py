@@ -306,6 +306,18 @@ def test_cli_workspace_arms_and_envelope(tmp_path):
     assert "motor" in out.stdout.splitlines()[1] and "torque [N m]" in out.stdout
 
 
+def test_cli_bound_flags_override_the_parameters():
+    """--crank-pin-max-tilt in degrees becomes the rig's limit in radians: the command's counts
+    are the reachability test's on the same poses with that limit."""
+    region = ["-0.05", "0.05", "-0.05", "0.05", "0.42", "0.48"]
+    out = call("workspace", "--preset", "simrig100", "--crank-pin-max-tilt", "20", "--samples", "400", "--region",
+               *region)
+    assert out.returncode == 0 and "crank pins' tilt 20 deg" in out.stdout, out.stderr
+    rig = SIMRIG.replace(crank_pin_max_tilt=np.radians(20.0))
+    result = workspace.translational_workspace(rig, region=np.array(region, float).reshape(3, 2), samples=400)
+    assert f"crank_pin_limit {result.excluded['crank_pin_limit']}" in out.stdout
+
+
 @pytest.mark.parametrize("argv, flag", [
     (["--preset", "simrig100", "--leg-diameter", "0.01"], "--leg-diameter"),
     (["--preset", "simrig100", "--stiffness", "1e6"], "--stiffness"),

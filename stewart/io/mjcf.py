@@ -74,9 +74,9 @@ the same conventions:
 - gravity, the platform's inertia, the visual geometry and the sensors as above, with
   ``crank_angle{i}`` and ``crank_rate{i}`` instead of the leg lengths; a keyframe ``home``
   at :attr:`~stewart.RotaryPlatform.home` at rest, whose ``ctrl`` holds the torques of the
-  static equilibrium there (within the torque limits). The ball-joint cones and the motor
-  speed limit have no MuJoCo counterpart here: MuJoCo bounds a ball joint's whole rotation
-  from its reference, spin included, not a cone, and a motor's speed not at all.
+  static equilibrium there (within the torque limits). The ball-joint cones, the crank pins'
+  tilt and the motor speed limit have no MuJoCo counterpart here: MuJoCo bounds a ball joint's
+  whole rotation from its reference, spin included, not a cone, and a motor's speed not at all.
 
 :func:`joint_positions` and :func:`joint_velocities` give MuJoCo's ``qpos`` and ``qvel`` of
 the rotary model at a platform state; :func:`pose_accelerations` reads ``xdd`` from its
