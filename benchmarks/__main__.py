@@ -182,6 +182,7 @@ def main(argv=None) -> int:
     results["calibration"] = calibration.figures("narayan2017", rounds=rounds)
     print("[bench] MPC cueing, time per step ...", flush=True)
     results["cueing"] = cueing.figures("motion_simulator", rounds=rounds)
+    results["cueing_rotary"] = cueing.figures("simrig100", rounds=rounds)
     print("[bench] motor sizing of a rotary rig from an hour of 60 Hz telemetry ...", flush=True)
     results["motor_sizing"] = motor_sizing.figures("simrig100", rounds=rounds)
     print("[bench] acados NMPC's RTI step against the CasADi route (in .venv-acados) ...", flush=True)
@@ -197,6 +198,7 @@ def main(argv=None) -> int:
         module.rows(results[name]) for name, module in (("rotary_kernel", rotary_kernel), ("studies", studies),
                                                         ("identification", identification),
                                                         ("calibration", calibration), ("cueing", cueing),
+                                                        ("cueing_rotary", cueing),
                                                         ("motor_sizing", motor_sizing), ("acados", acados_nmpc))
         if name in results]
     every = [row for table in tables for row in table]
@@ -218,6 +220,7 @@ def main(argv=None) -> int:
     print(calibration.format_rows(results["calibration"]))
     print()
     print(cueing.format_rows(results["cueing"]))
+    print(cueing.format_rows(results["cueing_rotary"]))
     print()
     print(motor_sizing.format_rows(results["motor_sizing"]))
     print(acados_nmpc.format_rows(results["acados"]))

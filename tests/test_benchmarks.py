@@ -393,6 +393,10 @@ def test_cueing_rows_mark_the_target():
         step, faster = cueing.rows({**fig, **measured})[:2]
         assert step[2:] == (f"{low:.2f}-{high:.2f} (2)", "<= 1 ms", verdict)
         assert faster[2:] == (f"{3.0 - high:.2f}-{3.0 - low:.2f} (2)", ">= 2x", verdict)
+    # a rotary rig's step has no anchor: its rows are the median's with its target and the two as measured
+    rotary = cueing.rows({**fig, "preset": "simrig100", **bench.figures_of({"step_median_ms": Measurement(0.7, 0.6,
+                                                                                                          0.8, 2)})})
+    assert len(rotary) == 3 and "simrig100" in rotary[0][0] and rotary[0][3:] == ("<= 1 ms", "met")
 
 
 def test_rotary_kernel_rows_mark_the_targets():
