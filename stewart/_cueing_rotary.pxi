@@ -1,7 +1,7 @@
 # The rotary rig's rows of MPC cueing's step (included by stewart/_kernel.pyx after
 # stewart/_cueing_rows.pxi; CueingStep.condense calls them when its model is a RotaryKernel):
 # the crank angles, crank rates, reaches and joints (the rod-crank and ball-joint cosines, the
-# platform joints' heights) at the next log sample and over the horizon, from the generated
+# platform joints' heights, the crank pins' tilt sines) at the next log sample and over the horizon, from the generated
 # rotary function cueing_rows (codegen/rotary_joints.py rotary_cueing_rows_kernel: the values and
 # their exact pose gradients), each affine in the inputs about the linearization point; the
 # motor torques are _force_rows' (the rotary inverse_dynamics_derivatives).
@@ -117,7 +117,8 @@ cdef bint _reaches(CueingStep self, const double *reach) noexcept:
 
 cdef bint _crank_point(CueingStep self, int p, double share, double *pose) noexcept:
     """cueing_rows at ``x0 + share (xbar_p - x0)`` with the rates vbar_p, written into point p's
-    place of crank_out, crank_grads and joint_grads; the pose into ``pose``; whether every crank reaches it."""
+    place of crank_out, crank_grads and joint_grads; the pose into ``pose``; whether every crank
+    reaches it."""
     cdef int r, points = self.n + 1, status = 0
     for r in range(6):
         pose[r] = self.x0[r] + share * (self.xbar[6 * p + r] - self.x0[r])

@@ -93,10 +93,11 @@ class RotaryReachability:
     """Per-row result of :func:`reachability`: ``flags`` one integer per pose, a sum of the
     problem bits of :data:`FLAGS` (0 for a reachable pose); ``crank_angles``, ``rod_crank_angles``,
     ``crank_joint_angles`` and ``platform_joint_angles`` ``(N, 6)`` [rad] (NaN where a crank
-    cannot reach the pose); ``crank_pin_tilts`` ``(N, 6)`` [rad] each rod's tilt out of its crank's
-    plane of motion (signed along the motor axis); ``base_gap`` ``(N,)`` [m] the height of the lowest platform joint over
-    the base plane; ``condition`` the unit-free condition number of ``J_alpha`` (inf where it is
-    singular or undefined); ``params`` the parameter set checked."""
+    cannot reach the pose); ``crank_pin_tilts`` ``(N, 6)`` [rad] each rod's tilt out of its
+    crank's plane of motion (signed along the motor axis); ``base_gap`` ``(N,)`` [m] the height
+    of the lowest platform joint over the base plane (:func:`base_plane`); ``condition`` the
+    unit-free condition number of ``J_alpha`` (inf where it is singular or undefined);
+    ``params`` the parameter set checked."""
 
     flags: np.ndarray
     crank_angles: np.ndarray
