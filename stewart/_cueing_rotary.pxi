@@ -173,19 +173,8 @@ cdef void _crank_rows(CueingStep self) except *:
         for i in range(6):
             # the crank angle
             row = self.starts[1] + i if p == 0 else self.starts[4] + 6 * (p - 1) + i
-            for c in range(width):
-                s = 0.0
-                for j in range(6):
-                    s += jp[6 * i + j] * sp[j * sp_stride + c]
-                self.pM[row * nu + c] = s
-            value = alpha[6 * p + i]
-            for j in range(6):
-                value += jp[6 * i + j] * dp[j]
-            if p == 0:
-                self.plegs[i] = value
-                _bounds(self, row, value, self.next_low[i], self.next_high[i])
-            else:
-                _bounds(self, row, value, self.stroke_low, self.stroke_high)
+            _pose_row(self, row, jp + 6 * i, sp, sp_stride, width, alpha[6 * p + i], dp, p, i, self.stroke_low,
+                      self.stroke_high)
             # the crank rate
             row = self.starts[1] + 6 + i if p == 0 else self.starts[5] + 6 * (p - 1) + i
             for c in range(width):
@@ -203,18 +192,20 @@ cdef void _crank_rows(CueingStep self) except *:
                 _bounds(self, row, value, -self.motor[12 + i], self.motor[12 + i])
             # the reach
             row = self.starts[1] + 12 + i if p == 0 else self.starts[6] + CUE_HORIZON_ROWS * (p - 1) + i
-            _pose_row(self, row, ds + 6 * i, sp, sp_stride, width, reach[6 * p + i], dp, p, 12 + i, i)
+            _pose_row(self, row, ds + 6 * i, sp, sp_stride, width, reach[6 * p + i], dp, p, 12 + i, self.cone[i],
+                      self.cone[CUE_HORIZON_ROWS + i])
         for i in range(CUE_JOINT_ROWS):
             row = self.starts[1] + 18 + i if p == 0 else self.starts[6] + CUE_HORIZON_ROWS * (p - 1) + 6 + i
-            _pose_row(self, row, dj + 6 * i, sp, sp_stride, width, joints[CUE_JOINT_ROWS * p + i], dp, p, 18 + i, 6 + i)
+            _pose_row(self, row, dj + 6 * i, sp, sp_stride, width, joints[CUE_JOINT_ROWS * p + i], dp, p, 18 + i,
+                      self.cone[6 + i], self.cone[CUE_HORIZON_ROWS + 6 + i])
 
 
 cdef inline void _pose_row(CueingStep self, int row, const double *grad, const double *sp, int sp_stride, int width,
-                           double value, const double *dp, int p, int next_row, int cone_row) noexcept:
+                           double value, const double *dp, int p, int next_row, double low, double high) noexcept:
     """Row ``row`` of a quantity of the pose alone, ``value + grad . (x - xbar)``, with ``x - xbar
     = sp u + dp`` (``sp`` the pose's rows of the prediction, ``width`` columns): at the next sample
     (``p`` 0) the ``legs`` row ``next_row``, within ``next_low``/``next_high``; over the horizon
-    within ``cone[cone_row]`` and ``cone[CUE_HORIZON_ROWS + cone_row]``."""
+    within ``low`` and ``high``."""
     cdef int c, j, nu = self.nu
     cdef double s
     for c in range(width):
@@ -228,7 +219,7 @@ cdef inline void _pose_row(CueingStep self, int row, const double *grad, const d
         self.plegs[next_row] = value
         _bounds(self, row, value, self.next_low[next_row], self.next_high[next_row])
     else:
-        _bounds(self, row, value, self.cone[cone_row], self.cone[CUE_HORIZON_ROWS + cone_row])
+        _bounds(self, row, value, low, high)
 
 
 cdef object _crank_next_values(CueingStep self, x0, v0, u0):
